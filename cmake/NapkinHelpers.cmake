@@ -1,0 +1,37 @@
+# Helpers in the spirit of COLMAP's CMakeHelper: one library per folder, one
+# test executable per folder, tests registered with CTest as "<folder>/<Suite>.<Test>".
+
+set(NAPKIN_WARNING_FLAGS -Wall -Wextra -Wpedantic)
+if(NAPKIN_WERROR)
+  list(APPEND NAPKIN_WARNING_FLAGS -Werror)
+endif()
+if(NAPKIN_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# napkin_add_library(<name> [DEPS <targets>...]) : every *.cpp in the current folder.
+function(napkin_add_library name)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  add_library(${name} STATIC ${sources})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_compile_options(${name} PRIVATE ${NAPKIN_WARNING_FLAGS})
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+endfunction()
+
+# napkin_add_tests(<folder> [DEPS <targets>...]) : tests/<folder>/*.cpp into one
+# GoogleTest executable, each test registered with CTest.
+function(napkin_add_tests folder)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${folder}/*.cpp)
+  if(NOT sources)
+    return()
+  endif()
+  set(exe napkin_${folder}_tests)
+  add_executable(${exe} ${sources})
+  target_compile_options(${exe} PRIVATE ${NAPKIN_WARNING_FLAGS})
+  target_link_libraries(${exe} PRIVATE ${ARG_DEPS} napkin_test_support GTest::gtest GTest::gmock GTest::gtest_main)
+  gtest_discover_tests(${exe} TEST_PREFIX "${folder}/" DISCOVERY_TIMEOUT 60
+                       PROPERTIES ENVIRONMENT "NAPKIN_CONFIG_DIR=${PROJECT_SOURCE_DIR}/config")
+endfunction()

@@ -1,0 +1,46 @@
+#pragma once
+// Head accelerometer array geometry: which sensors sit where, sensing along
+// which axis. Body frame per SAE J211: x forward, y right, z down; positions
+// are seismic centres relative to the head CG.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace napkin::engine {
+
+enum class SensorKind { kLinear, kAngularRate };
+
+struct Sensor {
+  std::string slot;                                   // e.g. "cg_x", "yarm_z", "ars_x"
+  SensorKind kind = SensorKind::kLinear;
+  Eigen::Vector3d position_body_m = Eigen::Vector3d::Zero();  // from head CG, body axes
+  Eigen::Vector3d axis_body = Eigen::Vector3d::UnitX();       // unit sense axis
+  std::string unit = "g";                             // unit of the recorded samples
+  double si_per_unit = 9.80665;                       // samples * si_per_unit = SI value
+};
+
+struct ArrayGeometry {
+  std::string name;
+  std::string description;
+  std::vector<Sensor> sensors;
+
+  // Index of the sensor in `slot`, if any.
+  std::optional<std::size_t> FindSlot(std::string_view slot) const;
+  std::vector<std::size_t> LinearIndices() const;
+  std::vector<std::size_t> RateIndices() const;
+};
+
+// The 3-2-2-2 slot names in the report's Table 2-1 order.
+inline constexpr const char* kNapSlots[9] = {"cg_x",   "cg_y",   "cg_z",   "yarm_z", "yarm_x",
+                                             "xarm_z", "xarm_y", "zarm_x", "zarm_y"};
+
+// Throws InvalidArrayError (one sentence naming the problem) when the array
+// cannot be solved: no sensors, duplicate slot, zero or non-finite axis or
+// position, unknown unit, fewer than 6 linear sensors whose rigid-body system
+// has rank 6 and fewer than 3 independent angular-rate axes, ...
+// Normalises axes in place.
+void ValidateArray(ArrayGeometry& array);
+
+}  // namespace napkin::engine

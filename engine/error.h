@@ -1,0 +1,22 @@
+#pragma once
+// Error types shared by every layer. Each message is one sentence that names
+// the file, test, channel or row at fault; the CLI prints it and exits 1.
+#include <stdexcept>
+#include <string>
+
+namespace napkin {
+
+// Bad input data or definitions (user-facing, exit status 1).
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// An array definition that cannot be solved (duplicate slots, zero axis,
+// rank-deficient linear set, unknown unit).
+class InvalidArrayError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+}  // namespace napkin

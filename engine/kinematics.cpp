@@ -1,0 +1,14 @@
+#include "engine/kinematics.h"
+
+namespace napkin::engine {
+
+void Kinematics::Resize(Eigen::Index n) {
+  time_s.resize(n);
+  for (Series3* series : {&omega_body, &alpha_body, &omega_fixed, &alpha_fixed, &acc_body, &acc_fixed,
+                          &vel_fixed, &pos_fixed, &roll_pitch_yaw_rad, &dcos_rad})
+    series->resize(n, 3);
+  quat_fixed_from_body.resize(n, 4);
+  residual.setZero(n);
+}
+
+}  // namespace napkin::engine

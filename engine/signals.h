@@ -1,0 +1,31 @@
+#pragma once
+// Raw signals of one test: uniformly sampled channels, one column per slot.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace napkin::engine {
+
+struct TestSignals {
+  double dt_s = 1e-4;        // sampling interval
+  double t0_s = 0.0;         // time of the first sample
+  std::vector<std::string> slots;  // column names (array slot names)
+  // rows = samples, cols = channels; column-major so each channel is
+  // contiguous. Values in the unit the array gives the slot (g, rad/s, ...).
+  Eigen::MatrixXd samples;
+
+  Eigen::Index size() const { return samples.rows(); }
+  double TimeAt(Eigen::Index k) const { return t0_s + static_cast<double>(k) * dt_s; }
+  // Column index of `slot`, or -1.
+  int FindSlot(const std::string& slot) const;
+};
+
+// State of the head at the first sample.
+struct InitialState {
+  // Report eq. 2.1-14/15: body-to-fixed R0 = Rx(phi) * Ry(theta) * Rz(psi).
+  Eigen::Vector3d orientation_rad = Eigen::Vector3d::Zero();  // phi, theta, psi
+  Eigen::Vector3d velocity_fixed_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d omega_body_radps = Eigen::Vector3d::Zero();  // usually at rest
+};
+
+}  // namespace napkin::engine

@@ -1,0 +1,32 @@
+#pragma once
+// From the signals of a head accelerometer array to six-degree-of-freedom
+// kinematics. See ALGORITHMS.md "Solvers".
+#include "engine/array_geometry.h"
+#include "engine/kinematics.h"
+#include "engine/signals.h"
+
+namespace napkin::engine {
+
+enum class SolverKind {
+  kExact,  // rigid-body least squares for any geometry (default)
+  kSeed,   // LC_COMP of report Appendix B, reproduced for legacy comparison
+};
+
+struct GravityOptions {
+  bool compensate = false;  // add back -(R^T - R0^T) g_fixed (ALGORITHMS.md "Gravity")
+  Eigen::Vector3d g_fixed_mps2{0.0, 0.0, 9.80665};  // SAE: z down
+};
+
+struct SolveOptions {
+  SolverKind solver = SolverKind::kExact;
+  InitialState initial;
+  GravityOptions gravity;
+  int corrector_passes = 3;  // predictor-corrector passes per sample (exact solver)
+};
+
+// Solves one test. Throws InputError naming the slot when `signals` lacks a
+// channel of `array`, or the data are unusable (fewer than 2 samples,
+// non-finite values, non-positive dt).
+Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options);
+
+}  // namespace napkin::engine

@@ -1,0 +1,55 @@
+#pragma once
+// Per-test summary: every field of the query contract (FORMATS.md
+// "Per-test summary fields") plus the screening findings.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/kinematics.h"
+
+namespace napkin::engine {
+
+struct HicWindow {
+  double value = 0.0;
+  double t1_s = 0.0;
+  double t2_s = 0.0;
+};
+
+enum class Severity { kInfo, kWarning, kError };
+
+struct Finding {
+  std::string check;                  // e.g. "saturation", "polarity", "residual"
+  std::optional<std::string> channel; // slot name, or none for the whole test
+  Severity severity = Severity::kInfo;
+  std::string detail;                 // one sentence
+};
+
+const char* SeverityName(Severity severity);
+
+struct TestSummary {
+  // query hic
+  HicWindow hic15, hic36, hic;  // hic: no window limit
+  double peak_acc_g = 0.0;      // resultant CG acceleration, fixed frame
+  double a3ms_g = 0.0;
+  // query rotation
+  Eigen::Vector3d peak_omega_body_radps = Eigen::Vector3d::Zero();  // max |omega_i|, body axes
+  double peak_omega_radps = 0.0;   // resultant
+  double peak_alpha_radps2 = 0.0;  // resultant
+  double bric = 0.0;
+  double damage = 0.0;
+  Eigen::Vector4d final_quat_wxyz = Eigen::Vector4d(1, 0, 0, 0);
+  Eigen::Vector3d final_roll_pitch_yaw_deg = Eigen::Vector3d::Zero();
+  Eigen::Vector3d final_pos_fixed_m = Eigen::Vector3d::Zero();
+  double max_rotation_deg = 0.0;  // largest angle between current and initial orientation
+  // quality
+  double max_residual_mps2 = 0.0;
+  std::vector<Finding> findings;
+};
+
+// Fills the kinematic fields (peaks, final pose, max rotation, residual) of a
+// summary from solved kinematics. Criteria (HIC, a3ms, BrIC, DAMAGE) are
+// filled by the criteria module.
+void SummarizeKinematics(const Kinematics& kinematics, TestSummary& summary);
+
+}  // namespace napkin::engine

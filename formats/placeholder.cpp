@@ -1,0 +1,1 @@
+// Readers and writers of test files; see FORMATS.md.
