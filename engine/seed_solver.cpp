@@ -383,7 +383,7 @@ Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, con
   // The listing integrates no displacement: trapezoid of the velocity,
   // starting at 0 at the first sample.
   const double half_dt = 0.5 * signals.dt_s;
-  for (int axis = 0; axis < 3; ++axis) {
+  for (int axis = 0; axis < 3 && n > 0; ++axis) {
     kin.pos_fixed(0, axis) = 0.0;
     for (Eigen::Index k = 1; k < n; ++k)
       kin.pos_fixed(k, axis) =
