@@ -158,6 +158,7 @@ struct GoldenCase {
   const char* output;
   ArrayGeometry (*array)();
 };
+void PrintTo(const GoldenCase& golden, std::ostream* os) { *os << golden.input << " -> " << golden.output; }
 
 // Every column of every sample must agree with LC_COMP. The seed solver
 // performs the listing's REAL*4/DOUBLE operations in the listing's order, so
