@@ -590,3 +590,72 @@ TEST(SeedScenario45, IdealAndDentonAreAccurateButNotExact) {
 
 }  // namespace
 }  // namespace napkin::engine
+
+namespace napkin::engine {
+namespace {
+
+TestSignals QuietSignals(Eigen::Index n, double dt) {
+  TestSignals signals;
+  signals.dt_s = dt;
+  for (const char* slot : kNapSlots) signals.slots.push_back(slot);
+  signals.samples = Eigen::MatrixXd::Zero(n, 9);
+  return signals;
+}
+
+TEST(SeedInitialState, InitialVelocityIsTrapintsW0) {
+  const LcCompInput input = ReadInput("in_denton.txt");
+  const Kinematics at_rest = SolveSeed(testing::Denton3222(), SignalsOf(input), InitialOf(input));
+  InitialState moving = InitialOf(input);
+  moving.velocity_fixed_mps = Eigen::Vector3d(1.5, -2.0, 0.25);
+  const Kinematics kin = SolveSeed(testing::Denton3222(), SignalsOf(input), moving);
+  // TRAPINT starts its DOUBLE accumulator at REAL*4(w0): every velocity is
+  // shifted by w0, up to the REAL*4 rounding of the stored result.
+  for (Eigen::Index k = 0; k < kin.size(); ++k) {
+    for (int c = 0; c < 3; ++c) {
+      const double shift = kin.vel_fixed(k, c) - at_rest.vel_fixed(k, c);
+      const double rounding = 0x1p-24 * (std::abs(kin.vel_fixed(k, c)) + std::abs(at_rest.vel_fixed(k, c)));
+      EXPECT_NEAR(shift, moving.velocity_fixed_mps[c], 2e-7 * std::abs(moving.velocity_fixed_mps[c]) + rounding);
+    }
+  }
+  // Everything else is independent of the initial velocity.
+  EXPECT_TRUE(kin.quat_fixed_from_body == at_rest.quat_fixed_from_body);
+  EXPECT_TRUE(kin.acc_fixed == at_rest.acc_fixed);
+}
+
+TEST(SeedInitialState, ConstantInitialBodyRateFollowsTheExactRotation) {
+  // Zero accelerations with the ideal geometry: the estimate is 0, so the
+  // body rate stays at its initial value and T integrates a constant
+  // rotation, R(t) = R0 exp([omega] t).
+  const double dt = 1e-4;
+  const Eigen::Index n = 2000;
+  InitialState initial;
+  initial.orientation_rad = Eigen::Vector3d(0.2, -0.4, 0.9);
+  initial.omega_body_radps = Eigen::Vector3d(10.0, -20.0, 30.0);  // |omega| dt = 3.7 mrad: 4 sub-steps
+  const Kinematics kin = SolveSeed(testing::Ideal3222(), QuietSignals(n, dt), initial);
+  const Eigen::Vector3f omega_f = initial.omega_body_radps.cast<float>();
+  for (Eigen::Index k = 0; k < n; ++k)
+    EXPECT_TRUE(kin.omega_body.row(k).transpose() == omega_f.cast<double>()) << k;
+  const Eigen::Index last = n - 1;
+  const double t_end = static_cast<double>(n) * dt;  // sample i = n ends at n*dt
+  const Eigen::Quaterniond truth(InitialFixedFromBody(initial.orientation_rad) *
+                                 QuaternionExp(omega_f.cast<double>() * t_end).toRotationMatrix());
+  const Eigen::Vector4d q = kin.quat_fixed_from_body.row(last).transpose();
+  const double angle_error = AngleBetween(Eigen::Quaterniond(q[0], q[1], q[2], q[3]), truth);
+  std::printf("constant rate: final angle error %.3e rad after %.2f rad\n", angle_error,
+              omega_f.cast<double>().norm() * t_end);
+  // First-order steps of 0.93 mrad: the error per step is O((omega delt)^2),
+  // mostly a growth of T's norm that the nearest rotation removes.
+  EXPECT_LT(angle_error, 1e-4);
+  // The fixed-frame rate is T * omega with the raw T, whose norm grows by
+  // (omega delt)^2 / 2 per sub-step (|I + Omega delt| = sqrt(1 + (omega delt)^2)).
+  const double step_angle = omega_f.cast<double>().norm() * dt / 4.0;
+  const double norm_growth = static_cast<double>(4 * n) * step_angle * step_angle / 2.0;
+  const Eigen::Vector3d omega_fixed = truth.toRotationMatrix() * omega_f.cast<double>();
+  const double omega_fixed_error = (kin.omega_fixed.row(last).transpose() - omega_fixed).norm();
+  std::printf("constant rate: |omega_fixed error| %.3e of %.3e, norm growth bound %.3e\n", omega_fixed_error,
+              omega_fixed.norm(), norm_growth);
+  EXPECT_LT(omega_fixed_error, (norm_growth + angle_error) * 1.01 * omega_fixed.norm());
+}
+
+}  // namespace
+}  // namespace napkin::engine
