@@ -122,6 +122,8 @@ void Trans(float del, float bomegx, float bomegy, float bomegz, double (&t)[3][3
   const float bomegv = std::sqrt(bomegx * bomegx + bomegy * bomegy + bomegz * bomegz);
   float delt = del;
   int nstep = 1;
+  if (!std::isfinite(bomegv))
+    throw InputError("the seed solver's body angular velocity overflowed at row " + std::to_string(row) + ".");
   if (bomegv * del > 0.001f) {
     const float increments = bomegv * del / 0.001f;
     if (!(increments < kMaxSubSteps))
@@ -346,6 +348,8 @@ ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, 
       out.fomegd(k, row) = to_fixed(row, bomegdx, bomegdy, bomegdz);
       out.fomeg(k, row) = to_fixed(row, bomegx, bomegy, bomegz);
     }
+    if (!(out.facc_g.row(k).allFinite() && out.fomegd.row(k).allFinite()))
+      throw InputError("the seed solver's accelerations overflowed REAL*4 at row " + std::to_string(k) + ".");
     out.time[k] = static_cast<float>(i) * del;
     out.bomeg.row(k) << bomegx, bomegy, bomegz;
     out.bomegd.row(k) << bomegdx, bomegdy, bomegdz;

@@ -659,3 +659,23 @@ TEST(SeedInitialState, ConstantInitialBodyRateFollowsTheExactRotation) {
 
 }  // namespace
 }  // namespace napkin::engine
+
+namespace napkin::engine {
+namespace {
+
+TEST(SeedSignals, Real4OverflowIsAnInputErrorNotANumber) {
+  // Finite in double, infinite once the listing squares omega in REAL*4.
+  const LcCompInput input = ReadInput("in_denton_angles.txt");
+  TestSignals signals = SignalsOf(input);
+  signals.samples(40, 3) = 1e30;  // yarm_z
+  try {
+    SolveSeed(testing::Denton3222(), signals, InitialOf(input));
+    ADD_FAILURE() << "accepted an overflowing sample";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("row 40."), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace napkin::engine
