@@ -1,5 +1,6 @@
 #include "engine/array_geometry.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
 #include <set>

@@ -263,7 +263,7 @@ SyntheticTest SynthRandomMotion(const ArrayGeometry& array, const RandomMotionOp
   const double duration = options.duration_s;
   std::array<PulseSum, 3> euler_rates, cg_acc;
   for (PulseSum& rate : euler_rates)
-    rate = RandomPulses(uniform, 2, 4, 0.01, 0.06, duration, options.peak_omega_radps * uniform(0.4, 0.75));
+    rate = RandomPulses(uniform, 2, 4, 0.015, 0.06, duration, options.peak_omega_radps * uniform(0.4, 0.75));
   for (PulseSum& acc : cg_acc)
     acc = RandomPulses(uniform, 1, 3, 0.006, 0.04, duration, options.peak_acc_g * kStandardGravity * uniform(0.4, 0.75));
   InitialState initial;
