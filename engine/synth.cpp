@@ -214,7 +214,8 @@ SyntheticTest SynthSequential(const ArrayGeometry& array, const SynthOptions& op
   // theta(t) = 45 deg (1 - cos(pi (t - start) / 40 ms)). The angular
   // acceleration jumps at the start and end of each turn; a sample exactly
   // on a jump takes the mean of the one-sided limits (what a band-limited
-  // record shows there, and what makes trapezoid-type integration exact).
+  // record shows there, and what makes trapezoid-type integration exact);
+  // the first sample, at t = 0, takes the right-hand limit.
   constexpr double kTurn = 0.04;
   constexpr std::array<double, 3> kStarts = {0.0, 0.05, 0.10};
   const double half_angle = 0.25 * kPi, rate = kPi / kTurn;
@@ -235,7 +236,9 @@ SyntheticTest SynthSequential(const ArrayGeometry& array, const SynthOptions& op
         a = half_angle * (1.0 - std::cos(rate * tau));
         w = half_angle * rate * std::sin(rate * tau);
         al = half_angle * rate * rate * std::cos(rate * tau);
-        if (std::abs(tau) <= tol || std::abs(tau - kTurn) <= tol) al *= 0.5;  // on the jump
+        // On an interior jump: the mean. The record's first sample has no
+        // left side; it takes the motion's right-hand limit.
+        if ((std::abs(tau) <= tol && t > tol) || std::abs(tau - kTurn) <= tol) al *= 0.5;
       }
     }
     MotionState s;
