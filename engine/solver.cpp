@@ -1,0 +1,56 @@
+#include "engine/solver.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "engine/error.h"
+#include "engine/exact_solver.h"
+#include "engine/seed_solver.h"
+
+namespace napkin::engine {
+namespace {
+
+// Every channel the array needs is present, finite and uniformly sampled.
+void CheckSignals(const ArrayGeometry& array, const TestSignals& signals) {
+  if (!std::isfinite(signals.dt_s) || signals.dt_s <= 0.0) {
+    std::ostringstream message;
+    message << "the sampling interval must be positive and finite (got dt = " << signals.dt_s << " s).";
+    throw InputError(message.str());
+  }
+  if (!std::isfinite(signals.t0_s)) throw InputError("the time of the first sample is not finite.");
+  if (signals.samples.cols() != static_cast<Eigen::Index>(signals.slots.size()))
+    throw InputError("the signals have " + std::to_string(signals.samples.cols()) + " columns but " +
+                     std::to_string(signals.slots.size()) + " channel names.");
+  if (signals.size() < 2)
+    throw InputError("the signals have " + std::to_string(signals.size()) +
+                     " sample(s); at least 2 are needed to integrate.");
+  for (const Sensor& sensor : array.sensors) {
+    const int column = signals.FindSlot(sensor.slot);
+    if (column < 0)
+      throw InputError("channel '" + sensor.slot + "' required by array '" + array.name + "' is missing.");
+    const auto values = signals.samples.col(column);
+    for (Eigen::Index k = 0; k < values.size(); ++k) {
+      if (!std::isfinite(values(k))) {
+        std::ostringstream message;
+        message << "channel '" << sensor.slot << "' has a non-finite value at row " << k + 1
+                << " (t = " << signals.TimeAt(k) << " s).";
+        throw InputError(message.str());
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+  ArrayGeometry validated = array;
+  ValidateArray(validated);
+  CheckSignals(validated, signals);
+  if (options.solver == SolverKind::kSeed) return SolveSeed(validated, signals, options.initial);
+  if (options.corrector_passes < 1)
+    throw InputError("corrector_passes must be at least 1 (got " + std::to_string(options.corrector_passes) +
+                     ").");
+  return SolveExact(validated, signals, options);
+}
+
+}  // namespace napkin::engine

@@ -1,0 +1,141 @@
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine/array_analysis.h"
+#include "engine/array_geometry.h"
+#include "engine/error.h"
+#include "engine/exact_solver.h"
+#include "tests/support/reference_arrays.h"
+
+namespace napkin::engine {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string RejectionMessage(ArrayGeometry array) {
+  try {
+    ValidateArray(array);
+  } catch (const InvalidArrayError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(ArrayGeometry, ReferenceArraysAreValidAndClassified) {
+  for (ArrayGeometry array : {testing::Ideal3222(), testing::VolpeTable42(), testing::Denton3222()}) {
+    EXPECT_NO_THROW(ValidateArray(array)) << array.name;
+    EXPECT_EQ(ClassifyArray(array), ExactPath::kLinear);
+  }
+  ArrayGeometry six_a_omega = testing::SixAOmegaCg();
+  EXPECT_NO_THROW(ValidateArray(six_a_omega));
+  EXPECT_EQ(ClassifyArray(six_a_omega), ExactPath::kSixAOmega);
+  ArrayGeometry fused = testing::NapArs12();
+  EXPECT_NO_THROW(ValidateArray(fused));
+  EXPECT_EQ(ClassifyArray(fused), ExactPath::kFused);
+}
+
+TEST(ArrayGeometry, SlotLookupAndKinds) {
+  const ArrayGeometry array = testing::NapArs12();
+  ASSERT_TRUE(array.FindSlot("xarm_y").has_value());
+  EXPECT_EQ(*array.FindSlot("xarm_y"), 6u);
+  EXPECT_FALSE(array.FindSlot("nope").has_value());
+  EXPECT_EQ(array.LinearIndices(), (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(array.RateIndices(), (std::vector<std::size_t>{9, 10, 11}));
+}
+
+TEST(ArrayGeometry, NormalisesAxes) {
+  ArrayGeometry array = testing::Ideal3222();
+  array.sensors[4].axis_body = Eigen::Vector3d(3.0, 0.0, 4.0);
+  ValidateArray(array);
+  EXPECT_NEAR(array.sensors[4].axis_body.norm(), 1.0, 1e-15);
+  EXPECT_NEAR(array.sensors[4].axis_body.x(), 0.6, 1e-15);
+}
+
+TEST(ArrayGeometry, RejectsMalformedSensors) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  ArrayGeometry empty;
+  empty.name = "foo";
+  EXPECT_THAT(RejectionMessage(empty), HasSubstr("array 'foo' has no sensors"));
+
+  ArrayGeometry duplicate = testing::Ideal3222();
+  duplicate.sensors[3].slot = "cg_x";
+  EXPECT_THAT(RejectionMessage(duplicate), HasSubstr("slot 'cg_x' appears more than once"));
+
+  ArrayGeometry unnamed = testing::Ideal3222();
+  unnamed.sensors[2].slot.clear();
+  EXPECT_THAT(RejectionMessage(unnamed), HasSubstr("sensor 3 has an empty slot name"));
+
+  ArrayGeometry zero_axis = testing::Ideal3222();
+  zero_axis.sensors[5].axis_body.setZero();
+  EXPECT_THAT(RejectionMessage(zero_axis), HasSubstr("slot 'xarm_z' has a zero or non-finite sense axis"));
+
+  ArrayGeometry nan_axis = testing::Ideal3222();
+  nan_axis.sensors[5].axis_body.x() = nan;
+  EXPECT_THAT(RejectionMessage(nan_axis), HasSubstr("slot 'xarm_z' has a zero or non-finite sense axis"));
+
+  ArrayGeometry nan_position = testing::Ideal3222();
+  nan_position.sensors[7].position_body_m.z() = std::numeric_limits<double>::infinity();
+  EXPECT_THAT(RejectionMessage(nan_position), HasSubstr("slot 'zarm_x' has a non-finite position"));
+
+  for (double factor : {0.0, -9.8, nan}) {
+    ArrayGeometry bad_unit = testing::Ideal3222();
+    bad_unit.sensors[0].unit = "furlong/fortnight^2";
+    bad_unit.sensors[0].si_per_unit = factor;
+    EXPECT_THAT(RejectionMessage(bad_unit), HasSubstr("slot 'cg_x' has unknown unit 'furlong/fortnight^2'"));
+  }
+}
+
+TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
+  // All nine at the CG: alpha is invisible (rank 3 of 6).
+  ArrayGeometry at_cg = testing::Ideal3222();
+  at_cg.name = "foo";
+  for (Sensor& sensor : at_cg.sensors) sensor.position_body_m.setZero();
+  const std::string message = RejectionMessage(at_cg);
+  EXPECT_THAT(message, HasSubstr("array 'foo': the linear sensors do not determine the six rigid-body "
+                                 "accelerations (rank 3 of 6)"));
+  EXPECT_THAT(message, HasSubstr("add sensors off the CG or angular-rate sensors."));
+
+  // Only five sensors can never reach rank 6.
+  ArrayGeometry five = testing::Ideal3222();
+  five.sensors.resize(5);
+  EXPECT_THAT(RejectionMessage(five), HasSubstr("rank 5 of 6"));
+
+  // Without the z arm the 3-2-2-2 still senses alpha_x (yarm_z), alpha_y
+  // (xarm_z) and alpha_z (yarm_x, xarm_y); dropping yarm_z as well leaves
+  // nothing with a lever arm for alpha_x.
+  ArrayGeometry no_z_arm = testing::Ideal3222();
+  no_z_arm.sensors.resize(7);
+  EXPECT_EQ(RejectionMessage(no_z_arm), "");
+  ArrayGeometry no_alpha_x = no_z_arm;
+  no_alpha_x.sensors.erase(no_alpha_x.sensors.begin() + 3);  // yarm_z
+  EXPECT_THAT(RejectionMessage(no_alpha_x), HasSubstr("rank 5 of 6"));
+
+  // 3 accelerometers + only 2 rate axes.
+  ArrayGeometry two_rates = testing::SixAOmegaCg();
+  two_rates.sensors.pop_back();
+  EXPECT_THAT(RejectionMessage(two_rates), HasSubstr("angular-rate sensors span only 2 of 3 axes"));
+
+  // 3 rate axes but two parallel accelerometers: the CG acceleration is undetermined.
+  ArrayGeometry parallel = testing::SixAOmegaCg();
+  parallel.sensors[1].axis_body = Eigen::Vector3d::UnitX();
+  EXPECT_THAT(RejectionMessage(parallel), HasSubstr("linear sense axes span only 2 of 3 directions"));
+
+  // Rate sensors along two axes only, even with many of them.
+  ArrayGeometry coplanar_rates = testing::SixAOmegaCg();
+  coplanar_rates.sensors[5].axis_body = Eigen::Vector3d(1.0, 1.0, 0.0);
+  EXPECT_THAT(RejectionMessage(coplanar_rates), HasSubstr("span only 2 of 3 axes"));
+}
+
+TEST(ArrayGeometry, RankIsIndependentOfLengthUnitScale) {
+  // The same NAP shrunk 1000x is still solvable (the rank test scales the
+  // alpha columns by the lever arm).
+  ArrayGeometry tiny = testing::Denton3222();
+  for (Sensor& sensor : tiny.sensors) sensor.position_body_m *= 1e-3;
+  EXPECT_NO_THROW(ValidateArray(tiny));
+}
+
+}  // namespace
+}  // namespace napkin::engine

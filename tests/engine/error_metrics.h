@@ -1,0 +1,46 @@
+#pragma once
+// Worst-case errors of solved kinematics against synthetic truth, as the
+// accuracy targets of ALGORITHMS.md state them.
+#include <cstdio>
+#include <string>
+
+#include "engine/integration.h"
+#include "engine/kinematics.h"
+#include "engine/rotation.h"
+#include "engine/units.h"
+
+namespace napkin::testing {
+
+struct KinematicsErrors {
+  double omega_rel = 0.0;        // max |omega - truth| / max |truth| (body)
+  double alpha_rel = 0.0;        // max |alpha - truth| / max |truth| (body)
+  double orientation_deg = 0.0;  // max angle between solved and true orientation
+  double acc_rel = 0.0;          // max |a_cg - truth| / max |truth| (fixed)
+  double vel_rel = 0.0;          // max |v - truth| / max |truth - v0|
+  double pos_abs_m = 0.0;        // max |p - truth|
+};
+
+inline double MaxRowNorm(const engine::Series3& s) { return s.rowwise().norm().maxCoeff(); }
+
+inline KinematicsErrors CompareKinematics(const engine::Kinematics& solved, const engine::Kinematics& truth) {
+  KinematicsErrors e;
+  e.omega_rel = MaxRowNorm(solved.omega_body - truth.omega_body) / MaxRowNorm(truth.omega_body);
+  e.alpha_rel = MaxRowNorm(solved.alpha_body - truth.alpha_body) / MaxRowNorm(truth.alpha_body);
+  for (Eigen::Index k = 0; k < truth.size(); ++k)
+    e.orientation_deg = std::max(e.orientation_deg, engine::AngleBetween(engine::QuatAt(solved.quat_fixed_from_body, k),
+                                                                         engine::QuatAt(truth.quat_fixed_from_body, k)) *
+                                                        engine::kDegPerRad);
+  e.acc_rel = MaxRowNorm(solved.acc_fixed - truth.acc_fixed) / MaxRowNorm(truth.acc_fixed);
+  const engine::Series3 vel_change = truth.vel_fixed.rowwise() - truth.vel_fixed.row(0);
+  e.vel_rel = MaxRowNorm(solved.vel_fixed - truth.vel_fixed) / MaxRowNorm(vel_change);
+  e.pos_abs_m = MaxRowNorm(solved.pos_fixed - truth.pos_fixed);
+  return e;
+}
+
+inline void PrintErrors(const std::string& label, const KinematicsErrors& e) {
+  std::printf("[errors] %-34s omega %.2e %% | alpha %.2e %% | orient %.2e deg | acc %.2e %% | vel %.2e %% | pos %.2e m\n",
+              label.c_str(), 100 * e.omega_rel, 100 * e.alpha_rel, e.orientation_deg, 100 * e.acc_rel,
+              100 * e.vel_rel, e.pos_abs_m);
+}
+
+}  // namespace napkin::testing
