@@ -181,6 +181,11 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels, co
       throw InputError("test " + test_name + ": no channel matches slot " + Quoted(sensor.slot) + " (" + wanted +
                        ") of channel map " + Quoted(map.name) + ".");
     }
+    for (std::size_t earlier = 0; earlier < assignment.size(); ++earlier)
+      if (assignment[earlier] == *found)
+        throw InputError("test " + test_name + ": " + channels[*found].Label() + " is matched by both slot " +
+                         Quoted(array.sensors[earlier].slot) + " and slot " + Quoted(sensor.slot) + " of channel map " +
+                         Quoted(map.name) + ".");
     assignment.push_back(*found);
   }
   return assignment;

@@ -233,6 +233,15 @@ TEST(IsoMmeTest, ErrorsNameFileChannelOrSlot) {
     test::WriteBytes(folder / "Channel" / "a.001", ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
     ExpectInputError([&] { ReadIsoMme(folder); }, {"a.002", "channel 2 of 2", "missing"});
   }
+  {
+    // A map that sends one channel to two slots.
+    test::WriteBytes(dir / "twice.json", R"({"name": "twice", "slots": {
+        "cg_x": {"code": "??HEAD0000??ACX?"}, "cg_y": {"code": "??HEAD0000??ACX?"}, "cg_z": {"code": "??HEAD0000??ACZ?"},
+        "ars_x": {"code": "??HEAD0000??AVX?"}, "ars_y": {"code": "??HEAD0000??AVY?"}, "ars_z": {"code": "??HEAD0000??AVZ?"}}})");
+    WriteFolder(dir / "twice", good);
+    ExpectInputError([&] { ReadIsoMmeSignals(dir / "twice", array, ReadChannelMap(dir / "twice.json")); },
+                     {"11HEAD0000H3ACXA", "matched by both slot \"cg_x\" and slot \"cg_y\""});
+  }
   WriteFolder(dir / "good", good);
   EXPECT_EQ(ReadIsoMmeSignals(dir / "good", array, map).size(), 6);
   ExpectInputError([&] { ReadIsoMmeSignals(dir / "good", testing::Denton3222(), map); },
