@@ -1,0 +1,178 @@
+#include "formats/array_json.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <set>
+
+#include "engine/error.h"
+#include "engine/units.h"
+#include "formats/atomic_file.h"
+#include "formats/json_file.h"
+
+namespace napkin::formats {
+namespace {
+
+using nlohmann::json;
+
+const char* JsonTypeName(const json& value) {
+  if (value.is_null()) return "null";
+  if (value.is_boolean()) return "a boolean";
+  if (value.is_number()) return "a number";
+  if (value.is_string()) return "a string";
+  if (value.is_array()) return "an array";
+  return "an object";
+}
+
+// "sensor 3 (slot "yarm_z")" or "sensor 3" while the slot is unknown.
+std::string SensorName(std::size_t index, const std::string& slot) {
+  std::string name = "sensor " + std::to_string(index + 1);
+  if (!slot.empty()) name += " (slot \"" + slot + "\")";
+  return name;
+}
+
+[[noreturn]] void Fail(const std::string& source, const std::string& problem) {
+  throw InvalidArrayError(source + ": " + problem + ".");
+}
+
+std::string RequireString(const json& object, const char* key, const std::string& source, const std::string& where) {
+  const auto it = object.find(key);
+  if (it == object.end()) Fail(source, where + " has no \"" + key + "\"");
+  if (!it->is_string()) Fail(source, where + ": \"" + key + "\" must be a string, not " + JsonTypeName(*it));
+  return it->get<std::string>();
+}
+
+Eigen::Vector3d RequireVector3(const json& value, const char* key, const std::string& source,
+                               const std::string& where) {
+  if (!value.is_array() || value.size() != 3)
+    Fail(source, where + ": \"" + key + "\" must be an array of three numbers");
+  Eigen::Vector3d vector;
+  for (int i = 0; i < 3; ++i) {
+    if (!value[i].is_number()) Fail(source, where + ": \"" + key + "\" must be an array of three numbers");
+    vector[i] = value[i].get<double>();
+    if (!std::isfinite(vector[i])) Fail(source, where + ": \"" + key + "\" has a non-finite component");
+  }
+  return vector;
+}
+
+}  // namespace
+
+engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source) {
+  if (!root.is_object()) Fail(source, std::string("an array definition must be a JSON object, not ") + JsonTypeName(root));
+  engine::ArrayGeometry array;
+  if (root.contains("name")) array.name = RequireString(root, "name", source, "the array");
+  if (root.contains("description")) array.description = RequireString(root, "description", source, "the array");
+
+  const std::string length_unit = RequireString(root, "length_unit", source, "the array");
+  const std::optional<double> metres_per_unit = engine::LengthUnitToMetres(length_unit);
+  if (!metres_per_unit) Fail(source, "unknown length_unit \"" + length_unit + "\" (use in, mm or m)");
+
+  const auto sensors = root.find("sensors");
+  if (sensors == root.end()) Fail(source, "the array has no \"sensors\"");
+  if (!sensors->is_array()) Fail(source, std::string("\"sensors\" must be an array, not ") + JsonTypeName(*sensors));
+  if (sensors->empty()) Fail(source, "the array has no sensors");
+
+  std::set<std::string> slots;
+  for (std::size_t i = 0; i < sensors->size(); ++i) {
+    const json& entry = (*sensors)[i];
+    if (!entry.is_object()) Fail(source, SensorName(i, "") + " must be a JSON object, not " + JsonTypeName(entry));
+    engine::Sensor sensor;
+    sensor.slot = RequireString(entry, "slot", source, SensorName(i, ""));
+    if (sensor.slot.empty()) Fail(source, SensorName(i, "") + " has an empty slot name");
+    const std::string where = SensorName(i, sensor.slot);
+    if (!slots.insert(sensor.slot).second) Fail(source, where + " duplicates an earlier slot");
+
+    const std::string type = RequireString(entry, "type", source, where);
+    if (type == "linear") {
+      sensor.kind = engine::SensorKind::kLinear;
+    } else if (type == "angular_rate") {
+      sensor.kind = engine::SensorKind::kAngularRate;
+    } else {
+      Fail(source, where + " has unknown type \"" + type + "\" (use linear or angular_rate)");
+    }
+
+    sensor.unit = RequireString(entry, "unit", source, where);
+    const std::optional<double> si_per_unit = sensor.kind == engine::SensorKind::kLinear
+                                                  ? engine::LinearUnitToSi(sensor.unit)
+                                                  : engine::AngularRateUnitToSi(sensor.unit);
+    if (!si_per_unit)
+      Fail(source, where + " has unknown unit \"" + sensor.unit + "\" for a " + type + " sensor (use " +
+                       (sensor.kind == engine::SensorKind::kLinear ? "g or m/s^2" : "rad/s or deg/s") + ")");
+    sensor.si_per_unit = *si_per_unit;
+
+    const auto position = entry.find("position");
+    if (position != entry.end()) {
+      sensor.position_body_m = RequireVector3(*position, "position", source, where) * *metres_per_unit;
+    } else if (sensor.kind == engine::SensorKind::kLinear) {
+      Fail(source, where + " has no \"position\"");
+    }
+    const auto axis = entry.find("axis");
+    if (axis == entry.end()) Fail(source, where + " has no \"axis\"");
+    sensor.axis_body = RequireVector3(*axis, "axis", source, where);
+    const double norm = sensor.axis_body.norm();
+    if (!(norm > 1e-12)) Fail(source, where + " has a zero axis");
+    sensor.axis_body /= norm;
+    array.sensors.push_back(std::move(sensor));
+  }
+  try {
+    engine::ValidateArray(array);
+  } catch (const InputError& error) {
+    throw InvalidArrayError(source + ": " + error.what());
+  }
+  return array;
+}
+
+engine::ArrayGeometry ReadArrayJson(const std::filesystem::path& path) {
+  engine::ArrayGeometry array = ParseArrayJson(ReadJsonFile(path), path.string());
+  if (array.name.empty()) array.name = path.stem().string();
+  return array;
+}
+
+json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_unit) {
+  const std::optional<double> metres_per_unit = engine::LengthUnitToMetres(length_unit);
+  if (!metres_per_unit) throw InputError("unknown length unit \"" + std::string(length_unit) + "\" (use in, mm or m).");
+  json root = json::object();
+  root["name"] = array.name;
+  if (!array.description.empty()) root["description"] = array.description;
+  root["length_unit"] = std::string(length_unit);
+  json sensors = json::array();
+  for (const engine::Sensor& sensor : array.sensors) {
+    json entry = json::object();
+    entry["slot"] = sensor.slot;
+    entry["type"] = sensor.kind == engine::SensorKind::kLinear ? "linear" : "angular_rate";
+    const Eigen::Vector3d position = sensor.position_body_m / *metres_per_unit;
+    entry["position"] = {position.x(), position.y(), position.z()};
+    entry["axis"] = {sensor.axis_body.x(), sensor.axis_body.y(), sensor.axis_body.z()};
+    entry["unit"] = sensor.unit;
+    sensors.push_back(std::move(entry));
+  }
+  root["sensors"] = std::move(sensors);
+  return root;
+}
+
+void WriteArrayJson(const engine::ArrayGeometry& array, const std::filesystem::path& path,
+                    std::string_view length_unit) {
+  const std::string text = ArrayToJson(array, length_unit).dump(2) + "\n";
+  WriteFileAtomically(path, [&](AtomicFile& file) { file.Write(text); });
+}
+
+std::filesystem::path DefaultConfigDir() {
+  if (const char* dir = std::getenv("NAPKIN_CONFIG_DIR"); dir != nullptr && *dir != '\0') return dir;
+  return NAPKIN_BUILD_CONFIG_DIR;
+}
+
+std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_view subdir,
+                                    const std::filesystem::path& config_dir) {
+  const std::filesystem::path as_path(name_or_path);
+  std::error_code error;
+  if (std::filesystem::is_regular_file(as_path, error)) return as_path;
+  const std::filesystem::path preset = config_dir / subdir / (std::string(name_or_path) + ".json");
+  if (std::filesystem::is_regular_file(preset, error)) return preset;
+  throw InputError("\"" + std::string(name_or_path) + "\" is neither a file nor a preset in " +
+                   (config_dir / subdir).string() + ".");
+}
+
+engine::ArrayGeometry LoadArray(std::string_view name_or_path) {
+  return ReadArrayJson(ResolvePreset(name_or_path, "arrays"));
+}
+
+}  // namespace napkin::formats

@@ -1,0 +1,244 @@
+#include "formats/csv.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "engine/error.h"
+#include "engine/units.h"
+#include "formats/atomic_file.h"
+#include "formats/json_file.h"
+#include "formats/text.h"
+
+namespace napkin::formats {
+namespace {
+
+// Relative tolerance on the sampling interval (FORMATS.md).
+constexpr double kMaxRelativeJitter = 1e-6;
+
+// Splits `line` at commas into `fields` (views into `line`).
+void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
+  fields.clear();
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', start);
+    if (comma == std::string_view::npos) {
+      fields.push_back(line.substr(start));
+      return;
+    }
+    fields.push_back(line.substr(start, comma - start));
+    start = comma + 1;
+  }
+}
+
+std::string_view Unquote(std::string_view text) {
+  text = Trim(text);
+  if (text.size() >= 2 && text.front() == '"' && text.back() == '"') text = Trim(text.substr(1, text.size() - 2));
+  return text;
+}
+
+std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+
+}  // namespace
+
+CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array) {
+  const std::string file = path.string();
+  std::string text = ReadWholeFile(path);
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+
+  CsvSignals result;
+  std::vector<std::string> header;
+  std::vector<int> wanted_field;  // field index of each output column
+  int time_field = -1;
+  std::vector<std::vector<double>> columns;
+  std::vector<double> time;
+  std::vector<long> row_lines;  // file line number of each data row
+  std::vector<std::string_view> fields;
+
+  std::size_t position = 0;
+  long line_number = 0;
+  while (position < text.size()) {
+    std::size_t end = text.find('\n', position);
+    if (end == std::string::npos) end = text.size();
+    std::string_view line(text.data() + position, end - position);
+    position = end + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const std::string_view trimmed = Trim(line);
+    if (trimmed.empty() || trimmed.front() == '#') continue;
+    SplitFields(line, fields);
+
+    if (header.empty()) {
+      std::map<std::string, int> index_of;
+      for (std::size_t i = 0; i < fields.size(); ++i) {
+        std::string name(Unquote(fields[i]));
+        if (name.empty())
+          throw InputError(file + ": header line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) +
+                           " has no name.");
+        if (!index_of.emplace(name, static_cast<int>(i)).second)
+          throw InputError(file + ": header line " + std::to_string(line_number) + " names column " + Quoted(name) +
+                           " twice.");
+        header.push_back(std::move(name));
+      }
+      const auto time_it = index_of.find("time_s");
+      if (time_it == index_of.end())
+        throw InputError(file + ": the header (line " + std::to_string(line_number) + ") has no time_s column.");
+      time_field = time_it->second;
+      if (array != nullptr) {
+        for (const engine::Sensor& sensor : array->sensors) {
+          const auto it = index_of.find(sensor.slot);
+          if (it == index_of.end())
+            throw InputError(file + ": no column for slot " + Quoted(sensor.slot) + " of array " +
+                             Quoted(array->name) + ".");
+          wanted_field.push_back(it->second);
+          result.signals.slots.push_back(sensor.slot);
+        }
+        for (const std::string& name : header)
+          if (name != "time_s" && std::none_of(array->sensors.begin(), array->sensors.end(),
+                                               [&](const engine::Sensor& s) { return s.slot == name; }))
+            result.warnings.push_back(file + ": column " + Quoted(name) + " is not a slot of array " +
+                                      Quoted(array->name) + " and is ignored.");
+      } else {
+        for (std::size_t i = 0; i < header.size(); ++i) {
+          if (static_cast<int>(i) == time_field) continue;
+          wanted_field.push_back(static_cast<int>(i));
+          result.signals.slots.push_back(header[i]);
+        }
+      }
+      columns.resize(wanted_field.size());
+      continue;
+    }
+
+    if (fields.size() != header.size())
+      throw InputError(file + ": row " + std::to_string(line_number) + " has " + std::to_string(fields.size()) +
+                       " values but the header has " + std::to_string(header.size()) + " columns.");
+    auto parse = [&](int field) {
+      const std::string_view value = Trim(fields[field]);
+      const std::string& column = header[field];
+      if (value.empty())
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + " is empty.");
+      const std::optional<double> number = ParseDouble(value);
+      if (!number)
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + ": " +
+                         Quoted(value) + " is not a number.");
+      if (!std::isfinite(*number))
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + ": " +
+                         Quoted(value) + " is not a finite number.");
+      return *number;
+    };
+    time.push_back(parse(time_field));
+    for (std::size_t c = 0; c < wanted_field.size(); ++c) columns[c].push_back(parse(wanted_field[c]));
+    row_lines.push_back(line_number);
+  }
+
+  if (header.empty()) throw InputError(file + ": no header line (expected time_s and one column per slot).");
+  if (time.size() < 2)
+    throw InputError(file + ": has " + std::to_string(time.size()) + " data row" + (time.size() == 1 ? "" : "s") +
+                     ", at least two are needed.");
+
+  // Strictly increasing, then uniformly spaced around the mean interval.
+  for (std::size_t k = 1; k < time.size(); ++k)
+    if (!(time[k] > time[k - 1]))
+      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": time_s " + FormatNumber(time[k]) +
+                       " does not increase over the previous row's " + FormatNumber(time[k - 1]) + ".");
+  const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+  for (std::size_t k = 1; k < time.size(); ++k) {
+    const double step = time[k] - time[k - 1];
+    if (std::abs(step - dt) > kMaxRelativeJitter * dt)
+      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": the time step " + FormatNumber(step, 9) +
+                       " s differs from the mean step " + FormatNumber(dt, 9) +
+                       " s by more than 1e-6 (relative); samples must be uniformly spaced.");
+  }
+
+  engine::TestSignals& signals = result.signals;
+  signals.t0_s = time.front();
+  signals.dt_s = dt;
+  signals.samples.resize(static_cast<Eigen::Index>(time.size()), static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    signals.samples.col(static_cast<Eigen::Index>(c)) =
+        Eigen::Map<const Eigen::VectorXd>(columns[c].data(), static_cast<Eigen::Index>(columns[c].size()));
+  return result;
+}
+
+void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::path& path) {
+  if (static_cast<Eigen::Index>(signals.slots.size()) != signals.samples.cols())
+    throw InputError(path.string() + ": cannot write signals whose slot names do not match their columns.");
+  WriteFileAtomically(path, [&](AtomicFile& file) {
+    std::string line = "time_s";
+    for (const std::string& slot : signals.slots) line += "," + slot;
+    line += '\n';
+    file.Write(line);
+    for (Eigen::Index k = 0; k < signals.size(); ++k) {
+      line.clear();
+      AppendNumber(line, signals.TimeAt(k));
+      for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
+        line += ',';
+        AppendNumber(line, signals.samples(k, c));
+      }
+      line += '\n';
+      file.Write(line);
+    }
+  });
+}
+
+const std::vector<std::string>& DerivedCsvColumns() {
+  static const std::vector<std::string> columns = {
+      "time_s",
+      "omega_body_x_radps", "omega_body_y_radps", "omega_body_z_radps",
+      "alpha_body_x_radps2", "alpha_body_y_radps2", "alpha_body_z_radps2",
+      "omega_fixed_x_radps", "omega_fixed_y_radps", "omega_fixed_z_radps",
+      "alpha_fixed_x_radps2", "alpha_fixed_y_radps2", "alpha_fixed_z_radps2",
+      "acc_body_x_g", "acc_body_y_g", "acc_body_z_g",
+      "acc_fixed_x_g", "acc_fixed_y_g", "acc_fixed_z_g",
+      "vel_fixed_x_mps", "vel_fixed_y_mps", "vel_fixed_z_mps",
+      "pos_fixed_x_m", "pos_fixed_y_m", "pos_fixed_z_m",
+      "quat_w", "quat_x", "quat_y", "quat_z",
+      "roll_deg", "pitch_deg", "yaw_deg",
+      "dcos_xx_deg", "dcos_yy_deg", "dcos_zz_deg"};
+  return columns;
+}
+
+void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
+  // At least 9 significant digits are required (FORMATS.md); 12 keep the
+  // file readable and well inside the precision of the solution.
+  constexpr int kDigits = 12;
+  const Eigen::Index n = kinematics.size();
+  WriteFileAtomically(path, [&](AtomicFile& file) {
+    std::string line;
+    for (std::size_t i = 0; i < DerivedCsvColumns().size(); ++i) {
+      if (i > 0) line += ',';
+      line += DerivedCsvColumns()[i];
+    }
+    line += '\n';
+    file.Write(line);
+    auto append3 = [&](const engine::Series3& series, Eigen::Index k, double scale) {
+      for (int c = 0; c < 3; ++c) {
+        line += ',';
+        AppendNumber(line, series(k, c) * scale, kDigits);
+      }
+    };
+    const double g_per_si = 1.0 / engine::kStandardGravity;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      line.clear();
+      AppendNumber(line, kinematics.time_s[k], kDigits);
+      append3(kinematics.omega_body, k, 1.0);
+      append3(kinematics.alpha_body, k, 1.0);
+      append3(kinematics.omega_fixed, k, 1.0);
+      append3(kinematics.alpha_fixed, k, 1.0);
+      append3(kinematics.acc_body, k, g_per_si);
+      append3(kinematics.acc_fixed, k, g_per_si);
+      append3(kinematics.vel_fixed, k, 1.0);
+      append3(kinematics.pos_fixed, k, 1.0);
+      for (int c = 0; c < 4; ++c) {
+        line += ',';
+        AppendNumber(line, kinematics.quat_fixed_from_body(k, c), kDigits);
+      }
+      append3(kinematics.roll_pitch_yaw_rad, k, engine::kDegPerRad);
+      append3(kinematics.dcos_rad, k, engine::kDegPerRad);
+      line += '\n';
+      file.Write(line);
+    }
+  });
+}
+
+}  // namespace napkin::formats

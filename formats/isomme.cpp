@@ -1,0 +1,351 @@
+#include "formats/isomme.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <optional>
+
+#include "engine/error.h"
+#include "engine/units.h"
+#include "formats/atomic_file.h"
+#include "formats/json_file.h"
+#include "formats/text.h"
+
+namespace napkin::formats {
+namespace {
+
+std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+
+// Lines of a text file (LF or CRLF), with their 1-based numbers; blank lines skipped.
+struct Line {
+  long number;
+  std::string_view text;
+};
+std::vector<Line> SplitLines(const std::string& text) {
+  std::vector<Line> lines;
+  std::size_t position = 0;
+  long number = 0;
+  while (position < text.size()) {
+    std::size_t end = text.find('\n', position);
+    if (end == std::string::npos) end = text.size();
+    ++number;
+    const std::string_view line = Trim(std::string_view(text).substr(position, end - position));
+    if (!line.empty()) lines.push_back({number, line});
+    position = end + 1;
+  }
+  return lines;
+}
+
+using Header = std::vector<std::pair<std::string, std::string>>;
+
+// Parses "key<blanks>:value" lines up to the first line without ':' (the
+// first sample of a channel file). Returns the index of that line.
+std::size_t ParseHeader(const std::vector<Line>& lines, Header& header) {
+  std::size_t i = 0;
+  for (; i < lines.size(); ++i) {
+    const std::size_t colon = lines[i].text.find(':');
+    if (colon == std::string_view::npos) break;
+    header.emplace_back(std::string(Trim(lines[i].text.substr(0, colon))),
+                        std::string(Trim(lines[i].text.substr(colon + 1))));
+  }
+  return i;
+}
+
+std::optional<std::string> Lookup(const Header& header, std::string_view key) {
+  for (const auto& [k, v] : header)
+    if (EqualsIgnoreCase(k, key)) return v;
+  return std::nullopt;
+}
+
+bool IsNoValue(std::string_view value) { return EqualsIgnoreCase(Trim(value), "NOVALUE"); }
+
+// The entry of `directory` whose name equals `name` ignoring case.
+std::optional<std::filesystem::path> FindIgnoringCase(const std::filesystem::path& directory, const std::string& name) {
+  const std::filesystem::path exact = directory / name;
+  std::error_code error;
+  if (std::filesystem::exists(exact, error)) return exact;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, error))
+    if (EqualsIgnoreCase(entry.path().filename().string(), name)) return entry.path();
+  return std::nullopt;
+}
+
+std::string ReadText(const std::filesystem::path& path) { return ToUtf8(ReadWholeFile(path)); }
+
+RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string& fallback_code) {
+  const std::string file = path.string();
+  const std::string text = ReadText(path);
+  const std::vector<Line> lines = SplitLines(text);
+  Header header;
+  const std::size_t first_sample = ParseHeader(lines, header);
+
+  RawChannel channel;
+  channel.source = file;
+  auto require = [&](std::string_view key) {
+    const std::optional<std::string> value = Lookup(header, key);
+    if (!value || value->empty() || IsNoValue(*value))
+      throw InputError(file + ": the header has no " + Quoted(key) + ".");
+    return *value;
+  };
+  auto require_number = [&](std::string_view key) {
+    const std::string value = require(key);
+    const std::optional<double> number = ParseDouble(value);
+    if (!number || !std::isfinite(*number))
+      throw InputError(file + ": " + Quoted(key) + " is " + Quoted(value) + ", not a number.");
+    return *number;
+  };
+  const std::optional<std::string> code = Lookup(header, "Channel code");
+  channel.code = code && !code->empty() && !IsNoValue(*code) ? *code : fallback_code;
+  if (channel.code.empty()) throw InputError(file + ": the header has no \"Channel code\".");
+  if (const auto name = Lookup(header, "Name of the channel")) channel.name = *name;
+  if (const auto unit = Lookup(header, "Unit")) channel.unit = *unit;
+  channel.dt_s = require_number("Sampling interval");
+  if (!(channel.dt_s > 0.0)) throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) + " is not positive.");
+  channel.t0_s = require_number("Time of first sample");
+  const std::string declared_text = require("Number of samples");
+  const std::optional<long long> declared = ParseInteger(declared_text);
+  if (!declared || *declared < 0)
+    throw InputError(file + ": \"Number of samples\" is " + Quoted(declared_text) + ", not a count.");
+
+  channel.values.reserve(static_cast<std::size_t>(*declared));
+  for (std::size_t i = first_sample; i < lines.size(); ++i) {
+    const Line& line = lines[i];
+    const std::size_t sample = i - first_sample + 1;
+    if (IsNoValue(line.text))
+      throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) +
+                       ") is NOVALUE.");
+    const std::optional<double> value = ParseDouble(line.text);
+    if (!value || !std::isfinite(*value))
+      throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) + ") is " +
+                       Quoted(line.text.substr(0, 40)) + ", not a finite number.");
+    channel.values.push_back(*value);
+  }
+  if (static_cast<long long>(channel.values.size()) != *declared)
+    throw InputError(file + ": the header declares " + std::to_string(*declared) + " samples but the file holds " +
+                     std::to_string(channel.values.size()) + ".");
+  return channel;
+}
+
+// Header line: key padded to 28 characters, ':', value (ISO/TS 13499 layout).
+void AppendHeaderLine(std::string& out, std::string_view key, std::string_view value) {
+  out += key;
+  if (key.size() < 28) out.append(28 - key.size(), ' ');
+  out += ':';
+  out += value;
+  out += '\n';
+}
+
+std::string ChannelFileName(const std::string& test_number, std::size_t index) {
+  char suffix[48];
+  std::snprintf(suffix, sizeof(suffix), ".%03zu", index);
+  return test_number + suffix;
+}
+
+struct OutputChannel {
+  std::string code;
+  std::string name;
+  std::string unit;
+  std::string reference_system;  // "local" (body axes) or "global" (fixed axes)
+  std::vector<double> values;
+};
+
+void WriteTestFolder(const std::filesystem::path& folder, const std::string& test_number, double dt, double t0,
+                     const std::vector<OutputChannel>& channels, int precision) {
+  if (test_number.empty() || test_number.find_first_of("/\\") != std::string::npos)
+    throw InputError(folder.string() + ": " + Quoted(test_number) + " cannot name ISO-MME files.");
+  WriteDirectoryAtomically(folder, [&](const std::filesystem::path& directory) {
+    std::string mme;
+    AppendHeaderLine(mme, "Data format", "ISO-MME");
+    AppendHeaderLine(mme, "Version", "1.6");
+    AppendHeaderLine(mme, "Test number", test_number);
+    AppendHeaderLine(mme, "Laboratory name", "napkin");
+    AppendHeaderLine(mme, "Number of test objects", "1");
+    WriteFileAtomically(directory / (test_number + ".mme"), [&](AtomicFile& file) { file.Write(mme); });
+
+    const std::filesystem::path channel_dir = directory / "Channel";
+    std::filesystem::create_directory(channel_dir);
+    std::string chn;
+    AppendHeaderLine(chn, "Instrumentation standard", "ISO 6487");
+    AppendHeaderLine(chn, "Number of channels", std::to_string(channels.size()));
+    for (std::size_t i = 0; i < channels.size(); ++i) {
+      char key[64];
+      std::snprintf(key, sizeof(key), "Name of channel %03zu", i + 1);
+      AppendHeaderLine(chn, key, channels[i].code + " / " + channels[i].name);
+    }
+    WriteFileAtomically(channel_dir / (test_number + ".chn"), [&](AtomicFile& file) { file.Write(chn); });
+
+    for (std::size_t i = 0; i < channels.size(); ++i) {
+      const OutputChannel& channel = channels[i];
+      std::string text;
+      AppendHeaderLine(text, "Channel code", channel.code);
+      AppendHeaderLine(text, "Name of the channel", channel.name);
+      AppendHeaderLine(text, "Data source", "calculated");
+      AppendHeaderLine(text, "Reference system", channel.reference_system);
+      AppendHeaderLine(text, "Sampling interval", FormatNumber(dt));
+      AppendHeaderLine(text, "Unit", channel.unit);
+      AppendHeaderLine(text, "Time of first sample", FormatNumber(t0));
+      AppendHeaderLine(text, "Number of samples", std::to_string(channel.values.size()));
+      AppendHeaderLine(text, "Data status", "ok");
+      for (const double value : channel.values) {
+        AppendNumber(text, value, precision);
+        text += '\n';
+      }
+      WriteFileAtomically(channel_dir / ChannelFileName(test_number, i + 1), [&](AtomicFile& file) { file.Write(text); });
+    }
+  });
+}
+
+std::string IsoUnit(const std::string& unit) {
+  if (unit == "m/s^2" || unit == "m/s2" || unit == "m/s**2") return "m/s**2";
+  return unit;  // g, rad/s, deg/s
+}
+
+}  // namespace
+
+std::string IsoMmeTest::TestNumber() const {
+  for (const auto& [key, value] : test_info)
+    if (EqualsIgnoreCase(key, "Test number") && !value.empty() && !IsNoValue(value)) return value;
+  return name;
+}
+
+IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
+  IsoMmeTest test;
+  std::filesystem::path mme;
+  std::error_code error;
+  if (std::filesystem::is_directory(folder_or_mme, error)) {
+    test.folder = folder_or_mme;
+    std::vector<std::filesystem::path> candidates;
+    for (const auto& entry : std::filesystem::directory_iterator(folder_or_mme, error))
+      if (entry.is_regular_file() && EqualsIgnoreCase(entry.path().extension().string(), ".mme"))
+        candidates.push_back(entry.path());
+    if (candidates.size() != 1)
+      throw InputError(folder_or_mme.string() + ": an ISO-MME test folder holds one .mme file, this one holds " +
+                       std::to_string(candidates.size()) + ".");
+    mme = candidates.front();
+  } else if (std::filesystem::is_regular_file(folder_or_mme, error)) {
+    mme = folder_or_mme;
+    test.folder = folder_or_mme.parent_path();
+    if (test.folder.empty()) test.folder = ".";
+  } else {
+    throw InputError(folder_or_mme.string() + ": no such ISO-MME test folder or .mme file.");
+  }
+  test.name = mme.stem().string();
+  {
+    const std::string text = ReadText(mme);
+    ParseHeader(SplitLines(text), test.test_info);
+  }
+
+  const std::optional<std::filesystem::path> channel_dir = FindIgnoringCase(test.folder, "Channel");
+  if (!channel_dir || !std::filesystem::is_directory(*channel_dir, error))
+    throw InputError(test.folder.string() + ": the ISO-MME test folder has no Channel folder.");
+  const std::optional<std::filesystem::path> chn = FindIgnoringCase(*channel_dir, test.name + ".chn");
+  if (!chn) throw InputError((*channel_dir / (test.name + ".chn")).string() + ": the channel list is missing.");
+  const std::string chn_text = ReadText(*chn);
+  const std::vector<Line> chn_lines = SplitLines(chn_text);  // views into chn_text
+  Header chn_header;
+  ParseHeader(chn_lines, chn_header);
+  const std::optional<std::string> count_text = Lookup(chn_header, "Number of channels");
+  const std::optional<long long> count = count_text ? ParseInteger(*count_text) : std::nullopt;
+  if (!count || *count < 1)
+    throw InputError(chn->string() + ": \"Number of channels\" is missing or not a positive count.");
+  for (long long i = 1; i <= *count; ++i) {
+    const std::string file_name = ChannelFileName(test.name, static_cast<std::size_t>(i));
+    const std::optional<std::filesystem::path> path = FindIgnoringCase(*channel_dir, file_name);
+    if (!path)
+      throw InputError((*channel_dir / file_name).string() + ": channel " + std::to_string(i) + " of " +
+                       std::to_string(*count) + " listed in " + chn->filename().string() + " is missing.");
+    // "Name of channel 001 : <code> / <name>" stands in for a missing Channel code.
+    char key[64];
+    std::snprintf(key, sizeof(key), "Name of channel %03lld", i);
+    std::string fallback_code;
+    if (const auto listed = Lookup(chn_header, key)) fallback_code = std::string(Trim(listed->substr(0, listed->find('/'))));
+    test.channels.push_back(ReadChannelFile(*path, fallback_code));
+  }
+  return test;
+}
+
+engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme, const engine::ArrayGeometry& array,
+                                      const ChannelMap& map) {
+  const IsoMmeTest test = ReadIsoMme(folder_or_mme);
+  const std::string test_name = test.TestNumber();
+  return AssembleSignals(test.channels, AssignSlots(test.channels, array, map, test_name), array, test_name);
+}
+
+std::string CodeForSlot(const ChannelMap& map, const std::string& slot) {
+  const ChannelMapEntry* entry = map.Find(slot);
+  if (entry == nullptr || entry->codes.empty())
+    throw InputError(map.source + ": channel map " + Quoted(map.name) + " has no code pattern for slot " + Quoted(slot) +
+                     ".");
+  std::string code = entry->codes.front();
+  for (std::size_t i = 0; i < code.size(); ++i)
+    if (code[i] == '?') code[i] = i < 2 ? '1' : '0';
+  return code;
+}
+
+void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array, const ChannelMap& map,
+                 const std::filesystem::path& folder, const std::string& test_number) {
+  std::vector<OutputChannel> channels;
+  std::map<std::string, std::string> slot_of_code;
+  for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
+    const std::string& slot = signals.slots.at(static_cast<std::size_t>(c));
+    OutputChannel channel;
+    channel.code = CodeForSlot(map, slot);
+    if (const auto [it, inserted] = slot_of_code.emplace(channel.code, slot); !inserted)
+      throw InputError(map.source + ": slots " + Quoted(it->second) + " and " + Quoted(slot) +
+                       " would both be written as channel " + channel.code + ".");
+    channel.name = "Head " + slot;
+    channel.unit = "g";
+    for (const engine::Sensor& sensor : array.sensors)
+      if (sensor.slot == slot) channel.unit = IsoUnit(sensor.unit);
+    channel.reference_system = "local";
+    channel.values.assign(signals.samples.col(c).data(), signals.samples.col(c).data() + signals.size());
+    channels.push_back(std::move(channel));
+  }
+  WriteTestFolder(folder, test_number, signals.dt_s, signals.t0_s, channels, 0);
+}
+
+void WriteDerivedIsoMme(const engine::Kinematics& kinematics, const std::filesystem::path& folder,
+                        const std::string& test_number) {
+  const Eigen::Index n = kinematics.size();
+  if (n < 2) throw InputError(folder.string() + ": cannot export fewer than two samples.");
+  const double dt = (kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1);
+  std::vector<OutputChannel> channels;
+  const char axes[3] = {'X', 'Y', 'Z'};
+  // Fine location 3: "00" body axes, "FX" fixed axes.
+  auto add3 = [&](const engine::Series3& series, const char* fine3, const char* dimension, const char* unit,
+                  const char* what, double scale) {
+    for (int a = 0; a < 3; ++a) {
+      OutputChannel channel;
+      channel.code = std::string("11HEADCG00") + fine3 + dimension + axes[a] + "0";
+      channel.name = std::string("Head CG ") + what + " " + axes[a];
+      channel.unit = unit;
+      channel.reference_system = std::string(fine3) == "FX" ? "global" : "local";
+      channel.values.resize(static_cast<std::size_t>(n));
+      for (Eigen::Index k = 0; k < n; ++k) channel.values[static_cast<std::size_t>(k)] = series(k, a) * scale;
+      channels.push_back(std::move(channel));
+    }
+  };
+  const double g_per_si = 1.0 / engine::kStandardGravity;
+  add3(kinematics.acc_body, "00", "AC", "g", "acceleration, body axes", g_per_si);
+  add3(kinematics.acc_fixed, "FX", "AC", "g", "acceleration, fixed axes", g_per_si);
+  add3(kinematics.vel_fixed, "FX", "VE", "m/s", "velocity, fixed axes", 1.0);
+  add3(kinematics.pos_fixed, "FX", "DS", "m", "displacement, fixed axes", 1.0);
+  add3(kinematics.omega_body, "00", "AV", "rad/s", "angular velocity, body axes", 1.0);
+  add3(kinematics.omega_fixed, "FX", "AV", "rad/s", "angular velocity, fixed axes", 1.0);
+  add3(kinematics.alpha_body, "00", "AA", "rad/s**2", "angular acceleration, body axes", 1.0);
+  add3(kinematics.alpha_fixed, "FX", "AA", "rad/s**2", "angular acceleration, fixed axes", 1.0);
+  add3(kinematics.roll_pitch_yaw_rad, "FX", "AN", "deg", "roll/pitch/yaw angle about fixed", engine::kDegPerRad);
+  add3(kinematics.dcos_rad, "DC", "AN", "deg", "angle between body and fixed axis", engine::kDegPerRad);
+  const char quaternion_parts[4] = {'W', 'X', 'Y', 'Z'};
+  for (int c = 0; c < 4; ++c) {
+    OutputChannel channel;
+    channel.code = std::string("11HEADCG00FXQU") + quaternion_parts[c] + "0";
+    channel.name = std::string("Head orientation quaternion (body to fixed) ") + quaternion_parts[c];
+    channel.unit = "1";
+    channel.reference_system = "global";
+    channel.values.assign(kinematics.quat_fixed_from_body.col(c).data(), kinematics.quat_fixed_from_body.col(c).data() + n);
+    channels.push_back(std::move(channel));
+  }
+  WriteTestFolder(folder, test_number, dt, kinematics.time_s[0], channels, 12);
+}
+
+}  // namespace napkin::formats

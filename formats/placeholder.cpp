@@ -1,1 +1,0 @@
-// Readers and writers of test files; see FORMATS.md.

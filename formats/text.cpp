@@ -1,0 +1,119 @@
+#include "formats/text.h"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+
+namespace napkin::formats {
+
+void AppendNumber(std::string& out, double value, int precision) {
+  char buffer[64];
+  const std::to_chars_result result =
+      precision <= 0 ? std::to_chars(buffer, buffer + sizeof(buffer), value)
+                     : std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general, precision);
+  out.append(buffer, result.ptr);
+}
+
+std::string FormatNumber(double value, int precision) {
+  std::string out;
+  AppendNumber(out, value, precision);
+  return out;
+}
+
+std::string_view Trim(std::string_view text) {
+  std::size_t begin = 0;
+  std::size_t end = text.size();
+  while (begin < end && (text[begin] == ' ' || text[begin] == '\t' || text[begin] == '\r' || text[begin] == '\n'))
+    ++begin;
+  while (end > begin &&
+         (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r' || text[end - 1] == '\n' ||
+          text[end - 1] == '\0'))
+    --end;
+  return text.substr(begin, end - begin);
+}
+
+std::optional<double> ParseDouble(std::string_view text) {
+  text = Trim(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (text.empty()) return std::nullopt;
+  double value = 0.0;
+  const std::from_chars_result result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (result.ec == std::errc::result_out_of_range) {
+    // Underflow to a denormal/zero is still a number; overflow is not finite.
+    const double fallback = std::strtod(std::string(text).c_str(), nullptr);
+    return fallback;
+  }
+  if (result.ec != std::errc() || result.ptr != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+std::optional<long long> ParseInteger(std::string_view text) {
+  text = Trim(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (text.empty()) return std::nullopt;
+  long long value = 0;
+  const std::from_chars_result result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (result.ec != std::errc() || result.ptr != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+std::string ToUpper(std::string_view text) {
+  std::string upper(text);
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return upper;
+}
+
+bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::toupper(static_cast<unsigned char>(a[i])) != std::toupper(static_cast<unsigned char>(b[i]))) return false;
+  return true;
+}
+
+namespace {
+
+bool IsValidUtf8(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    int continuation = 0;
+    if (c < 0x80) {
+      continuation = 0;
+    } else if ((c & 0xE0) == 0xC0 && c >= 0xC2) {
+      continuation = 1;
+    } else if ((c & 0xF0) == 0xE0) {
+      continuation = 2;
+    } else if ((c & 0xF8) == 0xF0 && c <= 0xF4) {
+      continuation = 3;
+    } else {
+      return false;
+    }
+    if (i + continuation >= text.size() && continuation > 0) return false;
+    for (int k = 1; k <= continuation; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return false;
+    i += continuation + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string ToUtf8(std::string text) {
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+  if (IsValidUtf8(text)) return text;
+  std::string converted;
+  converted.reserve(text.size() + text.size() / 8);
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x80) {
+      converted.push_back(ch);
+    } else {
+      converted.push_back(static_cast<char>(0xC0 | (c >> 6)));
+      converted.push_back(static_cast<char>(0x80 | (c & 0x3F)));
+    }
+  }
+  return converted;
+}
+
+}  // namespace napkin::formats

@@ -1,0 +1,412 @@
+#include "formats/uds1992.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "engine/error.h"
+#include "formats/atomic_file.h"
+#include "formats/json_file.h"
+#include "formats/text.h"
+
+namespace napkin::formats {
+namespace {
+
+// Byte offsets in the 512-byte records (NHTSA UDS library field order and
+// lengths: FILEVER*12, NCHAN, FILEFORM*10, NUMFORM*5, DIMSYS*3, TSTSRC*15,
+// TSTNO, TSTNAM*12, TITLE*70, ...; ICHAN, CHANFORM*10, CURNO, CURNAM*12,
+// SENATT*30, SENLOC*2, SENNUM, BANDNO, GAGNO, AXIS*2, YTYP*20, YUNITS*20,
+// XTYP*20, XUNITS*20, STATUS*20, CURTYP*20, CURDSC*70, NFP, NLP, DEL, ...).
+struct Field {
+  std::size_t offset;
+  std::size_t length;
+};
+namespace file_header {
+constexpr Field kFilever{0, 12};
+constexpr std::size_t kNchan = 12;
+constexpr Field kFileform{16, 10};
+constexpr Field kNumform{26, 5};
+constexpr Field kDimsys{31, 3};
+constexpr Field kTstsrc{34, 15};
+constexpr std::size_t kTstno = 49;
+constexpr Field kTstnam{53, 12};
+constexpr Field kTitle{65, 70};
+// Remaining blank-padded strings: TSTPRF, TSTREF, TSTCFN, CMPTYP, CMPDSC, MAKE,
+// MODEL, BODY, ENGINE, OCCTYP, OCCSEX, DUMSIZ, RESTR1, RESTR2, AIS, HDR_RESV.
+constexpr Field kOtherStrings[] = {{135, 25}, {160, 10}, {170, 3},  {185, 2},  {187, 30}, {217, 15},
+                                   {232, 25}, {261, 25}, {286, 4},  {298, 6},  {308, 1},  {313, 2},
+                                   {315, 20}, {335, 20}, {379, 1},  {380, 132}};
+}  // namespace file_header
+namespace curve_header {
+constexpr Field kRecordHeader{0, 12};
+constexpr std::size_t kIchan = 12;
+constexpr Field kChanform{16, 10};
+constexpr std::size_t kCurno = 26;
+constexpr Field kCurnam{30, 12};
+constexpr Field kSenatt{42, 30};
+constexpr Field kSenloc{72, 2};
+constexpr Field kAxis{86, 2};
+constexpr Field kYtyp{88, 20};
+constexpr Field kYunits{108, 20};
+constexpr Field kXtyp{128, 20};
+constexpr Field kXunits{148, 20};
+constexpr Field kStatus{168, 20};
+constexpr Field kCurtyp{188, 20};
+constexpr Field kCurdsc{208, 70};
+constexpr std::size_t kNfp = 278;
+constexpr std::size_t kNlp = 282;
+constexpr std::size_t kDel = 286;
+constexpr std::size_t kInivel = 290;
+// CD1*20, CD2*70, CURV_RESV*68.
+constexpr Field kOtherStrings[] = {{354, 20}, {374, 70}, {444, 68}};
+}  // namespace curve_header
+constexpr Field kRecordHeader{0, 12};
+constexpr std::size_t kDataOffset = 12;
+
+using Record = const std::uint8_t*;
+
+std::string ReadString(Record record, Field field) {
+  std::string text(reinterpret_cast<const char*>(record + field.offset), field.length);
+  return std::string(Trim(text));
+}
+
+void WriteString(std::uint8_t* record, Field field, std::string_view text) {
+  std::memset(record + field.offset, ' ', field.length);
+  std::memcpy(record + field.offset, text.data(), std::min(text.size(), field.length));
+}
+
+bool BigEndian(UdsNumberForm form) { return form == UdsNumberForm::kSun; }
+
+std::uint32_t ReadWord(Record record, std::size_t offset, UdsNumberForm form) {
+  const std::uint8_t* b = record + offset;
+  if (BigEndian(form))
+    return (std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3];
+  return (std::uint32_t{b[3]} << 24) | (std::uint32_t{b[2]} << 16) | (std::uint32_t{b[1]} << 8) | b[0];
+}
+
+void WriteWord(std::uint8_t* record, std::size_t offset, std::uint32_t word, UdsNumberForm form) {
+  std::uint8_t* b = record + offset;
+  if (BigEndian(form)) {
+    b[0] = static_cast<std::uint8_t>(word >> 24);
+    b[1] = static_cast<std::uint8_t>(word >> 16);
+    b[2] = static_cast<std::uint8_t>(word >> 8);
+    b[3] = static_cast<std::uint8_t>(word);
+  } else {
+    b[3] = static_cast<std::uint8_t>(word >> 24);
+    b[2] = static_cast<std::uint8_t>(word >> 16);
+    b[1] = static_cast<std::uint8_t>(word >> 8);
+    b[0] = static_cast<std::uint8_t>(word);
+  }
+}
+
+std::int32_t ReadInt(Record record, std::size_t offset, UdsNumberForm form) {
+  return static_cast<std::int32_t>(ReadWord(record, offset, form));
+}
+
+// A REAL*4 in the file's number form; false for a VAX reserved operand.
+bool ReadReal(Record record, std::size_t offset, UdsNumberForm form, double& value) {
+  if (form == UdsNumberForm::kVax) return DecodeVaxF(record + offset, value);
+  value = static_cast<double>(std::bit_cast<float>(ReadWord(record, offset, form)));
+  return true;
+}
+
+bool WriteReal(std::uint8_t* record, std::size_t offset, double value, UdsNumberForm form) {
+  const float single = static_cast<float>(value);
+  if (form == UdsNumberForm::kVax) return std::isfinite(single) && EncodeVaxF(single, record + offset);
+  if (!std::isfinite(single)) return false;
+  WriteWord(record, offset, std::bit_cast<std::uint32_t>(single), form);
+  return true;
+}
+
+// The decimal a REAL*4 stands for: DEL = 1e-4 is stored as 9.99999975e-05,
+// which was meant as 0.0001 (shortest decimal that reads back to the same float).
+double IntendedDecimal(double stored) {
+  const float single = static_cast<float>(stored);
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), single);
+  double value = stored;
+  std::from_chars(buffer, result.ptr, value);
+  return value;
+}
+
+std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+
+}  // namespace
+
+const char* UdsNumberFormName(UdsNumberForm form) {
+  switch (form) {
+    case UdsNumberForm::kIeee:
+      return "IEEE";
+    case UdsNumberForm::kVax:
+      return "VAX";
+    case UdsNumberForm::kSun:
+      return "SUN";
+  }
+  return "IEEE";
+}
+
+bool DecodeVaxF(const std::uint8_t bytes[4], double& value) {
+  const std::uint32_t high_word = std::uint32_t{bytes[0]} | (std::uint32_t{bytes[1]} << 8);
+  const std::uint32_t low_word = std::uint32_t{bytes[2]} | (std::uint32_t{bytes[3]} << 8);
+  const bool negative = (high_word & 0x8000u) != 0;
+  const int exponent = static_cast<int>((high_word >> 7) & 0xFFu);
+  const std::uint32_t fraction = ((high_word & 0x7Fu) << 16) | low_word;
+  if (exponent == 0) {
+    value = 0.0;
+    return !negative;  // sign 1 with exponent 0 is the reserved operand
+  }
+  // 0.1fff...f (binary) * 2^(exponent - 128) = (1 + f / 2^23) * 2^(exponent - 129); exact in double.
+  const double magnitude = std::ldexp(1.0 + static_cast<double>(fraction) / 8388608.0, exponent - 129);
+  value = negative ? -magnitude : magnitude;
+  return true;
+}
+
+bool EncodeVaxF(float value, std::uint8_t bytes[4]) {
+  std::uint32_t high_word = 0;
+  std::uint32_t low_word = 0;
+  if (value != 0.0f) {
+    if (!std::isfinite(value)) return false;
+    int exponent2 = 0;
+    const double mantissa = std::frexp(std::abs(static_cast<double>(value)), &exponent2);  // [0.5, 1)
+    const int exponent = exponent2 + 128;
+    if (exponent > 255) return false;
+    if (exponent >= 1) {
+      // IEEE single has 24 significant bits like F_floating, so this is exact.
+      const auto fraction = static_cast<std::uint32_t>(std::ldexp(mantissa - 0.5, 24));
+      high_word = (value < 0.0f ? 0x8000u : 0u) | (static_cast<std::uint32_t>(exponent) << 7) | (fraction >> 16);
+      low_word = fraction & 0xFFFFu;
+    }
+  }
+  bytes[0] = static_cast<std::uint8_t>(high_word);
+  bytes[1] = static_cast<std::uint8_t>(high_word >> 8);
+  bytes[2] = static_cast<std::uint8_t>(low_word);
+  bytes[3] = static_cast<std::uint8_t>(low_word >> 8);
+  return true;
+}
+
+UdsChannel ReadUds1992(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::string bytes = ReadWholeFile(path);
+  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  const std::size_t size = bytes.size();
+  auto record_at = [&](std::size_t index, const std::string& what) -> Record {
+    const std::size_t offset = index * kUdsRecordBytes;
+    if (offset >= size)
+      throw InputError(file + ": " + what + " (record " + std::to_string(index + 1) + ") is missing; the file ends after " +
+                       std::to_string(size) + " bytes.");
+    if (offset + kUdsRecordBytes > size)
+      throw InputError(file + ": " + what + " (record " + std::to_string(index + 1) + ") is truncated (" +
+                       std::to_string(size - offset) + " of 512 bytes).");
+    return data + offset;
+  };
+
+  UdsChannel channel;
+  const Record header = record_at(0, "the file header");
+  const std::string filever = ReadString(header, file_header::kFilever);
+  if (filever != "UDS-1992")
+    throw InputError(file + ": FILEVER is " + Quoted(filever) + ", not \"UDS-1992\" (not a UDS-1992 file).");
+  const std::string numform = ReadString(header, file_header::kNumform);
+  if (numform == "IEEE") {
+    channel.number_form = UdsNumberForm::kIeee;
+  } else if (numform == "VAX") {
+    channel.number_form = UdsNumberForm::kVax;
+  } else if (numform == "SUN") {
+    channel.number_form = UdsNumberForm::kSun;
+  } else {
+    throw InputError(file + ": unknown NUMFORM " + Quoted(numform) + " (expected IEEE, VAX or SUN).");
+  }
+  const UdsNumberForm form = channel.number_form;
+  const std::int32_t nchan = ReadInt(header, file_header::kNchan, form);
+  if (nchan != 1)
+    throw InputError(file + ": NCHAN is " + std::to_string(nchan) + "; napkin reads UDS-1992 files of one channel.");
+  const std::string fileform = ReadString(header, file_header::kFileform);
+  if (fileform != "Y")
+    throw InputError(file + ": FILEFORM is " + Quoted(fileform) +
+                     "; napkin reads uniformly sampled \"Y\" channels (X-Y curves are not supported).");
+  channel.dimsys = ReadString(header, file_header::kDimsys);
+  channel.test_number = ReadInt(header, file_header::kTstno, form);
+  channel.test_name = ReadString(header, file_header::kTstnam);
+  channel.title = ReadString(header, file_header::kTitle);
+
+  std::size_t index = 1;
+  Record curve = record_at(index, "the curve header");
+  if (ReadString(curve, kRecordHeader) == "CMP-2 HDR") curve = record_at(++index, "the curve header");
+  const std::string record_header = ReadString(curve, kRecordHeader);
+  if (record_header != "CURVE HDR")
+    throw InputError(file + ": record " + std::to_string(index + 1) + " starts with " + Quoted(record_header) +
+                     " where the curve header (\"CURVE HDR\") belongs.");
+  channel.curve_name = ReadString(curve, curve_header::kCurnam);
+  channel.senatt = ReadString(curve, curve_header::kSenatt);
+  channel.senloc = ReadString(curve, curve_header::kSenloc);
+  channel.axis = ReadString(curve, curve_header::kAxis);
+  channel.ytyp = ReadString(curve, curve_header::kYtyp);
+  channel.yunits = ReadString(curve, curve_header::kYunits);
+  channel.xtyp = ReadString(curve, curve_header::kXtyp);
+  channel.xunits = ReadString(curve, curve_header::kXunits);
+  channel.curve_description = ReadString(curve, curve_header::kCurdsc);
+  const std::int32_t nfp = ReadInt(curve, curve_header::kNfp, form);
+  const std::int32_t nlp = ReadInt(curve, curve_header::kNlp, form);
+  if (nlp < nfp)
+    throw InputError(file + ": NLP " + std::to_string(nlp) + " is less than NFP " + std::to_string(nfp) + ".");
+  double del = 0.0;
+  if (!ReadReal(curve, curve_header::kDel, form, del) || !std::isfinite(del) || !(del > 0.0))
+    throw InputError(file + ": DEL (the sampling interval) is not a positive number.");
+  del = IntendedDecimal(del);
+  const std::string xunits = ToUpper(channel.xunits);
+  if (xunits.find("MILLI") != std::string::npos || xunits == "MSEC" || xunits == "MS") del *= 1e-3;
+  channel.del_s = del;
+  channel.nfp = nfp;
+  double inivel = 0.0;
+  if (ReadReal(curve, curve_header::kInivel, form, inivel) && std::isfinite(inivel)) channel.initial_velocity = inivel;
+
+  const std::size_t count = static_cast<std::size_t>(static_cast<std::int64_t>(nlp) - nfp + 1);
+  const std::size_t records = (count + kUdsValuesPerRecord - 1) / kUdsValuesPerRecord;
+  if (count > 100'000'000)
+    throw InputError(file + ": NFP " + std::to_string(nfp) + " to NLP " + std::to_string(nlp) +
+                     " declares an implausible number of samples.");
+  channel.values.resize(count);
+  for (std::size_t r = 0; r < records; ++r) {
+    const std::string what = "data record " + std::to_string(r + 1);
+    const std::size_t offset = (index + 1 + r) * kUdsRecordBytes;
+    if (offset >= size)
+      throw InputError(file + ": " + what + " is missing (NFP " + std::to_string(nfp) + " to NLP " +
+                       std::to_string(nlp) + " needs " + std::to_string(records) + " data records).");
+    if (offset + kUdsRecordBytes > size)
+      throw InputError(file + ": " + what + " is truncated (" + std::to_string(size - offset) + " of 512 bytes).");
+    const Record record = data + offset;
+    const std::string data_header = ReadString(record, kRecordHeader);
+    if (data_header != "Y DATA")
+      throw InputError(file + ": " + what + " starts with " + Quoted(data_header) + " instead of \"Y DATA\".");
+    const std::size_t first = r * kUdsValuesPerRecord;
+    const std::size_t last = std::min(count, first + kUdsValuesPerRecord);
+    for (std::size_t i = first; i < last; ++i) {
+      double value = 0.0;
+      const bool ok = ReadReal(record, kDataOffset + 4 * (i - first), form, value);
+      if (!ok || !std::isfinite(value))
+        throw InputError(file + ": sample " + std::to_string(nfp + static_cast<std::int64_t>(i)) + " (" + what +
+                         ", value " + std::to_string(i - first + 1) + ") is " +
+                         (ok ? "not a finite number" : "a VAX reserved operand") + ".");
+      channel.values[i] = value;
+    }
+  }
+  return channel;
+}
+
+void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) {
+  const std::string file = path.string();
+  if (channel.values.empty()) throw InputError(file + ": cannot write a UDS-1992 channel without samples.");
+  const UdsNumberForm form = channel.number_form;
+  const std::size_t count = channel.values.size();
+  const std::size_t records = (count + kUdsValuesPerRecord - 1) / kUdsValuesPerRecord;
+  std::vector<std::uint8_t> bytes((2 + records) * kUdsRecordBytes, 0);
+
+  std::uint8_t* header = bytes.data();
+  WriteString(header, file_header::kFilever, "UDS-1992");
+  WriteWord(header, file_header::kNchan, 1, form);
+  WriteString(header, file_header::kFileform, "Y");
+  WriteString(header, file_header::kNumform, UdsNumberFormName(form));
+  WriteString(header, file_header::kDimsys, channel.dimsys);
+  WriteString(header, file_header::kTstsrc, "NAPKIN");
+  WriteWord(header, file_header::kTstno, static_cast<std::uint32_t>(channel.test_number), form);
+  WriteString(header, file_header::kTstnam, channel.test_name);
+  WriteString(header, file_header::kTitle, channel.title);
+  for (const Field field : file_header::kOtherStrings) WriteString(header, field, "");
+
+  std::uint8_t* curve = bytes.data() + kUdsRecordBytes;
+  WriteString(curve, curve_header::kRecordHeader, "CURVE HDR");
+  WriteWord(curve, curve_header::kIchan, 1, form);
+  WriteString(curve, curve_header::kChanform, "Y");
+  WriteWord(curve, curve_header::kCurno, 1, form);
+  WriteString(curve, curve_header::kCurnam, channel.curve_name);
+  WriteString(curve, curve_header::kSenatt, channel.senatt);
+  WriteString(curve, curve_header::kSenloc, channel.senloc);
+  WriteString(curve, curve_header::kAxis, channel.axis);
+  WriteString(curve, curve_header::kYtyp, channel.ytyp);
+  WriteString(curve, curve_header::kYunits, channel.yunits);
+  WriteString(curve, curve_header::kXtyp, channel.xtyp);
+  WriteString(curve, curve_header::kXunits, channel.xunits);
+  WriteString(curve, curve_header::kStatus, "");
+  WriteString(curve, curve_header::kCurtyp, "TIME SERIES");
+  WriteString(curve, curve_header::kCurdsc, channel.curve_description);
+  for (const Field field : curve_header::kOtherStrings) WriteString(curve, field, "");
+  WriteWord(curve, curve_header::kNfp, static_cast<std::uint32_t>(channel.nfp), form);
+  WriteWord(curve, curve_header::kNlp, static_cast<std::uint32_t>(channel.nlp()), form);
+  if (!WriteReal(curve, curve_header::kDel, channel.del_s, form) ||
+      !WriteReal(curve, curve_header::kInivel, channel.initial_velocity, form))
+    throw InputError(file + ": DEL or INIVEL cannot be stored as a " + UdsNumberFormName(form) + " real.");
+
+  for (std::size_t r = 0; r < records; ++r) {
+    std::uint8_t* record = bytes.data() + (2 + r) * kUdsRecordBytes;
+    WriteString(record, kRecordHeader, "Y DATA");
+    const std::size_t first = r * kUdsValuesPerRecord;
+    const std::size_t last = std::min(count, first + kUdsValuesPerRecord);
+    for (std::size_t i = first; i < last; ++i)
+      if (!WriteReal(record, kDataOffset + 4 * (i - first), channel.values[i], form))
+        throw InputError(file + ": sample " + std::to_string(channel.nfp + static_cast<long long>(i)) + " (" +
+                         FormatNumber(channel.values[i]) + ") cannot be stored as a " + UdsNumberFormName(form) +
+                         " real.");
+  }
+  WriteFileAtomically(path, [&](AtomicFile& out) {
+    out.Write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  });
+}
+
+RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& path) {
+  RawChannel raw;
+  raw.source = path.string();
+  raw.name = !channel.curve_description.empty() ? channel.curve_description : channel.curve_name;
+  raw.senatt = channel.senatt;
+  raw.axis = channel.axis;
+  raw.unit = channel.yunits;
+  raw.dt_s = channel.del_s;
+  raw.t0_s = static_cast<double>(channel.nfp) * channel.del_s;
+  raw.values = channel.values;
+  return raw;
+}
+
+std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUdsFilesByStem(
+    const std::vector<std::filesystem::path>& files) {
+  std::map<std::string, std::vector<std::filesystem::path>> groups;
+  for (const std::filesystem::path& file : files) groups[file.stem().string()].push_back(file);
+  std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> result;
+  for (auto& [stem, members] : groups) {
+    std::sort(members.begin(), members.end(),
+              [](const auto& a, const auto& b) { return a.filename().string() < b.filename().string(); });
+    result.emplace_back(stem, std::move(members));
+  }
+  return result;
+}
+
+engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files, const engine::ArrayGeometry& array,
+                                const ChannelMap* map, const std::string& test_name) {
+  std::vector<std::filesystem::path> sorted = files;
+  std::sort(sorted.begin(), sorted.end(),
+            [](const auto& a, const auto& b) { return a.filename().string() < b.filename().string(); });
+  std::vector<RawChannel> channels;
+  channels.reserve(sorted.size());
+  for (const std::filesystem::path& file : sorted) channels.push_back(ToRawChannel(ReadUds1992(file), file));
+
+  std::vector<std::size_t> channel_of_sensor;
+  if (map != nullptr) {
+    channel_of_sensor = AssignSlots(channels, array, *map, test_name);
+  } else {
+    // Report section 2.2: LC_COMP asks for the nine files in Table 2-1 order.
+    if (channels.size() != 9)
+      throw InputError("test " + test_name + ": " + std::to_string(channels.size()) +
+                       " UDS-1992 files without a channel map; exactly nine are assigned in the report's Table 2-1 "
+                       "order (give --channel-map otherwise).");
+    for (const engine::Sensor& sensor : array.sensors) {
+      const auto slot = std::find(std::begin(engine::kNapSlots), std::end(engine::kNapSlots), sensor.slot);
+      if (slot == std::end(engine::kNapSlots))
+        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " of array " + Quoted(array.name) +
+                         " is not one of the nine Table 2-1 slots; give a channel map.");
+      channel_of_sensor.push_back(static_cast<std::size_t>(slot - std::begin(engine::kNapSlots)));
+    }
+  }
+  return AssembleSignals(channels, channel_of_sensor, array, test_name);
+}
+
+}  // namespace napkin::formats

@@ -1,0 +1,188 @@
+#include "formats/lsdyna.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "engine/units.h"
+#include "formats/text.h"
+#include "tests/formats/formats_test_util.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::formats {
+namespace {
+
+using testing::TempDir;
+
+constexpr double kPulse = 0.05;  // s
+constexpr double kPeakVelocity[3] = {3.0, -1.5, 0.75};  // m/s
+constexpr double kPeakOmega[3] = {20.0, -35.0, 5.0};    // rad/s
+
+// A haversine velocity pulse v(t) = V sin^2(pi t / T), whose displacement is
+// known in closed form: x(t) = V (t/2 - T sin(2 pi t / T) / (4 pi)).
+engine::Kinematics PulseKinematics(Eigen::Index n, double t0) {
+  engine::Kinematics k;
+  k.Resize(n);
+  k.quat_fixed_from_body.setZero();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * kPulse / static_cast<double>(n - 1);
+    k.time_s[i] = t0 + t;
+    const double s = std::sin(engine::kPi * t / kPulse);
+    for (int c = 0; c < 3; ++c) {
+      k.vel_fixed(i, c) = kPeakVelocity[c] * s * s;
+      k.omega_fixed(i, c) = kPeakOmega[c] * s * s;
+      k.pos_fixed(i, c) = kPeakVelocity[c] * (t / 2 - kPulse * std::sin(2 * engine::kPi * t / kPulse) / (4 * engine::kPi));
+    }
+  }
+  return k;
+}
+
+double Field(const std::string& line, std::size_t start, std::size_t width) {
+  EXPECT_LE(start + width, line.size()) << line;
+  const std::optional<double> value = ParseDouble(line.substr(start, width));
+  EXPECT_TRUE(value) << "field [" << start << ", " << start + width << ") of \"" << line << "\"";
+  return value.value_or(0.0);
+}
+
+struct ParsedKeyword {
+  std::map<int, std::vector<std::pair<double, double>>> curves;  // LCID -> points
+  std::vector<std::array<double, 8>> motions;                    // BOUNDARY_PRESCRIBED_MOTION_RIGID card 1
+};
+
+// Parses the keyword file as fixed-width cards: 10-column fields for the
+// curve header and motion cards, 20-column fields for the points.
+ParsedKeyword ParseKeyword(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  ParsedKeyword parsed;
+  std::string keyword;
+  int lcid = 0;
+  bool header_read = false;
+  std::getline(in, line);
+  EXPECT_EQ(line, "*KEYWORD");
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '$') continue;
+    EXPECT_LE(line.size(), 80u) << line;
+    if (line[0] == '*') {
+      keyword = line;
+      header_read = false;
+      continue;
+    }
+    if (keyword == "*DEFINE_CURVE") {
+      if (!header_read) {
+        EXPECT_EQ(line.size(), 70u) << line;
+        lcid = static_cast<int>(Field(line, 0, 10));
+        EXPECT_EQ(Field(line, 10, 10), 0.0);   // SIDR
+        EXPECT_EQ(Field(line, 20, 10), 1.0);   // SFA
+        EXPECT_EQ(Field(line, 30, 10), 1.0);   // SFO
+        EXPECT_EQ(Field(line, 40, 10), 0.0);   // OFFA
+        EXPECT_EQ(Field(line, 50, 10), 0.0);   // OFFO
+        EXPECT_EQ(Field(line, 60, 10), 0.0);   // DATTYP
+        header_read = true;
+      } else {
+        EXPECT_EQ(line.size(), 40u) << line;
+        parsed.curves[lcid].emplace_back(Field(line, 0, 20), Field(line, 20, 20));
+      }
+    } else if (keyword == "*BOUNDARY_PRESCRIBED_MOTION_RIGID") {
+      EXPECT_EQ(line.size(), 80u) << line;
+      std::array<double, 8> card{};
+      for (int f = 0; f < 8; ++f) card[f] = Field(line, 10 * f, 10);
+      parsed.motions.push_back(card);
+    } else {
+      ADD_FAILURE() << "unexpected keyword " << keyword;
+    }
+  }
+  EXPECT_EQ(keyword, "*END");
+  return parsed;
+}
+
+double Trapezoid(const std::vector<std::pair<double, double>>& points) {
+  double integral = 0.0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+    integral += 0.5 * (points[i].second + points[i - 1].second) * (points[i].first - points[i - 1].first);
+  return integral;
+}
+
+TEST(LsDynaTest, FixedWidthCardsReproduceTheMotion) {
+  TempDir dir;
+  const engine::Kinematics k = PulseKinematics(501, 0.02);
+  for (const LsDynaUnits units : {LsDynaUnits::kSi, LsDynaUnits::kEnglish}) {
+    LsDynaOptions options;
+    options.units = units;
+    options.part_id = 42;
+    options.first_curve_id = 100;
+    const auto path = dir / "head.k";
+    WriteLsDynaKeyword(k, path, options);
+    const ParsedKeyword parsed = ParseKeyword(path);
+    ASSERT_EQ(parsed.curves.size(), 6u);
+    const double length_scale = units == LsDynaUnits::kSi ? 1.0 : 1.0 / 0.0254;
+    for (int c = 0; c < 3; ++c) {
+      const auto& velocity = parsed.curves.at(100 + c);
+      ASSERT_EQ(velocity.size(), 501u);
+      EXPECT_EQ(velocity.front().first, 0.0);  // time from the first sample
+      EXPECT_NEAR(velocity.back().first, kPulse, 1e-15);
+      // Integrating the exported velocity gives the known displacement V T / 2.
+      const double expected = kPeakVelocity[c] * kPulse / 2 * length_scale;
+      EXPECT_NEAR(Trapezoid(velocity), expected, 1e-3 * std::abs(expected));
+      EXPECT_NEAR(Trapezoid(velocity), k.pos_fixed(500, c) * length_scale, 1e-3 * std::abs(expected));
+      const double expected_angle = kPeakOmega[c] * kPulse / 2;
+      EXPECT_NEAR(Trapezoid(parsed.curves.at(103 + c)), expected_angle, 1e-3 * std::abs(expected_angle));
+    }
+    ASSERT_EQ(parsed.motions.size(), 6u);
+    const int dofs[6] = {1, 2, 3, 5, 6, 7};
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_EQ(parsed.motions[i][0], 42);       // PID
+      EXPECT_EQ(parsed.motions[i][1], dofs[i]);  // DOF
+      EXPECT_EQ(parsed.motions[i][2], 0);        // VAD = velocity
+      EXPECT_EQ(parsed.motions[i][3], 100 + i);  // LCID
+      EXPECT_EQ(parsed.motions[i][4], 1.0);      // SF
+    }
+  }
+}
+
+TEST(LsDynaTest, LegacyLcFileLayout) {
+  TempDir dir;
+  const engine::Kinematics k = PulseKinematics(101, 0.0);
+  WriteLcFile(k, dir / "LC_FILE.DAT");
+  std::ifstream in(dir / "LC_FILE.DAT");
+  std::string line;
+  const char* comments[6] = {"c load curve for x velocity", "c load curve for y velocity", "c load curve for z velocity",
+                             "c load curve for angular vel. about x axis", "c load curve for angular vel. about y axis",
+                             "c load curve for angular vel. about z axis"};
+  for (int curve = 0; curve < 6; ++curve) {
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, comments[curve]);
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, " lcd   " + std::to_string(curve + 1) + "    101");  // 1x,'lcd',3x,i1,3x,i4
+    std::vector<std::pair<double, double>> points;
+    for (int j = 0; j < 101; ++j) {
+      ASSERT_TRUE(std::getline(in, line));
+      ASSERT_EQ(line.size(), 26u) << line;  // 2(3x,1pe10.3)
+      EXPECT_EQ(line.substr(0, 3), "   ");
+      EXPECT_EQ(line.substr(13, 3), "   ");
+      EXPECT_EQ(line[9], 'E') << line;  // mantissa d.ddd right-aligned, exponent E±dd
+      EXPECT_EQ(line[22], 'E') << line;
+      points.emplace_back(Field(line, 3, 10), Field(line, 16, 10));
+      // 1pe10.3: four significant digits.
+      const double expected = curve < 3 ? k.vel_fixed(j, curve) / 0.0254 : k.omega_fixed(j, curve - 3);
+      EXPECT_NEAR(points.back().second, expected, 5e-4 * std::abs(expected) + 1e-30);
+      EXPECT_NEAR(points.back().first, j * kPulse / 100, 5e-4 * j * kPulse / 100);
+    }
+    const double expected = curve < 3 ? kPeakVelocity[curve] * kPulse / 2 / 0.0254 : kPeakOmega[curve - 3] * kPulse / 2;
+    EXPECT_NEAR(Trapezoid(points), expected, 1e-3 * std::abs(expected));
+  }
+  EXPECT_FALSE(std::getline(in, line));
+}
+
+TEST(LsDynaTest, RejectsSingleSampleWithoutLeavingAFile) {
+  TempDir dir;
+  engine::Kinematics k;
+  k.Resize(1);
+  test::ExpectInputError([&] { WriteLsDynaKeyword(k, dir / "x.k"); }, {"x.k", "fewer than two samples"});
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+}  // namespace
+}  // namespace napkin::formats
