@@ -1,0 +1,48 @@
+// `napkin transform`: one test, no catalogue — the seed program's job,
+// non-interactive.
+#include <spdlog/spdlog.h>
+
+#include "cli/command.h"
+#include "cli/transform.h"
+
+namespace napkin::cli {
+namespace {
+
+class TransformCommand : public Command {
+ public:
+  CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
+    CLI::App* sub = app.add_subcommand("transform", "process one test file, no catalogue");
+    sub->add_option("--array", options_.array, "array preset name or array JSON file")->required();
+    sub->add_option("--orientation", options_.orientation_rad, "initial orientation PHI,THETA,PSI (rad)")
+        ->delimiter(',')
+        ->expected(3);
+    sub->add_option("--initial-velocity", options_.initial_velocity_mps,
+                    "initial CG velocity VX,VY,VZ in the fixed frame (m/s)")
+        ->delimiter(',')
+        ->expected(3);
+    sub->add_option("--solver", options_.solver, "exact or seed")
+        ->check(CLI::IsMember({"exact", "seed"}))
+        ->capture_default_str();
+    sub->add_option("--config", options_.config, "processing config preset or JSON file");
+    sub->add_option("input", options_.input, "input signals (CSV)")->required();
+    sub->add_option("--out", options_.out, "derived-channel CSV to write")->required();
+    sub->add_option("--summary", options_.summary, "per-test summary JSON to write");
+    sub->add_option("--lsdyna", options_.lsdyna, "LS-DYNA keyword load curves to write");
+    return sub;
+  }
+
+  int Run() override {
+    const TransformReport report = RunTransform(options_);
+    for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
+    return kExitOk;
+  }
+
+ private:
+  TransformOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeTransformCommand() { return std::make_unique<TransformCommand>(); }
+
+}  // namespace napkin::cli

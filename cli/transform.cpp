@@ -1,0 +1,67 @@
+#include "cli/transform.h"
+
+#include <filesystem>
+
+#include "engine/error.h"
+#include "engine/solver.h"
+#include "formats/array_json.h"
+#include "formats/csv.h"
+#include "formats/atomic_file.h"
+#include "formats/lsdyna.h"
+#include "formats/summary_json.h"
+
+namespace napkin::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+Eigen::Vector3d Triple(const std::vector<double>& values, const char* what) {
+  if (values.empty()) return Eigen::Vector3d::Zero();
+  if (values.size() != 3) throw InputError(std::string(what) + " needs three comma-separated numbers.");
+  return {values[0], values[1], values[2]};
+}
+
+}  // namespace
+
+TransformReport RunTransform(const TransformOptions& options) {
+  const engine::ArrayGeometry array = formats::LoadArray(options.array);
+  if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
+  formats::CsvSignals csv = formats::ReadSignalsCsv(options.input, &array);
+
+  engine::SolveOptions solve;
+  solve.solver = options.solver == "seed" ? engine::SolverKind::kSeed : engine::SolverKind::kExact;
+  solve.initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
+  solve.initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
+
+  TransformReport report;
+  report.warnings = std::move(csv.warnings);
+  try {
+    report.kinematics = engine::Solve(array, csv.signals, solve);
+  } catch (const InputError& error) {
+    throw InputError(options.input + ": " + error.what());
+  }
+  engine::SummarizeKinematics(report.kinematics, report.summary);
+
+  const std::string test_id = fs::path(options.input).stem().string();
+  const std::string summary_text =
+      formats::SummaryToJson(report.summary, test_id, "", "").dump(2) + "\n";
+  // Each writer is atomic; if a later one fails, the earlier outputs of this
+  // run are removed too, so a failed transform leaves no output behind.
+  std::vector<fs::path> written;
+  try {
+    formats::WriteDerivedCsv(report.kinematics, options.out);
+    written.emplace_back(options.out);
+    if (!options.summary.empty()) {
+      formats::WriteFileAtomically(options.summary, [&](formats::AtomicFile& file) { file.Write(summary_text); });
+      written.emplace_back(options.summary);
+    }
+    if (!options.lsdyna.empty()) formats::WriteLsDynaKeyword(report.kinematics, options.lsdyna);
+  } catch (...) {
+    std::error_code ignored;
+    for (const auto& path : written) fs::remove(path, ignored);
+    throw;
+  }
+  return report;
+}
+
+}  // namespace napkin::cli
