@@ -156,7 +156,15 @@ void WriteArrayJson(const engine::ArrayGeometry& array, const std::filesystem::p
 }
 
 std::filesystem::path DefaultConfigDir() {
+  // $NAPKIN_CONFIG_DIR, then next to the binary (the build copies config/
+  // there), then installed (<prefix>/share/napkin/config), then the source tree.
   if (const char* dir = std::getenv("NAPKIN_CONFIG_DIR"); dir != nullptr && *dir != '\0') return dir;
+  std::error_code error;
+  const std::filesystem::path binary_dir = std::filesystem::read_symlink("/proc/self/exe", error).parent_path();
+  if (!error) {
+    for (const auto& candidate : {binary_dir / "config", binary_dir / ".." / "share" / "napkin" / "config"})
+      if (std::filesystem::is_directory(candidate / "arrays", error)) return candidate.lexically_normal();
+  }
   return NAPKIN_BUILD_CONFIG_DIR;
 }
 
