@@ -13,7 +13,7 @@ namespace {
 
 [[noreturn]] void ThrowBadField(const std::string& key, const std::string& requirement, double value) {
   std::ostringstream message;
-  message << "processing config field \"" << key << "\" must be " << requirement << " (got " << value << ").";
+  message << "processing config key \"" << key << "\" must be " << requirement << " (got " << value << ").";
   throw InputError(message.str());
 }
 

@@ -222,7 +222,11 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   try {
     config.Check();
   } catch (const InputError& error) {
-    throw InputError(source + ": " + error.what());
+    // Check() says "processing config key ...": name the source instead.
+    std::string what = error.what();
+    const std::string generic = "processing config ";
+    if (what.rfind(generic, 0) == 0) what.erase(0, generic.size());
+    throw InputError(source + ": " + what);
   }
   return config;
 }
