@@ -190,6 +190,30 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
   double threshold_scale = 0.0;  // best^0.4 * margin
   const auto update_threshold = [&]() { threshold_scale = std::pow(best.value, 0.4) * kRelativeMargin; };
 
+  // Bounded windows: the largest step of V in [i, i + max_steps) for every
+  // i (van Herk / Gil-Werman running maxima over blocks of max_steps steps),
+  // so a t1 whose whole window range cannot beat the best is skipped in O(1):
+  // I(j) <= (j - i) max_step and (s A)^2.5 / (s dt)^1.5 grows with s.
+  const Eigen::Index step_count = count - 1;
+  const bool bounded = problem.max_steps < step_count;
+  std::vector<double> block_prefix_max, block_suffix_max;
+  if (bounded) {
+    const Eigen::Index block = problem.max_steps;
+    block_prefix_max.resize(static_cast<std::size_t>(step_count));
+    block_suffix_max.resize(static_cast<std::size_t>(step_count));
+    for (Eigen::Index k = 0; k < step_count; ++k) {
+      const double step = integral[k + 1] - integral[k];
+      const auto uk = static_cast<std::size_t>(k);
+      block_prefix_max[uk] = (k % block == 0) ? step : std::max(block_prefix_max[uk - 1], step);
+    }
+    for (Eigen::Index k = step_count - 1; k >= 0; --k) {
+      const double step = integral[k + 1] - integral[k];
+      const auto uk = static_cast<std::size_t>(k);
+      block_suffix_max[uk] =
+          (k == step_count - 1 || (k + 1) % block == 0) ? step : std::max(block_suffix_max[uk + 1], step);
+    }
+  }
+
   struct NodeRange {
     Eigen::Index node, lo, hi;
   };
@@ -199,6 +223,14 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
     const Eigen::Index j_first = i + 1;
     const Eigen::Index j_last = std::min(count - 1, i + problem.max_steps);
     const double integral_i = integral[i];
+    if (bounded) {
+      const Eigen::Index span = j_last - i;
+      const double largest_step = std::max(block_suffix_max[static_cast<std::size_t>(i)],
+                                           block_prefix_max[static_cast<std::size_t>(j_last - 1)]);
+      const double bound = static_cast<double>(span) * largest_step +
+                           kRoundingSlack * static_cast<double>(span) * max_abs_step;
+      if (!(bound > threshold_scale * duration_pow[static_cast<std::size_t>(span)])) continue;
+    }
     std::size_t top = 0;
     stack[top++] = {1, 0, leaves - 1};
     while (top > 0) {
