@@ -1,0 +1,102 @@
+#pragma once
+// Head injury criteria (ALGORITHMS.md "Injury criteria"): HIC (with its
+// window), a3ms, BrIC and DAMAGE.
+#include <Eigen/Core>
+#include <limits>
+
+#include "engine/kinematics.h"
+#include "engine/processing.h"
+#include "engine/summary.h"
+
+namespace napkin::engine {
+
+// ---------------------------------------------------------------------------
+// HIC
+//
+// Samples a_k (g) at t_k = t0 + k dt. With the cumulative trapezoid integral
+//   V_0 = 0,  V_k = V_{k-1} + dt (a_{k-1} + a_k) / 2,
+// a window i < j (ends on sample points) has duration d = (j - i) dt and
+//   HIC(i, j) = d (I / d)^2.5,  I = V_j - V_i,
+// and HIC = max over windows with d <= W (windows of exactly W included; W is
+// taken as floor(W / dt) steps with a 1e-9 relative tolerance).
+// Conventions:
+//  * Windows with a non-positive integral (I <= 0) score nothing: the mean
+//    is clamped at 0 (NHTSA integrates the resultant, which is >= 0; for
+//    general signals a negative mean has no meaningful 2.5 power).
+//  * Ties: the earliest t1, then the earliest t2, among the windows of the
+//    largest value (values compared as computed doubles).
+//  * No window with a positive integral (or fewer than 2 samples): value 0,
+//    t1 = t2 = the first sample used.
+//  * from_time_zero (NHTSA's program): integrate |a| and ignore samples
+//    with t < 0 (t_k < -1e-9 dt).
+// Throws InputError on a non-positive dt, a non-positive window or a
+// non-finite sample (naming the sample and its time).
+
+inline constexpr double kUnlimitedHicWindow = std::numeric_limits<double>::infinity();
+inline constexpr double kHic15Window = 0.015;
+inline constexpr double kHic36Window = 0.036;
+
+struct HicOptions {
+  double window_s = kUnlimitedHicWindow;  // largest t2 - t1; infinity = no limit
+  bool from_time_zero = false;            // integrate |a|, ignore samples before t = 0
+};
+
+// Fast HIC: branch and bound over t2 for each t1 in order, with a segment
+// tree of max V and max per-step increment of V; returns exactly (value,
+// t1, t2) of HicExhaustive.
+HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s, const HicOptions& options = {});
+
+// The reference: every window, O(n * W / dt).
+HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+                        const HicOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// a3ms: the highest level exceeded for a cumulative (not necessarily
+// continuous) 3 ms. Each sample stands for dt of time, so with
+// N = ceil(duration / dt) (1e-9 relative tolerance) it is the largest L such
+// that at least N samples are >= L, i.e. the N-th largest sample.
+// Throws InputError when the record has fewer than N samples.
+double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = 0.003);
+
+// ---------------------------------------------------------------------------
+// BrIC (Takhounts et al. 2013) = sqrt(sum_i (max_t |omega_i| / omega_iC)^2),
+// omega in body axes (rad/s). Throws InputError on non-positive critical values.
+double Bric(const Eigen::Ref<const Series3>& omega_body_radps, const Eigen::Vector3d& critical_radps);
+
+// ---------------------------------------------------------------------------
+// DAMAGE (Gabler et al. 2019): the coupled mass-spring-damper
+//   M d'' + C d' + K d = M alpha(t),   d(t0) = d'(t0) = 0,
+// driven by the body angular acceleration (rad/s^2), with
+//   M = m I, K = [[kxx+kxy+kxz, -kxy, -kxz], [-kxy, kxy+kyy+kyz, -kyz],
+//                 [-kxz, -kyz, kxz+kyz+kzz]],  C = a1 K,
+//   DAMAGE = beta * max_k ||d(t_k)||.
+// Integrated exactly for alpha linear between samples (state-space
+// discretisation by one matrix exponential of the system augmented with the
+// input and its slope), so the only error is the linear interpolation of alpha.
+struct DamageModel {
+  double mass_kg = 1.0;     // m, each axis
+  double kxx = 32142.0;     // N/m
+  double kyy = 23493.0;     // N/m
+  double kzz = 16935.0;     // N/m
+  double kxy = 0.0;         // N/m
+  double kyz = 0.0;         // N/m
+  double kxz = 1636.3;      // N/m
+  double a1_s = 5.9148e-3;  // stiffness-proportional damping, C = a1 K (s)
+  double beta_per_m = 2.9903;  // DAMAGE = beta * max ||d||
+
+  Eigen::Matrix3d Stiffness() const;
+};
+
+// Displacement d(t_k) (m) of the DAMAGE model at every sample.
+Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
+                           const DamageModel& model = {});
+double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model = {});
+
+// ---------------------------------------------------------------------------
+// Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), a3ms_g,
+// bric (omega_body, config.bric) and damage (alpha_body) of `summary`. The
+// time base must be uniform (dt from the first two samples); throws
+// InputError when there are fewer than 2 samples.
+void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary);
+
+}  // namespace napkin::engine

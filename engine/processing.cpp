@@ -1,0 +1,182 @@
+#include "engine/processing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "engine/error.h"
+
+namespace napkin::engine {
+
+namespace {
+
+[[noreturn]] void ThrowBadField(const std::string& key, const std::string& requirement, double value) {
+  std::ostringstream message;
+  message << "processing config key \"" << key << "\" must be " << requirement << " (got " << value << ").";
+  throw InputError(message.str());
+}
+
+void CheckPositive(const std::string& key, double value) {
+  if (!(std::isfinite(value) && value > 0.0)) ThrowBadField(key, "a positive number", value);
+}
+
+void CheckNonNegative(const std::string& key, double value) {
+  if (!(std::isfinite(value) && value >= 0.0)) ThrowBadField(key, "a non-negative number", value);
+}
+
+void CheckFinite(const std::string& key, double value) {
+  if (!std::isfinite(value)) ThrowBadField(key, "a finite number", value);
+}
+
+// Sample tolerance for comparing a sample time with a configured time.
+double TimeTolerance(double dt_s) { return 1e-9 * dt_s; }
+
+}  // namespace
+
+void ProcessingConfig::Check() const {
+  if (filter.linear_cfc) CheckPositive("filter.linear_cfc", *filter.linear_cfc);
+  if (filter.angular_rate_cfc) CheckPositive("filter.angular_rate_cfc", *filter.angular_rate_cfc);
+  CheckNonNegative("filter.padding_s", filter.padding_s);
+
+  CheckFinite("bias.window_s[0]", bias.window_start_s);
+  CheckFinite("bias.window_s[1]", bias.window_end_s);
+  if (bias.window_end_s < bias.window_start_s)
+    ThrowBadField("bias.window_s[1]", "at or after bias.window_s[0]", bias.window_end_s);
+  CheckNonNegative("bias.auto_min_pre_impact_s", bias.auto_min_pre_impact_s);
+
+  CheckFinite("time.shift_s", time.shift_s);
+  if (time.start_s) CheckFinite("time.start_s", *time.start_s);
+  if (time.end_s) CheckFinite("time.end_s", *time.end_s);
+  if (time.start_s && time.end_s && !(*time.end_s > *time.start_s))
+    ThrowBadField("time.end_s", "after time.start_s", *time.end_s);
+
+  for (int i = 0; i < 3; ++i) {
+    CheckFinite("gravity.g_fixed[" + std::to_string(i) + "]", gravity.g_fixed_mps2[i]);
+    CheckPositive("bric.critical_radps[" + std::to_string(i) + "]", bric.critical_radps[i]);
+  }
+
+  CheckPositive("screening.residual_limit_g", screening.residual_limit_g);
+  CheckPositive("screening.spike_size_g", screening.spike_size_g);
+  CheckPositive("screening.spike_size_radps", screening.spike_size_radps);
+  if (screening.saturation_run_samples < 2)
+    ThrowBadField("screening.saturation_run_samples", "an integer of at least 2", screening.saturation_run_samples);
+  CheckPositive("screening.bias_limit_g", screening.bias_limit_g);
+  CheckPositive("screening.bias_limit_radps", screening.bias_limit_radps);
+}
+
+SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState& initial) {
+  SolveOptions options;
+  options.solver = config.solver;
+  options.initial = initial;
+  options.gravity = config.gravity;
+  return options;
+}
+
+void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const ProcessingConfig& config) {
+  config.Check();
+  const Eigen::Index n = signals.size();
+  const Eigen::Index channels = signals.samples.cols();
+  if (!(std::isfinite(signals.dt_s) && signals.dt_s > 0.0)) {
+    std::ostringstream message;
+    message << "the sampling interval " << signals.dt_s << " s is not positive.";
+    throw InputError(message.str());
+  }
+  if (!std::isfinite(signals.t0_s)) throw InputError("the time of the first sample is not finite.");
+  if (static_cast<std::size_t>(channels) != signals.slots.size())
+    throw InputError("the signals have a different number of columns and slot names.");
+  for (Eigen::Index c = 0; c < channels; ++c) {
+    for (Eigen::Index k = 0; k < n; ++k) {
+      if (!std::isfinite(signals.samples(k, c))) {
+        std::ostringstream message;
+        message << "channel " << signals.slots[static_cast<std::size_t>(c)] << " has a non-finite value at sample "
+                << k << " (t = " << signals.TimeAt(k) << " s).";
+        throw InputError(message.str());
+      }
+    }
+  }
+  const double dt = signals.dt_s;
+  const double tolerance = TimeTolerance(dt);
+
+  // 1. Time shift (report section 3.4).
+  signals.t0_s -= config.time.shift_s;
+
+  // 2. Bias removal: the mean over the pre-impact samples.
+  Eigen::Index bias_first = 0, bias_count = 0;
+  switch (config.bias.mode) {
+    case BiasMode::kNone:
+      break;
+    case BiasMode::kAuto: {
+      // Samples with t < 0 (t_k = t0 + k dt); used when they cover the
+      // configured minimum pre-impact duration.
+      Eigen::Index negative = 0;
+      while (negative < n && signals.TimeAt(negative) < -tolerance) ++negative;
+      if (negative > 0 && static_cast<double>(negative) * dt >= config.bias.auto_min_pre_impact_s * (1.0 - 1e-9)) {
+        bias_first = 0;
+        bias_count = negative;
+      }
+      break;
+    }
+    case BiasMode::kWindow: {
+      Eigen::Index first = 0;
+      while (first < n && signals.TimeAt(first) < config.bias.window_start_s - tolerance) ++first;
+      Eigen::Index last = first;
+      while (last < n && signals.TimeAt(last) <= config.bias.window_end_s + tolerance) ++last;
+      if (last == first) {
+        std::ostringstream message;
+        message << "the bias window [" << config.bias.window_start_s << ", " << config.bias.window_end_s
+                << "] s holds no sample of the data (which span " << signals.TimeAt(0) << " to "
+                << signals.TimeAt(n - 1) << " s after the shift).";
+        throw InputError(message.str());
+      }
+      bias_first = first;
+      bias_count = last - first;
+      break;
+    }
+  }
+  if (bias_count > 0) {
+    for (Eigen::Index c = 0; c < channels; ++c) {
+      const double mean = signals.samples.col(c).segment(bias_first, bias_count).mean();
+      signals.samples.col(c).array() -= mean;
+    }
+  }
+
+  // 3. CFC filtering per sensor kind.
+  std::optional<CfcFilter> linear_filter, rate_filter;
+  if (config.filter.linear_cfc)
+    linear_filter.emplace(*config.filter.linear_cfc, dt, config.filter.variant, config.filter.padding_s);
+  if (config.filter.angular_rate_cfc)
+    rate_filter.emplace(*config.filter.angular_rate_cfc, dt, config.filter.variant, config.filter.padding_s);
+  for (Eigen::Index c = 0; c < channels; ++c) {
+    const std::string& slot = signals.slots[static_cast<std::size_t>(c)];
+    const auto sensor = std::find_if(array.sensors.begin(), array.sensors.end(),
+                                     [&](const Sensor& candidate) { return candidate.slot == slot; });
+    if (sensor == array.sensors.end()) continue;
+    std::optional<CfcFilter>& filter = sensor->kind == SensorKind::kLinear ? linear_filter : rate_filter;
+    if (filter) filter->ApplyInPlace(signals.samples.col(c));
+  }
+
+  // 4. Crop.
+  if (config.time.start_s || config.time.end_s) {
+    Eigen::Index first = 0;
+    if (config.time.start_s)
+      while (first < n && signals.TimeAt(first) < *config.time.start_s - tolerance) ++first;
+    Eigen::Index last = n;  // one past
+    if (config.time.end_s)
+      while (last > first && signals.TimeAt(last - 1) > *config.time.end_s + tolerance) --last;
+    if (last - first < 2) {
+      std::ostringstream message;
+      message << "the time window [" << (config.time.start_s ? *config.time.start_s : signals.TimeAt(0)) << ", "
+              << (config.time.end_s ? *config.time.end_s : signals.TimeAt(n - 1))
+              << "] s leaves fewer than 2 samples of the data (which span " << signals.TimeAt(0) << " to "
+              << signals.TimeAt(n - 1) << " s after the shift).";
+      throw InputError(message.str());
+    }
+    const double new_t0 = signals.TimeAt(first);
+    Eigen::MatrixXd cropped = signals.samples.middleRows(first, last - first);
+    signals.samples = std::move(cropped);
+    signals.t0_s = new_t0;
+  }
+}
+
+}  // namespace napkin::engine

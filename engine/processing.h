@@ -1,0 +1,95 @@
+#pragma once
+// Processing configuration of a run and the signal conditioning it drives
+// (ALGORITHMS.md "Signal conditioning"; report section 3.4: time shift to the
+// start of the pulse, truncation, bias removal, filtering). The JSON form
+// lives in formats/processing_config_json.h; its canonical dump identifies
+// the configuration of stored results.
+#include <Eigen/Core>
+#include <optional>
+
+#include "engine/array_geometry.h"
+#include "engine/cfc_filter.h"
+#include "engine/signals.h"
+#include "engine/solver.h"
+
+namespace napkin::engine {
+
+// Channel filtering, per sensor kind. A class of nullopt means "none".
+struct FilterConfig {
+  CfcVariant variant = CfcVariant::kSaeJ211;       // "sae" (J211/1) or "iso" (ISO 6487) design frequency
+  std::optional<double> linear_cfc = kCfc1000;     // class for linear accelerometers (head: CFC 1000)
+  std::optional<double> angular_rate_cfc = kCfc60; // class for angular-rate sensors (CFC 60)
+  double padding_s = 0.010;                        // reflected padding at each end (>= 10 ms recommended)
+};
+
+enum class BiasMode {
+  kAuto,    // subtract the mean of the samples with t < 0 when there are >= auto_min_pre_impact_s of them
+  kWindow,  // subtract the mean over [window_start_s, window_end_s] (error if the window holds no sample)
+  kNone,    // keep the recorded offsets
+};
+
+// Bias (zero offset) removal, applied to every channel after the time shift.
+struct BiasConfig {
+  BiasMode mode = BiasMode::kAuto;     // see BiasMode
+  double window_start_s = -0.010;      // kWindow: first time of the pre-impact window (after the shift)
+  double window_end_s = 0.0;           // kWindow: last time of the pre-impact window (after the shift)
+  double auto_min_pre_impact_s = 0.001; // kAuto: pre-impact data needed before the mean is subtracted
+};
+
+// Time base (report section 3.4: "time shifted to the beginning of the
+// acceleration pulse and truncated").
+struct TimeConfig {
+  double shift_s = 0.0;             // subtracted from every time stamp: the sample at t = shift_s becomes t = 0
+  std::optional<double> start_s;    // keep samples with t >= start_s (after the shift); nullopt = from the first
+  std::optional<double> end_s;      // keep samples with t <= end_s (after the shift); nullopt = to the last
+};
+
+struct HicConfig {
+  bool from_time_zero = false;  // NHTSA program: integrate |a| and ignore samples before t = 0
+};
+
+struct BricConfig {
+  Eigen::Vector3d critical_radps{66.25, 56.45, 42.87};  // omega_xC, omega_yC, omega_zC (Takhounts 2013)
+};
+
+// Thresholds of the data-screening checks (report sections 2.2 and 3.4:
+// bias, spikes, saturation, self-consistency of the array).
+struct ScreeningConfig {
+  double residual_limit_g = 5.0;        // per-sample rigid-body residual norm above which samples are flagged
+  double spike_size_g = 50.0;           // one-sample jump of a linear channel against both neighbours
+  double spike_size_radps = 20.0;       // one-sample jump of an angular-rate channel against both neighbours
+  int saturation_run_samples = 5;       // run of equal samples at a channel's extreme that flags clipping
+  double bias_limit_g = 2.0;            // pre-impact mean of a linear channel beyond which bias is reported
+  double bias_limit_radps = 0.5;        // pre-impact mean of an angular-rate channel beyond which bias is reported
+};
+
+struct ProcessingConfig {
+  SolverKind solver = SolverKind::kExact;  // "exact" (default) or "seed" (LC_COMP compatibility)
+  FilterConfig filter;                     // channel filtering
+  BiasConfig bias;                         // zero-offset removal
+  TimeConfig time;                         // shift and crop
+  GravityOptions gravity;                  // gravity compensation (off: report compatibility)
+  HicConfig hic;                           // HIC options
+  BricConfig bric;                         // BrIC critical values
+  ScreeningConfig screening;               // screening thresholds
+
+  // Throws InputError naming the offending field (JSON key path, e.g.
+  // "filter.linear_cfc") when a value is out of range.
+  void Check() const;
+};
+
+// Solver options for one test under `config`.
+SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState& initial);
+
+// Conditions the raw signals of one test in place, in this order:
+//  1. time shift (t0 -= time.shift_s);
+//  2. bias removal on every channel (bias.mode), using the shifted times;
+//  3. CFC filtering per sensor kind of `array` (columns whose slot is not in
+//     the array are left unfiltered: the solvers do not read them);
+//  4. crop to [time.start_s, time.end_s] (after filtering, so the filter
+//     sees real data rather than padding at the crop edges).
+// Throws InputError naming the slot and sample on a non-finite value, and on
+// an empty bias window or a crop that leaves fewer than 2 samples.
+void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const ProcessingConfig& config);
+
+}  // namespace napkin::engine

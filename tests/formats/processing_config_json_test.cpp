@@ -1,0 +1,164 @@
+// Processing configuration JSON: canonical form, round trips, partial
+// files, and errors that name the file and the key.
+#include "formats/processing_config_json.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "engine/error.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::formats {
+namespace {
+
+using nlohmann::json;
+
+std::string ErrorOf(const json& document) {
+  try {
+    ParseProcessingConfig(document, "test.json");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+engine::ProcessingConfig NonDefaultConfig() {
+  engine::ProcessingConfig config;
+  config.solver = engine::SolverKind::kSeed;
+  config.filter.variant = engine::CfcVariant::kIso6487;
+  config.filter.linear_cfc = 600.0;
+  config.filter.angular_rate_cfc.reset();
+  config.filter.padding_s = 0.025;
+  config.bias.mode = engine::BiasMode::kWindow;
+  config.bias.window_start_s = -0.02;
+  config.bias.window_end_s = -0.001;
+  config.bias.auto_min_pre_impact_s = 0.002;
+  config.time.shift_s = 0.0123;
+  config.time.start_s = -0.005;
+  config.time.end_s.reset();
+  config.gravity.compensate = true;
+  config.gravity.g_fixed_mps2 = Eigen::Vector3d(0.1, -0.2, 9.81);
+  config.hic.from_time_zero = true;
+  config.bric.critical_radps = Eigen::Vector3d(1.0 / 3.0, 2.0, 3.5);
+  config.screening.residual_limit_g = 1.5;
+  config.screening.spike_size_g = 33.0;
+  config.screening.spike_size_radps = 7.0;
+  config.screening.saturation_run_samples = 9;
+  config.screening.bias_limit_g = 0.75;
+  config.screening.bias_limit_radps = 0.125;
+  return config;
+}
+
+void ExpectSortedKeysEverywhere(const json& value) {
+  if (!value.is_object()) return;
+  std::string previous;
+  for (const auto& [key, child] : value.items()) {
+    EXPECT_LT(previous, key);
+    previous = key;
+    ExpectSortedKeysEverywhere(child);
+  }
+}
+
+TEST(ProcessingConfigJson, CanonicalFormHasEveryFieldSorted) {
+  const json canonical = ProcessingConfigToJson(engine::ProcessingConfig{});
+  ExpectSortedKeysEverywhere(canonical);
+  EXPECT_EQ(canonical.size(), 8u);
+  for (const char* key : {"solver", "filter", "bias", "time", "gravity", "hic", "bric", "screening"})
+    EXPECT_TRUE(canonical.contains(key)) << key;
+  EXPECT_EQ(canonical["filter"].size(), 4u);
+  EXPECT_EQ(canonical["bias"].size(), 3u);
+  EXPECT_EQ(canonical["time"].size(), 3u);
+  EXPECT_TRUE(canonical["time"]["start_s"].is_null());
+  EXPECT_EQ(canonical["screening"].size(), 6u);
+  EXPECT_EQ(canonical["filter"]["linear_cfc"], 1000.0);
+  EXPECT_EQ(canonical["gravity"]["g_fixed"], json::array({0.0, 0.0, 9.80665}));
+  // Compact dump starts with the first sorted key.
+  EXPECT_EQ(CanonicalProcessingConfig(engine::ProcessingConfig{}).rfind("{\"bias\":", 0), 0u);
+}
+
+TEST(ProcessingConfigJson, RoundTripIsExactAndCanonical) {
+  const engine::ProcessingConfig config = NonDefaultConfig();
+  const json canonical = ProcessingConfigToJson(config);
+  const engine::ProcessingConfig parsed = ParseProcessingConfig(canonical, "round trip");
+  EXPECT_EQ(CanonicalProcessingConfig(parsed), CanonicalProcessingConfig(config));
+  EXPECT_EQ(parsed.bric.critical_radps, config.bric.critical_radps);  // 1/3 survives bit for bit
+  EXPECT_EQ(parsed.time.start_s, config.time.start_s);
+  EXPECT_FALSE(parsed.time.end_s.has_value());
+  EXPECT_FALSE(parsed.filter.angular_rate_cfc.has_value());
+  EXPECT_EQ(canonical["filter"]["angular_rate_cfc"], "none");
+  // ADL hooks.
+  const json via_adl = config;
+  EXPECT_EQ(via_adl, canonical);
+  EXPECT_EQ(CanonicalProcessingConfig(via_adl.get<engine::ProcessingConfig>()), CanonicalProcessingConfig(config));
+  // A different configuration has a different canonical dump.
+  engine::ProcessingConfig other = config;
+  other.hic.from_time_zero = false;
+  EXPECT_NE(CanonicalProcessingConfig(other), CanonicalProcessingConfig(config));
+}
+
+TEST(ProcessingConfigJson, PartialDocumentsKeepDefaultsAndIntegersEqualDoubles) {
+  const engine::ProcessingConfig parsed = ParseProcessingConfig(
+      json::parse(R"({"filter": {"linear_cfc": "none"}, "name": "x", "description": "y"})"), "partial");
+  engine::ProcessingConfig expected;
+  expected.filter.linear_cfc.reset();
+  EXPECT_EQ(CanonicalProcessingConfig(parsed), CanonicalProcessingConfig(expected));
+  // 1000 and 1000.0 are the same configuration.
+  const auto integer = ParseProcessingConfig(json::parse(R"({"filter": {"linear_cfc": 1000}})"), "a");
+  const auto real = ParseProcessingConfig(json::parse(R"({"filter": {"linear_cfc": 1000.0}})"), "b");
+  EXPECT_EQ(CanonicalProcessingConfig(integer), CanonicalProcessingConfig(real));
+  EXPECT_EQ(CanonicalProcessingConfig(integer), CanonicalProcessingConfig(engine::ProcessingConfig{}));
+}
+
+TEST(ProcessingConfigJson, ErrorsNameTheSourceAndTheKey) {
+  const auto expect_mentions = [](const std::string& message, std::initializer_list<const char*> parts) {
+    ASSERT_FALSE(message.empty());
+    for (const char* part : parts) EXPECT_NE(message.find(part), std::string::npos) << message;
+  };
+  expect_mentions(ErrorOf(json::parse(R"({"filter": {"linear_cfx": 1000}})")), {"test.json", "filter.linear_cfx"});
+  expect_mentions(ErrorOf(json::parse(R"({"hics": {}})")), {"test.json", "hics"});
+  expect_mentions(ErrorOf(json::parse(R"({"hic": {"from_time_zero": 1}})")), {"hic.from_time_zero", "true or false"});
+  expect_mentions(ErrorOf(json::parse(R"({"filter": {"linear_cfc": -1}})")), {"test.json", "filter.linear_cfc"});
+  expect_mentions(ErrorOf(json::parse(R"({"filter": {"linear_cfc": "off"}})")), {"filter.linear_cfc", "none"});
+  expect_mentions(ErrorOf(json::parse(R"({"bias": {"mode": "sometimes"}})")), {"bias.mode", "\"window\""});
+  expect_mentions(ErrorOf(json::parse(R"({"bias": {"window_s": [0.0]}})")), {"bias.window_s"});
+  expect_mentions(ErrorOf(json::parse(R"({"bric": {"critical_radps": [1, 2, "3"]}})")), {"bric.critical_radps"});
+  expect_mentions(ErrorOf(json::parse(R"({"bric": {"critical_radps": [1, 0, 3]}})")), {"bric.critical_radps[1]"});
+  expect_mentions(ErrorOf(json::parse(R"({"screening": {"saturation_run_samples": 2.5}})")),
+                  {"screening.saturation_run_samples", "integer"});
+  expect_mentions(ErrorOf(json::parse(R"({"time": {"start_s": "0"}})")), {"time.start_s"});
+  expect_mentions(ErrorOf(json::parse(R"({"gravity": []})")), {"gravity", "object"});
+  expect_mentions(ErrorOf(json::parse(R"({"solver": "fast"})")), {"solver", "\"exact\""});
+  expect_mentions(ErrorOf(json::parse(R"([1, 2])")), {"test.json", "object"});
+}
+
+TEST(ProcessingConfigJson, DefaultPresetIsTheDefaultConfiguration) {
+  const auto path = testing::SourceDir() / "config" / "processing" / "default.json";
+  const engine::ProcessingConfig preset = ReadProcessingConfig(path);
+  EXPECT_EQ(CanonicalProcessingConfig(preset), CanonicalProcessingConfig(engine::ProcessingConfig{}));
+}
+
+TEST(ProcessingConfigJson, FileErrorsNameTheFile) {
+  testing::TempDir dir;
+  EXPECT_THROW(ReadProcessingConfig(dir / "missing.json"), InputError);
+  {
+    std::ofstream(dir / "broken.json") << "{\"filter\": ";
+    std::ofstream(dir / "bad_key.json") << R"({"bias": {"mode": "auto", "windows": [0, 1]}})";
+  }
+  for (const char* name : {"missing.json", "broken.json", "bad_key.json"}) {
+    try {
+      ReadProcessingConfig(dir / name);
+      ADD_FAILURE() << name;
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(name), std::string::npos) << error.what();
+    }
+  }
+  try {
+    ReadProcessingConfig(dir / "bad_key.json");
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("bias.windows"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace napkin::formats
