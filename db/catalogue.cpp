@@ -137,7 +137,11 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
                        " and needs upgrading with 'napkin init'.");
   } else {
     // WAL: readers never block the writer (workers query while others write).
-    if (!connection.in_memory()) connection.Execute("PRAGMA journal_mode = WAL");
+    if (!connection.in_memory()) {
+      connection.Execute("PRAGMA journal_mode = WAL");
+      // Truncate the WAL after checkpoints: derived channels make it grow large.
+      connection.Execute("PRAGMA journal_size_limit = 67108864");
+    }
     connection.Execute(options.durable ? "PRAGMA synchronous = FULL" : "PRAGMA synchronous = NORMAL");
   }
 
