@@ -134,6 +134,13 @@ struct Table {
   std::vector<std::vector<Cell>> rows;
 };
 
+// What MergeShard took from a shard catalogue.
+struct MergeReport {
+  std::int64_t tests_added = 0;      // tests (with raw channels) the catalogue did not have
+  std::int64_t results_merged = 0;   // results new to the catalogue or newer than its own
+  std::int64_t failures_merged = 0;  // failed jobs of tests without a result here
+};
+
 struct CatalogueOptions {
   bool read_only = false;       // queries only: never migrates, never writes
   bool durable = true;          // synchronous=FULL (else NORMAL: may lose the last commits on power loss)
@@ -238,6 +245,18 @@ class Catalogue {
   // Marks a running job failed with `error`; false when `owner` no longer holds it.
   bool FailJob(JobId job, const std::string& owner, const std::string& error);
   StatusCounts ReadStatusCounts(ConfigId config, const JobScope& scope = {});
+
+  // ---- shards (run --shard I/N on several machines, then merge)
+  // Merges the shard catalogue at `shard_path` (a copy of this catalogue
+  // processed elsewhere) in one transaction. Entities are matched by content,
+  // not by key: tests by content hash, arrays and configs by hash, series by
+  // name. A shard result replaces this catalogue's result for the same test
+  // and config only when it was computed later; its findings, derived
+  // channels and job state come with it. Merging the same shard twice
+  // changes nothing. Throws InputError naming the shard when it is not a
+  // napkin catalogue of this schema version, or holds a test id whose
+  // content differs from this catalogue's test of that id.
+  MergeReport MergeShard(const std::string& shard_path);
 
   // Every table's schema and rows in a deterministic text form (rows in rowid
   // order, values type-tagged, BLOBs in hex): compare catalogues in tests.

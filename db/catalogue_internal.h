@@ -31,6 +31,10 @@ inline std::string IsoTimestampSql(const std::string& parameter) {
 // `values` as a JSON array of strings, for json_each(); nullopt when empty.
 std::optional<std::string> JsonStringArray(const std::vector<std::string>& values);
 
+// The results table's summary columns ("hic15, hic15_t1_s, ...", each with
+// `prefix`), in table order.
+std::string SummaryColumnList(const std::string& prefix = "");
+
 void BindTestFilter(Statement& statement, const TestFilter& filter);
 void BindJobScope(Statement& statement, const JobScope& scope);
 

@@ -15,6 +15,7 @@ namespace {
 
 using engine::TestSummary;
 using internal::IsoTimestampSql;
+using internal::SummaryColumnList;
 
 // One numeric column of the results table and the summary field it holds.
 struct SummaryField {
@@ -56,16 +57,6 @@ constexpr SummaryField kSummaryFields[] = {
     {"max_rotation_deg", [](TestSummary& s) -> double& { return s.max_rotation_deg; }},
     {"max_residual_mps2", [](TestSummary& s) -> double& { return s.max_residual_mps2; }},
 };
-
-// "hic15, hic15_t1_s, ..." with an optional table prefix.
-std::string SummaryColumnList(const std::string& prefix = "") {
-  std::string list;
-  for (const SummaryField& field : kSummaryFields) {
-    if (!list.empty()) list += ", ";
-    list += prefix + field.column;
-  }
-  return list;
-}
 
 // Reads the summary fields from columns first, first+1, ... of `row`.
 void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
@@ -148,6 +139,15 @@ Cell ReadCell(const Statement& row, int column) {
 }
 
 }  // namespace
+
+std::string internal::SummaryColumnList(const std::string& prefix) {
+  std::string list;
+  for (const SummaryField& field : kSummaryFields) {
+    if (!list.empty()) list += ", ";
+    list += prefix + field.column;
+  }
+  return list;
+}
 
 // ------------------------------------------------------------------ results
 
