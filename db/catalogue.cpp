@@ -27,7 +27,8 @@ std::optional<std::string> JsonStringArray(const std::vector<std::string>& value
         json += c;
       } else if (static_cast<unsigned char>(c) < 0x20) {
         char escaped[8];
-        std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+        std::snprintf(escaped, sizeof escaped, "\\u%04x",
+                      static_cast<unsigned>(static_cast<unsigned char>(c)));
         json += escaped;
       } else {
         json += c;
@@ -49,8 +50,8 @@ void BindJobScope(Statement& statement, const JobScope& scope) {
   BindTestFilter(statement, scope.tests);
   if (scope.shard) {
     if (scope.shard->count < 1 || scope.shard->index < 0 || scope.shard->index >= scope.shard->count)
-      throw InputError("shard " + std::to_string(scope.shard->index) + "/" + std::to_string(scope.shard->count) +
-                       " is invalid (expected I/N with 0 <= I < N).");
+      throw InputError("shard " + std::to_string(scope.shard->index) + "/" +
+                       std::to_string(scope.shard->count) + " is invalid (expected I/N with 0 <= I < N).");
     statement.Bind(4, scope.shard->count);
     statement.Bind(5, scope.shard->index);
   }
@@ -114,13 +115,14 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
   CheckMigrationList(migrations);
   const auto latest = static_cast<std::int64_t>(migrations.size());
 
-  Connection connection = Connection::Open(
-      path, ConnectionOptions{options.read_only, options.durable, options.busy_timeout_ms});
+  Connection connection =
+      Connection::Open(path, ConnectionOptions{options.read_only, options.durable, options.busy_timeout_ms});
 
   // Identify the file before changing anything in it.
   const std::int64_t version = connection.PragmaInt("user_version");
   if (version > 0 && connection.PragmaInt("application_id") != kCatalogueApplicationId)
-    throw InputError("'" + path + "' is not a napkin catalogue (it is another application's SQLite database).");
+    throw InputError("'" + path +
+                     "' is not a napkin catalogue (it is another application's SQLite database).");
   if (version == 0) {
     auto tables = connection.Prepare("SELECT count(*) FROM sqlite_master");
     tables->Step();
@@ -146,8 +148,8 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
   }
 
   Catalogue catalogue(std::move(connection), options.clock ? options.clock : SystemClockSeconds);
-  catalogue.schema_version_ = options.read_only ? static_cast<int>(version)
-                                                : ApplyMigrations(catalogue.connection_, migrations);
+  catalogue.schema_version_ =
+      options.read_only ? static_cast<int>(version) : ApplyMigrations(catalogue.connection_, migrations);
   return catalogue;
 }
 
@@ -192,7 +194,8 @@ ArrayId Catalogue::WriteArray(const ArrayRecord& array) {
     auto valid = connection_.Prepare("SELECT json_valid(?1)");
     valid->Bind(1, array.definition_json);
     valid->Step();
-    if (valid->ColumnInt64(0) == 0) throw InputError("definition of array '" + array.name + "' is not valid JSON.");
+    if (valid->ColumnInt64(0) == 0)
+      throw InputError("definition of array '" + array.name + "' is not valid JSON.");
   }
   {
     auto insert = connection_.Prepare(
@@ -213,7 +216,8 @@ ArrayId Catalogue::WriteArray(const ArrayRecord& array) {
 }
 
 ArrayRecord Catalogue::ReadArray(ArrayId id) {
-  auto select = connection_.Prepare("SELECT name, definition_json, definition_hash FROM arrays WHERE id = ?1");
+  auto select =
+      connection_.Prepare("SELECT name, definition_json, definition_hash FROM arrays WHERE id = ?1");
   select->Bind(1, id);
   if (!select->Step())
     throw InputError("array #" + std::to_string(static_cast<std::int64_t>(id)) + " is not in the catalogue.");
@@ -235,8 +239,8 @@ TestId Catalogue::WriteTest(const TestRecord& test) {
     auto same_content = connection_.Prepare("SELECT external_id FROM tests WHERE content_hash = ?1");
     same_content->Bind(1, test.content_hash);
     if (same_content->Step())
-      throw InputError("'" + test.source_path + "' has the same content as test '" + same_content->ColumnText(0) +
-                       "', already in the catalogue.");
+      throw InputError("'" + test.source_path + "' has the same content as test '" +
+                       same_content->ColumnText(0) + "', already in the catalogue.");
   }
   {
     auto object = connection_.Prepare("SELECT json_valid(?1) AND json_type(?1) = 'object'");
@@ -262,9 +266,9 @@ TestId Catalogue::WriteTest(const TestRecord& test) {
       IsoTimestampSql("?17") + ")");
   insert->BindAll(test.external_id, series, test.variant, test.metadata_json, test.array_id,
                   initial.orientation_rad.x(), initial.orientation_rad.y(), initial.orientation_rad.z(),
-                  initial.velocity_fixed_mps.x(), initial.velocity_fixed_mps.y(), initial.velocity_fixed_mps.z(),
-                  initial.omega_body_radps.x(), initial.omega_body_radps.y(), initial.omega_body_radps.z(),
-                  test.source_path, test.content_hash, clock_());
+                  initial.velocity_fixed_mps.x(), initial.velocity_fixed_mps.y(),
+                  initial.velocity_fixed_mps.z(), initial.omega_body_radps.x(), initial.omega_body_radps.y(),
+                  initial.omega_body_radps.z(), test.source_path, test.content_hash, clock_());
   insert->Execute();
   const TestId id{connection_.LastInsertRowId()};
   transaction.Commit();
@@ -289,8 +293,9 @@ std::optional<TestId> Catalogue::FindTestByExternalId(const std::string& externa
 }
 
 TestRecord Catalogue::ReadTest(TestId id) {
-  auto select = connection_.Prepare(std::string("SELECT ") + kTestColumns +
-                                    " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE t.id = ?1");
+  auto select =
+      connection_.Prepare(std::string("SELECT ") + kTestColumns +
+                          " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE t.id = ?1");
   select->Bind(1, id);
   if (!select->Step())
     throw InputError("test #" + std::to_string(static_cast<std::int64_t>(id)) + " is not in the catalogue.");
@@ -361,19 +366,23 @@ engine::TestSignals Catalogue::ReadTestSignals(TestId test) {
   }
   const RawChannelInfo& first = channels.front();
   for (const RawChannelInfo& channel : channels)
-    if (channel.dt_s != first.dt_s || channel.t0_s != first.t0_s || channel.sample_count != first.sample_count)
+    if (channel.dt_s != first.dt_s || channel.t0_s != first.t0_s ||
+        channel.sample_count != first.sample_count)
       throw InputError("channel '" + channel.slot + "' of test '" + ReadTest(test).external_id +
                        "' is sampled differently from channel '" + first.slot + "' in the catalogue.");
   signals.dt_s = first.dt_s;
   signals.t0_s = first.t0_s;
-  signals.samples.resize(static_cast<Eigen::Index>(first.sample_count), static_cast<Eigen::Index>(channels.size()));
+  signals.samples.resize(static_cast<Eigen::Index>(first.sample_count),
+                         static_cast<Eigen::Index>(channels.size()));
 
-  auto select = connection_.Prepare("SELECT slot, samples FROM raw_channels WHERE test_id = ?1 ORDER BY position");
+  auto select =
+      connection_.Prepare("SELECT slot, samples FROM raw_channels WHERE test_id = ?1 ORDER BY position");
   select->Bind(1, test);
   for (Eigen::Index c = 0; select->Step(); ++c) {
     signals.slots.push_back(select->ColumnText(0));
-    DecodeFloat64LittleEndian(select->ColumnBlob(1),
-                              std::span<double>(signals.samples.col(c).data(), static_cast<std::size_t>(signals.samples.rows())));
+    DecodeFloat64LittleEndian(
+        select->ColumnBlob(1),
+        std::span<double>(signals.samples.col(c).data(), static_cast<std::size_t>(signals.samples.rows())));
   }
   return signals;
 }
@@ -386,7 +395,8 @@ ConfigId Catalogue::WriteConfig(const ConfigRecord& config) {
     auto valid = connection_.Prepare("SELECT json_valid(?1)");
     valid->Bind(1, config.config_json);
     valid->Step();
-    if (valid->ColumnInt64(0) == 0) throw InputError("processing config '" + config.name + "' is not valid JSON.");
+    if (valid->ColumnInt64(0) == 0)
+      throw InputError("processing config '" + config.name + "' is not valid JSON.");
   }
   {
     auto insert = connection_.Prepare(
@@ -413,7 +423,8 @@ ConfigRecord Catalogue::ReadConfig(ConfigId id) {
   if (!select->Step())
     throw InputError("processing config #" + std::to_string(static_cast<std::int64_t>(id)) +
                      " is not in the catalogue.");
-  return ConfigRecord{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2), select->ColumnText(3)};
+  return ConfigRecord{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2),
+                      select->ColumnText(3)};
 }
 
 std::optional<ConfigId> Catalogue::FindConfigByHash(const std::string& config_hash) {
@@ -448,15 +459,21 @@ std::string Catalogue::Dump() {
       for (int c = 0; c < rows.ColumnCount(); ++c) {
         dump += c == 0 ? "(" : ", ";
         switch (rows.ColumnType(c)) {
-          case SQLITE_NULL: dump += "NULL"; break;
-          case SQLITE_INTEGER: dump += std::to_string(rows.ColumnInt64(c)); break;
+          case SQLITE_NULL:
+            dump += "NULL";
+            break;
+          case SQLITE_INTEGER:
+            dump += std::to_string(rows.ColumnInt64(c));
+            break;
           case SQLITE_FLOAT: {
             char text[32];
             std::snprintf(text, sizeof text, "%a", rows.ColumnDouble(c));  // exact
             dump += text;
             break;
           }
-          case SQLITE_TEXT: dump += "'" + rows.ColumnText(c) + "'"; break;
+          case SQLITE_TEXT:
+            dump += "'" + rows.ColumnText(c) + "'";
+            break;
           default: {
             static constexpr char kHex[] = "0123456789abcdef";
             dump += "x'";

@@ -59,7 +59,7 @@ struct TestRecord {
   std::string external_id;            // the user's test id ("v0001"); unique
   std::optional<std::string> series;  // series name; created on write if new
   std::optional<std::string> variant;
-  std::string metadata_json = "{}";   // free JSON object
+  std::string metadata_json = "{}";  // free JSON object
   ArrayId array_id{};
   engine::InitialState initial_state;
   std::string source_path;   // file or folder the test was imported from
@@ -110,7 +110,7 @@ struct JobFailure {
 // `napkin status`: every test in scope counted once by its state for a config.
 struct StatusCounts {
   std::int64_t tests = 0;
-  std::int64_t done = 0;     // a result exists and no new job is pending
+  std::int64_t done = 0;  // a result exists and no new job is pending
   std::int64_t failed = 0;
   std::int64_t pending = 0;  // queued, or never enqueued and without a result
   std::int64_t running = 0;
@@ -207,8 +207,8 @@ class Catalogue {
   // kinematics as derived channels when given (otherwise earlier derived
   // channels of this test and config are removed: they belong to an older
   // computation). One transaction.
-  void WriteResult(TestId test, ConfigId config, const engine::TestSummary& summary, const std::string& solver,
-                   const engine::Kinematics* kinematics = nullptr);
+  void WriteResult(TestId test, ConfigId config, const engine::TestSummary& summary,
+                   const std::string& solver, const engine::Kinematics* kinematics = nullptr);
   // Stores (replacing) findings alone, e.g. for a test that failed.
   void WriteFindings(TestId test, ConfigId config, std::span<const engine::Finding> findings);
   // Stores (replacing) the kinematics as named derived channels.

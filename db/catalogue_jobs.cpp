@@ -20,8 +20,9 @@ namespace {
 
 // The tests of a JobScope: parameters ?1..?5 (see catalogue_internal.h).
 std::string ScopeCte() {
-  return std::string("scope AS (SELECT t.id AS test_id FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id "
-                     "WHERE ") +
+  return std::string(
+             "scope AS (SELECT t.id AS test_id FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id "
+             "WHERE ") +
          internal::kTestFilterTerms + " AND " + internal::kShardTerms + ")";
 }
 
@@ -38,7 +39,8 @@ std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, b
         " INSERT INTO jobs (test_id, config_id, state, enqueued_at) "
         "SELECT scope.test_id, ?10, 'queued', ?11 FROM scope "
         "WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE j.test_id = scope.test_id AND j.config_id = ?10) "
-        "AND (?12 OR NOT EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id = ?10))";
+        "AND (?12 OR NOT EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id "
+        "= ?10))";
     auto insert = connection_.Prepare(kInsert);
     internal::BindJobScope(*insert, scope);
     insert->Bind(10, config);
@@ -85,8 +87,8 @@ std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner,
   claim->BindAll(config, owner, now, lease_seconds, max_jobs);
   std::vector<Job> jobs;
   while (claim->Step())
-    jobs.push_back(
-        {JobId{claim->ColumnInt64(0)}, TestId{claim->ColumnInt64(1)}, config, static_cast<int>(claim->ColumnInt64(2))});
+    jobs.push_back({JobId{claim->ColumnInt64(0)}, TestId{claim->ColumnInt64(1)}, config,
+                    static_cast<int>(claim->ColumnInt64(2))});
   transaction.Commit();
   std::sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.id < b.id; });
   return jobs;
@@ -106,7 +108,8 @@ bool Catalogue::RenewLease(JobId job, const std::string& owner, double lease_sec
 bool Catalogue::CompleteJob(JobId job, const std::string& owner) {
   Transaction transaction(connection_);
   auto complete = connection_.Prepare(
-      "UPDATE jobs SET state = 'done', finished_at = ?3, duration_s = ?3 - started_at, lease_expires_at = NULL, "
+      "UPDATE jobs SET state = 'done', finished_at = ?3, duration_s = ?3 - started_at, lease_expires_at = "
+      "NULL, "
       "last_error = NULL WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
   complete->BindAll(job, owner, clock_());
   complete->Execute();
@@ -138,7 +141,8 @@ StatusCounts Catalogue::ReadStatusCounts(ConfigId config, const JobScope& scope)
         "WITH " + ScopeCte() +
         ", states AS (SELECT CASE "
         "WHEN j.state IN ('queued', 'running', 'failed') THEN j.state "
-        "WHEN EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id = ?10) THEN 'done' "
+        "WHEN EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id = ?10) THEN "
+        "'done' "
         "ELSE 'queued' END AS state "
         "FROM scope LEFT JOIN jobs AS j ON j.test_id = scope.test_id AND j.config_id = ?10) "
         "SELECT count(*), coalesce(sum(state = 'done'), 0), coalesce(sum(state = 'failed'), 0), "

@@ -36,7 +36,8 @@ constexpr const char* kCreateTakeTable =
     "mt.id AS test_id, mc.id AS config_id "
     "FROM shard.results AS r "
     "JOIN shard.tests AS st ON st.id = r.test_id JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
-    "JOIN shard.configs AS sc ON sc.id = r.config_id JOIN main.configs AS mc ON mc.config_hash = sc.config_hash "
+    "JOIN shard.configs AS sc ON sc.id = r.config_id JOIN main.configs AS mc ON mc.config_hash = "
+    "sc.config_hash "
     "LEFT JOIN main.results AS mr ON mr.test_id = mt.id AND mr.config_id = mc.id "
     "WHERE mr.id IS NULL OR mr.computed_at < r.computed_at";
 
@@ -50,8 +51,9 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
     options.read_only = true;
     const Catalogue shard = Catalogue::Open(shard_path, options);
     if (shard.schema_version() != schema_version_)
-      throw InputError("shard '" + shard_path + "' has schema version " + std::to_string(shard.schema_version()) +
-                       ", the catalogue " + std::to_string(schema_version_) + ".");
+      throw InputError("shard '" + shard_path + "' has schema version " +
+                       std::to_string(shard.schema_version()) + ", the catalogue " +
+                       std::to_string(schema_version_) + ".");
   }
   AttachedShard attached(connection_, shard_path);
   MergeReport report;
@@ -59,49 +61,57 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
 
   {
     auto conflict = connection_.Prepare(
-        "SELECT st.external_id FROM shard.tests AS st JOIN main.tests AS mt ON mt.external_id = st.external_id "
+        "SELECT st.external_id FROM shard.tests AS st JOIN main.tests AS mt ON mt.external_id = "
+        "st.external_id "
         "WHERE mt.content_hash <> st.content_hash ORDER BY st.external_id LIMIT 1");
     if (conflict->Step())
       throw InputError("test '" + conflict->ColumnText(0) + "' in shard '" + shard_path +
                        "' has different content from the catalogue's test of that id.");
   }
   // "WHERE true" keeps SQLite from reading ON CONFLICT as a join constraint.
-  connection_.Prepare(
-                 "INSERT INTO main.arrays (name, definition_json, definition_hash) "
-                 "SELECT name, definition_json, definition_hash FROM shard.arrays WHERE true "
-                 "ON CONFLICT (definition_hash) DO NOTHING")
+  connection_
+      .Prepare(
+          "INSERT INTO main.arrays (name, definition_json, definition_hash) "
+          "SELECT name, definition_json, definition_hash FROM shard.arrays WHERE true "
+          "ON CONFLICT (definition_hash) DO NOTHING")
       ->Execute();
-  connection_.Prepare(
-                 "INSERT INTO main.series (name, description) SELECT name, description FROM shard.series WHERE true "
-                 "ON CONFLICT (name) DO NOTHING")
+  connection_
+      .Prepare(
+          "INSERT INTO main.series (name, description) SELECT name, description FROM shard.series WHERE true "
+          "ON CONFLICT (name) DO NOTHING")
       ->Execute();
-  connection_.Prepare(
-                 "INSERT INTO main.configs (name, config_json, config_hash, created_at) "
-                 "SELECT name, config_json, config_hash, created_at FROM shard.configs WHERE true "
-                 "ON CONFLICT (config_hash) DO NOTHING")
+  connection_
+      .Prepare(
+          "INSERT INTO main.configs (name, config_json, config_hash, created_at) "
+          "SELECT name, config_json, config_hash, created_at FROM shard.configs WHERE true "
+          "ON CONFLICT (config_hash) DO NOTHING")
       ->Execute();
   {
     auto tests = connection_.Prepare(
         "INSERT INTO main.tests (external_id, series_id, variant, metadata_json, array_id, "
         "orientation_phi_rad, orientation_theta_rad, orientation_psi_rad, velocity_x_mps, velocity_y_mps, "
-        "velocity_z_mps, omega_x_radps, omega_y_radps, omega_z_radps, source_path, content_hash, imported_at) "
+        "velocity_z_mps, omega_x_radps, omega_y_radps, omega_z_radps, source_path, content_hash, "
+        "imported_at) "
         "SELECT st.external_id, ms.id, st.variant, st.metadata_json, ma.id, "
         "st.orientation_phi_rad, st.orientation_theta_rad, st.orientation_psi_rad, st.velocity_x_mps, "
         "st.velocity_y_mps, st.velocity_z_mps, st.omega_x_radps, st.omega_y_radps, st.omega_z_radps, "
         "st.source_path, st.content_hash, st.imported_at "
         "FROM shard.tests AS st "
-        "JOIN shard.arrays AS sa ON sa.id = st.array_id JOIN main.arrays AS ma ON ma.definition_hash = sa.definition_hash "
-        "LEFT JOIN shard.series AS ss ON ss.id = st.series_id LEFT JOIN main.series AS ms ON ms.name = ss.name "
+        "JOIN shard.arrays AS sa ON sa.id = st.array_id JOIN main.arrays AS ma ON ma.definition_hash = "
+        "sa.definition_hash "
+        "LEFT JOIN shard.series AS ss ON ss.id = st.series_id LEFT JOIN main.series AS ms ON ms.name = "
+        "ss.name "
         "WHERE st.content_hash NOT IN (SELECT content_hash FROM main.tests) ORDER BY st.id");
     tests->Execute();
     report.tests_added = connection_.Changes();
   }
-  connection_.Prepare(
-                 "INSERT INTO main.raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
-                 "SELECT mt.id, rc.position, rc.slot, rc.unit, rc.dt_s, rc.t0_s, rc.sample_count, rc.samples "
-                 "FROM shard.raw_channels AS rc JOIN shard.tests AS st ON st.id = rc.test_id "
-                 "JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
-                 "WHERE NOT EXISTS (SELECT 1 FROM main.raw_channels AS x WHERE x.test_id = mt.id)")
+  connection_
+      .Prepare(
+          "INSERT INTO main.raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
+          "SELECT mt.id, rc.position, rc.slot, rc.unit, rc.dt_s, rc.t0_s, rc.sample_count, rc.samples "
+          "FROM shard.raw_channels AS rc JOIN shard.tests AS st ON st.id = rc.test_id "
+          "JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
+          "WHERE NOT EXISTS (SELECT 1 FROM main.raw_channels AS x WHERE x.test_id = mt.id)")
       ->Execute();
 
   connection_.Execute("DROP TABLE IF EXISTS temp.merge_take");
@@ -112,10 +122,10 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
   {
     // In the shard's order, so the most recent shard result stays the latest here.
     const std::string columns = internal::SummaryColumnList();
-    connection_.Execute("INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
-                        ") SELECT m.test_id, m.config_id, r.solver, r.computed_at, " +
-                        internal::SummaryColumnList("r.") +
-                        " FROM temp.merge_take AS m JOIN shard.results AS r ON r.id = m.shard_result ORDER BY r.id");
+    connection_.Execute(
+        "INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
+        ") SELECT m.test_id, m.config_id, r.solver, r.computed_at, " + internal::SummaryColumnList("r.") +
+        " FROM temp.merge_take AS m JOIN shard.results AS r ON r.id = m.shard_result ORDER BY r.id");
     report.results_merged = connection_.Changes();
   }
   connection_.Execute(
@@ -132,12 +142,14 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
     auto done = connection_.Prepare(
         "INSERT INTO main.jobs (test_id, config_id, state, attempts, lease_owner, enqueued_at, started_at, "
         "finished_at, duration_s) "
-        "SELECT m.test_id, m.config_id, 'done', coalesce(j.attempts, 0), j.lease_owner, coalesce(j.enqueued_at, ?1), "
+        "SELECT m.test_id, m.config_id, 'done', coalesce(j.attempts, 0), j.lease_owner, "
+        "coalesce(j.enqueued_at, ?1), "
         "j.started_at, j.finished_at, j.duration_s FROM temp.merge_take AS m LEFT JOIN shard.jobs AS j "
         "ON j.test_id = m.shard_test AND j.config_id = m.shard_config WHERE true "
         "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'done', attempts = excluded.attempts, "
         "lease_owner = excluded.lease_owner, lease_expires_at = NULL, last_error = NULL, "
-        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = excluded.duration_s");
+        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
+        "excluded.duration_s");
     done->Bind(1, clock_());
     done->Execute();
   }
@@ -146,15 +158,19 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
     auto failed = connection_.Prepare(
         "INSERT INTO main.jobs (test_id, config_id, state, attempts, last_error, enqueued_at, started_at, "
         "finished_at, duration_s) "
-        "SELECT mt.id, mc.id, 'failed', j.attempts, j.last_error, j.enqueued_at, j.started_at, j.finished_at, "
+        "SELECT mt.id, mc.id, 'failed', j.attempts, j.last_error, j.enqueued_at, j.started_at, "
+        "j.finished_at, "
         "j.duration_s FROM shard.jobs AS j "
-        "JOIN shard.tests AS st ON st.id = j.test_id JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
-        "JOIN shard.configs AS sc ON sc.id = j.config_id JOIN main.configs AS mc ON mc.config_hash = sc.config_hash "
+        "JOIN shard.tests AS st ON st.id = j.test_id JOIN main.tests AS mt ON mt.content_hash = "
+        "st.content_hash "
+        "JOIN shard.configs AS sc ON sc.id = j.config_id JOIN main.configs AS mc ON mc.config_hash = "
+        "sc.config_hash "
         "WHERE j.state = 'failed' AND NOT EXISTS "
         "(SELECT 1 FROM main.results AS r WHERE r.test_id = mt.id AND r.config_id = mc.id) "
         "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'failed', attempts = excluded.attempts, "
         "last_error = excluded.last_error, lease_owner = NULL, lease_expires_at = NULL, "
-        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = excluded.duration_s "
+        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
+        "excluded.duration_s "
         "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error");
     failed->Execute();
     report.failures_merged = connection_.Changes();

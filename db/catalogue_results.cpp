@@ -66,9 +66,12 @@ void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
 
 const char* SeverityText(engine::Severity severity) {
   switch (severity) {
-    case engine::Severity::kInfo: return "info";
-    case engine::Severity::kWarning: return "warning";
-    case engine::Severity::kError: return "error";
+    case engine::Severity::kInfo:
+      return "info";
+    case engine::Severity::kWarning:
+      return "warning";
+    case engine::Severity::kError:
+      return "error";
   }
   throw std::invalid_argument("unknown finding severity");
 }
@@ -130,11 +133,16 @@ void CheckKinematicsShape(const engine::Kinematics& kinematics) {
 
 Cell ReadCell(const Statement& row, int column) {
   switch (row.ColumnType(column)) {
-    case SQLITE_INTEGER: return row.ColumnInt64(column);
-    case SQLITE_FLOAT: return row.ColumnDouble(column);
-    case SQLITE_TEXT: return row.ColumnText(column);
-    case SQLITE_NULL: return std::monostate{};
-    default: throw std::logic_error("query views hold no BLOB columns");
+    case SQLITE_INTEGER:
+      return row.ColumnInt64(column);
+    case SQLITE_FLOAT:
+      return row.ColumnDouble(column);
+    case SQLITE_TEXT:
+      return row.ColumnText(column);
+    case SQLITE_NULL:
+      return std::monostate{};
+    default:
+      throw std::logic_error("query views hold no BLOB columns");
   }
 }
 
@@ -163,8 +171,8 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
   }
   {
     static const std::string kInsert = [] {
-      std::string sql = "INSERT INTO results (test_id, config_id, solver, computed_at, " + SummaryColumnList() +
-                        ") VALUES (?1, ?2, ?3, " + IsoTimestampSql("?4");
+      std::string sql = "INSERT INTO results (test_id, config_id, solver, computed_at, " +
+                        SummaryColumnList() + ") VALUES (?1, ?2, ?3, " + IsoTimestampSql("?4");
       for (std::size_t i = 0; i < std::size(kSummaryFields); ++i) sql += ", ?" + std::to_string(5 + i);
       return sql + ")";
     }();
@@ -195,7 +203,8 @@ void Catalogue::WriteFindings(TestId test, ConfigId config, std::span<const engi
       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
   for (std::size_t i = 0; i < findings.size(); ++i) {
     const engine::Finding& finding = findings[i];
-    insert->BindAll(test, config, i, finding.check, finding.channel, SeverityText(finding.severity), finding.detail);
+    insert->BindAll(test, config, i, finding.check, finding.channel, SeverityText(finding.severity),
+                    finding.detail);
     insert->Execute();
     insert->Reset();
   }
@@ -215,7 +224,8 @@ void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kine
   // bit-exact. NaN binds as NULL: no t0 without samples, no dt below two.
   constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
   const double t0_s = n > 0 ? kinematics.time_s[0] : kNone;
-  const double dt_s = n > 1 ? (kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1) : kNone;
+  const double dt_s =
+      n > 1 ? (kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1) : kNone;
 
   Transaction transaction(connection_);
   DeleteDerivedChannels(test, config);
@@ -264,7 +274,8 @@ std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigI
   std::int64_t n = -1;
   {
     auto count = connection_.Prepare(
-        "SELECT sample_count FROM derived_channels WHERE test_id = ?1 AND config_id = ?2 AND name = 'time_s'");
+        "SELECT sample_count FROM derived_channels WHERE test_id = ?1 AND config_id = ?2 AND name = "
+        "'time_s'");
     count->BindAll(test, config);
     if (!count->Step()) return std::nullopt;
     n = count->ColumnInt64(0);
@@ -293,13 +304,15 @@ std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigI
   if (found != destinations.size()) {
     for (const auto& [name, column] : destinations)
       if (column != nullptr)
-        throw InputError("derived channels of test '" + ReadTest(test).external_id + "' lack '" + name + "'.");
+        throw InputError("derived channels of test '" + ReadTest(test).external_id + "' lack '" + name +
+                         "'.");
   }
   return kinematics;
 }
 
 std::optional<ConfigId> Catalogue::ReadLatestResultConfig(TestId test) {
-  auto select = connection_.Prepare("SELECT config_id FROM results WHERE test_id = ?1 ORDER BY id DESC LIMIT 1");
+  auto select =
+      connection_.Prepare("SELECT config_id FROM results WHERE test_id = ?1 ORDER BY id DESC LIMIT 1");
   select->Bind(1, test);
   if (!select->Step()) return std::nullopt;
   return ConfigId{select->ColumnInt64(0)};
@@ -308,11 +321,10 @@ std::optional<ConfigId> Catalogue::ReadLatestResultConfig(TestId test) {
 // ------------------------------------------------------------------ queries
 
 std::vector<SummaryRow> Catalogue::ReadAllSummaries(const TestFilter& filter) {
-  static const std::string kSelect =
-      "SELECT t.external_id, s.name, t.variant, " + SummaryColumnList("r.") +
-      " FROM v_latest_results AS r JOIN tests AS t ON t.id = r.test_id "
-      "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
-      internal::kTestFilterTerms + " ORDER BY t.external_id";
+  static const std::string kSelect = "SELECT t.external_id, s.name, t.variant, " + SummaryColumnList("r.") +
+                                     " FROM v_latest_results AS r JOIN tests AS t ON t.id = r.test_id "
+                                     "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+                                     internal::kTestFilterTerms + " ORDER BY t.external_id";
   auto select = connection_.Prepare(kSelect);
   internal::BindTestFilter(*select, filter);
   std::vector<SummaryRow> rows;
@@ -327,11 +339,21 @@ std::vector<SummaryRow> Catalogue::ReadAllSummaries(const TestFilter& filter) {
 Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
   std::string sql = "SELECT * FROM ";
   switch (kind) {
-    case QueryKind::kTests: sql += "v_tests"; break;
-    case QueryKind::kHic: sql += "v_hic"; break;
-    case QueryKind::kRotation: sql += "v_rotation"; break;
-    case QueryKind::kCriteria: sql += "v_criteria"; break;
-    case QueryKind::kQuality: sql += "v_quality"; break;
+    case QueryKind::kTests:
+      sql += "v_tests";
+      break;
+    case QueryKind::kHic:
+      sql += "v_hic";
+      break;
+    case QueryKind::kRotation:
+      sql += "v_rotation";
+      break;
+    case QueryKind::kCriteria:
+      sql += "v_criteria";
+      break;
+    case QueryKind::kQuality:
+      sql += "v_quality";
+      break;
   }
   sql += std::string(" WHERE ") + internal::kViewFilterTerms + " ORDER BY test_id";
   if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";

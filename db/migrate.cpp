@@ -9,7 +9,8 @@ void CheckMigrationList(std::span<const schema::Migration> migrations) {
   for (std::size_t i = 0; i < migrations.size(); ++i)
     if (migrations[i].version != static_cast<int>(i) + 1)
       throw std::invalid_argument("migration '" + std::string(migrations[i].name) + "' has version " +
-                                  std::to_string(migrations[i].version) + ", expected " + std::to_string(i + 1));
+                                  std::to_string(migrations[i].version) + ", expected " +
+                                  std::to_string(i + 1));
 }
 
 int ApplyMigrations(Connection& connection, std::span<const schema::Migration> migrations) {
@@ -29,8 +30,9 @@ int ApplyMigrations(Connection& connection, std::span<const schema::Migration> m
       {
         auto violations = connection.Prepare("PRAGMA foreign_key_check");
         if (violations->Step())
-          throw DatabaseError("migration '" + std::string(migration.name) + "' leaves a foreign-key violation in table '" +
-                                  violations->ColumnText(0) + "'.",
+          throw DatabaseError("migration '" + std::string(migration.name) +
+                                  "' leaves a foreign-key violation in table '" + violations->ColumnText(0) +
+                                  "'.",
                               SQLITE_CONSTRAINT_FOREIGNKEY);
       }
       // PRAGMA takes no bound parameters; the version is our own integer.

@@ -48,10 +48,9 @@ void Statement::Bind(int index, std::nullopt_t) {
 }
 
 void Statement::Bind(int index, std::string_view text) {
-  NAPKIN_SQLITE_CHECK(db_,
-                      sqlite3_bind_text64(statement_, index, text.data(), text.size(), SQLITE_TRANSIENT,
-                                          SQLITE_UTF8),
-                      sql_);
+  NAPKIN_SQLITE_CHECK(
+      db_, sqlite3_bind_text64(statement_, index, text.data(), text.size(), SQLITE_TRANSIENT, SQLITE_UTF8),
+      sql_);
 }
 
 void Statement::Bind(int index, std::span<const std::byte> blob) {
@@ -138,7 +137,8 @@ bool IsWriteProtected(const std::string& path) {
   const auto status = std::filesystem::status(path, error);
   if (error || !std::filesystem::is_regular_file(status)) return false;
   using std::filesystem::perms;
-  return (status.permissions() & (perms::owner_write | perms::group_write | perms::others_write)) == perms::none;
+  return (status.permissions() & (perms::owner_write | perms::group_write | perms::others_write)) ==
+         perms::none;
 }
 
 }  // namespace
@@ -151,7 +151,8 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
                     SQLITE_OPEN_NOMUTEX;
   const int opened = sqlite3_open_v2(path.c_str(), &connection.db_, flags, nullptr);
   if (opened != SQLITE_OK) {
-    const std::string reason = connection.db_ != nullptr ? sqlite3_errmsg(connection.db_) : sqlite3_errstr(opened);
+    const std::string reason =
+        connection.db_ != nullptr ? sqlite3_errmsg(connection.db_) : sqlite3_errstr(opened);
     throw InputError("cannot open catalogue '" + path + "' (" + reason + ").");
   }
   NAPKIN_SQLITE_CHECK(connection.db_, sqlite3_extended_result_codes(connection.db_, 1), path);
@@ -159,7 +160,8 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
 
   // SQLite reads the header lazily: the first statement tells whether this
   // is a database at all.
-  const int probe = sqlite3_exec(connection.db_, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  const int probe =
+      sqlite3_exec(connection.db_, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
   if ((probe & 0xff) == SQLITE_NOTADB)
     throw InputError("'" + path + "' is not a napkin catalogue (not an SQLite database).");
   NAPKIN_SQLITE_CHECK(connection.db_, probe, path);
@@ -211,7 +213,8 @@ StatementUse Connection::Prepare(std::string_view sql) {
 
 std::int64_t Connection::PragmaInt(std::string_view pragma) {
   auto statement = Prepare("PRAGMA " + std::string(pragma));
-  if (!statement->Step()) throw DatabaseError("PRAGMA " + std::string(pragma) + " returned no value.", SQLITE_ERROR);
+  if (!statement->Step())
+    throw DatabaseError("PRAGMA " + std::string(pragma) + " returned no value.", SQLITE_ERROR);
   return statement->ColumnInt64(0);
 }
 

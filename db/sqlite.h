@@ -79,10 +79,8 @@ class Statement {
     BindDouble(index, static_cast<double>(value));
   }
   template <typename E>
-    requires std::is_enum_v<E>
-  void Bind(int index, E value) {
-    BindInt64(index, static_cast<std::int64_t>(value));
-  }
+  requires std::is_enum_v<E>
+  void Bind(int index, E value) { BindInt64(index, static_cast<std::int64_t>(value)); }
   template <typename T>
   void Bind(int index, const std::optional<T>& value) {
     if (value)
@@ -143,9 +141,9 @@ class StatementUse {
 };
 
 struct ConnectionOptions {
-  bool read_only = false;          // open without write access (queries only)
-  bool durable = true;             // synchronous=FULL: a committed write survives power loss
-  int busy_timeout_ms = 30000;     // wait this long for another writer's lock
+  bool read_only = false;       // open without write access (queries only)
+  bool durable = true;          // synchronous=FULL: a committed write survives power loss
+  int busy_timeout_ms = 30000;  // wait this long for another writer's lock
 };
 
 // An open SQLite database. ":memory:" opens a private in-memory database.

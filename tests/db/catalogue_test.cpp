@@ -1,5 +1,7 @@
 // Catalogue repositories: tests, signals, results, kinematics, queries,
 // transactions.
+#include "db/catalogue.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,7 +11,6 @@
 #include <limits>
 #include <random>
 
-#include "db/catalogue.h"
 #include "db/float64_blob.h"
 #include "engine/error.h"
 #include "tests/db/db_test_helpers.h"
@@ -225,9 +226,10 @@ engine::Kinematics RandomKinematics(Eigen::Index n, std::uint64_t seed) {
   engine::Kinematics kinematics;
   kinematics.Resize(n);
   for (Eigen::Index k = 0; k < n; ++k) kinematics.time_s[k] = 0.001 + static_cast<double>(k) * 1e-4;
-  for (auto* series : {&kinematics.omega_body, &kinematics.alpha_body, &kinematics.omega_fixed,
-                       &kinematics.alpha_fixed, &kinematics.acc_body, &kinematics.acc_fixed, &kinematics.vel_fixed,
-                       &kinematics.pos_fixed, &kinematics.roll_pitch_yaw_rad, &kinematics.dcos_rad})
+  for (auto* series :
+       {&kinematics.omega_body, &kinematics.alpha_body, &kinematics.omega_fixed, &kinematics.alpha_fixed,
+        &kinematics.acc_body, &kinematics.acc_fixed, &kinematics.vel_fixed, &kinematics.pos_fixed,
+        &kinematics.roll_pitch_yaw_rad, &kinematics.dcos_rad})
     FillWithRandomBits(series->data(), series->size(), random);
   FillWithRandomBits(kinematics.quat_fixed_from_body.data(), kinematics.quat_fixed_from_body.size(), random);
   FillWithRandomBits(kinematics.residual.data(), kinematics.residual.size(), random);
@@ -260,21 +262,24 @@ TEST_F(CatalogueTest, KinematicsRoundTripBitExact) {
     ASSERT_EQ(read->size(), n);
     ExpectSameKinematics(*read, kinematics);
   }
-  EXPECT_FALSE(catalogue_.ReadKinematics(test, catalogue_.WriteConfig(testing::DefaultConfig("{}"))).has_value());
+  EXPECT_FALSE(
+      catalogue_.ReadKinematics(test, catalogue_.WriteConfig(testing::DefaultConfig("{}"))).has_value());
 }
 
 TEST_F(CatalogueTest, DerivedChannelsAreNamedForPlainSqlite) {
   const TestId test = testing::AddTest(catalogue_, array_, "v0001");
   catalogue_.WriteKinematics(test, config_, RandomKinematics(11, 3));
   auto names = catalogue_.connection().Prepare(
-      "SELECT count(*), sum(sample_count = 11), min(dt_s), max(dt_s) FROM derived_channels WHERE test_id = ?1");
+      "SELECT count(*), sum(sample_count = 11), min(dt_s), max(dt_s) FROM derived_channels WHERE test_id = "
+      "?1");
   names->Bind(1, test);
   ASSERT_TRUE(names->Step());
   EXPECT_EQ(names->ColumnInt64(0), 1 + 8 * 3 + 4 + 3 + 3 + 1);
   EXPECT_EQ(names->ColumnInt64(1), names->ColumnInt64(0));
   EXPECT_NEAR(names->ColumnDouble(2), 1e-4, 1e-15);
   auto quat = catalogue_.connection().Prepare(
-      "SELECT 1 FROM derived_channels WHERE name IN ('quat_w', 'omega_fixed_z_radps', 'yaw_rad', 'dcos_xx_rad', "
+      "SELECT 1 FROM derived_channels WHERE name IN ('quat_w', 'omega_fixed_z_radps', 'yaw_rad', "
+      "'dcos_xx_rad', "
       "'residual_mps2', 'acc_fixed_x_mps2') GROUP BY test_id HAVING count(*) = 6");
   EXPECT_TRUE(quat->Step());
 }
@@ -369,14 +374,14 @@ TEST_F(CatalogueTest, ResultWithoutKinematicsDropsOlderDerivedChannels) {
 
 TEST_F(CatalogueTest, QueryViewsCarryTheContractColumns) {
   EXPECT_THAT(catalogue_.Query(QueryKind::kHic).columns,
-              ElementsAre("test_id", "series", "variant", "hic15", "hic15_t1_s", "hic15_t2_s", "hic36", "hic36_t1_s",
-                          "hic36_t2_s", "hic", "hic_t1_s", "hic_t2_s", "peak_acc_g", "a3ms_g"));
+              ElementsAre("test_id", "series", "variant", "hic15", "hic15_t1_s", "hic15_t2_s", "hic36",
+                          "hic36_t1_s", "hic36_t2_s", "hic", "hic_t1_s", "hic_t2_s", "peak_acc_g", "a3ms_g"));
   EXPECT_THAT(catalogue_.Query(QueryKind::kRotation).columns,
               ElementsAre("test_id", "series", "variant", "peak_omega_x_radps", "peak_omega_y_radps",
                           "peak_omega_z_radps", "peak_omega_radps", "peak_alpha_radps2", "bric", "damage",
                           "final_quat_w", "final_quat_x", "final_quat_y", "final_quat_z", "final_roll_deg",
-                          "final_pitch_deg", "final_yaw_deg", "final_pos_x_m", "final_pos_y_m", "final_pos_z_m",
-                          "max_rotation_deg"));
+                          "final_pitch_deg", "final_yaw_deg", "final_pos_x_m", "final_pos_y_m",
+                          "final_pos_z_m", "max_rotation_deg"));
   const auto criteria = catalogue_.Query(QueryKind::kCriteria).columns;
   EXPECT_EQ(criteria.size(), 3u + 11u + 18u);
   EXPECT_THAT(catalogue_.Query(QueryKind::kQuality).columns,
@@ -513,7 +518,8 @@ TEST(Float64Blob, EncodesLittleEndianIeee754) {
   DecodeFloat64LittleEndian(bytes, decoded);
   EXPECT_EQ(decoded[0], 1.0);
   EXPECT_EQ(decoded[1], -2.0);
-  EXPECT_THROW(DecodeFloat64LittleEndian(std::span(bytes).first(15), std::span(decoded, 2)), std::invalid_argument);
+  EXPECT_THROW(DecodeFloat64LittleEndian(std::span(bytes).first(15), std::span(decoded, 2)),
+               std::invalid_argument);
 }
 
 TEST(Float64Blob, ByteSwapReversesBytes) {

@@ -8,7 +8,8 @@
 namespace napkin::db::testing {
 
 inline ArrayRecord IdealArray() {
-  return ArrayRecord{{}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"};
+  return ArrayRecord{
+      {}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"};
 }
 
 inline ConfigRecord DefaultConfig(const std::string& json = R"({"filter":"cfc1000","solver":"exact"})") {

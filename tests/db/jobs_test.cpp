@@ -100,7 +100,8 @@ TEST_F(JobsTest, EnqueueClaimCompleteAndCount) {
       EXPECT_EQ(job.attempts, 2);
     }
   }
-  EXPECT_EQ(retried.size(), 3u) << "the failed one and the two never claimed; the running one holds its lease";
+  EXPECT_EQ(retried.size(), 3u)
+      << "the failed one and the two never claimed; the running one holds its lease";
 }
 
 TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
@@ -136,7 +137,8 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
   for (std::thread& worker : workers) worker.join();
   EXPECT_EQ(errors, 0);
   std::set<std::int64_t> all(claimed[0].begin(), claimed[0].end());
-  for (const std::int64_t id : claimed[1]) EXPECT_TRUE(all.insert(id).second) << "job " << id << " claimed twice";
+  for (const std::int64_t id : claimed[1])
+    EXPECT_TRUE(all.insert(id).second) << "job " << id << " claimed twice";
   EXPECT_EQ(all.size(), static_cast<std::size_t>(kTests));
   EXPECT_EQ(claimed[0].size() + claimed[1].size(), static_cast<std::size_t>(kTests));
 }

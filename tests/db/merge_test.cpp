@@ -21,9 +21,10 @@ engine::Kinematics RampKinematics(Eigen::Index n, double scale) {
   engine::Kinematics kinematics;
   kinematics.Resize(n);
   kinematics.time_s.setLinSpaced(n, 0.0, 1e-4 * static_cast<double>(n - 1));
-  for (auto* series : {&kinematics.omega_body, &kinematics.alpha_body, &kinematics.omega_fixed,
-                       &kinematics.alpha_fixed, &kinematics.acc_body, &kinematics.acc_fixed, &kinematics.vel_fixed,
-                       &kinematics.pos_fixed, &kinematics.roll_pitch_yaw_rad, &kinematics.dcos_rad})
+  for (auto* series :
+       {&kinematics.omega_body, &kinematics.alpha_body, &kinematics.omega_fixed, &kinematics.alpha_fixed,
+        &kinematics.acc_body, &kinematics.acc_fixed, &kinematics.vel_fixed, &kinematics.pos_fixed,
+        &kinematics.roll_pitch_yaw_rad, &kinematics.dcos_rad})
     series->setConstant(scale);
   kinematics.quat_fixed_from_body.setConstant(0.5);
   kinematics.residual.setConstant(scale / 3.0);
@@ -166,9 +167,10 @@ TEST_F(MergeTest, ConflictingTestIdsAndForeignFilesAreRefused) {
   }
   Catalogue main = Catalogue::Open(main_path_);
   const std::string before = main.Dump();
-  EXPECT_THAT([&] { main.MergeShard(shard_path); },
-              ThrowsMessage<InputError>(StrEq("test 't9' in shard '" + shard_path +
-                                              "' has different content from the catalogue's test of that id.")));
+  EXPECT_THAT(
+      [&] { main.MergeShard(shard_path); },
+      ThrowsMessage<InputError>(StrEq("test 't9' in shard '" + shard_path +
+                                      "' has different content from the catalogue's test of that id.")));
   EXPECT_EQ(main.Dump(), before);
 
   const std::string text = dir_ / "notes.txt";

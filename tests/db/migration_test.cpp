@@ -48,16 +48,18 @@ TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
     engine::TestSignals signals;
     signals.slots = {"cg_x"};
     signals.samples = Eigen::MatrixXd::Constant(4, 1, 0.25);
-    catalogue.WriteRawChannels(*catalogue.FindTestByExternalId("v0001"), signals, std::vector<std::string>{"g"});
+    catalogue.WriteRawChannels(*catalogue.FindTestByExternalId("v0001"), signals,
+                               std::vector<std::string>{"g"});
     tests_before = catalogue.Dump();
   }
 
   // Version k+1, written "in the test": a new column with a default, a new
   // table, and a data fix-up of existing rows.
-  const auto migrations = EmbeddedPlus({{k + 1, "900_laboratory.sql",
-                                         "ALTER TABLE tests ADD COLUMN laboratory TEXT NOT NULL DEFAULT 'unknown';"
-                                         "CREATE TABLE laboratories (id INTEGER PRIMARY KEY, name TEXT UNIQUE);"
-                                         "INSERT INTO laboratories (name) SELECT DISTINCT laboratory FROM tests;"}});
+  const auto migrations =
+      EmbeddedPlus({{k + 1, "900_laboratory.sql",
+                     "ALTER TABLE tests ADD COLUMN laboratory TEXT NOT NULL DEFAULT 'unknown';"
+                     "CREATE TABLE laboratories (id INTEGER PRIMARY KEY, name TEXT UNIQUE);"
+                     "INSERT INTO laboratories (name) SELECT DISTINCT laboratory FROM tests;"}});
   CatalogueOptions options;
   options.migrations = migrations;
   Catalogue upgraded = Catalogue::Open(path, options);
@@ -69,7 +71,8 @@ TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
   EXPECT_EQ(tests[0].external_id, "v0001");
   EXPECT_EQ(tests[1].variant, "foam-b");
   EXPECT_EQ(upgraded.ReadTestSignals(tests[0].id).samples, Eigen::MatrixXd::Constant(4, 1, 0.25));
-  auto laboratory = upgraded.connection().Prepare("SELECT laboratory, count(*) FROM tests GROUP BY laboratory");
+  auto laboratory =
+      upgraded.connection().Prepare("SELECT laboratory, count(*) FROM tests GROUP BY laboratory");
   ASSERT_TRUE(laboratory->Step());
   EXPECT_EQ(laboratory->ColumnText(0), "unknown");
   EXPECT_EQ(laboratory->ColumnInt64(1), 2);
@@ -116,7 +119,8 @@ TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {
   const int k = static_cast<int>(schema::Migrations().size());
   // The first statement succeeds, the second fails: the whole migration must roll back.
   const auto migrations =
-      EmbeddedPlus({{k + 1, "900_broken.sql", "CREATE TABLE half_done (id INTEGER); INSERT INTO no_such_table VALUES (1);"}});
+      EmbeddedPlus({{k + 1, "900_broken.sql",
+                     "CREATE TABLE half_done (id INTEGER); INSERT INTO no_such_table VALUES (1);"}});
   CatalogueOptions options;
   options.migrations = migrations;
   EXPECT_THROW(Catalogue::Open(path, options), DatabaseError);
@@ -153,9 +157,10 @@ TEST(Migrations, NewerCatalogueIsRefused) {
     options.migrations = migrations;
     Catalogue::Open(path, options);
   }
-  EXPECT_THAT([&] { Catalogue::Open(path); },
-              ThrowsMessage<InputError>(StrEq("catalogue '" + path + "' has schema version " + std::to_string(k + 1) +
-                                              ", newer than this napkin knows (" + std::to_string(k) + ").")));
+  EXPECT_THAT(
+      [&] { Catalogue::Open(path); },
+      ThrowsMessage<InputError>(StrEq("catalogue '" + path + "' has schema version " + std::to_string(k + 1) +
+                                      ", newer than this napkin knows (" + std::to_string(k) + ").")));
 }
 
 TEST(Migrations, OutdatedCatalogueOpenedReadOnlyAsksForInit) {
@@ -169,8 +174,8 @@ TEST(Migrations, OutdatedCatalogueOpenedReadOnlyAsksForInit) {
   CatalogueOptions read_only;
   read_only.read_only = true;
   EXPECT_THAT([&] { Catalogue::Open(path, read_only); },
-              ThrowsMessage<InputError>(
-                  StrEq("catalogue '" + path + "' has schema version 1 and needs upgrading with 'napkin init'.")));
+              ThrowsMessage<InputError>(StrEq(
+                  "catalogue '" + path + "' has schema version 1 and needs upgrading with 'napkin init'.")));
 }
 
 TEST(Migrations, BadlyNumberedListIsRejected) {

@@ -109,7 +109,8 @@ TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefusedAndUntouched) {
   const std::string path = dir / "other.db";
   {
     Connection other = Connection::Open(path);
-    other.Execute("CREATE TABLE photos (id INTEGER PRIMARY KEY, name TEXT); INSERT INTO photos VALUES (1, 'a')");
+    other.Execute(
+        "CREATE TABLE photos (id INTEGER PRIMARY KEY, name TEXT); INSERT INTO photos VALUES (1, 'a')");
   }
   const std::string before = ReadFile(path);
   EXPECT_THAT([&] { Catalogue::Open(path); },
@@ -122,9 +123,10 @@ TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefusedAndUntouched) {
     Connection other = Connection::Open(path);
     other.Execute("PRAGMA user_version = 1");
   }
-  EXPECT_THAT([&] { Catalogue::Open(path); },
-              ThrowsMessage<InputError>(StrEq(
-                  "'" + path + "' is not a napkin catalogue (it is another application's SQLite database).")));
+  EXPECT_THAT(
+      [&] { Catalogue::Open(path); },
+      ThrowsMessage<InputError>(
+          StrEq("'" + path + "' is not a napkin catalogue (it is another application's SQLite database).")));
 }
 
 TEST(CatalogueOpen, MissingFileInReadOnlyModeIsReported) {
@@ -133,7 +135,8 @@ TEST(CatalogueOpen, MissingFileInReadOnlyModeIsReported) {
   CatalogueOptions read_only;
   read_only.read_only = true;
   EXPECT_THAT([&] { Catalogue::Open(path, read_only); },
-              ThrowsMessage<InputError>(StrEq("cannot open catalogue '" + path + "' (unable to open database file).")));
+              ThrowsMessage<InputError>(
+                  StrEq("cannot open catalogue '" + path + "' (unable to open database file).")));
   EXPECT_FALSE(std::filesystem::exists(path));
 }
 
