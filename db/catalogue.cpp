@@ -451,7 +451,7 @@ std::string Catalogue::Dump() {
       dump += select->ColumnText(0) + " " + select->ColumnText(1) + ": " + select->ColumnText(2) + "\n";
   }
   for (const auto& [name, sql] : tables) {
-    dump += "table " + name + ": " + sql + "\n";
+    dump.append("table ").append(name).append(": ").append(sql).append("\n");
     // A one-off statement per table: table names are identifiers, quoted.
     Statement rows(connection_.handle(), "SELECT * FROM " + QuoteIdentifier(name) + " ORDER BY rowid");
     while (rows.Step()) {

@@ -90,7 +90,8 @@ std::vector<std::pair<std::string, double*>> KinematicsChannels(engine::Kinemati
   channels.emplace_back("time_s", kinematics.time_s.data());
   const auto add3 = [&channels](const std::string& prefix, engine::Series3& series, const std::string& unit,
                                 const std::array<const char*, 3>& components) {
-    for (int c = 0; c < 3; ++c) channels.emplace_back(prefix + components[c] + unit, series.col(c).data());
+    for (int c = 0; c < 3; ++c)
+      channels.emplace_back(std::string(prefix).append(components[c]).append(unit), series.col(c).data());
   };
   constexpr std::array<const char*, 3> kXyz = {"x", "y", "z"};
   add3("omega_body_", kinematics.omega_body, "_radps", kXyz);
