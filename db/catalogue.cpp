@@ -1,0 +1,494 @@
+// Catalogue: opening, series, arrays, tests, raw channels, configs, dump.
+#include "db/catalogue.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "db/catalogue_internal.h"
+#include "db/float64_blob.h"
+#include "db/migrate.h"
+#include "engine/error.h"
+
+namespace napkin::db {
+
+namespace internal {
+
+std::optional<std::string> JsonStringArray(const std::vector<std::string>& values) {
+  if (values.empty()) return std::nullopt;
+  std::string json = "[";
+  for (const std::string& value : values) {
+    if (json.size() > 1) json += ',';
+    json += '"';
+    for (const char c : value) {
+      if (c == '"' || c == '\\') {
+        json += '\\';
+        json += c;
+      } else if (static_cast<unsigned char>(c) < 0x20) {
+        char escaped[8];
+        std::snprintf(escaped, sizeof escaped, "\\u%04x",
+                      static_cast<unsigned>(static_cast<unsigned char>(c)));
+        json += escaped;
+      } else {
+        json += c;
+      }
+    }
+    json += '"';
+  }
+  json += ']';
+  return json;
+}
+
+void BindTestFilter(Statement& statement, const TestFilter& filter) {
+  statement.Bind(1, filter.series);
+  statement.Bind(2, filter.variant);
+  statement.Bind(3, JsonStringArray(filter.external_ids));
+}
+
+void BindJobScope(Statement& statement, const JobScope& scope) {
+  BindTestFilter(statement, scope.tests);
+  if (scope.shard) {
+    if (scope.shard->count < 1 || scope.shard->index < 0 || scope.shard->index >= scope.shard->count)
+      throw InputError("shard " + std::to_string(scope.shard->index) + "/" +
+                       std::to_string(scope.shard->count) + " is invalid (expected I/N with 0 <= I < N).");
+    statement.Bind(4, scope.shard->count);
+    statement.Bind(5, scope.shard->index);
+  }
+}
+
+}  // namespace internal
+
+namespace {
+
+using internal::IsoTimestampSql;
+
+double SystemClockSeconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+bool IsFinite(const Eigen::Vector3d& vector) { return vector.allFinite(); }
+
+// Column list shared by ReadTest and ReadAllTests, read by ReadTestRow.
+constexpr const char* kTestColumns =
+    "t.id, t.external_id, s.name, t.variant, t.metadata_json, t.array_id, "
+    "t.orientation_phi_rad, t.orientation_theta_rad, t.orientation_psi_rad, "
+    "t.velocity_x_mps, t.velocity_y_mps, t.velocity_z_mps, "
+    "t.omega_x_radps, t.omega_y_radps, t.omega_z_radps, "
+    "t.source_path, t.content_hash, t.imported_at";
+
+TestRecord ReadTestRow(const Statement& row) {
+  TestRecord test;
+  test.id = TestId{row.ColumnInt64(0)};
+  test.external_id = row.ColumnText(1);
+  test.series = row.ColumnOptionalText(2);
+  test.variant = row.ColumnOptionalText(3);
+  test.metadata_json = row.ColumnText(4);
+  test.array_id = ArrayId{row.ColumnInt64(5)};
+  for (int i = 0; i < 3; ++i) {
+    test.initial_state.orientation_rad[i] = row.ColumnDouble(6 + i);
+    test.initial_state.velocity_fixed_mps[i] = row.ColumnDouble(9 + i);
+    test.initial_state.omega_body_radps[i] = row.ColumnDouble(12 + i);
+  }
+  test.source_path = row.ColumnText(15);
+  test.content_hash = row.ColumnText(16);
+  test.imported_at = row.ColumnText(17);
+  return test;
+}
+
+std::string QuoteIdentifier(const std::string& name) {
+  std::string quoted = "\"";
+  for (const char c : name) {
+    quoted += c;
+    if (c == '"') quoted += '"';
+  }
+  return quoted + "\"";
+}
+
+}  // namespace
+
+// --------------------------------------------------------------------- open
+
+Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& options) {
+  const std::span<const schema::Migration> migrations =
+      options.migrations.empty() ? schema::Migrations() : options.migrations;
+  CheckMigrationList(migrations);
+  const auto latest = static_cast<std::int64_t>(migrations.size());
+
+  Connection connection =
+      Connection::Open(path, ConnectionOptions{options.read_only, options.durable, options.busy_timeout_ms});
+
+  // Identify the file before changing anything in it.
+  const std::int64_t version = connection.PragmaInt("user_version");
+  if (version > 0 && connection.PragmaInt("application_id") != kCatalogueApplicationId)
+    throw InputError("'" + path +
+                     "' is not a napkin catalogue (it is another application's SQLite database).");
+  if (version == 0) {
+    auto tables = connection.Prepare("SELECT count(*) FROM sqlite_master");
+    tables->Step();
+    if (tables->ColumnInt64(0) > 0)
+      throw InputError("'" + path + "' is not a napkin catalogue (it already holds other tables).");
+  }
+  if (version > latest)
+    throw InputError("catalogue '" + path + "' has schema version " + std::to_string(version) +
+                     ", newer than this napkin knows (" + std::to_string(latest) + ").");
+
+  if (options.read_only) {
+    if (version < latest)
+      throw InputError("catalogue '" + path + "' has schema version " + std::to_string(version) +
+                       " and needs upgrading with 'napkin init'.");
+  } else {
+    // WAL: readers never block the writer (workers query while others write).
+    if (!connection.in_memory()) {
+      connection.Execute("PRAGMA journal_mode = WAL");
+      // Truncate the WAL after checkpoints: derived channels make it grow large.
+      connection.Execute("PRAGMA journal_size_limit = 67108864");
+    }
+    connection.Execute(options.durable ? "PRAGMA synchronous = FULL" : "PRAGMA synchronous = NORMAL");
+  }
+
+  Catalogue catalogue(std::move(connection), options.clock ? options.clock : SystemClockSeconds);
+  catalogue.schema_version_ =
+      options.read_only ? static_cast<int>(version) : ApplyMigrations(catalogue.connection_, migrations);
+  return catalogue;
+}
+
+// ------------------------------------------------------------------- series
+
+SeriesId Catalogue::WriteSeries(const std::string& name, const std::string& description) {
+  Transaction transaction(connection_);
+  {
+    auto insert = connection_.Prepare(
+        "INSERT INTO series (name, description) VALUES (?1, ?2) ON CONFLICT (name) DO NOTHING");
+    insert->BindAll(name, description);
+    insert->Execute();
+  }
+  auto select = connection_.Prepare("SELECT id FROM series WHERE name = ?1");
+  select->Bind(1, name);
+  select->Step();
+  const SeriesId id{select->ColumnInt64(0)};
+  transaction.Commit();
+  return id;
+}
+
+std::optional<SeriesRecord> Catalogue::ReadSeries(const std::string& name) {
+  auto select = connection_.Prepare("SELECT id, name, description FROM series WHERE name = ?1");
+  select->Bind(1, name);
+  if (!select->Step()) return std::nullopt;
+  return SeriesRecord{SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)};
+}
+
+std::vector<SeriesRecord> Catalogue::ReadAllSeries() {
+  auto select = connection_.Prepare("SELECT id, name, description FROM series ORDER BY name");
+  std::vector<SeriesRecord> all;
+  while (select->Step())
+    all.push_back({SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)});
+  return all;
+}
+
+// ------------------------------------------------------------------- arrays
+
+ArrayId Catalogue::WriteArray(const ArrayRecord& array) {
+  Transaction transaction(connection_);
+  {
+    auto valid = connection_.Prepare("SELECT json_valid(?1)");
+    valid->Bind(1, array.definition_json);
+    valid->Step();
+    if (valid->ColumnInt64(0) == 0)
+      throw InputError("definition of array '" + array.name + "' is not valid JSON.");
+  }
+  {
+    auto insert = connection_.Prepare(
+        "INSERT INTO arrays (name, definition_json, definition_hash) VALUES (?1, ?2, ?3) "
+        "ON CONFLICT (definition_hash) DO NOTHING");
+    insert->BindAll(array.name, array.definition_json, array.definition_hash);
+    insert->Execute();
+  }
+  auto select = connection_.Prepare("SELECT id, definition_json FROM arrays WHERE definition_hash = ?1");
+  select->Bind(1, array.definition_hash);
+  select->Step();
+  if (select->ColumnText(1) != array.definition_json)
+    throw InputError("array '" + array.name + "' has the hash " + array.definition_hash +
+                     " of a different array definition already in the catalogue.");
+  const ArrayId id{select->ColumnInt64(0)};
+  transaction.Commit();
+  return id;
+}
+
+ArrayRecord Catalogue::ReadArray(ArrayId id) {
+  auto select =
+      connection_.Prepare("SELECT name, definition_json, definition_hash FROM arrays WHERE id = ?1");
+  select->Bind(1, id);
+  if (!select->Step())
+    throw InputError("array #" + std::to_string(static_cast<std::int64_t>(id)) + " is not in the catalogue.");
+  return ArrayRecord{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2)};
+}
+
+// -------------------------------------------------------------------- tests
+
+TestId Catalogue::WriteTest(const TestRecord& test) {
+  Transaction transaction(connection_);
+  {
+    auto existing = connection_.Prepare("SELECT source_path FROM tests WHERE external_id = ?1");
+    existing->Bind(1, test.external_id);
+    if (existing->Step())
+      throw InputError("test '" + test.external_id + "' is already in the catalogue (imported from '" +
+                       existing->ColumnText(0) + "').");
+  }
+  {
+    auto same_content = connection_.Prepare("SELECT external_id FROM tests WHERE content_hash = ?1");
+    same_content->Bind(1, test.content_hash);
+    if (same_content->Step())
+      throw InputError("'" + test.source_path + "' has the same content as test '" +
+                       same_content->ColumnText(0) + "', already in the catalogue.");
+  }
+  {
+    auto object = connection_.Prepare("SELECT json_valid(?1) AND json_type(?1) = 'object'");
+    object->Bind(1, test.metadata_json);
+    object->Step();
+    if (object->ColumnInt64(0) == 0)
+      throw InputError("metadata of test '" + test.external_id + "' is not a JSON object.");
+  }
+  const engine::InitialState& initial = test.initial_state;
+  if (!IsFinite(initial.orientation_rad) || !IsFinite(initial.velocity_fixed_mps) ||
+      !IsFinite(initial.omega_body_radps))
+    throw InputError("initial state of test '" + test.external_id + "' has a non-finite value.");
+
+  std::optional<SeriesId> series;
+  if (test.series) series = WriteSeries(*test.series);
+
+  auto insert = connection_.Prepare(
+      "INSERT INTO tests (external_id, series_id, variant, metadata_json, array_id, "
+      "orientation_phi_rad, orientation_theta_rad, orientation_psi_rad, "
+      "velocity_x_mps, velocity_y_mps, velocity_z_mps, omega_x_radps, omega_y_radps, omega_z_radps, "
+      "source_path, content_hash, imported_at) "
+      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, " +
+      IsoTimestampSql("?17") + ")");
+  insert->BindAll(test.external_id, series, test.variant, test.metadata_json, test.array_id,
+                  initial.orientation_rad.x(), initial.orientation_rad.y(), initial.orientation_rad.z(),
+                  initial.velocity_fixed_mps.x(), initial.velocity_fixed_mps.y(),
+                  initial.velocity_fixed_mps.z(), initial.omega_body_radps.x(), initial.omega_body_radps.y(),
+                  initial.omega_body_radps.z(), test.source_path, test.content_hash, clock_());
+  insert->Execute();
+  const TestId id{connection_.LastInsertRowId()};
+  transaction.Commit();
+  return id;
+}
+
+bool Catalogue::ExistsTestByHash(const std::string& content_hash) {
+  auto select = connection_.Prepare("SELECT 1 FROM tests WHERE content_hash = ?1");
+  select->Bind(1, content_hash);
+  return select->Step();
+}
+
+bool Catalogue::ExistsTestByExternalId(const std::string& external_id) {
+  return FindTestByExternalId(external_id).has_value();
+}
+
+std::optional<TestId> Catalogue::FindTestByExternalId(const std::string& external_id) {
+  auto select = connection_.Prepare("SELECT id FROM tests WHERE external_id = ?1");
+  select->Bind(1, external_id);
+  if (!select->Step()) return std::nullopt;
+  return TestId{select->ColumnInt64(0)};
+}
+
+TestRecord Catalogue::ReadTest(TestId id) {
+  auto select =
+      connection_.Prepare(std::string("SELECT ") + kTestColumns +
+                          " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE t.id = ?1");
+  select->Bind(1, id);
+  if (!select->Step())
+    throw InputError("test #" + std::to_string(static_cast<std::int64_t>(id)) + " is not in the catalogue.");
+  return ReadTestRow(*select);
+}
+
+std::vector<TestRecord> Catalogue::ReadAllTests(const TestFilter& filter) {
+  auto select = connection_.Prepare(std::string("SELECT ") + kTestColumns +
+                                    " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+                                    internal::kTestFilterTerms + " ORDER BY t.external_id");
+  internal::BindTestFilter(*select, filter);
+  std::vector<TestRecord> tests;
+  while (select->Step()) tests.push_back(ReadTestRow(*select));
+  return tests;
+}
+
+// ------------------------------------------------------------- raw channels
+
+void Catalogue::WriteRawChannels(TestId test, const engine::TestSignals& signals,
+                                 std::span<const std::string> units) {
+  const auto channels = static_cast<std::size_t>(signals.samples.cols());
+  if (signals.slots.size() != channels || units.size() != channels)
+    throw std::invalid_argument("WriteRawChannels: " + std::to_string(channels) + " signal columns, " +
+                                std::to_string(signals.slots.size()) + " slots and " +
+                                std::to_string(units.size()) + " units");
+  if (!(signals.dt_s > 0.0) || !std::isfinite(signals.dt_s) || !std::isfinite(signals.t0_s))
+    throw InputError("signals of test #" + std::to_string(static_cast<std::int64_t>(test)) +
+                     " have an invalid sampling interval or start time.");
+
+  Transaction transaction(connection_);
+  {
+    auto remove = connection_.Prepare("DELETE FROM raw_channels WHERE test_id = ?1");
+    remove->Bind(1, test);
+    remove->Execute();
+  }
+  auto insert = connection_.Prepare(
+      "INSERT INTO raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
+      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
+  std::vector<std::byte> scratch;
+  for (std::size_t c = 0; c < channels; ++c) {
+    const auto column = std::span<const double>(signals.samples.col(static_cast<Eigen::Index>(c)).data(),
+                                                static_cast<std::size_t>(signals.samples.rows()));
+    insert->BindAll(test, c, signals.slots[c], units[c], signals.dt_s, signals.t0_s, signals.samples.rows(),
+                    Float64LittleEndianBytes(column, scratch));
+    insert->Execute();
+    insert->Reset();
+  }
+  transaction.Commit();
+}
+
+std::vector<RawChannelInfo> Catalogue::ReadRawChannelInfo(TestId test) {
+  auto select = connection_.Prepare(
+      "SELECT slot, unit, dt_s, t0_s, sample_count FROM raw_channels WHERE test_id = ?1 ORDER BY position");
+  select->Bind(1, test);
+  std::vector<RawChannelInfo> channels;
+  while (select->Step())
+    channels.push_back({select->ColumnText(0), select->ColumnText(1), select->ColumnDouble(2),
+                        select->ColumnDouble(3), select->ColumnInt64(4)});
+  return channels;
+}
+
+engine::TestSignals Catalogue::ReadTestSignals(TestId test) {
+  const std::vector<RawChannelInfo> channels = ReadRawChannelInfo(test);
+  engine::TestSignals signals;
+  if (channels.empty()) {
+    signals.samples.resize(0, 0);
+    return signals;
+  }
+  const RawChannelInfo& first = channels.front();
+  for (const RawChannelInfo& channel : channels)
+    if (channel.dt_s != first.dt_s || channel.t0_s != first.t0_s ||
+        channel.sample_count != first.sample_count)
+      throw InputError("channel '" + channel.slot + "' of test '" + ReadTest(test).external_id +
+                       "' is sampled differently from channel '" + first.slot + "' in the catalogue.");
+  signals.dt_s = first.dt_s;
+  signals.t0_s = first.t0_s;
+  signals.samples.resize(static_cast<Eigen::Index>(first.sample_count),
+                         static_cast<Eigen::Index>(channels.size()));
+
+  auto select =
+      connection_.Prepare("SELECT slot, samples FROM raw_channels WHERE test_id = ?1 ORDER BY position");
+  select->Bind(1, test);
+  for (Eigen::Index c = 0; select->Step(); ++c) {
+    signals.slots.push_back(select->ColumnText(0));
+    DecodeFloat64LittleEndian(
+        select->ColumnBlob(1),
+        std::span<double>(signals.samples.col(c).data(), static_cast<std::size_t>(signals.samples.rows())));
+  }
+  return signals;
+}
+
+// ------------------------------------------------------------------ configs
+
+ConfigId Catalogue::WriteConfig(const ConfigRecord& config) {
+  Transaction transaction(connection_);
+  {
+    auto valid = connection_.Prepare("SELECT json_valid(?1)");
+    valid->Bind(1, config.config_json);
+    valid->Step();
+    if (valid->ColumnInt64(0) == 0)
+      throw InputError("processing config '" + config.name + "' is not valid JSON.");
+  }
+  {
+    auto insert = connection_.Prepare(
+        "INSERT INTO configs (name, config_json, config_hash, created_at) VALUES (?1, ?2, ?3, " +
+        IsoTimestampSql("?4") + ") ON CONFLICT (config_hash) DO NOTHING");
+    insert->BindAll(config.name, config.config_json, config.config_hash, clock_());
+    insert->Execute();
+  }
+  auto select = connection_.Prepare("SELECT id, config_json FROM configs WHERE config_hash = ?1");
+  select->Bind(1, config.config_hash);
+  select->Step();
+  if (select->ColumnText(1) != config.config_json)
+    throw InputError("processing config '" + config.name + "' has the hash " + config.config_hash +
+                     " of a different config already in the catalogue.");
+  const ConfigId id{select->ColumnInt64(0)};
+  transaction.Commit();
+  return id;
+}
+
+ConfigRecord Catalogue::ReadConfig(ConfigId id) {
+  auto select =
+      connection_.Prepare("SELECT name, config_json, config_hash, created_at FROM configs WHERE id = ?1");
+  select->Bind(1, id);
+  if (!select->Step())
+    throw InputError("processing config #" + std::to_string(static_cast<std::int64_t>(id)) +
+                     " is not in the catalogue.");
+  return ConfigRecord{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2),
+                      select->ColumnText(3)};
+}
+
+std::optional<ConfigId> Catalogue::FindConfigByHash(const std::string& config_hash) {
+  auto select = connection_.Prepare("SELECT id FROM configs WHERE config_hash = ?1");
+  select->Bind(1, config_hash);
+  if (!select->Step()) return std::nullopt;
+  return ConfigId{select->ColumnInt64(0)};
+}
+
+// --------------------------------------------------------------------- dump
+
+std::string Catalogue::Dump() {
+  std::string dump = "user_version " + std::to_string(connection_.PragmaInt("user_version")) + "\n";
+  std::vector<std::pair<std::string, std::string>> tables;
+  {
+    auto select = connection_.Prepare(
+        "SELECT name, coalesce(sql, '') FROM sqlite_master WHERE type = 'table' ORDER BY name");
+    while (select->Step()) tables.emplace_back(select->ColumnText(0), select->ColumnText(1));
+  }
+  {
+    auto select = connection_.Prepare(
+        "SELECT type, name, coalesce(sql, '') FROM sqlite_master WHERE type <> 'table' ORDER BY type, name");
+    while (select->Step())
+      dump += select->ColumnText(0) + " " + select->ColumnText(1) + ": " + select->ColumnText(2) + "\n";
+  }
+  for (const auto& [name, sql] : tables) {
+    dump.append("table ").append(name).append(": ").append(sql).append("\n");
+    // A one-off statement per table: table names are identifiers, quoted.
+    Statement rows(connection_.handle(), "SELECT * FROM " + QuoteIdentifier(name) + " ORDER BY rowid");
+    while (rows.Step()) {
+      dump += " ";
+      for (int c = 0; c < rows.ColumnCount(); ++c) {
+        dump += c == 0 ? "(" : ", ";
+        switch (rows.ColumnType(c)) {
+          case SQLITE_NULL:
+            dump += "NULL";
+            break;
+          case SQLITE_INTEGER:
+            dump += std::to_string(rows.ColumnInt64(c));
+            break;
+          case SQLITE_FLOAT: {
+            char text[32];
+            std::snprintf(text, sizeof text, "%a", rows.ColumnDouble(c));  // exact
+            dump += text;
+            break;
+          }
+          case SQLITE_TEXT:
+            dump += "'" + rows.ColumnText(c) + "'";
+            break;
+          default: {
+            static constexpr char kHex[] = "0123456789abcdef";
+            dump += "x'";
+            for (const std::byte byte : rows.ColumnBlob(c)) {
+              dump += kHex[static_cast<unsigned>(byte) >> 4];
+              dump += kHex[static_cast<unsigned>(byte) & 0xf];
+            }
+            dump += "'";
+          }
+        }
+      }
+      dump += ")\n";
+    }
+  }
+  return dump;
+}
+
+}  // namespace napkin::db

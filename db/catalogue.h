@@ -1,0 +1,276 @@
+#pragma once
+// The napkin catalogue: typed repositories over one SQLite file (schema/).
+// Verb+entity methods as in COLMAP's Database (Write/Read/ReadAll/Exists...).
+// Every write runs in a transaction that rolls back on an exception; several
+// writes can be made atomic together with BeginTransaction() (they nest as
+// savepoints). All values are bound as SQL parameters.
+//
+// A Catalogue is not thread-safe: give each thread (or process) its own; they
+// may share one file (WAL, busy timeout, atomic job claims).
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "db/sqlite.h"
+#include "engine/kinematics.h"
+#include "engine/signals.h"
+#include "engine/summary.h"
+#include "schema/migrations.h"
+
+namespace napkin::db {
+
+// Catalogue keys (SQLite rowids), typed so a test key cannot be passed where
+// a config key is expected.
+enum class SeriesId : std::int64_t {};
+enum class ArrayId : std::int64_t {};
+enum class TestId : std::int64_t {};
+enum class ConfigId : std::int64_t {};
+enum class JobId : std::int64_t {};
+
+struct SeriesRecord {
+  SeriesId id{};
+  std::string name;
+  std::string description;
+};
+
+// An accelerometer array definition (FORMATS.md), deduplicated by hash.
+struct ArrayRecord {
+  ArrayId id{};                 // set by WriteArray / ReadArray
+  std::string name;             // e.g. "denton-3222"
+  std::string definition_json;  // canonical JSON
+  std::string definition_hash;  // hash of definition_json (computed by the caller)
+};
+
+// A processing configuration, deduplicated by hash.
+struct ConfigRecord {
+  ConfigId id{};            // set by WriteConfig / ReadConfig
+  std::string name;         // e.g. "default"
+  std::string config_json;  // canonical JSON
+  std::string config_hash;  // hash of config_json (computed by the caller)
+  std::string created_at;   // ISO-8601 UTC, set by WriteConfig
+};
+
+struct TestRecord {
+  TestId id{};                        // set by WriteTest / ReadTest
+  std::string external_id;            // the user's test id ("v0001"); unique
+  std::optional<std::string> series;  // series name; created on write if new
+  std::optional<std::string> variant;
+  std::string metadata_json = "{}";  // free JSON object
+  ArrayId array_id{};
+  engine::InitialState initial_state;
+  std::string source_path;   // file or folder the test was imported from
+  std::string content_hash;  // hash of the imported content; unique
+  std::string imported_at;   // ISO-8601 UTC, set by WriteTest
+};
+
+// Which tests an operation covers; empty fields do not filter.
+struct TestFilter {
+  std::optional<std::string> series;
+  std::optional<std::string> variant;
+  std::vector<std::string> external_ids;  // only these tests
+};
+
+// Tests whose key satisfies key % count == index (run --shard I/N; shard
+// catalogues are copies of one catalogue, so keys agree).
+struct Shard {
+  int index = 0;
+  int count = 1;
+};
+
+struct JobScope {
+  TestFilter tests;
+  std::optional<Shard> shard;
+};
+
+struct RawChannelInfo {
+  std::string slot;
+  std::string unit;
+  double dt_s = 0.0;
+  double t0_s = 0.0;
+  std::int64_t sample_count = 0;
+};
+
+// A claimed job.
+struct Job {
+  JobId id{};
+  TestId test_id{};
+  ConfigId config_id{};
+  int attempts = 0;  // claims so far, this one included
+};
+
+struct JobFailure {
+  std::string test_id;  // external id
+  std::string error;
+};
+
+// `napkin status`: every test in scope counted once by its state for a config.
+struct StatusCounts {
+  std::int64_t tests = 0;
+  std::int64_t done = 0;  // a result exists and no new job is pending
+  std::int64_t failed = 0;
+  std::int64_t pending = 0;  // queued, or never enqueued and without a result
+  std::int64_t running = 0;
+  std::vector<JobFailure> failures;  // ordered by test id
+};
+
+// One test's latest summary with its labels (query criteria).
+struct SummaryRow {
+  std::string test_id;  // external id
+  std::optional<std::string> series;
+  std::optional<std::string> variant;
+  engine::TestSummary summary;  // without findings
+};
+
+// `napkin query` tables, read from the views v_tests, v_hic, v_rotation,
+// v_criteria and v_quality; column names are the query contract.
+enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality };
+using Cell = std::variant<std::monostate, std::int64_t, double, std::string>;  // monostate: NULL
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<Cell>> rows;
+};
+
+// What MergeShard took from a shard catalogue.
+struct MergeReport {
+  std::int64_t tests_added = 0;      // tests (with raw channels) the catalogue did not have
+  std::int64_t results_merged = 0;   // results new to the catalogue or newer than its own
+  std::int64_t failures_merged = 0;  // failed jobs of tests without a result here
+};
+
+struct CatalogueOptions {
+  bool read_only = false;       // queries only: never migrates, never writes
+  bool durable = true;          // synchronous=FULL (else NORMAL: may lose the last commits on power loss)
+  int busy_timeout_ms = 30000;  // wait for another writer this long before failing
+  // Migrations to apply; empty = the embedded schema/ migrations. Tests pass
+  // their own list to exercise upgrades.
+  std::span<const schema::Migration> migrations;
+  // Seconds since the Unix epoch, for job leases and timestamps; empty = system clock.
+  std::function<double()> clock;
+};
+
+class Catalogue {
+ public:
+  // Opens (creating if needed) and migrates the catalogue at `path`
+  // (":memory:" for a private in-memory one). Throws InputError, one sentence
+  // naming the file, when it is not an SQLite database, not a napkin
+  // catalogue, read-only, or newer than this build.
+  static Catalogue Open(const std::string& path, const CatalogueOptions& options = {});
+
+  Connection& connection() { return connection_; }
+  int schema_version() const { return schema_version_; }
+  double Now() const { return clock_(); }
+  // A write transaction over several calls; rolls back unless committed.
+  Transaction BeginTransaction() { return Transaction(connection_); }
+
+  // ---- series
+  // Returns the series' key, creating it if new (an existing description is kept).
+  SeriesId WriteSeries(const std::string& name, const std::string& description = "");
+  std::optional<SeriesRecord> ReadSeries(const std::string& name);
+  std::vector<SeriesRecord> ReadAllSeries();
+
+  // ---- arrays
+  // Returns the key of the array with this hash, inserting it if new.
+  ArrayId WriteArray(const ArrayRecord& array);
+  ArrayRecord ReadArray(ArrayId id);
+
+  // ---- tests
+  // Inserts a test (creating its series if new). Throws InputError when its
+  // external id or content hash is already in the catalogue, or its metadata
+  // is not a JSON object.
+  TestId WriteTest(const TestRecord& test);
+  bool ExistsTestByHash(const std::string& content_hash);
+  bool ExistsTestByExternalId(const std::string& external_id);
+  std::optional<TestId> FindTestByExternalId(const std::string& external_id);
+  TestRecord ReadTest(TestId id);
+  std::vector<TestRecord> ReadAllTests(const TestFilter& filter = {});
+
+  // ---- raw channels
+  // Stores (replacing) the test's channels: one row per slot, samples as
+  // little-endian float64 BLOBs. `units[i]` is the unit of column i.
+  void WriteRawChannels(TestId test, const engine::TestSignals& signals, std::span<const std::string> units);
+  // The test's channels in their original column order, bit-exact.
+  engine::TestSignals ReadTestSignals(TestId test);
+  std::vector<RawChannelInfo> ReadRawChannelInfo(TestId test);
+
+  // ---- configs
+  // Returns the key of the config with this hash, inserting it if new.
+  ConfigId WriteConfig(const ConfigRecord& config);
+  ConfigRecord ReadConfig(ConfigId id);
+  std::optional<ConfigId> FindConfigByHash(const std::string& config_hash);
+
+  // ---- results
+  // Stores (replacing) the test's summary and findings for `config`, and its
+  // kinematics as derived channels when given (otherwise earlier derived
+  // channels of this test and config are removed: they belong to an older
+  // computation). One transaction.
+  void WriteResult(TestId test, ConfigId config, const engine::TestSummary& summary,
+                   const std::string& solver, const engine::Kinematics* kinematics = nullptr);
+  // Stores (replacing) findings alone, e.g. for a test that failed.
+  void WriteFindings(TestId test, ConfigId config, std::span<const engine::Finding> findings);
+  // Stores (replacing) the kinematics as named derived channels.
+  void WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics);
+  // The summary (with findings) of the test under `config`, if computed.
+  std::optional<engine::TestSummary> ReadSummary(TestId test, ConfigId config);
+  std::optional<std::string> ReadResultSolver(TestId test, ConfigId config);
+  // The kinematics written by WriteKinematics, bit-exact, if any.
+  std::optional<engine::Kinematics> ReadKinematics(TestId test, ConfigId config);
+  // The config of the test's most recently written result, if any.
+  std::optional<ConfigId> ReadLatestResultConfig(TestId test);
+  // Latest summary of every test in `filter` that has one, ordered by test id.
+  std::vector<SummaryRow> ReadAllSummaries(const TestFilter& filter = {});
+  // `napkin query <kind>` rows from the views, ordered by test id.
+  Table Query(QueryKind kind, const TestFilter& filter = {});
+
+  // ---- jobs (the batch scheduler's queue)
+  // Queues a job for every test in scope whose result for `config` is
+  // missing (never computed, or its job is done but the result is gone) or
+  // whose job failed; with `force`, also tests already done. A config whose
+  // JSON changed has a new hash, hence a new key: its tests are all missing
+  // and earlier results under the old config stay. Returns the number of
+  // jobs queued.
+  std::int64_t EnqueueMissing(ConfigId config, const JobScope& scope = {}, bool force = false);
+  // Atomically (BEGIN IMMEDIATE) claims up to `max_jobs` jobs of `config`
+  // that are queued or whose lease has expired, leasing them to `owner` for
+  // `lease_seconds`. Two workers never get the same job while a lease holds.
+  std::vector<Job> ClaimJobs(ConfigId config, const std::string& owner, int max_jobs, double lease_seconds);
+  // Extends a running job's lease; false when `owner` no longer holds it.
+  bool RenewLease(JobId job, const std::string& owner, double lease_seconds);
+  // Marks a running job done (records finish time and duration); false when
+  // `owner` no longer holds it (its lease expired and another worker took it).
+  bool CompleteJob(JobId job, const std::string& owner);
+  // Marks a running job failed with `error`; false when `owner` no longer holds it.
+  bool FailJob(JobId job, const std::string& owner, const std::string& error);
+  StatusCounts ReadStatusCounts(ConfigId config, const JobScope& scope = {});
+
+  // ---- shards (run --shard I/N on several machines, then merge)
+  // Merges the shard catalogue at `shard_path` (a copy of this catalogue
+  // processed elsewhere) in one transaction. Entities are matched by content,
+  // not by key: tests by content hash, arrays and configs by hash, series by
+  // name. A shard result replaces this catalogue's result for the same test
+  // and config only when it was computed later; its findings, derived
+  // channels and job state come with it. Merging the same shard twice
+  // changes nothing. Throws InputError naming the shard when it is not a
+  // napkin catalogue of this schema version, or holds a test id whose
+  // content differs from this catalogue's test of that id.
+  MergeReport MergeShard(const std::string& shard_path);
+
+  // Every table's schema and rows in a deterministic text form (rows in rowid
+  // order, values type-tagged, BLOBs in hex): compare catalogues in tests.
+  std::string Dump();
+
+ private:
+  Catalogue(Connection connection, std::function<double()> clock)
+      : connection_(std::move(connection)), clock_(std::move(clock)) {}
+
+  void DeleteDerivedChannels(TestId test, ConfigId config);
+
+  Connection connection_;
+  std::function<double()> clock_;
+  int schema_version_ = 0;
+};
+
+}  // namespace napkin::db

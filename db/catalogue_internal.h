@@ -1,0 +1,41 @@
+#pragma once
+// Shared pieces of the Catalogue implementation (not part of the interface).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/catalogue.h"
+
+namespace napkin::db::internal {
+
+// WHERE terms selecting the tests (alias t, series alias s) of a TestFilter,
+// bound by BindTestFilter to parameters ?1 (series), ?2 (variant) and ?3 (a
+// JSON array of external ids). Other parameters of such statements start at ?10.
+inline constexpr const char* kTestFilterTerms =
+    "(?1 IS NULL OR s.name = ?1) AND (?2 IS NULL OR t.variant = ?2) AND "
+    "(?3 IS NULL OR t.external_id IN (SELECT value FROM json_each(?3)))";
+
+// The same filter over a view with columns test_id, series, variant.
+inline constexpr const char* kViewFilterTerms =
+    "(?1 IS NULL OR series = ?1) AND (?2 IS NULL OR variant = ?2) AND "
+    "(?3 IS NULL OR test_id IN (SELECT value FROM json_each(?3)))";
+
+// A JobScope: the test filter plus the shard, ?4 (count) and ?5 (index).
+inline constexpr const char* kShardTerms = "(?4 IS NULL OR t.id % ?4 = ?5)";
+
+// An SQL expression formatting the epoch seconds bound to `parameter` as ISO-8601 UTC.
+inline std::string IsoTimestampSql(const std::string& parameter) {
+  return "strftime('%Y-%m-%dT%H:%M:%fZ', " + parameter + ", 'unixepoch')";
+}
+
+// `values` as a JSON array of strings, for json_each(); nullopt when empty.
+std::optional<std::string> JsonStringArray(const std::vector<std::string>& values);
+
+// The results table's summary columns ("hic15, hic15_t1_s, ...", each with
+// `prefix`), in table order.
+std::string SummaryColumnList(const std::string& prefix = "");
+
+void BindTestFilter(Statement& statement, const TestFilter& filter);
+void BindJobScope(Statement& statement, const JobScope& scope);
+
+}  // namespace napkin::db::internal

@@ -1,0 +1,175 @@
+// Catalogue: the job queue of the batch scheduler.
+//
+// Design: one row per (test, config) in `jobs`. Workers (threads with their
+// own connection, or processes) claim jobs in a BEGIN IMMEDIATE transaction,
+// so two claims are serialised by SQLite's write lock and never return the
+// same job. A claim is a lease: if the worker dies, the lease expires and the
+// job becomes claimable again (attempts counts claims, so a job that keeps
+// killing workers is visible). Completing or failing a job checks the caller
+// still holds it.
+#include <algorithm>
+#include <stdexcept>
+
+#include "db/catalogue.h"
+#include "db/catalogue_internal.h"
+#include "engine/error.h"
+
+namespace napkin::db {
+
+namespace {
+
+// The tests of a JobScope: parameters ?1..?5 (see catalogue_internal.h).
+std::string ScopeCte() {
+  return std::string(
+             "scope AS (SELECT t.id AS test_id FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id "
+             "WHERE ") +
+         internal::kTestFilterTerms + " AND " + internal::kShardTerms + ")";
+}
+
+}  // namespace
+
+std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, bool force) {
+  Transaction transaction(connection_);
+  std::int64_t queued = 0;
+  {
+    // Tests without a job for this config and without a result (a result
+    // without a job comes from a merged shard catalogue: it is done).
+    static const std::string kInsert =
+        "WITH " + ScopeCte() +
+        " INSERT INTO jobs (test_id, config_id, state, enqueued_at) "
+        "SELECT scope.test_id, ?10, 'queued', ?11 FROM scope "
+        "WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE j.test_id = scope.test_id AND j.config_id = ?10) "
+        "AND (?12 OR NOT EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id "
+        "= ?10))";
+    auto insert = connection_.Prepare(kInsert);
+    internal::BindJobScope(*insert, scope);
+    insert->Bind(10, config);
+    insert->Bind(11, clock_());
+    insert->Bind(12, force);
+    insert->Execute();
+    queued += connection_.Changes();
+  }
+  {
+    // Existing jobs: failed ones, done ones whose result is gone, and with
+    // `force` every done one. Running jobs are left to their worker (or to
+    // lease expiry); earlier results are never deleted here.
+    static const std::string kRequeue =
+        "WITH " + ScopeCte() +
+        " UPDATE jobs SET state = 'queued', enqueued_at = ?11, lease_owner = NULL, lease_expires_at = NULL, "
+        "started_at = NULL, finished_at = NULL, duration_s = NULL "
+        "WHERE config_id = ?10 AND test_id IN (SELECT test_id FROM scope) AND ("
+        "state = 'failed' OR (state = 'done' AND (?12 OR NOT EXISTS ("
+        "SELECT 1 FROM results AS r WHERE r.test_id = jobs.test_id AND r.config_id = ?10))))";
+    auto requeue = connection_.Prepare(kRequeue);
+    internal::BindJobScope(*requeue, scope);
+    requeue->Bind(10, config);
+    requeue->Bind(11, clock_());
+    requeue->Bind(12, force);
+    requeue->Execute();
+    queued += connection_.Changes();
+  }
+  transaction.Commit();
+  return queued;
+}
+
+std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner, int max_jobs,
+                                      double lease_seconds) {
+  if (max_jobs <= 0) return {};
+  if (!(lease_seconds > 0.0)) throw std::invalid_argument("ClaimJobs: lease_seconds must be positive");
+  const double now = clock_();
+  Transaction transaction(connection_);  // BEGIN IMMEDIATE: claims are serialised
+  auto claim = connection_.Prepare(
+      "UPDATE jobs SET state = 'running', lease_owner = ?2, lease_expires_at = ?3 + ?4, started_at = ?3, "
+      "finished_at = NULL, duration_s = NULL, attempts = attempts + 1 "
+      "WHERE id IN (SELECT id FROM jobs WHERE config_id = ?1 AND "
+      "(state = 'queued' OR (state = 'running' AND lease_expires_at <= ?3)) ORDER BY id LIMIT ?5) "
+      "RETURNING id, test_id, attempts");
+  claim->BindAll(config, owner, now, lease_seconds, max_jobs);
+  std::vector<Job> jobs;
+  while (claim->Step())
+    jobs.push_back({JobId{claim->ColumnInt64(0)}, TestId{claim->ColumnInt64(1)}, config,
+                    static_cast<int>(claim->ColumnInt64(2))});
+  transaction.Commit();
+  std::sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.id < b.id; });
+  return jobs;
+}
+
+bool Catalogue::RenewLease(JobId job, const std::string& owner, double lease_seconds) {
+  Transaction transaction(connection_);
+  auto renew = connection_.Prepare(
+      "UPDATE jobs SET lease_expires_at = ?3 + ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
+  renew->BindAll(job, owner, clock_(), lease_seconds);
+  renew->Execute();
+  const bool held = connection_.Changes() == 1;
+  transaction.Commit();
+  return held;
+}
+
+bool Catalogue::CompleteJob(JobId job, const std::string& owner) {
+  Transaction transaction(connection_);
+  auto complete = connection_.Prepare(
+      "UPDATE jobs SET state = 'done', finished_at = ?3, duration_s = ?3 - started_at, lease_expires_at = "
+      "NULL, "
+      "last_error = NULL WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
+  complete->BindAll(job, owner, clock_());
+  complete->Execute();
+  const bool held = connection_.Changes() == 1;
+  transaction.Commit();
+  return held;
+}
+
+bool Catalogue::FailJob(JobId job, const std::string& owner, const std::string& error) {
+  Transaction transaction(connection_);
+  auto fail = connection_.Prepare(
+      "UPDATE jobs SET state = 'failed', last_error = ?4, finished_at = ?3, duration_s = ?3 - started_at, "
+      "lease_expires_at = NULL WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
+  fail->BindAll(job, owner, clock_(), error);
+  fail->Execute();
+  const bool held = connection_.Changes() == 1;
+  transaction.Commit();
+  return held;
+}
+
+StatusCounts Catalogue::ReadStatusCounts(ConfigId config, const JobScope& scope) {
+  // One consistent snapshot for the counts and the failure list.
+  Transaction transaction(connection_, Transaction::Mode::kDeferred);
+  StatusCounts counts;
+  {
+    // A test's state: its job's, unless the job is done (or absent), in
+    // which case it is done if a result exists and pending otherwise.
+    static const std::string kCounts =
+        "WITH " + ScopeCte() +
+        ", states AS (SELECT CASE "
+        "WHEN j.state IN ('queued', 'running', 'failed') THEN j.state "
+        "WHEN EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id = ?10) THEN "
+        "'done' "
+        "ELSE 'queued' END AS state "
+        "FROM scope LEFT JOIN jobs AS j ON j.test_id = scope.test_id AND j.config_id = ?10) "
+        "SELECT count(*), coalesce(sum(state = 'done'), 0), coalesce(sum(state = 'failed'), 0), "
+        "coalesce(sum(state = 'queued'), 0), coalesce(sum(state = 'running'), 0) FROM states";
+    auto select = connection_.Prepare(kCounts);
+    internal::BindJobScope(*select, scope);
+    select->Bind(10, config);
+    select->Step();
+    counts.tests = select->ColumnInt64(0);
+    counts.done = select->ColumnInt64(1);
+    counts.failed = select->ColumnInt64(2);
+    counts.pending = select->ColumnInt64(3);
+    counts.running = select->ColumnInt64(4);
+  }
+  {
+    static const std::string kFailures =
+        "WITH " + ScopeCte() +
+        " SELECT t.external_id, coalesce(j.last_error, '') FROM jobs AS j "
+        "JOIN scope ON scope.test_id = j.test_id JOIN tests AS t ON t.id = j.test_id "
+        "WHERE j.config_id = ?10 AND j.state = 'failed' ORDER BY t.external_id";
+    auto select = connection_.Prepare(kFailures);
+    internal::BindJobScope(*select, scope);
+    select->Bind(10, config);
+    while (select->Step()) counts.failures.push_back({select->ColumnText(0), select->ColumnText(1)});
+  }
+  transaction.Commit();
+  return counts;
+}
+
+}  // namespace napkin::db

@@ -1,0 +1,374 @@
+// Catalogue: results, findings, derived channels (kinematics) and queries.
+#include <array>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "db/catalogue.h"
+#include "db/catalogue_internal.h"
+#include "db/float64_blob.h"
+#include "engine/error.h"
+
+namespace napkin::db {
+
+namespace {
+
+using engine::TestSummary;
+using internal::IsoTimestampSql;
+using internal::SummaryColumnList;
+
+// One numeric column of the results table and the summary field it holds.
+struct SummaryField {
+  const char* column;
+  double& (*field)(TestSummary&);
+};
+
+// Every numeric field of the query contract (FORMATS.md "Per-test summary
+// fields") plus the quality residual, in results-table order.
+constexpr SummaryField kSummaryFields[] = {
+    {"hic15", [](TestSummary& s) -> double& { return s.hic15.value; }},
+    {"hic15_t1_s", [](TestSummary& s) -> double& { return s.hic15.t1_s; }},
+    {"hic15_t2_s", [](TestSummary& s) -> double& { return s.hic15.t2_s; }},
+    {"hic36", [](TestSummary& s) -> double& { return s.hic36.value; }},
+    {"hic36_t1_s", [](TestSummary& s) -> double& { return s.hic36.t1_s; }},
+    {"hic36_t2_s", [](TestSummary& s) -> double& { return s.hic36.t2_s; }},
+    {"hic", [](TestSummary& s) -> double& { return s.hic.value; }},
+    {"hic_t1_s", [](TestSummary& s) -> double& { return s.hic.t1_s; }},
+    {"hic_t2_s", [](TestSummary& s) -> double& { return s.hic.t2_s; }},
+    {"peak_acc_g", [](TestSummary& s) -> double& { return s.peak_acc_g; }},
+    {"a3ms_g", [](TestSummary& s) -> double& { return s.a3ms_g; }},
+    {"peak_omega_x_radps", [](TestSummary& s) -> double& { return s.peak_omega_body_radps[0]; }},
+    {"peak_omega_y_radps", [](TestSummary& s) -> double& { return s.peak_omega_body_radps[1]; }},
+    {"peak_omega_z_radps", [](TestSummary& s) -> double& { return s.peak_omega_body_radps[2]; }},
+    {"peak_omega_radps", [](TestSummary& s) -> double& { return s.peak_omega_radps; }},
+    {"peak_alpha_radps2", [](TestSummary& s) -> double& { return s.peak_alpha_radps2; }},
+    {"bric", [](TestSummary& s) -> double& { return s.bric; }},
+    {"damage", [](TestSummary& s) -> double& { return s.damage; }},
+    {"final_quat_w", [](TestSummary& s) -> double& { return s.final_quat_wxyz[0]; }},
+    {"final_quat_x", [](TestSummary& s) -> double& { return s.final_quat_wxyz[1]; }},
+    {"final_quat_y", [](TestSummary& s) -> double& { return s.final_quat_wxyz[2]; }},
+    {"final_quat_z", [](TestSummary& s) -> double& { return s.final_quat_wxyz[3]; }},
+    {"final_roll_deg", [](TestSummary& s) -> double& { return s.final_roll_pitch_yaw_deg[0]; }},
+    {"final_pitch_deg", [](TestSummary& s) -> double& { return s.final_roll_pitch_yaw_deg[1]; }},
+    {"final_yaw_deg", [](TestSummary& s) -> double& { return s.final_roll_pitch_yaw_deg[2]; }},
+    {"final_pos_x_m", [](TestSummary& s) -> double& { return s.final_pos_fixed_m[0]; }},
+    {"final_pos_y_m", [](TestSummary& s) -> double& { return s.final_pos_fixed_m[1]; }},
+    {"final_pos_z_m", [](TestSummary& s) -> double& { return s.final_pos_fixed_m[2]; }},
+    {"max_rotation_deg", [](TestSummary& s) -> double& { return s.max_rotation_deg; }},
+    {"max_residual_mps2", [](TestSummary& s) -> double& { return s.max_residual_mps2; }},
+};
+
+// Reads the summary fields from columns first, first+1, ... of `row`.
+void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
+  int column = first;
+  for (const SummaryField& field : kSummaryFields) field.field(summary) = row.ColumnDouble(column++);
+}
+
+const char* SeverityText(engine::Severity severity) {
+  switch (severity) {
+    case engine::Severity::kInfo:
+      return "info";
+    case engine::Severity::kWarning:
+      return "warning";
+    case engine::Severity::kError:
+      return "error";
+  }
+  throw std::invalid_argument("unknown finding severity");
+}
+
+engine::Severity ParseSeverity(const std::string& text) {
+  if (text == "info") return engine::Severity::kInfo;
+  if (text == "warning") return engine::Severity::kWarning;
+  if (text == "error") return engine::Severity::kError;
+  throw InputError("finding severity '" + text + "' in the catalogue is not info, warning or error.");
+}
+
+// The derived channels of a Kinematics: stable names (SI units in the name)
+// and the contiguous column each is stored from / read into.
+std::vector<std::pair<std::string, double*>> KinematicsChannels(engine::Kinematics& kinematics) {
+  std::vector<std::pair<std::string, double*>> channels;
+  channels.emplace_back("time_s", kinematics.time_s.data());
+  const auto add3 = [&channels](const std::string& prefix, engine::Series3& series, const std::string& unit,
+                                const std::array<const char*, 3>& components) {
+    for (int c = 0; c < 3; ++c)
+      channels.emplace_back(std::string(prefix).append(components[c]).append(unit), series.col(c).data());
+  };
+  constexpr std::array<const char*, 3> kXyz = {"x", "y", "z"};
+  add3("omega_body_", kinematics.omega_body, "_radps", kXyz);
+  add3("alpha_body_", kinematics.alpha_body, "_radps2", kXyz);
+  add3("omega_fixed_", kinematics.omega_fixed, "_radps", kXyz);
+  add3("alpha_fixed_", kinematics.alpha_fixed, "_radps2", kXyz);
+  add3("acc_body_", kinematics.acc_body, "_mps2", kXyz);
+  add3("acc_fixed_", kinematics.acc_fixed, "_mps2", kXyz);
+  add3("vel_fixed_", kinematics.vel_fixed, "_mps", kXyz);
+  add3("pos_fixed_", kinematics.pos_fixed, "_m", kXyz);
+  constexpr std::array<const char*, 4> kWxyz = {"w", "x", "y", "z"};
+  for (int c = 0; c < 4; ++c)
+    channels.emplace_back(std::string("quat_") + kWxyz[c], kinematics.quat_fixed_from_body.col(c).data());
+  add3("", kinematics.roll_pitch_yaw_rad, "_rad", {"roll", "pitch", "yaw"});
+  add3("dcos_", kinematics.dcos_rad, "_rad", {"xx", "yy", "zz"});
+  channels.emplace_back("residual_mps2", kinematics.residual.data());
+  return channels;
+}
+
+void CheckKinematicsShape(const engine::Kinematics& kinematics) {
+  const Eigen::Index n = kinematics.size();
+  const auto check = [n](Eigen::Index rows, const char* member) {
+    if (rows != n)
+      throw std::invalid_argument(std::string("Kinematics::") + member + " has " + std::to_string(rows) +
+                                  " rows, time_s has " + std::to_string(n));
+  };
+  check(kinematics.omega_body.rows(), "omega_body");
+  check(kinematics.alpha_body.rows(), "alpha_body");
+  check(kinematics.omega_fixed.rows(), "omega_fixed");
+  check(kinematics.alpha_fixed.rows(), "alpha_fixed");
+  check(kinematics.acc_body.rows(), "acc_body");
+  check(kinematics.acc_fixed.rows(), "acc_fixed");
+  check(kinematics.vel_fixed.rows(), "vel_fixed");
+  check(kinematics.pos_fixed.rows(), "pos_fixed");
+  check(kinematics.quat_fixed_from_body.rows(), "quat_fixed_from_body");
+  check(kinematics.roll_pitch_yaw_rad.rows(), "roll_pitch_yaw_rad");
+  check(kinematics.dcos_rad.rows(), "dcos_rad");
+  check(kinematics.residual.rows(), "residual");
+}
+
+Cell ReadCell(const Statement& row, int column) {
+  switch (row.ColumnType(column)) {
+    case SQLITE_INTEGER:
+      return row.ColumnInt64(column);
+    case SQLITE_FLOAT:
+      return row.ColumnDouble(column);
+    case SQLITE_TEXT:
+      return row.ColumnText(column);
+    case SQLITE_NULL:
+      return std::monostate{};
+    default:
+      throw std::logic_error("query views hold no BLOB columns");
+  }
+}
+
+}  // namespace
+
+std::string internal::SummaryColumnList(const std::string& prefix) {
+  std::string list;
+  for (const SummaryField& field : kSummaryFields) {
+    if (!list.empty()) list += ", ";
+    list += prefix + field.column;
+  }
+  return list;
+}
+
+// ------------------------------------------------------------------ results
+
+void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSummary& summary,
+                            const std::string& solver, const engine::Kinematics* kinematics) {
+  Transaction transaction(connection_);
+  {
+    // Delete + insert (not upsert): the new row gets the largest id, which is
+    // how the views find a test's most recent result.
+    auto remove = connection_.Prepare("DELETE FROM results WHERE test_id = ?1 AND config_id = ?2");
+    remove->BindAll(test, config);
+    remove->Execute();
+  }
+  {
+    static const std::string kInsert = [] {
+      std::string sql = "INSERT INTO results (test_id, config_id, solver, computed_at, " +
+                        SummaryColumnList() + ") VALUES (?1, ?2, ?3, " + IsoTimestampSql("?4");
+      for (std::size_t i = 0; i < std::size(kSummaryFields); ++i) sql += ", ?" + std::to_string(5 + i);
+      return sql + ")";
+    }();
+    auto insert = connection_.Prepare(kInsert);
+    insert->BindAll(test, config, solver, clock_());
+    auto& fields = const_cast<TestSummary&>(summary);  // the accessors only read here
+    int parameter = 5;
+    for (const SummaryField& field : kSummaryFields) insert->Bind(parameter++, field.field(fields));
+    insert->Execute();
+  }
+  WriteFindings(test, config, summary.findings);
+  if (kinematics != nullptr)
+    WriteKinematics(test, config, *kinematics);
+  else
+    DeleteDerivedChannels(test, config);
+  transaction.Commit();
+}
+
+void Catalogue::WriteFindings(TestId test, ConfigId config, std::span<const engine::Finding> findings) {
+  Transaction transaction(connection_);
+  {
+    auto remove = connection_.Prepare("DELETE FROM findings WHERE test_id = ?1 AND config_id = ?2");
+    remove->BindAll(test, config);
+    remove->Execute();
+  }
+  auto insert = connection_.Prepare(
+      "INSERT INTO findings (test_id, config_id, position, check_name, channel, severity, detail) "
+      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+  for (std::size_t i = 0; i < findings.size(); ++i) {
+    const engine::Finding& finding = findings[i];
+    insert->BindAll(test, config, i, finding.check, finding.channel, SeverityText(finding.severity),
+                    finding.detail);
+    insert->Execute();
+    insert->Reset();
+  }
+  transaction.Commit();
+}
+
+void Catalogue::DeleteDerivedChannels(TestId test, ConfigId config) {
+  auto remove = connection_.Prepare("DELETE FROM derived_channels WHERE test_id = ?1 AND config_id = ?2");
+  remove->BindAll(test, config);
+  remove->Execute();
+}
+
+void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics) {
+  CheckKinematicsShape(kinematics);
+  const Eigen::Index n = kinematics.size();
+  // Informative only (readers of plain sqlite3); time_s itself is stored
+  // bit-exact. NaN binds as NULL: no t0 without samples, no dt below two.
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  const double t0_s = n > 0 ? kinematics.time_s[0] : kNone;
+  const double dt_s =
+      n > 1 ? (kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1) : kNone;
+
+  Transaction transaction(connection_);
+  DeleteDerivedChannels(test, config);
+  auto insert = connection_.Prepare(
+      "INSERT INTO derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, samples) "
+      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+  std::vector<std::byte> scratch;
+  // The accessors only read the columns here.
+  for (const auto& [name, column] : KinematicsChannels(const_cast<engine::Kinematics&>(kinematics))) {
+    const std::span<const double> values(column, static_cast<std::size_t>(n));
+    insert->BindAll(test, config, name, dt_s, t0_s, n, Float64LittleEndianBytes(values, scratch));
+    insert->Execute();
+    insert->Reset();
+  }
+  transaction.Commit();
+}
+
+std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId config) {
+  engine::TestSummary summary;
+  {
+    static const std::string kSelect =
+        "SELECT " + SummaryColumnList() + " FROM results WHERE test_id = ?1 AND config_id = ?2";
+    auto select = connection_.Prepare(kSelect);
+    select->BindAll(test, config);
+    if (!select->Step()) return std::nullopt;
+    ReadSummaryFields(*select, 0, summary);
+  }
+  auto findings = connection_.Prepare(
+      "SELECT check_name, channel, severity, detail FROM findings "
+      "WHERE test_id = ?1 AND config_id = ?2 ORDER BY position");
+  findings->BindAll(test, config);
+  while (findings->Step())
+    summary.findings.push_back({findings->ColumnText(0), findings->ColumnOptionalText(1),
+                                ParseSeverity(findings->ColumnText(2)), findings->ColumnText(3)});
+  return summary;
+}
+
+std::optional<std::string> Catalogue::ReadResultSolver(TestId test, ConfigId config) {
+  auto select = connection_.Prepare("SELECT solver FROM results WHERE test_id = ?1 AND config_id = ?2");
+  select->BindAll(test, config);
+  if (!select->Step()) return std::nullopt;
+  return select->ColumnText(0);
+}
+
+std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigId config) {
+  std::int64_t n = -1;
+  {
+    auto count = connection_.Prepare(
+        "SELECT sample_count FROM derived_channels WHERE test_id = ?1 AND config_id = ?2 AND name = "
+        "'time_s'");
+    count->BindAll(test, config);
+    if (!count->Step()) return std::nullopt;
+    n = count->ColumnInt64(0);
+  }
+  engine::Kinematics kinematics;
+  kinematics.Resize(static_cast<Eigen::Index>(n));
+  std::unordered_map<std::string, double*> destinations;
+  for (const auto& [name, column] : KinematicsChannels(kinematics)) destinations.emplace(name, column);
+
+  auto select = connection_.Prepare(
+      "SELECT name, sample_count, samples FROM derived_channels WHERE test_id = ?1 AND config_id = ?2");
+  select->BindAll(test, config);
+  std::size_t found = 0;
+  while (select->Step()) {
+    const auto destination = destinations.find(select->ColumnText(0));
+    if (destination == destinations.end()) continue;  // a channel this build does not know
+    if (select->ColumnInt64(1) != n)
+      throw InputError("derived channel '" + destination->first + "' of test '" + ReadTest(test).external_id +
+                       "' has " + std::to_string(select->ColumnInt64(1)) + " samples, time_s has " +
+                       std::to_string(n) + ".");
+    DecodeFloat64LittleEndian(select->ColumnBlob(2),
+                              std::span<double>(destination->second, static_cast<std::size_t>(n)));
+    destination->second = nullptr;  // mark as read
+    ++found;
+  }
+  if (found != destinations.size()) {
+    for (const auto& [name, column] : destinations)
+      if (column != nullptr)
+        throw InputError("derived channels of test '" + ReadTest(test).external_id + "' lack '" + name +
+                         "'.");
+  }
+  return kinematics;
+}
+
+std::optional<ConfigId> Catalogue::ReadLatestResultConfig(TestId test) {
+  auto select =
+      connection_.Prepare("SELECT config_id FROM results WHERE test_id = ?1 ORDER BY id DESC LIMIT 1");
+  select->Bind(1, test);
+  if (!select->Step()) return std::nullopt;
+  return ConfigId{select->ColumnInt64(0)};
+}
+
+// ------------------------------------------------------------------ queries
+
+std::vector<SummaryRow> Catalogue::ReadAllSummaries(const TestFilter& filter) {
+  static const std::string kSelect = "SELECT t.external_id, s.name, t.variant, " + SummaryColumnList("r.") +
+                                     " FROM v_latest_results AS r JOIN tests AS t ON t.id = r.test_id "
+                                     "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+                                     internal::kTestFilterTerms + " ORDER BY t.external_id";
+  auto select = connection_.Prepare(kSelect);
+  internal::BindTestFilter(*select, filter);
+  std::vector<SummaryRow> rows;
+  while (select->Step()) {
+    SummaryRow row{select->ColumnText(0), select->ColumnOptionalText(1), select->ColumnOptionalText(2), {}};
+    ReadSummaryFields(*select, 3, row.summary);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
+  std::string sql = "SELECT * FROM ";
+  switch (kind) {
+    case QueryKind::kTests:
+      sql += "v_tests";
+      break;
+    case QueryKind::kHic:
+      sql += "v_hic";
+      break;
+    case QueryKind::kRotation:
+      sql += "v_rotation";
+      break;
+    case QueryKind::kCriteria:
+      sql += "v_criteria";
+      break;
+    case QueryKind::kQuality:
+      sql += "v_quality";
+      break;
+  }
+  sql += std::string(" WHERE ") + internal::kViewFilterTerms + " ORDER BY test_id";
+  if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";
+
+  auto select = connection_.Prepare(sql);
+  internal::BindTestFilter(*select, filter);
+  Table table;
+  for (int c = 0; c < select->ColumnCount(); ++c) table.columns.push_back(select->ColumnName(c));
+  while (select->Step()) {
+    std::vector<Cell>& row = table.rows.emplace_back();
+    row.reserve(table.columns.size());
+    for (int c = 0; c < select->ColumnCount(); ++c) row.push_back(ReadCell(*select, c));
+  }
+  return table;
+}
+
+}  // namespace napkin::db

@@ -1,0 +1,252 @@
+#include "db/sqlite.h"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <utility>
+
+#include "engine/error.h"
+
+namespace napkin::db {
+
+namespace internal {
+
+void ThrowSqliteError(sqlite3* db, int code, const char* call, std::string_view context, const char* file,
+                      int line) {
+  const int extended = db != nullptr ? sqlite3_extended_errcode(db) : code;
+  const char* message = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(code);
+  std::string text = "SQLite error '";
+  text += message;
+  text += "' (" + std::to_string(extended) + ") in " + call;
+  if (!context.empty()) {
+    text += " while running '";
+    text += context;
+    text += "'";
+  }
+  text += " at ";
+  text += file;
+  text += ":" + std::to_string(line) + ".";
+  throw DatabaseError(text, extended != 0 ? extended : code);
+}
+
+}  // namespace internal
+
+// ---------------------------------------------------------------- Statement
+
+Statement::Statement(sqlite3* db, std::string_view sql) : db_(db), sql_(sql) {
+  // PERSISTENT: the statement lives as long as the connection.
+  NAPKIN_SQLITE_CHECK(db_,
+                      sqlite3_prepare_v3(db_, sql_.data(), static_cast<int>(sql_.size()),
+                                         SQLITE_PREPARE_PERSISTENT, &statement_, nullptr),
+                      sql_);
+}
+
+Statement::~Statement() { sqlite3_finalize(statement_); }
+
+void Statement::Bind(int index, std::nullopt_t) {
+  NAPKIN_SQLITE_CHECK(db_, sqlite3_bind_null(statement_, index), sql_);
+}
+
+void Statement::Bind(int index, std::string_view text) {
+  NAPKIN_SQLITE_CHECK(
+      db_, sqlite3_bind_text64(statement_, index, text.data(), text.size(), SQLITE_TRANSIENT, SQLITE_UTF8),
+      sql_);
+}
+
+void Statement::Bind(int index, std::span<const std::byte> blob) {
+  // A zero-length blob must still be a BLOB, not NULL: pass a valid pointer.
+  static const std::byte kEmpty{};
+  const void* data = blob.empty() ? static_cast<const void*>(&kEmpty) : blob.data();
+  NAPKIN_SQLITE_CHECK(db_, sqlite3_bind_blob64(statement_, index, data, blob.size(), SQLITE_TRANSIENT), sql_);
+}
+
+void Statement::BindInt64(int index, std::int64_t value) {
+  NAPKIN_SQLITE_CHECK(db_, sqlite3_bind_int64(statement_, index, value), sql_);
+}
+
+void Statement::BindDouble(int index, double value) {
+  NAPKIN_SQLITE_CHECK(db_, sqlite3_bind_double(statement_, index, value), sql_);
+}
+
+bool Statement::Step() { return NAPKIN_SQLITE_CHECK(db_, sqlite3_step(statement_), sql_) == SQLITE_ROW; }
+
+void Statement::Execute() {
+  while (Step()) {
+  }
+}
+
+int Statement::ColumnCount() const { return sqlite3_column_count(statement_); }
+
+std::string Statement::ColumnName(int column) const {
+  const char* name = sqlite3_column_name(statement_, column);
+  return name != nullptr ? name : "";
+}
+
+int Statement::ColumnType(int column) const { return sqlite3_column_type(statement_, column); }
+
+std::int64_t Statement::ColumnInt64(int column) const { return sqlite3_column_int64(statement_, column); }
+
+double Statement::ColumnDouble(int column) const {
+  if (ColumnIsNull(column)) return std::numeric_limits<double>::quiet_NaN();
+  return sqlite3_column_double(statement_, column);
+}
+
+std::string Statement::ColumnText(int column) const {
+  const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement_, column));
+  const int size = sqlite3_column_bytes(statement_, column);
+  return text != nullptr ? std::string(text, static_cast<std::size_t>(size)) : std::string();
+}
+
+std::optional<std::string> Statement::ColumnOptionalText(int column) const {
+  if (ColumnIsNull(column)) return std::nullopt;
+  return ColumnText(column);
+}
+
+std::span<const std::byte> Statement::ColumnBlob(int column) const {
+  const void* data = sqlite3_column_blob(statement_, column);
+  const int size = sqlite3_column_bytes(statement_, column);
+  if (data == nullptr || size <= 0) return {};
+  return {static_cast<const std::byte*>(data), static_cast<std::size_t>(size)};
+}
+
+void Statement::Reset() noexcept {
+  sqlite3_reset(statement_);
+  sqlite3_clear_bindings(statement_);
+}
+
+StatementUse::StatementUse(Statement& statement) : statement_(statement) {
+  if (statement_.in_use)
+    throw std::logic_error("statement '" + std::string(statement_.sql()) + "' is already in use");
+  statement_.in_use = true;
+}
+
+StatementUse::~StatementUse() {
+  statement_.Reset();
+  statement_.in_use = false;
+}
+
+// --------------------------------------------------------------- Connection
+
+namespace {
+
+// Whether the file exists and nobody may write it. Checked in addition to
+// sqlite3_db_readonly because a privileged user (root in a container) can
+// write a write-protected file, and the protection expresses intent.
+bool IsWriteProtected(const std::string& path) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (error || !std::filesystem::is_regular_file(status)) return false;
+  using std::filesystem::perms;
+  return (status.permissions() & (perms::owner_write | perms::group_write | perms::others_write)) ==
+         perms::none;
+}
+
+}  // namespace
+
+Connection Connection::Open(const std::string& path, const ConnectionOptions& options) {
+  Connection connection;
+  connection.path_ = path;
+  connection.read_only_ = options.read_only;
+  const int flags = (options.read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) |
+                    SQLITE_OPEN_NOMUTEX;
+  const int opened = sqlite3_open_v2(path.c_str(), &connection.db_, flags, nullptr);
+  if (opened != SQLITE_OK) {
+    const std::string reason =
+        connection.db_ != nullptr ? sqlite3_errmsg(connection.db_) : sqlite3_errstr(opened);
+    throw InputError("cannot open catalogue '" + path + "' (" + reason + ").");
+  }
+  NAPKIN_SQLITE_CHECK(connection.db_, sqlite3_extended_result_codes(connection.db_, 1), path);
+  NAPKIN_SQLITE_CHECK(connection.db_, sqlite3_busy_timeout(connection.db_, options.busy_timeout_ms), path);
+
+  // SQLite reads the header lazily: the first statement tells whether this
+  // is a database at all.
+  const int probe =
+      sqlite3_exec(connection.db_, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  if ((probe & 0xff) == SQLITE_NOTADB)
+    throw InputError("'" + path + "' is not a napkin catalogue (not an SQLite database).");
+  NAPKIN_SQLITE_CHECK(connection.db_, probe, path);
+
+  if (!options.read_only && !connection.in_memory() &&
+      (sqlite3_db_readonly(connection.db_, "main") == 1 || IsWriteProtected(path)))
+    throw InputError("catalogue '" + path + "' is read-only.");
+
+  connection.Execute("PRAGMA foreign_keys = ON");
+  return connection;
+}
+
+void Connection::Close() noexcept {
+  statements_.clear();  // finalize before close
+  if (db_ != nullptr) sqlite3_close_v2(db_);
+  db_ = nullptr;
+}
+
+Connection::~Connection() { Close(); }
+
+Connection::Connection(Connection&& other) noexcept
+    : db_(std::exchange(other.db_, nullptr)),
+      path_(std::move(other.path_)),
+      read_only_(other.read_only_),
+      statements_(std::move(other.statements_)) {}
+
+Connection& Connection::operator=(Connection&& other) noexcept {
+  if (this != &other) {
+    Close();
+    db_ = std::exchange(other.db_, nullptr);
+    path_ = std::move(other.path_);
+    read_only_ = other.read_only_;
+    statements_ = std::move(other.statements_);
+  }
+  return *this;
+}
+
+void Connection::Execute(std::string_view sql) {
+  const std::string text(sql);  // sqlite3_exec needs a NUL-terminated string
+  NAPKIN_SQLITE_CHECK(db_, sqlite3_exec(db_, text.c_str(), nullptr, nullptr, nullptr), sql);
+}
+
+StatementUse Connection::Prepare(std::string_view sql) {
+  auto found = statements_.find(std::string(sql));
+  if (found == statements_.end())
+    found = statements_.emplace(std::string(sql), std::make_unique<Statement>(db_, sql)).first;
+  return StatementUse(*found->second);
+}
+
+std::int64_t Connection::PragmaInt(std::string_view pragma) {
+  auto statement = Prepare("PRAGMA " + std::string(pragma));
+  if (!statement->Step())
+    throw DatabaseError("PRAGMA " + std::string(pragma) + " returned no value.", SQLITE_ERROR);
+  return statement->ColumnInt64(0);
+}
+
+std::int64_t Connection::LastInsertRowId() const { return sqlite3_last_insert_rowid(db_); }
+
+int Connection::Changes() const { return sqlite3_changes(db_); }
+
+bool Connection::InTransaction() const { return sqlite3_get_autocommit(db_) == 0; }
+
+// -------------------------------------------------------------- Transaction
+
+Transaction::Transaction(Connection& connection, Mode mode) : connection_(connection) {
+  savepoint_ = connection_.InTransaction();
+  if (savepoint_)
+    connection_.Execute("SAVEPOINT napkin_nested");
+  else
+    connection_.Execute(mode == Mode::kImmediate ? "BEGIN IMMEDIATE" : "BEGIN DEFERRED");
+}
+
+Transaction::~Transaction() {
+  if (finished_) return;
+  // Roll back; errors are ignored because SQLite may already have rolled the
+  // transaction back itself (e.g. after SQLITE_FULL), and a destructor must
+  // not throw.
+  const char* sql = savepoint_ ? "ROLLBACK TO napkin_nested; RELEASE napkin_nested" : "ROLLBACK";
+  sqlite3_exec(connection_.handle(), sql, nullptr, nullptr, nullptr);
+}
+
+void Transaction::Commit() {
+  if (finished_) throw std::logic_error("transaction committed twice");
+  connection_.Execute(savepoint_ ? "RELEASE napkin_nested" : "COMMIT");
+  finished_ = true;
+}
+
+}  // namespace napkin::db

@@ -1,0 +1,33 @@
+#pragma once
+// Shared fixtures of the db tests: a catalogue with an array, a config and
+// a few labelled tests.
+#include <string>
+
+#include "db/catalogue.h"
+
+namespace napkin::db::testing {
+
+inline ArrayRecord IdealArray() {
+  return ArrayRecord{
+      {}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"};
+}
+
+inline ConfigRecord DefaultConfig(const std::string& json = R"({"filter":"cfc1000","solver":"exact"})") {
+  return ConfigRecord{{}, "default", json, "config-hash-" + json, {}};
+}
+
+// A test with external id `external_id`, unique content hash and the given labels.
+inline TestId AddTest(Catalogue& catalogue, ArrayId array, const std::string& external_id,
+                      const std::optional<std::string>& series = std::nullopt,
+                      const std::optional<std::string>& variant = std::nullopt) {
+  TestRecord test;
+  test.external_id = external_id;
+  test.series = series;
+  test.variant = variant;
+  test.array_id = array;
+  test.source_path = "/data/" + external_id + ".csv";
+  test.content_hash = "content-" + external_id;
+  return catalogue.WriteTest(test);
+}
+
+}  // namespace napkin::db::testing

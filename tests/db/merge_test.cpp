@@ -1,0 +1,184 @@
+// Merging shard catalogues processed on other machines.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "db/catalogue.h"
+#include "engine/error.h"
+#include "tests/db/db_test_helpers.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::db {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StrEq;
+using ::testing::ThrowsMessage;
+
+engine::Kinematics RampKinematics(Eigen::Index n, double scale) {
+  engine::Kinematics kinematics;
+  kinematics.Resize(n);
+  kinematics.time_s.setLinSpaced(n, 0.0, 1e-4 * static_cast<double>(n - 1));
+  for (auto* series :
+       {&kinematics.omega_body, &kinematics.alpha_body, &kinematics.omega_fixed, &kinematics.alpha_fixed,
+        &kinematics.acc_body, &kinematics.acc_fixed, &kinematics.vel_fixed, &kinematics.pos_fixed,
+        &kinematics.roll_pitch_yaw_rad, &kinematics.dcos_rad})
+    series->setConstant(scale);
+  kinematics.quat_fixed_from_body.setConstant(0.5);
+  kinematics.residual.setConstant(scale / 3.0);
+  return kinematics;
+}
+
+class MergeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    Catalogue main = Catalogue::Open(main_path_);
+    const ArrayId array = main.WriteArray(testing::IdealArray());
+    for (const char* id : {"t0", "t1", "t2", "t3", "t4", "t5"}) {
+      const TestId test = testing::AddTest(main, array, id, "S", "A");
+      engine::TestSignals signals;
+      signals.slots = {"cg_x"};
+      signals.samples = Eigen::MatrixXd::Constant(8, 1, 1.0);
+      main.WriteRawChannels(test, signals, std::vector<std::string>{"g"});
+    }
+    main.WriteConfig(testing::DefaultConfig());
+  }  // closing checkpoints the WAL: the file alone is the catalogue
+
+  // Copies the catalogue to a shard file, processes shard `index` of `count`
+  // there (test t<k> gets HIC15 = 100 + k; "t3" fails).
+  std::string ProcessShard(int index, int count) {
+    const std::string path = dir_ / ("shard" + std::to_string(index) + ".db");
+    std::filesystem::copy_file(main_path_, path);
+    Catalogue shard = Catalogue::Open(path);
+    const ConfigId config = *shard.FindConfigByHash(testing::DefaultConfig().config_hash);
+    JobScope scope;
+    scope.shard = Shard{index, count};
+    shard.EnqueueMissing(config, scope);
+    const std::string owner = "node" + std::to_string(index);
+    for (const Job& job : shard.ClaimJobs(config, owner, 100, 600.0)) {
+      const std::string external_id = shard.ReadTest(job.test_id).external_id;
+      if (external_id == "t3") {
+        EXPECT_TRUE(shard.FailJob(job.id, owner, "channel 'cg_y' of test 't3' is missing."));
+        continue;
+      }
+      engine::TestSummary summary;
+      summary.hic15.value = 100.0 + std::stod(external_id.substr(1));
+      summary.findings = {{"bias", "cg_x", engine::Severity::kInfo, "Offset removed."}};
+      const engine::Kinematics kinematics = RampKinematics(16, summary.hic15.value);
+      auto transaction = shard.BeginTransaction();
+      shard.WriteResult(job.test_id, config, summary, "exact", &kinematics);
+      EXPECT_TRUE(shard.CompleteJob(job.id, owner));
+      transaction.Commit();
+    }
+    return path;
+  }
+
+  napkin::testing::TempDir dir_;
+  std::string main_path_ = dir_ / "main.db";
+};
+
+TEST_F(MergeTest, ShardsMergeIntoTheCompleteCatalogue) {
+  const std::string shard0 = ProcessShard(0, 2);
+  const std::string shard1 = ProcessShard(1, 2);
+  Catalogue main = Catalogue::Open(main_path_);
+  const ConfigId config = *main.FindConfigByHash(testing::DefaultConfig().config_hash);
+
+  const MergeReport first = main.MergeShard(shard0);
+  const MergeReport second = main.MergeShard(shard1);
+  EXPECT_EQ(first.tests_added + second.tests_added, 0);
+  EXPECT_EQ(first.results_merged + second.results_merged, 5);
+  EXPECT_EQ(first.failures_merged + second.failures_merged, 1);
+
+  const StatusCounts counts = main.ReadStatusCounts(config);
+  EXPECT_EQ(counts.tests, 6);
+  EXPECT_EQ(counts.done, 5);
+  EXPECT_EQ(counts.failed, 1);
+  ASSERT_EQ(counts.failures.size(), 1u);
+  EXPECT_EQ(counts.failures[0].test_id, "t3");
+  EXPECT_EQ(counts.failures[0].error, "channel 'cg_y' of test 't3' is missing.");
+
+  for (const TestRecord& test : main.ReadAllTests()) {
+    if (test.external_id == "t3") continue;
+    const auto summary = main.ReadSummary(test.id, config);
+    ASSERT_TRUE(summary.has_value()) << test.external_id;
+    const double expected = 100.0 + std::stod(test.external_id.substr(1));
+    EXPECT_EQ(summary->hic15.value, expected);
+    ASSERT_EQ(summary->findings.size(), 1u);
+    const auto kinematics = main.ReadKinematics(test.id, config);
+    ASSERT_TRUE(kinematics.has_value());
+    EXPECT_EQ(kinematics->omega_body, RampKinematics(16, expected).omega_body);
+  }
+  EXPECT_EQ(main.EnqueueMissing(config), 1) << "only the failure is left to retry";
+
+  // Merging again changes nothing.
+  const std::string before = main.Dump();
+  const MergeReport again = main.MergeShard(shard1);
+  EXPECT_EQ(again.results_merged, 0);
+  EXPECT_EQ(again.failures_merged, 0);
+  EXPECT_EQ(main.Dump(), before);
+}
+
+TEST_F(MergeTest, TestsImportedInAShardAreAddedWithTheirChannels) {
+  const std::string shard_path = dir_ / "extra.db";
+  std::filesystem::copy_file(main_path_, shard_path);
+  {
+    Catalogue shard = Catalogue::Open(shard_path);
+    // A new array and series on the shard shift its keys away from main's.
+    ArrayRecord other_array = testing::IdealArray();
+    other_array.definition_hash = "other";
+    other_array.definition_json = "{\"other\":true}";
+    const ArrayId array = shard.WriteArray(other_array);
+    const TestId test = testing::AddTest(shard, array, "t9", "new-series", "B");
+    engine::TestSignals signals;
+    signals.slots = {"cg_x", "cg_y"};
+    signals.samples = Eigen::MatrixXd::Random(5, 2);
+    shard.WriteRawChannels(test, signals, std::vector<std::string>{"g", "g"});
+  }
+  Catalogue main = Catalogue::Open(main_path_);
+  const MergeReport report = main.MergeShard(shard_path);
+  EXPECT_EQ(report.tests_added, 1);
+  const auto added = main.FindTestByExternalId("t9");
+  ASSERT_TRUE(added.has_value());
+  const TestRecord test = main.ReadTest(*added);
+  EXPECT_EQ(test.series, "new-series");
+  EXPECT_EQ(main.ReadArray(test.array_id).definition_hash, "other");
+  Catalogue shard = Catalogue::Open(shard_path);
+  EXPECT_EQ(main.ReadTestSignals(*added).samples,
+            shard.ReadTestSignals(*shard.FindTestByExternalId("t9")).samples);
+}
+
+TEST_F(MergeTest, ConflictingTestIdsAndForeignFilesAreRefused) {
+  const std::string shard_path = dir_ / "conflict.db";
+  std::filesystem::copy_file(main_path_, shard_path);
+  {
+    Catalogue main = Catalogue::Open(main_path_);
+    testing::AddTest(main, main.WriteArray(testing::IdealArray()), "t9");
+  }
+  {
+    Catalogue shard = Catalogue::Open(shard_path);
+    TestRecord clash;
+    clash.external_id = "t9";
+    clash.array_id = shard.WriteArray(testing::IdealArray());
+    clash.source_path = "/other/t9.csv";
+    clash.content_hash = "different content";
+    shard.WriteTest(clash);
+  }
+  Catalogue main = Catalogue::Open(main_path_);
+  const std::string before = main.Dump();
+  EXPECT_THAT(
+      [&] { main.MergeShard(shard_path); },
+      ThrowsMessage<InputError>(StrEq("test 't9' in shard '" + shard_path +
+                                      "' has different content from the catalogue's test of that id.")));
+  EXPECT_EQ(main.Dump(), before);
+
+  const std::string text = dir_ / "notes.txt";
+  std::ofstream(text) << "not a catalogue\n";
+  EXPECT_THAT([&] { main.MergeShard(text); }, ThrowsMessage<InputError>(HasSubstr("not an SQLite database")));
+  // The connection is still usable afterwards (the shard was detached).
+  EXPECT_EQ(main.ReadAllTests().size(), 7u);
+}
+
+}  // namespace
+}  // namespace napkin::db

@@ -1,0 +1,187 @@
+// Schema migrations: embedded list, upgrade in place, failure atomicity.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "db/catalogue.h"
+#include "db/migrate.h"
+#include "engine/error.h"
+#include "tests/db/db_test_helpers.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::db {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StrEq;
+using ::testing::ThrowsMessage;
+
+std::vector<schema::Migration> EmbeddedPlus(std::vector<schema::Migration> extra) {
+  std::vector<schema::Migration> migrations(schema::Migrations().begin(), schema::Migrations().end());
+  migrations.insert(migrations.end(), extra.begin(), extra.end());
+  return migrations;
+}
+
+TEST(Migrations, EmbeddedFilesAreNumberedFromOneWithoutGaps) {
+  const auto migrations = schema::Migrations();
+  ASSERT_GE(migrations.size(), 2u);
+  EXPECT_NO_THROW(CheckMigrationList(migrations));
+  EXPECT_EQ(migrations[0].name, "001_catalogue.sql");
+  EXPECT_THAT(std::string(migrations[0].sql), HasSubstr("CREATE TABLE tests"));
+  EXPECT_THAT(std::string(migrations[1].sql), HasSubstr("CREATE VIEW v_hic"));
+}
+
+TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "upgrade.db";
+  const auto embedded = schema::Migrations();
+  const int k = static_cast<int>(embedded.size());
+
+  std::string tests_before;
+  {
+    Catalogue catalogue = Catalogue::Open(path);
+    ASSERT_EQ(catalogue.schema_version(), k);
+    const ArrayId array = catalogue.WriteArray(testing::IdealArray());
+    testing::AddTest(catalogue, array, "v0001", "sled", "foam-a");
+    testing::AddTest(catalogue, array, "v0002", "sled", "foam-b");
+    engine::TestSignals signals;
+    signals.slots = {"cg_x"};
+    signals.samples = Eigen::MatrixXd::Constant(4, 1, 0.25);
+    catalogue.WriteRawChannels(*catalogue.FindTestByExternalId("v0001"), signals,
+                               std::vector<std::string>{"g"});
+    tests_before = catalogue.Dump();
+  }
+
+  // Version k+1, written "in the test": a new column with a default, a new
+  // table, and a data fix-up of existing rows.
+  const auto migrations =
+      EmbeddedPlus({{k + 1, "900_laboratory.sql",
+                     "ALTER TABLE tests ADD COLUMN laboratory TEXT NOT NULL DEFAULT 'unknown';"
+                     "CREATE TABLE laboratories (id INTEGER PRIMARY KEY, name TEXT UNIQUE);"
+                     "INSERT INTO laboratories (name) SELECT DISTINCT laboratory FROM tests;"}});
+  CatalogueOptions options;
+  options.migrations = migrations;
+  Catalogue upgraded = Catalogue::Open(path, options);
+  EXPECT_EQ(upgraded.schema_version(), k + 1);
+  EXPECT_EQ(upgraded.connection().PragmaInt("user_version"), k + 1);
+
+  const auto tests = upgraded.ReadAllTests();
+  ASSERT_EQ(tests.size(), 2u);
+  EXPECT_EQ(tests[0].external_id, "v0001");
+  EXPECT_EQ(tests[1].variant, "foam-b");
+  EXPECT_EQ(upgraded.ReadTestSignals(tests[0].id).samples, Eigen::MatrixXd::Constant(4, 1, 0.25));
+  auto laboratory =
+      upgraded.connection().Prepare("SELECT laboratory, count(*) FROM tests GROUP BY laboratory");
+  ASSERT_TRUE(laboratory->Step());
+  EXPECT_EQ(laboratory->ColumnText(0), "unknown");
+  EXPECT_EQ(laboratory->ColumnInt64(1), 2);
+  EXPECT_EQ(upgraded.connection().PragmaInt("foreign_keys"), 1) << "re-enabled after migrating";
+
+  // Reopening with the same list does nothing more.
+  Catalogue again = Catalogue::Open(path, options);
+  EXPECT_EQ(again.schema_version(), k + 1);
+}
+
+TEST(Migrations, UpgradeFromTheFirstVersionAddsTheViews) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "v1.db";
+  {
+    CatalogueOptions first_only;
+    first_only.migrations = schema::Migrations().first(1);
+    Catalogue catalogue = Catalogue::Open(path, first_only);
+    EXPECT_EQ(catalogue.schema_version(), 1);
+    const ArrayId array = catalogue.WriteArray(testing::IdealArray());
+    const TestId test = testing::AddTest(catalogue, array, "v0001", "sled");
+    const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+    engine::TestSummary summary;
+    summary.hic15 = {512.5, 0.010, 0.025};
+    catalogue.WriteResult(test, config, summary, "exact");
+    EXPECT_THROW(catalogue.Query(QueryKind::kHic), DatabaseError) << "no views in version 1";
+  }
+  Catalogue catalogue = Catalogue::Open(path);
+  EXPECT_EQ(catalogue.schema_version(), static_cast<int>(schema::Migrations().size()));
+  const Table hic = catalogue.Query(QueryKind::kHic);
+  ASSERT_EQ(hic.rows.size(), 1u);
+  EXPECT_EQ(std::get<std::string>(hic.rows[0][0]), "v0001");
+  EXPECT_EQ(std::get<double>(hic.rows[0][3]), 512.5);
+}
+
+TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "fail.db";
+  std::string before;
+  {
+    Catalogue catalogue = Catalogue::Open(path);
+    testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "v0001");
+    before = catalogue.Dump();
+  }
+  const int k = static_cast<int>(schema::Migrations().size());
+  // The first statement succeeds, the second fails: the whole migration must roll back.
+  const auto migrations =
+      EmbeddedPlus({{k + 1, "900_broken.sql",
+                     "CREATE TABLE half_done (id INTEGER); INSERT INTO no_such_table VALUES (1);"}});
+  CatalogueOptions options;
+  options.migrations = migrations;
+  EXPECT_THROW(Catalogue::Open(path, options), DatabaseError);
+
+  Catalogue catalogue = Catalogue::Open(path);
+  EXPECT_EQ(catalogue.schema_version(), k);
+  EXPECT_EQ(catalogue.Dump(), before);
+}
+
+TEST(Migrations, MigrationBreakingForeignKeysIsRejected) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "fk.db";
+  {
+    Catalogue catalogue = Catalogue::Open(path);
+    testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "v0001");
+  }
+  const int k = static_cast<int>(schema::Migrations().size());
+  const auto migrations = EmbeddedPlus({{k + 1, "900_orphan.sql", "DELETE FROM arrays;"}});
+  CatalogueOptions options;
+  options.migrations = migrations;
+  EXPECT_THAT([&] { Catalogue::Open(path, options); },
+              ThrowsMessage<DatabaseError>(HasSubstr("foreign-key violation in table 'tests'")));
+  Catalogue catalogue = Catalogue::Open(path);
+  EXPECT_EQ(catalogue.ReadAllTests().size(), 1u);
+}
+
+TEST(Migrations, NewerCatalogueIsRefused) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "newer.db";
+  const int k = static_cast<int>(schema::Migrations().size());
+  {
+    CatalogueOptions options;
+    const auto migrations = EmbeddedPlus({{k + 1, "900_future.sql", "CREATE TABLE future (id INTEGER);"}});
+    options.migrations = migrations;
+    Catalogue::Open(path, options);
+  }
+  EXPECT_THAT(
+      [&] { Catalogue::Open(path); },
+      ThrowsMessage<InputError>(StrEq("catalogue '" + path + "' has schema version " + std::to_string(k + 1) +
+                                      ", newer than this napkin knows (" + std::to_string(k) + ").")));
+}
+
+TEST(Migrations, OutdatedCatalogueOpenedReadOnlyAsksForInit) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "old.db";
+  {
+    CatalogueOptions first_only;
+    first_only.migrations = schema::Migrations().first(1);
+    Catalogue::Open(path, first_only);
+  }
+  CatalogueOptions read_only;
+  read_only.read_only = true;
+  EXPECT_THAT([&] { Catalogue::Open(path, read_only); },
+              ThrowsMessage<InputError>(StrEq(
+                  "catalogue '" + path + "' has schema version 1 and needs upgrading with 'napkin init'.")));
+}
+
+TEST(Migrations, BadlyNumberedListIsRejected) {
+  const std::vector<schema::Migration> gap = {{1, "001_a.sql", "SELECT 1;"}, {3, "003_c.sql", "SELECT 1;"}};
+  EXPECT_THROW(CheckMigrationList(gap), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace napkin::db

@@ -1,0 +1,144 @@
+// Opening catalogues: what is and is not a napkin catalogue, read-only files.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "db/catalogue.h"
+#include "engine/error.h"
+#include "tests/db/db_test_helpers.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::db {
+namespace {
+
+using ::testing::StrEq;
+using ::testing::ThrowsMessage;
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+void WriteFile(const std::filesystem::path& path, const std::string& contents) {
+  std::ofstream(path, std::ios::binary) << contents;
+}
+
+TEST(CatalogueOpen, NewFileIsMigratedToTheLatestSchema) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "new.db";
+  Catalogue catalogue = Catalogue::Open(path);
+  EXPECT_EQ(catalogue.schema_version(), static_cast<int>(schema::Migrations().size()));
+  EXPECT_EQ(catalogue.connection().PragmaInt("user_version"), catalogue.schema_version());
+  EXPECT_EQ(catalogue.connection().PragmaInt("foreign_keys"), 1);
+  EXPECT_EQ(catalogue.connection().PragmaInt("synchronous"), 2);  // FULL
+  auto mode = catalogue.connection().Prepare("PRAGMA journal_mode");
+  ASSERT_TRUE(mode->Step());
+  EXPECT_EQ(mode->ColumnText(0), "wal");
+}
+
+TEST(CatalogueOpen, InMemoryCatalogueIsPrivateAndComplete) {
+  Catalogue first = Catalogue::Open(":memory:");
+  Catalogue second = Catalogue::Open(":memory:");
+  const ArrayId array = first.WriteArray(testing::IdealArray());
+  testing::AddTest(first, array, "t1");
+  EXPECT_EQ(first.ReadAllTests().size(), 1u);
+  EXPECT_TRUE(second.ReadAllTests().empty());
+}
+
+TEST(CatalogueOpen, ReopeningKeepsData) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "keep.db";
+  {
+    Catalogue catalogue = Catalogue::Open(path);
+    testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "t1", "S", "A");
+  }
+  Catalogue catalogue = Catalogue::Open(path);
+  const auto tests = catalogue.ReadAllTests();
+  ASSERT_EQ(tests.size(), 1u);
+  EXPECT_EQ(tests[0].external_id, "t1");
+  EXPECT_EQ(tests[0].series, "S");
+  EXPECT_EQ(tests[0].variant, "A");
+}
+
+TEST(CatalogueOpen, WriteProtectedFileIsReportedInOneSentence) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "x.db";
+  { Catalogue::Open(path); }
+  std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::group_read |
+                                         std::filesystem::perms::others_read);
+  EXPECT_THAT([&] { Catalogue::Open(path); },
+              ThrowsMessage<InputError>(StrEq("catalogue '" + path + "' is read-only.")));
+  // Opened for queries it works.
+  CatalogueOptions read_only;
+  read_only.read_only = true;
+  Catalogue catalogue = Catalogue::Open(path, read_only);
+  EXPECT_TRUE(catalogue.ReadAllTests().empty());
+  std::filesystem::permissions(path, std::filesystem::perms::owner_all);
+}
+
+TEST(CatalogueOpen, ReadOnlyModeRefusesWrites) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "ro.db";
+  { Catalogue::Open(path); }
+  CatalogueOptions read_only;
+  read_only.read_only = true;
+  Catalogue catalogue = Catalogue::Open(path, read_only);
+  EXPECT_THROW(catalogue.WriteArray(testing::IdealArray()), DatabaseError);
+}
+
+TEST(CatalogueOpen, TextFileIsNotASqliteDatabase) {
+  napkin::testing::TempDir dir;
+  for (const std::string& contents :
+       {std::string("time_s,cg_x\n0.0,1.0\n"), std::string(4096, 'z'), std::string("SQLite format 2")}) {
+    const std::string path = dir / "x.db";
+    WriteFile(path, contents);
+    EXPECT_THAT([&] { Catalogue::Open(path); },
+                ThrowsMessage<InputError>(
+                    StrEq("'" + path + "' is not a napkin catalogue (not an SQLite database).")));
+    EXPECT_EQ(ReadFile(path), contents) << "the file must be left untouched";
+  }
+}
+
+TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefusedAndUntouched) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "other.db";
+  {
+    Connection other = Connection::Open(path);
+    other.Execute(
+        "CREATE TABLE photos (id INTEGER PRIMARY KEY, name TEXT); INSERT INTO photos VALUES (1, 'a')");
+  }
+  const std::string before = ReadFile(path);
+  EXPECT_THAT([&] { Catalogue::Open(path); },
+              ThrowsMessage<InputError>(
+                  StrEq("'" + path + "' is not a napkin catalogue (it already holds other tables).")));
+  EXPECT_EQ(ReadFile(path), before);
+
+  // Versioned by another application: user_version set, foreign application id.
+  {
+    Connection other = Connection::Open(path);
+    other.Execute("PRAGMA user_version = 1");
+  }
+  EXPECT_THAT(
+      [&] { Catalogue::Open(path); },
+      ThrowsMessage<InputError>(
+          StrEq("'" + path + "' is not a napkin catalogue (it is another application's SQLite database).")));
+}
+
+TEST(CatalogueOpen, MissingFileInReadOnlyModeIsReported) {
+  napkin::testing::TempDir dir;
+  const std::string path = dir / "absent.db";
+  CatalogueOptions read_only;
+  read_only.read_only = true;
+  EXPECT_THAT([&] { Catalogue::Open(path, read_only); },
+              ThrowsMessage<InputError>(
+                  StrEq("cannot open catalogue '" + path + "' (unable to open database file).")));
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+}  // namespace
+}  // namespace napkin::db
