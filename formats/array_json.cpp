@@ -113,6 +113,7 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
     sensor.axis_body /= norm;
     array.sensors.push_back(std::move(sensor));
   }
+  if (array.name.empty()) array.name = std::filesystem::path(source).stem().string();
   try {
     engine::ValidateArray(array);
   } catch (const InputError& error) {
@@ -122,9 +123,7 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
 }
 
 engine::ArrayGeometry ReadArrayJson(const std::filesystem::path& path) {
-  engine::ArrayGeometry array = ParseArrayJson(ReadJsonFile(path), path.string());
-  if (array.name.empty()) array.name = path.stem().string();
-  return array;
+  return ParseArrayJson(ReadJsonFile(path), path.string());
 }
 
 json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_unit) {

@@ -85,10 +85,14 @@ TEST(ArrayJsonTest, AxesAreNormalisedAndUnitsConverted) {
   TempDir dir;
   const auto path = WriteText(dir, "a.json", R"({"length_unit": "mm", "sensors": [
       {"slot": "a", "type": "linear", "position": [10, 20, 30], "axis": [3, 0, 4], "unit": "m/s^2"},
-      {"slot": "w", "type": "angular_rate", "axis": [0, 0, -2], "unit": "deg/s"}]})");
+      {"slot": "w", "type": "angular_rate", "axis": [0, 0, -2], "unit": "deg/s"},
+      {"slot": "b", "type": "linear", "position": [0, 0, 0], "axis": [0, 1, 0], "unit": "g"},
+      {"slot": "c", "type": "linear", "position": [0, 0, 0], "axis": [0, 0, 1], "unit": "g"},
+      {"slot": "u", "type": "angular_rate", "axis": [1, 0, 0], "unit": "rad/s"},
+      {"slot": "v", "type": "angular_rate", "axis": [0, 1, 0], "unit": "rad/s"}]})");
   const engine::ArrayGeometry array = ReadArrayJson(path);
   EXPECT_EQ(array.name, "a");
-  ASSERT_EQ(array.sensors.size(), 2u);
+  ASSERT_EQ(array.sensors.size(), 6u);
   EXPECT_NEAR(array.sensors[0].position_body_m.x(), 0.010, 1e-15);
   EXPECT_NEAR(array.sensors[0].position_body_m.z(), 0.030, 1e-15);
   EXPECT_NEAR(array.sensors[0].axis_body.x(), 0.6, 1e-15);
