@@ -20,9 +20,8 @@ class TransformCommand : public Command {
                     "initial CG velocity VX,VY,VZ in the fixed frame (m/s)")
         ->delimiter(',')
         ->expected(3);
-    sub->add_option("--solver", options_.solver, "exact or seed")
-        ->check(CLI::IsMember({"exact", "seed"}))
-        ->capture_default_str();
+    sub->add_option("--solver", options_.solver, "exact or seed (default: the config's, exact)")
+        ->check(CLI::IsMember({"exact", "seed"}));
     sub->add_option("--config", options_.config, "processing config preset or JSON file");
     sub->add_option("input", options_.input, "input signals (CSV)")->required();
     sub->add_option("--out", options_.out, "derived-channel CSV to write")->required();

@@ -3,11 +3,13 @@
 #include <filesystem>
 
 #include "engine/error.h"
-#include "engine/solver.h"
+#include "engine/pipeline.h"
+#include "engine/processing.h"
 #include "formats/array_json.h"
 #include "formats/csv.h"
 #include "formats/atomic_file.h"
 #include "formats/lsdyna.h"
+#include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
 
 namespace napkin::cli {
@@ -28,19 +30,24 @@ TransformReport RunTransform(const TransformOptions& options) {
   if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
   formats::CsvSignals csv = formats::ReadSignalsCsv(options.input, &array);
 
-  engine::SolveOptions solve;
-  solve.solver = options.solver == "seed" ? engine::SolverKind::kSeed : engine::SolverKind::kExact;
-  solve.initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
-  solve.initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
+  engine::ProcessingConfig config;
+  if (!options.config.empty())
+    config = formats::ReadProcessingConfig(formats::ResolvePreset(options.config, "processing"));
+  if (!options.solver.empty())
+    config.solver = options.solver == "seed" ? engine::SolverKind::kSeed : engine::SolverKind::kExact;
+  engine::InitialState initial;
+  initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
+  initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
 
   TransformReport report;
   report.warnings = std::move(csv.warnings);
   try {
-    report.kinematics = engine::Solve(array, csv.signals, solve);
+    engine::ProcessedTest processed = engine::ProcessTest(array, csv.signals, initial, config);
+    report.kinematics = std::move(processed.kinematics);
+    report.summary = std::move(processed.summary);
   } catch (const InputError& error) {
     throw InputError(options.input + ": " + error.what());
   }
-  engine::SummarizeKinematics(report.kinematics, report.summary);
 
   const std::string test_id = fs::path(options.input).stem().string();
   const std::string summary_text =
