@@ -1,8 +1,10 @@
 #include "formats/array_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
+#include <vector>
 
 #include "engine/error.h"
 #include "engine/units.h"
@@ -174,8 +176,14 @@ std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_v
   if (std::filesystem::is_regular_file(as_path, error)) return as_path;
   const std::filesystem::path preset = config_dir / subdir / (std::string(name_or_path) + ".json");
   if (std::filesystem::is_regular_file(preset, error)) return preset;
+  std::vector<std::string> known;
+  for (const auto& entry : std::filesystem::directory_iterator(config_dir / subdir, error))
+    if (entry.path().extension() == ".json") known.push_back(entry.path().stem().string());
+  std::sort(known.begin(), known.end());
+  std::string list;
+  for (const auto& name : known) list += (list.empty() ? "" : ", ") + name;
   throw InputError("\"" + std::string(name_or_path) + "\" is neither a file nor a preset in " +
-                   (config_dir / subdir).string() + ".");
+                   (config_dir / subdir).string() + " (presets: " + list + ").");
 }
 
 engine::ArrayGeometry LoadArray(std::string_view name_or_path) {

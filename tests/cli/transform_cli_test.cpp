@@ -1,0 +1,187 @@
+// `napkin transform` end to end: the binary on files, exit codes, one-sentence
+// errors, no partial output (issue 2 acceptance).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "engine/synth.h"
+#include "formats/csv.h"
+#include "tests/support/reference_arrays.h"
+#include "tests/support/run_command.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+class TransformCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const engine::SyntheticTest test =
+        engine::SynthSeedFixedAxis(Denton3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+    input_ = dir_ / "t1.csv";
+    formats::WriteSignalsCsv(test.signals, input_);
+    csv_text_ = ReadText(input_);
+  }
+
+  CommandResult Transform(const fs::path& input, const std::string& array = "denton-3222") {
+    return RunProgram(NAPKIN_BINARY, {"transform", "--array", array, "--orientation", "0.5,0.5,0.5",
+                                      input.string(), "--out", (dir_ / "out.csv").string(), "--summary",
+                                      (dir_ / "out.json").string()},
+                      dir_.path());
+  }
+
+  // Bad input: exit 1, one sentence naming `expected` on stderr, no output files.
+  void ExpectRefused(const CommandResult& result, const std::string& expected) {
+    EXPECT_EQ(result.exit_code, 1) << result.err;
+    EXPECT_NE(result.err.find(expected), std::string::npos) << result.err;
+    EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+    EXPECT_TRUE(result.err.ends_with(".\n")) << result.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.csv"));
+    EXPECT_FALSE(fs::exists(dir_ / "out.json"));
+    for (const auto& entry : fs::directory_iterator(dir_.path()))
+      EXPECT_EQ(entry.path().filename().string().find("out."), std::string::npos)
+          << "leftover " << entry.path();
+  }
+
+  // The CSV with line `line` (0-based, header = 0) replaced by `f(line)`.
+  fs::path Edited(const std::string& name, int line_number, const std::function<std::string(const std::string&)>& edit) {
+    std::istringstream in(csv_text_);
+    std::string line, out;
+    for (int i = 0; std::getline(in, line); ++i) out += (i == line_number ? edit(line) : line) + "\n";
+    const fs::path path = dir_ / name;
+    WriteText(path, out);
+    return path;
+  }
+
+  TempDir dir_;
+  fs::path input_;
+  std::string csv_text_;
+};
+
+TEST_F(TransformCliTest, WritesTheDerivedChannelContractAndSummary) {
+  const CommandResult result = Transform(input_);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::istringstream csv(ReadText(dir_ / "out.csv"));
+  std::string header;
+  std::getline(csv, header);
+  std::string expected_header;
+  for (const auto& column : formats::DerivedCsvColumns())
+    expected_header += (expected_header.empty() ? "" : ",") + column;
+  EXPECT_EQ(header, expected_header);
+  EXPECT_EQ(header.substr(0, 27), "time_s,omega_body_x_radps,o");
+  int rows = 0;
+  double peak_omega_fixed_y = 0;
+  for (std::string row; std::getline(csv, row); ++rows) {
+    std::istringstream fields(row);
+    std::string field;
+    for (int column = 0; std::getline(fields, field, ','); ++column)
+      if (column == 8) peak_omega_fixed_y = std::max(peak_omega_fixed_y, std::stod(field));
+  }
+  EXPECT_EQ(rows, 1001);  // 0..100 ms at 10 kHz
+  EXPECT_NEAR(peak_omega_fixed_y, 50.0, 50.0 * 5e-5);
+
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir_ / "out.json"));
+  EXPECT_EQ(summary["test_id"], "t1");
+  EXPECT_NEAR(summary["hic"].get<double>(), 1583.26, 0.01);
+  EXPECT_NEAR(summary["hic_t1_s"].get<double>(), 0.0057, 1e-4 + 1e-9);
+  EXPECT_NEAR(summary["hic_t2_s"].get<double>(), 0.0543, 1e-4 + 1e-9);
+  EXPECT_NEAR(summary["hic36"].get<double>(), 1348.70, 0.01);
+  EXPECT_NEAR(summary["hic15"].get<double>(), 573.10, 0.01);
+  EXPECT_NEAR(summary["peak_acc_g"].get<double>(), 70.41, 0.005);
+  for (const char* field : {"peak_omega_radps", "peak_alpha_radps2", "bric", "damage", "final_quat_w",
+                            "final_roll_deg", "final_pos_x_m", "max_rotation_deg", "a3ms_g"})
+    EXPECT_TRUE(summary.contains(field)) << field;
+  EXPECT_TRUE(summary["quality"].is_array());
+  EXPECT_NEAR(summary["max_rotation_deg"].get<double>(), 85.9437, 0.005);
+}
+
+TEST_F(TransformCliTest, SeedSolverRunsThroughTheSameCommand) {
+  const CommandResult result = RunProgram(
+      NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--solver", "seed", "--orientation", "0.5,0.5,0.5",
+                      input_.string(), "--out", (dir_ / "seed.csv").string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(fs::exists(dir_ / "seed.csv"));
+}
+
+TEST_F(TransformCliTest, MissingColumnIsRefused) {
+  // Drop the cg_y column (third field) from every line.
+  std::istringstream in(csv_text_);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (line.starts_with("#")) { out += line + "\n"; continue; }
+    std::vector<std::string> fields;
+    std::istringstream split(line);
+    for (std::string field; std::getline(split, field, ',');) fields.push_back(field);
+    std::string kept;
+    for (std::size_t i = 0; i < fields.size(); ++i)
+      if (i != 2) kept += (kept.empty() ? "" : ",") + fields[i];
+    out += kept + "\n";
+  }
+  ASSERT_NE(csv_text_.find("cg_y"), std::string::npos);
+  WriteText(dir_ / "missing.csv", out);
+  ExpectRefused(Transform(dir_ / "missing.csv"), "cg_y");
+}
+
+TEST_F(TransformCliTest, NonUniformTimeIsRefusedNamingTheRow) {
+  const fs::path path = Edited("jitter.csv", 500, [](const std::string& line) {
+    std::string edited = "0.0499123";
+    edited.append(line, line.find(','));
+    return edited;
+  });
+  ExpectRefused(Transform(path), "jitter.csv");
+}
+
+TEST_F(TransformCliTest, NanIsRefusedNamingRowAndColumn) {
+  const fs::path path = Edited("nan.csv", 300, [](const std::string& line) {
+    const auto first = line.find(',');
+    const auto second = line.find(',', first + 1);
+    std::string edited(line, 0, first + 1);
+    edited.append("nan");
+    edited.append(line, second);
+    return edited;
+  });
+  ExpectRefused(Transform(path), "cg_x");
+}
+
+TEST_F(TransformCliTest, UnknownArrayIsRefused) {
+  ExpectRefused(Transform(input_, "no-such-array"), "no-such-array");
+}
+
+TEST_F(TransformCliTest, RankDeficientArrayIsRefused) {
+  // Nine accelerometers, all at the CG: angular acceleration is unobservable.
+  std::string sensors;
+  const char* slots[9] = {"cg_x", "cg_y", "cg_z", "yarm_z", "yarm_x", "xarm_z", "xarm_y", "zarm_x", "zarm_y"};
+  const char* axes[9] = {"[1,0,0]", "[0,1,0]", "[0,0,1]", "[0,0,1]", "[1,0,0]",
+                         "[0,0,1]", "[0,1,0]", "[1,0,0]", "[0,1,0]"};
+  for (int i = 0; i < 9; ++i)
+    sensors += std::string(i ? "," : "") + R"({"slot": ")" + slots[i] +
+               R"(", "type": "linear", "position": [0,0,0], "axis": )" + axes[i] + R"(, "unit": "g"})";
+  WriteText(dir_ / "flat.json", R"({"name": "flat", "length_unit": "in", "sensors": [)" + sensors + "]}");
+  ExpectRefused(Transform(input_, (dir_ / "flat.json").string()), "rank");
+}
+
+TEST_F(TransformCliTest, MissingInputFileIsRefused) {
+  ExpectRefused(Transform(dir_ / "nope.csv"), "nope.csv");
+}
+
+TEST_F(TransformCliTest, UsageErrorsExitTwo) {
+  const CommandResult result = RunProgram(NAPKIN_BINARY, {"transform", "--array", "denton-3222", input_.string()});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_EQ(RunProgram(NAPKIN_BINARY, {"no-such-command"}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace napkin::testing
