@@ -64,17 +64,7 @@ void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
   for (const SummaryField& field : kSummaryFields) field.field(summary) = row.ColumnDouble(column++);
 }
 
-const char* SeverityText(engine::Severity severity) {
-  switch (severity) {
-    case engine::Severity::kInfo:
-      return "info";
-    case engine::Severity::kWarning:
-      return "warning";
-    case engine::Severity::kError:
-      return "error";
-  }
-  throw std::invalid_argument("unknown finding severity");
-}
+const char* SeverityText(engine::Severity severity) { return engine::SeverityName(severity); }
 
 engine::Severity ParseSeverity(const std::string& text) {
   if (text == "info") return engine::Severity::kInfo;

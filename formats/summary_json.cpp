@@ -12,17 +12,7 @@ nlohmann::ordered_json Number(double value) {
 
 }  // namespace
 
-const char* SeverityText(engine::Severity severity) {
-  switch (severity) {
-    case engine::Severity::kInfo:
-      return "info";
-    case engine::Severity::kWarning:
-      return "warning";
-    case engine::Severity::kError:
-      return "error";
-  }
-  return "error";
-}
+const char* SeverityText(engine::Severity severity) { return engine::SeverityName(severity); }
 
 nlohmann::json FindingToJson(const engine::Finding& finding) {
   nlohmann::json json = nlohmann::json::object();
