@@ -1,0 +1,440 @@
+#include "engine/screening.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "engine/error.h"
+#include "engine/exact_solver.h"
+#include "engine/units.h"
+
+namespace napkin::engine {
+namespace {
+
+using Eigen::Index;
+
+// A spike must stand this many robust standard deviations (1.4826 MAD) of
+// the local second differences above them, so ringing and sharp real
+// pulses, whose neighbours vary as much, are not mistaken for spikes.
+constexpr double kSpikeRobustFactor = 10.0;
+// Half-width (samples) of the window of the robust local scale.
+constexpr Index kSpikeScaleHalfWindow = 50;
+
+// Saturation: the run must sit at the larger-magnitude end of the channel
+// (at least this fraction of its largest |value|) and away from the
+// channel's typical level (median) by this fraction of its range, so the
+// resting level of a channel that only swings the other way is no "clip".
+constexpr double kSaturationMagnitudeFraction = 0.5;
+constexpr double kSaturationRangeFraction = 0.25;
+
+// Bias without pre-impact data: the start level is the mean over the first
+// kStartWindowS (at least kStartMinSamples samples, at most a quarter of the
+// record); the other channels of the kind count as "starting near zero"
+// when within half the bias limit of their expected reading.
+constexpr double kStartWindowS = 0.001;
+constexpr Index kStartMinSamples = 5;
+constexpr Index kPreImpactMinSamples = 5;
+
+// A hypothesis (flip, swap) "fits much better" when it lowers the RMS
+// rigid-body residual below this fraction of the recorded one; leaving out
+// one channel names it as the culprit below kLeaveOutFraction.
+constexpr double kHypothesisFraction = 0.25;
+constexpr double kLeaveOutFraction = 0.5;
+
+std::string Number(double value, int digits = 4) {
+  std::ostringstream out;
+  out << std::setprecision(digits) << value;
+  return out.str();
+}
+
+Finding MakeFinding(const char* check, const std::optional<std::string>& channel, Severity severity,
+                    std::string detail) {
+  Finding finding;
+  finding.check = check;
+  finding.channel = channel;
+  finding.severity = severity;
+  finding.detail = std::move(detail);
+  return finding;
+}
+
+// Channel-unit value of a threshold given in g (linear) or rad/s (rate).
+double InChannelUnits(const Sensor& sensor, double limit_g, double limit_radps) {
+  const double limit_si = sensor.kind == SensorKind::kLinear ? limit_g * kStandardGravity : limit_radps;
+  return limit_si / sensor.si_per_unit;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+double Rms(const Eigen::VectorXd& values) {
+  return values.size() == 0 ? 0.0 : std::sqrt(values.squaredNorm() / static_cast<double>(values.size()));
+}
+
+// --- raw-signal checks -----------------------------------------------------
+
+std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& signals,
+                                      const Eigen::Ref<const Eigen::VectorXd>& x) {
+  Index count = 0, first = -1, last = -1;
+  for (Index k = 0; k < x.size(); ++k) {
+    if (std::isfinite(x(k))) continue;
+    if (first < 0) first = k;
+    last = k;
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " has " << count << " non-finite sample" << (count > 1 ? "s" : "")
+         << " (a dropout), the first at sample " << first << " (t = " << Number(signals.TimeAt(first), 6) << " s)";
+  if (last != first)
+    detail << " and the last at sample " << last << " (t = " << Number(signals.TimeAt(last), 6) << " s)";
+  detail << ".";
+  return MakeFinding("non_finite", sensor.slot, Severity::kError, detail.str());
+}
+
+std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& signals,
+                                       const Eigen::Ref<const Eigen::VectorXd>& x, int run_samples) {
+  const double top = x.maxCoeff(), bottom = x.minCoeff();
+  const double range = top - bottom;
+  if (!(range > 0.0)) return std::nullopt;
+  const double magnitude = std::max(std::abs(top), std::abs(bottom));
+  const double median = Median(std::vector<double>(x.data(), x.data() + x.size()));
+  std::optional<Finding> worst;
+  Index worst_run = 0;
+  for (const double extreme : {top, bottom}) {
+    if (std::abs(extreme) < kSaturationMagnitudeFraction * magnitude) continue;
+    if (std::abs(extreme - median) < kSaturationRangeFraction * range) continue;
+    // Longest run of samples equal to the extreme (a clipped ADC returns one
+    // code; allow round-off of a unit conversion).
+    const double tolerance = 1e-12 * magnitude;
+    Index run = 0, best_run = 0, best_end = 0;
+    for (Index k = 0; k < x.size(); ++k) {
+      run = std::abs(x(k) - extreme) <= tolerance ? run + 1 : 0;
+      if (run > best_run) {
+        best_run = run;
+        best_end = k;
+      }
+    }
+    if (best_run < run_samples || best_run <= worst_run) continue;
+    worst_run = best_run;
+    const Index start = best_end - best_run + 1;
+    std::ostringstream detail;
+    detail << "channel " << sensor.slot << " stays at its " << (extreme == top ? "maximum " : "minimum ")
+           << Number(extreme) << " " << sensor.unit << " for " << best_run << " consecutive samples from t = "
+           << Number(signals.TimeAt(start), 6) << " s, a flat top that indicates a clipped (saturated) signal.";
+    worst = MakeFinding("saturation", sensor.slot, Severity::kError, detail.str());
+  }
+  return worst;
+}
+
+std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& signals,
+                                   const Eigen::Ref<const Eigen::VectorXd>& x, const ScreeningConfig& config) {
+  const Index n = x.size();
+  if (n < 3) return std::nullopt;
+  const double size = InChannelUnits(sensor, config.spike_size_g, config.spike_size_radps);
+  Index count = 0, largest_at = -1;
+  double largest = 0.0;
+  std::vector<double> window;
+  for (Index k = 1; k + 1 < n; ++k) {
+    const double jump_back = x(k) - x(k - 1), jump_ahead = x(k) - x(k + 1);
+    // A spike leaves and returns: both jumps large and of one sign.
+    if (jump_back * jump_ahead <= 0.0 || std::min(std::abs(jump_back), std::abs(jump_ahead)) <= size) continue;
+    const double second_difference = 0.5 * (jump_back + jump_ahead);
+    // Robust local scale of the second differences around k (k excluded).
+    window.clear();
+    const Index lo = std::max<Index>(1, k - kSpikeScaleHalfWindow);
+    const Index hi = std::min<Index>(n - 2, k + kSpikeScaleHalfWindow);
+    for (Index j = lo; j <= hi; ++j)
+      if (j != k) window.push_back(std::abs(x(j) - 0.5 * (x(j - 1) + x(j + 1))));
+    const double scale = 1.4826 * Median(window);
+    if (std::abs(second_difference) <= kSpikeRobustFactor * scale) continue;
+    ++count;
+    if (std::abs(second_difference) > largest) {
+      largest = std::abs(second_difference);
+      largest_at = k;
+    }
+  }
+  if (count == 0) return std::nullopt;
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " has " << count << " one-sample spike" << (count > 1 ? "s" : "")
+         << " above " << Number(size) << " " << sensor.unit << ", the largest " << Number(largest) << " "
+         << sensor.unit << " at sample " << largest_at << " (t = " << Number(signals.TimeAt(largest_at), 6) << " s).";
+  return MakeFinding("spike", sensor.slot, Severity::kWarning, detail.str());
+}
+
+// Reading a sensor should show at rest: zero for a zeroed linear
+// accelerometer, n . omega0 for an angular-rate sensor.
+double ExpectedStartReading(const Sensor& sensor, const InitialState& initial) {
+  if (sensor.kind == SensorKind::kLinear) return 0.0;
+  return sensor.axis_body.dot(initial.omega_body_radps) / sensor.si_per_unit;
+}
+
+// Bias (report sections 2.2 and 3.4: "checked for bias error"). With
+// pre-impact data (t < 0 after the shift, >= kPreImpactMinSamples samples):
+// each channel's pre-impact mean against the limit. Without, a crash record
+// starts at or just before the impact, when every channel should still read
+// about zero: a channel that starts beyond the limit while every other
+// channel of its kind starts near zero carries an offset (when the others
+// do not start near zero the head is already moving and the start level
+// says nothing).
+void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, const TestSignals& signals,
+               const InitialState& initial, const ProcessingConfig& config, std::vector<Finding>& findings) {
+  const Index n = signals.size();
+  const double dt = signals.dt_s;
+  Index pre_impact = 0;
+  while (pre_impact < n && signals.TimeAt(pre_impact) - config.time.shift_s < -1e-9 * dt) ++pre_impact;
+  const bool has_pre_impact = pre_impact >= kPreImpactMinSamples;
+  const Index start_count = has_pre_impact
+                                ? pre_impact
+                                : std::min<Index>(std::max<Index>(kStartMinSamples, std::llround(kStartWindowS / dt)),
+                                                  std::max<Index>(1, n / 4));
+  if (n == 0) return;
+  std::vector<double> offset(array.sensors.size(), 0.0);
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    offset[i] = signals.samples.col(columns[i]).head(start_count).mean() - ExpectedStartReading(sensor, initial);
+  }
+  // Whether conditioning will subtract the offset (ApplyConditioning).
+  const bool removed = config.bias.mode == BiasMode::kWindow ||
+                       (config.bias.mode == BiasMode::kAuto && has_pre_impact &&
+                        static_cast<double>(pre_impact) * dt >= config.bias.auto_min_pre_impact_s * (1.0 - 1e-9));
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const double limit = InChannelUnits(sensor, config.screening.bias_limit_g, config.screening.bias_limit_radps);
+    if (!(std::abs(offset[i]) > limit)) continue;
+    std::ostringstream detail;
+    if (has_pre_impact) {
+      detail << "channel " << sensor.slot << " has a pre-impact mean of " << Number(offset[i]) << " " << sensor.unit
+             << " over " << pre_impact << " samples before t = 0, beyond the " << Number(limit) << " " << sensor.unit
+             << " bias limit" << (removed ? " (the configured bias removal subtracts it)." : " (bias.mode keeps it).");
+    } else {
+      bool others_quiet = true;
+      int others = 0;
+      for (std::size_t j = 0; j < array.sensors.size(); ++j) {
+        const Sensor& other = array.sensors[j];
+        if (j == i || other.kind != sensor.kind) continue;
+        ++others;
+        const double other_limit =
+            InChannelUnits(other, config.screening.bias_limit_g, config.screening.bias_limit_radps);
+        if (std::abs(offset[j]) > 0.5 * other_limit) others_quiet = false;
+      }
+      if (others == 0 || !others_quiet) continue;
+      detail << "channel " << sensor.slot << " starts at " << Number(offset[i]) << " " << sensor.unit
+             << (sensor.kind == SensorKind::kLinear ? "" : " off its initial-rate reading") << " (mean of the first "
+             << start_count << " samples, no pre-impact data) while the other channels start near zero: a "
+             << "zero offset beyond the " << Number(limit) << " " << sensor.unit << " bias limit that "
+             << (removed ? "the configured bias window subtracts." : "no bias removal corrects.");
+    }
+    findings.push_back(MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str()));
+  }
+}
+
+// --- consistency checks ----------------------------------------------------
+
+struct ResidualFit {
+  double rms = 0.0;
+  bool solved = false;
+};
+
+ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+  ResidualFit fit;
+  try {
+    const Kinematics kinematics = Solve(array, signals, options);
+    fit.rms = Rms(kinematics.residual);
+    fit.solved = std::isfinite(fit.rms);
+  } catch (const InputError&) {
+    fit.solved = false;  // e.g. the array without one channel is not solvable
+  }
+  return fit;
+}
+
+}  // namespace
+
+bool IsFatal(const Finding& finding) {
+  return finding.severity == Severity::kError && (finding.check == "missing" || finding.check == "non_finite");
+}
+
+int ResidualRedundancy(const ArrayGeometry& array) {
+  ArrayGeometry validated = array;
+  ValidateArray(validated);
+  const int linear = static_cast<int>(validated.LinearIndices().size());
+  switch (ClassifyArray(validated)) {
+    case ExactPath::kLinear:
+      return linear - 6;  // L equations, unknowns a and alpha
+    case ExactPath::kSixAOmega:
+      return linear - 3;  // L equations, unknown a (omega, alpha from the rates)
+    case ExactPath::kFused:
+      return linear + 3 - 6;  // L + 3 differentiated-rate equations, unknowns a and alpha
+  }
+  return 0;
+}
+
+std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals& raw_signals,
+                                   const InitialState& initial, const ProcessingConfig& config) {
+  std::vector<Finding> findings;
+  std::vector<int> columns(array.sensors.size(), -1);
+  bool complete = true;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    columns[i] = raw_signals.FindSlot(sensor.slot);
+    if (columns[i] < 0 || columns[i] >= raw_signals.samples.cols()) {
+      findings.push_back(MakeFinding("missing", sensor.slot, Severity::kError,
+                                     "the signals have no channel for slot " + sensor.slot + " of array " +
+                                         array.name + "."));
+      complete = false;
+    }
+  }
+  if (!complete) return findings;
+
+  bool all_finite = true;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const auto x = raw_signals.samples.col(columns[i]);
+    if (std::optional<Finding> finding = CheckNonFinite(sensor, raw_signals, x)) {
+      findings.push_back(std::move(*finding));
+      all_finite = false;
+      continue;
+    }
+    if (x.size() == 0) continue;
+    if (x.maxCoeff() == x.minCoeff()) {
+      findings.push_back(MakeFinding("flat", sensor.slot, Severity::kInfo,
+                                     "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " + sensor.unit +
+                                         ") over the whole record: check that it was recorded."));
+      continue;
+    }
+    const int run_samples = config.screening.saturation_run_samples;
+    if (std::optional<Finding> finding = CheckSaturation(sensor, raw_signals, x, run_samples))
+      findings.push_back(std::move(*finding));
+    if (std::optional<Finding> finding = CheckSpikes(sensor, raw_signals, x, config.screening))
+      findings.push_back(std::move(*finding));
+  }
+  if (all_finite) CheckBias(array, columns, raw_signals, initial, config, findings);
+  return findings;
+}
+
+std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSignals& conditioned_signals,
+                                       const Kinematics& exact_kinematics, const SolveOptions& exact_options,
+                                       const ScreeningConfig& config) {
+  std::vector<Finding> findings;
+  if (ResidualRedundancy(array) <= 0) {
+    findings.push_back(MakeFinding("consistency", std::nullopt, Severity::kInfo,
+                                   "array " + array.name + " has no redundant channel, so polarity, axis-label and "
+                                   "rigid-body residual checks are not possible."));
+    return findings;
+  }
+  const Kinematics& kinematics = exact_kinematics;
+  if (kinematics.size() == 0) return findings;
+  const double limit_mps2 = config.residual_limit_g * kStandardGravity;
+  Index peak_at = 0;
+  const double peak = kinematics.residual.maxCoeff(&peak_at);
+  if (!(peak > limit_mps2)) return findings;
+  const double recorded_rms = Rms(kinematics.residual);
+  SolveOptions options = exact_options;
+  options.solver = SolverKind::kExact;
+
+  // Polarity and axis labels (report section 3.4: "as a check for correct
+  // polarity and axis labeling"): the hypothesis under which the array is
+  // most nearly a rigid body.
+  double best_rms = recorded_rms;
+  std::optional<Finding> best;
+  std::optional<std::string> best_partner;  // the other channel of a swap
+  TestSignals trial = conditioned_signals;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const int column = conditioned_signals.FindSlot(sensor.slot);
+    if (column < 0) continue;
+    trial.samples.col(column) *= -1.0;
+    const ResidualFit fit = SolveResidual(array, trial, options);
+    trial.samples.col(column) = conditioned_signals.samples.col(column);
+    if (fit.solved && fit.rms < best_rms) {
+      best_rms = fit.rms;
+      best_partner.reset();
+      best = MakeFinding("polarity", sensor.slot, Severity::kError,
+                         "channel " + sensor.slot + " appears sign flipped: flipping it lowers the RMS rigid-body "
+                         "residual from " + Number(recorded_rms / kStandardGravity) + " g to " +
+                         Number(fit.rms / kStandardGravity) + " g.");
+    }
+    for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
+      const Sensor& other = array.sensors[j];
+      const int other_column = conditioned_signals.FindSlot(other.slot);
+      if (other_column < 0 || other.kind != sensor.kind) continue;
+      // Channels of one kind in different units swap with the unit scale.
+      const double scale = other.si_per_unit / sensor.si_per_unit;
+      trial.samples.col(column) = conditioned_signals.samples.col(other_column) * scale;
+      trial.samples.col(other_column) = conditioned_signals.samples.col(column) / scale;
+      const ResidualFit swap_fit = SolveResidual(array, trial, options);
+      trial.samples.col(column) = conditioned_signals.samples.col(column);
+      trial.samples.col(other_column) = conditioned_signals.samples.col(other_column);
+      if (swap_fit.solved && swap_fit.rms < best_rms) {
+        best_rms = swap_fit.rms;
+        best_partner = other.slot;
+        best = MakeFinding("axis_label", sensor.slot, Severity::kError,
+                           "channels " + sensor.slot + " and " + other.slot + " appear swapped: swapping them lowers "
+                           "the RMS rigid-body residual from " + Number(recorded_rms / kStandardGravity) + " g to " +
+                           Number(swap_fit.rms / kStandardGravity) + " g.");
+      }
+    }
+  }
+  if (best && best_rms < kHypothesisFraction * recorded_rms) {
+    findings.push_back(*best);
+    if (best_partner) {
+      // One finding per channel of the pair, each naming both.
+      Finding partner = *best;
+      partner.channel = best_partner;
+      findings.push_back(std::move(partner));
+    }
+  }
+
+  // The residual itself, with the channel whose omission removes most of it.
+  std::optional<std::string> culprit;
+  double culprit_rms = recorded_rms;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    ArrayGeometry reduced = array;
+    reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
+    try {
+      if (ResidualRedundancy(reduced) <= 0) continue;
+    } catch (const InputError&) {
+      continue;
+    }
+    const ResidualFit fit = SolveResidual(reduced, conditioned_signals, options);
+    if (fit.solved && fit.rms < culprit_rms) {
+      culprit_rms = fit.rms;
+      culprit = array.sensors[i].slot;
+    }
+  }
+  if (!(culprit_rms < kLeaveOutFraction * recorded_rms)) culprit.reset();
+  std::ostringstream detail;
+  detail << "the rigid-body residual of the exact solver peaks at " << Number(peak / kStandardGravity) << " g at t = "
+         << Number(kinematics.time_s(peak_at), 6) << " s, beyond the " << Number(config.residual_limit_g)
+         << " g limit";
+  if (culprit)
+    detail << "; leaving out channel " << *culprit << " lowers the RMS residual from "
+           << Number(recorded_rms / kStandardGravity) << " g to " << Number(culprit_rms / kStandardGravity) << " g.";
+  else
+    detail << " (RMS " << Number(recorded_rms / kStandardGravity) << " g) and no single channel accounts for it.";
+  findings.push_back(MakeFinding("residual", culprit, Severity::kWarning, detail.str()));
+  return findings;
+}
+
+std::vector<Finding> Screen(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+                            const ProcessingConfig& config) {
+  config.Check();
+  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
+  if (std::any_of(findings.begin(), findings.end(), IsFatal)) return findings;
+  TestSignals conditioned = raw_signals;
+  ApplyConditioning(array, conditioned, config);
+  SolveOptions options = MakeSolveOptions(config, initial);
+  options.solver = SolverKind::kExact;
+  const Kinematics kinematics = Solve(array, conditioned, options);
+  std::vector<Finding> consistency = ScreenConsistency(array, conditioned, kinematics, options, config.screening);
+  findings.insert(findings.end(), consistency.begin(), consistency.end());
+  return findings;
+}
+
+}  // namespace napkin::engine
