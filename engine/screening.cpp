@@ -1,8 +1,10 @@
 #include "engine/screening.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -43,6 +45,9 @@ constexpr Index kPreImpactMinSamples = 5;
 // one channel names it as the culprit below kLeaveOutFraction.
 constexpr double kHypothesisFraction = 0.25;
 constexpr double kLeaveOutFraction = 0.5;
+// A discrepancy counts as a constant offset when its RMS deviation from its
+// median is below this fraction of the median.
+constexpr double kOffsetSpreadFraction = 0.5;
 
 std::string Number(double value, int digits = 4) {
   std::ostringstream out;
@@ -73,8 +78,11 @@ double Median(std::vector<double> values) {
   return *middle;
 }
 
+// RMS of a residual series; +infinity when the solve diverged (non-finite).
 double Rms(const Eigen::VectorXd& values) {
-  return values.size() == 0 ? 0.0 : std::sqrt(values.squaredNorm() / static_cast<double>(values.size()));
+  if (values.size() == 0) return 0.0;
+  const double rms = std::sqrt(values.squaredNorm() / static_cast<double>(values.size()));
+  return std::isfinite(rms) ? rms : std::numeric_limits<double>::infinity();
 }
 
 // --- raw-signal checks -----------------------------------------------------
@@ -240,13 +248,14 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
 struct ResidualFit {
   double rms = 0.0;
   bool solved = false;
+  Kinematics kinematics;
 };
 
 ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
   ResidualFit fit;
   try {
-    const Kinematics kinematics = Solve(array, signals, options);
-    fit.rms = Rms(kinematics.residual);
+    fit.kinematics = Solve(array, signals, options);
+    fit.rms = Rms(fit.kinematics.residual);
     fit.solved = std::isfinite(fit.rms);
   } catch (const InputError&) {
     fit.solved = false;  // e.g. the array without one channel is not solvable
@@ -254,10 +263,56 @@ ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals
   return fit;
 }
 
+// What `sensor` should read given the kinematics solved without it.
+double PredictedReading(const Sensor& sensor, const Kinematics& kinematics, Index k) {
+  const Eigen::Vector3d omega = kinematics.omega_body.row(k).transpose();
+  if (sensor.kind == SensorKind::kAngularRate) return sensor.axis_body.dot(omega) / sensor.si_per_unit;
+  const Eigen::Vector3d alpha = kinematics.alpha_body.row(k).transpose();
+  const Eigen::Vector3d& r = sensor.position_body_m;
+  const Eigen::Vector3d point_acc =
+      kinematics.acc_body.row(k).transpose() + alpha.cross(r) + omega.cross(omega.cross(r));
+  return sensor.axis_body.dot(point_acc) / sensor.si_per_unit;
+}
+
+// A channel whose discrepancy from what the other channels imply is nearly
+// constant carries a zero offset (report section 2.2, "bias error"): found
+// this way even when the record has no pre-impact data and the head is
+// already moving at its start. Gravity compensation is off in the solves
+// here, so zeroed channels should match exactly.
+std::optional<Finding> ExplainAsOffset(const Sensor& sensor, const TestSignals& signals,
+                                       const Kinematics& kinematics_without, const ScreeningConfig& config) {
+  const int column = signals.FindSlot(sensor.slot);
+  if (column < 0 || kinematics_without.size() != signals.size()) return std::nullopt;
+  const Index n = signals.size();
+  Eigen::VectorXd discrepancy(n);
+  for (Index k = 0; k < n; ++k)
+    discrepancy(k) = signals.samples(k, column) - PredictedReading(sensor, kinematics_without, k);
+  if (!discrepancy.allFinite()) return std::nullopt;
+  const double offset = Median(std::vector<double>(discrepancy.data(), discrepancy.data() + n));
+  const double limit = InChannelUnits(sensor, config.bias_limit_g, config.bias_limit_radps);
+  const double spread = Rms((discrepancy.array() - offset).matrix());
+  if (!(std::abs(offset) > limit && spread < kOffsetSpreadFraction * std::abs(offset))) return std::nullopt;
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " reads a nearly constant " << Number(offset) << " " << sensor.unit
+         << " (RMS deviation " << Number(spread, 2) << " " << sensor.unit
+         << ") off what the other channels imply for a rigid body: a zero offset beyond the " << Number(limit) << " "
+         << sensor.unit << " bias limit.";
+  return MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str());
+}
+
 }  // namespace
 
 bool IsFatal(const Finding& finding) {
   return finding.severity == Severity::kError && (finding.check == "missing" || finding.check == "non_finite");
+}
+
+void AppendFindings(const std::vector<Finding>& more, std::vector<Finding>& findings) {
+  for (const Finding& finding : more) {
+    const bool known = std::any_of(findings.begin(), findings.end(), [&](const Finding& existing) {
+      return existing.check == finding.check && existing.channel == finding.channel;
+    });
+    if (!known) findings.push_back(finding);
+  }
 }
 
 int ResidualRedundancy(const ArrayGeometry& array) {
@@ -331,12 +386,34 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   const Kinematics& kinematics = exact_kinematics;
   if (kinematics.size() == 0) return findings;
   const double limit_mps2 = config.residual_limit_g * kStandardGravity;
+  // Peak residual; a diverged solve (non-finite) peaks where it diverges.
   Index peak_at = 0;
-  const double peak = kinematics.residual.maxCoeff(&peak_at);
-  if (!(peak > limit_mps2)) return findings;
+  double peak = 0.0;
+  for (Index k = 0; k < kinematics.size(); ++k) {
+    const double value = kinematics.residual(k);
+    if (!std::isfinite(value) || !std::isfinite(kinematics.omega_body.row(k).squaredNorm())) {
+      peak = std::numeric_limits<double>::infinity();
+      peak_at = k;
+      break;
+    }
+    if (value > peak) {
+      peak = value;
+      peak_at = k;
+    }
+  }
+  // A zero offset on one channel leaves a steady residual of about the
+  // offset (times the channel's share of the redundancy), often below the
+  // peak limit: a median residual above half the bias limit also starts
+  // the search for the channel at fault.
+  const double median_residual =
+      Median(std::vector<double>(kinematics.residual.data(), kinematics.residual.data() + kinematics.size()));
+  const bool over_limit = peak > limit_mps2;
+  const bool steady = !(median_residual <= 0.5 * config.bias_limit_g * kStandardGravity);
+  if (!over_limit && !steady) return findings;
   const double recorded_rms = Rms(kinematics.residual);
   SolveOptions options = exact_options;
   options.solver = SolverKind::kExact;
+  options.gravity.compensate = false;  // the residual ignores it; predicted readings must not include it
 
   // Polarity and axis labels (report section 3.4: "as a check for correct
   // polarity and axis labeling"): the hypothesis under which the array is
@@ -345,7 +422,7 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   std::optional<Finding> best;
   std::optional<std::string> best_partner;  // the other channel of a swap
   TestSignals trial = conditioned_signals;
-  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+  for (std::size_t i = 0; over_limit && i < array.sensors.size(); ++i) {
     const Sensor& sensor = array.sensors[i];
     const int column = conditioned_signals.FindSlot(sensor.slot);
     if (column < 0) continue;
@@ -381,7 +458,11 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
       }
     }
   }
-  if (best && best_rms < kHypothesisFraction * recorded_rms) {
+  // Much better: a fraction of the recorded RMS residual and an RMS within
+  // the per-sample limit (the hypothesis must explain the inconsistency,
+  // not merely reduce it: a gain error on another channel is no swap).
+  const bool much_better = best_rms < kHypothesisFraction * recorded_rms && best_rms < limit_mps2;
+  if (best && much_better) {
     findings.push_back(*best);
     if (best_partner) {
       // One finding per channel of the pair, each naming both.
@@ -392,8 +473,10 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   }
 
   // The residual itself, with the channel whose omission removes most of it.
-  std::optional<std::string> culprit;
+  const std::size_t none = array.sensors.size();
+  std::size_t culprit = none;  // index of the sensor whose omission removes most residual
   double culprit_rms = recorded_rms;
+  Kinematics culprit_kinematics;
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
     ArrayGeometry reduced = array;
     reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
@@ -402,23 +485,34 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
     } catch (const InputError&) {
       continue;
     }
-    const ResidualFit fit = SolveResidual(reduced, conditioned_signals, options);
+    ResidualFit fit = SolveResidual(reduced, conditioned_signals, options);
     if (fit.solved && fit.rms < culprit_rms) {
       culprit_rms = fit.rms;
-      culprit = array.sensors[i].slot;
+      culprit = i;
+      culprit_kinematics = std::move(fit.kinematics);
     }
   }
-  if (!(culprit_rms < kLeaveOutFraction * recorded_rms)) culprit.reset();
+  const bool accounted = std::isfinite(recorded_rms) ? culprit_rms < kLeaveOutFraction * recorded_rms
+                                                     : culprit_rms < limit_mps2;
+  if (!accounted) culprit = none;
+  if (culprit != none) {
+    if (std::optional<Finding> offset =
+            ExplainAsOffset(array.sensors[culprit], conditioned_signals, culprit_kinematics, config))
+      findings.push_back(std::move(*offset));
+  }
+  if (!over_limit) return findings;
   std::ostringstream detail;
   detail << "the rigid-body residual of the exact solver peaks at " << Number(peak / kStandardGravity) << " g at t = "
          << Number(kinematics.time_s(peak_at), 6) << " s, beyond the " << Number(config.residual_limit_g)
          << " g limit";
-  if (culprit)
-    detail << "; leaving out channel " << *culprit << " lowers the RMS residual from "
+  std::optional<std::string> culprit_slot;
+  if (culprit != none) culprit_slot = array.sensors[culprit].slot;
+  if (culprit_slot)
+    detail << "; leaving out channel " << *culprit_slot << " lowers the RMS residual from "
            << Number(recorded_rms / kStandardGravity) << " g to " << Number(culprit_rms / kStandardGravity) << " g.";
   else
     detail << " (RMS " << Number(recorded_rms / kStandardGravity) << " g) and no single channel accounts for it.";
-  findings.push_back(MakeFinding("residual", culprit, Severity::kWarning, detail.str()));
+  findings.push_back(MakeFinding("residual", culprit_slot, Severity::kWarning, detail.str()));
   return findings;
 }
 
@@ -432,8 +526,7 @@ std::vector<Finding> Screen(const ArrayGeometry& array, const TestSignals& raw_s
   SolveOptions options = MakeSolveOptions(config, initial);
   options.solver = SolverKind::kExact;
   const Kinematics kinematics = Solve(array, conditioned, options);
-  std::vector<Finding> consistency = ScreenConsistency(array, conditioned, kinematics, options, config.screening);
-  findings.insert(findings.end(), consistency.begin(), consistency.end());
+  AppendFindings(ScreenConsistency(array, conditioned, kinematics, options, config.screening), findings);
   return findings;
 }
 

@@ -68,6 +68,11 @@ std::vector<Finding> Screen(const ArrayGeometry& array, const TestSignals& raw_s
 // (missing or non-finite samples).
 bool IsFatal(const Finding& finding);
 
+// Appends `more` to `findings`, skipping a check already reported for the
+// same channel (e.g. a bias seen both in the raw signals and by the rigid
+// body).
+void AppendFindings(const std::vector<Finding>& more, std::vector<Finding>& findings);
+
 // Number of redundant rigid-body equations the exact solver's residual
 // measures for `array` (0: no consistency check is possible). Throws
 // InvalidArrayError when the array cannot be solved.
