@@ -85,6 +85,13 @@ double Rms(const Eigen::VectorXd& values) {
   return std::isfinite(rms) ? rms : std::numeric_limits<double>::infinity();
 }
 
+// "from A g to B g", or "from a diverging solve to B g".
+std::string FromTo(double from_mps2, double to_mps2) {
+  const std::string from =
+      std::isfinite(from_mps2) ? "from " + Number(from_mps2 / kStandardGravity) + " g" : "from a diverging solve";
+  return from + " to " + Number(to_mps2 / kStandardGravity, 3) + " g";
+}
+
 // --- raw-signal checks -----------------------------------------------------
 
 std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& signals,
@@ -434,8 +441,7 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
       best_partner.reset();
       best = MakeFinding("polarity", sensor.slot, Severity::kError,
                          "channel " + sensor.slot + " appears sign flipped: flipping it lowers the RMS rigid-body "
-                         "residual from " + Number(recorded_rms / kStandardGravity) + " g to " +
-                         Number(fit.rms / kStandardGravity) + " g.");
+                         "residual " + FromTo(recorded_rms, fit.rms) + ".");
     }
     for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
       const Sensor& other = array.sensors[j];
@@ -453,8 +459,7 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
         best_partner = other.slot;
         best = MakeFinding("axis_label", sensor.slot, Severity::kError,
                            "channels " + sensor.slot + " and " + other.slot + " appear swapped: swapping them lowers "
-                           "the RMS rigid-body residual from " + Number(recorded_rms / kStandardGravity) + " g to " +
-                           Number(swap_fit.rms / kStandardGravity) + " g.");
+                           "the RMS rigid-body residual " + FromTo(recorded_rms, swap_fit.rms) + ".");
       }
     }
   }
@@ -502,16 +507,22 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   }
   if (!over_limit) return findings;
   std::ostringstream detail;
-  detail << "the rigid-body residual of the exact solver peaks at " << Number(peak / kStandardGravity) << " g at t = "
-         << Number(kinematics.time_s(peak_at), 6) << " s, beyond the " << Number(config.residual_limit_g)
-         << " g limit";
+  if (std::isfinite(peak))
+    detail << "the rigid-body residual of the exact solver peaks at " << Number(peak / kStandardGravity)
+           << " g at t = " << Number(kinematics.time_s(peak_at), 6) << " s, beyond the "
+           << Number(config.residual_limit_g) << " g limit";
+  else
+    detail << "the exact solver diverges at t = " << Number(kinematics.time_s(peak_at), 6)
+           << " s (the channels are far from a rigid body)";
   std::optional<std::string> culprit_slot;
   if (culprit != none) culprit_slot = array.sensors[culprit].slot;
   if (culprit_slot)
-    detail << "; leaving out channel " << *culprit_slot << " lowers the RMS residual from "
-           << Number(recorded_rms / kStandardGravity) << " g to " << Number(culprit_rms / kStandardGravity) << " g.";
-  else
+    detail << "; leaving out channel " << *culprit_slot << " lowers the RMS residual "
+           << FromTo(recorded_rms, culprit_rms) << ".";
+  else if (std::isfinite(recorded_rms))
     detail << " (RMS " << Number(recorded_rms / kStandardGravity) << " g) and no single channel accounts for it.";
+  else
+    detail << " and no single channel accounts for it.";
   findings.push_back(MakeFinding("residual", culprit_slot, Severity::kWarning, detail.str()));
   return findings;
 }
