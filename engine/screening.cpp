@@ -227,7 +227,7 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
     if (has_pre_impact) {
       detail << "channel " << sensor.slot << " has a pre-impact mean of " << Number(offset[i]) << " " << sensor.unit
              << " over " << pre_impact << " samples before t = 0, beyond the " << Number(limit) << " " << sensor.unit
-             << " bias limit" << (removed ? " (the configured bias removal subtracts it)." : " (bias.mode keeps it).");
+             << " bias limit" << (removed ? " (the configured bias removal subtracts it)." : " (the configured bias removal does not).");
     } else {
       bool others_quiet = true;
       int others = 0;

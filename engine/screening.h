@@ -12,8 +12,12 @@
 //   saturation   error    a run of >= saturation_run_samples equal samples at
 //                         the channel's extreme (a clipped, flat-topped pulse)
 //   spike        warning  one-sample jumps against both neighbours
-//   bias         warning  a zero offset (pre-impact mean, or the start level
-//                         when the record has no pre-impact data)
+//   bias         warning  a zero offset: the pre-impact mean (t < 0 after the
+//                         shift) beyond bias_limit_*; without pre-impact data,
+//                         a channel starting beyond the limit while the others
+//                         start near zero, or (rigid-body check) a channel
+//                         whose discrepancy from what the other channels
+//                         imply is a near-constant offset beyond the limit
 //   flat         info     the channel never changes (dead or unrecorded)
 //   polarity     error    flipping one channel's sign makes the array rigid
 //   axis_label   error    swapping two channels makes the array rigid
@@ -29,7 +33,16 @@
 // InputError carrying the finding's sentence (naming slot, sample and time).
 // Every other finding is reported in the summary and processing continues:
 // a flipped or swapped channel, saturation or a spike still yields numbers,
-// but the error/warning findings flag them as untrustworthy.
+// but the error/warning findings flag them as untrustworthy. The one
+// exception: when the channels are so far from a rigid body that the
+// integrated angular velocity of a linear-only array diverges, there are no
+// numbers to flag, and ProcessTest stops with an InputError that quotes the
+// screening finding (e.g. the flipped channel).
+//
+// Limitation: the polarity of an angular-rate channel is judged through
+// the fused solver's residual, which weights the differentiated rates
+// lightly; a flipped rate sensor is caught only when it drives that
+// residual over residual_limit_g.
 #include <vector>
 
 #include "engine/array_geometry.h"
@@ -51,10 +64,12 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
 
 // Rigid-body consistency of the conditioned signals, given the exact
 // solver's kinematics for them (`exact_options` as used for that solve):
-// residual, polarity, axis_label, consistency. Only when the residual
-// exceeds the limit does it re-solve the test under each hypothesis (one
-// channel's sign flipped, two channels of one kind swapped, one channel left
-// out), so clean tests cost nothing extra.
+// residual, polarity, axis_label, bias, consistency. Only when the residual
+// peaks above residual_limit_g (or its median exceeds half the bias limit)
+// does it re-solve the test under each hypothesis (one channel's sign
+// flipped, two channels of one kind swapped, one channel left out), so clean
+// tests cost nothing extra. A flip or swap is reported when it lowers the
+// RMS residual below a quarter of the recorded one and below the limit.
 std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSignals& conditioned_signals,
                                        const Kinematics& exact_kinematics, const SolveOptions& exact_options,
                                        const ScreeningConfig& config);
