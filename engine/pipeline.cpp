@@ -1,19 +1,79 @@
 #include "engine/pipeline.h"
 
+#include <algorithm>
+#include <sstream>
+
 #include "engine/criteria.h"
+#include "engine/error.h"
+#include "engine/screening.h"
 #include "engine/solver.h"
 
 namespace napkin::engine {
+namespace {
+
+// First sample whose solved kinematics are not finite, or -1.
+Eigen::Index FirstNonFinite(const Kinematics& kinematics) {
+  for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
+    if (!kinematics.omega_body.row(k).allFinite() || !kinematics.acc_fixed.row(k).allFinite() ||
+        !kinematics.alpha_body.row(k).allFinite() || !kinematics.pos_fixed.row(k).allFinite())
+      return k;
+  }
+  return -1;
+}
+
+}  // namespace
 
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                           const ProcessingConfig& config) {
   config.Check();
+  // Screening runs on the raw signals first (report section 2.2: check the
+  // data before using them). A missing channel or a non-finite sample makes
+  // the test unusable: stop with the finding's sentence (slot, sample, time).
+  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
+  const auto fatal = std::find_if(findings.begin(), findings.end(), IsFatal);
+  if (fatal != findings.end()) throw InputError(fatal->detail);
+
   TestSignals signals = raw_signals;
   ApplyConditioning(array, signals, config);
   ProcessedTest processed;
-  processed.kinematics = Solve(array, signals, MakeSolveOptions(config, initial));
+  const SolveOptions options = MakeSolveOptions(config, initial);
+  processed.kinematics = Solve(array, signals, options);
+
+  // Rigid-body consistency is judged by the exact solver's residual, also
+  // when the result comes from the seed solver.
+  if (options.solver == SolverKind::kExact) {
+    AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening), findings);
+  } else {
+    SolveOptions exact_options = options;
+    exact_options.solver = SolverKind::kExact;
+    AppendFindings(
+        ScreenConsistency(array, signals, Solve(array, signals, exact_options), exact_options, config.screening),
+        findings);
+  }
+
+  // Signals far from a rigid body (a flipped or swapped channel of a
+  // linear-only array) can make the integrated angular velocity diverge:
+  // there is no result to flag, so stop, naming what screening found.
+  const Eigen::Index diverged_at = FirstNonFinite(processed.kinematics);
+  if (diverged_at >= 0) {
+    std::ostringstream message;
+    message << "the solved kinematics diverge at sample " << diverged_at << " (t = "
+            << processed.kinematics.time_s(diverged_at) << " s) because the channels are inconsistent with a rigid "
+            << "body";
+    const auto error = std::find_if(findings.begin(), findings.end(),
+                                    [](const Finding& f) { return f.severity == Severity::kError; });
+    if (error != findings.end()) {
+      std::string reason = error->detail;
+      if (!reason.empty() && reason.back() == '.') reason.pop_back();
+      message << " (screening: " << reason << ")";
+    }
+    message << ".";
+    throw InputError(message.str());
+  }
+
   SummarizeKinematics(processed.kinematics, processed.summary);
   FillCriteria(processed.kinematics, config, processed.summary);
+  processed.summary.findings = std::move(findings);
   return processed;
 }
 

@@ -16,9 +16,12 @@ struct ProcessedTest {
   TestSummary summary;
 };
 
-// Conditioning (time shift, bias, CFC filters, crop) -> solver -> summary ->
-// injury criteria -> screening. Throws InputError naming the slot, row or
-// setting at fault.
+// Screening of the raw signals (engine/screening.h) -> conditioning (time
+// shift, bias, CFC filters, crop) -> solver -> rigid-body screening ->
+// summary -> injury criteria; summary.findings holds every finding. Throws
+// InputError naming the slot, sample or setting at fault: on a missing
+// channel or a non-finite sample (the screening sentence), and when the
+// solved kinematics diverge (quoting the screening error that explains it).
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                           const ProcessingConfig& config);
 

@@ -59,7 +59,8 @@ struct ScreeningConfig {
   double spike_size_g = 50.0;           // one-sample jump of a linear channel against both neighbours
   double spike_size_radps = 20.0;       // one-sample jump of an angular-rate channel against both neighbours
   int saturation_run_samples = 5;       // run of equal samples at a channel's extreme that flags clipping
-  double bias_limit_g = 2.0;            // pre-impact mean of a linear channel beyond which bias is reported
+  double bias_limit_g = 1.5;            // zero offset of a linear channel beyond which bias is reported
+                                        // (above 1 g, so an unzeroed channel reading gravity is no fault)
   double bias_limit_radps = 0.5;        // pre-impact mean of an angular-rate channel beyond which bias is reported
 };
 

@@ -10,7 +10,7 @@
 //     "hic": {"from_time_zero": false},
 //     "bric": {"critical_radps": [66.25, 56.45, 42.87]},
 //     "screening": {"residual_limit_g": 5, "spike_size_g": 50, "spike_size_radps": 20,
-//                   "saturation_run_samples": 5, "bias_limit_g": 2, "bias_limit_radps": 0.5}
+//                   "saturation_run_samples": 5, "bias_limit_g": 1.5, "bias_limit_radps": 0.5}
 //   }
 //
 // Every key is optional (missing keys keep the defaults of

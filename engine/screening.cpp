@@ -1,0 +1,544 @@
+#include "engine/screening.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "engine/error.h"
+#include "engine/exact_solver.h"
+#include "engine/units.h"
+
+namespace napkin::engine {
+namespace {
+
+using Eigen::Index;
+
+// A spike must stand this many robust standard deviations (1.4826 MAD) of
+// the local second differences above them, so ringing and sharp real
+// pulses, whose neighbours vary as much, are not mistaken for spikes.
+constexpr double kSpikeRobustFactor = 10.0;
+// Half-width (samples) of the window of the robust local scale.
+constexpr Index kSpikeScaleHalfWindow = 50;
+
+// Saturation: the run must sit at the larger-magnitude end of the channel
+// (at least this fraction of its largest |value|) and away from the
+// channel's typical level (median) by this fraction of its range, so the
+// resting level of a channel that only swings the other way is no "clip".
+constexpr double kSaturationMagnitudeFraction = 0.5;
+constexpr double kSaturationRangeFraction = 0.25;
+
+// Bias without pre-impact data: the start level is the mean over the first
+// kStartWindowS (at least kStartMinSamples samples, at most a quarter of the
+// record); the other channels of the kind count as "starting near zero"
+// when within half the bias limit of their expected reading.
+constexpr double kStartWindowS = 0.001;
+constexpr Index kStartMinSamples = 5;
+constexpr Index kPreImpactMinSamples = 5;
+
+// A hypothesis (flip, swap) "fits much better" when it lowers the RMS
+// rigid-body residual below this fraction of the recorded one; leaving out
+// one channel names it as the culprit below kLeaveOutFraction.
+constexpr double kHypothesisFraction = 0.25;
+constexpr double kLeaveOutFraction = 0.5;
+// A discrepancy counts as a constant offset when its RMS deviation from its
+// median is below this fraction of the median.
+constexpr double kOffsetSpreadFraction = 0.5;
+
+std::string Number(double value, int digits = 4) {
+  std::ostringstream out;
+  out << std::setprecision(digits) << value;
+  return out.str();
+}
+
+Finding MakeFinding(const char* check, const std::optional<std::string>& channel, Severity severity,
+                    std::string detail) {
+  Finding finding;
+  finding.check = check;
+  finding.channel = channel;
+  finding.severity = severity;
+  finding.detail = std::move(detail);
+  return finding;
+}
+
+// Channel-unit value of a threshold given in g (linear) or rad/s (rate).
+double InChannelUnits(const Sensor& sensor, double limit_g, double limit_radps) {
+  const double limit_si = sensor.kind == SensorKind::kLinear ? limit_g * kStandardGravity : limit_radps;
+  return limit_si / sensor.si_per_unit;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// RMS of a residual series; +infinity when the solve diverged (non-finite).
+double Rms(const Eigen::VectorXd& values) {
+  if (values.size() == 0) return 0.0;
+  const double rms = std::sqrt(values.squaredNorm() / static_cast<double>(values.size()));
+  return std::isfinite(rms) ? rms : std::numeric_limits<double>::infinity();
+}
+
+// "from A g to B g", or "from a diverging solve to B g".
+std::string FromTo(double from_mps2, double to_mps2) {
+  const std::string from =
+      std::isfinite(from_mps2) ? "from " + Number(from_mps2 / kStandardGravity) + " g" : "from a diverging solve";
+  return from + " to " + Number(to_mps2 / kStandardGravity, 3) + " g";
+}
+
+// --- raw-signal checks -----------------------------------------------------
+
+std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& signals,
+                                      const Eigen::Ref<const Eigen::VectorXd>& x) {
+  Index count = 0, first = -1, last = -1;
+  for (Index k = 0; k < x.size(); ++k) {
+    if (std::isfinite(x(k))) continue;
+    if (first < 0) first = k;
+    last = k;
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " has " << count << " non-finite sample" << (count > 1 ? "s" : "")
+         << " (a dropout), the first at sample " << first << " (t = " << Number(signals.TimeAt(first), 6) << " s)";
+  if (last != first)
+    detail << " and the last at sample " << last << " (t = " << Number(signals.TimeAt(last), 6) << " s)";
+  detail << ".";
+  return MakeFinding("non_finite", sensor.slot, Severity::kError, detail.str());
+}
+
+std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& signals,
+                                       const Eigen::Ref<const Eigen::VectorXd>& x, int run_samples) {
+  const double top = x.maxCoeff(), bottom = x.minCoeff();
+  const double range = top - bottom;
+  if (!(range > 0.0)) return std::nullopt;
+  const double magnitude = std::max(std::abs(top), std::abs(bottom));
+  const double median = Median(std::vector<double>(x.data(), x.data() + x.size()));
+  std::optional<Finding> worst;
+  Index worst_run = 0;
+  for (const double extreme : {top, bottom}) {
+    if (std::abs(extreme) < kSaturationMagnitudeFraction * magnitude) continue;
+    if (std::abs(extreme - median) < kSaturationRangeFraction * range) continue;
+    // Longest run of samples equal to the extreme (a clipped ADC returns one
+    // code; allow round-off of a unit conversion).
+    const double tolerance = 1e-12 * magnitude;
+    Index run = 0, best_run = 0, best_end = 0;
+    for (Index k = 0; k < x.size(); ++k) {
+      run = std::abs(x(k) - extreme) <= tolerance ? run + 1 : 0;
+      if (run > best_run) {
+        best_run = run;
+        best_end = k;
+      }
+    }
+    if (best_run < run_samples || best_run <= worst_run) continue;
+    worst_run = best_run;
+    const Index start = best_end - best_run + 1;
+    std::ostringstream detail;
+    detail << "channel " << sensor.slot << " stays at its " << (extreme == top ? "maximum " : "minimum ")
+           << Number(extreme) << " " << sensor.unit << " for " << best_run << " consecutive samples from t = "
+           << Number(signals.TimeAt(start), 6) << " s, a flat top that indicates a clipped (saturated) signal.";
+    worst = MakeFinding("saturation", sensor.slot, Severity::kError, detail.str());
+  }
+  return worst;
+}
+
+std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& signals,
+                                   const Eigen::Ref<const Eigen::VectorXd>& x, const ScreeningConfig& config) {
+  const Index n = x.size();
+  if (n < 3) return std::nullopt;
+  const double size = InChannelUnits(sensor, config.spike_size_g, config.spike_size_radps);
+  Index count = 0, largest_at = -1;
+  double largest = 0.0;
+  std::vector<double> window;
+  for (Index k = 1; k + 1 < n; ++k) {
+    const double jump_back = x(k) - x(k - 1), jump_ahead = x(k) - x(k + 1);
+    // A spike leaves and returns: both jumps large and of one sign.
+    if (jump_back * jump_ahead <= 0.0 || std::min(std::abs(jump_back), std::abs(jump_ahead)) <= size) continue;
+    const double second_difference = 0.5 * (jump_back + jump_ahead);
+    // Robust local scale of the second differences around k (k excluded).
+    window.clear();
+    const Index lo = std::max<Index>(1, k - kSpikeScaleHalfWindow);
+    const Index hi = std::min<Index>(n - 2, k + kSpikeScaleHalfWindow);
+    for (Index j = lo; j <= hi; ++j)
+      if (j != k) window.push_back(std::abs(x(j) - 0.5 * (x(j - 1) + x(j + 1))));
+    const double scale = 1.4826 * Median(window);
+    if (std::abs(second_difference) <= kSpikeRobustFactor * scale) continue;
+    ++count;
+    if (std::abs(second_difference) > largest) {
+      largest = std::abs(second_difference);
+      largest_at = k;
+    }
+  }
+  if (count == 0) return std::nullopt;
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " has " << count << " one-sample spike" << (count > 1 ? "s" : "")
+         << " above " << Number(size) << " " << sensor.unit << ", the largest " << Number(largest) << " "
+         << sensor.unit << " at sample " << largest_at << " (t = " << Number(signals.TimeAt(largest_at), 6) << " s).";
+  return MakeFinding("spike", sensor.slot, Severity::kWarning, detail.str());
+}
+
+// Reading a sensor should show at rest: zero for a zeroed linear
+// accelerometer, n . omega0 for an angular-rate sensor.
+double ExpectedStartReading(const Sensor& sensor, const InitialState& initial) {
+  if (sensor.kind == SensorKind::kLinear) return 0.0;
+  return sensor.axis_body.dot(initial.omega_body_radps) / sensor.si_per_unit;
+}
+
+// Bias (report sections 2.2 and 3.4: "checked for bias error"). With
+// pre-impact data (t < 0 after the shift, >= kPreImpactMinSamples samples):
+// each channel's pre-impact mean against the limit. Without, a crash record
+// starts at or just before the impact, when every channel should still read
+// about zero: a channel that starts beyond the limit while every other
+// channel of its kind starts near zero carries an offset (when the others
+// do not start near zero the head is already moving and the start level
+// says nothing).
+void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, const TestSignals& signals,
+               const InitialState& initial, const ProcessingConfig& config, std::vector<Finding>& findings) {
+  const Index n = signals.size();
+  const double dt = signals.dt_s;
+  Index pre_impact = 0;
+  while (pre_impact < n && signals.TimeAt(pre_impact) - config.time.shift_s < -1e-9 * dt) ++pre_impact;
+  const bool has_pre_impact = pre_impact >= kPreImpactMinSamples;
+  const Index start_count = has_pre_impact
+                                ? pre_impact
+                                : std::min<Index>(std::max<Index>(kStartMinSamples, std::llround(kStartWindowS / dt)),
+                                                  std::max<Index>(1, n / 4));
+  if (n == 0) return;
+  std::vector<double> offset(array.sensors.size(), 0.0);
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    offset[i] = signals.samples.col(columns[i]).head(start_count).mean() - ExpectedStartReading(sensor, initial);
+  }
+  // Whether conditioning will subtract the offset (ApplyConditioning).
+  const bool removed = config.bias.mode == BiasMode::kWindow ||
+                       (config.bias.mode == BiasMode::kAuto && has_pre_impact &&
+                        static_cast<double>(pre_impact) * dt >= config.bias.auto_min_pre_impact_s * (1.0 - 1e-9));
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const double limit = InChannelUnits(sensor, config.screening.bias_limit_g, config.screening.bias_limit_radps);
+    if (!(std::abs(offset[i]) > limit)) continue;
+    std::ostringstream detail;
+    if (has_pre_impact) {
+      detail << "channel " << sensor.slot << " has a pre-impact mean of " << Number(offset[i]) << " " << sensor.unit
+             << " over " << pre_impact << " samples before t = 0, beyond the " << Number(limit) << " " << sensor.unit
+             << " bias limit" << (removed ? " (the configured bias removal subtracts it)." : " (the configured bias removal does not).");
+    } else {
+      bool others_quiet = true;
+      int others = 0;
+      for (std::size_t j = 0; j < array.sensors.size(); ++j) {
+        const Sensor& other = array.sensors[j];
+        if (j == i || other.kind != sensor.kind) continue;
+        ++others;
+        const double other_limit =
+            InChannelUnits(other, config.screening.bias_limit_g, config.screening.bias_limit_radps);
+        if (std::abs(offset[j]) > 0.5 * other_limit) others_quiet = false;
+      }
+      if (others == 0 || !others_quiet) continue;
+      detail << "channel " << sensor.slot << " starts at " << Number(offset[i]) << " " << sensor.unit
+             << (sensor.kind == SensorKind::kLinear ? "" : " off its initial-rate reading") << " (mean of the first "
+             << start_count << " samples, no pre-impact data) while the other channels start near zero: a "
+             << "zero offset beyond the " << Number(limit) << " " << sensor.unit << " bias limit that "
+             << (removed ? "the configured bias window subtracts." : "no bias removal corrects.");
+    }
+    findings.push_back(MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str()));
+  }
+}
+
+// --- consistency checks ----------------------------------------------------
+
+struct ResidualFit {
+  double rms = 0.0;
+  bool solved = false;
+  Kinematics kinematics;
+};
+
+ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+  ResidualFit fit;
+  try {
+    fit.kinematics = Solve(array, signals, options);
+    fit.rms = Rms(fit.kinematics.residual);
+    fit.solved = std::isfinite(fit.rms);
+  } catch (const InputError&) {
+    fit.solved = false;  // e.g. the array without one channel is not solvable
+  }
+  return fit;
+}
+
+// What `sensor` should read given the kinematics solved without it.
+double PredictedReading(const Sensor& sensor, const Kinematics& kinematics, Index k) {
+  const Eigen::Vector3d omega = kinematics.omega_body.row(k).transpose();
+  if (sensor.kind == SensorKind::kAngularRate) return sensor.axis_body.dot(omega) / sensor.si_per_unit;
+  const Eigen::Vector3d alpha = kinematics.alpha_body.row(k).transpose();
+  const Eigen::Vector3d& r = sensor.position_body_m;
+  const Eigen::Vector3d point_acc =
+      kinematics.acc_body.row(k).transpose() + alpha.cross(r) + omega.cross(omega.cross(r));
+  return sensor.axis_body.dot(point_acc) / sensor.si_per_unit;
+}
+
+// A channel whose discrepancy from what the other channels imply is nearly
+// constant carries a zero offset (report section 2.2, "bias error"): found
+// this way even when the record has no pre-impact data and the head is
+// already moving at its start. Gravity compensation is off in the solves
+// here, so zeroed channels should match exactly.
+std::optional<Finding> ExplainAsOffset(const Sensor& sensor, const TestSignals& signals,
+                                       const Kinematics& kinematics_without, const ScreeningConfig& config) {
+  const int column = signals.FindSlot(sensor.slot);
+  if (column < 0 || kinematics_without.size() != signals.size()) return std::nullopt;
+  const Index n = signals.size();
+  Eigen::VectorXd discrepancy(n);
+  for (Index k = 0; k < n; ++k)
+    discrepancy(k) = signals.samples(k, column) - PredictedReading(sensor, kinematics_without, k);
+  if (!discrepancy.allFinite()) return std::nullopt;
+  const double offset = Median(std::vector<double>(discrepancy.data(), discrepancy.data() + n));
+  const double limit = InChannelUnits(sensor, config.bias_limit_g, config.bias_limit_radps);
+  const double spread = Rms((discrepancy.array() - offset).matrix());
+  if (!(std::abs(offset) > limit && spread < kOffsetSpreadFraction * std::abs(offset))) return std::nullopt;
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " reads a nearly constant " << Number(offset) << " " << sensor.unit
+         << " (RMS deviation " << Number(spread, 2) << " " << sensor.unit
+         << ") off what the other channels imply for a rigid body: a zero offset beyond the " << Number(limit) << " "
+         << sensor.unit << " bias limit.";
+  return MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str());
+}
+
+}  // namespace
+
+bool IsFatal(const Finding& finding) {
+  return finding.severity == Severity::kError && (finding.check == "missing" || finding.check == "non_finite");
+}
+
+void AppendFindings(const std::vector<Finding>& more, std::vector<Finding>& findings) {
+  for (const Finding& finding : more) {
+    const bool known = std::any_of(findings.begin(), findings.end(), [&](const Finding& existing) {
+      return existing.check == finding.check && existing.channel == finding.channel;
+    });
+    if (!known) findings.push_back(finding);
+  }
+}
+
+int ResidualRedundancy(const ArrayGeometry& array) {
+  ArrayGeometry validated = array;
+  ValidateArray(validated);
+  const int linear = static_cast<int>(validated.LinearIndices().size());
+  switch (ClassifyArray(validated)) {
+    case ExactPath::kLinear:
+      return linear - 6;  // L equations, unknowns a and alpha
+    case ExactPath::kSixAOmega:
+      return linear - 3;  // L equations, unknown a (omega, alpha from the rates)
+    case ExactPath::kFused:
+      return linear + 3 - 6;  // L + 3 differentiated-rate equations, unknowns a and alpha
+  }
+  return 0;
+}
+
+std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals& raw_signals,
+                                   const InitialState& initial, const ProcessingConfig& config) {
+  std::vector<Finding> findings;
+  std::vector<int> columns(array.sensors.size(), -1);
+  bool complete = true;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    columns[i] = raw_signals.FindSlot(sensor.slot);
+    if (columns[i] < 0 || columns[i] >= raw_signals.samples.cols()) {
+      findings.push_back(MakeFinding("missing", sensor.slot, Severity::kError,
+                                     "the signals have no channel for slot " + sensor.slot + " of array " +
+                                         array.name + "."));
+      complete = false;
+    }
+  }
+  if (!complete) return findings;
+
+  bool all_finite = true;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const auto x = raw_signals.samples.col(columns[i]);
+    if (std::optional<Finding> finding = CheckNonFinite(sensor, raw_signals, x)) {
+      findings.push_back(std::move(*finding));
+      all_finite = false;
+      continue;
+    }
+    if (x.size() == 0) continue;
+    if (x.maxCoeff() == x.minCoeff()) {
+      findings.push_back(MakeFinding("flat", sensor.slot, Severity::kInfo,
+                                     "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " + sensor.unit +
+                                         ") over the whole record: check that it was recorded."));
+      continue;
+    }
+    const int run_samples = config.screening.saturation_run_samples;
+    if (std::optional<Finding> finding = CheckSaturation(sensor, raw_signals, x, run_samples))
+      findings.push_back(std::move(*finding));
+    if (std::optional<Finding> finding = CheckSpikes(sensor, raw_signals, x, config.screening))
+      findings.push_back(std::move(*finding));
+  }
+  if (all_finite) CheckBias(array, columns, raw_signals, initial, config, findings);
+  return findings;
+}
+
+std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSignals& conditioned_signals,
+                                       const Kinematics& exact_kinematics, const SolveOptions& exact_options,
+                                       const ScreeningConfig& config) {
+  std::vector<Finding> findings;
+  if (ResidualRedundancy(array) <= 0) {
+    findings.push_back(MakeFinding("consistency", std::nullopt, Severity::kInfo,
+                                   "array " + array.name + " has no redundant channel, so polarity, axis-label and "
+                                   "rigid-body residual checks are not possible."));
+    return findings;
+  }
+  const Kinematics& kinematics = exact_kinematics;
+  if (kinematics.size() == 0) return findings;
+  const double limit_mps2 = config.residual_limit_g * kStandardGravity;
+  // Peak residual; a diverged solve (non-finite) peaks where it diverges.
+  Index peak_at = 0;
+  double peak = 0.0;
+  for (Index k = 0; k < kinematics.size(); ++k) {
+    const double value = kinematics.residual(k);
+    if (!std::isfinite(value) || !std::isfinite(kinematics.omega_body.row(k).squaredNorm())) {
+      peak = std::numeric_limits<double>::infinity();
+      peak_at = k;
+      break;
+    }
+    if (value > peak) {
+      peak = value;
+      peak_at = k;
+    }
+  }
+  // A zero offset on one channel leaves a steady residual of about the
+  // offset (times the channel's share of the redundancy), often below the
+  // peak limit: a median residual above half the bias limit also starts
+  // the search for the channel at fault.
+  const double median_residual =
+      Median(std::vector<double>(kinematics.residual.data(), kinematics.residual.data() + kinematics.size()));
+  const bool over_limit = peak > limit_mps2;
+  const bool steady = !(median_residual <= 0.5 * config.bias_limit_g * kStandardGravity);
+  if (!over_limit && !steady) return findings;
+  const double recorded_rms = Rms(kinematics.residual);
+  SolveOptions options = exact_options;
+  options.solver = SolverKind::kExact;
+  options.gravity.compensate = false;  // the residual ignores it; predicted readings must not include it
+
+  // Polarity and axis labels (report section 3.4: "as a check for correct
+  // polarity and axis labeling"): the hypothesis under which the array is
+  // most nearly a rigid body.
+  double best_rms = recorded_rms;
+  std::optional<Finding> best;
+  std::optional<std::string> best_partner;  // the other channel of a swap
+  TestSignals trial = conditioned_signals;
+  for (std::size_t i = 0; over_limit && i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const int column = conditioned_signals.FindSlot(sensor.slot);
+    if (column < 0) continue;
+    trial.samples.col(column) *= -1.0;
+    const ResidualFit fit = SolveResidual(array, trial, options);
+    trial.samples.col(column) = conditioned_signals.samples.col(column);
+    if (fit.solved && fit.rms < best_rms) {
+      best_rms = fit.rms;
+      best_partner.reset();
+      best = MakeFinding("polarity", sensor.slot, Severity::kError,
+                         "channel " + sensor.slot + " appears sign flipped: flipping it lowers the RMS rigid-body "
+                         "residual " + FromTo(recorded_rms, fit.rms) + ".");
+    }
+    for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
+      const Sensor& other = array.sensors[j];
+      const int other_column = conditioned_signals.FindSlot(other.slot);
+      if (other_column < 0 || other.kind != sensor.kind) continue;
+      // Channels of one kind in different units swap with the unit scale.
+      const double scale = other.si_per_unit / sensor.si_per_unit;
+      trial.samples.col(column) = conditioned_signals.samples.col(other_column) * scale;
+      trial.samples.col(other_column) = conditioned_signals.samples.col(column) / scale;
+      const ResidualFit swap_fit = SolveResidual(array, trial, options);
+      trial.samples.col(column) = conditioned_signals.samples.col(column);
+      trial.samples.col(other_column) = conditioned_signals.samples.col(other_column);
+      if (swap_fit.solved && swap_fit.rms < best_rms) {
+        best_rms = swap_fit.rms;
+        best_partner = other.slot;
+        best = MakeFinding("axis_label", sensor.slot, Severity::kError,
+                           "channels " + sensor.slot + " and " + other.slot + " appear swapped: swapping them lowers "
+                           "the RMS rigid-body residual " + FromTo(recorded_rms, swap_fit.rms) + ".");
+      }
+    }
+  }
+  // Much better: a fraction of the recorded RMS residual and an RMS within
+  // the per-sample limit (the hypothesis must explain the inconsistency,
+  // not merely reduce it: a gain error on another channel is no swap).
+  const bool much_better = best_rms < kHypothesisFraction * recorded_rms && best_rms < limit_mps2;
+  if (best && much_better) {
+    findings.push_back(*best);
+    if (best_partner) {
+      // One finding per channel of the pair, each naming both.
+      Finding partner = *best;
+      partner.channel = best_partner;
+      findings.push_back(std::move(partner));
+    }
+  }
+
+  // The residual itself, with the channel whose omission removes most of it.
+  const std::size_t none = array.sensors.size();
+  std::size_t culprit = none;  // index of the sensor whose omission removes most residual
+  double culprit_rms = recorded_rms;
+  Kinematics culprit_kinematics;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    ArrayGeometry reduced = array;
+    reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
+    try {
+      if (ResidualRedundancy(reduced) <= 0) continue;
+    } catch (const InputError&) {
+      continue;
+    }
+    ResidualFit fit = SolveResidual(reduced, conditioned_signals, options);
+    if (fit.solved && fit.rms < culprit_rms) {
+      culprit_rms = fit.rms;
+      culprit = i;
+      culprit_kinematics = std::move(fit.kinematics);
+    }
+  }
+  const bool accounted = std::isfinite(recorded_rms) ? culprit_rms < kLeaveOutFraction * recorded_rms
+                                                     : culprit_rms < limit_mps2;
+  if (!accounted) culprit = none;
+  if (culprit != none) {
+    if (std::optional<Finding> offset =
+            ExplainAsOffset(array.sensors[culprit], conditioned_signals, culprit_kinematics, config))
+      findings.push_back(std::move(*offset));
+  }
+  if (!over_limit) return findings;
+  std::ostringstream detail;
+  if (std::isfinite(peak))
+    detail << "the rigid-body residual of the exact solver peaks at " << Number(peak / kStandardGravity)
+           << " g at t = " << Number(kinematics.time_s(peak_at), 6) << " s, beyond the "
+           << Number(config.residual_limit_g) << " g limit";
+  else
+    detail << "the exact solver diverges at t = " << Number(kinematics.time_s(peak_at), 6)
+           << " s (the channels are far from a rigid body)";
+  std::optional<std::string> culprit_slot;
+  if (culprit != none) culprit_slot = array.sensors[culprit].slot;
+  if (culprit_slot)
+    detail << "; leaving out channel " << *culprit_slot << " lowers the RMS residual "
+           << FromTo(recorded_rms, culprit_rms) << ".";
+  else if (std::isfinite(recorded_rms))
+    detail << " (RMS " << Number(recorded_rms / kStandardGravity) << " g) and no single channel accounts for it.";
+  else
+    detail << " and no single channel accounts for it.";
+  findings.push_back(MakeFinding("residual", culprit_slot, Severity::kWarning, detail.str()));
+  return findings;
+}
+
+std::vector<Finding> Screen(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+                            const ProcessingConfig& config) {
+  config.Check();
+  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
+  if (std::any_of(findings.begin(), findings.end(), IsFatal)) return findings;
+  TestSignals conditioned = raw_signals;
+  ApplyConditioning(array, conditioned, config);
+  SolveOptions options = MakeSolveOptions(config, initial);
+  options.solver = SolverKind::kExact;
+  const Kinematics kinematics = Solve(array, conditioned, options);
+  AppendFindings(ScreenConsistency(array, conditioned, kinematics, options, config.screening), findings);
+  return findings;
+}
+
+}  // namespace napkin::engine
