@@ -26,12 +26,15 @@ class ExportCommand : public Command {
         ->required()
         ->check(CLI::IsMember({"csv", "lsdyna", "lcfile", "isomme"}));
     sub->add_option("--out", out_, "file to write (a folder for isomme)")->required();
-    sub->add_option("--config", config_,
-                    "processing config preset or JSON file whose result to export (default: the latest result)");
+    sub->add_option(
+        "--config", config_,
+        "processing config preset or JSON file whose result to export (default: the latest result)");
     sub->add_option("--units", units_, "lsdyna units: si (m, s) or english (in, s)")
         ->check(CLI::IsMember({"si", "english"}))
         ->capture_default_str();
-    sub->add_option("--part", part_, "lsdyna rigid part id")->check(CLI::PositiveNumber)->capture_default_str();
+    sub->add_option("--part", part_, "lsdyna rigid part id")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     return sub;
   }
 
@@ -53,8 +56,9 @@ class ExportCommand : public Command {
     }
     const std::optional<engine::Kinematics> kinematics = catalogue.ReadKinematics(*test, *config);
     if (!kinematics)
-      throw InputError("test '" + test_id_ +
-                       "' has a result without stored derived channels; run `napkin run --force` to recompute it.");
+      throw InputError(
+          "test '" + test_id_ +
+          "' has a result without stored derived channels; run `napkin run --force` to recompute it.");
 
     if (format_ == "csv") {
       formats::WriteDerivedCsv(*kinematics, out_);

@@ -14,6 +14,7 @@
 #include "cli/command.h"
 #include "cli/importer.h"
 #include "cli/progress.h"
+#include "cli/triple_option.h"
 
 namespace napkin::cli {
 namespace {
@@ -28,14 +29,12 @@ class ImportCommand : public Command {
     sub->add_option("--series", series_, "series the tests belong to");
     sub->add_option("--variant", variant_, "variant label (e.g. padding A)");
     sub->add_option("--test-id", test_id_, "test id (one test only; default: file or folder name)");
-    sub->add_option("--orientation", options_.orientation_rad, "initial orientation PHI,THETA,PSI (rad)")
-        ->delimiter(',')
-        ->expected(3);
-    sub->add_option("--initial-velocity", options_.initial_velocity_mps,
-                    "initial CG velocity VX,VY,VZ in the fixed frame (m/s)")
-        ->delimiter(',')
-        ->expected(3);
-    sub->add_option("--channel-map", options_.channel_map, "channel map preset or JSON file (ISO-MME, UDS-1992)");
+    AddTripleOption(sub, "--orientation", options_.orientation_rad,
+                    "initial orientation PHI,THETA,PSI (rad)");
+    AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
+                    "initial CG velocity VX,VY,VZ in the fixed frame (m/s)");
+    sub->add_option("--channel-map", options_.channel_map,
+                    "channel map preset or JSON file (ISO-MME, UDS-1992)");
     sub->add_option("paths", paths_, "test files or folders")->required();
     return sub;
   }

@@ -18,7 +18,8 @@ namespace {
 // explains why) or is empty.
 std::optional<std::int64_t> ExistingSchemaVersion(const std::string& path) {
   std::error_code error;
-  if (!std::filesystem::exists(path, error) || std::filesystem::file_size(path, error) == 0) return std::nullopt;
+  if (!std::filesystem::exists(path, error) || std::filesystem::file_size(path, error) == 0)
+    return std::nullopt;
   try {
     db::Connection connection = db::Connection::Open(path, db::ConnectionOptions{.read_only = true});
     return connection.PragmaInt("user_version");

@@ -32,8 +32,8 @@ bool HasExtension(const fs::path& path, std::string_view extension) {
 // UDS-1992 channel files are numbered: v0001.001 ... v0001.009.
 bool IsUdsFile(const fs::path& path) {
   const std::string extension = path.extension().string();
-  return extension.size() == 4 && std::all_of(extension.begin() + 1, extension.end(),
-                                              [](char c) { return c >= '0' && c <= '9'; });
+  return extension.size() == 4 &&
+         std::all_of(extension.begin() + 1, extension.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
 bool HoldsMmeFile(const fs::path& folder) {
@@ -189,8 +189,8 @@ ImportResult ImportOne(db::Catalogue& catalogue, const ImportInput& input, const
     if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
       const db::TestRecord record = catalogue.ReadTest(*existing);
       throw InputError("test '" + test_id + "' from '" + input.source.string() +
-                       "' differs from the catalogue's test of that id (imported from '" + record.source_path +
-                       "'); import it with another --test-id.");
+                       "' differs from the catalogue's test of that id (imported from '" +
+                       record.source_path + "'); import it with another --test-id.");
     }
 
     // Read and check everything before writing anything.
@@ -198,7 +198,8 @@ ImportResult ImportOne(db::Catalogue& catalogue, const ImportInput& input, const
     std::vector<std::string> units;
     for (const std::string& slot : read.signals.slots) {
       const std::optional<std::size_t> sensor = prepared.array.FindSlot(slot);
-      if (!sensor) throw InputError("channel '" + slot + "' is not a slot of array '" + prepared.array.name + "'.");
+      if (!sensor)
+        throw InputError("channel '" + slot + "' is not a slot of array '" + prepared.array.name + "'.");
       units.push_back(prepared.array.sensors[*sensor].unit);
     }
     nlohmann::json metadata = nlohmann::json::object();
@@ -278,14 +279,15 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
     } else if (HasExtension(path, ".csv")) {
       discovery.inputs.push_back(CsvInput(path));
     } else if (HasExtension(path, ".mme")) {
-      discovery.inputs.push_back(IsoMmeInput(path.has_parent_path() ? path.parent_path() : fs::path("."),
-                                             path.stem().string()));
+      discovery.inputs.push_back(
+          IsoMmeInput(path.has_parent_path() ? path.parent_path() : fs::path("."), path.stem().string()));
     } else if (IsUdsFile(path)) {
       uds.Add(path, discovery.inputs);
     } else {
-      discovery.errors.push_back("'" + text +
-                                 "' is not a test: expected a CSV file (.csv), an ISO-MME test folder or .mme "
-                                 "file, a UDS-1992 channel file (.001 ...) or a folder of tests.");
+      discovery.errors.push_back(
+          "'" + text +
+          "' is not a test: expected a CSV file (.csv), an ISO-MME test folder or .mme "
+          "file, a UDS-1992 channel file (.001 ...) or a folder of tests.");
     }
   }
   UdsGroups::SortMembers(discovery.inputs);
@@ -310,7 +312,8 @@ db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array) {
 
 std::string ImportReport::SummaryLine() const {
   auto tests = [](std::int64_t n) { return std::to_string(n) + (n == 1 ? " test" : " tests"); };
-  std::string line = "imported " + tests(imported) + ", skipped " + std::to_string(skipped) + " already present";
+  std::string line =
+      "imported " + tests(imported) + ", skipped " + std::to_string(skipped) + " already present";
   if (failed > 0) line += ", " + std::to_string(failed) + " failed";
   return line + ".";
 }
@@ -329,7 +332,7 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)
     throw ImportUsageError("--test-id names one test, but the paths hold " +
-                     std::to_string(discovery.inputs.size() + discovery.errors.size()) + " inputs.");
+                           std::to_string(discovery.inputs.size() + discovery.errors.size()) + " inputs.");
 
   ImportReport report;
   const std::size_t total = discovery.errors.size() + discovery.inputs.size();

@@ -74,14 +74,14 @@ enum class ImportOutcome { kImported, kSkipped, kFailed };
 struct ImportResult {
   ImportOutcome outcome = ImportOutcome::kFailed;
   std::string test_id;
-  std::string message;  // one sentence: the skip notice, or the error naming file and problem
+  std::string message;                // one sentence: the skip notice, or the error naming file and problem
   std::vector<std::string> warnings;  // e.g. ignored extra CSV columns
 };
 
 struct ImportReport {
   std::int64_t imported = 0;
   std::int64_t skipped = 0;
-  std::int64_t failed = 0;  // inputs refused (nothing of them stored), discovery errors included
+  std::int64_t failed = 0;            // inputs refused (nothing of them stored), discovery errors included
   std::vector<ImportResult> results;  // discovery errors first, then one per input in order
 
   // "imported 198 tests, skipped 2 already present[, 1 failed]."

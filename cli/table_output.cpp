@@ -112,7 +112,8 @@ std::string HumanTable(const db::Table& table) {
   std::vector<std::string> rules(columns);
   for (std::size_t c = 0; c < columns; ++c) rules[c] = std::string(width[c], '-');
   out += line([&](std::size_t c) -> const std::string& { return rules[c]; });
-  for (const auto& row_text : text) out += line([&](std::size_t c) -> const std::string& { return row_text[c]; });
+  for (const auto& row_text : text)
+    out += line([&](std::size_t c) -> const std::string& { return row_text[c]; });
   if (table.rows.empty()) out += "(no rows)\n";
   return out;
 }

@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "cli/catalogue_access.h"
 #include "db/catalogue.h"
+#include "engine/pipeline.h"
 #include "engine/synth.h"
 #include "formats/array_json.h"
 #include "formats/text.h"
@@ -102,8 +104,26 @@ inline engine::SyntheticTest SynthNapTest(std::uint64_t seed, double duration_s 
 
 // "--orientation=a,b,c" with numbers in their shortest exact form.
 inline std::string TripleFlag(const char* flag, const Eigen::Vector3d& value) {
-  return std::string(flag) + "=" + formats::FormatNumber(value.x()) + "," + formats::FormatNumber(value.y()) + "," +
-         formats::FormatNumber(value.z());
+  return std::string(flag) + "=" + formats::FormatNumber(value.x()) + "," + formats::FormatNumber(value.y()) +
+         "," + formats::FormatNumber(value.z());
+}
+
+// Computes and stores the result of test `test_id` under the default config
+// the way the batch scheduler does (engine::ProcessTest on the catalogue's
+// signals, array and initial state; Catalogue::WriteResult with kinematics).
+inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std::string& test_id) {
+  db::Catalogue catalogue = db::Catalogue::Open(db_path.string());
+  const std::optional<db::TestId> key = catalogue.FindTestByExternalId(test_id);
+  if (!key) throw std::runtime_error("no test " + test_id);
+  const db::TestRecord test = catalogue.ReadTest(*key);
+  const engine::ArrayGeometry array = formats::ParseArrayJson(
+      nlohmann::json::parse(catalogue.ReadArray(test.array_id).definition_json), "catalogue array");
+  const ResolvedConfig config = ResolveConfig("");
+  engine::ProcessedTest processed =
+      engine::ProcessTest(array, catalogue.ReadTestSignals(*key), test.initial_state, config.config);
+  const db::ConfigId config_id = catalogue.WriteConfig(config.record);
+  catalogue.WriteResult(*key, config_id, processed.summary, "exact", &processed.kinematics);
+  return processed;
 }
 
 }  // namespace napkin::cli::test

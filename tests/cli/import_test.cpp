@@ -78,7 +78,8 @@ class CliImport : public ::testing::Test {
 
   std::vector<std::string> TestIds() {
     std::vector<std::string> ids;
-    for (const db::TestRecord& test : OpenForReading(db_path()).ReadAllTests()) ids.push_back(test.external_id);
+    for (const db::TestRecord& test : OpenForReading(db_path()).ReadAllTests())
+      ids.push_back(test.external_id);
     return ids;
   }
 
@@ -128,7 +129,8 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
   for (const db::TestRecord& test : catalogue.ReadAllTests()) {
     EXPECT_EQ(test.series, "roundtrip");
     EXPECT_EQ(test.variant, "none");
-    EXPECT_EQ(test.initial_state.orientation_rad, synth.initial.orientation_rad);  // exact through the text flag
+    EXPECT_EQ(test.initial_state.orientation_rad,
+              synth.initial.orientation_rad);  // exact through the text flag
     EXPECT_EQ(test.initial_state.velocity_fixed_mps, synth.initial.velocity_fixed_mps);
     // The stored array reads back as the preset, bit-exact.
     const db::ArrayRecord array = catalogue.ReadArray(test.array_id);
@@ -149,9 +151,11 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
 
 TEST_F(CliImport, NineUdsFilesWithoutAMapFillTheTable21SlotsAndShareTheirStem) {
   const engine::SyntheticTest synth = SynthNapTest(12);
-  WriteUdsGroup(synth.signals, dir_ / "raw", "v0001", formats::UdsNumberForm::kVax, /*with_sensor_labels=*/false);
+  WriteUdsGroup(synth.signals, dir_ / "raw", "v0001", formats::UdsNumberForm::kVax,
+                /*with_sensor_labels=*/false);
   std::vector<std::string> args;
-  for (int c = 9; c >= 1; --c) args.push_back("raw/v0001.00" + std::to_string(c));  // any order on the command line
+  for (int c = 9; c >= 1; --c)
+    args.push_back("raw/v0001.00" + std::to_string(c));  // any order on the command line
   const RunResult run = Import(args);
   ASSERT_EQ(run.exit_status, 0) << run.err;
   EXPECT_EQ(TestIds(), std::vector<std::string>{"v0001"});
@@ -239,7 +243,7 @@ TEST_F(CliImport, FolderWithABadTestInTheMiddleKeepsTheOthersAndARerunResumes) {
   const std::string good_text = ReadText(bad);
   std::string bad_text = good_text;
   const std::size_t row = bad_text.find('\n', bad_text.find("time_s")) + 1;  // first data row
-  bad_text.replace(bad_text.find(',', row) + 1, 0, "x");                  // "x<number>" in column cg_x
+  bad_text.replace(bad_text.find(',', row) + 1, 0, "x");                     // "x<number>" in column cg_x
   WriteText(bad, bad_text);
 
   const RunResult first = Import({"--series", "s", "series"});
@@ -298,6 +302,7 @@ TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt)
     }
   }
   EXPECT_GE(kept, seen);
+  RecordProperty("tests_kept_after_kill", static_cast<int>(kept));
 
   const RunResult rerun = Import({"series"});
   EXPECT_EQ(rerun.exit_status, 0) << rerun.err;
@@ -398,7 +403,9 @@ TEST_F(CliImportBadInput, CsvWithANonNumericCell) {
   ExpectRefused({"bad.csv"}, {"bad.csv", "row", "cg_y"});
 }
 
-TEST_F(CliImportBadInput, PathThatDoesNotExist) { ExpectRefused({"nowhere.csv"}, {"nowhere.csv", "does not exist"}); }
+TEST_F(CliImportBadInput, PathThatDoesNotExist) {
+  ExpectRefused({"nowhere.csv"}, {"nowhere.csv", "does not exist"});
+}
 
 TEST_F(CliImportBadInput, UnknownArrayPreset) {
   const RunResult run = RunNapkin(dir_.path(), {"import", "--array", "no-such-array", "good.csv"});
@@ -410,7 +417,8 @@ TEST_F(CliImportBadInput, UnknownArrayPreset) {
 TEST_F(CliImportBadInput, CatalogueThatIsNotSqlite) {
   const std::string text = "this is a spreadsheet, not a catalogue\n";
   WriteText(dir_ / "sheet.db", text);
-  const RunResult run = RunNapkin(dir_.path(), {"--db", "sheet.db", "import", "--array", "denton-3222", "good.csv"});
+  const RunResult run =
+      RunNapkin(dir_.path(), {"--db", "sheet.db", "import", "--array", "denton-3222", "good.csv"});
   EXPECT_EQ(run.exit_status, 1);
   ExpectOneSentenceError(run, {"sheet.db", "not a napkin catalogue"});
   EXPECT_EQ(ReadText(dir_ / "sheet.db"), text);
@@ -445,6 +453,28 @@ TEST_F(CliImport, CommandLineStringsNeverReachSqlText) {
   EXPECT_EQ(rows[0]["variant"], variant);
   EXPECT_EQ(TestIds(), (std::vector<std::string>{"inj", "plain"}));
   EXPECT_EQ(OpenForReading(db_path()).ReadAllSeries().size(), 2u);
+}
+
+// ------------------------------------------------------------ options
+
+TEST_F(CliImport, TripleOptionsTakeOneArgumentWhereverTheyStand) {
+  formats::WriteSignalsCsv(SynthNapTest(71).signals, dir_ / "o.csv");
+  // A triple followed by the path and then by more options.
+  const RunResult run =
+      Import({"--orientation", "0.25,-0.5,1e-3", "o.csv", "--initial-velocity=-7,0,2.5", "--series", "s"});
+  ASSERT_EQ(run.exit_status, 0) << run.err;
+  const db::TestRecord test = OpenForReading(db_path()).ReadAllTests().at(0);
+  EXPECT_EQ(test.initial_state.orientation_rad, Eigen::Vector3d(0.25, -0.5, 1e-3));
+  EXPECT_EQ(test.initial_state.velocity_fixed_mps, Eigen::Vector3d(-7, 0, 2.5));
+  EXPECT_EQ(test.series, "s");
+
+  const std::string dump = DumpCatalogue(db_path());
+  for (const char* bad : {"1,2", "1,2,3,4", "1,x,3", "1,,3", "nan,0,0"}) {
+    const RunResult refused = Import({"--orientation", bad, "o2.csv"});
+    EXPECT_EQ(refused.exit_status, 2) << bad;
+    EXPECT_NE(refused.err.find("--orientation"), std::string::npos) << refused.err;
+  }
+  EXPECT_EQ(DumpCatalogue(db_path()), dump);
 }
 
 // ------------------------------------------------------------ discovery

@@ -25,7 +25,8 @@ TEST(CliInit, CreatesThenReportsUpToDateWithoutChangingAnything) {
 
   const RunResult again = RunNapkin(dir.path(), {"--db", "napkin.db", "init"});
   EXPECT_EQ(again.exit_status, 0) << again.err;
-  EXPECT_EQ(again.out, "catalogue 'napkin.db' is up to date (schema version " + std::to_string(kLatest) + ").\n");
+  EXPECT_EQ(again.out,
+            "catalogue 'napkin.db' is up to date (schema version " + std::to_string(kLatest) + ").\n");
   EXPECT_EQ(DumpCatalogue(dir / "napkin.db"), dump);
 }
 
@@ -33,7 +34,8 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
   napkin::testing::TempDir dir;
   const fs::path path = dir / "old.db";
   // A catalogue written by an earlier build that knew only migration 1.
-  const std::vector<schema::Migration> first_only(schema::Migrations().begin(), schema::Migrations().begin() + 1);
+  const std::vector<schema::Migration> first_only(schema::Migrations().begin(),
+                                                  schema::Migrations().begin() + 1);
   engine::TestSignals signals;
   signals.dt_s = 1e-4;
   signals.slots = {"cg_x", "cg_y"};
@@ -78,7 +80,8 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
   const std::string dump = catalogue.Dump();
   const RunResult again = RunNapkin(dir.path(), {"--db", "old.db", "init"});
   EXPECT_EQ(again.exit_status, 0);
-  EXPECT_EQ(again.out, "catalogue 'old.db' is up to date (schema version " + std::to_string(kLatest) + ").\n");
+  EXPECT_EQ(again.out,
+            "catalogue 'old.db' is up to date (schema version " + std::to_string(kLatest) + ").\n");
   EXPECT_EQ(DumpCatalogue(path), dump);
 }
 
