@@ -49,7 +49,8 @@ class ImportCommand : public Command {
     const bool show_bar = ProgressBar::WantedOnStderr(global_->quiet);
     const ImportProgress progress = [&](std::size_t done, std::size_t total, const ImportResult& result) {
       if (show_bar && !progress_bar) progress_bar = std::make_unique<ProgressBar>(total, true);
-      if (progress_bar) progress_bar->Clear();
+      const bool prints = !result.warnings.empty() || result.outcome != ImportOutcome::kImported;
+      if (progress_bar && prints) progress_bar->Clear();
       for (const std::string& warning : result.warnings) std::cerr << "napkin: warning: " << warning << "\n";
       if (result.outcome == ImportOutcome::kFailed) {
         std::cerr << "napkin: " << result.message << "\n";
