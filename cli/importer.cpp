@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <utility>
 
 #include "engine/error.h"
@@ -95,9 +96,13 @@ ImportInput IsoMmeInput(const fs::path& folder, const std::string& name) {
 }
 
 // Every test inside `folder` (not itself an ISO-MME test), in name order.
-void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found) {
-  std::vector<fs::path> entries;
+// `visited` holds the canonical folders seen, so a symbolic link back up the
+// tree is not followed forever.
+void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std::set<fs::path>& visited) {
   std::error_code error;
+  const fs::path canonical = fs::canonical(folder, error);
+  if (!error && !visited.insert(canonical).second) return;
+  std::vector<fs::path> entries;
   for (const auto& entry : fs::directory_iterator(folder, error))
     if (!IsHidden(entry.path())) entries.push_back(entry.path());
   if (error) throw InputError("cannot list folder '" + folder.string() + "': " + error.message() + ".");
@@ -108,7 +113,7 @@ void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found) {
       if (HoldsMmeFile(entry)) {
         found.push_back(IsoMmeInput(entry, entry.filename().string()));
       } else {
-        DiscoverFolder(entry, found);
+        DiscoverFolder(entry, found, visited);
       }
     } else if (HasExtension(entry, ".csv")) {
       found.push_back(CsvInput(entry));
@@ -268,7 +273,8 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
       }
       const std::size_t before = discovery.inputs.size();
       try {
-        DiscoverFolder(path, discovery.inputs);
+        std::set<fs::path> visited;
+        DiscoverFolder(path, discovery.inputs, visited);
       } catch (const InputError& list_error) {
         discovery.errors.push_back(list_error.what());
         continue;

@@ -89,6 +89,34 @@ TEST_F(CliExport, IsoMmeExportReadsBackAsTheStoredKinematics) {
   }
 }
 
+TEST_F(CliExport, IsoMmeExportReimportsAsA6aOmegaTestWithTheStoredChannels) {
+  const engine::ProcessedTest processed = ProcessAndStore(dir_ / "napkin.db", "e0001");
+  const engine::Kinematics& k = processed.kinematics;
+  ASSERT_EQ(Export({"--format", "isomme", "--out", "derived"}).exit_status, 0);
+  // The exported body-axis CG acceleration and angular velocity are the
+  // channels of a 6a-omega array at the CG.
+  WriteText(dir_ / "body.json", R"({"name": "body", "slots": {
+      "cg_x": {"code": "11HEADCG0000ACX?"}, "cg_y": {"code": "11HEADCG0000ACY?"}, "cg_z": {"code": "11HEADCG0000ACZ?"},
+      "ars_x": {"code": "11HEADCG0000AVX?"}, "ars_y": {"code": "11HEADCG0000AVY?"},
+      "ars_z": {"code": "11HEADCG0000AVZ?"}}})");
+  const RunResult import =
+      RunNapkin(dir_.path(), {"import", "--array", "6aw-cg", "--channel-map", "body.json", "derived"});
+  ASSERT_EQ(import.exit_status, 0) << import.err;
+  db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
+  const engine::TestSignals back = catalogue.ReadTestSignals(*catalogue.FindTestByExternalId("derived"));
+  ASSERT_EQ(back.size(), k.size());
+  EXPECT_NEAR(back.dt_s, synth_.signals.dt_s, 1e-15);
+  EXPECT_EQ(back.slots, (std::vector<std::string>{"cg_x", "cg_y", "cg_z", "ars_x", "ars_y", "ars_z"}));
+  for (int axis = 0; axis < 3; ++axis) {
+    for (Eigen::Index i = 0; i < k.size(); ++i) {
+      const double acc_g = k.acc_body(i, axis) / engine::kStandardGravity;
+      ASSERT_NEAR(back.samples(i, axis), acc_g, 1e-11 * std::max(1.0, std::abs(acc_g))) << i;
+      const double omega = k.omega_body(i, axis);
+      ASSERT_NEAR(back.samples(i, 3 + axis), omega, 1e-11 * std::max(1.0, std::abs(omega))) << i;
+    }
+  }
+}
+
 double Field(const std::string& line, std::size_t start, std::size_t width) {
   if (start + width > line.size()) {
     ADD_FAILURE() << "short card: " << line;

@@ -509,6 +509,10 @@ TEST(ImportDiscovery, FindsEachKindOfTestInAFolderTree) {
   EXPECT_EQ(mme.inputs[0].name, "T1");
   EXPECT_EQ(mme.inputs[0].source, dir / "tree" / "nested" / "iso1");
 
+  // A link back up the tree is not followed twice.
+  fs::create_directory_symlink(dir / "tree", dir / "tree" / "nested" / "loop");
+  EXPECT_EQ(DiscoverInputs({(dir / "tree").string()}).inputs.size(), 3u);
+
   // An empty folder holds no test.
   fs::create_directories(dir / "empty");
   const Discovery none = DiscoverInputs({(dir / "empty").string()});
