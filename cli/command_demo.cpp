@@ -69,7 +69,7 @@ class DemoCommand : public Command {
       const engine::SyntheticTest test = engine::SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
       TransformOptions options;
       options.array = geometries[g];
-      options.orientation_rad = "0.5,0.5,0.5";
+      options.orientation_rad = {0.5, 0.5, 0.5};
       options.input = (fs::path(dir_) / (std::string("seed-fixed-axis_") + geometries[g] + ".csv")).string();
       options.out = (fs::path(dir_) / (std::string("derived_") + geometries[g] + ".csv")).string();
       options.summary = (fs::path(dir_) / (std::string("summary_") + geometries[g] + ".json")).string();
@@ -107,7 +107,7 @@ class DemoCommand : public Command {
       TransformOptions options;
       options.array = as;
       options.solver = "seed";
-      options.orientation_rad = "0.5,0.5,0.5";
+      options.orientation_rad = {0.5, 0.5, 0.5};
       options.input = input;
       options.out = (fs::path(dir_) / (std::string("seed_as_") + as + ".csv")).string();
       const TransformReport report = RunTransform(options);

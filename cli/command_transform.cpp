@@ -4,6 +4,7 @@
 
 #include "cli/command.h"
 #include "cli/transform.h"
+#include "cli/triple_option.h"
 
 namespace napkin::cli {
 namespace {
@@ -13,8 +14,9 @@ class TransformCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
     CLI::App* sub = app.add_subcommand("transform", "process one test file, no catalogue");
     sub->add_option("--array", options_.array, "array preset name or array JSON file")->required();
-    sub->add_option("--orientation", options_.orientation_rad, "initial orientation PHI,THETA,PSI (rad)");
-    sub->add_option("--initial-velocity", options_.initial_velocity_mps,
+    AddTripleOption(sub, "--orientation", options_.orientation_rad,
+                    "initial orientation PHI,THETA,PSI (rad)");
+    AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
                     "initial CG velocity VX,VY,VZ in the fixed frame (m/s)");
     sub->add_option("--solver", options_.solver, "exact or seed (default: the config's, exact)")
         ->check(CLI::IsMember({"exact", "seed"}));

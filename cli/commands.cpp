@@ -4,9 +4,17 @@ namespace napkin::cli {
 
 std::unique_ptr<Command> MakeTransformCommand();
 std::unique_ptr<Command> MakeDemoCommand();
+std::unique_ptr<Command> MakeInitCommand();
+std::unique_ptr<Command> MakeImportCommand();
+std::unique_ptr<Command> MakeQueryCommand();
+std::unique_ptr<Command> MakeExportCommand();
 
 std::vector<std::unique_ptr<Command>> MakeCommands() {
   std::vector<std::unique_ptr<Command>> commands;
+  commands.push_back(MakeInitCommand());
+  commands.push_back(MakeImportCommand());
+  commands.push_back(MakeQueryCommand());
+  commands.push_back(MakeExportCommand());
   commands.push_back(MakeTransformCommand());
   commands.push_back(MakeDemoCommand());
   return commands;

@@ -13,26 +13,17 @@
 #include "formats/lsdyna.h"
 #include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
-#include "formats/text.h"
 
 namespace napkin::cli {
 namespace fs = std::filesystem;
 
-Eigen::Vector3d ParseTriple(const std::string& text, const std::string& flag) {
-  if (text.empty()) return Eigen::Vector3d::Zero();
-  Eigen::Vector3d values;
-  std::size_t start = 0;
-  for (int i = 0; i < 3; ++i) {
-    const std::size_t end = i < 2 ? text.find(',', start) : text.size();
-    const std::optional<double> value =
-        end == std::string::npos ? std::nullopt : formats::ParseDouble(std::string_view(text).substr(start, end - start));
-    if (!value || !std::isfinite(*value) || (i == 2 && text.find(',', start) != std::string::npos))
-      throw InputError(flag + " needs three comma-separated numbers, e.g. 0.5,0.5,0.5 (got '" + text + "').");
-    values[i] = *value;
-    start = end + 1;
-  }
-  return values;
+namespace {
+
+Eigen::Vector3d Vector3OrZero(const std::vector<double>& values) {
+  return values.size() == 3 ? Eigen::Vector3d(values[0], values[1], values[2]) : Eigen::Vector3d::Zero();
 }
+
+}  // namespace
 
 TransformReport RunTransform(const TransformOptions& options) {
   const engine::ArrayGeometry array = formats::LoadArray(options.array);
@@ -45,8 +36,8 @@ TransformReport RunTransform(const TransformOptions& options) {
   if (!options.solver.empty())
     config.solver = options.solver == "seed" ? engine::SolverKind::kSeed : engine::SolverKind::kExact;
   engine::InitialState initial;
-  initial.orientation_rad = ParseTriple(options.orientation_rad, "--orientation");
-  initial.velocity_fixed_mps = ParseTriple(options.initial_velocity_mps, "--initial-velocity");
+  initial.orientation_rad = Vector3OrZero(options.orientation_rad);
+  initial.velocity_fixed_mps = Vector3OrZero(options.initial_velocity_mps);
 
   TransformReport report;
   report.warnings = std::move(csv.warnings);

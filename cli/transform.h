@@ -10,8 +10,8 @@ namespace napkin::cli {
 
 struct TransformOptions {
   std::string array;                         // preset name or array JSON path
-  std::string orientation_rad;       // "PHI,THETA,PSI" (empty: 0, 0, 0)
-  std::string initial_velocity_mps;  // "VX,VY,VZ" fixed frame (empty: 0)
+  std::vector<double> orientation_rad;       // phi, theta, psi (empty: 0, 0, 0)
+  std::vector<double> initial_velocity_mps;  // vx, vy, vz fixed frame (empty: 0)
   std::string solver;                        // "exact" or "seed" (empty: the config's solver)
   std::string config;                        // processing config preset/path (empty: default)
   std::string input;                         // signals file
@@ -19,9 +19,6 @@ struct TransformOptions {
   std::string summary;                       // summary JSON (optional)
   std::string lsdyna;                        // LS-DYNA keyword file (optional)
 };
-
-// "a,b,c" -> (a, b, c); empty -> 0. Throws InputError naming `flag`.
-Eigen::Vector3d ParseTriple(const std::string& text, const std::string& flag);
 
 struct TransformReport {
   engine::Kinematics kinematics;

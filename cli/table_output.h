@@ -1,0 +1,27 @@
+#pragma once
+// Tables on stdout (`napkin query`, and any command with --format
+// table,csv,json): aligned columns for people, RFC 4180 CSV and a JSON array
+// of objects for programs.
+#include <string>
+#include <string_view>
+
+#include "db/catalogue.h"
+
+namespace napkin::cli {
+
+enum class TableFormat { kTable, kCsv, kJson };
+
+// "table", "csv" or "json"; throws InputError otherwise.
+TableFormat ParseTableFormat(std::string_view text);
+
+// kTable: a header, a rule and one line per row; numbers right-aligned with 6
+// significant digits, text left-aligned, NULL as "-"; "(no rows)" when empty.
+// kCsv: a header line, then one line per row; numbers in their shortest exact
+// form, NULL as an empty field, text quoted when it holds a comma, a quote
+// or a line break.
+// kJson: an array with one object per row, keys the column names in column
+// order, numbers as numbers (non-finite ones and NULL as null), text as strings.
+// Every form ends with a newline.
+std::string FormatTable(const db::Table& table, TableFormat format);
+
+}  // namespace napkin::cli

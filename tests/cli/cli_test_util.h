@@ -1,0 +1,129 @@
+#pragma once
+// Helpers of the CLI end-to-end tests: run the napkin binary in a folder and
+// capture its exit status, stdout and stderr; read a catalogue's state; make
+// synthetic tests in every input format.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/catalogue_access.h"
+#include "db/catalogue.h"
+#include "engine/pipeline.h"
+#include "engine/synth.h"
+#include "formats/array_json.h"
+#include "formats/text.h"
+
+namespace napkin::cli::test {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_status = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string ShellQuote(const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      quoted += "'\\''";
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + "'";
+}
+
+inline std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+inline void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// Runs `napkin args...` with `dir` as the working directory (stdin closed).
+inline RunResult RunNapkin(const fs::path& dir, const std::vector<std::string>& args) {
+  const fs::path out = dir / ".napkin.stdout";
+  const fs::path err = dir / ".napkin.stderr";
+  std::string command = "cd " + ShellQuote(dir.string()) + " && " + ShellQuote(NAPKIN_BINARY);
+  for (const std::string& arg : args) command += " " + ShellQuote(arg);
+  command += " </dev/null >" + ShellQuote(out.string()) + " 2>" + ShellQuote(err.string());
+  const int status = std::system(command.c_str());
+  RunResult result;
+  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = ReadText(out);
+  result.err = ReadText(err);
+  fs::remove(out);
+  fs::remove(err);
+  return result;
+}
+
+inline std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// stderr is exactly one line: "napkin: <one sentence>." holding every fragment.
+inline void ExpectOneSentenceError(const RunResult& run, std::initializer_list<std::string> fragments) {
+  const std::vector<std::string> lines = Lines(run.err);
+  ASSERT_EQ(lines.size(), 1u) << "stderr:\n" << run.err;
+  const std::string& line = lines.front();
+  EXPECT_EQ(line.rfind("napkin: ", 0), 0u) << line;
+  EXPECT_EQ(line.back(), '.') << line;
+  for (const std::string& fragment : fragments)
+    EXPECT_NE(line.find(fragment), std::string::npos) << "stderr: " << line << "\nmissing: " << fragment;
+}
+
+inline db::Catalogue OpenForReading(const fs::path& path) {
+  db::CatalogueOptions options;
+  options.read_only = true;
+  return db::Catalogue::Open(path.string(), options);
+}
+
+inline std::string DumpCatalogue(const fs::path& path) { return OpenForReading(path).Dump(); }
+
+// A NAP (3-2-2-2) test with a random smooth motion on the Denton geometry.
+inline engine::SyntheticTest SynthNapTest(std::uint64_t seed, double duration_s = 0.05) {
+  engine::RandomMotionOptions options;
+  options.seed = seed;
+  options.duration_s = duration_s;
+  return engine::SynthRandomMotion(formats::LoadArray("denton-3222"), options);
+}
+
+// "--orientation=a,b,c" with numbers in their shortest exact form.
+inline std::string TripleFlag(const char* flag, const Eigen::Vector3d& value) {
+  return std::string(flag) + "=" + formats::FormatNumber(value.x()) + "," + formats::FormatNumber(value.y()) +
+         "," + formats::FormatNumber(value.z());
+}
+
+// Computes and stores the result of test `test_id` under the default config
+// the way the batch scheduler does (engine::ProcessTest on the catalogue's
+// signals, array and initial state; Catalogue::WriteResult with kinematics).
+inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std::string& test_id) {
+  db::Catalogue catalogue = db::Catalogue::Open(db_path.string());
+  const std::optional<db::TestId> key = catalogue.FindTestByExternalId(test_id);
+  if (!key) throw std::runtime_error("no test " + test_id);
+  const db::TestRecord test = catalogue.ReadTest(*key);
+  const engine::ArrayGeometry array = formats::ParseArrayJson(
+      nlohmann::json::parse(catalogue.ReadArray(test.array_id).definition_json), "catalogue array");
+  const ResolvedConfig config = ResolveConfig("");
+  engine::ProcessedTest processed =
+      engine::ProcessTest(array, catalogue.ReadTestSignals(*key), test.initial_state, config.config);
+  const db::ConfigId config_id = catalogue.WriteConfig(config.record);
+  catalogue.WriteResult(*key, config_id, processed.summary, "exact", &processed.kinematics);
+  return processed;
+}
+
+}  // namespace napkin::cli::test
