@@ -4,11 +4,19 @@ namespace napkin::cli {
 
 std::unique_ptr<Command> MakeTransformCommand();
 std::unique_ptr<Command> MakeDemoCommand();
+std::unique_ptr<Command> MakeSynthCommand();
+std::unique_ptr<Command> MakeRunCommand();
+std::unique_ptr<Command> MakeStatusCommand();
+std::unique_ptr<Command> MakeMergeCommand();
 
 std::vector<std::unique_ptr<Command>> MakeCommands() {
   std::vector<std::unique_ptr<Command>> commands;
   commands.push_back(MakeTransformCommand());
   commands.push_back(MakeDemoCommand());
+  commands.push_back(MakeSynthCommand());
+  commands.push_back(MakeRunCommand());
+  commands.push_back(MakeStatusCommand());
+  commands.push_back(MakeMergeCommand());
   return commands;
 }
 
