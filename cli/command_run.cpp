@@ -128,10 +128,13 @@ class RunCommand : public Command {
 
     const double processed = static_cast<double>(report.done + report.failed);
     if (!global_->quiet)
-      spdlog::info("{} tests done, {} failed, {} up to date; {:.1f} s, {:.2f} tests/s, {:.3g} samples/s", report.done,
-                   report.failed, report.skipped, report.wall_s,
-                   report.wall_s > 0 ? processed / report.wall_s : 0.0,
-                   report.wall_s > 0 ? static_cast<double>(report.samples) / report.wall_s : 0.0);
+      spdlog::info(
+          "{} tests done, {} failed, {} up to date; {:.1f} s, {:.2f} tests/s, {:.3g} samples/s (reading {:.1f} s, "
+          "computing {:.1f} s over {} threads, writing {:.1f} s)",
+          report.done, report.failed, report.skipped, report.wall_s,
+          report.wall_s > 0 ? processed / report.wall_s : 0.0,
+          report.wall_s > 0 ? static_cast<double>(report.samples) / report.wall_s : 0.0, report.read_s,
+          report.compute_s, report.threads, report.write_s);
     if (report.stopped) {
       std::cerr << "napkin: run stopped by a signal after committing the tests in flight; run it again to "
                    "process the rest.\n";
