@@ -43,6 +43,44 @@ std::string HostName() {
   return name;
 }
 
+// Owner ids of the schedulers running in this process: an owner with our
+// pid that is not among them belonged to a dead process whose pid was reused.
+class LiveOwners {
+ public:
+  static LiveOwners& Get() {
+    static LiveOwners owners;
+    return owners;
+  }
+  void Add(const std::string& owner) {
+    std::lock_guard lock(mutex_);
+    owners_.insert(owner);
+  }
+  void Remove(const std::string& owner) {
+    std::lock_guard lock(mutex_);
+    owners_.erase(owner);
+  }
+  bool Contains(const std::string& owner) const {
+    std::lock_guard lock(mutex_);
+    return owners_.count(owner) > 0;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::set<std::string> owners_;
+};
+
+// Registers an owner id for the life of a scheduler.
+class LiveOwnerScope {
+ public:
+  explicit LiveOwnerScope(std::string owner) : owner_(std::move(owner)) { LiveOwners::Get().Add(owner_); }
+  ~LiveOwnerScope() { LiveOwners::Get().Remove(owner_); }
+  LiveOwnerScope(const LiveOwnerScope&) = delete;
+  LiveOwnerScope& operator=(const LiveOwnerScope&) = delete;
+
+ private:
+  std::string owner_;
+};
+
 // One test on its way through the pipeline.
 struct WorkItem {
   db::Job job;
@@ -426,7 +464,8 @@ bool IsDeadLocalOwner(const std::string& owner) {
   if (pid_text.empty() || !std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return false;
   const long pid = std::stol(pid_text);
-  if (pid <= 0 || pid == getpid()) return false;
+  if (pid <= 0) return false;
+  if (pid == getpid()) return !LiveOwners::Get().Contains(owner);
   return kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
 }
 
@@ -439,6 +478,7 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
 
   RunReport report;
   report.owner = MakeOwnerId();
+  const LiveOwnerScope live_owner(report.owner);
   report.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   report.max_tests_in_flight = report.threads * options.tests_in_flight_per_thread;
 

@@ -102,7 +102,8 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
 // "host:pid:random": unique per scheduler, readable in the jobs table.
 std::string MakeOwnerId();
 // True when `owner` (a MakeOwnerId value) names a process on this host that
-// no longer exists, so its leases can be released without waiting.
+// no longer exists (or this process's pid, reused, with an owner id that no
+// scheduler of this process holds), so its leases can be released at once.
 bool IsDeadLocalOwner(const std::string& owner);
 
 }  // namespace napkin::jobs
