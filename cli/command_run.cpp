@@ -9,6 +9,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
 #include "cli/array_record.h"
 #include "cli/catalogue_access.h"
@@ -150,6 +151,9 @@ class RunCommand : public Command {
  private:
   // Named series and tests must exist: a typo must not look like "nothing to do".
   void CheckScope() {
+    if (!std::filesystem::exists(global_->db_path))
+      throw InputError("catalogue '" + global_->db_path +
+                       "' does not exist; create it with `napkin init`, `napkin import` or `napkin synth`.");
     db::Catalogue catalogue = OpenCatalogue(*global_);
     if (!series_.empty() && !catalogue.ReadSeries(series_))
       throw InputError("series '" + series_ + "' is not in catalogue '" + global_->db_path + "'.");

@@ -81,22 +81,40 @@ class RunCliTest : public ::testing::Test {
 TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
   const std::string db = dir_ / "kill.db";
   Synth(db, 200, 2000);
+  // Kill moments: after a random number (0-25) of further committed results
+  // plus a random 0-30 ms, so the kills land in start-up, claiming,
+  // computing and committing whatever the build's speed (ASan included).
   std::mt19937 random(20240501);
-  std::uniform_int_distribution<int> delay_ms(40, 260);
+  std::uniform_int_distribution<int> more_results(0, 25);
+  std::uniform_int_distribution<int> extra_ms(0, 30);
+  db::Catalogue watcher = db::Catalogue::Open(db);
   int kills = 0;
-  for (int round = 0; round < 30 && kills < 6; ++round) {
+  for (int round = 0; round < 6; ++round) {
+    const std::int64_t target = Scalar(watcher, "SELECT count(*) FROM results") + more_results(random);
     const pid_t pid = testing::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
                                            dir_ / "run.err");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(random)));
     int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == 0) {
+    bool finished = false;
+    const auto start = std::chrono::steady_clock::now();
+    while (Scalar(watcher, "SELECT count(*) FROM results") < target &&
+           std::chrono::steady_clock::now() - start < std::chrono::seconds(120)) {
+      if (waitpid(pid, &status, WNOHANG) != 0) {
+        finished = true;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(extra_ms(random)));
+    if (!finished && waitpid(pid, &status, WNOHANG) == 0) {
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
       ++kills;
     } else {
-      ADD_FAILURE() << "run finished before the kill (round " << round << "): make the test heavier";
+      ADD_FAILURE() << "run finished before the kill (round " << round << ")";
       break;
     }
+    std::printf("kill %d: %lld results committed (target %lld)\n", kills,
+                static_cast<long long>(Scalar(watcher, "SELECT count(*) FROM results")), static_cast<long long>(target));
     ExpectConsistent(db, "after kill " + std::to_string(kills));
   }
   EXPECT_GE(kills, 5);
