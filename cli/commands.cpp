@@ -8,6 +8,10 @@ std::unique_ptr<Command> MakeInitCommand();
 std::unique_ptr<Command> MakeImportCommand();
 std::unique_ptr<Command> MakeQueryCommand();
 std::unique_ptr<Command> MakeExportCommand();
+std::unique_ptr<Command> MakeSynthCommand();
+std::unique_ptr<Command> MakeRunCommand();
+std::unique_ptr<Command> MakeStatusCommand();
+std::unique_ptr<Command> MakeMergeCommand();
 
 std::vector<std::unique_ptr<Command>> MakeCommands() {
   std::vector<std::unique_ptr<Command>> commands;
@@ -17,6 +21,10 @@ std::vector<std::unique_ptr<Command>> MakeCommands() {
   commands.push_back(MakeExportCommand());
   commands.push_back(MakeTransformCommand());
   commands.push_back(MakeDemoCommand());
+  commands.push_back(MakeSynthCommand());
+  commands.push_back(MakeRunCommand());
+  commands.push_back(MakeStatusCommand());
+  commands.push_back(MakeMergeCommand());
   return commands;
 }
 

@@ -308,14 +308,6 @@ std::string ContentHash(const ImportInput& input) {
   return hash.HexDigest();
 }
 
-db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array) {
-  db::ArrayRecord record;
-  record.name = array.name;
-  record.definition_json = formats::ArrayToJson(array, "m").dump();
-  record.definition_hash = formats::Sha256Hex(record.definition_json);
-  return record;
-}
-
 std::string ImportReport::SummaryLine() const {
   auto tests = [](std::int64_t n) { return std::to_string(n) + (n == 1 ? " test" : " tests"); };
   std::string line =

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/array_record.h"
 #include "db/catalogue.h"
 #include "engine/array_geometry.h"
 #include "engine/error.h"
@@ -106,10 +107,5 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
 // folder's files (formats::HashPath), or of the UDS-1992 group's file hashes
 // in name order.
 std::string ContentHash(const ImportInput& input);
-
-// The catalogue record of an array: its canonical JSON (formats::ArrayToJson
-// in metres, so positions read back bit-exact with formats::ParseArrayJson)
-// and that text's SHA-256.
-db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array);
 
 }  // namespace napkin::cli

@@ -234,9 +234,18 @@ class Catalogue {
   // jobs queued.
   std::int64_t EnqueueMissing(ConfigId config, const JobScope& scope = {}, bool force = false);
   // Atomically (BEGIN IMMEDIATE) claims up to `max_jobs` jobs of `config`
-  // that are queued or whose lease has expired, leasing them to `owner` for
-  // `lease_seconds`. Two workers never get the same job while a lease holds.
-  std::vector<Job> ClaimJobs(ConfigId config, const std::string& owner, int max_jobs, double lease_seconds);
+  // (of the tests in `scope`) that are queued or whose lease has expired,
+  // leasing them to `owner` for `lease_seconds`. Two workers never get the
+  // same job while a lease holds.
+  std::vector<Job> ClaimJobs(ConfigId config, const std::string& owner, int max_jobs, double lease_seconds,
+                             const JobScope& scope = {});
+  // The distinct owners of running jobs of `config` in `scope` (the scheduler
+  // waits for them, or releases the leases of a worker it knows is dead).
+  std::vector<std::string> ReadLeaseOwners(ConfigId config, const JobScope& scope = {});
+  // Puts the running jobs of `config` leased to `owner` back in the queue
+  // (their attempts stay counted); returns how many. For a worker known to
+  // be dead, or one stopping with claimed jobs it will not process.
+  std::int64_t ReleaseLeases(ConfigId config, const std::string& owner);
   // Extends a running job's lease; false when `owner` no longer holds it.
   bool RenewLease(JobId job, const std::string& owner, double lease_seconds);
   // Marks a running job done (records finish time and duration); false when
@@ -254,8 +263,11 @@ class Catalogue {
   // and config only when it was computed later; its findings, derived
   // channels and job state come with it. Merging the same shard twice
   // changes nothing. Throws InputError naming the shard when it is not a
-  // napkin catalogue of this schema version, or holds a test id whose
-  // content differs from this catalogue's test of that id.
+  // napkin catalogue of this schema version, holds a test id whose content
+  // differs from this catalogue's test of that id, or holds a result whose
+  // values (summary fields or solver) differ from this catalogue's result for
+  // the same test and config (a conflict: the same input and config must give
+  // the same answer, so one of the two was computed differently).
   MergeReport MergeShard(const std::string& shard_path);
 
   // Every table's schema and rows in a deterministic text form (rows in rowid

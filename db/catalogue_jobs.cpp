@@ -73,18 +73,25 @@ std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, b
 }
 
 std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner, int max_jobs,
-                                      double lease_seconds) {
+                                      double lease_seconds, const JobScope& scope) {
   if (max_jobs <= 0) return {};
   if (!(lease_seconds > 0.0)) throw std::invalid_argument("ClaimJobs: lease_seconds must be positive");
   const double now = clock_();
   Transaction transaction(connection_);  // BEGIN IMMEDIATE: claims are serialised
-  auto claim = connection_.Prepare(
-      "UPDATE jobs SET state = 'running', lease_owner = ?2, lease_expires_at = ?3 + ?4, started_at = ?3, "
+  static const std::string kClaim =
+      "WITH " + ScopeCte() +
+      " UPDATE jobs SET state = 'running', lease_owner = ?11, lease_expires_at = ?12 + ?13, started_at = ?12, "
       "finished_at = NULL, duration_s = NULL, attempts = attempts + 1 "
-      "WHERE id IN (SELECT id FROM jobs WHERE config_id = ?1 AND "
-      "(state = 'queued' OR (state = 'running' AND lease_expires_at <= ?3)) ORDER BY id LIMIT ?5) "
-      "RETURNING id, test_id, attempts");
-  claim->BindAll(config, owner, now, lease_seconds, max_jobs);
+      "WHERE id IN (SELECT id FROM jobs WHERE config_id = ?10 AND test_id IN (SELECT test_id FROM scope) AND "
+      "(state = 'queued' OR (state = 'running' AND lease_expires_at <= ?12)) ORDER BY id LIMIT ?14) "
+      "RETURNING id, test_id, attempts";
+  auto claim = connection_.Prepare(kClaim);
+  internal::BindJobScope(*claim, scope);
+  claim->Bind(10, config);
+  claim->Bind(11, owner);
+  claim->Bind(12, now);
+  claim->Bind(13, lease_seconds);
+  claim->Bind(14, max_jobs);
   std::vector<Job> jobs;
   while (claim->Step())
     jobs.push_back({JobId{claim->ColumnInt64(0)}, TestId{claim->ColumnInt64(1)}, config,
@@ -92,6 +99,31 @@ std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner,
   transaction.Commit();
   std::sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.id < b.id; });
   return jobs;
+}
+
+std::vector<std::string> Catalogue::ReadLeaseOwners(ConfigId config, const JobScope& scope) {
+  static const std::string kOwners =
+      "WITH " + ScopeCte() +
+      " SELECT DISTINCT lease_owner FROM jobs WHERE config_id = ?10 AND state = 'running' "
+      "AND test_id IN (SELECT test_id FROM scope) ORDER BY lease_owner";
+  auto select = connection_.Prepare(kOwners);
+  internal::BindJobScope(*select, scope);
+  select->Bind(10, config);
+  std::vector<std::string> owners;
+  while (select->Step()) owners.push_back(select->ColumnText(0));
+  return owners;
+}
+
+std::int64_t Catalogue::ReleaseLeases(ConfigId config, const std::string& owner) {
+  Transaction transaction(connection_);
+  auto release = connection_.Prepare(
+      "UPDATE jobs SET state = 'queued', lease_owner = NULL, lease_expires_at = NULL, started_at = NULL "
+      "WHERE config_id = ?1 AND state = 'running' AND lease_owner = ?2");
+  release->BindAll(config, owner);
+  release->Execute();
+  const std::int64_t released = connection_.Changes();
+  transaction.Commit();
+  return released;
 }
 
 bool Catalogue::RenewLease(JobId job, const std::string& owner, double lease_seconds) {

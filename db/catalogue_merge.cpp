@@ -114,6 +114,23 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
           "WHERE NOT EXISTS (SELECT 1 FROM main.raw_channels AS x WHERE x.test_id = mt.id)")
       ->Execute();
 
+  {
+    // A result of the same test and config with other values is a conflict
+    // (a deterministic computation on the same input and config cannot
+    // disagree with itself): refuse rather than let the newer one win.
+    const std::string shard_values = "(r.solver, " + internal::SummaryColumnList("r.") + ")";
+    const std::string main_values = "(mr.solver, " + internal::SummaryColumnList("mr.") + ")";
+    auto conflict = connection_.Prepare(
+        "SELECT st.external_id, mc.name FROM shard.results AS r "
+        "JOIN shard.tests AS st ON st.id = r.test_id JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
+        "JOIN shard.configs AS sc ON sc.id = r.config_id JOIN main.configs AS mc ON mc.config_hash = "
+        "sc.config_hash "
+        "JOIN main.results AS mr ON mr.test_id = mt.id AND mr.config_id = mc.id WHERE " +
+        shard_values + " IS NOT " + main_values + " ORDER BY st.external_id LIMIT 1");
+    if (conflict->Step())
+      throw InputError("test '" + conflict->ColumnText(0) + "' has a result for config '" + conflict->ColumnText(1) +
+                       "' in shard '" + shard_path + "' that differs from the catalogue's result.");
+  }
   connection_.Execute("DROP TABLE IF EXISTS temp.merge_take");
   connection_.Execute(kCreateTakeTable);
   for (const char* table : {"results", "findings", "derived_channels"})

@@ -265,5 +265,33 @@ TEST_F(JobsTest, ClaimsOnlyTheRequestedConfig) {
   EXPECT_THAT(std::vector<ConfigId>({jobs[0].config_id, jobs[1].config_id}), ElementsAre(a, a));
 }
 
+TEST_F(JobsTest, ClaimsStayInTheirScopeAndReleasedLeasesAreClaimableAtOnce) {
+  Catalogue catalogue = OpenCatalogue();
+  AddTests(catalogue, 6);  // variants A: t000, t002, t004; B: t001, t003, t005
+  const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+  EXPECT_EQ(catalogue.EnqueueMissing(config), 6);
+
+  JobScope variant_b;
+  variant_b.tests.variant = "B";
+  const auto b_jobs = catalogue.ClaimJobs(config, "dead", 10, 600.0, variant_b);
+  ASSERT_EQ(b_jobs.size(), 3u);
+  for (const Job& job : b_jobs) EXPECT_EQ(catalogue.ReadTest(job.test_id).variant, "B");
+  EXPECT_TRUE(catalogue.ClaimJobs(config, "alive", 10, 600.0, variant_b).empty()) << "leases hold";
+  JobScope one;
+  one.tests.external_ids = {"t002"};
+  const auto a_jobs = catalogue.ClaimJobs(config, "alive", 10, 600.0, one);
+  ASSERT_EQ(a_jobs.size(), 1u);
+
+  EXPECT_THAT(catalogue.ReadLeaseOwners(config), ElementsAre("alive", "dead"));
+  EXPECT_THAT(catalogue.ReadLeaseOwners(config, variant_b), ElementsAre("dead"));
+  EXPECT_EQ(catalogue.ReleaseLeases(config, "dead"), 3);
+  EXPECT_THAT(catalogue.ReadLeaseOwners(config), ElementsAre("alive"));
+  EXPECT_FALSE(catalogue.CompleteJob(b_jobs[0].id, "dead")) << "the released lease is gone";
+  const auto reclaimed = catalogue.ClaimJobs(config, "alive", 10, 600.0, variant_b);
+  ASSERT_EQ(reclaimed.size(), 3u);
+  for (const Job& job : reclaimed) EXPECT_EQ(job.attempts, 2) << "the released claim stays counted";
+  EXPECT_EQ(catalogue.ReadStatusCounts(config).pending, 2);
+}
+
 }  // namespace
 }  // namespace napkin::db

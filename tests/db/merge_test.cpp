@@ -180,5 +180,31 @@ TEST_F(MergeTest, ConflictingTestIdsAndForeignFilesAreRefused) {
   EXPECT_EQ(main.ReadAllTests().size(), 7u);
 }
 
+TEST_F(MergeTest, ADifferentResultForTheSameTestAndConfigIsRefused) {
+  const std::string shard0 = ProcessShard(0, 2);
+  Catalogue::Open(main_path_).MergeShard(shard0);  // closing checkpoints the WAL
+  // The same shard processed again elsewhere gives the same values: merging
+  // it is no conflict.
+  const std::string again = dir_ / "again.db";
+  std::filesystem::copy_file(main_path_, again);
+  {
+    Catalogue copy = Catalogue::Open(again);
+    const ConfigId config = *copy.FindConfigByHash(testing::DefaultConfig().config_hash);
+    // Shard 0 of 2 holds the keys 2, 4, 6: t1, t3 (failed) and t5.
+    const TestId t1 = *copy.FindTestByExternalId("t1");
+    const engine::Kinematics kinematics = *copy.ReadKinematics(t1, config);
+    engine::TestSummary summary = *copy.ReadSummary(t1, config);
+    copy.WriteResult(t1, config, summary, "exact", &kinematics);
+    summary.hic15.value += 1e-9;  // t5 is another story
+    copy.WriteResult(*copy.FindTestByExternalId("t5"), config, summary, "exact", &kinematics);
+  }
+  Catalogue main = Catalogue::Open(main_path_);
+  const std::string before = main.Dump();
+  EXPECT_THAT([&] { main.MergeShard(again); },
+              ThrowsMessage<InputError>(StrEq("test 't5' has a result for config 'default' in shard '" + again +
+                                              "' that differs from the catalogue's result.")));
+  EXPECT_EQ(main.Dump(), before);
+}
+
 }  // namespace
 }  // namespace napkin::db

@@ -1,0 +1,183 @@
+// napkin_catalogue_io: the two measurements bench/run_throughput.sh needs
+// besides `napkin run` itself.
+//
+//   napkin_catalogue_io io-baseline DB [--batch N]
+//     Does everything `napkin run` does to the catalogue except computing:
+//     enqueue, claim under a lease, read each test's record, array and raw
+//     channels, write a result row and 36 derived channels of the test's
+//     length (the values are the raw samples repeated: SQLite does not care),
+//     complete the job, N tests per transaction. Prints the wall time: what
+//     SQLite alone needs for the run's inputs and outputs.
+//
+//   napkin_catalogue_io verify DB [--sample N] [--seed S] [--config NAME]
+//     Recomputes N random tests (all with N = 0) with the transform core on
+//     the stored inputs and compares the stored kinematics and summary with
+//     it bit for bit. Exit 1 on any difference.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "db/catalogue.h"
+#include "engine/error.h"
+#include "engine/pipeline.h"
+#include "formats/array_json.h"
+#include "formats/content_hash.h"
+#include "formats/processing_config_json.h"
+
+namespace {
+
+using namespace napkin;
+using SteadyClock = std::chrono::steady_clock;
+
+double Seconds(SteadyClock::time_point start) {
+  return std::chrono::duration<double>(SteadyClock::now() - start).count();
+}
+
+db::ConfigRecord ConfigRecordFor(const engine::ProcessingConfig& config, const std::string& name) {
+  db::ConfigRecord record;
+  record.name = name;
+  record.config_json = formats::CanonicalProcessingConfig(config);
+  record.config_hash = formats::Sha256Hex(record.config_json);
+  return record;
+}
+
+engine::ProcessingConfig LoadConfig(const std::string& name) {
+  return formats::ReadProcessingConfig(formats::ResolvePreset(name, "processing"));
+}
+
+int IoBaseline(const std::string& path, int batch) {
+  const auto start = SteadyClock::now();
+  db::Catalogue catalogue = db::Catalogue::Open(path);
+  // A config of its own, so the catalogue's real results are not touched.
+  engine::ProcessingConfig config;
+  config.filter.padding_s = 0.0123456;
+  const db::ConfigId config_id = catalogue.WriteConfig(ConfigRecordFor(config, "io-baseline"));
+  catalogue.EnqueueMissing(config_id);
+  const std::string owner = "io-baseline";
+  std::int64_t tests = 0, samples = 0, bytes_written = 0;
+  double read_s = 0, write_s = 0;
+  for (;;) {
+    const auto jobs = catalogue.ClaimJobs(config_id, owner, batch, 600.0);
+    if (jobs.empty()) break;
+    struct Output {
+      db::Job job;
+      engine::Kinematics kinematics;
+    };
+    std::vector<Output> outputs;
+    const auto read_start = SteadyClock::now();
+    for (const db::Job& job : jobs) {
+      const db::TestRecord test = catalogue.ReadTest(job.test_id);
+      catalogue.ReadArray(test.array_id);
+      const engine::TestSignals signals = catalogue.ReadTestSignals(job.test_id);
+      samples += signals.samples.size();
+      Output output{job, {}};
+      const Eigen::Index n = signals.size();
+      output.kinematics.Resize(n);
+      output.kinematics.time_s = Eigen::VectorXd::LinSpaced(n, signals.t0_s, signals.TimeAt(n - 1));
+      for (engine::Series3* series :
+           {&output.kinematics.omega_body, &output.kinematics.alpha_body, &output.kinematics.omega_fixed,
+            &output.kinematics.alpha_fixed, &output.kinematics.acc_body, &output.kinematics.acc_fixed,
+            &output.kinematics.vel_fixed, &output.kinematics.pos_fixed, &output.kinematics.roll_pitch_yaw_rad,
+            &output.kinematics.dcos_rad})
+        *series = signals.samples.leftCols(3);
+      output.kinematics.quat_fixed_from_body = signals.samples.leftCols(4);
+      output.kinematics.residual = signals.samples.col(0);
+      bytes_written += 36 * 8 * n;
+      outputs.push_back(std::move(output));
+    }
+    read_s += Seconds(read_start);
+    const auto write_start = SteadyClock::now();
+    db::Transaction transaction = catalogue.BeginTransaction();
+    for (const Output& output : outputs) {
+      engine::TestSummary summary;
+      summary.hic15.value = static_cast<double>(output.job.test_id);
+      catalogue.WriteResult(output.job.test_id, config_id, summary, "exact", &output.kinematics);
+      catalogue.CompleteJob(output.job.id, owner);
+    }
+    transaction.Commit();
+    write_s += Seconds(write_start);
+    tests += static_cast<std::int64_t>(jobs.size());
+  }
+  const double wall = Seconds(start);
+  fmt::print("io-baseline: {} tests, {} input samples read, {:.0f} MB of derived channels written\n", tests, samples,
+             bytes_written / 1e6);
+  fmt::print("io-baseline: wall {:.2f} s (read {:.2f} s, write+commit {:.2f} s)\n", wall, read_s, write_s);
+  fmt::print("io_baseline_wall_s={:.3f}\n", wall);
+  return 0;
+}
+
+bool Same(const engine::Kinematics& a, const engine::Kinematics& b) {
+  return a.time_s == b.time_s && a.omega_body == b.omega_body && a.alpha_body == b.alpha_body &&
+         a.omega_fixed == b.omega_fixed && a.alpha_fixed == b.alpha_fixed && a.acc_body == b.acc_body &&
+         a.acc_fixed == b.acc_fixed && a.vel_fixed == b.vel_fixed && a.pos_fixed == b.pos_fixed &&
+         a.quat_fixed_from_body == b.quat_fixed_from_body && a.roll_pitch_yaw_rad == b.roll_pitch_yaw_rad &&
+         a.dcos_rad == b.dcos_rad && a.residual == b.residual;
+}
+
+bool Same(const engine::TestSummary& a, const engine::TestSummary& b) {
+  return a.hic15.value == b.hic15.value && a.hic15.t1_s == b.hic15.t1_s && a.hic15.t2_s == b.hic15.t2_s &&
+         a.hic36.value == b.hic36.value && a.hic.value == b.hic.value && a.peak_acc_g == b.peak_acc_g &&
+         a.a3ms_g == b.a3ms_g && a.peak_omega_body_radps == b.peak_omega_body_radps &&
+         a.peak_alpha_radps2 == b.peak_alpha_radps2 && a.bric == b.bric && a.damage == b.damage &&
+         a.final_quat_wxyz == b.final_quat_wxyz && a.final_pos_fixed_m == b.final_pos_fixed_m &&
+         a.max_rotation_deg == b.max_rotation_deg && a.max_residual_mps2 == b.max_residual_mps2;
+}
+
+int Verify(const std::string& path, std::size_t sample, std::uint64_t seed, const std::string& config_name) {
+  db::CatalogueOptions options;
+  options.read_only = true;
+  db::Catalogue catalogue = db::Catalogue::Open(path, options);
+  const engine::ProcessingConfig config = LoadConfig(config_name);
+  const auto config_id = catalogue.FindConfigByHash(ConfigRecordFor(config, config_name).config_hash);
+  if (!config_id) throw InputError("config '" + config_name + "' has no results in '" + path + "'.");
+  std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+  if (sample > 0 && sample < tests.size()) {
+    std::mt19937_64 random(seed);
+    std::shuffle(tests.begin(), tests.end(), random);
+    tests.resize(sample);
+  }
+  int equal = 0, different = 0;
+  for (const db::TestRecord& test : tests) {
+    const engine::ArrayGeometry array =
+        formats::ParseArrayJson(nlohmann::json::parse(catalogue.ReadArray(test.array_id).definition_json), "array");
+    const engine::ProcessedTest expected =
+        engine::ProcessTest(array, catalogue.ReadTestSignals(test.id), test.initial_state, config);
+    const auto kinematics = catalogue.ReadKinematics(test.id, *config_id);
+    const auto summary = catalogue.ReadSummary(test.id, *config_id);
+    if (kinematics && summary && Same(*kinematics, expected.kinematics) && Same(*summary, expected.summary)) {
+      ++equal;
+    } else {
+      ++different;
+      fmt::print("verify: test '{}' differs from the transform core\n", test.external_id);
+    }
+  }
+  fmt::print("verify: {} of {} tests equal the transform core bit for bit\n", equal, equal + different);
+  return different == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  auto option = [&](const std::string& name, const std::string& fallback) {
+    const auto found = std::find(args.begin(), args.end(), name);
+    return found != args.end() && found + 1 != args.end() ? *(found + 1) : fallback;
+  };
+  try {
+    if (args.size() >= 2 && args[0] == "io-baseline") return IoBaseline(args[1], std::stoi(option("--batch", "16")));
+    if (args.size() >= 2 && args[0] == "verify")
+      return Verify(args[1], std::stoul(option("--sample", "20")), std::stoull(option("--seed", "1")),
+                    option("--config", "default"));
+  } catch (const std::exception& error) {
+    fmt::print(stderr, "napkin_catalogue_io: {}\n", error.what());
+    return 1;
+  }
+  fmt::print(stderr, "usage: napkin_catalogue_io io-baseline DB [--batch N] | verify DB [--sample N] [--seed S]\n");
+  return 2;
+}

@@ -1,0 +1,30 @@
+#include "cli/array_record.h"
+
+#include <nlohmann/json.hpp>
+
+#include "engine/error.h"
+#include "formats/array_json.h"
+#include "formats/content_hash.h"
+
+namespace napkin::cli {
+
+db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array) {
+  db::ArrayRecord record;
+  record.name = array.name;
+  record.definition_json = formats::ArrayToJson(array, "m").dump();
+  record.definition_hash = formats::Sha256Hex(record.definition_json);
+  return record;
+}
+
+engine::ArrayGeometry DecodeArrayRecord(const db::ArrayRecord& record) {
+  const std::string source = "array '" + record.name + "' of the catalogue";
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(record.definition_json);
+  } catch (const nlohmann::json::parse_error&) {
+    throw InputError(source + " is not valid JSON.");
+  }
+  return formats::ParseArrayJson(json, source);
+}
+
+}  // namespace napkin::cli

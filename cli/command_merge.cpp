@@ -1,0 +1,50 @@
+// `napkin merge SHARD.db...`: merge the shard catalogues of `run --shard I/N`
+// (processed on other machines) into the --db catalogue.
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "cli/catalogue_access.h"
+#include "cli/command.h"
+#include "engine/error.h"
+
+namespace napkin::cli {
+namespace {
+
+class MergeCommand : public Command {
+ public:
+  CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
+    global_ = &global;
+    CLI::App* sub = app.add_subcommand("merge", "merge shard catalogues produced by `run --shard` into --db");
+    sub->add_option("shards", shards_, "shard catalogue files")->required();
+    return sub;
+  }
+
+  int Run() override {
+    namespace fs = std::filesystem;
+    for (const std::string& shard : shards_) {
+      std::error_code error;
+      if (fs::exists(global_->db_path) && fs::equivalent(shard, global_->db_path, error))
+        throw InputError("shard '" + shard + "' is the catalogue itself; merge other files into --db.");
+    }
+    db::Catalogue catalogue = OpenCatalogue(*global_);
+    // Each shard is merged in one transaction; a refused shard (conflict)
+    // leaves the catalogue as the previous shards made it.
+    for (const std::string& shard : shards_) {
+      const db::MergeReport report = catalogue.MergeShard(shard);
+      fmt::print("{}: {} tests added, {} results merged, {} failures merged\n", shard, report.tests_added,
+                 report.results_merged, report.failures_merged);
+    }
+    return kExitOk;
+  }
+
+ private:
+  const GlobalOptions* global_ = nullptr;
+  std::vector<std::string> shards_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeMergeCommand() { return std::make_unique<MergeCommand>(); }
+
+}  // namespace napkin::cli

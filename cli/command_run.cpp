@@ -1,0 +1,177 @@
+// `napkin run`: process every test whose results are missing, failed or stale
+// for the processing config, in parallel, resumably (jobs/scheduler.h).
+#include <fmt/core.h>
+#include <signal.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "cli/array_record.h"
+#include "cli/catalogue_access.h"
+#include "cli/command.h"
+#include "engine/error.h"
+#include "jobs/scheduler.h"
+
+namespace napkin::cli {
+namespace {
+
+// Set by SIGINT/SIGTERM; the scheduler stops claiming, commits the tests in
+// flight and returns. A second signal kills as usual (SA_RESETHAND).
+std::atomic<bool> g_stop_requested{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+extern "C" void RequestStop(int) { g_stop_requested.store(true); }
+
+void InstallStopHandlers() {
+  struct sigaction action {};
+  action.sa_handler = RequestStop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// "I/N" with 0 <= I < N.
+std::optional<db::Shard> ParseShard(const std::string& text) {
+  const auto slash = text.find('/');
+  if (slash == std::string::npos) return std::nullopt;
+  db::Shard shard;
+  auto parse = [](std::string_view digits, int& value) {
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    return error == std::errc() && end == digits.data() + digits.size() && !digits.empty();
+  };
+  const std::string_view view(text);
+  if (!parse(view.substr(0, slash), shard.index) || !parse(view.substr(slash + 1), shard.count)) return std::nullopt;
+  if (shard.count < 1 || shard.index < 0 || shard.index >= shard.count) return std::nullopt;
+  return shard;
+}
+
+std::string FormatDuration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  const long total = std::lround(seconds);
+  if (total >= 3600) return fmt::format("{}:{:02d}:{:02d}", total / 3600, (total / 60) % 60, total % 60);
+  return fmt::format("{}:{:02d}", total / 60, total % 60);
+}
+
+// Progress: a rewritten line on a terminal, a log line every 10 s otherwise.
+class ProgressReporter {
+ public:
+  explicit ProgressReporter(bool quiet) : quiet_(quiet), terminal_(isatty(STDERR_FILENO) == 1) {}
+
+  void operator()(const jobs::RunProgress& progress) {
+    if (quiet_) return;
+    const std::int64_t processed = progress.done + progress.failed;
+    const double rate = progress.elapsed_s > 0 ? processed / progress.elapsed_s : 0.0;
+    const double eta = rate > 0 ? static_cast<double>(std::max<std::int64_t>(progress.total - processed, 0)) / rate
+                                : NAN;
+    if (terminal_) {
+      fmt::print(stderr, "\r{}/{} tests ({} failed)  {:.1f} tests/s  ETA {}   ", processed, progress.total,
+                 progress.failed, rate, FormatDuration(eta));
+      std::fflush(stderr);
+      line_open_ = true;
+    } else if (progress.elapsed_s - last_log_s_ >= 10.0 || processed >= progress.total) {
+      last_log_s_ = progress.elapsed_s;
+      spdlog::info("progress: {}/{} tests, {} failed, {:.2f} tests/s, ETA {}", processed, progress.total,
+                   progress.failed, rate, FormatDuration(eta));
+    }
+  }
+
+  void Finish() {
+    if (line_open_) fmt::print(stderr, "\n");
+    line_open_ = false;
+  }
+
+ private:
+  bool quiet_;
+  bool terminal_;
+  bool line_open_ = false;
+  double last_log_s_ = 0.0;
+};
+
+class RunCommand : public Command {
+ public:
+  CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
+    global_ = &global;
+    CLI::App* sub =
+        app.add_subcommand("run", "process every test whose results are missing or stale for the config; resumable");
+    sub->add_option("--series", series_, "only the tests of this series");
+    sub->add_option("--test", test_ids_, "only this test (repeatable)");
+    sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
+    sub->add_option("--threads", options_.threads, "worker threads (default: all cores)")
+        ->check(CLI::PositiveNumber);
+    sub->add_flag("--force", options_.force, "recompute tests whose results are up to date");
+    sub->add_option("--shard", shard_, "process shard I of N (0 <= I < N) of the tests: I/N")
+        ->check([](const std::string& text) {
+          return ParseShard(text) ? std::string() : std::string("--shard takes I/N with 0 <= I < N, e.g. 0/3");
+        });
+    return sub;
+  }
+
+  int Run() override {
+    if (!series_.empty()) options_.scope.tests.series = series_;
+    options_.scope.tests.external_ids = test_ids_;
+    if (!shard_.empty()) options_.scope.shard = ParseShard(shard_);
+    CheckScope();
+
+    const ResolvedConfig resolved = ResolveConfig(config_);
+    jobs::RunProcessing processing{resolved.config, resolved.record, DecodeArrayRecord};
+    InstallStopHandlers();
+    ProgressReporter reporter(global_->quiet);
+    const jobs::RunReport report = jobs::RunScheduler(
+        global_->db_path, processing, options_, [&](const jobs::RunProgress& progress) { reporter(progress); },
+        &g_stop_requested);
+    reporter.Finish();
+
+    const double processed = static_cast<double>(report.done + report.failed);
+    if (!global_->quiet)
+      spdlog::info(
+          "{} tests done, {} failed, {} up to date; {:.1f} s, {:.2f} tests/s, {:.3g} samples/s (reading {:.1f} s, "
+          "computing {:.1f} s over {} threads, writing {:.1f} s)",
+          report.done, report.failed, report.skipped, report.wall_s,
+          report.wall_s > 0 ? processed / report.wall_s : 0.0,
+          report.wall_s > 0 ? static_cast<double>(report.samples) / report.wall_s : 0.0, report.read_s,
+          report.compute_s, report.threads, report.write_s);
+    if (report.stopped) {
+      std::cerr << "napkin: run stopped by a signal after committing the tests in flight; run it again to "
+                   "process the rest.\n";
+      return kExitFailure;
+    }
+    if (report.failed > 0) {
+      std::cerr << "napkin: " << report.failed << " tests failed; `napkin status` lists them with the reasons.\n";
+      return kExitPartial;
+    }
+    return kExitOk;
+  }
+
+ private:
+  // Named series and tests must exist: a typo must not look like "nothing to do".
+  void CheckScope() {
+    if (!std::filesystem::exists(global_->db_path))
+      throw InputError("catalogue '" + global_->db_path +
+                       "' does not exist; create it with `napkin init`, `napkin import` or `napkin synth`.");
+    db::Catalogue catalogue = OpenCatalogue(*global_);
+    if (!series_.empty() && !catalogue.ReadSeries(series_))
+      throw InputError("series '" + series_ + "' is not in catalogue '" + global_->db_path + "'.");
+    for (const std::string& id : test_ids_)
+      if (!catalogue.ExistsTestByExternalId(id))
+        throw InputError("test '" + id + "' is not in catalogue '" + global_->db_path + "'.");
+  }
+
+  const GlobalOptions* global_ = nullptr;
+  jobs::RunOptions options_;
+  std::string series_;
+  std::vector<std::string> test_ids_;
+  std::string config_;
+  std::string shard_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeRunCommand() { return std::make_unique<RunCommand>(); }
+
+}  // namespace napkin::cli

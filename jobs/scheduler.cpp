@@ -1,0 +1,543 @@
+#include "jobs/scheduler.h"
+
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_pipeline.h>
+#include <signal.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "engine/error.h"
+#include "engine/pipeline.h"
+
+namespace napkin::jobs {
+
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+double SecondsSince(SteadyClock::time_point start) {
+  return std::chrono::duration<double>(SteadyClock::now() - start).count();
+}
+
+const char* SolverName(engine::SolverKind kind) { return kind == engine::SolverKind::kSeed ? "seed" : "exact"; }
+
+std::string HostName() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "localhost";
+  return name;
+}
+
+// Owner ids of the schedulers running in this process: an owner with our
+// pid that is not among them belonged to a dead process whose pid was reused.
+class LiveOwners {
+ public:
+  static LiveOwners& Get() {
+    static LiveOwners owners;
+    return owners;
+  }
+  void Add(const std::string& owner) {
+    std::lock_guard lock(mutex_);
+    owners_.insert(owner);
+  }
+  void Remove(const std::string& owner) {
+    std::lock_guard lock(mutex_);
+    owners_.erase(owner);
+  }
+  bool Contains(const std::string& owner) const {
+    std::lock_guard lock(mutex_);
+    return owners_.count(owner) > 0;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::set<std::string> owners_;
+};
+
+// Registers an owner id for the life of a scheduler.
+class LiveOwnerScope {
+ public:
+  explicit LiveOwnerScope(std::string owner) : owner_(std::move(owner)) { LiveOwners::Get().Add(owner_); }
+  ~LiveOwnerScope() { LiveOwners::Get().Remove(owner_); }
+  LiveOwnerScope(const LiveOwnerScope&) = delete;
+  LiveOwnerScope& operator=(const LiveOwnerScope&) = delete;
+
+ private:
+  std::string owner_;
+};
+
+// One test on its way through the pipeline.
+struct WorkItem {
+  db::Job job;
+  std::string external_id;
+  std::shared_ptr<const engine::ArrayGeometry> array;
+  engine::TestSignals signals;
+  engine::InitialState initial;
+  engine::ProcessedTest processed;
+  std::optional<std::string> error;  // the failure sentence, if the test failed
+  std::int64_t samples = 0;
+};
+using ItemPtr = std::unique_ptr<WorkItem>;
+
+// Jobs this run holds leases on and has not committed yet.
+class LeaseBook {
+ public:
+  void Add(db::JobId job) {
+    std::lock_guard lock(mutex_);
+    jobs_.insert(job);
+  }
+  void Remove(db::JobId job) {
+    std::lock_guard lock(mutex_);
+    jobs_.erase(job);
+  }
+  std::vector<db::JobId> Snapshot() const {
+    std::lock_guard lock(mutex_);
+    return {jobs_.begin(), jobs_.end()};
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::set<db::JobId> jobs_;
+};
+
+// Renews the leases in a LeaseBook every lease_s / 4 on its own connection,
+// so a test that computes for long does not lose its job to another worker.
+class Heartbeat {
+ public:
+  Heartbeat(std::string db_path, db::CatalogueOptions catalogue_options, const LeaseBook& book, std::string owner,
+            double lease_s)
+      : db_path_(std::move(db_path)),
+        catalogue_options_(std::move(catalogue_options)),
+        book_(book),
+        owner_(std::move(owner)),
+        lease_s_(lease_s),
+        thread_([this] { Loop(); }) {}
+  ~Heartbeat() {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+  Heartbeat(const Heartbeat&) = delete;
+  Heartbeat& operator=(const Heartbeat&) = delete;
+
+ private:
+  void Loop() {
+    try {
+      std::optional<db::Catalogue> catalogue;
+      const auto period = std::chrono::duration<double>(lease_s_ / 4.0);
+      std::unique_lock lock(mutex_);
+      while (!wake_.wait_for(lock, period, [this] { return stopping_; })) {
+        lock.unlock();
+        if (!catalogue) catalogue.emplace(db::Catalogue::Open(db_path_, catalogue_options_));
+        // A job committed between the snapshot and its renewal is simply
+        // not renewed (RenewLease is false for a job no longer running).
+        for (const db::JobId job : book_.Snapshot()) catalogue->RenewLease(job, owner_, lease_s_);
+        lock.lock();
+      }
+    } catch (const std::exception& error) {
+      // The run goes on; its leases may then expire and its results be
+      // dropped as lost (never stored twice).
+      spdlog::error("lease renewal stopped: {}", error.what());
+    }
+  }
+
+  std::string db_path_;
+  db::CatalogueOptions catalogue_options_;
+  const LeaseBook& book_;
+  std::string owner_;
+  double lease_s_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::thread thread_;  // last: started after every other member is ready
+};
+
+// Shared counters of the stages.
+struct RunState {
+  std::atomic<int> in_memory{0};
+  std::atomic<int> peak_in_memory{0};
+  void Read() {
+    const int now = ++in_memory;
+    int peak = peak_in_memory.load();
+    while (now > peak && !peak_in_memory.compare_exchange_weak(peak, now)) {
+    }
+  }
+};
+
+// The output stage: commits results in batches, one transaction per batch,
+// each test's rows inside it all-or-nothing (a savepoint).
+class ResultWriter {
+ public:
+  ResultWriter(db::Catalogue& catalogue, db::ConfigId config, std::string solver, std::string owner,
+               const RunOptions& options, LeaseBook& book, RunState& state, RunReport& report,
+               const ProgressCallback& progress, SteadyClock::time_point start)
+      : catalogue_(catalogue),
+        config_(config),
+        solver_(std::move(solver)),
+        owner_(std::move(owner)),
+        options_(options),
+        book_(book),
+        state_(state),
+        report_(report),
+        progress_(progress),
+        start_(start) {}
+
+  void Accept(ItemPtr item) {
+    std::lock_guard lock(mutex_);
+    if (pending_.empty()) oldest_ = SteadyClock::now();
+    pending_.push_back(std::move(item));
+    if (static_cast<int>(pending_.size()) >= options_.commit_batch || SecondsSince(oldest_) >= options_.commit_interval_s)
+      FlushLocked();
+  }
+
+  void Flush() {
+    std::lock_guard lock(mutex_);
+    FlushLocked();
+  }
+
+ private:
+  enum class Outcome { kDone, kFailed, kLost };
+
+  void FlushLocked() {
+    if (pending_.empty()) return;
+    const auto write_start = SteadyClock::now();
+    std::vector<Outcome> outcomes;
+    outcomes.reserve(pending_.size());
+    {
+      db::Transaction batch = catalogue_.BeginTransaction();
+      for (const ItemPtr& item : pending_) {
+        db::Transaction test = catalogue_.BeginTransaction();  // a savepoint: this test's rows or none
+        bool held = false;
+        if (item->error) {
+          if (!item->processed.summary.findings.empty())
+            catalogue_.WriteFindings(item->job.test_id, config_, item->processed.summary.findings);
+          held = catalogue_.FailJob(item->job.id, owner_, *item->error);
+        } else {
+          catalogue_.WriteResult(item->job.test_id, config_, item->processed.summary, solver_,
+                                 options_.store_kinematics ? &item->processed.kinematics : nullptr);
+          held = catalogue_.CompleteJob(item->job.id, owner_);
+        }
+        // Without the lease another worker owns the job now: drop our rows.
+        if (held) test.Commit();
+        outcomes.push_back(!held ? Outcome::kLost : item->error ? Outcome::kFailed : Outcome::kDone);
+      }
+      batch.Commit();
+    }
+    // Counted only once durable.
+    for (std::size_t i = 0; i < pending_.size(); ++i) {
+      const WorkItem& item = *pending_[i];
+      book_.Remove(item.job.id);
+      switch (outcomes[i]) {
+        case Outcome::kDone:
+          ++report_.done;
+          report_.samples += item.samples;
+          break;
+        case Outcome::kFailed:
+          ++report_.failed;
+          report_.samples += item.samples;
+          spdlog::warn("test '{}' failed: {}", item.external_id, *item.error);
+          break;
+        case Outcome::kLost:
+          ++report_.lost;
+          spdlog::warn("test '{}': the job's lease passed to another worker; its result was not stored",
+                       item.external_id);
+          break;
+      }
+    }
+    state_.in_memory -= static_cast<int>(pending_.size());
+    pending_.clear();
+    report_.write_s += SecondsSince(write_start);
+    if (progress_) progress_(RunProgress{report_.total, report_.done, report_.failed, SecondsSince(start_)});
+  }
+
+  db::Catalogue& catalogue_;
+  db::ConfigId config_;
+  std::string solver_;
+  std::string owner_;
+  const RunOptions& options_;
+  LeaseBook& book_;
+  RunState& state_;
+  RunReport& report_;
+  const ProgressCallback& progress_;
+  SteadyClock::time_point start_;
+  std::mutex mutex_;
+  std::vector<ItemPtr> pending_;
+  SteadyClock::time_point oldest_;
+};
+
+// The input stage: claims jobs a few at a time and reads their tests.
+class JobReader {
+ public:
+  JobReader(db::Catalogue& catalogue, db::ConfigId config, std::string owner, const RunOptions& options,
+            const ArrayDecoder& decode_array, LeaseBook& book, RunState& state, ResultWriter& writer,
+            RunReport& report, const std::atomic<bool>* stop)
+      : catalogue_(catalogue),
+        config_(config),
+        owner_(std::move(owner)),
+        options_(options),
+        decode_array_(decode_array),
+        book_(book),
+        state_(state),
+        writer_(writer),
+        report_(report),
+        stop_(stop) {}
+
+  ItemPtr Next(tbb::flow_control& control) {
+    if (Stopping() || (claimed_.empty() && !Claim())) {
+      control.stop();
+      return nullptr;
+    }
+    const auto read_start = SteadyClock::now();
+    auto item = std::make_unique<WorkItem>();
+    item->job = claimed_.front();
+    claimed_.pop_front();
+    const db::TestRecord test = catalogue_.ReadTest(item->job.test_id);
+    item->external_id = test.external_id;
+    item->initial = test.initial_state;
+    item->signals = catalogue_.ReadTestSignals(item->job.test_id);
+    item->samples = static_cast<std::int64_t>(item->signals.samples.size());
+    try {
+      item->array = Array(test.array_id);
+    } catch (const InputError& error) {
+      item->error = error.what();
+    }
+    state_.Read();
+    report_.read_s += SecondsSince(read_start);
+    return item;
+  }
+
+  bool stopped() const { return stopped_; }
+
+ private:
+  bool Stopping() {
+    if (stop_ != nullptr && stop_->load()) stopped_ = true;
+    return stopped_;
+  }
+
+  // Claims the next jobs; while none is claimable but other workers still
+  // hold jobs in scope, waits for them (their jobs come back if they die).
+  // False when nothing is left (or a stop was requested).
+  bool Claim() {
+    while (!Stopping()) {
+      const auto jobs = catalogue_.ClaimJobs(config_, owner_, options_.claim_batch, options_.lease_s, options_.scope);
+      if (!jobs.empty()) {
+        for (const db::Job& job : jobs) {
+          book_.Add(job.id);
+          claimed_.push_back(job);
+        }
+        return true;
+      }
+      bool others_working = false;
+      bool released = false;
+      for (const std::string& owner : catalogue_.ReadLeaseOwners(config_, options_.scope)) {
+        if (owner == owner_) continue;  // our own tests in flight
+        if (IsDeadLocalOwner(owner)) {
+          const std::int64_t count = catalogue_.ReleaseLeases(config_, owner);
+          spdlog::warn("worker {} is gone: {} of its jobs go back to the queue", owner, count);
+          report_.reclaimed += count;
+          released = released || count > 0;
+        } else {
+          others_working = true;
+        }
+      }
+      if (released) continue;
+      if (!others_working) return false;
+      // Nothing to compute here for a while: make our finished results
+      // durable rather than keep them waiting for the next batch.
+      writer_.Flush();
+      const auto wait_start = SteadyClock::now();
+      while (!Stopping() && SecondsSince(wait_start) < options_.poll_interval_s)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  std::shared_ptr<const engine::ArrayGeometry> Array(db::ArrayId id) {
+    auto found = arrays_.find(id);
+    if (found == arrays_.end()) {
+      CachedArray cached;
+      try {
+        cached.geometry = std::make_shared<const engine::ArrayGeometry>(decode_array_(catalogue_.ReadArray(id)));
+      } catch (const InputError& error) {
+        cached.error = error.what();
+      }
+      found = arrays_.emplace(id, std::move(cached)).first;
+    }
+    if (!found->second.error.empty()) throw InputError(found->second.error);
+    return found->second.geometry;
+  }
+
+  struct CachedArray {
+    std::shared_ptr<const engine::ArrayGeometry> geometry;
+    std::string error;  // the array's decoding error, if any
+  };
+
+  db::Catalogue& catalogue_;
+  db::ConfigId config_;
+  std::string owner_;
+  const RunOptions& options_;
+  const ArrayDecoder& decode_array_;
+  LeaseBook& book_;
+  RunState& state_;
+  ResultWriter& writer_;
+  RunReport& report_;
+  const std::atomic<bool>* stop_;
+  std::deque<db::Job> claimed_;
+  std::map<db::ArrayId, CachedArray> arrays_;
+  bool stopped_ = false;
+};
+
+// The compute stage: the transform core, failures turned into records.
+void Compute(WorkItem& item, const engine::ProcessingConfig& config, std::atomic<double>& compute_s) {
+  if (item.error) return;  // failed while reading
+  const auto start = SteadyClock::now();
+  try {
+    item.processed = engine::ProcessTest(*item.array, item.signals, item.initial, config);
+    // Screening errors fail the test (PRODUCT.md: automated data screening);
+    // its findings are stored with the failure.
+    for (const engine::Finding& finding : item.processed.summary.findings)
+      if (finding.severity == engine::Severity::kError) {
+        item.error = finding.detail;
+        break;
+      }
+  } catch (const InputError& error) {
+    item.error = error.what();
+  } catch (const std::exception& error) {
+    // Not bad data but a failure all the same: record it and go on.
+    item.error = std::string("processing failed: ") + error.what();
+  }
+  item.signals = {};  // the raw samples are not needed any more: free them before the write
+  double seconds = SecondsSince(start);
+  double total = compute_s.load();
+  while (!compute_s.compare_exchange_weak(total, total + seconds)) {
+  }
+}
+
+}  // namespace
+
+void RunOptions::Check() const {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("RunOptions: ") + what);
+  };
+  require(threads >= 0, "threads must be >= 0 (0 = all cores)");
+  require(tests_in_flight_per_thread >= 1, "tests_in_flight_per_thread must be >= 1");
+  require(claim_batch >= 1, "claim_batch must be >= 1");
+  require(commit_batch >= 1, "commit_batch must be >= 1");
+  require(commit_interval_s > 0.0, "commit_interval_s must be positive");
+  require(lease_s > 0.0, "lease_s must be positive");
+  require(poll_interval_s > 0.0, "poll_interval_s must be positive");
+}
+
+std::string MakeOwnerId() {
+  std::random_device device;
+  std::mt19937_64 generator((static_cast<std::uint64_t>(device()) << 32) ^ device());
+  char suffix[17];
+  std::snprintf(suffix, sizeof suffix, "%016llx", static_cast<unsigned long long>(generator()));
+  return HostName() + ":" + std::to_string(getpid()) + ":" + suffix;
+}
+
+bool IsDeadLocalOwner(const std::string& owner) {
+  const auto last = owner.rfind(':');
+  if (last == std::string::npos || last == 0) return false;
+  const auto middle = owner.rfind(':', last - 1);
+  if (middle == std::string::npos) return false;
+  if (owner.substr(0, middle) != HostName()) return false;
+  const std::string pid_text = owner.substr(middle + 1, last - middle - 1);
+  if (pid_text.empty() || !std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return false;
+  const long pid = std::stol(pid_text);
+  if (pid <= 0) return false;
+  if (pid == getpid()) return !LiveOwners::Get().Contains(owner);
+  return kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
+RunReport RunScheduler(const std::string& db_path, const RunProcessing& processing, const RunOptions& options,
+                       const ProgressCallback& progress, const std::atomic<bool>* stop) {
+  options.Check();
+  processing.config.Check();
+  if (!processing.decode_array) throw std::invalid_argument("RunScheduler: decode_array is not set");
+  const auto start = SteadyClock::now();
+
+  RunReport report;
+  report.owner = MakeOwnerId();
+  const LiveOwnerScope live_owner(report.owner);
+  report.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  report.max_tests_in_flight = report.threads * options.tests_in_flight_per_thread;
+
+  db::CatalogueOptions catalogue_options;
+  catalogue_options.durable = options.durable;
+  db::Catalogue reader_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  report.config = reader_catalogue.WriteConfig(processing.record);
+  reader_catalogue.EnqueueMissing(report.config, options.scope, options.force);
+  {
+    const db::StatusCounts counts = reader_catalogue.ReadStatusCounts(report.config, options.scope);
+    report.total = counts.pending + counts.running;
+    report.skipped = counts.done;
+  }
+  spdlog::info("run {}: config '{}' ({}), {} tests to process, {} up to date, {} threads", report.owner,
+               processing.record.name, processing.record.config_hash.substr(0, 12), report.total, report.skipped,
+               report.threads);
+
+  db::Catalogue writer_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  LeaseBook book;
+  RunState state;
+  std::atomic<double> compute_s{0.0};
+  ResultWriter writer(writer_catalogue, report.config, SolverName(processing.config.solver), report.owner, options,
+                      book, state, report, progress, start);
+  JobReader reader(reader_catalogue, report.config, report.owner, options, processing.decode_array, book, state,
+                   writer, report, stop);
+  try {
+    Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(report.threads));
+    tbb::parallel_pipeline(
+        static_cast<std::size_t>(report.max_tests_in_flight),
+        tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order,
+                                        [&](tbb::flow_control& control) { return reader.Next(control); }) &
+            tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel,
+                                               [&](ItemPtr item) {
+                                                 Compute(*item, processing.config, compute_s);
+                                                 return item;
+                                               }) &
+            tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_in_order,
+                                            [&](ItemPtr item) { writer.Accept(std::move(item)); }));
+    writer.Flush();
+  } catch (...) {
+    // Give our jobs back so another run need not wait for the leases.
+    try {
+      reader_catalogue.ReleaseLeases(report.config, report.owner);
+    } catch (const std::exception& error) {
+      spdlog::error("could not release the leases of {}: {}", report.owner, error.what());
+    }
+    throw;
+  }
+  // Jobs claimed but never started (a stop) go back to the queue.
+  report.released = reader_catalogue.ReleaseLeases(report.config, report.owner);
+  report.stopped = reader.stopped();
+  report.peak_tests_in_memory = state.peak_in_memory.load();
+  report.compute_s = compute_s.load();
+  report.wall_s = SecondsSince(start);
+  spdlog::info("run {}: {} done, {} failed, {} lost, {} released in {:.1f} s", report.owner, report.done,
+               report.failed, report.lost, report.released, report.wall_s);
+  return report;
+}
+
+}  // namespace napkin::jobs

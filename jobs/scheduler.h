@@ -1,0 +1,109 @@
+#pragma once
+// The batch scheduler (PRODUCT.md "Catalogue and batch"): claims the jobs of
+// one processing config from the catalogue, runs the transform core
+// (engine::ProcessTest) on them in parallel with oneTBB and stores the
+// results back, so that an interrupted or crashed run can simply be started
+// again.
+//
+// Shape: a tbb::parallel_pipeline with a bounded number of tests in flight,
+//   serial input   — its own catalogue connection: claims a few jobs at a
+//                    time under a lease, reads each test's signals, array and
+//                    initial state;
+//   parallel       — engine::ProcessTest; an InputError (bad data) or a
+//                    screening error becomes the test's failure record;
+//   serial output  — its own connection: commits results in batches (ONE
+//                    transaction per batch; each test's result row, findings,
+//                    derived channels and job state together or not at all).
+// A heartbeat thread (third connection) renews the leases of claimed jobs.
+//
+// Guarantees: SIGKILL at any moment loses at most the uncommitted batch (the
+// leases of the dead process expire, or are released at once by the next run
+// on the same host, which sees the process is gone); a job is completed only
+// by the lease holder, so concurrent runs on one file never store a test
+// twice; a stop request ends claiming, drains the tests in flight, commits
+// them and returns the leases of jobs claimed but not started.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "db/catalogue.h"
+#include "engine/array_geometry.h"
+#include "engine/processing.h"
+
+namespace napkin::jobs {
+
+struct RunOptions {
+  db::JobScope scope;              // tests to process (--series, --test, --shard); empty: all
+  bool force = false;              // --force: recompute tests whose results are up to date
+  int threads = 0;                 // --threads: worker threads; 0 = all cores
+  int tests_in_flight_per_thread = 2;  // pipeline tokens per thread: bounds memory
+  int claim_batch = 4;             // jobs claimed per claim transaction
+  int commit_batch = 16;           // tests per result transaction
+  double commit_interval_s = 1.0;  // ... or fewer when the oldest uncommitted result is this old
+  double lease_s = 120.0;          // job lease; renewed every lease_s / 4 while the job is in flight
+  double poll_interval_s = 0.5;    // wait between claims while other workers hold the remaining jobs
+  bool store_kinematics = true;    // store derived channels (the exports need them)
+  bool durable = true;             // synchronous=FULL commits
+
+  // Throws std::invalid_argument naming the field out of range.
+  void Check() const;
+};
+
+// Turns a catalogue array record into a geometry (formats::ParseArrayJson in
+// the CLI; jobs/ depends on engine and db only). Throws InputError.
+using ArrayDecoder = std::function<engine::ArrayGeometry(const db::ArrayRecord&)>;
+
+// The processing configuration of a run.
+struct RunProcessing {
+  engine::ProcessingConfig config;
+  db::ConfigRecord record;  // name, canonical JSON and its hash (identifies the results)
+  ArrayDecoder decode_array;
+};
+
+struct RunProgress {
+  std::int64_t total = 0;   // jobs to process when the run started
+  std::int64_t done = 0;    // stored by this run so far
+  std::int64_t failed = 0;  // recorded as failed by this run so far
+  double elapsed_s = 0.0;
+};
+// Called after every committed batch, from a scheduler thread.
+using ProgressCallback = std::function<void(const RunProgress&)>;
+
+struct RunReport {
+  std::string owner;             // this run's lease owner id (host:pid:random)
+  db::ConfigId config{};         // the config's catalogue key
+  std::int64_t total = 0;        // jobs to process when the run started
+  std::int64_t skipped = 0;      // tests in scope already up to date
+  std::int64_t done = 0;         // results stored
+  std::int64_t failed = 0;       // failures recorded
+  std::int64_t lost = 0;         // results dropped because the lease had passed to another worker
+  std::int64_t released = 0;     // jobs claimed but not started (stop), returned to the queue
+  std::int64_t reclaimed = 0;    // jobs of dead local workers returned to the queue
+  std::int64_t samples = 0;      // input samples (rows x channels) of the processed tests
+  int threads = 0;
+  int max_tests_in_flight = 0;   // pipeline tokens
+  int peak_tests_in_memory = 0;  // tests read and not yet committed, at most
+  bool stopped = false;          // ended by the stop flag
+  double wall_s = 0.0;
+  double read_s = 0.0;     // reading inputs (input filter)
+  double compute_s = 0.0;  // ProcessTest, summed over threads
+  double write_s = 0.0;    // result transactions
+};
+
+// Processes every test in `options.scope` whose result for `processing` is
+// missing, failed or (with force) present; see the file comment. `stop` (set
+// by a signal handler) ends the run after the tests in flight. Throws
+// InputError for a catalogue that cannot be opened, db::DatabaseError when
+// the catalogue fails during the run (its leases are released first).
+RunReport RunScheduler(const std::string& db_path, const RunProcessing& processing, const RunOptions& options,
+                       const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr);
+
+// "host:pid:random": unique per scheduler, readable in the jobs table.
+std::string MakeOwnerId();
+// True when `owner` (a MakeOwnerId value) names a process on this host that
+// no longer exists (or this process's pid, reused, with an owner id that no
+// scheduler of this process holds), so its leases can be released at once.
+bool IsDeadLocalOwner(const std::string& owner);
+
+}  // namespace napkin::jobs

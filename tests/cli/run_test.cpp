@@ -1,0 +1,288 @@
+// End-to-end tests of `napkin synth`, `run`, `status` and `merge` with the
+// binary: SIGKILL at random moments, concurrent runs, shards + merge, the
+// status JSON contract, equality with `napkin transform`.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <thread>
+
+#include "db/catalogue.h"
+#include "formats/csv.h"
+#include "tests/cli/cli_test_helpers.h"
+#include "tests/support/test_support.h"
+
+namespace napkin {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using testing::CliResult;
+using testing::RunNapkin;
+
+// Three numbers as "a,b,c", each with 17 significant digits (exact round trip).
+std::string Triple(const Eigen::Vector3d& v) {
+  char text[128];
+  std::snprintf(text, sizeof text, "%.17g,%.17g,%.17g", v[0], v[1], v[2]);
+  return text;
+}
+
+std::int64_t Scalar(db::Catalogue& catalogue, const std::string& sql) {
+  auto select = catalogue.connection().Prepare(sql);
+  select->Step();
+  return select->ColumnInt64(0);
+}
+
+// No partial results: every result row has its 36 derived channels and a
+// done job, every done job has its result, and no test has two results.
+void ExpectConsistent(const std::string& path, const std::string& when) {
+  db::Catalogue catalogue = db::Catalogue::Open(path);
+  const std::int64_t results = Scalar(catalogue, "SELECT count(*) FROM results");
+  EXPECT_EQ(results, Scalar(catalogue, "SELECT count(DISTINCT test_id) FROM results")) << when;
+  EXPECT_EQ(results, Scalar(catalogue, "SELECT count(*) FROM jobs WHERE state = 'done'")) << when;
+  EXPECT_EQ(0, Scalar(catalogue,
+                      "SELECT count(*) FROM results AS r WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE "
+                      "j.test_id = r.test_id AND j.config_id = r.config_id AND j.state = 'done')"))
+      << when;
+  EXPECT_EQ(results * 36, Scalar(catalogue, "SELECT count(*) FROM derived_channels")) << when;
+  EXPECT_EQ(0, Scalar(catalogue,
+                      "SELECT count(*) FROM (SELECT test_id, config_id, count(*) AS n FROM derived_channels "
+                      "GROUP BY test_id, config_id) AS d WHERE d.n <> 36 OR NOT EXISTS (SELECT 1 FROM results AS r "
+                      "WHERE r.test_id = d.test_id AND r.config_id = d.config_id)"))
+      << when;
+}
+
+class RunCliTest : public ::testing::Test {
+ protected:
+  CliResult Napkin(std::vector<std::string> args, const std::string& db) {
+    args.insert(args.begin(), {"--db", db});
+    return RunNapkin(args, dir_.path());
+  }
+  void Synth(const std::string& db, int count, int samples) {
+    const CliResult synth = Napkin({"synth", "--scenario", "random", "--count", std::to_string(count), "--samples",
+                                    std::to_string(samples)},
+                                   db);
+    ASSERT_EQ(synth.exit_code, 0) << synth.err;
+  }
+  nlohmann::json Status(const std::string& db) {
+    const CliResult status = Napkin({"status", "--format", "json"}, db);
+    EXPECT_EQ(status.exit_code, 0) << status.err;
+    return nlohmann::json::parse(status.out);
+  }
+
+  napkin::testing::TempDir dir_;
+};
+
+TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
+  const std::string db = dir_ / "kill.db";
+  Synth(db, 200, 2000);
+  // Kill moments: after a random number (0-25) of further committed results
+  // plus a random 0-30 ms, so the kills land in start-up, claiming,
+  // computing and committing whatever the build's speed (ASan included).
+  std::mt19937 random(20240501);
+  std::uniform_int_distribution<int> more_results(0, 25);
+  std::uniform_int_distribution<int> extra_ms(0, 30);
+  db::Catalogue watcher = db::Catalogue::Open(db);
+  int kills = 0;
+  for (int round = 0; round < 6; ++round) {
+    const std::int64_t target = Scalar(watcher, "SELECT count(*) FROM results") + more_results(random);
+    const pid_t pid = testing::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
+                                           dir_ / "run.err");
+    int status = 0;
+    bool finished = false;
+    const auto start = std::chrono::steady_clock::now();
+    while (Scalar(watcher, "SELECT count(*) FROM results") < target &&
+           std::chrono::steady_clock::now() - start < std::chrono::seconds(120)) {
+      if (waitpid(pid, &status, WNOHANG) != 0) {
+        finished = true;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(extra_ms(random)));
+    if (!finished && waitpid(pid, &status, WNOHANG) == 0) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      ++kills;
+    } else {
+      ADD_FAILURE() << "run finished before the kill (round " << round << ")";
+      break;
+    }
+    std::printf("kill %d: %lld results committed (target %lld)\n", kills,
+                static_cast<long long>(Scalar(watcher, "SELECT count(*) FROM results")), static_cast<long long>(target));
+    ExpectConsistent(db, "after kill " + std::to_string(kills));
+  }
+  EXPECT_GE(kills, 5);
+  const nlohmann::json before = Status(db);
+  EXPECT_GT(before["done"].get<int>(), 0) << "the killed runs committed batches";
+  EXPECT_LT(before["done"].get<int>(), 200);
+
+  const CliResult rerun = Napkin({"run", "--threads", "2"}, db);
+  EXPECT_EQ(rerun.exit_code, 0) << rerun.err;
+  ExpectConsistent(db, "after the rerun");
+  const nlohmann::json after = Status(db);
+  EXPECT_EQ(after["tests"], 200);
+  EXPECT_EQ(after["done"], 200);
+  EXPECT_EQ(after["pending"], 0);
+  EXPECT_EQ(after["running"], 0);
+  EXPECT_EQ(after["failed"], 0);
+  db::Catalogue catalogue = db::Catalogue::Open(db);
+  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM results"), 200);
+  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM derived_channels"), 200 * 36);
+}
+
+TEST_F(RunCliTest, TwoConcurrentRunsProcessEachTestExactlyOnce) {
+  const std::string db = dir_ / "concurrent.db";
+  Synth(db, 120, 1000);
+  const pid_t a = testing::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
+  const pid_t b = testing::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
+  EXPECT_EQ(testing::WaitNapkin(a), 0) << testing::ReadText(dir_ / "a.err");
+  EXPECT_EQ(testing::WaitNapkin(b), 0) << testing::ReadText(dir_ / "b.err");
+  db::Catalogue catalogue = db::Catalogue::Open(db);
+  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM jobs"), 120);
+  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM jobs WHERE attempts = 1 AND state = 'done'"), 120)
+      << "every test claimed once";
+  EXPECT_EQ(Scalar(catalogue, "SELECT count(DISTINCT lease_owner) FROM jobs"), 2) << "both runs worked";
+  ExpectConsistent(db, "after two concurrent runs");
+}
+
+TEST_F(RunCliTest, ShardsOnCopiesMergedEqualOneUnshardedRun) {
+  const std::string base = dir_ / "base.db";
+  Synth(base, 30, 1000);
+  const std::string whole = dir_ / "whole.db";
+  fs::copy_file(base, whole);
+  ASSERT_EQ(Napkin({"run", "--threads", "2"}, whole).exit_code, 0);
+  std::vector<std::string> merge_args = {"merge"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string shard = dir_ / ("shard" + std::to_string(i) + ".db");
+    fs::copy_file(base, shard);
+    const CliResult run = Napkin({"run", "--threads", "2", "--shard", std::to_string(i) + "/3"}, shard);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const nlohmann::json status = Status(shard);
+    EXPECT_EQ(status["done"], 10) << "keys 1..30 split evenly";
+    merge_args.push_back(shard);
+  }
+  const std::string merged = dir_ / "merged.db";
+  const CliResult merge = Napkin(merge_args, merged);
+  ASSERT_EQ(merge.exit_code, 0) << merge.err;
+  EXPECT_EQ(Status(merged), Status(whole));
+
+  db::Catalogue a = db::Catalogue::Open(whole);
+  db::Catalogue b = db::Catalogue::Open(merged);
+  for (const db::QueryKind kind :
+       {db::QueryKind::kTests, db::QueryKind::kHic, db::QueryKind::kRotation, db::QueryKind::kCriteria,
+        db::QueryKind::kQuality}) {
+    const db::Table ta = a.Query(kind), tb = b.Query(kind);
+    EXPECT_EQ(ta.columns, tb.columns);
+    if (kind != db::QueryKind::kQuality) {  // quality: one row per finding
+      EXPECT_EQ(ta.rows.size(), 30u);
+    }
+    EXPECT_EQ(ta.rows, tb.rows) << "query kind " << static_cast<int>(kind);
+  }
+  const db::ConfigId config_a = *a.ReadLatestResultConfig(*a.FindTestByExternalId("random-0001"));
+  const db::ConfigId config_b = *b.ReadLatestResultConfig(*b.FindTestByExternalId("random-0001"));
+  for (const db::TestRecord& test : a.ReadAllTests()) {
+    const auto ka = a.ReadKinematics(test.id, config_a);
+    const auto kb = b.ReadKinematics(*b.FindTestByExternalId(test.external_id), config_b);
+    ASSERT_TRUE(ka && kb) << test.external_id;
+    EXPECT_EQ(ka->omega_fixed, kb->omega_fixed) << test.external_id;
+    EXPECT_EQ(ka->quat_fixed_from_body, kb->quat_fixed_from_body) << test.external_id;
+    EXPECT_EQ(ka->pos_fixed, kb->pos_fixed) << test.external_id;
+  }
+  // Merging a shard again changes nothing.
+  const std::string before = b.Dump();
+  ASSERT_EQ(Napkin({"merge", dir_ / "shard1.db"}, merged).exit_code, 0);
+  EXPECT_EQ(b.Dump(), before);
+}
+
+TEST_F(RunCliTest, FailuresExitThreeAndStatusJsonFollowsTheContract) {
+  const std::string db = dir_ / "status.db";
+  Synth(db, 3, 500);
+  // A crop that leaves no sample fails every test.
+  const fs::path config = dir_ / "late.json";
+  std::ofstream(config) << R"({"name": "late", "time": {"shift_s": 0.0, "start_s": 5.0, "end_s": null}})";
+  const CliResult run = Napkin({"run", "--config", config.string()}, db);
+  EXPECT_EQ(run.exit_code, 3) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("3 tests failed"));
+
+  const CliResult status = Napkin({"status", "--config", config.string(), "--format", "json"}, db);
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const auto json = nlohmann::ordered_json::parse(status.out);
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : json.items()) keys.push_back(key);
+  EXPECT_THAT(keys, ElementsAre("tests", "done", "failed", "pending", "running", "failures"));
+  EXPECT_EQ(json["tests"], 3);
+  EXPECT_EQ(json["done"], 0);
+  EXPECT_EQ(json["failed"], 3);
+  EXPECT_EQ(json["pending"], 0);
+  EXPECT_EQ(json["running"], 0);
+  ASSERT_EQ(json["failures"].size(), 3u);
+  std::vector<std::string> failure_keys;
+  for (const auto& [key, value] : json["failures"][0].items()) failure_keys.push_back(key);
+  EXPECT_THAT(failure_keys, ElementsAre("test_id", "error"));
+  EXPECT_EQ(json["failures"][0]["test_id"], "random-0001");
+  EXPECT_FALSE(json["failures"][0]["error"].get<std::string>().empty());
+
+  // The default config has not run yet: everything is pending for it.
+  const nlohmann::json default_status = Status(db);
+  EXPECT_EQ(default_status["pending"], 3);
+  EXPECT_EQ(default_status["failures"].size(), 0u);
+  const CliResult table = Napkin({"status", "--config", config.string()}, db);
+  EXPECT_THAT(table.out, HasSubstr("random-0003"));
+}
+
+TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
+  const std::string db = dir_ / "transform.db";
+  Synth(db, 3, 1500);
+  ASSERT_EQ(Napkin({"synth", "--scenario", "seed-fixed-axis", "--array", "denton-3222"}, db).exit_code, 0);
+  ASSERT_EQ(Napkin({"run"}, db).exit_code, 0);
+  db::Catalogue catalogue = db::Catalogue::Open(db);
+  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+    const fs::path input = dir_ / (test.external_id + ".csv");
+    const fs::path array = dir_ / (test.external_id + ".array.json");
+    formats::WriteSignalsCsv(catalogue.ReadTestSignals(test.id), input);
+    std::ofstream(array) << catalogue.ReadArray(test.array_id).definition_json;
+    const fs::path out = dir_ / (test.external_id + ".derived.csv");
+    const fs::path summary = dir_ / (test.external_id + ".summary.json");
+    const CliResult transform = RunNapkin(
+        {"transform", input.string(), "--array", array.string(), "--orientation=" + Triple(test.initial_state.orientation_rad),
+         "--initial-velocity=" + Triple(test.initial_state.velocity_fixed_mps), "--out",
+         out.string(), "--summary", summary.string()},
+        dir_.path());
+    ASSERT_EQ(transform.exit_code, 0) << transform.err;
+
+    const db::ConfigId config = *catalogue.ReadLatestResultConfig(test.id);
+    const fs::path stored = dir_ / (test.external_id + ".stored.csv");
+    formats::WriteDerivedCsv(*catalogue.ReadKinematics(test.id, config), stored);
+    EXPECT_EQ(testing::ReadText(out), testing::ReadText(stored)) << test.external_id;
+    const auto json = nlohmann::json::parse(testing::ReadText(summary));
+    const engine::TestSummary result = *catalogue.ReadSummary(test.id, config);
+    EXPECT_EQ(json["hic15"].get<double>(), result.hic15.value) << test.external_id;
+    EXPECT_EQ(json["hic36"].get<double>(), result.hic36.value) << test.external_id;
+    EXPECT_EQ(json["peak_acc_g"].get<double>(), result.peak_acc_g) << test.external_id;
+    EXPECT_EQ(json["bric"].get<double>(), result.bric) << test.external_id;
+  }
+}
+
+TEST_F(RunCliTest, UnknownTestsAndBadShardsAreRefused) {
+  const std::string db = dir_ / "refuse.db";
+  Synth(db, 2, 300);
+  const CliResult unknown = Napkin({"run", "--test", "nope"}, db);
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_THAT(unknown.err, HasSubstr("test 'nope' is not in catalogue"));
+  EXPECT_EQ(Napkin({"run", "--shard", "3/3"}, db).exit_code, 2);
+  EXPECT_EQ(Napkin({"run", "--shard", "a/b"}, db).exit_code, 2);
+  const CliResult one = Napkin({"run", "--test", "random-0002"}, db);
+  EXPECT_EQ(one.exit_code, 0) << one.err;
+  const nlohmann::json status = Status(db);
+  EXPECT_EQ(status["done"], 1);
+  EXPECT_EQ(status["pending"], 1);
+}
+
+}  // namespace
+}  // namespace napkin
