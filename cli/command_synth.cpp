@@ -174,8 +174,8 @@ class SynthCommand : public Command {
                 {numbered(prefix + "-" + variant.name, r + 1, 2), series, std::string(variant.name), meta});
         }
     }
-    fmt::print("{}: {} synthetic tests added, {} already present (scenario {}, series '{}').\n", global_->db_path,
-               added, present, options_.scenario, series);
+    fmt::print("{}: {} synthetic test{} added, {} already present (scenario {}, series '{}').\n", global_->db_path,
+               added, added == 1 ? "" : "s", present, options_.scenario, series);
     return kExitOk;
   }
 
