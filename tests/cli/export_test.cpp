@@ -4,13 +4,13 @@
 // gives the stored displacement) and LC_FILE; clear errors without results.
 #include <gtest/gtest.h>
 
-#include <array>
 #include <map>
 
 #include "engine/units.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "tests/cli/cli_test_util.h"
+#include "tests/support/lsdyna_keyword.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::cli::test {
@@ -117,55 +117,9 @@ TEST_F(CliExport, IsoMmeExportReimportsAsA6aOmegaTestWithTheStoredChannels) {
   }
 }
 
-double Field(const std::string& line, std::size_t start, std::size_t width) {
-  if (start + width > line.size()) {
-    ADD_FAILURE() << "short card: " << line;
-    return 0.0;
-  }
-  const std::optional<double> value = formats::ParseDouble(line.substr(start, width));
-  EXPECT_TRUE(value) << "field [" << start << ", " << start + width << ") of \"" << line << "\"";
-  return value.value_or(0.0);
-}
-
-struct Keyword {
-  std::map<int, std::vector<std::pair<double, double>>> curves;  // LCID -> points
-  std::vector<std::array<double, 5>> motions;                    // PID, DOF, VAD, LCID, SF
-};
-
-// Fixed-width keyword cards: 10-column fields for the curve header and the
-// motion cards, 20-column fields for the curve points.
-Keyword ParseKeyword(const fs::path& path) {
-  Keyword parsed;
-  std::string keyword;
-  int lcid = 0;
-  bool header_read = false;
-  for (const std::string& line : Lines(ReadText(path))) {
-    if (line.empty() || line[0] == '$') continue;
-    if (line[0] == '*') {
-      keyword = line;
-      header_read = false;
-    } else if (keyword == "*DEFINE_CURVE" && !header_read) {
-      lcid = static_cast<int>(Field(line, 0, 10));
-      header_read = true;
-    } else if (keyword == "*DEFINE_CURVE") {
-      parsed.curves[lcid].emplace_back(Field(line, 0, 20), Field(line, 20, 20));
-    } else if (keyword == "*BOUNDARY_PRESCRIBED_MOTION_RIGID") {
-      std::array<double, 5> card{};
-      for (int f = 0; f < 5; ++f)
-        card[static_cast<std::size_t>(f)] = Field(line, 10 * static_cast<std::size_t>(f), 10);
-      parsed.motions.push_back(card);
-    }
-  }
-  EXPECT_EQ(keyword, "*END");
-  return parsed;
-}
-
-double Trapezoid(const std::vector<std::pair<double, double>>& points) {
-  double integral = 0.0;
-  for (std::size_t i = 1; i < points.size(); ++i)
-    integral += 0.5 * (points[i].second + points[i - 1].second) * (points[i].first - points[i - 1].first);
-  return integral;
-}
+using napkin::testing::ParsedKeyword;
+using napkin::testing::ParseKeyword;
+using napkin::testing::Trapezoid;
 
 TEST_F(CliExport, LsDynaVelocitiesIntegrateToTheStoredDisplacement) {
   const engine::ProcessedTest processed = ProcessAndStore(dir_ / "napkin.db", "e0001");
@@ -176,7 +130,7 @@ TEST_F(CliExport, LsDynaVelocitiesIntegrateToTheStoredDisplacement) {
     const RunResult exported =
         Export({"--format", "lsdyna", "--units", units, "--part", "7", "--out", "head.k"});
     ASSERT_EQ(exported.exit_status, 0) << exported.err;
-    const Keyword parsed = ParseKeyword(dir_ / "head.k");
+    const ParsedKeyword parsed = ParseKeyword(dir_ / "head.k");
     ASSERT_EQ(parsed.curves.size(), 6u);
     const double per_metre = std::string(units) == "si" ? 1.0 : 1.0 / engine::kMetresPerInch;
     const auto first_curve = parsed.curves.begin();

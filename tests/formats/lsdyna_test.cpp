@@ -3,18 +3,21 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <map>
-#include <sstream>
 
 #include "engine/units.h"
 #include "formats/text.h"
 #include "tests/formats/formats_test_util.h"
+#include "tests/support/lsdyna_keyword.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::formats {
 namespace {
 
+using testing::KeywordField;
+using testing::ParsedKeyword;
+using testing::ParseKeyword;
 using testing::TempDir;
+using testing::Trapezoid;
 
 constexpr double kPulse = 0.05;  // s
 constexpr double kPeakVelocity[3] = {3.0, -1.5, 0.75};  // m/s
@@ -37,72 +40,6 @@ engine::Kinematics PulseKinematics(Eigen::Index n, double t0) {
     }
   }
   return k;
-}
-
-double Field(const std::string& line, std::size_t start, std::size_t width) {
-  EXPECT_LE(start + width, line.size()) << line;
-  const std::optional<double> value = ParseDouble(line.substr(start, width));
-  EXPECT_TRUE(value) << "field [" << start << ", " << start + width << ") of \"" << line << "\"";
-  return value.value_or(0.0);
-}
-
-struct ParsedKeyword {
-  std::map<int, std::vector<std::pair<double, double>>> curves;  // LCID -> points
-  std::vector<std::array<double, 8>> motions;                    // BOUNDARY_PRESCRIBED_MOTION_RIGID card 1
-};
-
-// Parses the keyword file as fixed-width cards: 10-column fields for the
-// curve header and motion cards, 20-column fields for the points.
-ParsedKeyword ParseKeyword(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  ParsedKeyword parsed;
-  std::string keyword;
-  int lcid = 0;
-  bool header_read = false;
-  std::getline(in, line);
-  EXPECT_EQ(line, "*KEYWORD");
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '$') continue;
-    EXPECT_LE(line.size(), 80u) << line;
-    if (line[0] == '*') {
-      keyword = line;
-      header_read = false;
-      continue;
-    }
-    if (keyword == "*DEFINE_CURVE") {
-      if (!header_read) {
-        EXPECT_EQ(line.size(), 70u) << line;
-        lcid = static_cast<int>(Field(line, 0, 10));
-        EXPECT_EQ(Field(line, 10, 10), 0.0);   // SIDR
-        EXPECT_EQ(Field(line, 20, 10), 1.0);   // SFA
-        EXPECT_EQ(Field(line, 30, 10), 1.0);   // SFO
-        EXPECT_EQ(Field(line, 40, 10), 0.0);   // OFFA
-        EXPECT_EQ(Field(line, 50, 10), 0.0);   // OFFO
-        EXPECT_EQ(Field(line, 60, 10), 0.0);   // DATTYP
-        header_read = true;
-      } else {
-        EXPECT_EQ(line.size(), 40u) << line;
-        parsed.curves[lcid].emplace_back(Field(line, 0, 20), Field(line, 20, 20));
-      }
-    } else if (keyword == "*BOUNDARY_PRESCRIBED_MOTION_RIGID") {
-      EXPECT_EQ(line.size(), 80u) << line;
-      std::array<double, 8> card{};
-      for (int f = 0; f < 8; ++f) card[f] = Field(line, 10 * f, 10);
-      parsed.motions.push_back(card);
-    } else {
-      ADD_FAILURE() << "unexpected keyword " << keyword;
-    }
-  }
-  EXPECT_EQ(keyword, "*END");
-  return parsed;
-}
-
-double Trapezoid(const std::vector<std::pair<double, double>>& points) {
-  double integral = 0.0;
-  for (std::size_t i = 1; i < points.size(); ++i)
-    integral += 0.5 * (points[i].second + points[i - 1].second) * (points[i].first - points[i - 1].first);
-  return integral;
 }
 
 TEST(LsDynaTest, FixedWidthCardsReproduceTheMotion) {
@@ -164,7 +101,7 @@ TEST(LsDynaTest, LegacyLcFileLayout) {
       EXPECT_EQ(line.substr(13, 3), "   ");
       EXPECT_EQ(line[9], 'E') << line;  // mantissa d.ddd right-aligned, exponent E±dd
       EXPECT_EQ(line[22], 'E') << line;
-      points.emplace_back(Field(line, 3, 10), Field(line, 16, 10));
+      points.emplace_back(KeywordField(line, 3, 10), KeywordField(line, 16, 10));
       // 1pe10.3: four significant digits.
       const double expected = curve < 3 ? k.vel_fixed(j, curve) / 0.0254 : k.omega_fixed(j, curve - 3);
       EXPECT_NEAR(points.back().second, expected, 5e-4 * std::abs(expected) + 1e-30);
