@@ -1,11 +1,9 @@
 #pragma once
 // Helpers of the CLI end-to-end tests: run the napkin binary in a folder and
-// capture its exit status, stdout and stderr; read a catalogue's state; make
-// synthetic tests in every input format.
+// capture its exit status, stdout and stderr (tests/support/run_command.h);
+// read a catalogue's state; make synthetic tests in every input format.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -19,53 +17,28 @@
 #include "engine/synth.h"
 #include "formats/array_json.h"
 #include "formats/text.h"
+#include "tests/support/run_command.h"
 
 namespace napkin::cli::test {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_status = -1;
-  std::string out;
-  std::string err;
-};
-
-inline std::string ShellQuote(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) {
-    if (c == '\'') {
-      quoted += "'\\''";
-    } else {
-      quoted += c;
-    }
-  }
-  return quoted + "'";
-}
-
-inline std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using napkin::testing::ReadText;
+using RunResult = napkin::testing::CommandResult;
 
 inline void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
 
-// Runs `napkin args...` with `dir` as the working directory (stdin closed).
+// Runs `napkin args...` with `dir` as the working directory (stdin from /dev/null).
 inline RunResult RunNapkin(const fs::path& dir, const std::vector<std::string>& args) {
-  const fs::path out = dir / ".napkin.stdout";
-  const fs::path err = dir / ".napkin.stderr";
-  std::string command = "cd " + ShellQuote(dir.string()) + " && " + ShellQuote(NAPKIN_BINARY);
-  for (const std::string& arg : args) command += " " + ShellQuote(arg);
-  command += " </dev/null >" + ShellQuote(out.string()) + " 2>" + ShellQuote(err.string());
-  const int status = std::system(command.c_str());
-  RunResult result;
-  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.out = ReadText(out);
-  result.err = ReadText(err);
-  fs::remove(out);
-  fs::remove(err);
-  return result;
+  return napkin::testing::RunProgram(NAPKIN_BINARY, args, dir);
+}
+
+// Starts `napkin args...` (stdout and stderr to the given files); wait with
+// napkin::testing::WaitProgram.
+inline pid_t StartNapkin(const std::vector<std::string>& args, const fs::path& out_path, const fs::path& err_path) {
+  return napkin::testing::StartProgram(NAPKIN_BINARY, args, out_path, err_path);
 }
 
 inline std::vector<std::string> Lines(const std::string& text) {

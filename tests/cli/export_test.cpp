@@ -21,12 +21,12 @@ class CliExport : public ::testing::Test {
   void SetUp() override {
     synth_ = SynthNapTest(71, 0.1);
     formats::WriteSignalsCsv(synth_.signals, dir_ / "e0001.csv");
-    ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_status, 0);
+    ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_code, 0);
     const RunResult import = RunNapkin(
         dir_.path(), {"import", "--array", "denton-3222", "--series", "sled",
                       TripleFlag("--orientation", synth_.initial.orientation_rad),
                       TripleFlag("--initial-velocity", synth_.initial.velocity_fixed_mps), "e0001.csv"});
-    ASSERT_EQ(import.exit_status, 0) << import.err;
+    ASSERT_EQ(import.exit_code, 0) << import.err;
   }
 
   RunResult Export(std::vector<std::string> args) {
@@ -41,13 +41,13 @@ class CliExport : public ::testing::Test {
 TEST_F(CliExport, ExportedCsvEqualsTransformOfTheSameFile) {
   ProcessAndStore(dir_ / "napkin.db", "e0001");
   const RunResult exported = Export({"--format", "csv", "--out", "exported.csv"});
-  ASSERT_EQ(exported.exit_status, 0) << exported.err;
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
   const RunResult transformed =
       RunNapkin(dir_.path(), {"transform", "--array", "denton-3222",
                               TripleFlag("--orientation", synth_.initial.orientation_rad),
                               TripleFlag("--initial-velocity", synth_.initial.velocity_fixed_mps),
                               "e0001.csv", "--out", "transformed.csv"});
-  ASSERT_EQ(transformed.exit_status, 0) << transformed.err;
+  ASSERT_EQ(transformed.exit_code, 0) << transformed.err;
   const std::string csv = ReadText(dir_ / "exported.csv");
   EXPECT_GT(Lines(csv).size(), 1000u);
   EXPECT_EQ(csv, ReadText(dir_ / "transformed.csv"));  // byte for byte
@@ -57,7 +57,7 @@ TEST_F(CliExport, IsoMmeExportReadsBackAsTheStoredKinematics) {
   const engine::ProcessedTest processed = ProcessAndStore(dir_ / "napkin.db", "e0001");
   const engine::Kinematics& k = processed.kinematics;
   const RunResult exported = Export({"--format", "isomme", "--out", "derived"});
-  ASSERT_EQ(exported.exit_status, 0) << exported.err;
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
   const formats::IsoMmeTest back = formats::ReadIsoMme(dir_ / "derived");
   EXPECT_EQ(back.TestNumber(), "e0001");
   std::map<std::string, const formats::RawChannel*> by_code;
@@ -92,7 +92,7 @@ TEST_F(CliExport, IsoMmeExportReadsBackAsTheStoredKinematics) {
 TEST_F(CliExport, IsoMmeExportReimportsAsA6aOmegaTestWithTheStoredChannels) {
   const engine::ProcessedTest processed = ProcessAndStore(dir_ / "napkin.db", "e0001");
   const engine::Kinematics& k = processed.kinematics;
-  ASSERT_EQ(Export({"--format", "isomme", "--out", "derived"}).exit_status, 0);
+  ASSERT_EQ(Export({"--format", "isomme", "--out", "derived"}).exit_code, 0);
   // The exported body-axis CG acceleration and angular velocity are the
   // channels of a 6a-omega array at the CG.
   WriteText(dir_ / "body.json", R"({"name": "body", "slots": {
@@ -101,7 +101,7 @@ TEST_F(CliExport, IsoMmeExportReimportsAsA6aOmegaTestWithTheStoredChannels) {
       "ars_z": {"code": "11HEADCG0000AVZ?"}}})");
   const RunResult import =
       RunNapkin(dir_.path(), {"import", "--array", "6aw-cg", "--channel-map", "body.json", "derived"});
-  ASSERT_EQ(import.exit_status, 0) << import.err;
+  ASSERT_EQ(import.exit_code, 0) << import.err;
   db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
   const engine::TestSignals back = catalogue.ReadTestSignals(*catalogue.FindTestByExternalId("derived"));
   ASSERT_EQ(back.size(), k.size());
@@ -129,7 +129,7 @@ TEST_F(CliExport, LsDynaVelocitiesIntegrateToTheStoredDisplacement) {
   for (const char* units : {"si", "english"}) {
     const RunResult exported =
         Export({"--format", "lsdyna", "--units", units, "--part", "7", "--out", "head.k"});
-    ASSERT_EQ(exported.exit_status, 0) << exported.err;
+    ASSERT_EQ(exported.exit_code, 0) << exported.err;
     const ParsedKeyword parsed = ParseKeyword(dir_ / "head.k");
     ASSERT_EQ(parsed.curves.size(), 6u);
     const double per_metre = std::string(units) == "si" ? 1.0 : 1.0 / engine::kMetresPerInch;
@@ -156,7 +156,7 @@ TEST_F(CliExport, LsDynaVelocitiesIntegrateToTheStoredDisplacement) {
 TEST_F(CliExport, LcFileHasSixCurvesOfEverySample) {
   const engine::ProcessedTest processed = ProcessAndStore(dir_ / "napkin.db", "e0001");
   const RunResult exported = Export({"--format", "lcfile", "--out", "LC_FILE.DAT"});
-  ASSERT_EQ(exported.exit_status, 0) << exported.err;
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
   int curves = 0;
   for (const std::string& line : Lines(ReadText(dir_ / "LC_FILE.DAT"))) {
     if (line.rfind(" lcd", 0) != 0) continue;
@@ -168,13 +168,13 @@ TEST_F(CliExport, LcFileHasSixCurvesOfEverySample) {
 
 TEST_F(CliExport, WithoutResultsOrForAnUnknownTestItSaysWhatToDo) {
   const RunResult none = Export({"--format", "csv", "--out", "x.csv"});
-  EXPECT_EQ(none.exit_status, 1);
+  EXPECT_EQ(none.exit_code, 1);
   ExpectOneSentenceError(none, {"test 'e0001' has no results yet; run `napkin run` first."});
   EXPECT_FALSE(fs::exists(dir_ / "x.csv"));
 
   const RunResult unknown =
       RunNapkin(dir_.path(), {"export", "--test", "nope", "--format", "csv", "--out", "x.csv"});
-  EXPECT_EQ(unknown.exit_status, 1);
+  EXPECT_EQ(unknown.exit_code, 1);
   ExpectOneSentenceError(unknown, {"'nope'", "napkin.db"});
 
   ProcessAndStore(dir_ / "napkin.db", "e0001");
@@ -182,14 +182,14 @@ TEST_F(CliExport, WithoutResultsOrForAnUnknownTestItSaysWhatToDo) {
   const std::string config_json = R"({"solver": "seed"})";
   WriteText(dir_ / "seed.json", config_json);
   const RunResult other = Export({"--format", "csv", "--config", "seed.json", "--out", "x.csv"});
-  EXPECT_EQ(other.exit_status, 1);
+  EXPECT_EQ(other.exit_code, 1);
   ExpectOneSentenceError(other, {"'e0001'", "no results for config 'seed.json'"});
   // The stored default config is found by its content.
-  EXPECT_EQ(Export({"--format", "csv", "--config", "default", "--out", "x.csv"}).exit_status, 0);
+  EXPECT_EQ(Export({"--format", "csv", "--config", "default", "--out", "x.csv"}).exit_code, 0);
   EXPECT_TRUE(fs::exists(dir_ / "x.csv"));
 
   const RunResult bad_format = Export({"--format", "xlsx", "--out", "x.xlsx"});
-  EXPECT_EQ(bad_format.exit_status, 2);
+  EXPECT_EQ(bad_format.exit_code, 2);
 }
 
 }  // namespace

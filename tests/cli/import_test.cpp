@@ -58,7 +58,7 @@ class CliImport : public ::testing::Test {
  protected:
   void SetUp() override {
     const RunResult init = RunNapkin(dir_.path(), {"init"});
-    ASSERT_EQ(init.exit_status, 0) << init.err;
+    ASSERT_EQ(init.exit_code, 0) << init.err;
   }
 
   RunResult Import(std::vector<std::string> args) {
@@ -104,7 +104,7 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
   const RunResult run = Import({"--series", "roundtrip", "--variant", "none", "--channel-map", "nap-example",
                                 TripleFlag("--orientation", synth.initial.orientation_rad),
                                 TripleFlag("--initial-velocity", synth.initial.velocity_fixed_mps), "tests"});
-  ASSERT_EQ(run.exit_status, 0) << run.err;
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(Lines(run.out).back(), "imported 5 tests, skipped 0 already present.");
   EXPECT_EQ(TestIds(), (std::vector<std::string>{"c0001", "ieee", "m0001", "sun", "vax"}));  // by id
@@ -157,7 +157,7 @@ TEST_F(CliImport, NineUdsFilesWithoutAMapFillTheTable21SlotsAndShareTheirStem) {
   for (int c = 9; c >= 1; --c)
     args.push_back("raw/v0001.00" + std::to_string(c));  // any order on the command line
   const RunResult run = Import(args);
-  ASSERT_EQ(run.exit_status, 0) << run.err;
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(TestIds(), std::vector<std::string>{"v0001"});
   const engine::TestSignals back = SignalsOf("v0001");
   EXPECT_EQ(back.slots, synth.signals.slots);
@@ -169,12 +169,12 @@ TEST_F(CliImport, TestIdOptionNamesASingleTestAndIsAUsageErrorForSeveral) {
   formats::WriteSignalsCsv(synth.signals, dir_ / "a.csv");
   formats::WriteSignalsCsv(SynthNapTest(14).signals, dir_ / "b.csv");
   const RunResult one = Import({"--test-id", "sled-42", "a.csv"});
-  ASSERT_EQ(one.exit_status, 0) << one.err;
+  ASSERT_EQ(one.exit_code, 0) << one.err;
   EXPECT_EQ(TestIds(), std::vector<std::string>{"sled-42"});
 
   const std::string dump = DumpCatalogue(db_path());
   const RunResult two = Import({"--test-id", "sled-43", "a.csv", "b.csv"});
-  EXPECT_EQ(two.exit_status, 2);
+  EXPECT_EQ(two.exit_code, 2);
   ExpectOneSentenceError(two, {"--test-id", "2"});
   EXPECT_EQ(DumpCatalogue(db_path()), dump);
 }
@@ -184,12 +184,12 @@ TEST_F(CliImport, TestIdOptionNamesASingleTestAndIsAUsageErrorForSeveral) {
 TEST_F(CliImport, ImportingTheSameFileTwiceAddsNothingAndSaysSo) {
   formats::WriteSignalsCsv(SynthNapTest(21).signals, dir_ / "v0001.csv");
   const RunResult first = Import({"v0001.csv"});
-  ASSERT_EQ(first.exit_status, 0) << first.err;
+  ASSERT_EQ(first.exit_code, 0) << first.err;
   EXPECT_EQ(first.out, "imported 1 test, skipped 0 already present.\n");
   const std::string dump = DumpCatalogue(db_path());
 
   const RunResult second = Import({"v0001.csv"});
-  EXPECT_EQ(second.exit_status, 0) << second.err;
+  EXPECT_EQ(second.exit_code, 0) << second.err;
   EXPECT_EQ(second.out,
             "v0001: already imported (same content), skipped.\n"
             "imported 0 tests, skipped 1 already present.\n");
@@ -199,7 +199,7 @@ TEST_F(CliImport, ImportingTheSameFileTwiceAddsNothingAndSaysSo) {
   // The same content under another name is the same test, still skipped.
   fs::copy_file(dir_ / "v0001.csv", dir_ / "copy.csv");
   const RunResult copy = Import({"copy.csv"});
-  EXPECT_EQ(copy.exit_status, 0);
+  EXPECT_EQ(copy.exit_code, 0);
   EXPECT_EQ(DumpCatalogue(db_path()), dump);
 
   // Other content under an existing id is refused, naming both sources.
@@ -208,7 +208,7 @@ TEST_F(CliImport, ImportingTheSameFileTwiceAddsNothingAndSaysSo) {
     formats::WriteSignalsCsv(SynthNapTest(22).signals, dir_ / "other" / "v0001.csv");
     return Import({"other/v0001.csv"});
   }();
-  EXPECT_EQ(clash.exit_status, 1);
+  EXPECT_EQ(clash.exit_code, 1);
   ExpectOneSentenceError(clash, {"'v0001'", "other/v0001.csv", "--test-id"});
   EXPECT_EQ(DumpCatalogue(db_path()), dump);
 }
@@ -247,7 +247,7 @@ TEST_F(CliImport, FolderWithABadTestInTheMiddleKeepsTheOthersAndARerunResumes) {
   WriteText(bad, bad_text);
 
   const RunResult first = Import({"--series", "s", "series"});
-  EXPECT_EQ(first.exit_status, 3) << first.err;  // partial success
+  EXPECT_EQ(first.exit_code, 3) << first.err;  // partial success
   ExpectOneSentenceError(first, {"t100.csv", "cg_x"});
   EXPECT_EQ(Lines(first.out).back(), "imported 199 tests, skipped 0 already present, 1 failed.");
   std::vector<std::string> ids = TestIds();
@@ -256,7 +256,7 @@ TEST_F(CliImport, FolderWithABadTestInTheMiddleKeepsTheOthersAndARerunResumes) {
 
   WriteText(bad, good_text);
   const RunResult second = Import({"--series", "s", "series"});
-  EXPECT_EQ(second.exit_status, 0) << second.err;
+  EXPECT_EQ(second.exit_code, 0) << second.err;
   EXPECT_EQ(Lines(second.out).back(), "imported 1 test, skipped 199 already present.");
   ids = TestIds();
   ASSERT_EQ(ids.size(), 200u);
@@ -266,16 +266,10 @@ TEST_F(CliImport, FolderWithABadTestInTheMiddleKeepsTheOthersAndARerunResumes) {
 
 TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt) {
   const auto written = WriteFolderOfTests(dir_ / "series");
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    if (chdir(dir_.path().c_str()) != 0) _exit(127);
-    freopen("/dev/null", "w", stdout);
-    freopen("/dev/null", "w", stderr);
-    execl(NAPKIN_BINARY, NAPKIN_BINARY, "--db", "napkin.db", "import", "--array", "denton-3222", "series",
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
+  const pid_t child = napkin::testing::StartProgram(
+      NAPKIN_BINARY, {"--db", "napkin.db", "import", "--array", "denton-3222", "series"}, "/dev/null", "/dev/null",
+      dir_.path());
+  ASSERT_GT(child, 0);
   // Kill it (SIGKILL: no cleanup at all) once some tests are committed.
   std::size_t seen = 0;
   for (int attempt = 0; attempt < 4000 && seen < 20; ++attempt) {
@@ -305,7 +299,7 @@ TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt)
   RecordProperty("tests_kept_after_kill", static_cast<int>(kept));
 
   const RunResult rerun = Import({"series"});
-  EXPECT_EQ(rerun.exit_status, 0) << rerun.err;
+  EXPECT_EQ(rerun.exit_code, 0) << rerun.err;
   EXPECT_EQ(Lines(rerun.out).back(), "imported " + std::to_string(kFolderTests - kept) + " tests, skipped " +
                                          std::to_string(kept) + " already present.")
       << "(killed after " << kept << " tests)";
@@ -328,7 +322,7 @@ class CliImportBadInput : public CliImport {
     CliImport::SetUp();
     // A catalogue that already holds a test, so "unchanged" is not trivially true.
     formats::WriteSignalsCsv(SynthNapTest(41).signals, dir_ / "good.csv");
-    ASSERT_EQ(Import({"--series", "s", "good.csv"}).exit_status, 0);
+    ASSERT_EQ(Import({"--series", "s", "good.csv"}).exit_code, 0);
     dump_ = DumpCatalogue(db_path());
   }
 
@@ -336,7 +330,7 @@ class CliImportBadInput : public CliImport {
   // leaves the catalogue exactly as it was.
   void ExpectRefused(const std::vector<std::string>& args, std::initializer_list<std::string> fragments) {
     const RunResult run = Import(args);
-    EXPECT_EQ(run.exit_status, 1) << run.out;
+    EXPECT_EQ(run.exit_code, 1) << run.out;
     ExpectOneSentenceError(run, fragments);
     EXPECT_EQ(DumpCatalogue(db_path()), dump_);
   }
@@ -409,7 +403,7 @@ TEST_F(CliImportBadInput, PathThatDoesNotExist) {
 
 TEST_F(CliImportBadInput, UnknownArrayPreset) {
   const RunResult run = RunNapkin(dir_.path(), {"import", "--array", "no-such-array", "good.csv"});
-  EXPECT_EQ(run.exit_status, 1);
+  EXPECT_EQ(run.exit_code, 1);
   ExpectOneSentenceError(run, {"no-such-array"});
   EXPECT_EQ(DumpCatalogue(db_path()), dump_);
 }
@@ -419,7 +413,7 @@ TEST_F(CliImportBadInput, CatalogueThatIsNotSqlite) {
   WriteText(dir_ / "sheet.db", text);
   const RunResult run =
       RunNapkin(dir_.path(), {"--db", "sheet.db", "import", "--array", "denton-3222", "good.csv"});
-  EXPECT_EQ(run.exit_status, 1);
+  EXPECT_EQ(run.exit_code, 1);
   ExpectOneSentenceError(run, {"sheet.db", "not a napkin catalogue"});
   EXPECT_EQ(ReadText(dir_ / "sheet.db"), text);
 }
@@ -428,7 +422,7 @@ TEST_F(CliImportBadInput, ReadOnlyCatalogue) {
   formats::WriteSignalsCsv(SynthNapTest(46).signals, dir_ / "new.csv");
   ASSERT_EQ(chmod(db_path().c_str(), 0444), 0);
   const RunResult run = Import({"new.csv"});
-  EXPECT_EQ(run.exit_status, 1);
+  EXPECT_EQ(run.exit_code, 1);
   ExpectOneSentenceError(run, {"napkin.db", "read-only"});
   EXPECT_EQ(DumpCatalogue(db_path()), dump_);
   chmod(db_path().c_str(), 0644);
@@ -441,11 +435,11 @@ TEST_F(CliImport, CommandLineStringsNeverReachSqlText) {
   const std::string variant = "\"; DELETE FROM series; --";
   formats::WriteSignalsCsv(SynthNapTest(51).signals, dir_ / "inj.csv");
   formats::WriteSignalsCsv(SynthNapTest(52).signals, dir_ / "plain.csv");
-  ASSERT_EQ(Import({"--series", series, "--variant", variant, "inj.csv"}).exit_status, 0);
-  ASSERT_EQ(Import({"--series", "plain", "plain.csv"}).exit_status, 0);
+  ASSERT_EQ(Import({"--series", series, "--variant", variant, "inj.csv"}).exit_code, 0);
+  ASSERT_EQ(Import({"--series", "plain", "plain.csv"}).exit_code, 0);
 
   const RunResult query = RunNapkin(dir_.path(), {"query", "tests", "--series", series, "--format", "json"});
-  ASSERT_EQ(query.exit_status, 0) << query.err;
+  ASSERT_EQ(query.exit_code, 0) << query.err;
   const nlohmann::json rows = nlohmann::json::parse(query.out);
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0]["test_id"], "inj");
@@ -462,7 +456,7 @@ TEST_F(CliImport, TripleOptionsTakeOneArgumentWhereverTheyStand) {
   // A triple followed by the path and then by more options.
   const RunResult run =
       Import({"--orientation", "0.25,-0.5,1e-3", "o.csv", "--initial-velocity=-7,0,2.5", "--series", "s"});
-  ASSERT_EQ(run.exit_status, 0) << run.err;
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   const db::TestRecord test = OpenForReading(db_path()).ReadAllTests().at(0);
   EXPECT_EQ(test.initial_state.orientation_rad, Eigen::Vector3d(0.25, -0.5, 1e-3));
   EXPECT_EQ(test.initial_state.velocity_fixed_mps, Eigen::Vector3d(-7, 0, 2.5));
@@ -471,7 +465,7 @@ TEST_F(CliImport, TripleOptionsTakeOneArgumentWhereverTheyStand) {
   const std::string dump = DumpCatalogue(db_path());
   for (const char* bad : {"1,2", "1,2,3,4", "1,x,3", "1,,3", "nan,0,0"}) {
     const RunResult refused = Import({"--orientation", bad, "o2.csv"});
-    EXPECT_EQ(refused.exit_status, 2) << bad;
+    EXPECT_EQ(refused.exit_code, 2) << bad;
     EXPECT_NE(refused.err.find("--orientation"), std::string::npos) << refused.err;
   }
   EXPECT_EQ(DumpCatalogue(db_path()), dump);

@@ -16,7 +16,7 @@ const int kLatest = static_cast<int>(schema::Migrations().size());
 TEST(CliInit, CreatesThenReportsUpToDateWithoutChangingAnything) {
   napkin::testing::TempDir dir;
   const RunResult created = RunNapkin(dir.path(), {"init"});
-  EXPECT_EQ(created.exit_status, 0) << created.err;
+  EXPECT_EQ(created.exit_code, 0) << created.err;
   EXPECT_EQ(created.out, "created catalogue 'napkin.db' (schema version " + std::to_string(kLatest) + ").\n");
   EXPECT_EQ(created.err, "");
   ASSERT_TRUE(fs::exists(dir / "napkin.db"));
@@ -24,7 +24,7 @@ TEST(CliInit, CreatesThenReportsUpToDateWithoutChangingAnything) {
   const std::string dump = DumpCatalogue(dir / "napkin.db");
 
   const RunResult again = RunNapkin(dir.path(), {"--db", "napkin.db", "init"});
-  EXPECT_EQ(again.exit_status, 0) << again.err;
+  EXPECT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(again.out,
             "catalogue 'napkin.db' is up to date (schema version " + std::to_string(kLatest) + ").\n");
   EXPECT_EQ(DumpCatalogue(dir / "napkin.db"), dump);
@@ -61,7 +61,7 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
   }
 
   const RunResult migrated = RunNapkin(dir.path(), {"--db", "old.db", "init"});
-  EXPECT_EQ(migrated.exit_status, 0) << migrated.err;
+  EXPECT_EQ(migrated.exit_code, 0) << migrated.err;
   EXPECT_EQ(migrated.out,
             "migrated catalogue 'old.db' from schema version 1 to " + std::to_string(kLatest) + ".\n");
 
@@ -79,7 +79,7 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
 
   const std::string dump = catalogue.Dump();
   const RunResult again = RunNapkin(dir.path(), {"--db", "old.db", "init"});
-  EXPECT_EQ(again.exit_status, 0);
+  EXPECT_EQ(again.exit_code, 0);
   EXPECT_EQ(again.out,
             "catalogue 'old.db' is up to date (schema version " + std::to_string(kLatest) + ").\n");
   EXPECT_EQ(DumpCatalogue(path), dump);
@@ -90,7 +90,7 @@ TEST(CliInit, RefusesAFileThatIsNotACatalogueAndLeavesItAlone) {
   const std::string text = "time_s,cg_x\n0,1\n";
   WriteText(dir / "notes.db", text);
   const RunResult run = RunNapkin(dir.path(), {"--db", "notes.db", "init"});
-  EXPECT_EQ(run.exit_status, 1);
+  EXPECT_EQ(run.exit_code, 1);
   ExpectOneSentenceError(run, {"notes.db", "not a napkin catalogue"});
   EXPECT_EQ(ReadText(dir / "notes.db"), text);
 }

@@ -48,7 +48,7 @@ std::vector<std::string> Keys(const nlohmann::ordered_json& object) {
 class CliQuery : public ::testing::Test {
  protected:
   void SetUp() override {
-    ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_status, 0);
+    ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_code, 0);
     // Series "sled": q1 (foam-a), q2 (foam-b); series "drop": q3 (foam-a).
     const std::vector<std::array<std::string, 3>> tests = {
         {"q1", "sled", "foam-a"}, {"q2", "sled", "foam-b"}, {"q3", "drop", "foam-a"}};
@@ -57,7 +57,7 @@ class CliQuery : public ::testing::Test {
       formats::WriteSignalsCsv(SynthNapTest(seed++).signals, dir_ / (id + ".csv"));
       const RunResult run = RunNapkin(dir_.path(), {"import", "--array", "denton-3222", "--series", series,
                                                     "--variant", variant, id + ".csv"});
-      ASSERT_EQ(run.exit_status, 0) << run.err;
+      ASSERT_EQ(run.exit_code, 0) << run.err;
     }
     processed_q1_ = ProcessAndStore(dir_ / "napkin.db", "q1");
     processed_q3_ = ProcessAndStore(dir_ / "napkin.db", "q3");
@@ -67,7 +67,7 @@ class CliQuery : public ::testing::Test {
     args.insert(args.begin(), "query");
     args.insert(args.end(), {"--format", "json"});
     const RunResult run = RunNapkin(dir_.path(), args);
-    EXPECT_EQ(run.exit_status, 0) << run.err;
+    EXPECT_EQ(run.exit_code, 0) << run.err;
     return nlohmann::ordered_json::parse(run.out);
   }
 
@@ -144,7 +144,7 @@ TEST_F(CliQuery, QualityListsFindingsWithTheirFields) {
 
 TEST_F(CliQuery, CsvCarriesExactNumbersAndTableAlignsColumns) {
   const RunResult csv = RunNapkin(dir_.path(), {"query", "hic", "--format", "csv"});
-  ASSERT_EQ(csv.exit_status, 0) << csv.err;
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
   const std::vector<std::string> lines = Lines(csv.out);
   ASSERT_EQ(lines.size(), 3u);
   std::string header;
@@ -154,7 +154,7 @@ TEST_F(CliQuery, CsvCarriesExactNumbersAndTableAlignsColumns) {
   EXPECT_EQ(lines[1].rfind("q1,sled,foam-a," + hic15 + ",", 0), 0u) << lines[1];
 
   const RunResult table = RunNapkin(dir_.path(), {"query", "hic", "--series", "sled"});
-  ASSERT_EQ(table.exit_status, 0) << table.err;
+  ASSERT_EQ(table.exit_code, 0) << table.err;
   const std::vector<std::string> rows = Lines(table.out);
   ASSERT_EQ(rows.size(), 3u);  // header, rule, q1
   // Columns: the rule's dash runs; the header names and values line up with them.
@@ -179,11 +179,11 @@ TEST_F(CliQuery, CsvCarriesExactNumbersAndTableAlignsColumns) {
 
 TEST_F(CliQuery, MissingCatalogueOrUnknownTableIsRefused) {
   const RunResult missing = RunNapkin(dir_.path(), {"--db", "other.db", "query", "tests"});
-  EXPECT_EQ(missing.exit_status, 1);
+  EXPECT_EQ(missing.exit_code, 1);
   ExpectOneSentenceError(missing, {"other.db"});
   EXPECT_FALSE(fs::exists(dir_ / "other.db"));
-  EXPECT_EQ(RunNapkin(dir_.path(), {"query", "everything"}).exit_status, 2);
-  EXPECT_EQ(RunNapkin(dir_.path(), {"query", "hic", "--format", "xml"}).exit_status, 2);
+  EXPECT_EQ(RunNapkin(dir_.path(), {"query", "everything"}).exit_code, 2);
+  EXPECT_EQ(RunNapkin(dir_.path(), {"query", "hic", "--format", "xml"}).exit_code, 2);
 }
 
 TEST(TableOutput, NullsQuotingAndNonFiniteNumbers) {

@@ -13,7 +13,7 @@
 
 #include "db/catalogue.h"
 #include "formats/csv.h"
-#include "tests/cli/cli_test_helpers.h"
+#include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
 namespace napkin {
@@ -22,8 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-using testing::CliResult;
-using testing::RunNapkin;
+using CliResult = testing::CommandResult;
 
 // Three numbers as "a,b,c", each with 17 significant digits (exact round trip).
 std::string Triple(const Eigen::Vector3d& v) {
@@ -61,7 +60,7 @@ class RunCliTest : public ::testing::Test {
  protected:
   CliResult Napkin(std::vector<std::string> args, const std::string& db) {
     args.insert(args.begin(), {"--db", db});
-    return RunNapkin(args, dir_.path());
+    return cli::test::RunNapkin(dir_.path(), args);
   }
   void Synth(const std::string& db, int count, int samples) {
     const CliResult synth = Napkin({"synth", "--scenario", "random", "--count", std::to_string(count), "--samples",
@@ -91,7 +90,7 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
   int kills = 0;
   for (int round = 0; round < 6; ++round) {
     const std::int64_t target = Scalar(watcher, "SELECT count(*) FROM results") + more_results(random);
-    const pid_t pid = testing::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
+    const pid_t pid = cli::test::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
                                            dir_ / "run.err");
     int status = 0;
     bool finished = false;
@@ -139,10 +138,10 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
 TEST_F(RunCliTest, TwoConcurrentRunsProcessEachTestExactlyOnce) {
   const std::string db = dir_ / "concurrent.db";
   Synth(db, 120, 1000);
-  const pid_t a = testing::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
-  const pid_t b = testing::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
-  EXPECT_EQ(testing::WaitNapkin(a), 0) << testing::ReadText(dir_ / "a.err");
-  EXPECT_EQ(testing::WaitNapkin(b), 0) << testing::ReadText(dir_ / "b.err");
+  const pid_t a = cli::test::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
+  const pid_t b = cli::test::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
+  EXPECT_EQ(testing::WaitProgram(a), 0) << testing::ReadText(dir_ / "a.err");
+  EXPECT_EQ(testing::WaitProgram(b), 0) << testing::ReadText(dir_ / "b.err");
   db::Catalogue catalogue = db::Catalogue::Open(db);
   EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM jobs"), 120);
   EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM jobs WHERE attempts = 1 AND state = 'done'"), 120)
@@ -249,11 +248,11 @@ TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
     std::ofstream(array) << catalogue.ReadArray(test.array_id).definition_json;
     const fs::path out = dir_ / (test.external_id + ".derived.csv");
     const fs::path summary = dir_ / (test.external_id + ".summary.json");
-    const CliResult transform = RunNapkin(
+    const CliResult transform = cli::test::RunNapkin(
+        dir_.path(),
         {"transform", input.string(), "--array", array.string(), "--orientation=" + Triple(test.initial_state.orientation_rad),
          "--initial-velocity=" + Triple(test.initial_state.velocity_fixed_mps), "--out",
-         out.string(), "--summary", summary.string()},
-        dir_.path());
+         out.string(), "--summary", summary.string()});
     ASSERT_EQ(transform.exit_code, 0) << transform.err;
 
     const db::ConfigId config = *catalogue.ReadLatestResultConfig(test.id);

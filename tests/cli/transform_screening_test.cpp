@@ -1,7 +1,6 @@
 // `napkin transform --summary` end to end (issue 3): the summary carries HIC,
 // BrIC, DAMAGE and the screening findings (`quality`) of the input file.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -15,22 +14,13 @@
 #include "engine/units.h"
 #include "formats/csv.h"
 #include "tests/support/reference_arrays.h"
+#include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
 
 namespace napkin {
 namespace {
 
-struct RunResult {
-  int exit_code = -1;
-  std::string stderr_text;
-};
-
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 std::string Triple(const Eigen::Vector3d& v) {
   char text[128];
@@ -39,19 +29,12 @@ std::string Triple(const Eigen::Vector3d& v) {
 }
 
 // Runs `napkin transform` on `input` with the test's initial state.
-RunResult Transform(const testing::TempDir& dir, const engine::SyntheticTest& test, const std::string& input,
-                    const std::string& array = "denton-3222") {
-  const std::filesystem::path err = dir / "stderr.txt";
-  const std::string command = std::string("\"") + NAPKIN_BINARY + "\" transform --array " + array + " --orientation=" +
-                              Triple(test.initial.orientation_rad) + " --initial-velocity=" +
-                              Triple(test.initial.velocity_fixed_mps) + " --out \"" + (dir / "out.csv").string() +
-                              "\" --summary \"" + (dir / "s.json").string() + "\" \"" + input + "\" 2> \"" +
-                              err.string() + "\"";
-  const int status = std::system(command.c_str());
-  RunResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.stderr_text = ReadText(err);
-  return result;
+testing::CommandResult Transform(const testing::TempDir& dir, const engine::SyntheticTest& test,
+                                 const std::string& input, const std::string& array = "denton-3222") {
+  return testing::RunProgram(NAPKIN_BINARY, {"transform", "--array", array,
+                                             "--orientation=" + Triple(test.initial.orientation_rad),
+                                             "--initial-velocity=" + Triple(test.initial.velocity_fixed_mps), "--out",
+                                             (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
 }
 
 double TrueHic15(const engine::SyntheticTest& test) {
@@ -71,8 +54,8 @@ TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
   testing::TempDir dir;
   const engine::SyntheticTest test = Motion();
   formats::WriteSignalsCsv(test.signals, dir / "clean.csv");
-  const RunResult run = Transform(dir, test, (dir / "clean.csv").string());
-  ASSERT_EQ(run.exit_code, 0) << run.stderr_text;
+  const testing::CommandResult run = Transform(dir, test, (dir / "clean.csv").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
   EXPECT_NEAR(summary.at("hic15").get<double>(), TrueHic15(test), 0.001 * TrueHic15(test));
   EXPECT_GT(summary.at("bric").get<double>(), 0.0);
@@ -92,8 +75,8 @@ TEST(TransformScreening, SummaryNamesTheSpikedAndTheClippedChannel) {
   const double clip = 0.8 * clipped.cwiseAbs().maxCoeff();
   clipped = clipped.cwiseMax(-clip).cwiseMin(clip);
   formats::WriteSignalsCsv(test.signals, dir / "faulty.csv");
-  const RunResult run = Transform(dir, test, (dir / "faulty.csv").string());
-  ASSERT_EQ(run.exit_code, 0) << run.stderr_text;
+  const testing::CommandResult run = Transform(dir, test, (dir / "faulty.csv").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
   for (const char* key : {"hic15", "hic15_t1_s", "bric", "damage", "peak_omega_radps"})
     EXPECT_TRUE(summary.at(key).is_number()) << key;
@@ -122,13 +105,13 @@ TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
   engine::SyntheticTest test = Motion();
   test.signals.samples.col(test.signals.FindSlot("zarm_x")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
-  const RunResult run = Transform(dir, test, (dir / "flipped.csv").string());
+  const testing::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string());
   // The linear-only solve of this motion diverges with zarm_x flipped: no
   // result, exit 1, the reason names the channel, nothing is written.
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.stderr_text.find("flipped.csv"), std::string::npos) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find("diverge"), std::string::npos) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find("zarm_x appears sign flipped"), std::string::npos) << run.stderr_text;
+  EXPECT_NE(run.err.find("flipped.csv"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("diverge"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("zarm_x appears sign flipped"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
 }
@@ -142,8 +125,8 @@ TEST(TransformScreening, FlippedChannelIsFlaggedInTheSummary) {
   engine::SyntheticTest test = engine::SynthRandomMotion(testing::NapArs12(), options);
   test.signals.samples.col(test.signals.FindSlot("yarm_z")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
-  const RunResult run = Transform(dir, test, (dir / "flipped.csv").string(), "nap-ars-12");
-  ASSERT_EQ(run.exit_code, 0) << run.stderr_text;
+  const testing::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string(), "nap-ars-12");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
   EXPECT_TRUE(summary.at("hic15").is_number());
   int polarity = 0;
@@ -185,11 +168,11 @@ TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {
   }
   out.close();
   ASSERT_GE(yarm_x_column, 0);
-  const RunResult run = Transform(dir, test, (dir / "dropout.csv").string());
+  const testing::CommandResult run = Transform(dir, test, (dir / "dropout.csv").string());
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.stderr_text.find("dropout.csv"), std::string::npos) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find("yarm_x"), std::string::npos) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find("row"), std::string::npos) << run.stderr_text;
+  EXPECT_NE(run.err.find("dropout.csv"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("yarm_x"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("row"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
 }
 
