@@ -1,19 +1,17 @@
 // `napkin run`: process every test whose results are missing, failed or stale
 // for the processing config, in parallel, resumably (jobs/scheduler.h).
-#include <fmt/core.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <charconv>
-#include <chrono>
-#include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "cli/array_record.h"
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/progress.h"
 #include "engine/error.h"
 #include "jobs/scheduler.h"
 
@@ -51,48 +49,6 @@ std::optional<db::Shard> ParseShard(const std::string& text) {
   return shard;
 }
 
-std::string FormatDuration(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
-  const long total = std::lround(seconds);
-  if (total >= 3600) return fmt::format("{}:{:02d}:{:02d}", total / 3600, (total / 60) % 60, total % 60);
-  return fmt::format("{}:{:02d}", total / 60, total % 60);
-}
-
-// Progress: a rewritten line on a terminal, a log line every 10 s otherwise.
-class ProgressReporter {
- public:
-  explicit ProgressReporter(bool quiet) : quiet_(quiet), terminal_(isatty(STDERR_FILENO) == 1) {}
-
-  void operator()(const jobs::RunProgress& progress) {
-    if (quiet_) return;
-    const std::int64_t processed = progress.done + progress.failed;
-    const double rate = progress.elapsed_s > 0 ? processed / progress.elapsed_s : 0.0;
-    const double eta = rate > 0 ? static_cast<double>(std::max<std::int64_t>(progress.total - processed, 0)) / rate
-                                : NAN;
-    if (terminal_) {
-      fmt::print(stderr, "\r{}/{} tests ({} failed)  {:.1f} tests/s  ETA {}   ", processed, progress.total,
-                 progress.failed, rate, FormatDuration(eta));
-      std::fflush(stderr);
-      line_open_ = true;
-    } else if (progress.elapsed_s - last_log_s_ >= 10.0 || processed >= progress.total) {
-      last_log_s_ = progress.elapsed_s;
-      spdlog::info("progress: {}/{} tests, {} failed, {:.2f} tests/s, ETA {}", processed, progress.total,
-                   progress.failed, rate, FormatDuration(eta));
-    }
-  }
-
-  void Finish() {
-    if (line_open_) fmt::print(stderr, "\n");
-    line_open_ = false;
-  }
-
- private:
-  bool quiet_;
-  bool terminal_;
-  bool line_open_ = false;
-  double last_log_s_ = 0.0;
-};
-
 class RunCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
@@ -121,7 +77,7 @@ class RunCommand : public Command {
     const ResolvedConfig resolved = ResolveConfig(config_);
     jobs::RunProcessing processing{resolved.config, resolved.record, DecodeArrayRecord};
     InstallStopHandlers();
-    ProgressReporter reporter(global_->quiet);
+    RunProgressReporter reporter(global_->quiet);
     const jobs::RunReport report = jobs::RunScheduler(
         global_->db_path, processing, options_, [&](const jobs::RunProgress& progress) { reporter(progress); },
         &g_stop_requested);
