@@ -1,5 +1,6 @@
 // Catalogue: results, findings, derived channels (kinematics) and queries.
 #include <array>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
@@ -64,12 +65,10 @@ void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
   for (const SummaryField& field : kSummaryFields) field.field(summary) = row.ColumnDouble(column++);
 }
 
-const char* SeverityText(engine::Severity severity) { return engine::SeverityName(severity); }
-
+// The inverse of engine::SeverityName, which wrote the column.
 engine::Severity ParseSeverity(const std::string& text) {
-  if (text == "info") return engine::Severity::kInfo;
-  if (text == "warning") return engine::Severity::kWarning;
-  if (text == "error") return engine::Severity::kError;
+  for (const engine::Severity severity : {engine::Severity::kInfo, engine::Severity::kWarning, engine::Severity::kError})
+    if (text == engine::SeverityName(severity)) return severity;
   throw InputError("finding severity '" + text + "' in the catalogue is not info, warning or error.");
 }
 
@@ -194,7 +193,7 @@ void Catalogue::WriteFindings(TestId test, ConfigId config, std::span<const engi
       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
   for (std::size_t i = 0; i < findings.size(); ++i) {
     const engine::Finding& finding = findings[i];
-    insert->BindAll(test, config, i, finding.check, finding.channel, SeverityText(finding.severity),
+    insert->BindAll(test, config, i, finding.check, finding.channel, engine::SeverityName(finding.severity),
                     finding.detail);
     insert->Execute();
     insert->Reset();

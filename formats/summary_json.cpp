@@ -12,13 +12,11 @@ nlohmann::ordered_json Number(double value) {
 
 }  // namespace
 
-const char* SeverityText(engine::Severity severity) { return engine::SeverityName(severity); }
-
 nlohmann::json FindingToJson(const engine::Finding& finding) {
   nlohmann::json json = nlohmann::json::object();
   json["check"] = finding.check;
   json["channel"] = finding.channel ? nlohmann::json(*finding.channel) : nlohmann::json(nullptr);
-  json["severity"] = SeverityText(finding.severity);
+  json["severity"] = engine::SeverityName(finding.severity);
   json["detail"] = finding.detail;
   return json;
 }
@@ -65,7 +63,7 @@ nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const s
     nlohmann::ordered_json item = nlohmann::ordered_json::object();
     item["check"] = finding.check;
     item["channel"] = finding.channel ? nlohmann::ordered_json(*finding.channel) : nlohmann::ordered_json(nullptr);
-    item["severity"] = SeverityText(finding.severity);
+    item["severity"] = engine::SeverityName(finding.severity);
     item["detail"] = finding.detail;
     quality.push_back(std::move(item));
   }
