@@ -162,7 +162,6 @@ class Catalogue {
 
   Connection& connection() { return connection_; }
   int schema_version() const { return schema_version_; }
-  double Now() const { return clock_(); }
   // A write transaction over several calls; rolls back unless committed.
   Transaction BeginTransaction() { return Transaction(connection_); }
 
