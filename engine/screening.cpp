@@ -71,12 +71,15 @@ double InChannelUnits(const Sensor& sensor, double limit_g, double limit_radps) 
   return limit_si / sensor.si_per_unit;
 }
 
-double Median(std::vector<double> values) {
+// The median (the upper one of an even count) of `values`, which it reorders.
+double MedianInPlace(std::vector<double>& values) {
   if (values.empty()) return 0.0;
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), middle, values.end());
   return *middle;
 }
+
+double Median(std::vector<double> values) { return MedianInPlace(values); }
 
 // RMS of a residual series; +infinity when the solve diverged (non-finite).
 double Rms(const Eigen::VectorXd& values) {
@@ -167,7 +170,7 @@ std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& sign
     const Index hi = std::min<Index>(n - 2, k + kSpikeScaleHalfWindow);
     for (Index j = lo; j <= hi; ++j)
       if (j != k) window.push_back(std::abs(x(j) - 0.5 * (x(j - 1) + x(j + 1))));
-    const double scale = 1.4826 * Median(window);
+    const double scale = 1.4826 * MedianInPlace(window);  // no copy per candidate sample
     if (std::abs(second_difference) <= kSpikeRobustFactor * scale) continue;
     ++count;
     if (std::abs(second_difference) > largest) {
