@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -23,13 +22,6 @@ namespace fs = std::filesystem;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using CliResult = testing::CommandResult;
-
-// Three numbers as "a,b,c", each with 17 significant digits (exact round trip).
-std::string Triple(const Eigen::Vector3d& v) {
-  char text[128];
-  std::snprintf(text, sizeof text, "%.17g,%.17g,%.17g", v[0], v[1], v[2]);
-  return text;
-}
 
 std::int64_t Scalar(db::Catalogue& catalogue, const std::string& sql) {
   auto select = catalogue.connection().Prepare(sql);
@@ -250,9 +242,10 @@ TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
     const fs::path summary = dir_ / (test.external_id + ".summary.json");
     const CliResult transform = cli::test::RunNapkin(
         dir_.path(),
-        {"transform", input.string(), "--array", array.string(), "--orientation=" + Triple(test.initial_state.orientation_rad),
-         "--initial-velocity=" + Triple(test.initial_state.velocity_fixed_mps), "--out",
-         out.string(), "--summary", summary.string()});
+        {"transform", input.string(), "--array", array.string(),
+         cli::test::TripleFlag("--orientation", test.initial_state.orientation_rad),
+         cli::test::TripleFlag("--initial-velocity", test.initial_state.velocity_fixed_mps), "--out", out.string(),
+         "--summary", summary.string()});
     ASSERT_EQ(transform.exit_code, 0) << transform.err;
 
     const db::ConfigId config = *catalogue.ReadLatestResultConfig(test.id);

@@ -13,6 +13,7 @@
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "formats/csv.h"
+#include "tests/cli/cli_test_util.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
@@ -22,19 +23,13 @@ namespace {
 
 using testing::ReadText;
 
-std::string Triple(const Eigen::Vector3d& v) {
-  char text[128];
-  std::snprintf(text, sizeof text, "%.17g,%.17g,%.17g", v.x(), v.y(), v.z());
-  return text;
-}
-
 // Runs `napkin transform` on `input` with the test's initial state.
 testing::CommandResult Transform(const testing::TempDir& dir, const engine::SyntheticTest& test,
                                  const std::string& input, const std::string& array = "denton-3222") {
-  return testing::RunProgram(NAPKIN_BINARY, {"transform", "--array", array,
-                                             "--orientation=" + Triple(test.initial.orientation_rad),
-                                             "--initial-velocity=" + Triple(test.initial.velocity_fixed_mps), "--out",
-                                             (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
+  return testing::RunProgram(
+      NAPKIN_BINARY, {"transform", "--array", array, cli::test::TripleFlag("--orientation", test.initial.orientation_rad),
+                      cli::test::TripleFlag("--initial-velocity", test.initial.velocity_fixed_mps), "--out",
+                      (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
 }
 
 double TrueHic15(const engine::SyntheticTest& test) {
