@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "cli/catalogue_access.h"
 #include "engine/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
@@ -11,7 +12,6 @@
 #include "formats/csv.h"
 #include "formats/atomic_file.h"
 #include "formats/lsdyna.h"
-#include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
 
 namespace napkin::cli {
@@ -30,9 +30,9 @@ TransformReport RunTransform(const TransformOptions& options) {
   if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
   formats::CsvSignals csv = formats::ReadSignalsCsv(options.input, &array);
 
-  engine::ProcessingConfig config;
-  if (!options.config.empty())
-    config = formats::ReadProcessingConfig(formats::ResolvePreset(options.config, "processing"));
+  // The same resolution as `napkin run` (empty: the "default" preset), so a
+  // catalogue result equals the transform of the same input.
+  engine::ProcessingConfig config = ResolveConfig(options.config).config;
   if (!options.solver.empty())
     config.solver = options.solver == "seed" ? engine::SolverKind::kSeed : engine::SolverKind::kExact;
   engine::InitialState initial;
