@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   using namespace napkin::cli;
   CLI::App app{"napkin: head kinematics and injury criteria from crash-test head instrumentation"};
   app.require_subcommand(1);
+  app.fallthrough();  // global options (--db, --quiet) may also follow the subcommand
   GlobalOptions global;
   app.add_option("--db", global.db_path, "catalogue file (SQLite)")->capture_default_str();
   app.add_flag("-q,--quiet", global.quiet, "no progress output");
