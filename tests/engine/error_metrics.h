@@ -7,6 +7,8 @@
 #include "engine/integration.h"
 #include "engine/kinematics.h"
 #include "engine/rotation.h"
+#include "engine/solver.h"
+#include "engine/synth.h"
 #include "engine/units.h"
 
 namespace napkin::testing {
@@ -41,6 +43,13 @@ inline void PrintErrors(const std::string& label, const KinematicsErrors& e) {
   std::printf("[errors] %-34s omega %.2e %% | alpha %.2e %% | orient %.2e deg | acc %.2e %% | vel %.2e %% | pos %.2e m\n",
               label.c_str(), 100 * e.omega_rel, 100 * e.alpha_rel, e.orientation_deg, 100 * e.acc_rel,
               100 * e.vel_rel, e.pos_abs_m);
+}
+
+// Solver options that start from a synthetic test's true initial state.
+inline engine::SolveOptions OptionsFor(const engine::SyntheticTest& test) {
+  engine::SolveOptions options;
+  options.initial = test.initial;
+  return options;
 }
 
 }  // namespace napkin::testing

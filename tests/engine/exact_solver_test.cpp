@@ -18,13 +18,8 @@ namespace {
 
 using testing::CompareKinematics;
 using testing::KinematicsErrors;
+using testing::OptionsFor;
 using testing::PrintErrors;
-
-SolveOptions OptionsFor(const SyntheticTest& test) {
-  SolveOptions options;
-  options.initial = test.initial;
-  return options;
-}
 
 // Report section 4.5 with each 3-2-2-2 geometry processed with its true
 // geometry: omega error <= 0.005 % of peak, orientation <= 0.005 deg, fixed

@@ -21,13 +21,8 @@ namespace {
 using ::testing::HasSubstr;
 using testing::CompareKinematics;
 using testing::KinematicsErrors;
+using testing::OptionsFor;
 using testing::PrintErrors;
-
-SolveOptions OptionsFor(const SyntheticTest& test) {
-  SolveOptions options;
-  options.initial = test.initial;
-  return options;
-}
 
 std::string SolveError(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options = {}) {
   try {
