@@ -93,12 +93,12 @@ class RunCommand : public Command {
           report.wall_s > 0 ? static_cast<double>(report.samples) / report.wall_s : 0.0, report.read_s,
           report.compute_s, report.threads, report.write_s);
     if (report.stopped) {
-      std::cerr << "napkin: run stopped by a signal after committing the tests in flight; run it again to "
-                   "process the rest.\n";
+      spdlog::error("run stopped by a signal after committing the tests in flight; run it again to process the "
+                    "rest.");
       return kExitFailure;
     }
     if (report.failed > 0) {
-      std::cerr << "napkin: " << report.failed << " tests failed; `napkin status` lists them with the reasons.\n";
+      spdlog::error("{} tests failed; `napkin status` lists them with the reasons.", report.failed);
       return kExitPartial;
     }
     return kExitOk;

@@ -1,14 +1,10 @@
 // napkin — six-degree-of-freedom head kinematics and injury criteria for
 // catalogues of crash tests.
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
-
 #include <CLI/CLI.hpp>
 #include <exception>
-#include <iostream>
 
 #include "cli/command.h"
-#include "engine/error.h"
+#include "cli/diagnostics.h"
 
 int main(int argc, char** argv) {
   using namespace napkin::cli;
@@ -18,8 +14,7 @@ int main(int argc, char** argv) {
   GlobalOptions global;
   app.add_option("--db", global.db_path, "catalogue file (SQLite)")->capture_default_str();
   app.add_flag("-q,--quiet", global.quiet, "no progress output");
-  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
-  spdlog::set_default_logger(spdlog::stderr_color_mt("napkin"));
+  SetUpLogging();
 
   auto commands = MakeCommands();
   std::vector<std::pair<CLI::App*, Command*>> parsed;
@@ -33,12 +28,8 @@ int main(int argc, char** argv) {
   try {
     for (auto& [sub, command] : parsed)
       if (sub->parsed()) return command->Run();
-  } catch (const napkin::InputError& error) {
-    std::cerr << "napkin: " << error.what() << "\n";
-    return kExitFailure;
-  } catch (const std::exception& error) {
-    std::cerr << "napkin: " << error.what() << "\n";
-    return kExitFailure;
+  } catch (...) {
+    return ReportFailure(std::current_exception(), global.db_path);
   }
   return kExitUsage;
 }

@@ -12,6 +12,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Options that contradict each other or a malformed option value that the
+// argument parser cannot see (exit status 2, like CLI11's own usage errors).
+class UsageError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // An array definition that cannot be solved (duplicate slots, zero axis,
 // rank-deficient linear set, unknown unit).
 class InvalidArrayError : public InputError {

@@ -1,0 +1,96 @@
+#include "cli/diagnostics.h"
+
+#include <spdlog/pattern_formatter.h>
+#include <spdlog/sinks/base_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <new>
+
+#include "cli/command.h"
+#include "db/sqlite.h"
+#include "engine/error.h"
+
+namespace napkin::cli {
+namespace {
+
+// stderr sink: user-facing levels carry the program name (the one-sentence
+// error contract of PRODUCT.md), information lines a timestamp (long runs
+// are logged to files).
+class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
+ public:
+  StderrSink() : info_formatter_("%Y-%m-%dT%H:%M:%S.%e %l %v") {}
+
+ protected:
+  void sink_it_(const spdlog::details::log_msg& message) override {
+    const std::string_view text(message.payload.data(), message.payload.size());
+    switch (message.level) {
+      case spdlog::level::err:
+      case spdlog::level::critical:
+        std::fprintf(stderr, "napkin: %.*s\n", static_cast<int>(text.size()), text.data());
+        break;
+      case spdlog::level::warn:
+        std::fprintf(stderr, "napkin: warning: %.*s\n", static_cast<int>(text.size()), text.data());
+        break;
+      default: {
+        spdlog::memory_buf_t line;
+        info_formatter_.format(message, line);
+        std::fwrite(line.data(), 1, line.size(), stderr);
+      }
+    }
+  }
+  void flush_() override { std::fflush(stderr); }
+
+ private:
+  spdlog::pattern_formatter info_formatter_;
+};
+
+}  // namespace
+
+void SetUpLogging() {
+  auto logger = std::make_shared<spdlog::logger>("napkin", std::make_shared<StderrSink>());
+  logger->flush_on(spdlog::level::trace);  // diagnostics interleave with the progress bar: never buffer
+  spdlog::set_default_logger(std::move(logger));
+}
+
+int ReportFailure(const std::exception_ptr& error, const std::string& db_path) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const UsageError& usage) {
+    spdlog::error("{}", usage.what());
+    return kExitUsage;
+  } catch (const InputError& input) {
+    spdlog::error("{}", input.what());
+    return kExitFailure;
+  } catch (const db::DatabaseError& database) {
+    if (database.busy()) {
+      spdlog::error(
+          "catalogue '{}' is busy: another napkin process has held its write lock longer than the wait allows; "
+          "run the command again when that process has finished ({}).",
+          db_path, database.what());
+    } else {
+      spdlog::error("catalogue '{}': {}", db_path, database.what());
+    }
+    return kExitFailure;
+  } catch (const std::bad_alloc&) {
+    spdlog::error(
+        "out of memory; process fewer tests at once (run --threads 1) or free memory, then run the command "
+        "again.");
+    return kExitFailure;
+  } catch (const std::exception& internal) {
+    spdlog::error(
+        "internal error: {}; this is a bug in napkin, please report it with the command line that caused it.",
+        internal.what());
+    return kExitFailure;
+  } catch (...) {
+    spdlog::error(
+        "internal error: an unknown exception; this is a bug in napkin, please report it with the command line "
+        "that caused it.");
+    return kExitFailure;
+  }
+  return kExitFailure;
+}
+
+}  // namespace napkin::cli

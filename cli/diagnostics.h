@@ -1,0 +1,30 @@
+#pragma once
+// The one place where the napkin CLI turns what went wrong into stderr text
+// and an exit status (osmium-tool's main is the model: every exception type
+// has its status and, where the user can act, a hint).
+//
+//   exception                      exit  stderr (one line)
+//   UsageError                      2    napkin: <sentence>
+//   InputError (bad data, files)    1    napkin: <sentence>
+//   db::DatabaseError, busy         1    napkin: catalogue 'F' is busy: ... (hint: wait, retry)
+//   db::DatabaseError, other        1    napkin: catalogue 'F': <SQLite text>
+//   std::bad_alloc                  1    napkin: out of memory ... (hint)
+//   anything else (logic_error,     1    napkin: internal error: <what>; this is a bug in napkin,
+//   invalid_argument, ...)                please report it with the command line that caused it.
+//
+// Every diagnostic goes through spdlog (SetUpLogging): errors print as
+// "napkin: <sentence>", warnings as "napkin: warning: <sentence>", progress
+// and run information as time-stamped "info" lines.
+#include <exception>
+#include <string>
+
+namespace napkin::cli {
+
+// Installs the CLI's stderr logger as spdlog's default logger.
+void SetUpLogging();
+
+// Logs `error` (the exception in flight) as described above and returns its
+// exit status. `db_path` names the catalogue in database errors.
+int ReportFailure(const std::exception_ptr& error, const std::string& db_path);
+
+}  // namespace napkin::cli
