@@ -4,14 +4,18 @@ SHELL := /bin/bash
 JOBS ?= $(shell nproc)
 BUILD_RELEASE ?= build/release
 BUILD_TEST ?= build/test
-DEBIAN_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libgtest-dev libgmock-dev \
-  libbenchmark-dev
+BUILD_BENCH ?= build/bench
+# What the program needs (make demo), and what the tests and benchmarks add.
+PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
+DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format
 
-.PHONY: deps demo test build release bench clean
+.PHONY: deps program-deps demo test build release bench format format-check clean
 
-deps:
-	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+deps: PACKAGES = $(DEBIAN_PACKAGES)
+program-deps: PACKAGES = $(PROGRAM_PACKAGES)
+deps program-deps:
+	@missing=""; for p in $(PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -20,11 +24,12 @@ deps:
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
 
-$(BUILD_RELEASE)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD_RELEASE) -DCMAKE_BUILD_TYPE=Release
+# The program alone: no GoogleTest, no Google Benchmark.
+$(BUILD_RELEASE)/CMakeCache.txt: | program-deps
+	cmake -S . -B $(BUILD_RELEASE) -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=OFF
 
-release: deps $(BUILD_RELEASE)/CMakeCache.txt
-	cmake --build $(BUILD_RELEASE) -j$(JOBS)
+release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
+	cmake --build $(BUILD_RELEASE) -j$(JOBS) --target napkin
 
 # The test build: warnings are errors, address and undefined-behaviour sanitizers on.
 $(BUILD_TEST)/CMakeCache.txt: | deps
@@ -33,14 +38,27 @@ $(BUILD_TEST)/CMakeCache.txt: | deps
 build: deps $(BUILD_TEST)/CMakeCache.txt
 	cmake --build $(BUILD_TEST) -j$(JOBS)
 
-test: build
+# Every source file is clang-format clean (.clang-format); `make format` fixes them.
+FORMAT_SOURCES = $(shell git ls-files '*.cpp' '*.h' 2>/dev/null || find . -path ./build -prune -o \( -name '*.cpp' -o -name '*.h' \) -print)
+
+format:
+	clang-format -i $(FORMAT_SOURCES)
+
+format-check: deps
+	clang-format --dry-run --Werror $(FORMAT_SOURCES)
+
+test: build format-check
 	cd $(BUILD_TEST) && ctest --output-on-failure -j$(JOBS) --timeout 1800
 
 demo: release
 	$(BUILD_RELEASE)/cli/napkin demo
 
-bench: release
-	$(BUILD_RELEASE)/bench/napkin_bench
+$(BUILD_BENCH)/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD_BENCH) -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON
+
+bench: deps $(BUILD_BENCH)/CMakeCache.txt
+	cmake --build $(BUILD_BENCH) -j$(JOBS)
+	$(BUILD_BENCH)/bench/napkin_bench
 
 clean:
 	rm -rf build

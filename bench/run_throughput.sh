@@ -3,7 +3,7 @@
 #
 #   bench/run_throughput.sh [TESTS] [SAMPLES] [THREADS] [WORKDIR]
 #
-# Builds napkin in Release (build/release), creates TESTS synthetic tests of
+# Builds napkin in Release (build/bench), creates TESTS synthetic tests of
 # 9 channels x SAMPLES samples (napkin synth --scenario random), runs
 # `napkin run --threads THREADS` and reports tests/s and samples/s; then
 # measures what SQLite alone needs to read the same inputs and write the same
@@ -21,7 +21,7 @@ SAMPLES=${2:-20000}
 THREADS=${3:-2}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=${4:-$ROOT/build/bench-throughput}
-BUILD=$ROOT/build/release
+BUILD=$ROOT/build/bench
 
 need_mb=$(( TESTS * SAMPLES * 8 * (9 * 3 + 36 * 2) / 1000000 + 100 ))
 mkdir -p "$WORK"
@@ -32,7 +32,7 @@ if (( avail_mb < need_mb )); then
   exit 1
 fi
 
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON > /dev/null
 cmake --build "$BUILD" -j"$(nproc)" --target napkin napkin_catalogue_io > /dev/null
 NAPKIN=$BUILD/cli/napkin
 IO=$BUILD/bench/napkin_catalogue_io

@@ -10,14 +10,16 @@ if(NAPKIN_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
-# napkin_add_library(<name> [DEPS <targets>...]) : every *.cpp in the current folder.
+# napkin_add_library(<name> [DEPS <targets>...] [PRIVATE_DEPS <targets>...]) :
+# every *.cpp in the current folder. DEPS are the targets the folder's headers
+# need (PUBLIC); PRIVATE_DEPS those only its sources use.
 function(napkin_add_library name)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "DEPS;PRIVATE_DEPS" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_library(${name} STATIC ${sources})
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_compile_options(${name} PRIVATE ${NAPKIN_WARNING_FLAGS})
-  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
 endfunction()
 
 # napkin_add_tests(<folder> [DEPS <targets>...]) : tests/<folder>/*.cpp into one
@@ -25,9 +27,6 @@ endfunction()
 function(napkin_add_tests folder)
   cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${folder}/*.cpp)
-  if(NOT sources)
-    return()
-  endif()
   set(exe napkin_${folder}_tests)
   add_executable(${exe} ${sources})
   target_compile_options(${exe} PRIVATE ${NAPKIN_WARNING_FLAGS})

@@ -182,7 +182,7 @@ void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::
 }
 
 const std::vector<std::string>& DerivedCsvColumns() {
-  static const std::vector<std::string> columns = {
+  static const std::vector<std::string> kColumns = {
       "time_s",
       "omega_body_x_radps", "omega_body_y_radps", "omega_body_z_radps",
       "alpha_body_x_radps2", "alpha_body_y_radps2", "alpha_body_z_radps2",
@@ -195,7 +195,7 @@ const std::vector<std::string>& DerivedCsvColumns() {
       "quat_w", "quat_x", "quat_y", "quat_z",
       "roll_deg", "pitch_deg", "yaw_deg",
       "dcos_xx_deg", "dcos_yy_deg", "dcos_zz_deg"};
-  return columns;
+  return kColumns;
 }
 
 void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
