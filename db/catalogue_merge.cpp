@@ -28,18 +28,187 @@ class AttachedShard {
   Connection& connection_;
 };
 
-// Shard results to take: those whose (test, config) this catalogue lacks or
-// holds with an older computation time. Maps shard keys to ours.
-constexpr const char* kCreateTakeTable =
-    "CREATE TEMP TABLE merge_take AS "
-    "SELECT r.id AS shard_result, r.test_id AS shard_test, r.config_id AS shard_config, "
-    "mt.id AS test_id, mc.id AS config_id "
-    "FROM shard.results AS r "
-    "JOIN shard.tests AS st ON st.id = r.test_id JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
-    "JOIN shard.configs AS sc ON sc.id = r.config_id JOIN main.configs AS mc ON mc.config_hash = "
-    "sc.config_hash "
-    "LEFT JOIN main.results AS mr ON mr.test_id = mt.id AND mr.config_id = mc.id "
-    "WHERE mr.id IS NULL OR mr.computed_at < r.computed_at";
+// The shard's rows are mapped to this catalogue's keys through content:
+// tests by content hash, arrays and configs by hash, series by name. Each map
+// is a temp table merge_<table>_key (shard_id -> main_id), built once, right
+// after that table's own rows have been merged.
+void MapKeys(Connection& connection, const std::string& table, const std::string& content_column) {
+  const std::string map = "merge_" + table + "_key";
+  connection.Execute("DROP TABLE IF EXISTS temp." + map);
+  connection.Execute("CREATE TEMP TABLE " + map +
+                     " (shard_id INTEGER PRIMARY KEY, main_id INTEGER NOT NULL)");
+  connection.Execute("INSERT INTO temp." + map + " (shard_id, main_id) SELECT s.id, m.id FROM shard." +
+                     table + " AS s JOIN main." + table + " AS m ON m." + content_column + " = s." +
+                     content_column);
+}
+
+void DropKeyMaps(Connection& connection) {
+  for (const char* table : {"arrays", "series", "configs", "tests"})
+    connection.Execute(std::string("DROP TABLE IF EXISTS temp.merge_") + table + "_key");
+}
+
+// A test id present on both sides must have the same content on both.
+void RefuseConflictingTests(Connection& connection, const std::string& shard_path) {
+  auto conflict = connection.Prepare(
+      "SELECT st.external_id FROM shard.tests AS st JOIN main.tests AS mt ON mt.external_id = "
+      "st.external_id "
+      "WHERE mt.content_hash <> st.content_hash ORDER BY st.external_id LIMIT 1");
+  if (conflict->Step())
+    throw InputError("test '" + conflict->ColumnText(0) + "' in shard '" + shard_path +
+                     "' has different content from the catalogue's test of that id.");
+}
+
+// Arrays, series and configs this catalogue lacks, then their key maps.
+void MergeDefinitions(Connection& connection) {
+  // "WHERE true" keeps SQLite from reading ON CONFLICT as a join constraint.
+  connection
+      .Prepare(
+          "INSERT INTO main.arrays (name, definition_json, definition_hash) "
+          "SELECT name, definition_json, definition_hash FROM shard.arrays WHERE true "
+          "ON CONFLICT (definition_hash) DO NOTHING")
+      ->Execute();
+  connection
+      .Prepare(
+          "INSERT INTO main.series (name, description) SELECT name, description FROM shard.series WHERE true "
+          "ON CONFLICT (name) DO NOTHING")
+      ->Execute();
+  connection
+      .Prepare(
+          "INSERT INTO main.configs (name, config_json, config_hash, created_at) "
+          "SELECT name, config_json, config_hash, created_at FROM shard.configs WHERE true "
+          "ON CONFLICT (config_hash) DO NOTHING")
+      ->Execute();
+  MapKeys(connection, "arrays", "definition_hash");
+  MapKeys(connection, "series", "name");
+  MapKeys(connection, "configs", "config_hash");
+}
+
+// Tests this catalogue lacks, with their raw channels, then the tests' key
+// map. Returns the number of tests added.
+std::int64_t MergeTests(Connection& connection) {
+  connection.Execute(
+      "INSERT INTO main.tests (external_id, series_id, variant, metadata_json, array_id, "
+      "orientation_phi_rad, orientation_theta_rad, orientation_psi_rad, velocity_x_mps, velocity_y_mps, "
+      "velocity_z_mps, omega_x_radps, omega_y_radps, omega_z_radps, source_path, content_hash, "
+      "imported_at) "
+      "SELECT st.external_id, sk.main_id, st.variant, st.metadata_json, ak.main_id, "
+      "st.orientation_phi_rad, st.orientation_theta_rad, st.orientation_psi_rad, st.velocity_x_mps, "
+      "st.velocity_y_mps, st.velocity_z_mps, st.omega_x_radps, st.omega_y_radps, st.omega_z_radps, "
+      "st.source_path, st.content_hash, st.imported_at "
+      "FROM shard.tests AS st JOIN temp.merge_arrays_key AS ak ON ak.shard_id = st.array_id "
+      "LEFT JOIN temp.merge_series_key AS sk ON sk.shard_id = st.series_id "
+      "WHERE st.content_hash NOT IN (SELECT content_hash FROM main.tests) ORDER BY st.id");
+  const std::int64_t added = connection.Changes();
+  MapKeys(connection, "tests", "content_hash");
+  connection.Execute(
+      "INSERT INTO main.raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
+      "SELECT tk.main_id, rc.position, rc.slot, rc.unit, rc.dt_s, rc.t0_s, rc.sample_count, rc.samples "
+      "FROM shard.raw_channels AS rc JOIN temp.merge_tests_key AS tk ON tk.shard_id = rc.test_id "
+      "WHERE NOT EXISTS (SELECT 1 FROM main.raw_channels AS x WHERE x.test_id = tk.main_id) ORDER BY rc.id");
+  return added;
+}
+
+// A result of the same test and config with other values is a conflict (a
+// deterministic computation on the same input and config cannot disagree
+// with itself): refuse rather than let the newer one win.
+void RefuseConflictingResults(Connection& connection, const std::string& shard_path) {
+  const std::string shard_values = "(r.solver, " + internal::SummaryColumnList("r.") + ")";
+  const std::string main_values = "(mr.solver, " + internal::SummaryColumnList("mr.") + ")";
+  auto conflict = connection.Prepare(
+      "SELECT st.external_id, mc.name FROM shard.results AS r JOIN shard.tests AS st ON st.id = r.test_id "
+      "JOIN temp.merge_tests_key AS tk ON tk.shard_id = r.test_id "
+      "JOIN temp.merge_configs_key AS ck ON ck.shard_id = r.config_id JOIN main.configs AS mc ON mc.id = "
+      "ck.main_id "
+      "JOIN main.results AS mr ON mr.test_id = tk.main_id AND mr.config_id = ck.main_id WHERE " +
+      shard_values + " IS NOT " + main_values + " ORDER BY st.external_id LIMIT 1");
+  if (conflict->Step())
+    throw InputError("test '" + conflict->ColumnText(0) + "' has a result for config '" +
+                     conflict->ColumnText(1) + "' in shard '" + shard_path +
+                     "' that differs from the catalogue's result.");
+}
+
+// temp.merge_take: the shard results to take, those whose (test, config) this
+// catalogue lacks or holds with an older computation time, in the shard's
+// order, with their keys on both sides.
+void SelectResultsToTake(Connection& connection) {
+  connection.Execute("DROP TABLE IF EXISTS temp.merge_take");
+  connection.Execute(
+      "CREATE TEMP TABLE merge_take AS "
+      "SELECT r.id AS shard_result, r.test_id AS shard_test, r.config_id AS shard_config, "
+      "tk.main_id AS test_id, ck.main_id AS config_id "
+      "FROM shard.results AS r JOIN temp.merge_tests_key AS tk ON tk.shard_id = r.test_id "
+      "JOIN temp.merge_configs_key AS ck ON ck.shard_id = r.config_id "
+      "LEFT JOIN main.results AS mr ON mr.test_id = tk.main_id AND mr.config_id = ck.main_id "
+      "WHERE mr.id IS NULL OR mr.computed_at < r.computed_at ORDER BY r.id");
+}
+
+// The taken results replace this catalogue's results, findings and derived
+// channels of their (test, config). Returns the number of results merged.
+std::int64_t MergeResults(Connection& connection) {
+  for (const char* table : {"results", "findings", "derived_channels"})
+    connection.Execute(std::string("DELETE FROM main.") + table +
+                       " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
+  // In the shard's order, so the most recent shard result stays the latest here.
+  const std::string columns = internal::SummaryColumnList();
+  connection.Execute(
+      "INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
+      ") SELECT m.test_id, m.config_id, r.solver, r.computed_at, " + internal::SummaryColumnList("r.") +
+      " FROM temp.merge_take AS m JOIN shard.results AS r ON r.id = m.shard_result ORDER BY r.id");
+  return connection.Changes();
+}
+
+void MergeFindings(Connection& connection) {
+  connection.Execute(
+      "INSERT INTO main.findings (test_id, config_id, position, check_name, channel, severity, detail) "
+      "SELECT m.test_id, m.config_id, f.position, f.check_name, f.channel, f.severity, f.detail "
+      "FROM temp.merge_take AS m JOIN shard.findings AS f "
+      "ON f.test_id = m.shard_test AND f.config_id = m.shard_config");
+}
+
+void MergeDerivedChannels(Connection& connection) {
+  connection.Execute(
+      "INSERT INTO main.derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, samples) "
+      "SELECT m.test_id, m.config_id, d.name, d.dt_s, d.t0_s, d.sample_count, d.samples "
+      "FROM temp.merge_take AS m JOIN shard.derived_channels AS d "
+      "ON d.test_id = m.shard_test AND d.config_id = m.shard_config");
+}
+
+// Job state: the taken results' jobs are done; failures of tests still
+// without a result here are failed (a result wins). Returns the number of
+// failures merged.
+std::int64_t MergeJobState(Connection& connection, double now) {
+  {
+    auto done = connection.Prepare(
+        "INSERT INTO main.jobs (test_id, config_id, state, attempts, lease_owner, enqueued_at, started_at, "
+        "finished_at, duration_s) "
+        "SELECT m.test_id, m.config_id, 'done', coalesce(j.attempts, 0), j.lease_owner, "
+        "coalesce(j.enqueued_at, ?1), "
+        "j.started_at, j.finished_at, j.duration_s FROM temp.merge_take AS m LEFT JOIN shard.jobs AS j "
+        "ON j.test_id = m.shard_test AND j.config_id = m.shard_config WHERE true "
+        "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'done', attempts = excluded.attempts, "
+        "lease_owner = excluded.lease_owner, lease_expires_at = NULL, last_error = NULL, "
+        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
+        "excluded.duration_s");
+    done->Bind(1, now);
+    done->Execute();
+  }
+  connection.Execute(
+      "INSERT INTO main.jobs (test_id, config_id, state, attempts, last_error, enqueued_at, started_at, "
+      "finished_at, duration_s) "
+      "SELECT tk.main_id, ck.main_id, 'failed', j.attempts, j.last_error, j.enqueued_at, j.started_at, "
+      "j.finished_at, j.duration_s FROM shard.jobs AS j "
+      "JOIN temp.merge_tests_key AS tk ON tk.shard_id = j.test_id "
+      "JOIN temp.merge_configs_key AS ck ON ck.shard_id = j.config_id "
+      "WHERE j.state = 'failed' AND NOT EXISTS "
+      "(SELECT 1 FROM main.results AS r WHERE r.test_id = tk.main_id AND r.config_id = ck.main_id) "
+      "ORDER BY j.id "
+      "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'failed', attempts = excluded.attempts, "
+      "last_error = excluded.last_error, lease_owner = NULL, lease_expires_at = NULL, "
+      "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
+      "excluded.duration_s "
+      "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error");
+  return connection.Changes();
+}
 
 }  // namespace
 
@@ -58,141 +227,17 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
   AttachedShard attached(connection_, shard_path);
   MergeReport report;
   Transaction transaction(connection_);
-
-  {
-    auto conflict = connection_.Prepare(
-        "SELECT st.external_id FROM shard.tests AS st JOIN main.tests AS mt ON mt.external_id = "
-        "st.external_id "
-        "WHERE mt.content_hash <> st.content_hash ORDER BY st.external_id LIMIT 1");
-    if (conflict->Step())
-      throw InputError("test '" + conflict->ColumnText(0) + "' in shard '" + shard_path +
-                       "' has different content from the catalogue's test of that id.");
-  }
-  // "WHERE true" keeps SQLite from reading ON CONFLICT as a join constraint.
-  connection_
-      .Prepare(
-          "INSERT INTO main.arrays (name, definition_json, definition_hash) "
-          "SELECT name, definition_json, definition_hash FROM shard.arrays WHERE true "
-          "ON CONFLICT (definition_hash) DO NOTHING")
-      ->Execute();
-  connection_
-      .Prepare(
-          "INSERT INTO main.series (name, description) SELECT name, description FROM shard.series WHERE true "
-          "ON CONFLICT (name) DO NOTHING")
-      ->Execute();
-  connection_
-      .Prepare(
-          "INSERT INTO main.configs (name, config_json, config_hash, created_at) "
-          "SELECT name, config_json, config_hash, created_at FROM shard.configs WHERE true "
-          "ON CONFLICT (config_hash) DO NOTHING")
-      ->Execute();
-  {
-    auto tests = connection_.Prepare(
-        "INSERT INTO main.tests (external_id, series_id, variant, metadata_json, array_id, "
-        "orientation_phi_rad, orientation_theta_rad, orientation_psi_rad, velocity_x_mps, velocity_y_mps, "
-        "velocity_z_mps, omega_x_radps, omega_y_radps, omega_z_radps, source_path, content_hash, "
-        "imported_at) "
-        "SELECT st.external_id, ms.id, st.variant, st.metadata_json, ma.id, "
-        "st.orientation_phi_rad, st.orientation_theta_rad, st.orientation_psi_rad, st.velocity_x_mps, "
-        "st.velocity_y_mps, st.velocity_z_mps, st.omega_x_radps, st.omega_y_radps, st.omega_z_radps, "
-        "st.source_path, st.content_hash, st.imported_at "
-        "FROM shard.tests AS st "
-        "JOIN shard.arrays AS sa ON sa.id = st.array_id JOIN main.arrays AS ma ON ma.definition_hash = "
-        "sa.definition_hash "
-        "LEFT JOIN shard.series AS ss ON ss.id = st.series_id LEFT JOIN main.series AS ms ON ms.name = "
-        "ss.name "
-        "WHERE st.content_hash NOT IN (SELECT content_hash FROM main.tests) ORDER BY st.id");
-    tests->Execute();
-    report.tests_added = connection_.Changes();
-  }
-  connection_
-      .Prepare(
-          "INSERT INTO main.raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
-          "SELECT mt.id, rc.position, rc.slot, rc.unit, rc.dt_s, rc.t0_s, rc.sample_count, rc.samples "
-          "FROM shard.raw_channels AS rc JOIN shard.tests AS st ON st.id = rc.test_id "
-          "JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
-          "WHERE NOT EXISTS (SELECT 1 FROM main.raw_channels AS x WHERE x.test_id = mt.id)")
-      ->Execute();
-
-  {
-    // A result of the same test and config with other values is a conflict
-    // (a deterministic computation on the same input and config cannot
-    // disagree with itself): refuse rather than let the newer one win.
-    const std::string shard_values = "(r.solver, " + internal::SummaryColumnList("r.") + ")";
-    const std::string main_values = "(mr.solver, " + internal::SummaryColumnList("mr.") + ")";
-    auto conflict = connection_.Prepare(
-        "SELECT st.external_id, mc.name FROM shard.results AS r "
-        "JOIN shard.tests AS st ON st.id = r.test_id JOIN main.tests AS mt ON mt.content_hash = st.content_hash "
-        "JOIN shard.configs AS sc ON sc.id = r.config_id JOIN main.configs AS mc ON mc.config_hash = "
-        "sc.config_hash "
-        "JOIN main.results AS mr ON mr.test_id = mt.id AND mr.config_id = mc.id WHERE " +
-        shard_values + " IS NOT " + main_values + " ORDER BY st.external_id LIMIT 1");
-    if (conflict->Step())
-      throw InputError("test '" + conflict->ColumnText(0) + "' has a result for config '" + conflict->ColumnText(1) +
-                       "' in shard '" + shard_path + "' that differs from the catalogue's result.");
-  }
-  connection_.Execute("DROP TABLE IF EXISTS temp.merge_take");
-  connection_.Execute(kCreateTakeTable);
-  for (const char* table : {"results", "findings", "derived_channels"})
-    connection_.Execute(std::string("DELETE FROM main.") + table +
-                        " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
-  {
-    // In the shard's order, so the most recent shard result stays the latest here.
-    const std::string columns = internal::SummaryColumnList();
-    connection_.Execute(
-        "INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
-        ") SELECT m.test_id, m.config_id, r.solver, r.computed_at, " + internal::SummaryColumnList("r.") +
-        " FROM temp.merge_take AS m JOIN shard.results AS r ON r.id = m.shard_result ORDER BY r.id");
-    report.results_merged = connection_.Changes();
-  }
-  connection_.Execute(
-      "INSERT INTO main.findings (test_id, config_id, position, check_name, channel, severity, detail) "
-      "SELECT m.test_id, m.config_id, f.position, f.check_name, f.channel, f.severity, f.detail "
-      "FROM temp.merge_take AS m JOIN shard.findings AS f "
-      "ON f.test_id = m.shard_test AND f.config_id = m.shard_config");
-  connection_.Execute(
-      "INSERT INTO main.derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, samples) "
-      "SELECT m.test_id, m.config_id, d.name, d.dt_s, d.t0_s, d.sample_count, d.samples "
-      "FROM temp.merge_take AS m JOIN shard.derived_channels AS d "
-      "ON d.test_id = m.shard_test AND d.config_id = m.shard_config");
-  {
-    auto done = connection_.Prepare(
-        "INSERT INTO main.jobs (test_id, config_id, state, attempts, lease_owner, enqueued_at, started_at, "
-        "finished_at, duration_s) "
-        "SELECT m.test_id, m.config_id, 'done', coalesce(j.attempts, 0), j.lease_owner, "
-        "coalesce(j.enqueued_at, ?1), "
-        "j.started_at, j.finished_at, j.duration_s FROM temp.merge_take AS m LEFT JOIN shard.jobs AS j "
-        "ON j.test_id = m.shard_test AND j.config_id = m.shard_config WHERE true "
-        "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'done', attempts = excluded.attempts, "
-        "lease_owner = excluded.lease_owner, lease_expires_at = NULL, last_error = NULL, "
-        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
-        "excluded.duration_s");
-    done->Bind(1, clock_());
-    done->Execute();
-  }
-  {
-    // Failures of tests still without a result here (a result wins).
-    auto failed = connection_.Prepare(
-        "INSERT INTO main.jobs (test_id, config_id, state, attempts, last_error, enqueued_at, started_at, "
-        "finished_at, duration_s) "
-        "SELECT mt.id, mc.id, 'failed', j.attempts, j.last_error, j.enqueued_at, j.started_at, "
-        "j.finished_at, "
-        "j.duration_s FROM shard.jobs AS j "
-        "JOIN shard.tests AS st ON st.id = j.test_id JOIN main.tests AS mt ON mt.content_hash = "
-        "st.content_hash "
-        "JOIN shard.configs AS sc ON sc.id = j.config_id JOIN main.configs AS mc ON mc.config_hash = "
-        "sc.config_hash "
-        "WHERE j.state = 'failed' AND NOT EXISTS "
-        "(SELECT 1 FROM main.results AS r WHERE r.test_id = mt.id AND r.config_id = mc.id) "
-        "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'failed', attempts = excluded.attempts, "
-        "last_error = excluded.last_error, lease_owner = NULL, lease_expires_at = NULL, "
-        "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
-        "excluded.duration_s "
-        "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error");
-    failed->Execute();
-    report.failures_merged = connection_.Changes();
-  }
+  RefuseConflictingTests(connection_, shard_path);
+  MergeDefinitions(connection_);
+  report.tests_added = MergeTests(connection_);
+  RefuseConflictingResults(connection_, shard_path);
+  SelectResultsToTake(connection_);
+  report.results_merged = MergeResults(connection_);
+  MergeFindings(connection_);
+  MergeDerivedChannels(connection_);
+  report.failures_merged = MergeJobState(connection_, clock_());
   connection_.Execute("DROP TABLE temp.merge_take");
+  DropKeyMaps(connection_);
   transaction.Commit();
   return report;
 }

@@ -119,6 +119,80 @@ HicWindow MakeHicWindow(const HicProblem& problem, const HicBest& best, double d
   return window;
 }
 
+// Segment tree over t2 indices: node h covers [lo, hi]; max_integral =
+// max V, max_step = max (V_{k+1} - V_k) over the steps inside [lo, hi].
+struct HicSegmentTree {
+  Eigen::Index leaves = 0;
+  std::vector<double> max_integral;
+  std::vector<double> max_step;
+};
+
+HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count) {
+  const double minus_inf = -std::numeric_limits<double>::infinity();
+  HicSegmentTree tree;
+  const auto leaves = static_cast<Eigen::Index>(std::bit_ceil(static_cast<std::size_t>(count)));
+  tree.leaves = leaves;
+  tree.max_integral.assign(static_cast<std::size_t>(2 * leaves), minus_inf);
+  tree.max_step.assign(static_cast<std::size_t>(2 * leaves), minus_inf);
+  std::vector<double>& max_integral = tree.max_integral;
+  std::vector<double>& max_step = tree.max_step;
+  for (Eigen::Index k = 0; k < count; ++k) max_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
+  for (Eigen::Index width = 2, first_node = leaves / 2; first_node >= 1; width *= 2, first_node /= 2) {
+    for (Eigen::Index h = first_node; h < 2 * first_node; ++h) {
+      const auto left = static_cast<std::size_t>(2 * h), right = left + 1;
+      const Eigen::Index boundary =
+          (h - first_node) * width + width / 2 - 1;  // step boundary -> boundary + 1
+      const double boundary_step =
+          boundary + 1 < count ? integral[boundary + 1] - integral[boundary] : minus_inf;
+      max_integral[static_cast<std::size_t>(h)] = std::max(max_integral[left], max_integral[right]);
+      max_step[static_cast<std::size_t>(h)] = std::max({max_step[left], max_step[right], boundary_step});
+    }
+  }
+  return tree;
+}
+
+// Largest |V_{k+1} - V_k|: the scale of the rounding slack on integrals.
+double MaxAbsStep(const double* integral, Eigen::Index count) {
+  double max_abs_step = 0.0;
+  for (Eigen::Index k = 0; k + 1 < count; ++k)
+    max_abs_step = std::max(max_abs_step, std::abs(integral[k + 1] - integral[k]));
+  return max_abs_step;
+}
+
+// (d dt)^0.6 for every window length d = 0 .. max_steps.
+std::vector<double> DurationPowers(Eigen::Index max_steps, double dt_s) {
+  std::vector<double> duration_pow(static_cast<std::size_t>(max_steps + 1));
+  for (Eigen::Index d = 0; d <= max_steps; ++d)
+    duration_pow[static_cast<std::size_t>(d)] = std::pow(static_cast<double>(d) * dt_s, 0.6);
+  return duration_pow;
+}
+
+// The largest step of V in [i, i + block) for every i, from running maxima
+// over blocks of `block` steps (van Herk / Gil-Werman): the larger of
+// suffix[i] and prefix[i + block - 1].
+struct StepBlockMaxima {
+  std::vector<double> prefix;
+  std::vector<double> suffix;
+};
+
+StepBlockMaxima BlockStepMaxima(const double* integral, Eigen::Index step_count, Eigen::Index block) {
+  StepBlockMaxima maxima;
+  maxima.prefix.resize(static_cast<std::size_t>(step_count));
+  maxima.suffix.resize(static_cast<std::size_t>(step_count));
+  for (Eigen::Index k = 0; k < step_count; ++k) {
+    const double step = integral[k + 1] - integral[k];
+    const auto uk = static_cast<std::size_t>(k);
+    maxima.prefix[uk] = (k % block == 0) ? step : std::max(maxima.prefix[uk - 1], step);
+  }
+  for (Eigen::Index k = step_count - 1; k >= 0; --k) {
+    const double step = integral[k + 1] - integral[k];
+    const auto uk = static_cast<std::size_t>(k);
+    maxima.suffix[uk] =
+        (k == step_count - 1 || (k + 1) % block == 0) ? step : std::max(maxima.suffix[uk + 1], step);
+  }
+  return maxima;
+}
+
 }  // namespace
 
 HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
@@ -158,61 +232,22 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
   HicBest best;
   if (count < 2) return MakeHicWindow(problem, best, dt_s, t0_s);
   const double* integral = problem.integral.data();
-  const double minus_inf = -std::numeric_limits<double>::infinity();
 
-  // Segment tree over t2 indices: node h covers [lo, hi]; max_integral =
-  // max V, max_step = max (V_{k+1} - V_k) over the steps inside [lo, hi].
-  const auto leaves = static_cast<Eigen::Index>(std::bit_ceil(static_cast<std::size_t>(count)));
-  std::vector<double> max_integral(static_cast<std::size_t>(2 * leaves), minus_inf);
-  std::vector<double> max_step(static_cast<std::size_t>(2 * leaves), minus_inf);
-  double max_abs_step = 0.0;
-  for (Eigen::Index k = 0; k < count; ++k) max_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
-  for (Eigen::Index k = 0; k + 1 < count; ++k)
-    max_abs_step = std::max(max_abs_step, std::abs(integral[k + 1] - integral[k]));
-  for (Eigen::Index width = 2, first_node = leaves / 2; first_node >= 1; width *= 2, first_node /= 2) {
-    for (Eigen::Index h = first_node; h < 2 * first_node; ++h) {
-      const auto left = static_cast<std::size_t>(2 * h), right = left + 1;
-      const Eigen::Index boundary = (h - first_node) * width + width / 2 - 1;  // step boundary -> boundary + 1
-      const double boundary_step =
-          boundary + 1 < count ? integral[boundary + 1] - integral[boundary] : minus_inf;
-      max_integral[static_cast<std::size_t>(h)] = std::max(max_integral[left], max_integral[right]);
-      max_step[static_cast<std::size_t>(h)] = std::max({max_step[left], max_step[right], boundary_step});
-    }
-  }
-
-  // (d dt)^0.6 for every window length.
-  std::vector<double> duration_pow(static_cast<std::size_t>(problem.max_steps + 1));
-  for (Eigen::Index d = 0; d <= problem.max_steps; ++d)
-    duration_pow[static_cast<std::size_t>(d)] = std::pow(static_cast<double>(d) * dt_s, 0.6);
+  const HicSegmentTree tree = BuildHicSegmentTree(integral, count);
+  const double max_abs_step = MaxAbsStep(integral, count);
+  const std::vector<double> duration_pow = DurationPowers(problem.max_steps, dt_s);
 
   constexpr double kRelativeMargin = 1.0 - 1e-9;
   constexpr double kRoundingSlack = 8.0 * std::numeric_limits<double>::epsilon();
   double threshold_scale = 0.0;  // best^0.4 * margin
   const auto update_threshold = [&]() { threshold_scale = std::pow(best.value, 0.4) * kRelativeMargin; };
 
-  // Bounded windows: the largest step of V in [i, i + max_steps) for every
-  // i (van Herk / Gil-Werman running maxima over blocks of max_steps steps),
-  // so a t1 whose whole window range cannot beat the best is skipped in O(1):
-  // I(j) <= (j - i) max_step and (s A)^2.5 / (s dt)^1.5 grows with s.
-  const Eigen::Index step_count = count - 1;
-  const bool bounded = problem.max_steps < step_count;
-  std::vector<double> block_prefix_max, block_suffix_max;
-  if (bounded) {
-    const Eigen::Index block = problem.max_steps;
-    block_prefix_max.resize(static_cast<std::size_t>(step_count));
-    block_suffix_max.resize(static_cast<std::size_t>(step_count));
-    for (Eigen::Index k = 0; k < step_count; ++k) {
-      const double step = integral[k + 1] - integral[k];
-      const auto uk = static_cast<std::size_t>(k);
-      block_prefix_max[uk] = (k % block == 0) ? step : std::max(block_prefix_max[uk - 1], step);
-    }
-    for (Eigen::Index k = step_count - 1; k >= 0; --k) {
-      const double step = integral[k + 1] - integral[k];
-      const auto uk = static_cast<std::size_t>(k);
-      block_suffix_max[uk] =
-          (k == step_count - 1 || (k + 1) % block == 0) ? step : std::max(block_suffix_max[uk + 1], step);
-    }
-  }
+  // Bounded windows: a t1 whose whole window range cannot beat the best is
+  // skipped in O(1): I(j) <= (j - i) max_step and (s A)^2.5 / (s dt)^1.5
+  // grows with s.
+  const bool bounded = problem.max_steps < count - 1;
+  const StepBlockMaxima block_max =
+      bounded ? BlockStepMaxima(integral, count - 1, problem.max_steps) : StepBlockMaxima{};
 
   struct NodeRange {
     Eigen::Index node, lo, hi;
@@ -225,14 +260,14 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
     const double integral_i = integral[i];
     if (bounded) {
       const Eigen::Index span = j_last - i;
-      const double largest_step = std::max(block_suffix_max[static_cast<std::size_t>(i)],
-                                           block_prefix_max[static_cast<std::size_t>(j_last - 1)]);
+      const double largest_step = std::max(block_max.suffix[static_cast<std::size_t>(i)],
+                                           block_max.prefix[static_cast<std::size_t>(j_last - 1)]);
       const double bound = static_cast<double>(span) * largest_step +
                            kRoundingSlack * static_cast<double>(span) * max_abs_step;
       if (!(bound > threshold_scale * duration_pow[static_cast<std::size_t>(span)])) continue;
     }
     std::size_t top = 0;
-    stack[top++] = {1, 0, leaves - 1};
+    stack[top++] = {1, 0, tree.leaves - 1};
     while (top > 0) {
       const NodeRange range = stack[--top];
       if (range.hi < j_first || range.lo > j_last) continue;
@@ -252,13 +287,13 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
           continue;
         }
         // (B) the largest integral anywhere in the block, shortest duration.
-        if (!(max_integral[h] - integral_i > threshold_d0)) continue;
+        if (!(tree.max_integral[h] - integral_i > threshold_d0)) continue;
         // (A) linear growth from the block start, tested at both ends.
         const Eigen::Index span = range.hi - range.lo;
         const double area_lo = integral[range.lo] - integral_i;
         const double slack = kRoundingSlack * (std::abs(area_lo) + static_cast<double>(span) * max_abs_step);
         const double bound_lo = area_lo + slack;
-        const double bound_hi = area_lo + static_cast<double>(span) * max_step[h] + slack;
+        const double bound_hi = area_lo + static_cast<double>(span) * tree.max_step[h] + slack;
         if (!(bound_lo > threshold_d0 ||
               bound_hi > threshold_scale * duration_pow[static_cast<std::size_t>(d0 + span)]))
           continue;

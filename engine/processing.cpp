@@ -73,20 +73,40 @@ SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState
   return options;
 }
 
-void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const ProcessingConfig& config) {
-  config.Check();
-  const Eigen::Index n = signals.size();
-  const Eigen::Index channels = signals.samples.cols();
+namespace {
+
+// Index of the first sample at or after t_s (within the sample tolerance);
+// signals.size() when there is none. Sample times t0 + k dt increase with k.
+Eigen::Index FirstSampleAtOrAfter(const TestSignals& signals, double t_s) {
+  const double earliest = t_s - TimeTolerance(signals.dt_s);
+  Eigen::Index k = 0;
+  while (k < signals.size() && signals.TimeAt(k) < earliest) ++k;
+  return k;
+}
+
+// Index of the first sample after t_s (beyond the sample tolerance);
+// signals.size() when there is none.
+Eigen::Index FirstSampleAfter(const TestSignals& signals, double t_s) {
+  const double latest = t_s + TimeTolerance(signals.dt_s);
+  Eigen::Index k = 0;
+  while (k < signals.size() && signals.TimeAt(k) <= latest) ++k;
+  return k;
+}
+
+// Refuses signals conditioning cannot work on: a bad time base, a slot name
+// per column, and finite samples only.
+void CheckConditionable(const TestSignals& signals) {
   if (!(std::isfinite(signals.dt_s) && signals.dt_s > 0.0)) {
     std::ostringstream message;
     message << "the sampling interval " << signals.dt_s << " s is not positive.";
     throw InputError(message.str());
   }
   if (!std::isfinite(signals.t0_s)) throw InputError("the time of the first sample is not finite.");
+  const Eigen::Index channels = signals.samples.cols();
   if (static_cast<std::size_t>(channels) != signals.slots.size())
     throw InputError("the signals have a different number of columns and slot names.");
   for (Eigen::Index c = 0; c < channels; ++c) {
-    for (Eigen::Index k = 0; k < n; ++k) {
+    for (Eigen::Index k = 0; k < signals.size(); ++k) {
       if (!std::isfinite(signals.samples(k, c))) {
         std::ostringstream message;
         message << "channel " << signals.slots[static_cast<std::size_t>(c)] << " has a non-finite value at sample "
@@ -95,59 +115,53 @@ void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const P
       }
     }
   }
-  const double dt = signals.dt_s;
-  const double tolerance = TimeTolerance(dt);
+}
 
-  // 1. Time shift (report section 3.4).
-  signals.t0_s -= config.time.shift_s;
+// The samples whose mean is each channel's bias, [first, first + count);
+// count 0 when the bias is not removed.
+struct BiasSamples {
+  Eigen::Index first = 0;
+  Eigen::Index count = 0;
+};
 
-  // 2. Bias removal: the mean over the pre-impact samples.
-  Eigen::Index bias_first = 0, bias_count = 0;
-  switch (config.bias.mode) {
+BiasSamples FindBiasSamples(const TestSignals& signals, const BiasConfig& bias) {
+  const Eigen::Index n = signals.size();
+  switch (bias.mode) {
     case BiasMode::kNone:
       break;
     case BiasMode::kAuto: {
       // Samples with t < 0 (t_k = t0 + k dt); used when they cover the
       // configured minimum pre-impact duration.
-      Eigen::Index negative = 0;
-      while (negative < n && signals.TimeAt(negative) < -tolerance) ++negative;
-      if (negative > 0 && static_cast<double>(negative) * dt >= config.bias.auto_min_pre_impact_s * (1.0 - 1e-9)) {
-        bias_first = 0;
-        bias_count = negative;
-      }
+      const Eigen::Index negative = FirstSampleAtOrAfter(signals, 0.0);
+      if (negative > 0 &&
+          static_cast<double>(negative) * signals.dt_s >= bias.auto_min_pre_impact_s * (1.0 - 1e-9))
+        return {0, negative};
       break;
     }
     case BiasMode::kWindow: {
-      Eigen::Index first = 0;
-      while (first < n && signals.TimeAt(first) < config.bias.window_start_s - tolerance) ++first;
-      Eigen::Index last = first;
-      while (last < n && signals.TimeAt(last) <= config.bias.window_end_s + tolerance) ++last;
+      const Eigen::Index first = FirstSampleAtOrAfter(signals, bias.window_start_s);
+      const Eigen::Index last = FirstSampleAfter(signals, bias.window_end_s);  // one past
       if (last == first) {
         std::ostringstream message;
-        message << "the bias window [" << config.bias.window_start_s << ", " << config.bias.window_end_s
+        message << "the bias window [" << bias.window_start_s << ", " << bias.window_end_s
                 << "] s holds no sample of the data (which span " << signals.TimeAt(0) << " to "
                 << signals.TimeAt(n - 1) << " s after the shift).";
         throw InputError(message.str());
       }
-      bias_first = first;
-      bias_count = last - first;
-      break;
+      return {first, last - first};
     }
   }
-  if (bias_count > 0) {
-    for (Eigen::Index c = 0; c < channels; ++c) {
-      const double mean = signals.samples.col(c).segment(bias_first, bias_count).mean();
-      signals.samples.col(c).array() -= mean;
-    }
-  }
+  return {};
+}
 
-  // 3. CFC filtering per sensor kind.
+// CFC filtering per sensor kind; columns of no sensor of `array` stay as they are.
+void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const FilterConfig& config) {
   std::optional<CfcFilter> linear_filter, rate_filter;
-  if (config.filter.linear_cfc)
-    linear_filter.emplace(*config.filter.linear_cfc, dt, config.filter.variant, config.filter.padding_s);
-  if (config.filter.angular_rate_cfc)
-    rate_filter.emplace(*config.filter.angular_rate_cfc, dt, config.filter.variant, config.filter.padding_s);
-  for (Eigen::Index c = 0; c < channels; ++c) {
+  if (config.linear_cfc)
+    linear_filter.emplace(*config.linear_cfc, signals.dt_s, config.variant, config.padding_s);
+  if (config.angular_rate_cfc)
+    rate_filter.emplace(*config.angular_rate_cfc, signals.dt_s, config.variant, config.padding_s);
+  for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
     const std::string& slot = signals.slots[static_cast<std::size_t>(c)];
     const auto sensor = std::find_if(array.sensors.begin(), array.sensors.end(),
                                      [&](const Sensor& candidate) { return candidate.slot == slot; });
@@ -155,28 +169,53 @@ void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const P
     std::optional<CfcFilter>& filter = sensor->kind == SensorKind::kLinear ? linear_filter : rate_filter;
     if (filter) filter->ApplyInPlace(signals.samples.col(c));
   }
+}
+
+// Keeps the samples within [start_s, end_s] (either end optional).
+void Crop(TestSignals& signals, const TimeConfig& time) {
+  if (!time.start_s && !time.end_s) return;
+  const Eigen::Index n = signals.size();
+  const Eigen::Index first = time.start_s ? FirstSampleAtOrAfter(signals, *time.start_s) : 0;
+  // One past the last sample kept. Never before `first`: Check() puts
+  // end_s after start_s.
+  const Eigen::Index last = time.end_s ? FirstSampleAfter(signals, *time.end_s) : n;
+  if (last - first < 2) {
+    std::ostringstream message;
+    message << "the time window [" << (time.start_s ? *time.start_s : signals.TimeAt(0)) << ", "
+            << (time.end_s ? *time.end_s : signals.TimeAt(n - 1))
+            << "] s leaves fewer than 2 samples of the data (which span " << signals.TimeAt(0) << " to "
+            << signals.TimeAt(n - 1) << " s after the shift).";
+    throw InputError(message.str());
+  }
+  const double new_t0 = signals.TimeAt(first);
+  Eigen::MatrixXd cropped = signals.samples.middleRows(first, last - first);
+  signals.samples = std::move(cropped);
+  signals.t0_s = new_t0;
+}
+
+}  // namespace
+
+void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const ProcessingConfig& config) {
+  config.Check();
+  CheckConditionable(signals);
+
+  // 1. Time shift (report section 3.4).
+  signals.t0_s -= config.time.shift_s;
+
+  // 2. Bias removal: the mean over the pre-impact samples.
+  const BiasSamples bias = FindBiasSamples(signals, config.bias);
+  if (bias.count > 0) {
+    for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
+      const double mean = signals.samples.col(c).segment(bias.first, bias.count).mean();
+      signals.samples.col(c).array() -= mean;
+    }
+  }
+
+  // 3. CFC filtering per sensor kind.
+  FilterChannels(array, signals, config.filter);
 
   // 4. Crop.
-  if (config.time.start_s || config.time.end_s) {
-    Eigen::Index first = 0;
-    if (config.time.start_s)
-      while (first < n && signals.TimeAt(first) < *config.time.start_s - tolerance) ++first;
-    Eigen::Index last = n;  // one past
-    if (config.time.end_s)
-      while (last > first && signals.TimeAt(last - 1) > *config.time.end_s + tolerance) --last;
-    if (last - first < 2) {
-      std::ostringstream message;
-      message << "the time window [" << (config.time.start_s ? *config.time.start_s : signals.TimeAt(0)) << ", "
-              << (config.time.end_s ? *config.time.end_s : signals.TimeAt(n - 1))
-              << "] s leaves fewer than 2 samples of the data (which span " << signals.TimeAt(0) << " to "
-              << signals.TimeAt(n - 1) << " s after the shift).";
-      throw InputError(message.str());
-    }
-    const double new_t0 = signals.TimeAt(first);
-    Eigen::MatrixXd cropped = signals.samples.middleRows(first, last - first);
-    signals.samples = std::move(cropped);
-    signals.t0_s = new_t0;
-  }
+  Crop(signals, config.time);
 }
 
 }  // namespace napkin::engine

@@ -310,6 +310,174 @@ std::optional<Finding> ExplainAsOffset(const Sensor& sensor, const TestSignals& 
   return MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str());
 }
 
+// What the exact solver's rigid-body residual says at a glance.
+struct ResidualStatistics {
+  double peak_mps2 = 0.0;  // +infinity when the solve diverged
+  Index peak_at = 0;       // sample of the peak, or where the solve diverges
+  double median_mps2 = 0.0;
+  double rms_mps2 = 0.0;  // +infinity when the solve diverged
+};
+
+ResidualStatistics StatisticsOf(const Kinematics& kinematics) {
+  ResidualStatistics statistics;
+  // Peak residual; a diverged solve (non-finite) peaks where it diverges.
+  for (Index k = 0; k < kinematics.size(); ++k) {
+    const double value = kinematics.residual(k);
+    if (!std::isfinite(value) || !std::isfinite(kinematics.omega_body.row(k).squaredNorm())) {
+      statistics.peak_mps2 = std::numeric_limits<double>::infinity();
+      statistics.peak_at = k;
+      break;
+    }
+    if (value > statistics.peak_mps2) {
+      statistics.peak_mps2 = value;
+      statistics.peak_at = k;
+    }
+  }
+  statistics.median_mps2 =
+      Median(std::vector<double>(kinematics.residual.data(), kinematics.residual.data() + kinematics.size()));
+  statistics.rms_mps2 = Rms(kinematics.residual);
+  return statistics;
+}
+
+// The solver options of the trial solves: exact, and without gravity
+// compensation (the residual ignores it; predicted readings must not include it).
+SolveOptions TrialOptions(const SolveOptions& exact_options) {
+  SolveOptions options = exact_options;
+  options.solver = SolverKind::kExact;
+  options.gravity.compensate = false;
+  return options;
+}
+
+Finding FlipFinding(const Sensor& sensor, double recorded_rms, double flipped_rms) {
+  return MakeFinding("polarity", sensor.slot, Severity::kError,
+                     "channel " + sensor.slot +
+                         " appears sign flipped: flipping it lowers the RMS rigid-body residual " +
+                         FromTo(recorded_rms, flipped_rms) + ".");
+}
+
+Finding SwapFinding(const Sensor& sensor, const Sensor& other, double recorded_rms, double swapped_rms) {
+  return MakeFinding("axis_label", sensor.slot, Severity::kError,
+                     "channels " + sensor.slot + " and " + other.slot +
+                         " appear swapped: swapping them lowers the RMS rigid-body residual " +
+                         FromTo(recorded_rms, swapped_rms) + ".");
+}
+
+// The residual with the channel in `column` of `trial` sign flipped; `trial`
+// is returned to `signals` afterwards.
+ResidualFit SolveFlipped(const ArrayGeometry& array, const TestSignals& signals, TestSignals& trial,
+                         int column, const SolveOptions& options) {
+  trial.samples.col(column) *= -1.0;
+  ResidualFit fit = SolveResidual(array, trial, options);
+  trial.samples.col(column) = signals.samples.col(column);
+  return fit;
+}
+
+// The residual with two channels of one kind swapped; `trial` is returned to
+// `signals` afterwards.
+ResidualFit SolveSwapped(const ArrayGeometry& array, const TestSignals& signals, TestSignals& trial,
+                         const Sensor& sensor, int column, const Sensor& other, int other_column,
+                         const SolveOptions& options) {
+  // Channels of one kind in different units swap with the unit scale.
+  const double scale = other.si_per_unit / sensor.si_per_unit;
+  trial.samples.col(column) = signals.samples.col(other_column) * scale;
+  trial.samples.col(other_column) = signals.samples.col(column) / scale;
+  ResidualFit fit = SolveResidual(array, trial, options);
+  trial.samples.col(column) = signals.samples.col(column);
+  trial.samples.col(other_column) = signals.samples.col(other_column);
+  return fit;
+}
+
+// The sign flip or swap of labels under which the array is most nearly a
+// rigid body (no finding when none lowers the recorded residual).
+struct Hypothesis {
+  double rms_mps2 = 0.0;
+  std::optional<Finding> finding;
+  std::optional<std::string> partner;  // the other channel of a swap
+};
+
+Hypothesis BestHypothesis(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
+                          double recorded_rms) {
+  Hypothesis best;
+  best.rms_mps2 = recorded_rms;
+  TestSignals trial = signals;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    const Sensor& sensor = array.sensors[i];
+    const int column = signals.FindSlot(sensor.slot);
+    if (column < 0) continue;
+    const ResidualFit fit = SolveFlipped(array, signals, trial, column, options);
+    if (fit.solved && fit.rms < best.rms_mps2)
+      best = {fit.rms, FlipFinding(sensor, recorded_rms, fit.rms), {}};
+    for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
+      const Sensor& other = array.sensors[j];
+      const int other_column = signals.FindSlot(other.slot);
+      if (other_column < 0 || other.kind != sensor.kind) continue;
+      const ResidualFit swap_fit =
+          SolveSwapped(array, signals, trial, sensor, column, other, other_column, options);
+      if (swap_fit.solved && swap_fit.rms < best.rms_mps2)
+        best = {swap_fit.rms, SwapFinding(sensor, other, recorded_rms, swap_fit.rms), other.slot};
+    }
+  }
+  return best;
+}
+
+// The channel whose omission removes most of the residual, when that
+// accounts for it.
+struct Culprit {
+  const Sensor* sensor = nullptr;
+  double rms_mps2 = 0.0;  // RMS residual without it
+  Kinematics kinematics;  // solved without it
+};
+
+std::optional<Culprit> LeaveOneOut(const ArrayGeometry& array, const TestSignals& signals,
+                                   const SolveOptions& options, double recorded_rms, double limit_mps2) {
+  std::optional<Culprit> best;
+  double best_rms = recorded_rms;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    ArrayGeometry reduced = array;
+    reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
+    try {
+      if (ResidualRedundancy(reduced) <= 0) continue;
+    } catch (const InputError&) {
+      continue;
+    }
+    ResidualFit fit = SolveResidual(reduced, signals, options);
+    if (fit.solved && fit.rms < best_rms) {
+      best_rms = fit.rms;
+      best = Culprit{&array.sensors[i], fit.rms, std::move(fit.kinematics)};
+    }
+  }
+  const bool accounted =
+      std::isfinite(recorded_rms) ? best_rms < kLeaveOutFraction * recorded_rms : best_rms < limit_mps2;
+  if (!accounted) return std::nullopt;
+  return best;
+}
+
+// The residual finding: where it peaks (or the solve diverges) and which
+// channel, if any, accounts for it.
+Finding ResidualFinding(const ResidualStatistics& residual, const Kinematics& kinematics,
+                        const std::optional<Culprit>& culprit, double limit_g) {
+  std::ostringstream detail;
+  if (std::isfinite(residual.peak_mps2))
+    detail << "the rigid-body residual of the exact solver peaks at "
+           << Number(residual.peak_mps2 / kStandardGravity)
+           << " g at t = " << Number(kinematics.time_s(residual.peak_at), 6) << " s, beyond the "
+           << Number(limit_g) << " g limit";
+  else
+    detail << "the exact solver diverges at t = " << Number(kinematics.time_s(residual.peak_at), 6)
+           << " s (the channels are far from a rigid body)";
+  std::optional<std::string> culprit_slot;
+  if (culprit) culprit_slot = culprit->sensor->slot;
+  if (culprit_slot)
+    detail << "; leaving out channel " << *culprit_slot << " lowers the RMS residual "
+           << FromTo(residual.rms_mps2, culprit->rms_mps2) << ".";
+  else if (std::isfinite(residual.rms_mps2))
+    detail << " (RMS " << Number(residual.rms_mps2 / kStandardGravity)
+           << " g) and no single channel accounts for it.";
+  else
+    detail << " and no single channel accounts for it.";
+  return MakeFinding("residual", culprit_slot, Severity::kWarning, detail.str());
+}
+
 }  // namespace
 
 bool IsFatal(const Finding& finding) {
@@ -393,140 +561,48 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
                                    "rigid-body residual checks are not possible."));
     return findings;
   }
-  const Kinematics& kinematics = exact_kinematics;
-  if (kinematics.size() == 0) return findings;
+  if (exact_kinematics.size() == 0) return findings;
   const double limit_mps2 = config.residual_limit_g * kStandardGravity;
-  // Peak residual; a diverged solve (non-finite) peaks where it diverges.
-  Index peak_at = 0;
-  double peak = 0.0;
-  for (Index k = 0; k < kinematics.size(); ++k) {
-    const double value = kinematics.residual(k);
-    if (!std::isfinite(value) || !std::isfinite(kinematics.omega_body.row(k).squaredNorm())) {
-      peak = std::numeric_limits<double>::infinity();
-      peak_at = k;
-      break;
-    }
-    if (value > peak) {
-      peak = value;
-      peak_at = k;
-    }
-  }
+  const ResidualStatistics residual = StatisticsOf(exact_kinematics);
   // A zero offset on one channel leaves a steady residual of about the
   // offset (times the channel's share of the redundancy), often below the
   // peak limit: a median residual above half the bias limit also starts
   // the search for the channel at fault.
-  const double median_residual =
-      Median(std::vector<double>(kinematics.residual.data(), kinematics.residual.data() + kinematics.size()));
-  const bool over_limit = peak > limit_mps2;
-  const bool steady = !(median_residual <= 0.5 * config.bias_limit_g * kStandardGravity);
+  const bool over_limit = residual.peak_mps2 > limit_mps2;
+  const bool steady = !(residual.median_mps2 <= 0.5 * config.bias_limit_g * kStandardGravity);
   if (!over_limit && !steady) return findings;
-  const double recorded_rms = Rms(kinematics.residual);
-  SolveOptions options = exact_options;
-  options.solver = SolverKind::kExact;
-  options.gravity.compensate = false;  // the residual ignores it; predicted readings must not include it
+  const SolveOptions options = TrialOptions(exact_options);
 
   // Polarity and axis labels (report section 3.4: "as a check for correct
-  // polarity and axis labeling"): the hypothesis under which the array is
-  // most nearly a rigid body.
-  double best_rms = recorded_rms;
-  std::optional<Finding> best;
-  std::optional<std::string> best_partner;  // the other channel of a swap
-  TestSignals trial = conditioned_signals;
-  for (std::size_t i = 0; over_limit && i < array.sensors.size(); ++i) {
-    const Sensor& sensor = array.sensors[i];
-    const int column = conditioned_signals.FindSlot(sensor.slot);
-    if (column < 0) continue;
-    trial.samples.col(column) *= -1.0;
-    const ResidualFit fit = SolveResidual(array, trial, options);
-    trial.samples.col(column) = conditioned_signals.samples.col(column);
-    if (fit.solved && fit.rms < best_rms) {
-      best_rms = fit.rms;
-      best_partner.reset();
-      best = MakeFinding("polarity", sensor.slot, Severity::kError,
-                         "channel " + sensor.slot + " appears sign flipped: flipping it lowers the RMS rigid-body "
-                         "residual " + FromTo(recorded_rms, fit.rms) + ".");
-    }
-    for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
-      const Sensor& other = array.sensors[j];
-      const int other_column = conditioned_signals.FindSlot(other.slot);
-      if (other_column < 0 || other.kind != sensor.kind) continue;
-      // Channels of one kind in different units swap with the unit scale.
-      const double scale = other.si_per_unit / sensor.si_per_unit;
-      trial.samples.col(column) = conditioned_signals.samples.col(other_column) * scale;
-      trial.samples.col(other_column) = conditioned_signals.samples.col(column) / scale;
-      const ResidualFit swap_fit = SolveResidual(array, trial, options);
-      trial.samples.col(column) = conditioned_signals.samples.col(column);
-      trial.samples.col(other_column) = conditioned_signals.samples.col(other_column);
-      if (swap_fit.solved && swap_fit.rms < best_rms) {
-        best_rms = swap_fit.rms;
-        best_partner = other.slot;
-        best = MakeFinding("axis_label", sensor.slot, Severity::kError,
-                           "channels " + sensor.slot + " and " + other.slot + " appear swapped: swapping them lowers "
-                           "the RMS rigid-body residual " + FromTo(recorded_rms, swap_fit.rms) + ".");
+  // polarity and axis labeling"). Much better: a fraction of the recorded
+  // RMS residual and an RMS within the per-sample limit (the hypothesis
+  // must explain the inconsistency, not merely reduce it: a gain error on
+  // another channel is no swap).
+  if (over_limit) {
+    const Hypothesis best = BestHypothesis(array, conditioned_signals, options, residual.rms_mps2);
+    const bool much_better =
+        best.rms_mps2 < kHypothesisFraction * residual.rms_mps2 && best.rms_mps2 < limit_mps2;
+    if (best.finding && much_better) {
+      findings.push_back(*best.finding);
+      if (best.partner) {
+        // One finding per channel of the pair, each naming both.
+        Finding partner = *best.finding;
+        partner.channel = best.partner;
+        findings.push_back(std::move(partner));
       }
-    }
-  }
-  // Much better: a fraction of the recorded RMS residual and an RMS within
-  // the per-sample limit (the hypothesis must explain the inconsistency,
-  // not merely reduce it: a gain error on another channel is no swap).
-  const bool much_better = best_rms < kHypothesisFraction * recorded_rms && best_rms < limit_mps2;
-  if (best && much_better) {
-    findings.push_back(*best);
-    if (best_partner) {
-      // One finding per channel of the pair, each naming both.
-      Finding partner = *best;
-      partner.channel = best_partner;
-      findings.push_back(std::move(partner));
     }
   }
 
   // The residual itself, with the channel whose omission removes most of it.
-  const std::size_t none = array.sensors.size();
-  std::size_t culprit = none;  // index of the sensor whose omission removes most residual
-  double culprit_rms = recorded_rms;
-  Kinematics culprit_kinematics;
-  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
-    ArrayGeometry reduced = array;
-    reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
-    try {
-      if (ResidualRedundancy(reduced) <= 0) continue;
-    } catch (const InputError&) {
-      continue;
-    }
-    ResidualFit fit = SolveResidual(reduced, conditioned_signals, options);
-    if (fit.solved && fit.rms < culprit_rms) {
-      culprit_rms = fit.rms;
-      culprit = i;
-      culprit_kinematics = std::move(fit.kinematics);
-    }
-  }
-  const bool accounted = std::isfinite(recorded_rms) ? culprit_rms < kLeaveOutFraction * recorded_rms
-                                                     : culprit_rms < limit_mps2;
-  if (!accounted) culprit = none;
-  if (culprit != none) {
+  const std::optional<Culprit> culprit =
+      LeaveOneOut(array, conditioned_signals, options, residual.rms_mps2, limit_mps2);
+  if (culprit) {
     if (std::optional<Finding> offset =
-            ExplainAsOffset(array.sensors[culprit], conditioned_signals, culprit_kinematics, config))
+            ExplainAsOffset(*culprit->sensor, conditioned_signals, culprit->kinematics, config))
       findings.push_back(std::move(*offset));
   }
-  if (!over_limit) return findings;
-  std::ostringstream detail;
-  if (std::isfinite(peak))
-    detail << "the rigid-body residual of the exact solver peaks at " << Number(peak / kStandardGravity)
-           << " g at t = " << Number(kinematics.time_s(peak_at), 6) << " s, beyond the "
-           << Number(config.residual_limit_g) << " g limit";
-  else
-    detail << "the exact solver diverges at t = " << Number(kinematics.time_s(peak_at), 6)
-           << " s (the channels are far from a rigid body)";
-  std::optional<std::string> culprit_slot;
-  if (culprit != none) culprit_slot = array.sensors[culprit].slot;
-  if (culprit_slot)
-    detail << "; leaving out channel " << *culprit_slot << " lowers the RMS residual "
-           << FromTo(recorded_rms, culprit_rms) << ".";
-  else if (std::isfinite(recorded_rms))
-    detail << " (RMS " << Number(recorded_rms / kStandardGravity) << " g) and no single channel accounts for it.";
-  else
-    detail << " and no single channel accounts for it.";
-  findings.push_back(MakeFinding("residual", culprit_slot, Severity::kWarning, detail.str()));
+  if (over_limit)
+    findings.push_back(ResidualFinding(residual, exact_kinematics, culprit, config.residual_limit_g));
   return findings;
 }
 
