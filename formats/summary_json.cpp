@@ -17,7 +17,8 @@ nlohmann::ordered_json Number(double value) {
 nlohmann::ordered_json FindingToJson(const engine::Finding& finding) {
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
   json["check"] = finding.check;
-  json["channel"] = finding.channel ? nlohmann::ordered_json(*finding.channel) : nlohmann::ordered_json(nullptr);
+  json["channel"] =
+      finding.channel ? nlohmann::ordered_json(*finding.channel) : nlohmann::ordered_json(nullptr);
   json["severity"] = engine::SeverityName(finding.severity);
   json["detail"] = finding.detail;
   return json;
