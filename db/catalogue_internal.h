@@ -32,7 +32,7 @@ inline std::string IsoTimestampSql(const std::string& parameter) {
 std::optional<std::string> JsonStringArray(const std::vector<std::string>& values);
 
 // The results table's summary columns ("hic15, hic15_t1_s, ...", each with
-// `prefix`), in table order.
+// `prefix`): engine::SummaryFields(), in table order.
 std::string SummaryColumnList(const std::string& prefix = "");
 
 void BindTestFilter(Statement& statement, const TestFilter& filter);

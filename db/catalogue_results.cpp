@@ -1,4 +1,5 @@
 // Catalogue: results, findings, derived channels (kinematics) and queries.
+#include <algorithm>
 #include <array>
 #include <initializer_list>
 #include <limits>
@@ -9,6 +10,7 @@
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
 #include "engine/error.h"
+#include "engine/summary_fields.h"
 
 namespace napkin::db {
 
@@ -18,51 +20,11 @@ using engine::TestSummary;
 using internal::IsoTimestampSql;
 using internal::SummaryColumnList;
 
-// One numeric column of the results table and the summary field it holds.
-struct SummaryField {
-  const char* column;
-  double& (*field)(TestSummary&);
-};
-
-// Every numeric field of the query contract (FORMATS.md "Per-test summary
-// fields") plus the quality residual, in results-table order.
-constexpr SummaryField kSummaryFields[] = {
-    {"hic15", [](TestSummary& s) -> double& { return s.hic15.value; }},
-    {"hic15_t1_s", [](TestSummary& s) -> double& { return s.hic15.t1_s; }},
-    {"hic15_t2_s", [](TestSummary& s) -> double& { return s.hic15.t2_s; }},
-    {"hic36", [](TestSummary& s) -> double& { return s.hic36.value; }},
-    {"hic36_t1_s", [](TestSummary& s) -> double& { return s.hic36.t1_s; }},
-    {"hic36_t2_s", [](TestSummary& s) -> double& { return s.hic36.t2_s; }},
-    {"hic", [](TestSummary& s) -> double& { return s.hic.value; }},
-    {"hic_t1_s", [](TestSummary& s) -> double& { return s.hic.t1_s; }},
-    {"hic_t2_s", [](TestSummary& s) -> double& { return s.hic.t2_s; }},
-    {"peak_acc_g", [](TestSummary& s) -> double& { return s.peak_acc_g; }},
-    {"a3ms_g", [](TestSummary& s) -> double& { return s.a3ms_g; }},
-    {"peak_omega_x_radps", [](TestSummary& s) -> double& { return s.peak_omega_body_radps[0]; }},
-    {"peak_omega_y_radps", [](TestSummary& s) -> double& { return s.peak_omega_body_radps[1]; }},
-    {"peak_omega_z_radps", [](TestSummary& s) -> double& { return s.peak_omega_body_radps[2]; }},
-    {"peak_omega_radps", [](TestSummary& s) -> double& { return s.peak_omega_radps; }},
-    {"peak_alpha_radps2", [](TestSummary& s) -> double& { return s.peak_alpha_radps2; }},
-    {"bric", [](TestSummary& s) -> double& { return s.bric; }},
-    {"damage", [](TestSummary& s) -> double& { return s.damage; }},
-    {"final_quat_w", [](TestSummary& s) -> double& { return s.final_quat_wxyz[0]; }},
-    {"final_quat_x", [](TestSummary& s) -> double& { return s.final_quat_wxyz[1]; }},
-    {"final_quat_y", [](TestSummary& s) -> double& { return s.final_quat_wxyz[2]; }},
-    {"final_quat_z", [](TestSummary& s) -> double& { return s.final_quat_wxyz[3]; }},
-    {"final_roll_deg", [](TestSummary& s) -> double& { return s.final_roll_pitch_yaw_deg[0]; }},
-    {"final_pitch_deg", [](TestSummary& s) -> double& { return s.final_roll_pitch_yaw_deg[1]; }},
-    {"final_yaw_deg", [](TestSummary& s) -> double& { return s.final_roll_pitch_yaw_deg[2]; }},
-    {"final_pos_x_m", [](TestSummary& s) -> double& { return s.final_pos_fixed_m[0]; }},
-    {"final_pos_y_m", [](TestSummary& s) -> double& { return s.final_pos_fixed_m[1]; }},
-    {"final_pos_z_m", [](TestSummary& s) -> double& { return s.final_pos_fixed_m[2]; }},
-    {"max_rotation_deg", [](TestSummary& s) -> double& { return s.max_rotation_deg; }},
-    {"max_residual_mps2", [](TestSummary& s) -> double& { return s.max_residual_mps2; }},
-};
-
 // Reads the summary fields from columns first, first+1, ... of `row`.
 void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
   int column = first;
-  for (const SummaryField& field : kSummaryFields) field.field(summary) = row.ColumnDouble(column++);
+  for (const engine::SummaryField& field : engine::SummaryFields())
+    field.Set(summary, row.ColumnDouble(column++));
 }
 
 // The inverse of engine::SeverityName, which wrote the column.
@@ -121,6 +83,17 @@ void CheckKinematicsShape(const engine::Kinematics& kinematics) {
   check(kinematics.residual.rows(), "residual");
 }
 
+// The columns of a summary view: the test's labels, then the fields of
+// `groups` in contract order (schema/002_query_views.sql has the same, as
+// tests/db/schema_test.cpp checks).
+std::string SummaryViewColumns(std::initializer_list<engine::SummaryGroup> groups) {
+  std::string columns = "test_id, series, variant";
+  for (const engine::SummaryField& field : engine::SummaryFields())
+    if (std::find(groups.begin(), groups.end(), field.group) != groups.end())
+      columns.append(", ").append(field.name);
+  return columns;
+}
+
 Cell ReadCell(const Statement& row, int column) {
   switch (row.ColumnType(column)) {
     case SQLITE_INTEGER:
@@ -140,9 +113,9 @@ Cell ReadCell(const Statement& row, int column) {
 
 std::string internal::SummaryColumnList(const std::string& prefix) {
   std::string list;
-  for (const SummaryField& field : kSummaryFields) {
+  for (const engine::SummaryField& field : engine::SummaryFields()) {
     if (!list.empty()) list += ", ";
-    list += prefix + field.column;
+    list += prefix + field.name;
   }
   return list;
 }
@@ -163,14 +136,14 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
     static const std::string kInsert = [] {
       std::string sql = "INSERT INTO results (test_id, config_id, solver, computed_at, " +
                         SummaryColumnList() + ") VALUES (?1, ?2, ?3, " + IsoTimestampSql("?4");
-      for (std::size_t i = 0; i < std::size(kSummaryFields); ++i) sql += ", ?" + std::to_string(5 + i);
+      for (std::size_t i = 0; i < engine::SummaryFields().size(); ++i) sql += ", ?" + std::to_string(5 + i);
       return sql + ")";
     }();
     auto insert = connection_.Prepare(kInsert);
     insert->BindAll(test, config, solver, clock_());
-    auto& fields = const_cast<TestSummary&>(summary);  // the accessors only read here
     int parameter = 5;
-    for (const SummaryField& field : kSummaryFields) insert->Bind(parameter++, field.field(fields));
+    for (const engine::SummaryField& field : engine::SummaryFields())
+      insert->Bind(parameter++, field.Get(summary));
     insert->Execute();
   }
   WriteFindings(test, config, summary.findings);
@@ -327,22 +300,24 @@ std::vector<SummaryRow> Catalogue::ReadAllSummaries(const TestFilter& filter) {
 }
 
 Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
-  std::string sql = "SELECT * FROM ";
+  using engine::SummaryGroup;
+  std::string sql;
   switch (kind) {
     case QueryKind::kTests:
-      sql += "v_tests";
+      sql = "SELECT * FROM v_tests";
       break;
     case QueryKind::kHic:
-      sql += "v_hic";
+      sql = "SELECT " + SummaryViewColumns({SummaryGroup::kHic}) + " FROM v_hic";
       break;
     case QueryKind::kRotation:
-      sql += "v_rotation";
+      sql = "SELECT " + SummaryViewColumns({SummaryGroup::kRotation}) + " FROM v_rotation";
       break;
     case QueryKind::kCriteria:
-      sql += "v_criteria";
+      sql = "SELECT " + SummaryViewColumns({SummaryGroup::kHic, SummaryGroup::kRotation}) +
+            " FROM v_criteria";
       break;
     case QueryKind::kQuality:
-      sql += "v_quality";
+      sql = "SELECT * FROM v_quality";
       break;
   }
   sql += std::string(" WHERE ") + internal::kViewFilterTerms + " ORDER BY test_id";

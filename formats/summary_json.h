@@ -8,14 +8,12 @@
 
 namespace napkin::formats {
 
-// "info", "warning" or "error".
-const char* SeverityText(engine::Severity severity);
+// {check, channel (slot or null), severity, detail}, in that order.
+nlohmann::ordered_json FindingToJson(const engine::Finding& finding);
 
-// {check, channel (slot or null), severity, detail}
-nlohmann::json FindingToJson(const engine::Finding& finding);
-
-// Every field of `query hic` and `query rotation`, in contract order, plus
-// the array `quality`. Non-finite numbers become null.
+// test_id, series, variant, every field of `query hic` and `query rotation`
+// (engine/summary_fields.h), in contract order, then the array `quality`.
+// Non-finite numbers become null.
 nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const std::string& test_id,
                                      const std::string& series, const std::string& variant);
 

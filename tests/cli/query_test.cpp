@@ -6,6 +6,7 @@
 
 #include "cli/table_output.h"
 #include "engine/error.h"
+#include "engine/summary_fields.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
@@ -13,31 +14,16 @@
 namespace napkin::cli::test {
 namespace {
 
-// FORMATS.md "Per-test summary fields".
-const std::vector<std::string> kHicFields = {
-    "test_id",    "series",     "variant", "hic15",    "hic15_t1_s", "hic15_t2_s", "hic36",
-    "hic36_t1_s", "hic36_t2_s", "hic",     "hic_t1_s", "hic_t2_s",   "peak_acc_g", "a3ms_g"};
-const std::vector<std::string> kRotationFields = {"test_id",
-                                                  "series",
-                                                  "variant",
-                                                  "peak_omega_x_radps",
-                                                  "peak_omega_y_radps",
-                                                  "peak_omega_z_radps",
-                                                  "peak_omega_radps",
-                                                  "peak_alpha_radps2",
-                                                  "bric",
-                                                  "damage",
-                                                  "final_quat_w",
-                                                  "final_quat_x",
-                                                  "final_quat_y",
-                                                  "final_quat_z",
-                                                  "final_roll_deg",
-                                                  "final_pitch_deg",
-                                                  "final_yaw_deg",
-                                                  "final_pos_x_m",
-                                                  "final_pos_y_m",
-                                                  "final_pos_z_m",
-                                                  "max_rotation_deg"};
+// FORMATS.md "Per-test summary fields": the test's labels, then the fields
+// of the group (engine/summary_fields.h; tests/db/schema_test.cpp binds the
+// schema's views to the same table).
+std::vector<std::string> ViewFields(engine::SummaryGroup group) {
+  std::vector<std::string> fields = {"test_id", "series", "variant"};
+  for (const std::string& name : engine::SummaryFieldNames(group)) fields.push_back(name);
+  return fields;
+}
+const std::vector<std::string> kHicFields = ViewFields(engine::SummaryGroup::kHic);
+const std::vector<std::string> kRotationFields = ViewFields(engine::SummaryGroup::kRotation);
 
 std::vector<std::string> Keys(const nlohmann::ordered_json& object) {
   std::vector<std::string> keys;

@@ -1,0 +1,96 @@
+#include "engine/summary_fields.h"
+
+#include <cmath>
+
+namespace napkin::engine {
+namespace {
+
+using G = SummaryGroup;
+using S = TestSummary;
+
+constexpr SummaryField kSummaryFields[] = {
+    {"hic15", G::kHic, "HIC, windows up to 15 ms", [](S& s) -> double& { return s.hic15.value; }},
+    {"hic15_t1_s", G::kHic, "HIC15 window start (s)", [](S& s) -> double& { return s.hic15.t1_s; }},
+    {"hic15_t2_s", G::kHic, "HIC15 window end (s)", [](S& s) -> double& { return s.hic15.t2_s; }},
+    {"hic36", G::kHic, "HIC, windows up to 36 ms", [](S& s) -> double& { return s.hic36.value; }},
+    {"hic36_t1_s", G::kHic, "HIC36 window start (s)", [](S& s) -> double& { return s.hic36.t1_s; }},
+    {"hic36_t2_s", G::kHic, "HIC36 window end (s)", [](S& s) -> double& { return s.hic36.t2_s; }},
+    {"hic", G::kHic, "HIC, no window limit", [](S& s) -> double& { return s.hic.value; }},
+    {"hic_t1_s", G::kHic, "HIC window start (s)", [](S& s) -> double& { return s.hic.t1_s; }},
+    {"hic_t2_s", G::kHic, "HIC window end (s)", [](S& s) -> double& { return s.hic.t2_s; }},
+    {"peak_acc_g", G::kHic, "peak resultant CG acceleration, fixed frame (g)",
+     [](S& s) -> double& { return s.peak_acc_g; }},
+    {"a3ms_g", G::kHic, "3 ms clip acceleration (g)", [](S& s) -> double& { return s.a3ms_g; }},
+    {"peak_omega_x_radps", G::kRotation, "peak |omega_x|, body axes (rad/s)",
+     [](S& s) -> double& { return s.peak_omega_body_radps[0]; }},
+    {"peak_omega_y_radps", G::kRotation, "peak |omega_y|, body axes (rad/s)",
+     [](S& s) -> double& { return s.peak_omega_body_radps[1]; }},
+    {"peak_omega_z_radps", G::kRotation, "peak |omega_z|, body axes (rad/s)",
+     [](S& s) -> double& { return s.peak_omega_body_radps[2]; }},
+    {"peak_omega_radps", G::kRotation, "peak resultant angular velocity (rad/s)",
+     [](S& s) -> double& { return s.peak_omega_radps; }},
+    {"peak_alpha_radps2", G::kRotation, "peak resultant angular acceleration (rad/s^2)",
+     [](S& s) -> double& { return s.peak_alpha_radps2; }},
+    {"bric", G::kRotation, "BrIC (dimensionless)", [](S& s) -> double& { return s.bric; }},
+    {"damage", G::kRotation, "DAMAGE (dimensionless)", [](S& s) -> double& { return s.damage; }},
+    {"final_quat_w", G::kRotation, "final orientation quaternion, fixed from body, w",
+     [](S& s) -> double& { return s.final_quat_wxyz[0]; }},
+    {"final_quat_x", G::kRotation, "final orientation quaternion, x",
+     [](S& s) -> double& { return s.final_quat_wxyz[1]; }},
+    {"final_quat_y", G::kRotation, "final orientation quaternion, y",
+     [](S& s) -> double& { return s.final_quat_wxyz[2]; }},
+    {"final_quat_z", G::kRotation, "final orientation quaternion, z",
+     [](S& s) -> double& { return s.final_quat_wxyz[3]; }},
+    {"final_roll_deg", G::kRotation, "final roll (deg)",
+     [](S& s) -> double& { return s.final_roll_pitch_yaw_deg[0]; }},
+    {"final_pitch_deg", G::kRotation, "final pitch (deg)",
+     [](S& s) -> double& { return s.final_roll_pitch_yaw_deg[1]; }},
+    {"final_yaw_deg", G::kRotation, "final yaw (deg)",
+     [](S& s) -> double& { return s.final_roll_pitch_yaw_deg[2]; }},
+    {"final_pos_x_m", G::kRotation, "final CG position, fixed frame, x (m)",
+     [](S& s) -> double& { return s.final_pos_fixed_m[0]; }},
+    {"final_pos_y_m", G::kRotation, "final CG position, fixed frame, y (m)",
+     [](S& s) -> double& { return s.final_pos_fixed_m[1]; }},
+    {"final_pos_z_m", G::kRotation, "final CG position, fixed frame, z (m)",
+     [](S& s) -> double& { return s.final_pos_fixed_m[2]; }},
+    {"max_rotation_deg", G::kRotation, "largest angle from the initial orientation (deg)",
+     [](S& s) -> double& { return s.max_rotation_deg; }},
+    // A screening measure (beside the findings), not a result of the contract's views.
+    {"max_residual_mps2", G::kQuality, "largest solver residual (m/s^2)",
+     [](S& s) -> double& { return s.max_residual_mps2; }},
+};
+
+bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+}  // namespace
+
+std::span<const SummaryField> SummaryFields() { return kSummaryFields; }
+
+std::vector<std::string> SummaryFieldNames(SummaryGroup group) {
+  std::vector<std::string> names;
+  for (const SummaryField& field : kSummaryFields)
+    if (field.group == group) names.emplace_back(field.name);
+  return names;
+}
+
+std::vector<std::string> DifferingSummaryFields(const TestSummary& a, const TestSummary& b) {
+  std::vector<std::string> differing;
+  for (const SummaryField& field : kSummaryFields)
+    if (!SameNumber(field.Get(a), field.Get(b))) differing.emplace_back(field.name);
+  if (a.findings.size() != b.findings.size()) {
+    differing.emplace_back("findings");
+    return differing;
+  }
+  for (std::size_t i = 0; i < a.findings.size(); ++i) {
+    const Finding& x = a.findings[i];
+    const Finding& y = b.findings[i];
+    const std::string prefix = "findings[" + std::to_string(i) + "].";
+    if (x.check != y.check) differing.push_back(prefix + "check");
+    if (x.channel != y.channel) differing.push_back(prefix + "channel");
+    if (x.severity != y.severity) differing.push_back(prefix + "severity");
+    if (x.detail != y.detail) differing.push_back(prefix + "detail");
+  }
+  return differing;
+}
+
+}  // namespace napkin::engine

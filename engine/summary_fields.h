@@ -1,0 +1,51 @@
+#pragma once
+// The one list of a test's numeric summary fields (FORMATS.md "Per-test
+// summary fields"): their query-contract names, order and query group. The
+// results table and the views of schema/, the summary JSON, the catalogue's
+// column lists and summary equality all follow it; tests/db/schema_test.cpp
+// proves that the schema agrees with it.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/summary.h"
+
+namespace napkin::engine {
+
+// Which `napkin query` view shows a field; `query criteria` shows both.
+enum class SummaryGroup {
+  kHic,       // query hic (and criteria)
+  kRotation,  // query rotation (and criteria)
+  kQuality,   // stored with the result, shown by no view and not in the JSON
+};
+
+struct SummaryField {
+  const char* name;  // column name of the query contract
+  SummaryGroup group;
+  const char* meaning;  // one line, with the unit
+  // The field in a summary. Get and Set go through it.
+  double& (*field)(TestSummary&);
+
+  double Get(const TestSummary& summary) const {
+    return field(const_cast<TestSummary&>(summary));  // the accessor only forms a reference
+  }
+  void Set(TestSummary& summary, double value) const { field(summary) = value; }
+};
+
+// Every numeric field, in contract order (the order of the results table's
+// columns, of the views and of the summary JSON).
+std::span<const SummaryField> SummaryFields();
+
+// The names of the fields of `group`, in contract order.
+std::vector<std::string> SummaryFieldNames(SummaryGroup group);
+
+// The fields in which two summaries differ: names from SummaryFields(), then
+// "findings" when their counts differ, else "findings[i].check", ".channel",
+// ".severity", ".detail". Empty when they are the same. Numbers compare by
+// value with NaN equal to NaN: the catalogue keeps every double's bits except
+// those two distinctions (SQLite stores -0.0 as the integer 0, and a NaN binds
+// as NULL and reads back as the quiet NaN), so this is as strict as a
+// round trip through the catalogue allows.
+std::vector<std::string> DifferingSummaryFields(const TestSummary& a, const TestSummary& b);
+
+}  // namespace napkin::engine

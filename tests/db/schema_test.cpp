@@ -1,0 +1,65 @@
+// The schema agrees with the one summary-field table (engine/summary_fields.h):
+// the results table's summary columns and the summary views' columns are the
+// table's names, in its order. The schema files are not generated from the
+// table (catalogues on disk keep their columns), so this test is what binds them.
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/catalogue.h"
+#include "db/sqlite.h"
+#include "engine/summary_fields.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::db {
+namespace {
+
+using engine::SummaryGroup;
+
+// Column names of a table or view, in order.
+std::vector<std::string> Columns(Connection& connection, const std::string& table) {
+  auto info = connection.Prepare("SELECT name FROM pragma_table_info(?1) ORDER BY cid");
+  info->Bind(1, table);
+  std::vector<std::string> columns;
+  while (info->Step()) columns.push_back(info->ColumnText(0));
+  return columns;
+}
+
+std::vector<std::string> Concatenated(std::vector<std::string> head,
+                                      std::initializer_list<std::vector<std::string>> tails) {
+  for (const std::vector<std::string>& tail : tails) head.insert(head.end(), tail.begin(), tail.end());
+  return head;
+}
+
+class SchemaTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    Catalogue::Open(path_);  // creates the catalogue at the newest schema version
+    connection_.emplace(Connection::Open(path_, {.read_only = true}));
+  }
+
+  napkin::testing::TempDir dir_;
+  std::string path_ = dir_ / "catalogue.db";
+  std::optional<Connection> connection_;
+};
+
+TEST_F(SchemaTest, ResultsColumnsAreTheSummaryFieldsInOrder) {
+  std::vector<std::string> names;
+  for (const engine::SummaryField& field : engine::SummaryFields()) names.emplace_back(field.name);
+  EXPECT_EQ(Columns(*connection_, "results"),
+            Concatenated({"id", "test_id", "config_id", "solver", "computed_at"}, {names}));
+}
+
+TEST_F(SchemaTest, SummaryViewsShowTheFieldsOfTheirGroup) {
+  const std::vector<std::string> labels = {"test_id", "series", "variant"};
+  const std::vector<std::string> hic = engine::SummaryFieldNames(SummaryGroup::kHic);
+  const std::vector<std::string> rotation = engine::SummaryFieldNames(SummaryGroup::kRotation);
+  EXPECT_EQ(Columns(*connection_, "v_hic"), Concatenated(labels, {hic}));
+  EXPECT_EQ(Columns(*connection_, "v_rotation"), Concatenated(labels, {rotation}));
+  EXPECT_EQ(Columns(*connection_, "v_criteria"), Concatenated(labels, {hic, rotation}));
+}
+
+}  // namespace
+}  // namespace napkin::db
