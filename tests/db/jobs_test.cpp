@@ -153,8 +153,10 @@ TEST_F(JobsTest, ExpiredLeaseIsReclaimedAndTheOldOwnerLosesIt) {
   Catalogue first = OpenCatalogue();
   AddTests(first, 4);
   const ConfigId config = first.WriteConfig(testing::DefaultConfig());
+  JobQueue first_queue(first);
   first_queue.EnqueueMissing(config);
   Catalogue second = OpenCatalogue();
+  JobQueue second_queue(second);
 
   const auto crashed = first_queue.ClaimJobs(config, "crashed-worker", 2, 10.0);
   ASSERT_EQ(crashed.size(), 2u);
