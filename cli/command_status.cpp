@@ -6,6 +6,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "db/job_queue.h"
 
 namespace napkin::cli {
 namespace {
@@ -25,7 +26,7 @@ class StatusCommand : public Command {
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     // A config never run on this catalogue has no key: every test is pending.
     const db::ConfigId config = catalogue.FindConfigByHash(resolved.record.config_hash).value_or(db::ConfigId{0});
-    const db::StatusCounts counts = catalogue.ReadStatusCounts(config);
+    const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(config);
 
     if (format_ == "json") {
       // Key order as PRODUCT.md gives it.

@@ -1,4 +1,4 @@
-// Catalogue: opening, series, arrays, tests, raw channels, configs, dump.
+// Catalogue: opening, series, arrays, tests, raw channels, configs.
 #include "db/catalogue.h"
 
 #include <chrono>
@@ -46,17 +46,6 @@ void BindTestFilter(Statement& statement, const TestFilter& filter) {
   statement.Bind(3, JsonStringArray(filter.external_ids));
 }
 
-void BindJobScope(Statement& statement, const JobScope& scope) {
-  BindTestFilter(statement, scope.tests);
-  if (scope.shard) {
-    if (scope.shard->count < 1 || scope.shard->index < 0 || scope.shard->index >= scope.shard->count)
-      throw InputError("shard " + std::to_string(scope.shard->index) + "/" +
-                       std::to_string(scope.shard->count) + " is invalid (expected I/N with 0 <= I < N).");
-    statement.Bind(4, scope.shard->count);
-    statement.Bind(5, scope.shard->index);
-  }
-}
-
 }  // namespace internal
 
 namespace {
@@ -94,15 +83,6 @@ TestRecord ReadTestRow(const Statement& row) {
   test.content_hash = row.ColumnText(16);
   test.imported_at = row.ColumnText(17);
   return test;
-}
-
-std::string QuoteIdentifier(const std::string& name) {
-  std::string quoted = "\"";
-  for (const char c : name) {
-    quoted += c;
-    if (c == '"') quoted += '"';
-  }
-  return quoted + "\"";
 }
 
 }  // namespace
@@ -176,14 +156,6 @@ std::optional<SeriesRecord> Catalogue::ReadSeries(const std::string& name) {
   select->Bind(1, name);
   if (!select->Step()) return std::nullopt;
   return SeriesRecord{SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)};
-}
-
-std::vector<SeriesRecord> Catalogue::ReadAllSeries() {
-  auto select = connection_.Prepare("SELECT id, name, description FROM series ORDER BY name");
-  std::vector<SeriesRecord> all;
-  while (select->Step())
-    all.push_back({SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)});
-  return all;
 }
 
 // ------------------------------------------------------------------- arrays
@@ -432,63 +404,6 @@ std::optional<ConfigId> Catalogue::FindConfigByHash(const std::string& config_ha
   select->Bind(1, config_hash);
   if (!select->Step()) return std::nullopt;
   return ConfigId{select->ColumnInt64(0)};
-}
-
-// --------------------------------------------------------------------- dump
-
-std::string Catalogue::Dump() {
-  std::string dump = "user_version " + std::to_string(connection_.PragmaInt("user_version")) + "\n";
-  std::vector<std::pair<std::string, std::string>> tables;
-  {
-    auto select = connection_.Prepare(
-        "SELECT name, coalesce(sql, '') FROM sqlite_master WHERE type = 'table' ORDER BY name");
-    while (select->Step()) tables.emplace_back(select->ColumnText(0), select->ColumnText(1));
-  }
-  {
-    auto select = connection_.Prepare(
-        "SELECT type, name, coalesce(sql, '') FROM sqlite_master WHERE type <> 'table' ORDER BY type, name");
-    while (select->Step())
-      dump += select->ColumnText(0) + " " + select->ColumnText(1) + ": " + select->ColumnText(2) + "\n";
-  }
-  for (const auto& [name, sql] : tables) {
-    dump.append("table ").append(name).append(": ").append(sql).append("\n");
-    // A one-off statement per table: table names are identifiers, quoted.
-    Statement rows(connection_.handle(), "SELECT * FROM " + QuoteIdentifier(name) + " ORDER BY rowid");
-    while (rows.Step()) {
-      dump += " ";
-      for (int c = 0; c < rows.ColumnCount(); ++c) {
-        dump += c == 0 ? "(" : ", ";
-        switch (rows.ColumnType(c)) {
-          case SQLITE_NULL:
-            dump += "NULL";
-            break;
-          case SQLITE_INTEGER:
-            dump += std::to_string(rows.ColumnInt64(c));
-            break;
-          case SQLITE_FLOAT: {
-            char text[32];
-            std::snprintf(text, sizeof text, "%a", rows.ColumnDouble(c));  // exact
-            dump += text;
-            break;
-          }
-          case SQLITE_TEXT:
-            dump += "'" + rows.ColumnText(c) + "'";
-            break;
-          default: {
-            static constexpr char kHex[] = "0123456789abcdef";
-            dump += "x'";
-            for (const std::byte byte : rows.ColumnBlob(c)) {
-              dump += kHex[static_cast<unsigned>(byte) >> 4];
-              dump += kHex[static_cast<unsigned>(byte) & 0xf];
-            }
-            dump += "'";
-          }
-        }
-      }
-      dump += ")\n";
-    }
-  }
-  return dump;
 }
 
 }  // namespace napkin::db

@@ -29,7 +29,6 @@ enum class SeriesId : std::int64_t {};
 enum class ArrayId : std::int64_t {};
 enum class TestId : std::int64_t {};
 enum class ConfigId : std::int64_t {};
-enum class JobId : std::int64_t {};
 
 struct SeriesRecord {
   SeriesId id{};
@@ -74,55 +73,12 @@ struct TestFilter {
   std::vector<std::string> external_ids;  // only these tests
 };
 
-// Tests whose key satisfies key % count == index (run --shard I/N; shard
-// catalogues are copies of one catalogue, so keys agree).
-struct Shard {
-  int index = 0;
-  int count = 1;
-};
-
-struct JobScope {
-  TestFilter tests;
-  std::optional<Shard> shard;
-};
-
 struct RawChannelInfo {
   std::string slot;
   std::string unit;
   double dt_s = 0.0;
   double t0_s = 0.0;
   std::int64_t sample_count = 0;
-};
-
-// A claimed job.
-struct Job {
-  JobId id{};
-  TestId test_id{};
-  ConfigId config_id{};
-  int attempts = 0;  // claims so far, this one included
-};
-
-struct JobFailure {
-  std::string test_id;  // external id
-  std::string error;
-};
-
-// `napkin status`: every test in scope counted once by its state for a config.
-struct StatusCounts {
-  std::int64_t tests = 0;
-  std::int64_t done = 0;  // a result exists and no new job is pending
-  std::int64_t failed = 0;
-  std::int64_t pending = 0;  // queued, or never enqueued and without a result
-  std::int64_t running = 0;
-  std::vector<JobFailure> failures;  // ordered by test id
-};
-
-// One test's latest summary with its labels (query criteria).
-struct SummaryRow {
-  std::string test_id;  // external id
-  std::optional<std::string> series;
-  std::optional<std::string> variant;
-  engine::TestSummary summary;  // without findings
 };
 
 // `napkin query` tables, read from the views v_tests, v_hic, v_rotation,
@@ -160,7 +116,6 @@ class Catalogue {
   // catalogue, read-only, or newer than this build.
   static Catalogue Open(const std::string& path, const CatalogueOptions& options = {});
 
-  Connection& connection() { return connection_; }
   int schema_version() const { return schema_version_; }
   // A write transaction over several calls; rolls back unless committed.
   Transaction BeginTransaction() { return Transaction(connection_); }
@@ -169,7 +124,6 @@ class Catalogue {
   // Returns the series' key, creating it if new (an existing description is kept).
   SeriesId WriteSeries(const std::string& name, const std::string& description = "");
   std::optional<SeriesRecord> ReadSeries(const std::string& name);
-  std::vector<SeriesRecord> ReadAllSeries();
 
   // ---- arrays
   // Returns the key of the array with this hash, inserting it if new.
@@ -214,45 +168,14 @@ class Catalogue {
   void WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics);
   // The summary (with findings) of the test under `config`, if computed.
   std::optional<engine::TestSummary> ReadSummary(TestId test, ConfigId config);
-  std::optional<std::string> ReadResultSolver(TestId test, ConfigId config);
   // The kinematics written by WriteKinematics, bit-exact, if any.
   std::optional<engine::Kinematics> ReadKinematics(TestId test, ConfigId config);
   // The config of the test's most recently written result, if any.
   std::optional<ConfigId> ReadLatestResultConfig(TestId test);
-  // Latest summary of every test in `filter` that has one, ordered by test id.
-  std::vector<SummaryRow> ReadAllSummaries(const TestFilter& filter = {});
   // `napkin query <kind>` rows from the views, ordered by test id.
   Table Query(QueryKind kind, const TestFilter& filter = {});
 
-  // ---- jobs (the batch scheduler's queue)
-  // Queues a job for every test in scope whose result for `config` is
-  // missing (never computed, or its job is done but the result is gone) or
-  // whose job failed; with `force`, also tests already done. A config whose
-  // JSON changed has a new hash, hence a new key: its tests are all missing
-  // and earlier results under the old config stay. Returns the number of
-  // jobs queued.
-  std::int64_t EnqueueMissing(ConfigId config, const JobScope& scope = {}, bool force = false);
-  // Atomically (BEGIN IMMEDIATE) claims up to `max_jobs` jobs of `config`
-  // (of the tests in `scope`) that are queued or whose lease has expired,
-  // leasing them to `owner` for `lease_seconds`. Two workers never get the
-  // same job while a lease holds.
-  std::vector<Job> ClaimJobs(ConfigId config, const std::string& owner, int max_jobs, double lease_seconds,
-                             const JobScope& scope = {});
-  // The distinct owners of running jobs of `config` in `scope` (the scheduler
-  // waits for them, or releases the leases of a worker it knows is dead).
-  std::vector<std::string> ReadLeaseOwners(ConfigId config, const JobScope& scope = {});
-  // Puts the running jobs of `config` leased to `owner` back in the queue
-  // (their attempts stay counted); returns how many. For a worker known to
-  // be dead, or one stopping with claimed jobs it will not process.
-  std::int64_t ReleaseLeases(ConfigId config, const std::string& owner);
-  // Extends a running job's lease; false when `owner` no longer holds it.
-  bool RenewLease(JobId job, const std::string& owner, double lease_seconds);
-  // Marks a running job done (records finish time and duration); false when
-  // `owner` no longer holds it (its lease expired and another worker took it).
-  bool CompleteJob(JobId job, const std::string& owner);
-  // Marks a running job failed with `error`; false when `owner` no longer holds it.
-  bool FailJob(JobId job, const std::string& owner, const std::string& error);
-  StatusCounts ReadStatusCounts(ConfigId config, const JobScope& scope = {});
+  // ---- jobs: db::JobQueue (db/job_queue.h) works on this connection.
 
   // ---- shards (run --shard I/N on several machines, then merge)
   // Merges the shard catalogue at `shard_path` (a copy of this catalogue
@@ -269,11 +192,10 @@ class Catalogue {
   // the same answer, so one of the two was computed differently).
   MergeReport MergeShard(const std::string& shard_path);
 
-  // Every table's schema and rows in a deterministic text form (rows in rowid
-  // order, values type-tagged, BLOBs in hex): compare catalogues in tests.
-  std::string Dump();
-
  private:
+  friend class JobQueue;            // the job queue shares the connection and clock
+  friend class CatalogueInspector;  // test-only access (tests/support/db/catalogue_inspector.h)
+
   Catalogue(Connection connection, std::function<double()> clock)
       : connection_(std::move(connection)), clock_(std::move(clock)) {}
 

@@ -20,9 +20,6 @@ inline constexpr const char* kViewFilterTerms =
     "(?1 IS NULL OR series = ?1) AND (?2 IS NULL OR variant = ?2) AND "
     "(?3 IS NULL OR test_id IN (SELECT value FROM json_each(?3)))";
 
-// A JobScope: the test filter plus the shard, ?4 (count) and ?5 (index).
-inline constexpr const char* kShardTerms = "(?4 IS NULL OR t.id % ?4 = ?5)";
-
 // An SQL expression formatting the epoch seconds bound to `parameter` as ISO-8601 UTC.
 inline std::string IsoTimestampSql(const std::string& parameter) {
   return "strftime('%Y-%m-%dT%H:%M:%fZ', " + parameter + ", 'unixepoch')";
@@ -36,6 +33,5 @@ std::optional<std::string> JsonStringArray(const std::vector<std::string>& value
 std::string SummaryColumnList(const std::string& prefix = "");
 
 void BindTestFilter(Statement& statement, const TestFilter& filter);
-void BindJobScope(Statement& statement, const JobScope& scope);
 
 }  // namespace napkin::db::internal

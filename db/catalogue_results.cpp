@@ -226,13 +226,6 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
   return summary;
 }
 
-std::optional<std::string> Catalogue::ReadResultSolver(TestId test, ConfigId config) {
-  auto select = connection_.Prepare("SELECT solver FROM results WHERE test_id = ?1 AND config_id = ?2");
-  select->BindAll(test, config);
-  if (!select->Step()) return std::nullopt;
-  return select->ColumnText(0);
-}
-
 std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigId config) {
   std::int64_t n = -1;
   {
@@ -282,22 +275,6 @@ std::optional<ConfigId> Catalogue::ReadLatestResultConfig(TestId test) {
 }
 
 // ------------------------------------------------------------------ queries
-
-std::vector<SummaryRow> Catalogue::ReadAllSummaries(const TestFilter& filter) {
-  static const std::string kSelect = "SELECT t.external_id, s.name, t.variant, " + SummaryColumnList("r.") +
-                                     " FROM v_latest_results AS r JOIN tests AS t ON t.id = r.test_id "
-                                     "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
-                                     internal::kTestFilterTerms + " ORDER BY t.external_id";
-  auto select = connection_.Prepare(kSelect);
-  internal::BindTestFilter(*select, filter);
-  std::vector<SummaryRow> rows;
-  while (select->Step()) {
-    SummaryRow row{select->ColumnText(0), select->ColumnOptionalText(1), select->ColumnOptionalText(2), {}};
-    ReadSummaryFields(*select, 3, row.summary);
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
 
 Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
   using engine::SummaryGroup;

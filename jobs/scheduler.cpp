@@ -147,9 +147,10 @@ class Heartbeat {
       while (!wake_.wait_for(lock, period, [this] { return stopping_; })) {
         lock.unlock();
         if (!catalogue) catalogue.emplace(db::Catalogue::Open(db_path_, catalogue_options_));
+        db::JobQueue queue(*catalogue);
         // A job committed between the snapshot and its renewal is simply
         // not renewed (RenewLease is false for a job no longer running).
-        for (const db::JobId job : book_.Snapshot()) catalogue->RenewLease(job, owner_, lease_s_);
+        for (const db::JobId job : book_.Snapshot()) queue.RenewLease(job, owner_, lease_s_);
         lock.lock();
       }
     } catch (const std::exception& error) {
@@ -190,6 +191,7 @@ class ResultWriter {
                const RunOptions& options, LeaseBook& book, RunState& state, RunReport& report,
                const ProgressCallback& progress, SteadyClock::time_point start)
       : catalogue_(catalogue),
+        queue_(catalogue),
         config_(config),
         solver_(std::move(solver)),
         owner_(std::move(owner)),
@@ -229,11 +231,11 @@ class ResultWriter {
         if (item->error) {
           if (!item->processed.summary.findings.empty())
             catalogue_.WriteFindings(item->job.test_id, config_, item->processed.summary.findings);
-          held = catalogue_.FailJob(item->job.id, owner_, *item->error);
+          held = queue_.FailJob(item->job.id, owner_, *item->error);
         } else {
           catalogue_.WriteResult(item->job.test_id, config_, item->processed.summary, solver_,
                                  options_.store_kinematics ? &item->processed.kinematics : nullptr);
-          held = catalogue_.CompleteJob(item->job.id, owner_);
+          held = queue_.CompleteJob(item->job.id, owner_);
         }
         // Without the lease another worker owns the job now: drop our rows.
         if (held) test.Commit();
@@ -269,6 +271,7 @@ class ResultWriter {
   }
 
   db::Catalogue& catalogue_;
+  db::JobQueue queue_;  // on catalogue_: job states commit with the results
   db::ConfigId config_;
   std::string solver_;
   std::string owner_;
@@ -290,6 +293,7 @@ class JobReader {
             const ArrayDecoder& decode_array, LeaseBook& book, RunState& state, ResultWriter& writer,
             RunReport& report, const std::atomic<bool>* stop)
       : catalogue_(catalogue),
+        queue_(catalogue),
         config_(config),
         owner_(std::move(owner)),
         options_(options),
@@ -337,7 +341,7 @@ class JobReader {
   // False when nothing is left (or a stop was requested).
   bool Claim() {
     while (!Stopping()) {
-      const auto jobs = catalogue_.ClaimJobs(config_, owner_, options_.claim_batch, options_.lease_s, options_.scope);
+      const auto jobs = queue_.ClaimJobs(config_, owner_, options_.claim_batch, options_.lease_s, options_.scope);
       if (!jobs.empty()) {
         for (const db::Job& job : jobs) {
           book_.Add(job.id);
@@ -347,10 +351,10 @@ class JobReader {
       }
       bool others_working = false;
       bool released = false;
-      for (const std::string& owner : catalogue_.ReadLeaseOwners(config_, options_.scope)) {
+      for (const std::string& owner : queue_.ReadLeaseOwners(config_, options_.scope)) {
         if (owner == owner_) continue;  // our own tests in flight
         if (IsDeadLocalOwner(owner)) {
-          const std::int64_t count = catalogue_.ReleaseLeases(config_, owner);
+          const std::int64_t count = queue_.ReleaseLeases(config_, owner);
           spdlog::warn("worker {} is gone: {} of its jobs go back to the queue", owner, count);
           report_.reclaimed += count;
           released = released || count > 0;
@@ -391,6 +395,7 @@ class JobReader {
   };
 
   db::Catalogue& catalogue_;
+  db::JobQueue queue_;  // on catalogue_
   db::ConfigId config_;
   std::string owner_;
   const RunOptions& options_;
@@ -485,10 +490,11 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   db::CatalogueOptions catalogue_options;
   catalogue_options.durable = options.durable;
   db::Catalogue reader_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  db::JobQueue reader_queue(reader_catalogue);
   report.config = reader_catalogue.WriteConfig(processing.record);
-  reader_catalogue.EnqueueMissing(report.config, options.scope, options.force);
+  reader_queue.EnqueueMissing(report.config, options.scope, options.force);
   {
-    const db::StatusCounts counts = reader_catalogue.ReadStatusCounts(report.config, options.scope);
+    const db::StatusCounts counts = reader_queue.ReadStatusCounts(report.config, options.scope);
     report.total = counts.pending + counts.running;
     report.skipped = counts.done;
   }
@@ -523,14 +529,14 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   } catch (...) {
     // Give our jobs back so another run need not wait for the leases.
     try {
-      reader_catalogue.ReleaseLeases(report.config, report.owner);
+      reader_queue.ReleaseLeases(report.config, report.owner);
     } catch (const std::exception& error) {
       spdlog::error("could not release the leases of {}: {}", report.owner, error.what());
     }
     throw;
   }
   // Jobs claimed but never started (a stop) go back to the queue.
-  report.released = reader_catalogue.ReleaseLeases(report.config, report.owner);
+  report.released = reader_queue.ReleaseLeases(report.config, report.owner);
   report.stopped = reader.stopped();
   report.peak_tests_in_memory = state.peak_in_memory.load();
   report.compute_s = compute_s.load();

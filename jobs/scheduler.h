@@ -28,6 +28,7 @@
 #include <string>
 
 #include "db/catalogue.h"
+#include "db/job_queue.h"
 #include "engine/array_geometry.h"
 #include "engine/processing.h"
 

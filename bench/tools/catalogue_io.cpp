@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "db/catalogue.h"
+#include "db/job_queue.h"
 #include "engine/error.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
@@ -61,12 +62,13 @@ int IoBaseline(const std::string& path, int batch) {
   engine::ProcessingConfig config;
   config.filter.padding_s = 0.0123456;
   const db::ConfigId config_id = catalogue.WriteConfig(ConfigRecordFor(config, "io-baseline"));
-  catalogue.EnqueueMissing(config_id);
+  db::JobQueue queue(catalogue);
+  queue.EnqueueMissing(config_id);
   const std::string owner = "io-baseline";
   std::int64_t tests = 0, samples = 0, bytes_written = 0;
   double read_s = 0, write_s = 0;
   for (;;) {
-    const auto jobs = catalogue.ClaimJobs(config_id, owner, batch, 600.0);
+    const auto jobs = queue.ClaimJobs(config_id, owner, batch, 600.0);
     if (jobs.empty()) break;
     struct Output {
       db::Job job;
@@ -101,7 +103,7 @@ int IoBaseline(const std::string& path, int batch) {
       engine::TestSummary summary;
       summary.hic15.value = static_cast<double>(output.job.test_id);
       catalogue.WriteResult(output.job.test_id, config_id, summary, "exact", &output.kinematics);
-      catalogue.CompleteJob(output.job.id, owner);
+      queue.CompleteJob(output.job.id, owner);
     }
     transaction.Commit();
     write_s += Seconds(write_start);

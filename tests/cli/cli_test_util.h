@@ -17,6 +17,7 @@
 #include "engine/synth.h"
 #include "formats/array_json.h"
 #include "formats/text.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/run_command.h"
 
 namespace napkin::cli::test {
@@ -65,7 +66,10 @@ inline db::Catalogue OpenForReading(const fs::path& path) {
   return db::Catalogue::Open(path.string(), options);
 }
 
-inline std::string DumpCatalogue(const fs::path& path) { return OpenForReading(path).Dump(); }
+inline std::string DumpCatalogue(const fs::path& path) {
+  db::Catalogue catalogue = OpenForReading(path);
+  return db::CatalogueInspector(catalogue).Dump();
+}
 
 // A NAP (3-2-2-2) test with a random smooth motion on the Denton geometry.
 inline engine::SyntheticTest SynthNapTest(std::uint64_t seed, double duration_s = 0.05) {

@@ -446,7 +446,8 @@ TEST_F(CliImport, CommandLineStringsNeverReachSqlText) {
   EXPECT_EQ(rows[0]["series"], series);
   EXPECT_EQ(rows[0]["variant"], variant);
   EXPECT_EQ(TestIds(), (std::vector<std::string>{"inj", "plain"}));
-  EXPECT_EQ(OpenForReading(db_path()).ReadAllSeries().size(), 2u);
+  db::Catalogue catalogue = OpenForReading(db_path());
+  EXPECT_EQ(db::CatalogueInspector(catalogue).ReadAllSeries().size(), 2u);
 }
 
 // ------------------------------------------------------------ options

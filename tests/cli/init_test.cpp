@@ -77,7 +77,7 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
   // The views of migration 2 exist and see the old rows.
   EXPECT_EQ(catalogue.Query(db::QueryKind::kTests).rows.size(), 2u);
 
-  const std::string dump = catalogue.Dump();
+  const std::string dump = db::CatalogueInspector(catalogue).Dump();
   const RunResult again = RunNapkin(dir.path(), {"--db", "old.db", "init"});
   EXPECT_EQ(again.exit_code, 0);
   EXPECT_EQ(again.out,

@@ -13,6 +13,7 @@
 #include "db/catalogue.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin {
@@ -23,29 +24,17 @@ using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using CliResult = testing::CommandResult;
 
-std::int64_t Scalar(db::Catalogue& catalogue, const std::string& sql) {
-  auto select = catalogue.connection().Prepare(sql);
-  select->Step();
-  return select->ColumnInt64(0);
-}
-
 // No partial results: every result row has its 36 derived channels and a
 // done job, every done job has its result, and no test has two results.
 void ExpectConsistent(const std::string& path, const std::string& when) {
   db::Catalogue catalogue = db::Catalogue::Open(path);
-  const std::int64_t results = Scalar(catalogue, "SELECT count(*) FROM results");
-  EXPECT_EQ(results, Scalar(catalogue, "SELECT count(DISTINCT test_id) FROM results")) << when;
-  EXPECT_EQ(results, Scalar(catalogue, "SELECT count(*) FROM jobs WHERE state = 'done'")) << when;
-  EXPECT_EQ(0, Scalar(catalogue,
-                      "SELECT count(*) FROM results AS r WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE "
-                      "j.test_id = r.test_id AND j.config_id = r.config_id AND j.state = 'done')"))
-      << when;
-  EXPECT_EQ(results * 36, Scalar(catalogue, "SELECT count(*) FROM derived_channels")) << when;
-  EXPECT_EQ(0, Scalar(catalogue,
-                      "SELECT count(*) FROM (SELECT test_id, config_id, count(*) AS n FROM derived_channels "
-                      "GROUP BY test_id, config_id) AS d WHERE d.n <> 36 OR NOT EXISTS (SELECT 1 FROM results AS r "
-                      "WHERE r.test_id = d.test_id AND r.config_id = d.config_id)"))
-      << when;
+  db::CatalogueInspector inspector(catalogue);
+  const std::int64_t results = inspector.CountRows("results");
+  EXPECT_EQ(results, inspector.CountTestsWithResults()) << when;
+  EXPECT_EQ(results, inspector.CountJobsInState("done")) << when;
+  EXPECT_EQ(0, inspector.CountResultsWithoutDoneJob()) << when;
+  EXPECT_EQ(results * 36, inspector.CountRows("derived_channels")) << when;
+  EXPECT_EQ(0, inspector.CountIncompleteOrOrphanDerivedChannelSets(36)) << when;
 }
 
 class RunCliTest : public ::testing::Test {
@@ -79,15 +68,16 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
   std::uniform_int_distribution<int> more_results(0, 25);
   std::uniform_int_distribution<int> extra_ms(0, 30);
   db::Catalogue watcher = db::Catalogue::Open(db);
+  db::CatalogueInspector watcher_inspector(watcher);
   int kills = 0;
   for (int round = 0; round < 6; ++round) {
-    const std::int64_t target = Scalar(watcher, "SELECT count(*) FROM results") + more_results(random);
+    const std::int64_t target = watcher_inspector.CountRows("results") + more_results(random);
     const pid_t pid = cli::test::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
                                            dir_ / "run.err");
     int status = 0;
     bool finished = false;
     const auto start = std::chrono::steady_clock::now();
-    while (Scalar(watcher, "SELECT count(*) FROM results") < target &&
+    while (watcher_inspector.CountRows("results") < target &&
            std::chrono::steady_clock::now() - start < std::chrono::seconds(120)) {
       if (waitpid(pid, &status, WNOHANG) != 0) {
         finished = true;
@@ -105,7 +95,7 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
       break;
     }
     std::printf("kill %d: %lld results committed (target %lld)\n", kills,
-                static_cast<long long>(Scalar(watcher, "SELECT count(*) FROM results")), static_cast<long long>(target));
+                static_cast<long long>(watcher_inspector.CountRows("results")), static_cast<long long>(target));
     ExpectConsistent(db, "after kill " + std::to_string(kills));
   }
   EXPECT_GE(kills, 5);
@@ -123,8 +113,9 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
   EXPECT_EQ(after["running"], 0);
   EXPECT_EQ(after["failed"], 0);
   db::Catalogue catalogue = db::Catalogue::Open(db);
-  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM results"), 200);
-  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM derived_channels"), 200 * 36);
+  db::CatalogueInspector inspector(catalogue);
+  EXPECT_EQ(inspector.CountRows("results"), 200);
+  EXPECT_EQ(inspector.CountRows("derived_channels"), 200 * 36);
 }
 
 TEST_F(RunCliTest, TwoConcurrentRunsProcessEachTestExactlyOnce) {
@@ -135,10 +126,10 @@ TEST_F(RunCliTest, TwoConcurrentRunsProcessEachTestExactlyOnce) {
   EXPECT_EQ(testing::WaitProgram(a), 0) << testing::ReadText(dir_ / "a.err");
   EXPECT_EQ(testing::WaitProgram(b), 0) << testing::ReadText(dir_ / "b.err");
   db::Catalogue catalogue = db::Catalogue::Open(db);
-  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM jobs"), 120);
-  EXPECT_EQ(Scalar(catalogue, "SELECT count(*) FROM jobs WHERE attempts = 1 AND state = 'done'"), 120)
-      << "every test claimed once";
-  EXPECT_EQ(Scalar(catalogue, "SELECT count(DISTINCT lease_owner) FROM jobs"), 2) << "both runs worked";
+  db::CatalogueInspector inspector(catalogue);
+  EXPECT_EQ(inspector.CountRows("jobs"), 120);
+  EXPECT_EQ(inspector.CountDoneJobsClaimedOnce(), 120) << "every test claimed once";
+  EXPECT_EQ(inspector.CountDistinctLeaseOwners(), 2) << "both runs worked";
   ExpectConsistent(db, "after two concurrent runs");
 }
 
@@ -186,9 +177,9 @@ TEST_F(RunCliTest, ShardsOnCopiesMergedEqualOneUnshardedRun) {
     EXPECT_EQ(ka->pos_fixed, kb->pos_fixed) << test.external_id;
   }
   // Merging a shard again changes nothing.
-  const std::string before = b.Dump();
+  const std::string before = db::CatalogueInspector(b).Dump();
   ASSERT_EQ(Napkin({"merge", dir_ / "shard1.db"}, merged).exit_code, 0);
-  EXPECT_EQ(b.Dump(), before);
+  EXPECT_EQ(db::CatalogueInspector(b).Dump(), before);
 }
 
 TEST_F(RunCliTest, FailuresExitThreeAndStatusJsonFollowsTheContract) {

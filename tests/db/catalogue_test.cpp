@@ -12,9 +12,11 @@
 #include <random>
 
 #include "db/float64_blob.h"
+#include "db/job_queue.h"
 #include "engine/error.h"
 #include "engine/summary_fields.h"
 #include "tests/db/db_test_helpers.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::db {
@@ -57,6 +59,7 @@ class CatalogueTest : public ::testing::Test {
     config_ = catalogue_.WriteConfig(testing::DefaultConfig());
   }
   Catalogue catalogue_ = Catalogue::Open(":memory:");
+  CatalogueInspector inspector_{catalogue_};
   ArrayId array_{};
   ConfigId config_{};
 };
@@ -196,7 +199,7 @@ TEST_F(CatalogueTest, SignalsRoundTripBitExact) {
 
   // The stored BLOB is little-endian float64 whatever the host: check one
   // sample's bytes independently of the codec.
-  auto blob = catalogue_.connection().Prepare(
+  auto blob = inspector_.connection().Prepare(
       "SELECT samples FROM raw_channels WHERE test_id = ?1 AND slot = 'cg_x'");
   blob->Bind(1, test);
   ASSERT_TRUE(blob->Step());
@@ -271,7 +274,7 @@ TEST_F(CatalogueTest, KinematicsRoundTripBitExact) {
 TEST_F(CatalogueTest, DerivedChannelsAreNamedForPlainSqlite) {
   const TestId test = testing::AddTest(catalogue_, array_, "v0001");
   catalogue_.WriteKinematics(test, config_, RandomKinematics(11, 3));
-  auto names = catalogue_.connection().Prepare(
+  auto names = inspector_.connection().Prepare(
       "SELECT count(*), sum(sample_count = 11), min(dt_s), max(dt_s) FROM derived_channels WHERE test_id = "
       "?1");
   names->Bind(1, test);
@@ -279,7 +282,7 @@ TEST_F(CatalogueTest, DerivedChannelsAreNamedForPlainSqlite) {
   EXPECT_EQ(names->ColumnInt64(0), 1 + 8 * 3 + 4 + 3 + 3 + 1);
   EXPECT_EQ(names->ColumnInt64(1), names->ColumnInt64(0));
   EXPECT_NEAR(names->ColumnDouble(2), 1e-4, 1e-15);
-  auto quat = catalogue_.connection().Prepare(
+  auto quat = inspector_.connection().Prepare(
       "SELECT 1 FROM derived_channels WHERE name IN ('quat_w', 'omega_fixed_z_radps', 'yaw_rad', "
       "'dcos_xx_rad', "
       "'residual_mps2', 'acc_fixed_x_mps2') GROUP BY test_id HAVING count(*) = 6");
@@ -308,7 +311,7 @@ TEST_F(CatalogueTest, SummaryAndFindingsRoundTrip) {
   ASSERT_TRUE(read.has_value());
   EXPECT_THAT(engine::DifferingSummaryFields(*read, summary), IsEmpty());
   EXPECT_EQ(read->findings.size(), 3u);
-  EXPECT_EQ(catalogue_.ReadResultSolver(test, config_), "seed");
+  EXPECT_EQ(inspector_.ReadResultSolver(test, config_), "seed");
 }
 
 TEST_F(CatalogueTest, NanSummaryFieldsReadBackAsNan) {
@@ -382,7 +385,7 @@ TEST_F(CatalogueTest, QueriesShowEachTestsLatestResultFilteredByLabels) {
   ASSERT_EQ(sled_a.rows.size(), 1u);
   EXPECT_EQ(std::get<std::string>(sled_a.rows[0][0]), "a1");
 
-  const auto summaries = catalogue_.ReadAllSummaries({std::nullopt, "A", {}});
+  const auto summaries = inspector_.ReadAllSummaries({std::nullopt, "A", {}});
   ASSERT_EQ(summaries.size(), 2u);
   EXPECT_EQ(summaries[0].test_id, "a1");
   EXPECT_EQ(summaries[0].summary.hic15.value, 110.0);
@@ -407,7 +410,7 @@ TEST_F(CatalogueTest, QueriesShowEachTestsLatestResultFilteredByLabels) {
 TEST_F(CatalogueTest, ExceptionInsideAWriteRollsItBackCompletely) {
   const TestId test = testing::AddTest(catalogue_, array_, "v0001");
   catalogue_.WriteResult(test, config_, RandomSummary(6), "exact");
-  const std::string before = catalogue_.Dump();
+  const std::string before = inspector_.Dump();
 
   // WriteResult replaces the result and findings, then rejects the malformed
   // kinematics: nothing of it may remain.
@@ -415,16 +418,16 @@ TEST_F(CatalogueTest, ExceptionInsideAWriteRollsItBackCompletely) {
   malformed.residual.resize(9);
   EXPECT_THROW(catalogue_.WriteResult(test, config_, RandomSummary(7), "exact", &malformed),
                std::invalid_argument);
-  EXPECT_EQ(catalogue_.Dump(), before);
+  EXPECT_EQ(inspector_.Dump(), before);
 
   // The same write without the fault does change the dump (the check can fail).
   catalogue_.WriteResult(test, config_, RandomSummary(7), "exact");
-  EXPECT_NE(catalogue_.Dump(), before);
+  EXPECT_NE(inspector_.Dump(), before);
 }
 
 TEST_F(CatalogueTest, ExceptionInsideAnOuterTransactionRollsBackEveryWrite) {
   testing::AddTest(catalogue_, array_, "v0001");
-  const std::string before = catalogue_.Dump();
+  const std::string before = inspector_.Dump();
   struct Abort {};
   EXPECT_THROW(
       {
@@ -435,12 +438,12 @@ TEST_F(CatalogueTest, ExceptionInsideAnOuterTransactionRollsBackEveryWrite) {
         signals.samples = Eigen::MatrixXd::Ones(5, 1);
         catalogue_.WriteRawChannels(test, signals, std::vector<std::string>{"g"});
         catalogue_.WriteResult(test, config_, RandomSummary(8), "exact");
-        catalogue_.EnqueueMissing(config_);
+        JobQueue(catalogue_).EnqueueMissing(config_);
         throw Abort{};
       },
       Abort);
-  EXPECT_EQ(catalogue_.Dump(), before);
-  EXPECT_FALSE(catalogue_.connection().InTransaction());
+  EXPECT_EQ(inspector_.Dump(), before);
+  EXPECT_FALSE(inspector_.connection().InTransaction());
 }
 
 TEST_F(CatalogueTest, FailedInnerWriteRollsBackOnlyItselfInsideACommittedTransaction) {
@@ -455,7 +458,7 @@ TEST_F(CatalogueTest, FailedInnerWriteRollsBackOnlyItselfInsideACommittedTransac
 }
 
 TEST_F(CatalogueTest, SqliteErrorsNameTheCallAndTheStatement) {
-  EXPECT_THAT([&] { catalogue_.connection().Execute("INSERT INTO no_such_table VALUES (1)"); },
+  EXPECT_THAT([&] { inspector_.connection().Execute("INSERT INTO no_such_table VALUES (1)"); },
               ThrowsMessage<DatabaseError>(
                   ::testing::AllOf(HasSubstr("no such table: no_such_table"), HasSubstr("sqlite3_exec"),
                                    HasSubstr("INSERT INTO no_such_table VALUES (1)"))));

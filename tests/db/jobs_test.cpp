@@ -9,8 +9,10 @@
 #include <thread>
 
 #include "db/catalogue.h"
+#include "db/job_queue.h"
 #include "engine/error.h"
 #include "tests/db/db_test_helpers.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::db {
@@ -51,30 +53,31 @@ class JobsTest : public ::testing::Test {
 
 TEST_F(JobsTest, EnqueueClaimCompleteAndCount) {
   Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
   AddTests(catalogue, 5);
   const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
-  StatusCounts counts = catalogue.ReadStatusCounts(config);
+  StatusCounts counts = queue.ReadStatusCounts(config);
   EXPECT_EQ(counts.tests, 5);
   EXPECT_EQ(counts.pending, 5);
 
-  EXPECT_EQ(catalogue.EnqueueMissing(config), 5);
-  EXPECT_EQ(catalogue.EnqueueMissing(config), 0) << "enqueueing is idempotent";
+  EXPECT_EQ(queue.EnqueueMissing(config), 5);
+  EXPECT_EQ(queue.EnqueueMissing(config), 0) << "enqueueing is idempotent";
 
-  const auto jobs = catalogue.ClaimJobs(config, "worker-1", 3, 60.0);
+  const auto jobs = queue.ClaimJobs(config, "worker-1", 3, 60.0);
   ASSERT_EQ(jobs.size(), 3u);
   for (const Job& job : jobs) EXPECT_EQ(job.attempts, 1);
-  counts = catalogue.ReadStatusCounts(config);
+  counts = queue.ReadStatusCounts(config);
   EXPECT_EQ(counts.running, 3);
   EXPECT_EQ(counts.pending, 2);
 
   clock_.Advance(2.5);
   catalogue.WriteResult(jobs[0].test_id, config, engine::TestSummary{}, "exact");
-  EXPECT_TRUE(catalogue.CompleteJob(jobs[0].id, "worker-1"));
-  EXPECT_FALSE(catalogue.CompleteJob(jobs[0].id, "worker-1")) << "already done";
-  EXPECT_FALSE(catalogue.CompleteJob(jobs[1].id, "worker-2")) << "not the lease owner";
-  EXPECT_TRUE(catalogue.FailJob(jobs[1].id, "worker-1", "channel 'cg_x' of test 't001' is missing."));
+  EXPECT_TRUE(queue.CompleteJob(jobs[0].id, "worker-1"));
+  EXPECT_FALSE(queue.CompleteJob(jobs[0].id, "worker-1")) << "already done";
+  EXPECT_FALSE(queue.CompleteJob(jobs[1].id, "worker-2")) << "not the lease owner";
+  EXPECT_TRUE(queue.FailJob(jobs[1].id, "worker-1", "channel 'cg_x' of test 't001' is missing."));
 
-  counts = catalogue.ReadStatusCounts(config);
+  counts = queue.ReadStatusCounts(config);
   EXPECT_EQ(counts.tests, 5);
   EXPECT_EQ(counts.done, 1);
   EXPECT_EQ(counts.failed, 1);
@@ -84,14 +87,15 @@ TEST_F(JobsTest, EnqueueClaimCompleteAndCount) {
   EXPECT_EQ(counts.failures[0].test_id, catalogue.ReadTest(jobs[1].test_id).external_id);
   EXPECT_EQ(counts.failures[0].error, "channel 'cg_x' of test 't001' is missing.");
 
-  auto timing = catalogue.connection().Prepare("SELECT duration_s FROM jobs WHERE id = ?1");
+  auto timing =
+      CatalogueInspector(catalogue).connection().Prepare("SELECT duration_s FROM jobs WHERE id = ?1");
   timing->Bind(1, jobs[0].id);
   ASSERT_TRUE(timing->Step());
   EXPECT_DOUBLE_EQ(timing->ColumnDouble(0), 2.5);
 
   // A re-run retries the failure (and counts the attempt), not the done test.
-  EXPECT_EQ(catalogue.EnqueueMissing(config), 1);
-  const auto retried = catalogue.ClaimJobs(config, "worker-1", 10, 60.0);
+  EXPECT_EQ(queue.EnqueueMissing(config), 1);
+  const auto retried = queue.ClaimJobs(config, "worker-1", 10, 60.0);
   std::vector<TestId> retried_tests;
   for (const Job& job : retried) retried_tests.push_back(job.test_id);
   EXPECT_THAT(retried_tests, ::testing::Contains(jobs[1].test_id));
@@ -108,8 +112,9 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
   constexpr int kTests = 120;
   {
     Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
     AddTests(catalogue, kTests);
-    catalogue.EnqueueMissing(catalogue.WriteConfig(testing::DefaultConfig()));
+    queue.EnqueueMissing(catalogue.WriteConfig(testing::DefaultConfig()));
   }
   std::vector<std::vector<std::int64_t>> claimed(2);
   std::atomic<int> errors = 0;
@@ -119,14 +124,15 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
       try {
         CatalogueOptions options;  // own connection on the same file, real clock
         Catalogue catalogue = Catalogue::Open(path_, options);
+        JobQueue queue(catalogue);
         const ConfigId config = *catalogue.FindConfigByHash(testing::DefaultConfig().config_hash);
         const std::string owner = "worker-" + std::to_string(w);
         for (;;) {
-          const auto jobs = catalogue.ClaimJobs(config, owner, 3, 600.0);
+          const auto jobs = queue.ClaimJobs(config, owner, 3, 600.0);
           if (jobs.empty()) break;
           for (const Job& job : jobs) {
             claimed[w].push_back(static_cast<std::int64_t>(job.id));
-            if (!catalogue.CompleteJob(job.id, owner)) ++errors;
+            if (!queue.CompleteJob(job.id, owner)) ++errors;
           }
         }
       } catch (...) {
@@ -147,22 +153,24 @@ TEST_F(JobsTest, ExpiredLeaseIsReclaimedAndTheOldOwnerLosesIt) {
   Catalogue first = OpenCatalogue();
   AddTests(first, 4);
   const ConfigId config = first.WriteConfig(testing::DefaultConfig());
-  first.EnqueueMissing(config);
+  JobQueue first_queue(first);
+  first_queue.EnqueueMissing(config);
   Catalogue second = OpenCatalogue();
+  JobQueue second_queue(second);
 
-  const auto crashed = first.ClaimJobs(config, "crashed-worker", 2, 10.0);
+  const auto crashed = first_queue.ClaimJobs(config, "crashed-worker", 2, 10.0);
   ASSERT_EQ(crashed.size(), 2u);
-  const auto others = second.ClaimJobs(config, "worker-2", 10, 10.0);
+  const auto others = second_queue.ClaimJobs(config, "worker-2", 10, 10.0);
   ASSERT_EQ(others.size(), 2u);
   EXPECT_TRUE(std::none_of(others.begin(), others.end(), [&](const Job& job) {
     return job.id == crashed[0].id || job.id == crashed[1].id;
   }));
 
   clock_.Advance(9.0);
-  EXPECT_TRUE(second.ClaimJobs(config, "worker-2", 10, 10.0).empty()) << "leases still valid";
-  EXPECT_TRUE(second.RenewLease(others[0].id, "worker-2", 10.0));
+  EXPECT_TRUE(second_queue.ClaimJobs(config, "worker-2", 10, 10.0).empty()) << "leases still valid";
+  EXPECT_TRUE(second_queue.RenewLease(others[0].id, "worker-2", 10.0));
   clock_.Advance(1.5);  // crashed-worker's leases (and others[1]'s) have expired
-  const auto reclaimed = second.ClaimJobs(config, "worker-2", 10, 10.0);
+  const auto reclaimed = second_queue.ClaimJobs(config, "worker-2", 10, 10.0);
   std::vector<std::int64_t> reclaimed_ids;
   for (const Job& job : reclaimed) reclaimed_ids.push_back(static_cast<std::int64_t>(job.id));
   std::vector<std::int64_t> expected = {static_cast<std::int64_t>(crashed[0].id),
@@ -172,125 +180,131 @@ TEST_F(JobsTest, ExpiredLeaseIsReclaimedAndTheOldOwnerLosesIt) {
   EXPECT_EQ(reclaimed_ids, expected);
   for (const Job& job : reclaimed) EXPECT_EQ(job.attempts, 2);
 
-  EXPECT_FALSE(first.CompleteJob(crashed[0].id, "crashed-worker")) << "its lease was taken over";
-  EXPECT_FALSE(first.FailJob(crashed[1].id, "crashed-worker", "late"));
-  EXPECT_TRUE(second.CompleteJob(crashed[0].id, "worker-2"));
-  EXPECT_EQ(second.ReadStatusCounts(config).running, 3);
+  EXPECT_FALSE(first_queue.CompleteJob(crashed[0].id, "crashed-worker")) << "its lease was taken over";
+  EXPECT_FALSE(first_queue.FailJob(crashed[1].id, "crashed-worker", "late"));
+  EXPECT_TRUE(second_queue.CompleteJob(crashed[0].id, "worker-2"));
+  EXPECT_EQ(second_queue.ReadStatusCounts(config).running, 3);
 }
 
 TEST_F(JobsTest, ChangedConfigReenqueuesWithoutDeletingEarlierResults) {
   Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
   AddTests(catalogue, 3);
   const ConfigId old_config = catalogue.WriteConfig(testing::DefaultConfig(R"({"filter":"cfc1000"})"));
-  catalogue.EnqueueMissing(old_config);
-  for (const Job& job : catalogue.ClaimJobs(old_config, "w", 10, 60.0)) {
+  queue.EnqueueMissing(old_config);
+  for (const Job& job : queue.ClaimJobs(old_config, "w", 10, 60.0)) {
     engine::TestSummary summary;
     summary.hic15.value = 100.0 + static_cast<double>(job.id);
     catalogue.WriteResult(job.test_id, old_config, summary, "exact");
-    ASSERT_TRUE(catalogue.CompleteJob(job.id, "w"));
+    ASSERT_TRUE(queue.CompleteJob(job.id, "w"));
   }
-  EXPECT_EQ(catalogue.ReadStatusCounts(old_config).done, 3);
-  EXPECT_EQ(catalogue.EnqueueMissing(old_config), 0) << "nothing missing or stale";
+  EXPECT_EQ(queue.ReadStatusCounts(old_config).done, 3);
+  EXPECT_EQ(queue.EnqueueMissing(old_config), 0) << "nothing missing or stale";
 
   // The config file changed: new canonical JSON, new hash.
   const ConfigId new_config = catalogue.WriteConfig(testing::DefaultConfig(R"({"filter":"cfc180"})"));
   ASSERT_NE(new_config, old_config);
-  StatusCounts counts = catalogue.ReadStatusCounts(new_config);
+  StatusCounts counts = queue.ReadStatusCounts(new_config);
   EXPECT_EQ(counts.pending, 3);
   EXPECT_EQ(counts.done, 0);
-  EXPECT_EQ(catalogue.EnqueueMissing(new_config), 3);
+  EXPECT_EQ(queue.EnqueueMissing(new_config), 3);
   for (const TestRecord& test : catalogue.ReadAllTests())
     EXPECT_TRUE(catalogue.ReadSummary(test.id, old_config).has_value()) << test.external_id;
-  EXPECT_EQ(catalogue.ReadStatusCounts(old_config).done, 3);
+  EXPECT_EQ(queue.ReadStatusCounts(old_config).done, 3);
   EXPECT_EQ(catalogue.Query(QueryKind::kHic).rows.size(), 3u) << "old results stay queryable";
 }
 
 TEST_F(JobsTest, DoneJobWhoseResultVanishedIsMissingAgain) {
   Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
   AddTests(catalogue, 2);
   const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
-  catalogue.EnqueueMissing(config);
-  for (const Job& job : catalogue.ClaimJobs(config, "w", 10, 60.0)) {
+  queue.EnqueueMissing(config);
+  for (const Job& job : queue.ClaimJobs(config, "w", 10, 60.0)) {
     catalogue.WriteResult(job.test_id, config, engine::TestSummary{}, "exact");
-    catalogue.CompleteJob(job.id, "w");
+    queue.CompleteJob(job.id, "w");
   }
-  catalogue.connection().Execute("DELETE FROM results WHERE test_id = (SELECT min(test_id) FROM results)");
-  StatusCounts counts = catalogue.ReadStatusCounts(config);
+  CatalogueInspector(catalogue).connection().Execute(
+      "DELETE FROM results WHERE test_id = (SELECT min(test_id) FROM results)");
+  StatusCounts counts = queue.ReadStatusCounts(config);
   EXPECT_EQ(counts.done, 1);
   EXPECT_EQ(counts.pending, 1);
-  EXPECT_EQ(catalogue.EnqueueMissing(config), 1);
-  EXPECT_EQ(catalogue.EnqueueMissing(config, {}, /*force=*/true), 1) << "force re-queues the done one too";
-  EXPECT_EQ(catalogue.ReadStatusCounts(config).pending, 2);
+  EXPECT_EQ(queue.EnqueueMissing(config), 1);
+  EXPECT_EQ(queue.EnqueueMissing(config, {}, /*force=*/true), 1) << "force re-queues the done one too";
+  EXPECT_EQ(queue.ReadStatusCounts(config).pending, 2);
 }
 
 TEST_F(JobsTest, ScopesSelectBySeriesVariantIdsAndShard) {
   Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
   AddTests(catalogue, 10);
   testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "other", "T", "A");
   const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
 
   JobScope variant_a;
   variant_a.tests = {"S", "A", {}};
-  EXPECT_EQ(catalogue.ReadStatusCounts(config, variant_a).tests, 5);
+  EXPECT_EQ(queue.ReadStatusCounts(config, variant_a).tests, 5);
   JobScope two_ids;
   two_ids.tests.external_ids = {"t003", "other", "absent"};
-  EXPECT_EQ(catalogue.ReadStatusCounts(config, two_ids).tests, 2);
+  EXPECT_EQ(queue.ReadStatusCounts(config, two_ids).tests, 2);
 
   // Shards partition the catalogue exactly.
   std::int64_t total = 0;
   for (int index = 0; index < 3; ++index) {
     JobScope shard;
     shard.shard = Shard{index, 3};
-    total += catalogue.EnqueueMissing(config, shard);
+    total += queue.EnqueueMissing(config, shard);
   }
   EXPECT_EQ(total, 11);
   JobScope bad;
   bad.shard = Shard{3, 3};
-  EXPECT_THROW(catalogue.EnqueueMissing(config, bad), InputError);
+  EXPECT_THROW(queue.EnqueueMissing(config, bad), InputError);
 
-  EXPECT_EQ(catalogue.ReadStatusCounts(config).pending, 11);
-  const auto claimed = catalogue.ClaimJobs(config, "w", 100, 60.0);
+  EXPECT_EQ(queue.ReadStatusCounts(config).pending, 11);
+  const auto claimed = queue.ClaimJobs(config, "w", 100, 60.0);
   EXPECT_EQ(claimed.size(), 11u);
 }
 
 TEST_F(JobsTest, ClaimsOnlyTheRequestedConfig) {
   Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
   AddTests(catalogue, 2);
   const ConfigId a = catalogue.WriteConfig(testing::DefaultConfig("{\"a\":1}"));
   const ConfigId b = catalogue.WriteConfig(testing::DefaultConfig("{\"b\":1}"));
-  catalogue.EnqueueMissing(a);
-  EXPECT_TRUE(catalogue.ClaimJobs(b, "w", 10, 60.0).empty());
-  const auto jobs = catalogue.ClaimJobs(a, "w", 10, 60.0);
+  queue.EnqueueMissing(a);
+  EXPECT_TRUE(queue.ClaimJobs(b, "w", 10, 60.0).empty());
+  const auto jobs = queue.ClaimJobs(a, "w", 10, 60.0);
   ASSERT_EQ(jobs.size(), 2u);
   EXPECT_THAT(std::vector<ConfigId>({jobs[0].config_id, jobs[1].config_id}), ElementsAre(a, a));
 }
 
 TEST_F(JobsTest, ClaimsStayInTheirScopeAndReleasedLeasesAreClaimableAtOnce) {
   Catalogue catalogue = OpenCatalogue();
+  JobQueue queue(catalogue);
   AddTests(catalogue, 6);  // variants A: t000, t002, t004; B: t001, t003, t005
   const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
-  EXPECT_EQ(catalogue.EnqueueMissing(config), 6);
+  EXPECT_EQ(queue.EnqueueMissing(config), 6);
 
   JobScope variant_b;
   variant_b.tests.variant = "B";
-  const auto b_jobs = catalogue.ClaimJobs(config, "dead", 10, 600.0, variant_b);
+  const auto b_jobs = queue.ClaimJobs(config, "dead", 10, 600.0, variant_b);
   ASSERT_EQ(b_jobs.size(), 3u);
   for (const Job& job : b_jobs) EXPECT_EQ(catalogue.ReadTest(job.test_id).variant, "B");
-  EXPECT_TRUE(catalogue.ClaimJobs(config, "alive", 10, 600.0, variant_b).empty()) << "leases hold";
+  EXPECT_TRUE(queue.ClaimJobs(config, "alive", 10, 600.0, variant_b).empty()) << "leases hold";
   JobScope one;
   one.tests.external_ids = {"t002"};
-  const auto a_jobs = catalogue.ClaimJobs(config, "alive", 10, 600.0, one);
+  const auto a_jobs = queue.ClaimJobs(config, "alive", 10, 600.0, one);
   ASSERT_EQ(a_jobs.size(), 1u);
 
-  EXPECT_THAT(catalogue.ReadLeaseOwners(config), ElementsAre("alive", "dead"));
-  EXPECT_THAT(catalogue.ReadLeaseOwners(config, variant_b), ElementsAre("dead"));
-  EXPECT_EQ(catalogue.ReleaseLeases(config, "dead"), 3);
-  EXPECT_THAT(catalogue.ReadLeaseOwners(config), ElementsAre("alive"));
-  EXPECT_FALSE(catalogue.CompleteJob(b_jobs[0].id, "dead")) << "the released lease is gone";
-  const auto reclaimed = catalogue.ClaimJobs(config, "alive", 10, 600.0, variant_b);
+  EXPECT_THAT(queue.ReadLeaseOwners(config), ElementsAre("alive", "dead"));
+  EXPECT_THAT(queue.ReadLeaseOwners(config, variant_b), ElementsAre("dead"));
+  EXPECT_EQ(queue.ReleaseLeases(config, "dead"), 3);
+  EXPECT_THAT(queue.ReadLeaseOwners(config), ElementsAre("alive"));
+  EXPECT_FALSE(queue.CompleteJob(b_jobs[0].id, "dead")) << "the released lease is gone";
+  const auto reclaimed = queue.ClaimJobs(config, "alive", 10, 600.0, variant_b);
   ASSERT_EQ(reclaimed.size(), 3u);
   for (const Job& job : reclaimed) EXPECT_EQ(job.attempts, 2) << "the released claim stays counted";
-  EXPECT_EQ(catalogue.ReadStatusCounts(config).pending, 2);
+  EXPECT_EQ(queue.ReadStatusCounts(config).pending, 2);
 }
 
 }  // namespace

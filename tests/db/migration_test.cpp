@@ -8,6 +8,7 @@
 #include "db/migrate.h"
 #include "engine/error.h"
 #include "tests/db/db_test_helpers.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::db {
@@ -50,7 +51,7 @@ TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
     signals.samples = Eigen::MatrixXd::Constant(4, 1, 0.25);
     catalogue.WriteRawChannels(*catalogue.FindTestByExternalId("v0001"), signals,
                                std::vector<std::string>{"g"});
-    tests_before = catalogue.Dump();
+    tests_before = CatalogueInspector(catalogue).Dump();
   }
 
   // Version k+1, written "in the test": a new column with a default, a new
@@ -64,19 +65,19 @@ TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
   options.migrations = migrations;
   Catalogue upgraded = Catalogue::Open(path, options);
   EXPECT_EQ(upgraded.schema_version(), k + 1);
-  EXPECT_EQ(upgraded.connection().PragmaInt("user_version"), k + 1);
+  Connection& connection = CatalogueInspector(upgraded).connection();
+  EXPECT_EQ(connection.PragmaInt("user_version"), k + 1);
 
   const auto tests = upgraded.ReadAllTests();
   ASSERT_EQ(tests.size(), 2u);
   EXPECT_EQ(tests[0].external_id, "v0001");
   EXPECT_EQ(tests[1].variant, "foam-b");
   EXPECT_EQ(upgraded.ReadTestSignals(tests[0].id).samples, Eigen::MatrixXd::Constant(4, 1, 0.25));
-  auto laboratory =
-      upgraded.connection().Prepare("SELECT laboratory, count(*) FROM tests GROUP BY laboratory");
+  auto laboratory = connection.Prepare("SELECT laboratory, count(*) FROM tests GROUP BY laboratory");
   ASSERT_TRUE(laboratory->Step());
   EXPECT_EQ(laboratory->ColumnText(0), "unknown");
   EXPECT_EQ(laboratory->ColumnInt64(1), 2);
-  EXPECT_EQ(upgraded.connection().PragmaInt("foreign_keys"), 1) << "re-enabled after migrating";
+  EXPECT_EQ(connection.PragmaInt("foreign_keys"), 1) << "re-enabled after migrating";
 
   // Reopening with the same list does nothing more.
   Catalogue again = Catalogue::Open(path, options);
@@ -114,7 +115,7 @@ TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {
   {
     Catalogue catalogue = Catalogue::Open(path);
     testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "v0001");
-    before = catalogue.Dump();
+    before = CatalogueInspector(catalogue).Dump();
   }
   const int k = static_cast<int>(schema::Migrations().size());
   // The first statement succeeds, the second fails: the whole migration must roll back.
@@ -127,7 +128,7 @@ TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {
 
   Catalogue catalogue = Catalogue::Open(path);
   EXPECT_EQ(catalogue.schema_version(), k);
-  EXPECT_EQ(catalogue.Dump(), before);
+  EXPECT_EQ(CatalogueInspector(catalogue).Dump(), before);
 }
 
 TEST(Migrations, MigrationBreakingForeignKeysIsRejected) {

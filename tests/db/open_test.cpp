@@ -9,6 +9,7 @@
 #include "db/catalogue.h"
 #include "engine/error.h"
 #include "tests/db/db_test_helpers.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::db {
@@ -32,11 +33,12 @@ TEST(CatalogueOpen, NewFileIsMigratedToTheLatestSchema) {
   napkin::testing::TempDir dir;
   const std::string path = dir / "new.db";
   Catalogue catalogue = Catalogue::Open(path);
+  Connection& connection = CatalogueInspector(catalogue).connection();
   EXPECT_EQ(catalogue.schema_version(), static_cast<int>(schema::Migrations().size()));
-  EXPECT_EQ(catalogue.connection().PragmaInt("user_version"), catalogue.schema_version());
-  EXPECT_EQ(catalogue.connection().PragmaInt("foreign_keys"), 1);
-  EXPECT_EQ(catalogue.connection().PragmaInt("synchronous"), 2);  // FULL
-  auto mode = catalogue.connection().Prepare("PRAGMA journal_mode");
+  EXPECT_EQ(connection.PragmaInt("user_version"), catalogue.schema_version());
+  EXPECT_EQ(connection.PragmaInt("foreign_keys"), 1);
+  EXPECT_EQ(connection.PragmaInt("synchronous"), 2);  // FULL
+  auto mode = connection.Prepare("PRAGMA journal_mode");
   ASSERT_TRUE(mode->Step());
   EXPECT_EQ(mode->ColumnText(0), "wal");
 }

@@ -10,10 +10,12 @@
 #include <chrono>
 #include <thread>
 
+#include "db/job_queue.h"
 #include "engine/error.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
 #include "tests/jobs/jobs_test_helpers.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::jobs {
@@ -22,22 +24,6 @@ namespace {
 using testing::AddRandomTests;
 using testing::Processing;
 using testing::TestName;
-
-// attempts of every job of `config`, in test order (test code may read the
-// jobs table directly; the product reads it through db/).
-std::vector<std::int64_t> Attempts(db::Catalogue& catalogue, db::ConfigId config) {
-  auto select = catalogue.connection().Prepare("SELECT attempts FROM jobs WHERE config_id = ?1 ORDER BY test_id");
-  select->Bind(1, config);
-  std::vector<std::int64_t> attempts;
-  while (select->Step()) attempts.push_back(select->ColumnInt64(0));
-  return attempts;
-}
-
-std::int64_t CountRows(db::Catalogue& catalogue, const std::string& table) {
-  auto select = catalogue.connection().Prepare("SELECT count(*) FROM " + table);
-  select->Step();
-  return select->ColumnInt64(0);
-}
 
 void ExpectSameKinematics(const engine::Kinematics& stored, const engine::Kinematics& computed,
                           const std::string& test) {
@@ -96,10 +82,10 @@ TEST_F(SchedulerTest, ParallelResultsEqualTheTransformCoreBitForBit) {
     ExpectSameKinematics(*kinematics, expected.kinematics, test.external_id);
     EXPECT_THAT(engine::DifferingSummaryFields(*summary, expected.summary), ::testing::IsEmpty())
         << test.external_id;
-    EXPECT_EQ(catalogue.ReadResultSolver(test.id, report.config), "exact");
+    EXPECT_EQ(db::CatalogueInspector(catalogue).ReadResultSolver(test.id, report.config), "exact");
   }
-  EXPECT_THAT(Attempts(catalogue, report.config), ::testing::Each(1));
-  const db::StatusCounts counts = catalogue.ReadStatusCounts(report.config);
+  EXPECT_THAT(db::CatalogueInspector(catalogue).ReadJobAttempts(report.config), ::testing::Each(1));
+  const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(report.config);
   EXPECT_EQ(counts.done, 12);
   EXPECT_EQ(counts.running + counts.pending + counts.failed, 0);
 
@@ -140,7 +126,7 @@ TEST_F(SchedulerTest, FailedTestsAreRecordedWithTheirReasonAndTheRunGoesOn) {
   EXPECT_EQ(report.failed, 2);
 
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  const db::StatusCounts counts = catalogue.ReadStatusCounts(report.config);
+  const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(report.config);
   EXPECT_EQ(counts.tests, 8);
   EXPECT_EQ(counts.done, 6);
   EXPECT_EQ(counts.failed, 2);
@@ -167,7 +153,7 @@ TEST_F(SchedulerTest, AnUndecodableArrayFailsItsTestsOnly) {
   const RunReport report = RunScheduler(path_, processing, Options(2));
   EXPECT_EQ(report.failed, 3);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  const db::StatusCounts counts = catalogue.ReadStatusCounts(report.config);
+  const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(report.config);
   ASSERT_EQ(counts.failures.size(), 3u);
   EXPECT_EQ(counts.failures[0].error, "array 'ideal-3222' cannot be read.");
 }
@@ -184,18 +170,18 @@ TEST_F(SchedulerTest, StopEndsAfterTheTestsInFlightAndTheNextRunFinishes) {
   EXPECT_LT(stopped.done, 30);
   {
     db::Catalogue catalogue = db::Catalogue::Open(path_);
-    const db::StatusCounts counts = catalogue.ReadStatusCounts(stopped.config);
+    const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(stopped.config);
     EXPECT_EQ(counts.done, stopped.done);
     EXPECT_EQ(counts.running, 0) << "claimed jobs went back to the queue";
     EXPECT_EQ(counts.pending, 30 - stopped.done);
-    EXPECT_EQ(CountRows(catalogue, "results"), stopped.done);
+    EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("results"), stopped.done);
   }
   const RunReport rest = RunScheduler(path_, Processing(), Options(2));
   EXPECT_EQ(rest.total, 30 - stopped.done);
   EXPECT_EQ(rest.done, 30 - stopped.done);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  EXPECT_EQ(CountRows(catalogue, "results"), 30);
-  EXPECT_EQ(CountRows(catalogue, "derived_channels"), 30 * 36);
+  EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("results"), 30);
+  EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("derived_channels"), 30 * 36);
 }
 
 TEST_F(SchedulerTest, TestsInMemoryAreBoundedByTheTokensAndTheBatch) {
@@ -221,8 +207,9 @@ TEST_F(SchedulerTest, ConcurrentSchedulersOnOneFileProcessEachTestOnce) {
   EXPECT_EQ(first.done + second.done, 40);
   EXPECT_EQ(first.lost + second.lost, 0);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  EXPECT_THAT(Attempts(catalogue, first.config), ::testing::AllOf(::testing::SizeIs(40), ::testing::Each(1)));
-  EXPECT_EQ(CountRows(catalogue, "results"), 40);
+  EXPECT_THAT(db::CatalogueInspector(catalogue).ReadJobAttempts(first.config),
+              ::testing::AllOf(::testing::SizeIs(40), ::testing::Each(1)));
+  EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("results"), 40);
 }
 
 TEST_F(SchedulerTest, JobsOfADeadLocalWorkerAreReclaimedAtOnce) {
@@ -239,8 +226,9 @@ TEST_F(SchedulerTest, JobsOfADeadLocalWorkerAreReclaimedAtOnce) {
   {
     db::Catalogue catalogue = db::Catalogue::Open(path_);
     const db::ConfigId config = catalogue.WriteConfig(processing.record);
-    catalogue.EnqueueMissing(config);
-    ASSERT_EQ(catalogue.ClaimJobs(config, dead_owner, 4, 3600.0).size(), 4u);
+    db::JobQueue queue(catalogue);
+    queue.EnqueueMissing(config);
+    ASSERT_EQ(queue.ClaimJobs(config, dead_owner, 4, 3600.0).size(), 4u);
   }
   const auto start = std::chrono::steady_clock::now();
   const RunReport report = RunScheduler(path_, processing, Options(2));
@@ -248,7 +236,8 @@ TEST_F(SchedulerTest, JobsOfADeadLocalWorkerAreReclaimedAtOnce) {
   EXPECT_EQ(report.done, 6);
   EXPECT_EQ(report.reclaimed, 4);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  EXPECT_THAT(Attempts(catalogue, report.config), ::testing::ElementsAre(2, 2, 2, 2, 1, 1));
+  EXPECT_THAT(db::CatalogueInspector(catalogue).ReadJobAttempts(report.config),
+              ::testing::ElementsAre(2, 2, 2, 2, 1, 1));
 }
 
 TEST_F(SchedulerTest, JobsOfAForeignWorkerAreTakenWhenTheirLeaseExpires) {
@@ -259,13 +248,14 @@ TEST_F(SchedulerTest, JobsOfAForeignWorkerAreTakenWhenTheirLeaseExpires) {
   {
     db::Catalogue catalogue = db::Catalogue::Open(path_);
     const db::ConfigId config = catalogue.WriteConfig(processing.record);
-    catalogue.EnqueueMissing(config);
-    ASSERT_EQ(catalogue.ClaimJobs(config, foreign, 2, 1.0).size(), 2u);
+    db::JobQueue queue(catalogue);
+    queue.EnqueueMissing(config);
+    ASSERT_EQ(queue.ClaimJobs(config, foreign, 2, 1.0).size(), 2u);
   }
   const RunReport report = RunScheduler(path_, processing, Options(2));
   EXPECT_EQ(report.done, 4) << "the run waited for the foreign lease and took its jobs";
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  EXPECT_EQ(catalogue.ReadStatusCounts(report.config).done, 4);
+  EXPECT_EQ(db::JobQueue(catalogue).ReadStatusCounts(report.config).done, 4);
 }
 
 TEST_F(SchedulerTest, AChangedConfigMakesResultsStaleWithoutDeletingThem) {
@@ -281,10 +271,11 @@ TEST_F(SchedulerTest, AChangedConfigMakesResultsStaleWithoutDeletingThem) {
   EXPECT_EQ(second.done, 4);
 
   db::Catalogue catalogue = db::Catalogue::Open(path_);
+  db::CatalogueInspector inspector(catalogue);
   const db::TestId test = *catalogue.FindTestByExternalId(TestName(0));
-  EXPECT_EQ(catalogue.ReadResultSolver(test, first.config), "exact") << "earlier result kept";
-  EXPECT_EQ(catalogue.ReadResultSolver(test, second.config), "seed");
-  EXPECT_EQ(CountRows(catalogue, "results"), 8);
+  EXPECT_EQ(inspector.ReadResultSolver(test, first.config), "exact") << "earlier result kept";
+  EXPECT_EQ(inspector.ReadResultSolver(test, second.config), "seed");
+  EXPECT_EQ(inspector.CountRows("results"), 8);
 
   // --force recomputes the current config's results and replaces them.
   RunOptions force = Options(2);
@@ -292,8 +283,8 @@ TEST_F(SchedulerTest, AChangedConfigMakesResultsStaleWithoutDeletingThem) {
   const RunReport forced = RunScheduler(path_, Processing(seed_config), force);
   EXPECT_EQ(forced.total, 4);
   EXPECT_EQ(forced.done, 4);
-  EXPECT_EQ(CountRows(catalogue, "results"), 8);
-  EXPECT_THAT(Attempts(catalogue, second.config), ::testing::Each(2));
+  EXPECT_EQ(inspector.CountRows("results"), 8);
+  EXPECT_THAT(inspector.ReadJobAttempts(second.config), ::testing::Each(2));
 }
 
 TEST_F(SchedulerTest, ScopeAndShardSelectTheirTestsOnly) {
@@ -309,7 +300,7 @@ TEST_F(SchedulerTest, ScopeAndShardSelectTheirTestsOnly) {
   EXPECT_EQ(shard.total, 3);
   EXPECT_EQ(shard.done, 3);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  EXPECT_EQ(catalogue.ReadStatusCounts(shard.config).done, 5);
+  EXPECT_EQ(db::JobQueue(catalogue).ReadStatusCounts(shard.config).done, 5);
 }
 
 TEST_F(SchedulerTest, OwnerIdsAreUniqueAndNameThisProcess) {

@@ -1,4 +1,4 @@
-// Catalogue: the job queue of the batch scheduler.
+// JobQueue: the job queue of the batch scheduler.
 //
 // Design: one row per (test, config) in `jobs`. Workers (threads with their
 // own connection, or processes) claim jobs in a BEGIN IMMEDIATE transaction,
@@ -7,10 +7,11 @@
 // job becomes claimable again (attempts counts claims, so a job that keeps
 // killing workers is visible). Completing or failing a job checks the caller
 // still holds it.
+#include "db/job_queue.h"
+
 #include <algorithm>
 #include <stdexcept>
 
-#include "db/catalogue.h"
 #include "db/catalogue_internal.h"
 #include "engine/error.h"
 
@@ -18,17 +19,34 @@ namespace napkin::db {
 
 namespace {
 
-// The tests of a JobScope: parameters ?1..?5 (see catalogue_internal.h).
+// A JobScope: the test filter (catalogue_internal.h) plus the shard, ?4
+// (count) and ?5 (index).
+constexpr const char* kShardTerms = "(?4 IS NULL OR t.id % ?4 = ?5)";
+
+// The tests of a JobScope: parameters ?1..?5.
 std::string ScopeCte() {
   return std::string(
              "scope AS (SELECT t.id AS test_id FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id "
              "WHERE ") +
-         internal::kTestFilterTerms + " AND " + internal::kShardTerms + ")";
+         internal::kTestFilterTerms + " AND " + kShardTerms + ")";
+}
+
+void BindJobScope(Statement& statement, const JobScope& scope) {
+  internal::BindTestFilter(statement, scope.tests);
+  if (scope.shard) {
+    if (scope.shard->count < 1 || scope.shard->index < 0 || scope.shard->index >= scope.shard->count)
+      throw InputError("shard " + std::to_string(scope.shard->index) + "/" +
+                       std::to_string(scope.shard->count) + " is invalid (expected I/N with 0 <= I < N).");
+    statement.Bind(4, scope.shard->count);
+    statement.Bind(5, scope.shard->index);
+  }
 }
 
 }  // namespace
 
-std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, bool force) {
+JobQueue::JobQueue(Catalogue& catalogue) : connection_(catalogue.connection_), clock_(catalogue.clock_) {}
+
+std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bool force) {
   Transaction transaction(connection_);
   std::int64_t queued = 0;
   {
@@ -42,7 +60,7 @@ std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, b
         "AND (?12 OR NOT EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id "
         "= ?10))";
     auto insert = connection_.Prepare(kInsert);
-    internal::BindJobScope(*insert, scope);
+    BindJobScope(*insert, scope);
     insert->Bind(10, config);
     insert->Bind(11, clock_());
     insert->Bind(12, force);
@@ -61,7 +79,7 @@ std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, b
         "state = 'failed' OR (state = 'done' AND (?12 OR NOT EXISTS ("
         "SELECT 1 FROM results AS r WHERE r.test_id = jobs.test_id AND r.config_id = ?10))))";
     auto requeue = connection_.Prepare(kRequeue);
-    internal::BindJobScope(*requeue, scope);
+    BindJobScope(*requeue, scope);
     requeue->Bind(10, config);
     requeue->Bind(11, clock_());
     requeue->Bind(12, force);
@@ -72,8 +90,8 @@ std::int64_t Catalogue::EnqueueMissing(ConfigId config, const JobScope& scope, b
   return queued;
 }
 
-std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner, int max_jobs,
-                                      double lease_seconds, const JobScope& scope) {
+std::vector<Job> JobQueue::ClaimJobs(ConfigId config, const std::string& owner, int max_jobs,
+                                     double lease_seconds, const JobScope& scope) {
   if (max_jobs <= 0) return {};
   if (!(lease_seconds > 0.0)) throw std::invalid_argument("ClaimJobs: lease_seconds must be positive");
   const double now = clock_();
@@ -86,7 +104,7 @@ std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner,
       "(state = 'queued' OR (state = 'running' AND lease_expires_at <= ?12)) ORDER BY id LIMIT ?14) "
       "RETURNING id, test_id, attempts";
   auto claim = connection_.Prepare(kClaim);
-  internal::BindJobScope(*claim, scope);
+  BindJobScope(*claim, scope);
   claim->Bind(10, config);
   claim->Bind(11, owner);
   claim->Bind(12, now);
@@ -101,20 +119,20 @@ std::vector<Job> Catalogue::ClaimJobs(ConfigId config, const std::string& owner,
   return jobs;
 }
 
-std::vector<std::string> Catalogue::ReadLeaseOwners(ConfigId config, const JobScope& scope) {
+std::vector<std::string> JobQueue::ReadLeaseOwners(ConfigId config, const JobScope& scope) {
   static const std::string kOwners =
       "WITH " + ScopeCte() +
       " SELECT DISTINCT lease_owner FROM jobs WHERE config_id = ?10 AND state = 'running' "
       "AND test_id IN (SELECT test_id FROM scope) ORDER BY lease_owner";
   auto select = connection_.Prepare(kOwners);
-  internal::BindJobScope(*select, scope);
+  BindJobScope(*select, scope);
   select->Bind(10, config);
   std::vector<std::string> owners;
   while (select->Step()) owners.push_back(select->ColumnText(0));
   return owners;
 }
 
-std::int64_t Catalogue::ReleaseLeases(ConfigId config, const std::string& owner) {
+std::int64_t JobQueue::ReleaseLeases(ConfigId config, const std::string& owner) {
   Transaction transaction(connection_);
   auto release = connection_.Prepare(
       "UPDATE jobs SET state = 'queued', lease_owner = NULL, lease_expires_at = NULL, started_at = NULL "
@@ -126,7 +144,7 @@ std::int64_t Catalogue::ReleaseLeases(ConfigId config, const std::string& owner)
   return released;
 }
 
-bool Catalogue::RenewLease(JobId job, const std::string& owner, double lease_seconds) {
+bool JobQueue::RenewLease(JobId job, const std::string& owner, double lease_seconds) {
   Transaction transaction(connection_);
   auto renew = connection_.Prepare(
       "UPDATE jobs SET lease_expires_at = ?3 + ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
@@ -137,7 +155,7 @@ bool Catalogue::RenewLease(JobId job, const std::string& owner, double lease_sec
   return held;
 }
 
-bool Catalogue::CompleteJob(JobId job, const std::string& owner) {
+bool JobQueue::CompleteJob(JobId job, const std::string& owner) {
   Transaction transaction(connection_);
   auto complete = connection_.Prepare(
       "UPDATE jobs SET state = 'done', finished_at = ?3, duration_s = ?3 - started_at, lease_expires_at = "
@@ -150,7 +168,7 @@ bool Catalogue::CompleteJob(JobId job, const std::string& owner) {
   return held;
 }
 
-bool Catalogue::FailJob(JobId job, const std::string& owner, const std::string& error) {
+bool JobQueue::FailJob(JobId job, const std::string& owner, const std::string& error) {
   Transaction transaction(connection_);
   auto fail = connection_.Prepare(
       "UPDATE jobs SET state = 'failed', last_error = ?4, finished_at = ?3, duration_s = ?3 - started_at, "
@@ -162,7 +180,7 @@ bool Catalogue::FailJob(JobId job, const std::string& owner, const std::string& 
   return held;
 }
 
-StatusCounts Catalogue::ReadStatusCounts(ConfigId config, const JobScope& scope) {
+StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) {
   // One consistent snapshot for the counts and the failure list.
   Transaction transaction(connection_, Transaction::Mode::kDeferred);
   StatusCounts counts;
@@ -180,7 +198,7 @@ StatusCounts Catalogue::ReadStatusCounts(ConfigId config, const JobScope& scope)
         "SELECT count(*), coalesce(sum(state = 'done'), 0), coalesce(sum(state = 'failed'), 0), "
         "coalesce(sum(state = 'queued'), 0), coalesce(sum(state = 'running'), 0) FROM states";
     auto select = connection_.Prepare(kCounts);
-    internal::BindJobScope(*select, scope);
+    BindJobScope(*select, scope);
     select->Bind(10, config);
     select->Step();
     counts.tests = select->ColumnInt64(0);
@@ -196,7 +214,7 @@ StatusCounts Catalogue::ReadStatusCounts(ConfigId config, const JobScope& scope)
         "JOIN scope ON scope.test_id = j.test_id JOIN tests AS t ON t.id = j.test_id "
         "WHERE j.config_id = ?10 AND j.state = 'failed' ORDER BY t.external_id";
     auto select = connection_.Prepare(kFailures);
-    internal::BindJobScope(*select, scope);
+    BindJobScope(*select, scope);
     select->Bind(10, config);
     while (select->Step()) counts.failures.push_back({select->ColumnText(0), select->ColumnText(1)});
   }
