@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "engine/exact_solver.h"
+#include "engine/report_known_answers.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
 #include "engine/synth.h"
@@ -43,18 +44,18 @@ TEST(ExactSolver, SeedFixedAxisMeetsReportAccuracyOnAllNapGeometries) {
     // Known answers (ALGORITHMS.md table).
     TestSummary summary;
     SummarizeKinematics(solved, summary);
-    EXPECT_NEAR(summary.max_rotation_deg, 85.9437, 0.001);
+    EXPECT_NEAR(summary.max_rotation_deg, report::kTotalRotationDeg, 0.001);
     const Eigen::Matrix3d turn = solved.quat_fixed_from_body.row(0).norm() > 0
                                      ? Eigen::Matrix3d(QuatAt(solved.quat_fixed_from_body, solved.size() - 1) *
                                                        QuatAt(solved.quat_fixed_from_body, 0).conjugate())
                                      : Eigen::Matrix3d::Identity();
     const Eigen::Vector3d turn_vector = QuaternionLog(Eigen::Quaterniond(turn));
-    EXPECT_NEAR(turn_vector.y(), 1.5, 1e-5);  // 1.5 rad about fixed Y
+    EXPECT_NEAR(turn_vector.y(), report::kTotalRotationRad, 1e-5);  // about fixed Y
     EXPECT_NEAR(turn_vector.x(), 0.0, 1e-5);
     EXPECT_NEAR(turn_vector.z(), 0.0, 1e-5);
-    EXPECT_NEAR(solved.omega_fixed.col(1).maxCoeff(), 50.0, 1e-3);
-    EXPECT_NEAR(summary.peak_alpha_radps2, 2618.0, 0.5);  // 25 * 2 pi / 0.06 = 2617.99
-    EXPECT_NEAR(summary.peak_acc_g, 70.41, 0.005);
+    EXPECT_NEAR(solved.omega_fixed.col(1).maxCoeff(), report::kPeakOmegaFixedYRadps, 1e-3);
+    EXPECT_NEAR(summary.peak_alpha_radps2, report::kPeakAlphaRadps2, 0.5);
+    EXPECT_NEAR(summary.peak_acc_g, report::kPeakAccG, 0.005);
     EXPECT_LT(summary.max_residual_mps2, 1e-6);
   }
 }

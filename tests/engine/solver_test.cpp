@@ -8,6 +8,7 @@
 
 #include "engine/error.h"
 #include "engine/exact_solver.h"
+#include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/solver.h"
 #include "engine/synth.h"
@@ -142,7 +143,7 @@ TEST(Solver, SequentialRotationsEndAtKnownOrientation) {
     const SyntheticTest test = SynthSequential(array);
     const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
     const Eigen::Quaterniond final_quat = QuatAt(solved.quat_fixed_from_body, solved.size() - 1);
-    const double quarter = kPi / 2;
+    const double quarter = report::kSequentialTurnRad;
     const Eigen::Quaterniond expected(Eigen::Matrix3d(Rx(quarter) * Ry(quarter) * Rz(quarter)));
     const double error_deg = AngleBetween(final_quat, expected) * kDegPerRad;
     const KinematicsErrors e = CompareKinematics(solved, test.truth);
