@@ -93,56 +93,57 @@ TEST_P(MalformedArrayTest, IsRejected) {
 
 INSTANTIATE_TEST_SUITE_P(
     Sensors, MalformedArrayTest,
-    ::testing::Values(
-        MalformedArrayCase{"empty",
-                           [] {
-                             ArrayGeometry empty;
-                             empty.name = "foo";
-                             return empty;
-                           },
-                           "array 'foo' has no sensors"},
-        MalformedArrayCase{"duplicate_slot",
-                           [] {
-                             ArrayGeometry duplicate = testing::Ideal3222();
-                             duplicate.sensors[3].slot = "cg_x";
-                             return duplicate;
-                           },
-                           "slot 'cg_x' appears more than once"},
-        MalformedArrayCase{"unnamed_slot",
-                           [] {
-                             ArrayGeometry unnamed = testing::Ideal3222();
-                             unnamed.sensors[2].slot.clear();
-                             return unnamed;
-                           },
-                           "sensor 3 has an empty slot name"},
-        MalformedArrayCase{"zero_axis",
-                           [] {
-                             ArrayGeometry zero_axis = testing::Ideal3222();
-                             zero_axis.sensors[5].axis_body.setZero();
-                             return zero_axis;
-                           },
-                           "slot 'xarm_z' has a zero or non-finite sense axis"},
-        MalformedArrayCase{"nan_axis",
-                           [] {
-                             ArrayGeometry nan_axis = testing::Ideal3222();
-                             nan_axis.sensors[5].axis_body.x() = std::numeric_limits<double>::quiet_NaN();
-                             return nan_axis;
-                           },
-                           "slot 'xarm_z' has a zero or non-finite sense axis"},
-        MalformedArrayCase{"infinite_position",
-                           [] {
-                             ArrayGeometry nan_position = testing::Ideal3222();
-                             nan_position.sensors[7].position_body_m.z() = std::numeric_limits<double>::infinity();
-                             return nan_position;
-                           },
-                           "slot 'zarm_x' has a non-finite position"},
-        MalformedArrayCase{"unknown_unit_zero_factor", [] { return UnknownUnit(0.0); },
-                           "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"},
-        MalformedArrayCase{"unknown_unit_negative_factor", [] { return UnknownUnit(-9.8); },
-                           "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"},
-        MalformedArrayCase{"unknown_unit_nan_factor",
-                           [] { return UnknownUnit(std::numeric_limits<double>::quiet_NaN()); },
-                           "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"}),
+    ::testing::Values(MalformedArrayCase{"empty",
+                                         [] {
+                                           ArrayGeometry empty;
+                                           empty.name = "foo";
+                                           return empty;
+                                         },
+                                         "array 'foo' has no sensors"},
+                      MalformedArrayCase{"duplicate_slot",
+                                         [] {
+                                           ArrayGeometry duplicate = testing::Ideal3222();
+                                           duplicate.sensors[3].slot = "cg_x";
+                                           return duplicate;
+                                         },
+                                         "slot 'cg_x' appears more than once"},
+                      MalformedArrayCase{"unnamed_slot",
+                                         [] {
+                                           ArrayGeometry unnamed = testing::Ideal3222();
+                                           unnamed.sensors[2].slot.clear();
+                                           return unnamed;
+                                         },
+                                         "sensor 3 has an empty slot name"},
+                      MalformedArrayCase{"zero_axis",
+                                         [] {
+                                           ArrayGeometry zero_axis = testing::Ideal3222();
+                                           zero_axis.sensors[5].axis_body.setZero();
+                                           return zero_axis;
+                                         },
+                                         "slot 'xarm_z' has a zero or non-finite sense axis"},
+                      MalformedArrayCase{"nan_axis",
+                                         [] {
+                                           ArrayGeometry nan_axis = testing::Ideal3222();
+                                           nan_axis.sensors[5].axis_body.x() =
+                                               std::numeric_limits<double>::quiet_NaN();
+                                           return nan_axis;
+                                         },
+                                         "slot 'xarm_z' has a zero or non-finite sense axis"},
+                      MalformedArrayCase{"infinite_position",
+                                         [] {
+                                           ArrayGeometry nan_position = testing::Ideal3222();
+                                           nan_position.sensors[7].position_body_m.z() =
+                                               std::numeric_limits<double>::infinity();
+                                           return nan_position;
+                                         },
+                                         "slot 'zarm_x' has a non-finite position"},
+                      MalformedArrayCase{"unknown_unit_zero_factor", [] { return UnknownUnit(0.0); },
+                                         "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"},
+                      MalformedArrayCase{"unknown_unit_negative_factor", [] { return UnknownUnit(-9.8); },
+                                         "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"},
+                      MalformedArrayCase{"unknown_unit_nan_factor",
+                                         [] { return UnknownUnit(std::numeric_limits<double>::quiet_NaN()); },
+                                         "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"}),
     testing::CaseName());
 
 TEST(ArrayGeometry, RejectsUnsolvableGeometries) {

@@ -56,8 +56,8 @@ TEST_P(ExactSolverOnNapTest, SeedFixedAxisMeetsReportAccuracy) {
   EXPECT_LE(e.orientation_deg, 0.005);
   const double max_omega_fixed_x = solved.omega_fixed.col(0).cwiseAbs().maxCoeff();
   const double max_omega_fixed_z = solved.omega_fixed.col(2).cwiseAbs().maxCoeff();
-  std::printf("[errors] 4.5 %s fixed omega_X %.2e, omega_Z %.2e rad/s\n", array.name.c_str(), max_omega_fixed_x,
-              max_omega_fixed_z);
+  std::printf("[errors] 4.5 %s fixed omega_X %.2e, omega_Z %.2e rad/s\n", array.name.c_str(),
+              max_omega_fixed_x, max_omega_fixed_z);
   EXPECT_LE(max_omega_fixed_x, 0.005);
   EXPECT_LE(max_omega_fixed_z, 0.005);
 

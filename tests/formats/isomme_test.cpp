@@ -84,15 +84,16 @@ TEST_P(SignalUnitSpellingTest, GivesKindAndFactor) {
   EXPECT_DOUBLE_EQ(parsed->si_per_unit, spelling.si_per_unit) << spelling.unit;
 }
 
-INSTANTIATE_TEST_SUITE_P(Linear, SignalUnitSpellingTest,
-                         ::testing::Values(UnitCase{"g", "g", engine::SensorKind::kLinear, engine::kStandardGravity},
-                                           UnitCase{"G_S", "G'S", engine::SensorKind::kLinear, engine::kStandardGravity},
-                                           UnitCase{"m_s2_fortran", "m/s**2", engine::SensorKind::kLinear, 1.0},
-                                           UnitCase{"M_SEC2_fortran", "M/SEC**2", engine::SensorKind::kLinear, 1.0},
-                                           UnitCase{"m_s2_caret", "m/s^2", engine::SensorKind::kLinear, 1.0},
-                                           UnitCase{"FT_SEC2", "FT/SEC**2", engine::SensorKind::kLinear, 0.3048},
-                                           UnitCase{"IN_SEC2", "IN/SEC**2", engine::SensorKind::kLinear, 0.0254}),
-                         testing::CaseName());
+INSTANTIATE_TEST_SUITE_P(
+    Linear, SignalUnitSpellingTest,
+    ::testing::Values(UnitCase{"g", "g", engine::SensorKind::kLinear, engine::kStandardGravity},
+                      UnitCase{"G_S", "G'S", engine::SensorKind::kLinear, engine::kStandardGravity},
+                      UnitCase{"m_s2_fortran", "m/s**2", engine::SensorKind::kLinear, 1.0},
+                      UnitCase{"M_SEC2_fortran", "M/SEC**2", engine::SensorKind::kLinear, 1.0},
+                      UnitCase{"m_s2_caret", "m/s^2", engine::SensorKind::kLinear, 1.0},
+                      UnitCase{"FT_SEC2", "FT/SEC**2", engine::SensorKind::kLinear, 0.3048},
+                      UnitCase{"IN_SEC2", "IN/SEC**2", engine::SensorKind::kLinear, 0.0254}),
+    testing::CaseName());
 
 INSTANTIATE_TEST_SUITE_P(
     AngularRate, SignalUnitSpellingTest,
@@ -100,7 +101,8 @@ INSTANTIATE_TEST_SUITE_P(
                       UnitCase{"RADIANS_SECOND", "RADIANS/SECOND", engine::SensorKind::kAngularRate, 1.0},
                       UnitCase{"DEG_SEC", "DEG/SEC", engine::SensorKind::kAngularRate, engine::kPi / 180},
                       UnitCase{"deg_s", "deg/s", engine::SensorKind::kAngularRate, engine::kPi / 180},
-                      UnitCase{"degree_sign_s", "\xC2\xB0/s", engine::SensorKind::kAngularRate, engine::kPi / 180}),
+                      UnitCase{"degree_sign_s", "\xC2\xB0/s", engine::SensorKind::kAngularRate,
+                               engine::kPi / 180}),
     testing::CaseName());
 
 TEST(SignalUnitTest, NoUnitOrAnUnknownOne) {
@@ -137,7 +139,8 @@ TEST_P(IsoMmePresetTest, RawSignalsRoundTrip) {
 
 INSTANTIATE_TEST_SUITE_P(EveryPreset, IsoMmePresetTest,
                          ::testing::Values(PresetCase{"denton_3222", &testing::Denton3222, "nap-example"},
-                                           PresetCase{"volpe_table4_2", &testing::VolpeTable42, "nap-example"},
+                                           PresetCase{"volpe_table4_2", &testing::VolpeTable42,
+                                                      "nap-example"},
                                            PresetCase{"six_a_omega_cg", &testing::SixAOmegaCg, "default"}),
                          testing::CaseName());
 
@@ -242,8 +245,9 @@ TEST_P(IsoMmeChannelErrorTest, NamesFileChannelOrSlot) {
   std::vector<std::string> channels = GoodChannels();
   GetParam().spoil(channels);
   WriteFolder(dir / "case", channels);
-  ExpectInputError([&] { ReadIsoMmeSignals(dir / "case", testing::SixAOmegaCg(), LoadChannelMap("default")); },
-                   GetParam().fragments);
+  ExpectInputError(
+      [&] { ReadIsoMmeSignals(dir / "case", testing::SixAOmegaCg(), LoadChannelMap("default")); },
+      GetParam().fragments);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -271,11 +275,12 @@ INSTANTIATE_TEST_SUITE_P(
                            channels[5] = ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 1.0, Ramp(6, 0, 1));
                          },
                          {"SN-77", "do not overlap"}},
-        ChannelErrorCase{"SlotMatchedByTwoChannels",
-                         [](std::vector<std::string>& channels) {
-                           channels.push_back(ChannelText("11HEADCG0000ACXP", "g", 0.001, 0.0, Ramp(6, 0, 1)));
-                         },
-                         {"slot \"cg_x\" is matched by two channels", "11HEAD0000H3ACXA", "11HEADCG0000ACXP"}},
+        ChannelErrorCase{
+            "SlotMatchedByTwoChannels",
+            [](std::vector<std::string>& channels) {
+              channels.push_back(ChannelText("11HEADCG0000ACXP", "g", 0.001, 0.0, Ramp(6, 0, 1)));
+            },
+            {"slot \"cg_x\" is matched by two channels", "11HEAD0000H3ACXA", "11HEADCG0000ACXP"}},
         ChannelErrorCase{"SlotWithoutChannel",
                          [](std::vector<std::string>& channels) { channels.erase(channels.begin() + 4); },
                          {"no channel matches slot \"ars_y\""}},
@@ -284,12 +289,12 @@ INSTANTIATE_TEST_SUITE_P(
                            channels[3] = ChannelText("11HEAD0000H3AVXA", "g", 0.001, 0.0, Ramp(6, 0, 1));
                          },
                          {"no channel matches slot \"ars_x\""}},
-        ChannelErrorCase{"SampleNotANumber",
-                         [](std::vector<std::string>& channels) {
-                           channels[0] =
-                               ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, {"0", "1", "x2", "3", "4", "5"});
-                         },
-                         {"test.001", "sample 3", "\"x2\", not a finite number"}},
+        ChannelErrorCase{
+            "SampleNotANumber",
+            [](std::vector<std::string>& channels) {
+              channels[0] = ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, {"0", "1", "x2", "3", "4", "5"});
+            },
+            {"test.001", "sample 3", "\"x2\", not a finite number"}},
         ChannelErrorCase{"NoSamplingInterval",
                          [](std::vector<std::string>& channels) {
                            std::string& text = channels[0];
@@ -307,7 +312,8 @@ TEST(IsoMmeTest, MissingChannelFilesAreNamed) {
   ExpectInputError([&] { ReadIsoMme(folder); }, {folder.string(), "no Channel folder"});
   std::filesystem::create_directories(folder / "Channel");
   test::WriteBytes(folder / "Channel" / "a.chn", "Number of channels :2\n");
-  test::WriteBytes(folder / "Channel" / "a.001", ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
+  test::WriteBytes(folder / "Channel" / "a.001",
+                   ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
   ExpectInputError([&] { ReadIsoMme(folder); }, {"a.002", "channel 2 of 2", "missing"});
 }
 

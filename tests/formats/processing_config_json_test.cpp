@@ -134,19 +134,25 @@ TEST_P(ProcessingConfigErrorTest, NamesTheSourceAndTheKey) {
 INSTANTIATE_TEST_SUITE_P(
     BadDocuments, ProcessingConfigErrorTest,
     ::testing::Values(
-        ConfigErrorCase{"unknown_filter_key", R"({"filter": {"linear_cfx": 1000}})", {"test.json", "filter.linear_cfx"}},
+        ConfigErrorCase{
+            "unknown_filter_key", R"({"filter": {"linear_cfx": 1000}})", {"test.json", "filter.linear_cfx"}},
         ConfigErrorCase{"unknown_section", R"({"hics": {}})", {"test.json", "hics"}},
-        ConfigErrorCase{"number_for_boolean", R"({"hic": {"from_time_zero": 1}})",
+        ConfigErrorCase{"number_for_boolean",
+                        R"({"hic": {"from_time_zero": 1}})",
                         {"hic.from_time_zero", "true or false"}},
-        ConfigErrorCase{"negative_cfc", R"({"filter": {"linear_cfc": -1}})", {"test.json", "filter.linear_cfc"}},
-        ConfigErrorCase{"cfc_off_for_none", R"({"filter": {"linear_cfc": "off"}})", {"filter.linear_cfc", "none"}},
-        ConfigErrorCase{"unknown_bias_mode", R"({"bias": {"mode": "sometimes"}})", {"bias.mode", "\"window\""}},
+        ConfigErrorCase{
+            "negative_cfc", R"({"filter": {"linear_cfc": -1}})", {"test.json", "filter.linear_cfc"}},
+        ConfigErrorCase{
+            "cfc_off_for_none", R"({"filter": {"linear_cfc": "off"}})", {"filter.linear_cfc", "none"}},
+        ConfigErrorCase{
+            "unknown_bias_mode", R"({"bias": {"mode": "sometimes"}})", {"bias.mode", "\"window\""}},
         ConfigErrorCase{"unknown_bias_key", R"({"bias": {"window_s": [0.0]}})", {"bias.window_s"}},
-        ConfigErrorCase{"text_in_bric_vector", R"({"bric": {"critical_radps": [1, 2, "3"]}})",
-                        {"bric.critical_radps"}},
-        ConfigErrorCase{"zero_in_bric_vector", R"({"bric": {"critical_radps": [1, 0, 3]}})",
-                        {"bric.critical_radps[1]"}},
-        ConfigErrorCase{"fraction_for_integer", R"({"screening": {"saturation_run_samples": 2.5}})",
+        ConfigErrorCase{
+            "text_in_bric_vector", R"({"bric": {"critical_radps": [1, 2, "3"]}})", {"bric.critical_radps"}},
+        ConfigErrorCase{
+            "zero_in_bric_vector", R"({"bric": {"critical_radps": [1, 0, 3]}})", {"bric.critical_radps[1]"}},
+        ConfigErrorCase{"fraction_for_integer",
+                        R"({"screening": {"saturation_run_samples": 2.5}})",
                         {"screening.saturation_run_samples", "integer"}},
         ConfigErrorCase{"text_for_time", R"({"time": {"start_s": "0"}})", {"time.start_s"}},
         ConfigErrorCase{"array_for_section", R"({"gravity": []})", {"gravity", "object"}},

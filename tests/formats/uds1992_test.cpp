@@ -54,7 +54,8 @@ INSTANTIATE_TEST_SUITE_P(
                       // 0.1f: IEEE 0x3DCCCCCD -> VAX exponent + 2 -> longword 0xCCCD3ECC.
                       VaxBitsCase{"one_tenth", static_cast<double>(0.1f), {0xCC, 0x3E, 0xCD, 0xCC}},
                       // Largest F_floating: 0.111...1 * 2^127 = (1 - 2^-24) * 2^127.
-                      VaxBitsCase{"largest", std::ldexp(1.0 - std::ldexp(1.0, -24), 127), {0xFF, 0x7F, 0xFF, 0xFF}},
+                      VaxBitsCase{
+                          "largest", std::ldexp(1.0 - std::ldexp(1.0, -24), 127), {0xFF, 0x7F, 0xFF, 0xFF}},
                       // Smallest positive F_floating: 0.5 * 2^-127 = 2^-128.
                       VaxBitsCase{"smallest_positive", std::ldexp(1.0, -128), {0x80, 0x00, 0x00, 0x00}}),
     testing::CaseName());
@@ -124,9 +125,12 @@ INSTANTIATE_TEST_SUITE_P(AllNumberForms, UdsRoundTripTest,
                          ::testing::Values(UdsNumberForm::kIeee, UdsNumberForm::kVax, UdsNumberForm::kSun),
                          [](const ::testing::TestParamInfo<UdsNumberForm>& info) -> std::string {
                            switch (info.param) {
-                             case UdsNumberForm::kIeee: return "Ieee";
-                             case UdsNumberForm::kVax: return "Vax";
-                             case UdsNumberForm::kSun: return "Sun";
+                             case UdsNumberForm::kIeee:
+                               return "Ieee";
+                             case UdsNumberForm::kVax:
+                               return "Vax";
+                             case UdsNumberForm::kSun:
+                               return "Sun";
                            }
                            return "Unknown";
                          });
@@ -206,30 +210,40 @@ TEST_P(UdsErrorTest, NamesTheFile) {
 
 INSTANTIATE_TEST_SUITE_P(
     SpoiltFiles, UdsErrorTest,
-    ::testing::Values(
-        UdsErrorCase{"truncated", [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
-                     {"data record 4 is truncated (312 of 512 bytes)"}},
-        UdsErrorCase{"missing", [](const std::string& good) { return good.substr(0, 4 * 512); },
-                     {"data record 3 is missing"}},
-        UdsErrorCase{"short_header", [](const std::string& good) { return good.substr(0, 100); },
-                     {"file header", "truncated (100 of 512 bytes)"}},
-        UdsErrorCase{"no_curve", [](const std::string& good) { return good.substr(0, 512); },
-                     {"curve header", "missing"}},
-        UdsErrorCase{"version", [](const std::string& good) { return Replaced(good, 0, "UDS-1991"); },
-                     {"FILEVER is \"UDS-1991\""}},
-        UdsErrorCase{"numform", [](const std::string& good) { return Replaced(good, 26, "CRAY "); },
-                     {"unknown NUMFORM \"CRAY\""}},
-        UdsErrorCase{"crossed", [](const std::string& good) { return Poked(good, 512 + 282, std::int32_t{-5}); },
-                     {"NLP -5 is less than NFP 0"}},
-        UdsErrorCase{"record", [](const std::string& good) { return Replaced(good, 3 * 512, "X DATA"); },
-                     {"data record 2 starts with \"X DATA\""}},
-        UdsErrorCase{"curve", [](const std::string& good) { return Replaced(good, 512, "CURVE XXX"); },
-                     {"record 2 starts with \"CURVE XXX\""}},
-        UdsErrorCase{"nan",
-                     [](const std::string& good) {
-                       return Poked(good, 2 * 512 + 12 + 4 * 7, std::numeric_limits<float>::quiet_NaN());
-                     },
-                     {"sample 7", "not a finite number"}}),
+    ::testing::Values(UdsErrorCase{"truncated",
+                                   [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
+                                   {"data record 4 is truncated (312 of 512 bytes)"}},
+                      UdsErrorCase{"missing",
+                                   [](const std::string& good) { return good.substr(0, 4 * 512); },
+                                   {"data record 3 is missing"}},
+                      UdsErrorCase{"short_header",
+                                   [](const std::string& good) { return good.substr(0, 100); },
+                                   {"file header", "truncated (100 of 512 bytes)"}},
+                      UdsErrorCase{"no_curve",
+                                   [](const std::string& good) { return good.substr(0, 512); },
+                                   {"curve header", "missing"}},
+                      UdsErrorCase{"version",
+                                   [](const std::string& good) { return Replaced(good, 0, "UDS-1991"); },
+                                   {"FILEVER is \"UDS-1991\""}},
+                      UdsErrorCase{"numform",
+                                   [](const std::string& good) { return Replaced(good, 26, "CRAY "); },
+                                   {"unknown NUMFORM \"CRAY\""}},
+                      UdsErrorCase{
+                          "crossed",
+                          [](const std::string& good) { return Poked(good, 512 + 282, std::int32_t{-5}); },
+                          {"NLP -5 is less than NFP 0"}},
+                      UdsErrorCase{"record",
+                                   [](const std::string& good) { return Replaced(good, 3 * 512, "X DATA"); },
+                                   {"data record 2 starts with \"X DATA\""}},
+                      UdsErrorCase{"curve",
+                                   [](const std::string& good) { return Replaced(good, 512, "CURVE XXX"); },
+                                   {"record 2 starts with \"CURVE XXX\""}},
+                      UdsErrorCase{"nan",
+                                   [](const std::string& good) {
+                                     return Poked(good, 2 * 512 + 12 + 4 * 7,
+                                                  std::numeric_limits<float>::quiet_NaN());
+                                   },
+                                   {"sample 7", "not a finite number"}}),
     testing::CaseName());
 
 TEST(UdsVaxErrorTest, ReservedOperandNamesFileAndSample) {
