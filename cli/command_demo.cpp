@@ -5,6 +5,7 @@
 
 #include "cli/command.h"
 #include "cli/transform.h"
+#include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/synth.h"
 #include "engine/units.h"
@@ -16,7 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Report section 4.5 known answers (ALGORITHMS.md "Known answers").
+// The computed counterparts of the report section 4.5 known answers
+// (engine/report_known_answers.h).
 struct ScenarioNumbers {
   double rotation_about_y_deg = 0;  // angle of R_end R0^T
   double peak_omega_y_fixed = 0;
@@ -78,21 +80,30 @@ class DemoCommand : public Command {
     }
     fmt::print("{:<40} {:>12} {:>14} {:>14} {:>14}\n", "quantity", "known", geometries[0], geometries[1],
                geometries[2]);
-    auto row = [&](const char* label, const char* known, double ScenarioNumbers::*field, const char* format) {
-      fmt::print("{:<40} {:>12}", label, known);
+    // The known column is printed as the report states it (`known_format`),
+    // the computed columns to the precision that shows the agreement.
+    auto row = [&](const char* label, double known, const char* known_format, double ScenarioNumbers::*field,
+                   const char* format) {
+      fmt::print("{:<40} {:>12}", label, fmt::format(fmt::runtime(known_format), known));
       for (const auto& n : numbers) fmt::print(" {:>14}", fmt::format(fmt::runtime(format), n.*field));
       fmt::print("\n");
     };
-    row("total rotation about fixed Y (deg)", "85.9437", &ScenarioNumbers::rotation_about_y_deg, "{:.4f}");
-    row("peak fixed omega_Y (rad/s)", "50", &ScenarioNumbers::peak_omega_y_fixed, "{:.4f}");
-    row("max |fixed omega_X|, |omega_Z| (rad/s)", "0", &ScenarioNumbers::max_abs_omega_xz_fixed, "{:.2e}");
-    row("peak angular acceleration (rad/s^2)", "2618", &ScenarioNumbers::peak_alpha, "{:.1f}");
-    row("peak resultant CG acceleration (g)", "70.41", &ScenarioNumbers::peak_acc_g, "{:.2f}");
-    row("HIC, unlimited window", "1583.26", &ScenarioNumbers::hic, "{:.2f}");
-    row("  t1 (ms)", "5.7", &ScenarioNumbers::hic_t1_ms, "{:.1f}");
-    row("  t2 (ms)", "54.3", &ScenarioNumbers::hic_t2_ms, "{:.1f}");
-    row("HIC36", "1348.70", &ScenarioNumbers::hic36, "{:.2f}");
-    row("HIC15", "573.10", &ScenarioNumbers::hic15, "{:.2f}");
+    namespace known = engine::report;
+    row("total rotation about fixed Y (deg)", known::kTotalRotationDeg, "{:.4f}",
+        &ScenarioNumbers::rotation_about_y_deg, "{:.4f}");
+    row("peak fixed omega_Y (rad/s)", known::kPeakOmegaFixedYRadps, "{:.0f}",
+        &ScenarioNumbers::peak_omega_y_fixed, "{:.4f}");
+    row("max |fixed omega_X|, |omega_Z| (rad/s)", known::kOmegaFixedXZRadps, "{:.0f}",
+        &ScenarioNumbers::max_abs_omega_xz_fixed, "{:.2e}");
+    row("peak angular acceleration (rad/s^2)", known::kPeakAlphaRadps2, "{:.0f}",
+        &ScenarioNumbers::peak_alpha, "{:.1f}");
+    row("peak resultant CG acceleration (g)", known::kPeakAccG, "{:.2f}", &ScenarioNumbers::peak_acc_g,
+        "{:.2f}");
+    row("HIC, unlimited window", known::kHic, "{:.2f}", &ScenarioNumbers::hic, "{:.2f}");
+    row("  t1 (ms)", known::kHicT1S * 1e3, "{:.1f}", &ScenarioNumbers::hic_t1_ms, "{:.1f}");
+    row("  t2 (ms)", known::kHicT2S * 1e3, "{:.1f}", &ScenarioNumbers::hic_t2_ms, "{:.1f}");
+    row("HIC36", known::kHic36, "{:.2f}", &ScenarioNumbers::hic36, "{:.2f}");
+    row("HIC15", known::kHic15, "{:.2f}", &ScenarioNumbers::hic15, "{:.2f}");
 
     // The report's point (section 4.5, Table 4-2): the legacy program without
     // compensation for the true geometry is off by percents.
@@ -123,7 +134,10 @@ class DemoCommand : public Command {
                  k.omega_fixed.col(0).cwiseAbs().maxCoeff(), k.omega_fixed.col(2).cwiseAbs().maxCoeff(),
                  engine::AngleBetween(q, q_true) * engine::kDegPerRad);
     }
-    fmt::print("(report: about 5 % of the 50 rad/s peak in fixed omega_X and omega_Z without compensation)\n");
+    fmt::print(
+        "(report: about {:.0f} % of the {:.0f} rad/s peak in fixed omega_X and omega_Z without "
+        "compensation)\n",
+        100 * engine::report::kUncompensatedCrossAxisFraction, engine::report::kPeakOmegaFixedYRadps);
     return kExitOk;
   }
 

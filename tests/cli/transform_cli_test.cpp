@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/report_known_answers.h"
 #include "engine/synth.h"
 #include "formats/csv.h"
 #include "tests/support/reference_arrays.h"
@@ -84,21 +85,22 @@ TEST_F(TransformCliTest, WritesTheDerivedChannelContractAndSummary) {
       if (column == 8) peak_omega_fixed_y = std::max(peak_omega_fixed_y, std::stod(field));
   }
   EXPECT_EQ(rows, 1001);  // 0..100 ms at 10 kHz
-  EXPECT_NEAR(peak_omega_fixed_y, 50.0, 50.0 * 5e-5);
+  EXPECT_NEAR(peak_omega_fixed_y, engine::report::kPeakOmegaFixedYRadps,
+              engine::report::kPeakOmegaFixedYRadps * 5e-5);
 
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir_ / "out.json"));
   EXPECT_EQ(summary["test_id"], "t1");
-  EXPECT_NEAR(summary["hic"].get<double>(), 1583.26, 0.01);
-  EXPECT_NEAR(summary["hic_t1_s"].get<double>(), 0.0057, 1e-4 + 1e-9);
-  EXPECT_NEAR(summary["hic_t2_s"].get<double>(), 0.0543, 1e-4 + 1e-9);
-  EXPECT_NEAR(summary["hic36"].get<double>(), 1348.70, 0.01);
-  EXPECT_NEAR(summary["hic15"].get<double>(), 573.10, 0.01);
-  EXPECT_NEAR(summary["peak_acc_g"].get<double>(), 70.41, 0.005);
+  EXPECT_NEAR(summary["hic"].get<double>(), engine::report::kHic, 0.01);
+  EXPECT_NEAR(summary["hic_t1_s"].get<double>(), engine::report::kHicT1S, 1e-4 + 1e-9);
+  EXPECT_NEAR(summary["hic_t2_s"].get<double>(), engine::report::kHicT2S, 1e-4 + 1e-9);
+  EXPECT_NEAR(summary["hic36"].get<double>(), engine::report::kHic36, 0.01);
+  EXPECT_NEAR(summary["hic15"].get<double>(), engine::report::kHic15, 0.01);
+  EXPECT_NEAR(summary["peak_acc_g"].get<double>(), engine::report::kPeakAccG, 0.005);
   for (const char* field : {"peak_omega_radps", "peak_alpha_radps2", "bric", "damage", "final_quat_w",
                             "final_roll_deg", "final_pos_x_m", "max_rotation_deg", "a3ms_g"})
     EXPECT_TRUE(summary.contains(field)) << field;
   EXPECT_TRUE(summary["quality"].is_array());
-  EXPECT_NEAR(summary["max_rotation_deg"].get<double>(), 85.9437, 0.005);
+  EXPECT_NEAR(summary["max_rotation_deg"].get<double>(), engine::report::kTotalRotationDeg, 0.005);
 }
 
 TEST_F(TransformCliTest, SeedSolverRunsThroughTheSameCommand) {

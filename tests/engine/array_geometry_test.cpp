@@ -3,11 +3,13 @@
 
 #include <cmath>
 #include <limits>
+#include <ostream>
 
 #include "engine/array_analysis.h"
 #include "engine/array_geometry.h"
 #include "engine/error.h"
 #include "engine/exact_solver.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -24,18 +26,30 @@ std::string RejectionMessage(ArrayGeometry array) {
   return "";
 }
 
-TEST(ArrayGeometry, ReferenceArraysAreValidAndClassified) {
-  for (ArrayGeometry array : {testing::Ideal3222(), testing::VolpeTable42(), testing::Denton3222()}) {
-    EXPECT_NO_THROW(ValidateArray(array)) << array.name;
-    EXPECT_EQ(ClassifyArray(array), ExactPath::kLinear);
-  }
-  ArrayGeometry six_a_omega = testing::SixAOmegaCg();
-  EXPECT_NO_THROW(ValidateArray(six_a_omega));
-  EXPECT_EQ(ClassifyArray(six_a_omega), ExactPath::kSixAOmega);
-  ArrayGeometry fused = testing::NapArs12();
-  EXPECT_NO_THROW(ValidateArray(fused));
-  EXPECT_EQ(ClassifyArray(fused), ExactPath::kFused);
+// A valid reference array and the exact-solver path it takes.
+struct ClassifiedArrayCase {
+  const char* name;
+  ArrayGeometry (*array)();
+  ExactPath path;
+};
+void PrintTo(const ClassifiedArrayCase& classified, std::ostream* os) { *os << classified.name; }
+
+class ReferenceArrayTest : public ::testing::TestWithParam<ClassifiedArrayCase> {};
+
+TEST_P(ReferenceArrayTest, IsValidAndClassified) {
+  ArrayGeometry array = GetParam().array();
+  EXPECT_NO_THROW(ValidateArray(array)) << array.name;
+  EXPECT_EQ(ClassifyArray(array), GetParam().path);
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Reference, ReferenceArrayTest,
+    ::testing::Values(ClassifiedArrayCase{"ideal_3222", &testing::Ideal3222, ExactPath::kLinear},
+                      ClassifiedArrayCase{"volpe_table4_2", &testing::VolpeTable42, ExactPath::kLinear},
+                      ClassifiedArrayCase{"denton_3222", &testing::Denton3222, ExactPath::kLinear},
+                      ClassifiedArrayCase{"six_a_omega_cg", &testing::SixAOmegaCg, ExactPath::kSixAOmega},
+                      ClassifiedArrayCase{"nap_ars12", &testing::NapArs12, ExactPath::kFused}),
+    testing::CaseName());
 
 TEST(ArrayGeometry, SlotLookupAndKinds) {
   const ArrayGeometry array = testing::NapArs12();
@@ -54,39 +68,83 @@ TEST(ArrayGeometry, NormalisesAxes) {
   EXPECT_NEAR(array.sensors[4].axis_body.x(), 0.6, 1e-15);
 }
 
-TEST(ArrayGeometry, RejectsMalformedSensors) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  ArrayGeometry empty;
-  empty.name = "foo";
-  EXPECT_THAT(RejectionMessage(empty), HasSubstr("array 'foo' has no sensors"));
+// A malformed array (mostly the ideal 3-2-2-2 with one sensor spoilt) and
+// what ValidateArray's message must say.
+struct MalformedArrayCase {
+  const char* name;
+  ArrayGeometry (*make)();
+  const char* message;
+};
+void PrintTo(const MalformedArrayCase& malformed, std::ostream* os) { *os << malformed.name; }
 
-  ArrayGeometry duplicate = testing::Ideal3222();
-  duplicate.sensors[3].slot = "cg_x";
-  EXPECT_THAT(RejectionMessage(duplicate), HasSubstr("slot 'cg_x' appears more than once"));
-
-  ArrayGeometry unnamed = testing::Ideal3222();
-  unnamed.sensors[2].slot.clear();
-  EXPECT_THAT(RejectionMessage(unnamed), HasSubstr("sensor 3 has an empty slot name"));
-
-  ArrayGeometry zero_axis = testing::Ideal3222();
-  zero_axis.sensors[5].axis_body.setZero();
-  EXPECT_THAT(RejectionMessage(zero_axis), HasSubstr("slot 'xarm_z' has a zero or non-finite sense axis"));
-
-  ArrayGeometry nan_axis = testing::Ideal3222();
-  nan_axis.sensors[5].axis_body.x() = nan;
-  EXPECT_THAT(RejectionMessage(nan_axis), HasSubstr("slot 'xarm_z' has a zero or non-finite sense axis"));
-
-  ArrayGeometry nan_position = testing::Ideal3222();
-  nan_position.sensors[7].position_body_m.z() = std::numeric_limits<double>::infinity();
-  EXPECT_THAT(RejectionMessage(nan_position), HasSubstr("slot 'zarm_x' has a non-finite position"));
-
-  for (double factor : {0.0, -9.8, nan}) {
-    ArrayGeometry bad_unit = testing::Ideal3222();
-    bad_unit.sensors[0].unit = "furlong/fortnight^2";
-    bad_unit.sensors[0].si_per_unit = factor;
-    EXPECT_THAT(RejectionMessage(bad_unit), HasSubstr("slot 'cg_x' has unknown unit 'furlong/fortnight^2'"));
-  }
+// The ideal 3-2-2-2 whose cg_x sensor has an unknown unit with this factor.
+ArrayGeometry UnknownUnit(double factor) {
+  ArrayGeometry bad_unit = testing::Ideal3222();
+  bad_unit.sensors[0].unit = "furlong/fortnight^2";
+  bad_unit.sensors[0].si_per_unit = factor;
+  return bad_unit;
 }
+
+class MalformedArrayTest : public ::testing::TestWithParam<MalformedArrayCase> {};
+
+TEST_P(MalformedArrayTest, IsRejected) {
+  EXPECT_THAT(RejectionMessage(GetParam().make()), HasSubstr(GetParam().message));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Sensors, MalformedArrayTest,
+    ::testing::Values(MalformedArrayCase{"empty",
+                                         [] {
+                                           ArrayGeometry empty;
+                                           empty.name = "foo";
+                                           return empty;
+                                         },
+                                         "array 'foo' has no sensors"},
+                      MalformedArrayCase{"duplicate_slot",
+                                         [] {
+                                           ArrayGeometry duplicate = testing::Ideal3222();
+                                           duplicate.sensors[3].slot = "cg_x";
+                                           return duplicate;
+                                         },
+                                         "slot 'cg_x' appears more than once"},
+                      MalformedArrayCase{"unnamed_slot",
+                                         [] {
+                                           ArrayGeometry unnamed = testing::Ideal3222();
+                                           unnamed.sensors[2].slot.clear();
+                                           return unnamed;
+                                         },
+                                         "sensor 3 has an empty slot name"},
+                      MalformedArrayCase{"zero_axis",
+                                         [] {
+                                           ArrayGeometry zero_axis = testing::Ideal3222();
+                                           zero_axis.sensors[5].axis_body.setZero();
+                                           return zero_axis;
+                                         },
+                                         "slot 'xarm_z' has a zero or non-finite sense axis"},
+                      MalformedArrayCase{"nan_axis",
+                                         [] {
+                                           ArrayGeometry nan_axis = testing::Ideal3222();
+                                           nan_axis.sensors[5].axis_body.x() =
+                                               std::numeric_limits<double>::quiet_NaN();
+                                           return nan_axis;
+                                         },
+                                         "slot 'xarm_z' has a zero or non-finite sense axis"},
+                      MalformedArrayCase{"infinite_position",
+                                         [] {
+                                           ArrayGeometry nan_position = testing::Ideal3222();
+                                           nan_position.sensors[7].position_body_m.z() =
+                                               std::numeric_limits<double>::infinity();
+                                           return nan_position;
+                                         },
+                                         "slot 'zarm_x' has a non-finite position"},
+                      MalformedArrayCase{"unknown_unit_zero_factor", [] { return UnknownUnit(0.0); },
+                                         "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"},
+                      MalformedArrayCase{"unknown_unit_negative_factor", [] { return UnknownUnit(-9.8); },
+                                         "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"},
+                      MalformedArrayCase{"unknown_unit_nan_factor",
+                                         [] { return UnknownUnit(std::numeric_limits<double>::quiet_NaN()); },
+                                         "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"}),
+    testing::CaseName());
 
 TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
   // All nine at the CG: alpha is invisible (rank 3 of 6).

@@ -3,14 +3,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <ostream>
 
 #include "engine/exact_solver.h"
+#include "engine/report_known_answers.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "tests/engine/error_metrics.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -21,42 +25,58 @@ using testing::KinematicsErrors;
 using testing::OptionsFor;
 using testing::PrintErrors;
 
+// A 3-2-2-2 NAP geometry of the report (Tables 4-1, 4-2) or of the Denton
+// head.
+struct NapGeometryCase {
+  const char* name;
+  ArrayGeometry (*array)();
+  std::uint64_t first_random_seed;  // of the 24 random motions on this geometry: 72 distinct in all
+};
+void PrintTo(const NapGeometryCase& geometry, std::ostream* os) { *os << geometry.name; }
+
+const NapGeometryCase kNapGeometries[] = {
+    {"ideal_3222", &testing::Ideal3222, 1},
+    {"volpe_table4_2", &testing::VolpeTable42, 25},
+    {"denton_3222", &testing::Denton3222, 49},
+};
+
+class ExactSolverOnNapTest : public ::testing::TestWithParam<NapGeometryCase> {};
+
 // Report section 4.5 with each 3-2-2-2 geometry processed with its true
 // geometry: omega error <= 0.005 % of peak, orientation <= 0.005 deg, fixed
 // omega_X, omega_Z <= 0.005 rad/s; known answers of the scenario.
-TEST(ExactSolver, SeedFixedAxisMeetsReportAccuracyOnAllNapGeometries) {
-  for (const ArrayGeometry& array : {testing::Ideal3222(), testing::VolpeTable42(), testing::Denton3222()}) {
-    SCOPED_TRACE(array.name);
-    const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
-    const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
-    const KinematicsErrors e = CompareKinematics(solved, test.truth);
-    PrintErrors("4.5 " + array.name, e);
-    EXPECT_LE(e.omega_rel, 0.005e-2);
-    EXPECT_LE(e.orientation_deg, 0.005);
-    const double max_omega_fixed_x = solved.omega_fixed.col(0).cwiseAbs().maxCoeff();
-    const double max_omega_fixed_z = solved.omega_fixed.col(2).cwiseAbs().maxCoeff();
-    std::printf("[errors] 4.5 %s fixed omega_X %.2e, omega_Z %.2e rad/s\n", array.name.c_str(), max_omega_fixed_x,
-                max_omega_fixed_z);
-    EXPECT_LE(max_omega_fixed_x, 0.005);
-    EXPECT_LE(max_omega_fixed_z, 0.005);
+TEST_P(ExactSolverOnNapTest, SeedFixedAxisMeetsReportAccuracy) {
+  const ArrayGeometry array = GetParam().array();
+  SCOPED_TRACE(array.name);
+  const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
+  const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
+  const KinematicsErrors e = CompareKinematics(solved, test.truth);
+  PrintErrors("4.5 " + array.name, e);
+  EXPECT_LE(e.omega_rel, 0.005e-2);
+  EXPECT_LE(e.orientation_deg, 0.005);
+  const double max_omega_fixed_x = solved.omega_fixed.col(0).cwiseAbs().maxCoeff();
+  const double max_omega_fixed_z = solved.omega_fixed.col(2).cwiseAbs().maxCoeff();
+  std::printf("[errors] 4.5 %s fixed omega_X %.2e, omega_Z %.2e rad/s\n", array.name.c_str(),
+              max_omega_fixed_x, max_omega_fixed_z);
+  EXPECT_LE(max_omega_fixed_x, 0.005);
+  EXPECT_LE(max_omega_fixed_z, 0.005);
 
-    // Known answers (ALGORITHMS.md table).
-    TestSummary summary;
-    SummarizeKinematics(solved, summary);
-    EXPECT_NEAR(summary.max_rotation_deg, 85.9437, 0.001);
-    const Eigen::Matrix3d turn = solved.quat_fixed_from_body.row(0).norm() > 0
-                                     ? Eigen::Matrix3d(QuatAt(solved.quat_fixed_from_body, solved.size() - 1) *
-                                                       QuatAt(solved.quat_fixed_from_body, 0).conjugate())
-                                     : Eigen::Matrix3d::Identity();
-    const Eigen::Vector3d turn_vector = QuaternionLog(Eigen::Quaterniond(turn));
-    EXPECT_NEAR(turn_vector.y(), 1.5, 1e-5);  // 1.5 rad about fixed Y
-    EXPECT_NEAR(turn_vector.x(), 0.0, 1e-5);
-    EXPECT_NEAR(turn_vector.z(), 0.0, 1e-5);
-    EXPECT_NEAR(solved.omega_fixed.col(1).maxCoeff(), 50.0, 1e-3);
-    EXPECT_NEAR(summary.peak_alpha_radps2, 2618.0, 0.5);  // 25 * 2 pi / 0.06 = 2617.99
-    EXPECT_NEAR(summary.peak_acc_g, 70.41, 0.005);
-    EXPECT_LT(summary.max_residual_mps2, 1e-6);
-  }
+  // Known answers (ALGORITHMS.md table).
+  TestSummary summary;
+  SummarizeKinematics(solved, summary);
+  EXPECT_NEAR(summary.max_rotation_deg, report::kTotalRotationDeg, 0.001);
+  const Eigen::Matrix3d turn = solved.quat_fixed_from_body.row(0).norm() > 0
+                                   ? Eigen::Matrix3d(QuatAt(solved.quat_fixed_from_body, solved.size() - 1) *
+                                                     QuatAt(solved.quat_fixed_from_body, 0).conjugate())
+                                   : Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d turn_vector = QuaternionLog(Eigen::Quaterniond(turn));
+  EXPECT_NEAR(turn_vector.y(), report::kTotalRotationRad, 1e-5);  // about fixed Y
+  EXPECT_NEAR(turn_vector.x(), 0.0, 1e-5);
+  EXPECT_NEAR(turn_vector.z(), 0.0, 1e-5);
+  EXPECT_NEAR(solved.omega_fixed.col(1).maxCoeff(), report::kPeakOmegaFixedYRadps, 1e-3);
+  EXPECT_NEAR(summary.peak_alpha_radps2, report::kPeakAlphaRadps2, 0.5);
+  EXPECT_NEAR(summary.peak_acc_g, report::kPeakAccG, 0.005);
+  EXPECT_LT(summary.max_residual_mps2, 1e-6);
 }
 
 // Random smooth 3-D motions with every sensor displaced up to 0.25 in (the
@@ -64,36 +84,37 @@ TEST(ExactSolver, SeedFixedAxisMeetsReportAccuracyOnAllNapGeometries) {
 // velocities: omega <= 0.05 % of peak, orientation <= 0.02 deg, CG velocity
 // <= 0.05 % of its peak change.
 // 24 distinct motions per geometry (72 in all), each with its own displacement.
-TEST(ExactSolver, RandomMotionsWithDisplacedSensorsMeetAccuracyTargets) {
+TEST_P(ExactSolverOnNapTest, RandomMotionsWithDisplacedSensorsMeetAccuracyTargets) {
   constexpr std::uint64_t kMotionsPerGeometry = 24;
-  std::uint64_t first_seed = 1;
-  for (const ArrayGeometry& nominal : {testing::Ideal3222(), testing::VolpeTable42(), testing::Denton3222()}) {
-    KinematicsErrors worst;
-    double worst_residual = 0.0;
-    for (std::uint64_t seed = first_seed; seed < first_seed + kMotionsPerGeometry; ++seed) {
-      SCOPED_TRACE(nominal.name + " seed " + std::to_string(seed));
-      const ArrayGeometry displaced = DisplaceSensors(nominal, 0.25 * kMetresPerInch, 100 + seed);
-      RandomMotionOptions motion;
-      motion.seed = seed;
-      const SyntheticTest test = SynthRandomMotion(displaced, motion);
-      const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
-      const KinematicsErrors e = CompareKinematics(solved, test.truth);
-      EXPECT_LE(e.omega_rel, 0.05e-2);
-      EXPECT_LE(e.orientation_deg, 0.02);
-      EXPECT_LE(e.vel_rel, 0.05e-2);
-      worst.omega_rel = std::max(worst.omega_rel, e.omega_rel);
-      worst.alpha_rel = std::max(worst.alpha_rel, e.alpha_rel);
-      worst.orientation_deg = std::max(worst.orientation_deg, e.orientation_deg);
-      worst.acc_rel = std::max(worst.acc_rel, e.acc_rel);
-      worst.vel_rel = std::max(worst.vel_rel, e.vel_rel);
-      worst.pos_abs_m = std::max(worst.pos_abs_m, e.pos_abs_m);
-      worst_residual = std::max(worst_residual, solved.residual.maxCoeff());
-    }
-    first_seed += kMotionsPerGeometry;
-    PrintErrors("random x24 " + nominal.name, worst);
-    std::printf("[errors] random x24 %s max residual %.2e m/s^2\n", nominal.name.c_str(), worst_residual);
+  const std::uint64_t first_seed = GetParam().first_random_seed;
+  const ArrayGeometry nominal = GetParam().array();
+  KinematicsErrors worst;
+  double worst_residual = 0.0;
+  for (std::uint64_t seed = first_seed; seed < first_seed + kMotionsPerGeometry; ++seed) {
+    SCOPED_TRACE(nominal.name + " seed " + std::to_string(seed));
+    const ArrayGeometry displaced = DisplaceSensors(nominal, 0.25 * kMetresPerInch, 100 + seed);
+    RandomMotionOptions motion;
+    motion.seed = seed;
+    const SyntheticTest test = SynthRandomMotion(displaced, motion);
+    const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
+    const KinematicsErrors e = CompareKinematics(solved, test.truth);
+    EXPECT_LE(e.omega_rel, 0.05e-2);
+    EXPECT_LE(e.orientation_deg, 0.02);
+    EXPECT_LE(e.vel_rel, 0.05e-2);
+    worst.omega_rel = std::max(worst.omega_rel, e.omega_rel);
+    worst.alpha_rel = std::max(worst.alpha_rel, e.alpha_rel);
+    worst.orientation_deg = std::max(worst.orientation_deg, e.orientation_deg);
+    worst.acc_rel = std::max(worst.acc_rel, e.acc_rel);
+    worst.vel_rel = std::max(worst.vel_rel, e.vel_rel);
+    worst.pos_abs_m = std::max(worst.pos_abs_m, e.pos_abs_m);
+    worst_residual = std::max(worst_residual, solved.residual.maxCoeff());
   }
+  PrintErrors("random x24 " + nominal.name, worst);
+  std::printf("[errors] random x24 %s max residual %.2e m/s^2\n", nominal.name.c_str(), worst_residual);
 }
+
+INSTANTIATE_TEST_SUITE_P(NapGeometries, ExactSolverOnNapTest, ::testing::ValuesIn(kNapGeometries),
+                         testing::CaseName());
 
 }  // namespace
 }  // namespace napkin::engine

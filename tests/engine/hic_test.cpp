@@ -8,6 +8,7 @@
 
 #include "engine/criteria.h"
 #include "engine/error.h"
+#include "engine/report_known_answers.h"
 #include "engine/units.h"
 
 namespace napkin::engine {
@@ -41,23 +42,23 @@ HicOptions Window(double window_s, bool from_time_zero = false) {
 
 TEST(Hic, ReportSection45KnownAnswers) {
   const Eigen::VectorXd acc_g = SeedFixedAxisAccelerationG();
-  EXPECT_NEAR(acc_g.maxCoeff(), 70.41, 0.005);
+  EXPECT_NEAR(acc_g.maxCoeff(), report::kPeakAccG, 0.005);
 
   const HicWindow unlimited = Hic(acc_g, 1e-4, 0.0);
-  EXPECT_NEAR(unlimited.value, 1583.26, 0.01);
-  EXPECT_NEAR(unlimited.t1_s, 0.0057, 0.1e-3 + 1e-12);
-  EXPECT_NEAR(unlimited.t2_s, 0.0543, 0.1e-3 + 1e-12);
+  EXPECT_NEAR(unlimited.value, report::kHic, 0.01);
+  EXPECT_NEAR(unlimited.t1_s, report::kHicT1S, 0.1e-3 + 1e-12);
+  EXPECT_NEAR(unlimited.t2_s, report::kHicT2S, 0.1e-3 + 1e-12);
 
   const HicWindow hic36 = Hic(acc_g, 1e-4, 0.0, Window(kHic36Window));
-  EXPECT_NEAR(hic36.value, 1348.70, 0.01);
-  EXPECT_NEAR(hic36.t1_s, 0.0120, 1e-9);
-  EXPECT_NEAR(hic36.t2_s, 0.0480, 1e-9);
+  EXPECT_NEAR(hic36.value, report::kHic36, 0.01);
+  EXPECT_NEAR(hic36.t1_s, report::kHic36T1S, 1e-9);
+  EXPECT_NEAR(hic36.t2_s, report::kHic36T2S, 1e-9);
 
   // Two equal maxima, mirror images about t = 30 ms (|a| is symmetric
   // there); rounding decides which computed double is larger, so accept
   // either, and check the mirror window scores the same.
   const HicWindow hic15 = Hic(acc_g, 1e-4, 0.0, Window(kHic15Window));
-  EXPECT_NEAR(hic15.value, 573.10, 0.01);
+  EXPECT_NEAR(hic15.value, report::kHic15, 0.01);
   EXPECT_NEAR(hic15.t2_s - hic15.t1_s, 0.015, 1e-9);
   EXPECT_GT(std::abs(0.5 * (hic15.t1_s + hic15.t2_s) - 0.03), 1e-3);  // not the centred window
   const auto mirror_i = static_cast<Eigen::Index>(std::llround((0.06 - hic15.t2_s) / 1e-4));
@@ -80,10 +81,10 @@ TEST(Hic, HalfSineKnownAnswer) {
   // 0.02048 at [0.0100, 0.0400] s (the window centred on the peak).
   Eigen::VectorXd acc_g(501);
   for (Eigen::Index k = 0; k < acc_g.size(); ++k) acc_g[k] = std::sin(20.0 * kPi * static_cast<double>(k) * 1e-4);
-  const HicWindow hic = Hic(acc_g, 1e-4, 0.0, Window(0.030));
-  EXPECT_NEAR(hic.value, 0.02048, 0.000005);
-  EXPECT_NEAR(hic.t1_s, 0.0100, 1e-9);
-  EXPECT_NEAR(hic.t2_s, 0.0400, 1e-9);
+  const HicWindow hic = Hic(acc_g, 1e-4, 0.0, Window(report::kHalfSineHicWindowS));
+  EXPECT_NEAR(hic.value, report::kHalfSineHic, 0.000005);
+  EXPECT_NEAR(hic.t1_s, report::kHalfSineHicT1S, 1e-9);
+  EXPECT_NEAR(hic.t2_s, report::kHalfSineHicT2S, 1e-9);
 }
 
 // An independent definition: every window, each integral summed afresh.

@@ -5,14 +5,17 @@
 
 #include <cmath>
 #include <limits>
+#include <ostream>
 
 #include "engine/error.h"
 #include "engine/exact_solver.h"
+#include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/solver.h"
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "tests/engine/error_metrics.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -135,25 +138,40 @@ TEST(Solver, RateSensorsInDegreesPerSecond) {
   EXPECT_LE(e.acc_rel, 0.1e-2);
 }
 
+// A reference array of every kind the exact solver handles.
+struct ReferenceArrayCase {
+  const char* name;
+  ArrayGeometry (*array)();
+};
+void PrintTo(const ReferenceArrayCase& reference, std::ostream* os) { *os << reference.name; }
+
+class SequentialRotationsTest : public ::testing::TestWithParam<ReferenceArrayCase> {};
+
 // Report section 4.4: the final orientation is Rx(90) Ry(90) Rz(90).
-TEST(Solver, SequentialRotationsEndAtKnownOrientation) {
-  for (const ArrayGeometry& array : {testing::Ideal3222(), testing::VolpeTable42(), testing::Denton3222(),
-                                     testing::SixAOmegaCg(), testing::NapArs12()}) {
-    const SyntheticTest test = SynthSequential(array);
-    const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
-    const Eigen::Quaterniond final_quat = QuatAt(solved.quat_fixed_from_body, solved.size() - 1);
-    const double quarter = kPi / 2;
-    const Eigen::Quaterniond expected(Eigen::Matrix3d(Rx(quarter) * Ry(quarter) * Rz(quarter)));
-    const double error_deg = AngleBetween(final_quat, expected) * kDegPerRad;
-    const KinematicsErrors e = CompareKinematics(solved, test.truth);
-    std::printf("[errors] 4.4 %-14s final orientation error %.2e deg (throughout %.2e deg, omega %.2e %%)\n",
-                array.name.c_str(), error_deg, e.orientation_deg, 100 * e.omega_rel);
-    EXPECT_LE(error_deg, 0.005) << array.name;
-    // Final roll/pitch/yaw of Rx(90) Ry(90) Rz(90) = Ry(90) Rx(180)... check via R.
-    const Eigen::Vector3d rpy = solved.roll_pitch_yaw_rad.row(solved.size() - 1).transpose();
-    EXPECT_LE((Rz(rpy.z()) * Ry(rpy.y()) * Rx(rpy.x()) - expected.toRotationMatrix()).norm(), 1e-3);
-  }
+TEST_P(SequentialRotationsTest, EndAtKnownOrientation) {
+  const ArrayGeometry array = GetParam().array();
+  const SyntheticTest test = SynthSequential(array);
+  const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
+  const Eigen::Quaterniond final_quat = QuatAt(solved.quat_fixed_from_body, solved.size() - 1);
+  const double quarter = report::kSequentialTurnRad;
+  const Eigen::Quaterniond expected(Eigen::Matrix3d(Rx(quarter) * Ry(quarter) * Rz(quarter)));
+  const double error_deg = AngleBetween(final_quat, expected) * kDegPerRad;
+  const KinematicsErrors e = CompareKinematics(solved, test.truth);
+  std::printf("[errors] 4.4 %-14s final orientation error %.2e deg (throughout %.2e deg, omega %.2e %%)\n",
+              array.name.c_str(), error_deg, e.orientation_deg, 100 * e.omega_rel);
+  EXPECT_LE(error_deg, 0.005) << array.name;
+  // Final roll/pitch/yaw of Rx(90) Ry(90) Rz(90) = Ry(90) Rx(180)... check via R.
+  const Eigen::Vector3d rpy = solved.roll_pitch_yaw_rad.row(solved.size() - 1).transpose();
+  EXPECT_LE((Rz(rpy.z()) * Ry(rpy.y()) * Rx(rpy.x()) - expected.toRotationMatrix()).norm(), 1e-3);
 }
+
+INSTANTIATE_TEST_SUITE_P(ReferenceArrays, SequentialRotationsTest,
+                         ::testing::Values(ReferenceArrayCase{"ideal_3222", &testing::Ideal3222},
+                                           ReferenceArrayCase{"volpe_table4_2", &testing::VolpeTable42},
+                                           ReferenceArrayCase{"denton_3222", &testing::Denton3222},
+                                           ReferenceArrayCase{"six_a_omega_cg", &testing::SixAOmegaCg},
+                                           ReferenceArrayCase{"nap_ars12", &testing::NapArs12}),
+                         testing::CaseName());
 
 // Gravity (ALGORITHMS.md): with compensation the solver recovers the true
 // CG acceleration; without it the velocity error is metres per second.

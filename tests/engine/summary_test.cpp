@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/summary.h"
 #include "engine/synth.h"
@@ -57,18 +58,19 @@ TEST(Summary, SeedFixedAxisKnownAnswers) {
   const SyntheticTest test = SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
   TestSummary summary;
   SummarizeKinematics(test.truth, summary);
-  EXPECT_NEAR(summary.peak_omega_radps, 50.0, 1e-12);
-  EXPECT_NEAR(summary.peak_alpha_radps2, 2618.0, 0.05);
-  EXPECT_NEAR(summary.peak_acc_g, 70.41, 0.005);
-  EXPECT_NEAR(summary.max_rotation_deg, 85.9437, 1e-4);
+  EXPECT_NEAR(summary.peak_omega_radps, report::kPeakOmegaFixedYRadps, 1e-12);
+  EXPECT_NEAR(summary.peak_alpha_radps2, report::kPeakAlphaRadps2, 0.05);
+  EXPECT_NEAR(summary.peak_acc_g, report::kPeakAccG, 0.005);
+  EXPECT_NEAR(summary.max_rotation_deg, report::kTotalRotationDeg, 1e-4);
   EXPECT_EQ(summary.max_residual_mps2, 0.0);
-  const Eigen::Matrix3d final_r = Ry(1.5) * InitialFixedFromBody(Eigen::Vector3d(0.5, 0.5, 0.5));
+  const Eigen::Matrix3d final_r =
+      Ry(report::kTotalRotationRad) * InitialFixedFromBody(Eigen::Vector3d(0.5, 0.5, 0.5));
   const Eigen::Vector3d rpy = summary.final_roll_pitch_yaw_deg / kDegPerRad;
   EXPECT_LE((Rz(rpy.z()) * Ry(rpy.y()) * Rx(rpy.x()) - final_r).norm(), 1e-12);
   // The CG ends 10 in from the axis, turned 1.5 rad about fixed Y.
   const double arm = 0.254;
-  EXPECT_NEAR(summary.final_pos_fixed_m.x(), -arm * std::sin(1.5), 1e-12);
-  EXPECT_NEAR(summary.final_pos_fixed_m.z(), arm - arm * std::cos(1.5), 1e-12);
+  EXPECT_NEAR(summary.final_pos_fixed_m.x(), -arm * std::sin(report::kTotalRotationRad), 1e-12);
+  EXPECT_NEAR(summary.final_pos_fixed_m.z(), arm - arm * std::cos(report::kTotalRotationRad), 1e-12);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/integration.h"
+#include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/synth.h"
 #include "engine/units.h"
@@ -76,12 +77,12 @@ TEST(Synth, SeedFixedAxisTruthIsTheReportScenario) {
   // Known answers (ALGORITHMS.md).
   const Eigen::Quaterniond turn =
       QuatAt(truth.quat_fixed_from_body, 1000) * QuatAt(truth.quat_fixed_from_body, 0).conjugate();
-  EXPECT_LE((QuaternionLog(turn) - Eigen::Vector3d(0, 1.5, 0)).norm(), 1e-12);
-  EXPECT_NEAR(truth.omega_fixed.col(1).maxCoeff(), 50.0, 1e-12);
+  EXPECT_LE((QuaternionLog(turn) - Eigen::Vector3d(0, report::kTotalRotationRad, 0)).norm(), 1e-12);
+  EXPECT_NEAR(truth.omega_fixed.col(1).maxCoeff(), report::kPeakOmegaFixedYRadps, 1e-12);
   EXPECT_LE(truth.omega_fixed.col(0).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LE(truth.omega_fixed.col(2).cwiseAbs().maxCoeff(), 1e-12);
-  EXPECT_NEAR(truth.alpha_fixed.col(1).maxCoeff(), 2617.99, 0.01);
-  EXPECT_NEAR(truth.acc_fixed.rowwise().norm().maxCoeff() / kStandardGravity, 70.41, 0.005);
+  EXPECT_NEAR(truth.alpha_fixed.col(1).maxCoeff(), report::kPeakAlphaRadps2TwoDecimals, 0.01);
+  EXPECT_NEAR(truth.acc_fixed.rowwise().norm().maxCoeff() / kStandardGravity, report::kPeakAccG, 0.005);
   // The CG stays 10 in from the axis through (0, 0, 10 in).
   for (Eigen::Index k = 0; k < truth.size(); k += 50)
     EXPECT_NEAR((truth.pos_fixed.row(k) - Eigen::RowVector3d(0, 0, 0.254)).norm(), 0.254, 1e-14);
@@ -99,7 +100,7 @@ TEST(Synth, SequentialEndsAtThreeBodyTurns) {
   const Kinematics& truth = test.truth;
   ASSERT_EQ(truth.size(), 1501);
   const Eigen::Matrix3d final_r = QuatAt(truth.quat_fixed_from_body, truth.size() - 1).toRotationMatrix();
-  const double quarter = kPi / 2;
+  const double quarter = report::kSequentialTurnRad;
   EXPECT_LE((final_r - Rx(quarter) * Ry(quarter) * Rz(quarter)).norm(), 1e-12);
   // Equivalent to turns about fixed X, then fixed Z, then fixed X (report 4.4).
   EXPECT_LE((final_r - Rx(quarter) * Rz(quarter) * Rx(quarter)).norm(), 1e-12);

@@ -2,11 +2,16 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <ostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "engine/units.h"
 #include "formats/text.h"
 #include "tests/formats/formats_test_util.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
 
@@ -72,31 +77,63 @@ TEST(CsvTest, JitterWithinOnePpmIsAccepted) {
   EXPECT_NO_THROW(ReadSignalsCsv(dir / "in.csv"));
 }
 
-TEST(CsvTest, ErrorsNameFileRowAndColumn) {
+// A CSV file the reader refuses, and what the message must mention besides
+// the file: the row, the column or the problem.
+struct CsvErrorCase {
+  const char* name;  // also the file's stem
+  std::string text;
+  std::vector<std::string> fragments;
+};
+void PrintTo(const CsvErrorCase& error, std::ostream* os) { *os << error.name << ".csv"; }
+
+const std::string kHeader = "time_s,cg_x,cg_y,cg_z,ars_x,ars_y,ars_z\n";
+
+class CsvErrorTest : public ::testing::TestWithParam<CsvErrorCase> {};
+
+TEST_P(CsvErrorTest, NamesFileRowAndColumn) {
   TempDir dir;
   const engine::ArrayGeometry array = testing::SixAOmegaCg();
-  const std::string header = "time_s,cg_x,cg_y,cg_z,ars_x,ars_y,ars_z\n";
-  auto expect = [&](const std::string& name, const std::string& text, std::vector<std::string> fragments) {
-    const std::filesystem::path path = dir / name;
-    WriteBytes(path, text);
-    fragments.insert(fragments.begin(), path.string());
-    ExpectInputError([&] { ReadSignalsCsv(path, &array); }, fragments);
-  };
-  expect("empty-value.csv", header + "0,1,2,3,4,5,6\n0.1,1,,3,4,5,6\n", {"row 3", "column \"cg_y\" is empty"});
-  expect("nan.csv", header + "0,1,2,3,4,5,6\n0.1,1,2,nan,4,5,6\n", {"row 3", "column \"cg_z\"", "not a finite number"});
-  expect("text.csv", header + "# c\n0,1,2,3,4,abc,6\n0.1,1,2,3,4,5,6\n", {"row 3", "column \"ars_y\"", "\"abc\" is not a number"});
-  expect("short-row.csv", header + "0,1,2,3,4,5,6\n0.1,1,2,3\n", {"row 3 has 4 values", "7 columns"});
-  expect("missing-slot.csv", "time_s,cg_x,cg_y,cg_z,ars_x,ars_y\n0,1,2,3,4,5\n0.1,1,2,3,4,5\n",
-         {"no column for slot \"ars_z\""});
-  expect("no-time.csv", "t,cg_x,cg_y,cg_z,ars_x,ars_y,ars_z\n0,1,2,3,4,5,6\n", {"no time_s column"});
-  expect("decreasing.csv", header + "0,1,2,3,4,5,6\n0.1,1,2,3,4,5,6\n0.1,1,2,3,4,5,6\n0.3,1,2,3,4,5,6\n",
-         {"row 4", "does not increase"});
-  expect("jitter.csv",
-         header + "0,1,2,3,4,5,6\n0.1,1,2,3,4,5,6\n0.2001,1,2,3,4,5,6\n0.3,1,2,3,4,5,6\n0.4,1,2,3,4,5,6\n",
-         {"row 4", "uniformly spaced"});
-  expect("one-row.csv", header + "0,1,2,3,4,5,6\n", {"1 data row", "at least two"});
-  expect("no-header.csv", "# only comments\n", {"no header"});
-  expect("dup.csv", "time_s,cg_x,cg_x\n", {"names column \"cg_x\" twice"});
+  const std::filesystem::path path = dir / (std::string(GetParam().name) + ".csv");
+  WriteBytes(path, GetParam().text);
+  std::vector<std::string> fragments = GetParam().fragments;
+  fragments.insert(fragments.begin(), path.string());
+  ExpectInputError([&] { ReadSignalsCsv(path, &array); }, fragments);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BadFiles, CsvErrorTest,
+    ::testing::Values(
+        CsvErrorCase{"empty_value",
+                     kHeader + "0,1,2,3,4,5,6\n0.1,1,,3,4,5,6\n",
+                     {"row 3", "column \"cg_y\" is empty"}},
+        CsvErrorCase{"nan",
+                     kHeader + "0,1,2,3,4,5,6\n0.1,1,2,nan,4,5,6\n",
+                     {"row 3", "column \"cg_z\"", "not a finite number"}},
+        CsvErrorCase{"text",
+                     kHeader + "# c\n0,1,2,3,4,abc,6\n0.1,1,2,3,4,5,6\n",
+                     {"row 3", "column \"ars_y\"", "\"abc\" is not a number"}},
+        CsvErrorCase{
+            "short_row", kHeader + "0,1,2,3,4,5,6\n0.1,1,2,3\n", {"row 3 has 4 values", "7 columns"}},
+        CsvErrorCase{"missing_slot",
+                     "time_s,cg_x,cg_y,cg_z,ars_x,ars_y\n0,1,2,3,4,5\n0.1,1,2,3,4,5\n",
+                     {"no column for slot \"ars_z\""}},
+        CsvErrorCase{"no_time", "t,cg_x,cg_y,cg_z,ars_x,ars_y,ars_z\n0,1,2,3,4,5,6\n", {"no time_s column"}},
+        CsvErrorCase{"decreasing",
+                     kHeader + "0,1,2,3,4,5,6\n0.1,1,2,3,4,5,6\n0.1,1,2,3,4,5,6\n0.3,1,2,3,4,5,6\n",
+                     {"row 4", "does not increase"}},
+        CsvErrorCase{
+            "jitter",
+            kHeader +
+                "0,1,2,3,4,5,6\n0.1,1,2,3,4,5,6\n0.2001,1,2,3,4,5,6\n0.3,1,2,3,4,5,6\n0.4,1,2,3,4,5,6\n",
+            {"row 4", "uniformly spaced"}},
+        CsvErrorCase{"one_row", kHeader + "0,1,2,3,4,5,6\n", {"1 data row", "at least two"}},
+        CsvErrorCase{"no_header", "# only comments\n", {"no header"}},
+        CsvErrorCase{"dup", "time_s,cg_x,cg_x\n", {"names column \"cg_x\" twice"}}),
+    testing::CaseName());
+
+TEST(CsvTest, MissingFileIsNamed) {
+  TempDir dir;
+  const engine::ArrayGeometry array = testing::SixAOmegaCg();
   ExpectInputError([&] { ReadSignalsCsv(dir / "absent.csv", &array); }, {(dir / "absent.csv").string(), "cannot open"});
 }
 

@@ -2,9 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <vector>
+
 #include "engine/units.h"
 #include "formats/channel_map.h"
 #include "tests/formats/formats_test_util.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
 
@@ -31,67 +37,121 @@ TEST(ChannelMapTest, PresetsCoverTheirSlots) {
   for (const char* slot : engine::kNapSlots) EXPECT_NE(nap.Find(slot), nullptr) << slot;
 }
 
-TEST(ChannelMapTest, BadMapsNameFileAndSlot) {
+// A channel map that cannot be used: the message names the file and the slot.
+struct BadMapCase {
+  const char* name;  // also the file's stem
+  const char* text;
+  const char* fragment;
+};
+void PrintTo(const BadMapCase& bad, std::ostream* os) { *os << bad.name << ".json"; }
+
+class ChannelMapErrorTest : public ::testing::TestWithParam<BadMapCase> {};
+
+TEST_P(ChannelMapErrorTest, NamesFileAndSlot) {
   TempDir dir;
-  auto expect = [&](const std::string& name, const std::string& text, const std::string& fragment) {
-    test::WriteBytes(dir / name, text);
-    ExpectInputError([&] { ReadChannelMap(dir / name); }, {(dir / name).string(), fragment});
-  };
-  expect("short.json", R"({"slots": {"cg_x": {"code": "??HEADCG??ACX?"}}})", "slot \"cg_x\": code pattern \"??HEADCG??ACX?\" has 14 characters");
-  expect("empty.json", R"({"slots": {"cg_x": {}}})", "slot \"cg_x\" has neither");
-  expect("noslots.json", R"({"name": "x"})", "no \"slots\"");
-  expect("type.json", R"({"slots": {"cg_x": {"code": 5}}})", "slot \"cg_x\": \"code\" must be a string");
+  const std::filesystem::path path = dir / (std::string(GetParam().name) + ".json");
+  test::WriteBytes(path, GetParam().text);
+  ExpectInputError([&] { ReadChannelMap(path); }, {path.string(), GetParam().fragment});
 }
 
-TEST(SignalUnitTest, SpellingsOfBothFormats) {
-  using engine::SensorKind;
-  const std::pair<const char*, double> linear[] = {{"g", engine::kStandardGravity}, {"G'S", engine::kStandardGravity},
-                                                   {"m/s**2", 1.0}, {"M/SEC**2", 1.0}, {"m/s^2", 1.0},
-                                                   {"FT/SEC**2", 0.3048}, {"IN/SEC**2", 0.0254}};
-  for (const auto& [unit, factor] : linear) {
-    const auto parsed = ParseSignalUnit(unit, "x");
-    ASSERT_TRUE(parsed) << unit;
-    EXPECT_EQ(parsed->kind, SensorKind::kLinear) << unit;
-    EXPECT_DOUBLE_EQ(parsed->si_per_unit, factor) << unit;
-  }
-  const std::pair<const char*, double> rates[] = {{"rad/s", 1.0}, {"RADIANS/SECOND", 1.0}, {"DEG/SEC", engine::kPi / 180},
-                                                  {"deg/s", engine::kPi / 180}, {"\xC2\xB0/s", engine::kPi / 180}};
-  for (const auto& [unit, factor] : rates) {
-    const auto parsed = ParseSignalUnit(unit, "x");
-    ASSERT_TRUE(parsed) << unit;
-    EXPECT_EQ(parsed->kind, SensorKind::kAngularRate) << unit;
-    EXPECT_DOUBLE_EQ(parsed->si_per_unit, factor) << unit;
-  }
+INSTANTIATE_TEST_SUITE_P(
+    BadMaps, ChannelMapErrorTest,
+    ::testing::Values(BadMapCase{"short", R"({"slots": {"cg_x": {"code": "??HEADCG??ACX?"}}})",
+                                 "slot \"cg_x\": code pattern \"??HEADCG??ACX?\" has 14 characters"},
+                      BadMapCase{"empty", R"({"slots": {"cg_x": {}}})", "slot \"cg_x\" has neither"},
+                      BadMapCase{"noslots", R"({"name": "x"})", "no \"slots\""},
+                      BadMapCase{"type", R"({"slots": {"cg_x": {"code": 5}}})",
+                                 "slot \"cg_x\": \"code\" must be a string"}),
+    testing::CaseName());
+
+// A unit as ISO-MME or UDS-1992 files spell it, with the kind and SI factor
+// it stands for.
+struct UnitCase {
+  const char* name;
+  const char* unit;
+  engine::SensorKind kind;
+  double si_per_unit;
+};
+void PrintTo(const UnitCase& spelling, std::ostream* os) { *os << '"' << spelling.unit << '"'; }
+
+class SignalUnitSpellingTest : public ::testing::TestWithParam<UnitCase> {};
+
+TEST_P(SignalUnitSpellingTest, GivesKindAndFactor) {
+  const UnitCase& spelling = GetParam();
+  const auto parsed = ParseSignalUnit(spelling.unit, "x");
+  ASSERT_TRUE(parsed) << spelling.unit;
+  EXPECT_EQ(parsed->kind, spelling.kind) << spelling.unit;
+  EXPECT_DOUBLE_EQ(parsed->si_per_unit, spelling.si_per_unit) << spelling.unit;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Linear, SignalUnitSpellingTest,
+    ::testing::Values(UnitCase{"g", "g", engine::SensorKind::kLinear, engine::kStandardGravity},
+                      UnitCase{"G_S", "G'S", engine::SensorKind::kLinear, engine::kStandardGravity},
+                      UnitCase{"m_s2_fortran", "m/s**2", engine::SensorKind::kLinear, 1.0},
+                      UnitCase{"M_SEC2_fortran", "M/SEC**2", engine::SensorKind::kLinear, 1.0},
+                      UnitCase{"m_s2_caret", "m/s^2", engine::SensorKind::kLinear, 1.0},
+                      UnitCase{"FT_SEC2", "FT/SEC**2", engine::SensorKind::kLinear, 0.3048},
+                      UnitCase{"IN_SEC2", "IN/SEC**2", engine::SensorKind::kLinear, 0.0254}),
+    testing::CaseName());
+
+INSTANTIATE_TEST_SUITE_P(
+    AngularRate, SignalUnitSpellingTest,
+    ::testing::Values(UnitCase{"rad_s", "rad/s", engine::SensorKind::kAngularRate, 1.0},
+                      UnitCase{"RADIANS_SECOND", "RADIANS/SECOND", engine::SensorKind::kAngularRate, 1.0},
+                      UnitCase{"DEG_SEC", "DEG/SEC", engine::SensorKind::kAngularRate, engine::kPi / 180},
+                      UnitCase{"deg_s", "deg/s", engine::SensorKind::kAngularRate, engine::kPi / 180},
+                      UnitCase{"degree_sign_s", "\xC2\xB0/s", engine::SensorKind::kAngularRate,
+                               engine::kPi / 180}),
+    testing::CaseName());
+
+TEST(SignalUnitTest, NoUnitOrAnUnknownOne) {
   EXPECT_FALSE(ParseSignalUnit("NOVALUE", "x"));
   EXPECT_FALSE(ParseSignalUnit("  ", "x"));
   ExpectInputError([] { ParseSignalUnit("kN", "file.003"); }, {"file.003", "unrecognised unit \"kN\""});
 }
 
-TEST(IsoMmeTest, RawSignalsRoundTripForEveryPreset) {
+// A reference array with the channel-map preset that names its slots.
+struct PresetCase {
+  const char* name;
+  engine::ArrayGeometry (*array)();
+  const char* map;
+};
+void PrintTo(const PresetCase& preset, std::ostream* os) { *os << preset.name << " with map " << preset.map; }
+
+class IsoMmePresetTest : public ::testing::TestWithParam<PresetCase> {};
+
+TEST_P(IsoMmePresetTest, RawSignalsRoundTrip) {
   TempDir dir;
-  const ChannelMap nap = LoadChannelMap("nap-example");
+  const engine::ArrayGeometry array = GetParam().array();
+  const ChannelMap map = LoadChannelMap(GetParam().map);
+  const engine::TestSignals written = test::MakeSignals(array, 517, 1e-4, -0.005);
+  const auto folder = dir / array.name;
+  WriteIsoMme(written, array, map, folder, "T" + array.name);
+  const engine::TestSignals read = ReadIsoMmeSignals(folder, array, map);
+  EXPECT_EQ(read.slots, written.slots);
+  EXPECT_TRUE((read.samples.array() == written.samples.array()).all()) << array.name;
+  EXPECT_EQ(read.dt_s, written.dt_s);
+  EXPECT_EQ(read.t0_s, written.t0_s);
+  const IsoMmeTest test = ReadIsoMme(folder / ("T" + array.name + ".mme"));
+  EXPECT_EQ(test.TestNumber(), "T" + array.name);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryPreset, IsoMmePresetTest,
+                         ::testing::Values(PresetCase{"denton_3222", &testing::Denton3222, "nap-example"},
+                                           PresetCase{"volpe_table4_2", &testing::VolpeTable42,
+                                                      "nap-example"},
+                                           PresetCase{"six_a_omega_cg", &testing::SixAOmegaCg, "default"}),
+                         testing::CaseName());
+
+TEST(IsoMmeTest, WritingAgainReplacesTheFolderAsAWhole) {
+  TempDir dir;
   const ChannelMap standard = LoadChannelMap("default");
-  struct Case {
-    engine::ArrayGeometry array;
-    const ChannelMap* map;
-  };
-  const Case cases[] = {{testing::Denton3222(), &nap}, {testing::VolpeTable42(), &nap}, {testing::SixAOmegaCg(), &standard}};
-  for (const Case& c : cases) {
-    const engine::TestSignals written = test::MakeSignals(c.array, 517, 1e-4, -0.005);
-    const auto folder = dir / c.array.name;
-    WriteIsoMme(written, c.array, *c.map, folder, "T" + c.array.name);
-    const engine::TestSignals read = ReadIsoMmeSignals(folder, c.array, *c.map);
-    EXPECT_EQ(read.slots, written.slots);
-    EXPECT_TRUE((read.samples.array() == written.samples.array()).all()) << c.array.name;
-    EXPECT_EQ(read.dt_s, written.dt_s);
-    EXPECT_EQ(read.t0_s, written.t0_s);
-    const IsoMmeTest test = ReadIsoMme(folder / ("T" + c.array.name + ".mme"));
-    EXPECT_EQ(test.TestNumber(), "T" + c.array.name);
-  }
-  // Writing again replaces the folder as a whole.
-  const engine::TestSignals shorter = test::MakeSignals(testing::SixAOmegaCg(), 10, 1e-3, 0.0);
-  WriteIsoMme(shorter, testing::SixAOmegaCg(), standard, dir / "6aw-cg", "T6aw-cg");
-  EXPECT_EQ(ReadIsoMmeSignals(dir / "6aw-cg", testing::SixAOmegaCg(), standard).size(), 10);
+  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  WriteIsoMme(test::MakeSignals(array, 517, 1e-4, -0.005), array, standard, dir / "6aw-cg", "T6aw-cg");
+  const engine::TestSignals shorter = test::MakeSignals(array, 10, 1e-3, 0.0);
+  WriteIsoMme(shorter, array, standard, dir / "6aw-cg", "T6aw-cg");
+  EXPECT_EQ(ReadIsoMmeSignals(dir / "6aw-cg", array, standard).size(), 10);
 }
 
 // Channel files as another program writes them: CRLF, ISO-8859-1 names, tab
@@ -158,81 +218,110 @@ TEST(IsoMmeTest, ReadsForeignFolderOnCommonTimeSpanInSlotUnits) {
   EXPECT_EQ(test.channels[1].name, "T\xC3\xAAte 11HEAD0000H3ACXA");  // converted to UTF-8
 }
 
-TEST(IsoMmeTest, ErrorsNameFileChannelOrSlot) {
-  TempDir dir;
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
-  const ChannelMap map = LoadChannelMap("default");
+// Six good channels for the 6a-omega CG array (default map): three
+// accelerometers in g, three rate sensors in rad/s, 6 samples at 1 kHz.
+std::vector<std::string> GoodChannels() {
   std::vector<std::string> good;
   for (const char* code : {"11HEAD0000H3ACXA", "11HEAD0000H3ACYA", "11HEAD0000H3ACZA"})
     good.push_back(ChannelText(code, "g", 0.001, 0.0, Ramp(6, 0, 1)));
   for (const char* code : {"11HEAD0000H3AVXA", "11HEAD0000H3AVYA", "11HEAD0000H3AVZA"})
     good.push_back(ChannelText(code, "rad/s", 0.001, 0.0, Ramp(6, 0, 1)));
-  int counter = 0;
-  auto expect = [&](std::vector<std::string> channels, const std::vector<std::string>& fragments) {
-    const auto folder = dir / ("case" + std::to_string(++counter));
-    WriteFolder(folder, channels);
-    ExpectInputError([&] { ReadIsoMmeSignals(folder, array, map); }, fragments);
-    return folder;
-  };
-  {
-    auto channels = good;
-    auto values = Ramp(6, 0, 1);
-    values[3] = "NOVALUE";
-    channels[2] = ChannelText("11HEAD0000H3ACZA", "g", 0.001, 0.0, values);
-    expect(channels, {"test.003", "sample 4", "line 12", "NOVALUE"});
-  }
-  {
-    auto channels = good;
-    channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1), 9);
-    expect(channels, {"test.002", "declares 9 samples but the file holds 6"});
-  }
-  {
-    auto channels = good;
-    channels[4] = ChannelText("11HEAD0000H3AVYA", "rad/s", 0.0005, 0.0, Ramp(6, 0, 1));
-    expect(channels, {"11HEAD0000H3ACXA", "11HEAD0000H3AVYA", "share the sampling interval"});
-  }
-  {
-    auto channels = good;
-    channels[5] = ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 1.0, Ramp(6, 0, 1));
-    expect(channels, {"SN-77", "do not overlap"});
-  }
-  {
-    auto channels = good;
-    channels.push_back(ChannelText("11HEADCG0000ACXP", "g", 0.001, 0.0, Ramp(6, 0, 1)));
-    expect(channels, {"slot \"cg_x\" is matched by two channels", "11HEAD0000H3ACXA", "11HEADCG0000ACXP"});
-  }
-  {
-    auto channels = good;
-    channels.erase(channels.begin() + 4);
-    expect(channels, {"no channel matches slot \"ars_y\""});
-  }
-  {
-    auto channels = good;
-    channels[3] = ChannelText("11HEAD0000H3AVXA", "g", 0.001, 0.0, Ramp(6, 0, 1));  // acceleration unit on a rate code
-    expect(channels, {"no channel matches slot \"ars_x\""});
-  }
-  {
-    auto channels = good;
-    channels[0] = ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, {"0", "1", "x2", "3", "4", "5"});
-    expect(channels, {"test.001", "sample 3", "\"x2\", not a finite number"});
-  }
-  {
-    auto channels = good;
-    std::string text = channels[0];
-    text.erase(text.find("Sampling interval"), text.find("Unit") - text.find("Sampling interval"));
-    channels[0] = text;
-    expect(channels, {"test.001", "no \"Sampling interval\""});
-  }
-  {
-    const auto folder = dir / "nochannel";
-    std::filesystem::create_directories(folder);
-    test::WriteBytes(folder / "a.mme", "Data format :ISO-MME\n");
-    ExpectInputError([&] { ReadIsoMme(folder); }, {folder.string(), "no Channel folder"});
-    std::filesystem::create_directories(folder / "Channel");
-    test::WriteBytes(folder / "Channel" / "a.chn", "Number of channels :2\n");
-    test::WriteBytes(folder / "Channel" / "a.001", ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
-    ExpectInputError([&] { ReadIsoMme(folder); }, {"a.002", "channel 2 of 2", "missing"});
-  }
+  return good;
+}
+
+// The good channels with one channel changed, added or removed, and what
+// the error message must mention: the file, the channel or the slot.
+struct ChannelErrorCase {
+  const char* name;
+  void (*spoil)(std::vector<std::string>& channels);
+  std::vector<std::string> fragments;
+};
+void PrintTo(const ChannelErrorCase& error, std::ostream* os) { *os << error.name; }
+
+class IsoMmeChannelErrorTest : public ::testing::TestWithParam<ChannelErrorCase> {};
+
+TEST_P(IsoMmeChannelErrorTest, NamesFileChannelOrSlot) {
+  TempDir dir;
+  std::vector<std::string> channels = GoodChannels();
+  GetParam().spoil(channels);
+  WriteFolder(dir / "case", channels);
+  ExpectInputError(
+      [&] { ReadIsoMmeSignals(dir / "case", testing::SixAOmegaCg(), LoadChannelMap("default")); },
+      GetParam().fragments);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    SpoiltChannels, IsoMmeChannelErrorTest,
+    ::testing::Values(
+        ChannelErrorCase{"NoValueSample",
+                         [](std::vector<std::string>& channels) {
+                           auto values = Ramp(6, 0, 1);
+                           values[3] = "NOVALUE";
+                           channels[2] = ChannelText("11HEAD0000H3ACZA", "g", 0.001, 0.0, values);
+                         },
+                         {"test.003", "sample 4", "line 12", "NOVALUE"}},
+        ChannelErrorCase{"DeclaredSampleCountDiffers",
+                         [](std::vector<std::string>& channels) {
+                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1), 9);
+                         },
+                         {"test.002", "declares 9 samples but the file holds 6"}},
+        ChannelErrorCase{"SamplingIntervalsDiffer",
+                         [](std::vector<std::string>& channels) {
+                           channels[4] = ChannelText("11HEAD0000H3AVYA", "rad/s", 0.0005, 0.0, Ramp(6, 0, 1));
+                         },
+                         {"11HEAD0000H3ACXA", "11HEAD0000H3AVYA", "share the sampling interval"}},
+        ChannelErrorCase{"TimeSpansDoNotOverlap",
+                         [](std::vector<std::string>& channels) {
+                           channels[5] = ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 1.0, Ramp(6, 0, 1));
+                         },
+                         {"SN-77", "do not overlap"}},
+        ChannelErrorCase{
+            "SlotMatchedByTwoChannels",
+            [](std::vector<std::string>& channels) {
+              channels.push_back(ChannelText("11HEADCG0000ACXP", "g", 0.001, 0.0, Ramp(6, 0, 1)));
+            },
+            {"slot \"cg_x\" is matched by two channels", "11HEAD0000H3ACXA", "11HEADCG0000ACXP"}},
+        ChannelErrorCase{"SlotWithoutChannel",
+                         [](std::vector<std::string>& channels) { channels.erase(channels.begin() + 4); },
+                         {"no channel matches slot \"ars_y\""}},
+        ChannelErrorCase{"AccelerationUnitOnARateCode",
+                         [](std::vector<std::string>& channels) {
+                           channels[3] = ChannelText("11HEAD0000H3AVXA", "g", 0.001, 0.0, Ramp(6, 0, 1));
+                         },
+                         {"no channel matches slot \"ars_x\""}},
+        ChannelErrorCase{
+            "SampleNotANumber",
+            [](std::vector<std::string>& channels) {
+              channels[0] = ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, {"0", "1", "x2", "3", "4", "5"});
+            },
+            {"test.001", "sample 3", "\"x2\", not a finite number"}},
+        ChannelErrorCase{"NoSamplingInterval",
+                         [](std::vector<std::string>& channels) {
+                           std::string& text = channels[0];
+                           text.erase(text.find("Sampling interval"),
+                                      text.find("Unit") - text.find("Sampling interval"));
+                         },
+                         {"test.001", "no \"Sampling interval\""}}),
+    testing::CaseName());
+
+TEST(IsoMmeTest, MissingChannelFilesAreNamed) {
+  TempDir dir;
+  const auto folder = dir / "nochannel";
+  std::filesystem::create_directories(folder);
+  test::WriteBytes(folder / "a.mme", "Data format :ISO-MME\n");
+  ExpectInputError([&] { ReadIsoMme(folder); }, {folder.string(), "no Channel folder"});
+  std::filesystem::create_directories(folder / "Channel");
+  test::WriteBytes(folder / "Channel" / "a.chn", "Number of channels :2\n");
+  test::WriteBytes(folder / "Channel" / "a.001",
+                   ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
+  ExpectInputError([&] { ReadIsoMme(folder); }, {"a.002", "channel 2 of 2", "missing"});
+}
+
+TEST(IsoMmeTest, MapOrArrayThatDoNotFitTheChannelsAreErrors) {
+  TempDir dir;
+  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  const ChannelMap map = LoadChannelMap("default");
+  const std::vector<std::string> good = GoodChannels();
   {
     // A map that sends one channel to two slots.
     test::WriteBytes(dir / "twice.json", R"({"name": "twice", "slots": {

@@ -5,8 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <ostream>
+#include <string>
+#include <vector>
 
 #include "engine/error.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::formats {
@@ -110,27 +114,51 @@ TEST(ProcessingConfigJson, PartialDocumentsKeepDefaultsAndIntegersEqualDoubles) 
   EXPECT_EQ(CanonicalProcessingConfig(integer), CanonicalProcessingConfig(engine::ProcessingConfig{}));
 }
 
-TEST(ProcessingConfigJson, ErrorsNameTheSourceAndTheKey) {
-  const auto expect_mentions = [](const std::string& message, std::initializer_list<const char*> parts) {
-    ASSERT_FALSE(message.empty());
-    for (const char* part : parts) EXPECT_NE(message.find(part), std::string::npos) << message;
-  };
-  expect_mentions(ErrorOf(json::parse(R"({"filter": {"linear_cfx": 1000}})")), {"test.json", "filter.linear_cfx"});
-  expect_mentions(ErrorOf(json::parse(R"({"hics": {}})")), {"test.json", "hics"});
-  expect_mentions(ErrorOf(json::parse(R"({"hic": {"from_time_zero": 1}})")), {"hic.from_time_zero", "true or false"});
-  expect_mentions(ErrorOf(json::parse(R"({"filter": {"linear_cfc": -1}})")), {"test.json", "filter.linear_cfc"});
-  expect_mentions(ErrorOf(json::parse(R"({"filter": {"linear_cfc": "off"}})")), {"filter.linear_cfc", "none"});
-  expect_mentions(ErrorOf(json::parse(R"({"bias": {"mode": "sometimes"}})")), {"bias.mode", "\"window\""});
-  expect_mentions(ErrorOf(json::parse(R"({"bias": {"window_s": [0.0]}})")), {"bias.window_s"});
-  expect_mentions(ErrorOf(json::parse(R"({"bric": {"critical_radps": [1, 2, "3"]}})")), {"bric.critical_radps"});
-  expect_mentions(ErrorOf(json::parse(R"({"bric": {"critical_radps": [1, 0, 3]}})")), {"bric.critical_radps[1]"});
-  expect_mentions(ErrorOf(json::parse(R"({"screening": {"saturation_run_samples": 2.5}})")),
-                  {"screening.saturation_run_samples", "integer"});
-  expect_mentions(ErrorOf(json::parse(R"({"time": {"start_s": "0"}})")), {"time.start_s"});
-  expect_mentions(ErrorOf(json::parse(R"({"gravity": []})")), {"gravity", "object"});
-  expect_mentions(ErrorOf(json::parse(R"({"solver": "fast"})")), {"solver", "\"exact\""});
-  expect_mentions(ErrorOf(json::parse(R"([1, 2])")), {"test.json", "object"});
+// A configuration document that is refused, and what the message must
+// mention: the source ("test.json") and the key, or what would be accepted.
+struct ConfigErrorCase {
+  const char* name;
+  const char* document;
+  std::vector<const char*> parts;
+};
+void PrintTo(const ConfigErrorCase& error, std::ostream* os) { *os << error.document; }
+
+class ProcessingConfigErrorTest : public ::testing::TestWithParam<ConfigErrorCase> {};
+
+TEST_P(ProcessingConfigErrorTest, NamesTheSourceAndTheKey) {
+  const std::string message = ErrorOf(json::parse(GetParam().document));
+  ASSERT_FALSE(message.empty());
+  for (const char* part : GetParam().parts) EXPECT_NE(message.find(part), std::string::npos) << message;
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    BadDocuments, ProcessingConfigErrorTest,
+    ::testing::Values(
+        ConfigErrorCase{
+            "unknown_filter_key", R"({"filter": {"linear_cfx": 1000}})", {"test.json", "filter.linear_cfx"}},
+        ConfigErrorCase{"unknown_section", R"({"hics": {}})", {"test.json", "hics"}},
+        ConfigErrorCase{"number_for_boolean",
+                        R"({"hic": {"from_time_zero": 1}})",
+                        {"hic.from_time_zero", "true or false"}},
+        ConfigErrorCase{
+            "negative_cfc", R"({"filter": {"linear_cfc": -1}})", {"test.json", "filter.linear_cfc"}},
+        ConfigErrorCase{
+            "cfc_off_for_none", R"({"filter": {"linear_cfc": "off"}})", {"filter.linear_cfc", "none"}},
+        ConfigErrorCase{
+            "unknown_bias_mode", R"({"bias": {"mode": "sometimes"}})", {"bias.mode", "\"window\""}},
+        ConfigErrorCase{"unknown_bias_key", R"({"bias": {"window_s": [0.0]}})", {"bias.window_s"}},
+        ConfigErrorCase{
+            "text_in_bric_vector", R"({"bric": {"critical_radps": [1, 2, "3"]}})", {"bric.critical_radps"}},
+        ConfigErrorCase{
+            "zero_in_bric_vector", R"({"bric": {"critical_radps": [1, 0, 3]}})", {"bric.critical_radps[1]"}},
+        ConfigErrorCase{"fraction_for_integer",
+                        R"({"screening": {"saturation_run_samples": 2.5}})",
+                        {"screening.saturation_run_samples", "integer"}},
+        ConfigErrorCase{"text_for_time", R"({"time": {"start_s": "0"}})", {"time.start_s"}},
+        ConfigErrorCase{"array_for_section", R"({"gravity": []})", {"gravity", "object"}},
+        ConfigErrorCase{"unknown_solver", R"({"solver": "fast"})", {"solver", "\"exact\""}},
+        ConfigErrorCase{"array_for_document", R"([1, 2])", {"test.json", "object"}}),
+    testing::CaseName());
 
 TEST(ProcessingConfigJson, DefaultPresetIsTheDefaultConfiguration) {
   const auto path = testing::SourceDir() / "config" / "processing" / "default.json";

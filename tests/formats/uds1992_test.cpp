@@ -2,10 +2,17 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
 #include <cstring>
+#include <limits>
+#include <ostream>
+#include <string>
+#include <vector>
 
 #include "formats/channel_map.h"
 #include "tests/formats/formats_test_util.h"
+#include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
 
@@ -15,32 +22,45 @@ namespace {
 using test::ExpectInputError;
 using testing::TempDir;
 
-TEST(VaxFloatTest, KnownBitPatterns) {
-  // VAX F_floating: bit 15 sign, bits 14-7 excess-128 exponent, fraction 0.1f
-  // with hidden bit; words little-endian, high-order word first. The longword
-  // of 1.0 is 0x00004080, stored as bytes 80 40 00 00.
-  struct Case {
-    double value;
-    std::uint8_t bytes[4];
-  };
-  const Case cases[] = {
-      {1.0, {0x80, 0x40, 0x00, 0x00}},   {-1.0, {0x80, 0xC0, 0x00, 0x00}}, {0.5, {0x00, 0x40, 0x00, 0x00}},
-      {3.0, {0x40, 0x41, 0x00, 0x00}},   {0.0, {0x00, 0x00, 0x00, 0x00}},
-      // 0.1f: IEEE 0x3DCCCCCD -> VAX exponent + 2 -> longword 0xCCCD3ECC.
-      {static_cast<double>(0.1f), {0xCC, 0x3E, 0xCD, 0xCC}},
-      // Largest F_floating: 0.111...1 * 2^127 = (1 - 2^-24) * 2^127.
-      {std::ldexp(1.0 - std::ldexp(1.0, -24), 127), {0xFF, 0x7F, 0xFF, 0xFF}},
-      // Smallest positive F_floating: 0.5 * 2^-127 = 2^-128.
-      {std::ldexp(1.0, -128), {0x80, 0x00, 0x00, 0x00}},
-  };
-  for (const Case& c : cases) {
-    double decoded = -42.0;
-    EXPECT_TRUE(DecodeVaxF(c.bytes, decoded));
-    EXPECT_EQ(decoded, c.value);
-    std::uint8_t encoded[4];
-    ASSERT_TRUE(EncodeVaxF(static_cast<float>(c.value), encoded)) << c.value;
-    EXPECT_EQ(std::memcmp(encoded, c.bytes, 4), 0) << c.value;
-  }
+// VAX F_floating: bit 15 sign, bits 14-7 excess-128 exponent, fraction 0.1f
+// with hidden bit; words little-endian, high-order word first. The longword
+// of 1.0 is 0x00004080, stored as bytes 80 40 00 00.
+struct VaxBitsCase {
+  const char* name;
+  double value;
+  std::array<std::uint8_t, 4> bytes;
+};
+void PrintTo(const VaxBitsCase& bits, std::ostream* os) { *os << bits.name << " (" << bits.value << ")"; }
+
+class VaxBitPatternTest : public ::testing::TestWithParam<VaxBitsCase> {};
+
+TEST_P(VaxBitPatternTest, DecodesAndEncodes) {
+  const VaxBitsCase& c = GetParam();
+  double decoded = -42.0;
+  EXPECT_TRUE(DecodeVaxF(c.bytes.data(), decoded));
+  EXPECT_EQ(decoded, c.value);
+  std::uint8_t encoded[4];
+  ASSERT_TRUE(EncodeVaxF(static_cast<float>(c.value), encoded)) << c.value;
+  EXPECT_EQ(std::memcmp(encoded, c.bytes.data(), 4), 0) << c.value;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Known, VaxBitPatternTest,
+    ::testing::Values(VaxBitsCase{"one", 1.0, {0x80, 0x40, 0x00, 0x00}},
+                      VaxBitsCase{"minus_one", -1.0, {0x80, 0xC0, 0x00, 0x00}},
+                      VaxBitsCase{"half", 0.5, {0x00, 0x40, 0x00, 0x00}},
+                      VaxBitsCase{"three", 3.0, {0x40, 0x41, 0x00, 0x00}},
+                      VaxBitsCase{"zero", 0.0, {0x00, 0x00, 0x00, 0x00}},
+                      // 0.1f: IEEE 0x3DCCCCCD -> VAX exponent + 2 -> longword 0xCCCD3ECC.
+                      VaxBitsCase{"one_tenth", static_cast<double>(0.1f), {0xCC, 0x3E, 0xCD, 0xCC}},
+                      // Largest F_floating: 0.111...1 * 2^127 = (1 - 2^-24) * 2^127.
+                      VaxBitsCase{
+                          "largest", std::ldexp(1.0 - std::ldexp(1.0, -24), 127), {0xFF, 0x7F, 0xFF, 0xFF}},
+                      // Smallest positive F_floating: 0.5 * 2^-127 = 2^-128.
+                      VaxBitsCase{"smallest_positive", std::ldexp(1.0, -128), {0x80, 0x00, 0x00, 0x00}}),
+    testing::CaseName());
+
+TEST(VaxFloatTest, ReservedOperandAndOverflowAreRefused) {
   const std::uint8_t reserved_operand[4] = {0x00, 0x80, 0x12, 0x34};
   double value = 0.0;
   EXPECT_FALSE(DecodeVaxF(reserved_operand, value));
@@ -102,7 +122,18 @@ TEST_P(UdsRoundTripTest, IdenticalSamplesAndHeader) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllNumberForms, UdsRoundTripTest,
-                         ::testing::Values(UdsNumberForm::kIeee, UdsNumberForm::kVax, UdsNumberForm::kSun));
+                         ::testing::Values(UdsNumberForm::kIeee, UdsNumberForm::kVax, UdsNumberForm::kSun),
+                         [](const ::testing::TestParamInfo<UdsNumberForm>& info) -> std::string {
+                           switch (info.param) {
+                             case UdsNumberForm::kIeee:
+                               return "Ieee";
+                             case UdsNumberForm::kVax:
+                               return "Vax";
+                             case UdsNumberForm::kSun:
+                               return "Sun";
+                           }
+                           return "Unknown";
+                         });
 
 // A file laid out by hand at the NHTSA UDS library's byte offsets,
 // independent of the writer: FILEVER@0, NCHAN@12, FILEFORM@16, NUMFORM@26,
@@ -142,48 +173,89 @@ TEST(UdsLayoutTest, ReadsHandBuiltSunFile) {
   for (int i = 0; i < 130; ++i) EXPECT_EQ(channel.values[i], i);
 }
 
-TEST(UdsErrorTest, EveryErrorNamesTheFile) {
+// Replaces `text.size()` bytes at `offset`.
+std::string Replaced(std::string bytes, std::size_t offset, const std::string& text) {
+  bytes.replace(offset, text.size(), text);
+  return bytes;
+}
+
+// Writes `value`'s bytes (host order, little-endian: the IEEE form) at `offset`.
+template <typename T>
+std::string Poked(std::string bytes, std::size_t offset, T value) {
+  std::memcpy(&bytes[offset], &value, sizeof(value));
+  return bytes;
+}
+
+// A spoilt copy of a good IEEE file of 4 data records (400 samples), and
+// what the message must mention besides the file.
+struct UdsErrorCase {
+  const char* name;  // also the file's stem
+  std::string (*spoil)(const std::string& good);
+  std::vector<std::string> fragments;
+};
+void PrintTo(const UdsErrorCase& error, std::ostream* os) { *os << error.name << ".001"; }
+
+class UdsErrorTest : public ::testing::TestWithParam<UdsErrorCase> {};
+
+TEST_P(UdsErrorTest, NamesTheFile) {
   TempDir dir;
   const auto good = dir / "good.001";
   WriteUds1992(MakeChannel(UdsNumberForm::kIeee, 0, 400), good);  // 4 data records
-  const std::string bytes = test::ReadBytes(good);
-  auto expect = [&](const std::string& name, std::string content, const std::vector<std::string>& fragments) {
-    const auto path = dir / name;
-    test::WriteBytes(path, content);
-    std::vector<std::string> all = {path.string()};
-    all.insert(all.end(), fragments.begin(), fragments.end());
-    ExpectInputError([&] { ReadUds1992(path); }, all);
-  };
-  expect("truncated.001", bytes.substr(0, 5 * 512 + 312), {"data record 4 is truncated (312 of 512 bytes)"});
-  expect("missing.001", bytes.substr(0, 4 * 512), {"data record 3 is missing"});
-  expect("short-header.001", bytes.substr(0, 100), {"file header", "truncated (100 of 512 bytes)"});
-  expect("no-curve.001", bytes.substr(0, 512), {"curve header", "missing"});
-  std::string wrong_version = bytes;
-  wrong_version.replace(0, 8, "UDS-1991");
-  expect("version.001", wrong_version, {"FILEVER is \"UDS-1991\""});
-  std::string wrong_numform = bytes;
-  wrong_numform.replace(26, 5, "CRAY ");
-  expect("numform.001", wrong_numform, {"unknown NUMFORM \"CRAY\""});
-  std::string crossed = bytes;
-  const std::int32_t nlp = -5;
-  std::memcpy(&crossed[512 + 282], &nlp, 4);  // IEEE = little-endian
-  expect("crossed.001", crossed, {"NLP -5 is less than NFP 0"});
-  std::string bad_record = bytes;
-  bad_record.replace(3 * 512, 6, "X DATA");
-  expect("record.001", bad_record, {"data record 2 starts with \"X DATA\""});
-  std::string bad_curve = bytes;
-  bad_curve.replace(512, 9, "CURVE XXX");
-  expect("curve.001", bad_curve, {"record 2 starts with \"CURVE XXX\""});
-  std::string nan_value = bytes;
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  std::memcpy(&nan_value[2 * 512 + 12 + 4 * 7], &nan, 4);
-  expect("nan.001", nan_value, {"sample 7", "not a finite number"});
+  const auto path = dir / (std::string(GetParam().name) + ".001");
+  test::WriteBytes(path, GetParam().spoil(test::ReadBytes(good)));
+  std::vector<std::string> all = {path.string()};
+  all.insert(all.end(), GetParam().fragments.begin(), GetParam().fragments.end());
+  ExpectInputError([&] { ReadUds1992(path); }, all);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    SpoiltFiles, UdsErrorTest,
+    ::testing::Values(UdsErrorCase{"truncated",
+                                   [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
+                                   {"data record 4 is truncated (312 of 512 bytes)"}},
+                      UdsErrorCase{"missing",
+                                   [](const std::string& good) { return good.substr(0, 4 * 512); },
+                                   {"data record 3 is missing"}},
+                      UdsErrorCase{"short_header",
+                                   [](const std::string& good) { return good.substr(0, 100); },
+                                   {"file header", "truncated (100 of 512 bytes)"}},
+                      UdsErrorCase{"no_curve",
+                                   [](const std::string& good) { return good.substr(0, 512); },
+                                   {"curve header", "missing"}},
+                      UdsErrorCase{"version",
+                                   [](const std::string& good) { return Replaced(good, 0, "UDS-1991"); },
+                                   {"FILEVER is \"UDS-1991\""}},
+                      UdsErrorCase{"numform",
+                                   [](const std::string& good) { return Replaced(good, 26, "CRAY "); },
+                                   {"unknown NUMFORM \"CRAY\""}},
+                      UdsErrorCase{
+                          "crossed",
+                          [](const std::string& good) { return Poked(good, 512 + 282, std::int32_t{-5}); },
+                          {"NLP -5 is less than NFP 0"}},
+                      UdsErrorCase{"record",
+                                   [](const std::string& good) { return Replaced(good, 3 * 512, "X DATA"); },
+                                   {"data record 2 starts with \"X DATA\""}},
+                      UdsErrorCase{"curve",
+                                   [](const std::string& good) { return Replaced(good, 512, "CURVE XXX"); },
+                                   {"record 2 starts with \"CURVE XXX\""}},
+                      UdsErrorCase{"nan",
+                                   [](const std::string& good) {
+                                     return Poked(good, 2 * 512 + 12 + 4 * 7,
+                                                  std::numeric_limits<float>::quiet_NaN());
+                                   },
+                                   {"sample 7", "not a finite number"}}),
+    testing::CaseName());
+
+TEST(UdsVaxErrorTest, ReservedOperandNamesFileAndSample) {
+  TempDir dir;
   UdsChannel vax = MakeChannel(UdsNumberForm::kVax, 0, 10);
   WriteUds1992(vax, dir / "vax.001");
   std::string reserved = test::ReadBytes(dir / "vax.001");
   reserved[2 * 512 + 12 + 4 * 3] = 0x00;
   reserved[2 * 512 + 12 + 4 * 3 + 1] = static_cast<char>(0x80);
-  expect("reserved.001", reserved, {"sample 3", "VAX reserved operand"});
+  const auto path = dir / "reserved.001";
+  test::WriteBytes(path, reserved);
+  ExpectInputError([&] { ReadUds1992(path); }, {path.string(), "sample 3", "VAX reserved operand"});
 }
 
 TEST(UdsGroupTest, GroupsFilesOfOneTestByStem) {
