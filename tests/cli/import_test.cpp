@@ -19,6 +19,7 @@
 #include "formats/uds1992.h"
 #include "ingest/content_hash.h"
 #include "ingest/discovery.h"
+#include "records/array_record.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
@@ -140,8 +141,7 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
     EXPECT_EQ(test.initial_state.velocity_fixed_mps, synth.initial.velocity_fixed_mps);
     // The stored array reads back as the preset, bit-exact.
     const db::ArrayRecord array = catalogue.ReadArray(test.array_id);
-    const engine::ArrayGeometry geometry =
-        formats::ParseArrayJson(nlohmann::json::parse(array.definition_json), "catalogue");
+    const engine::ArrayGeometry geometry = records::DecodeArrayRecord(array);
     ASSERT_EQ(geometry.sensors.size(), synth.array.sensors.size());
     for (std::size_t i = 0; i < geometry.sensors.size(); ++i) {
       EXPECT_EQ(geometry.sensors[i].position_body_m, synth.array.sensors[i].position_body_m);
