@@ -1,22 +1,19 @@
 #pragma once
 // What the catalogue commands share: opening the --db catalogue and
-// resolving the --config processing configuration to its catalogue record.
+// resolving the --config processing configuration to its catalogue record
+// (records::ResolveConfig).
 #include <string>
 
 #include "cli/command.h"
 #include "db/catalogue.h"
-#include "engine/processing.h"
+#include "records/config_record.h"
 
 namespace napkin::cli {
 
 db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false);
 
-struct ResolvedConfig {
-  engine::ProcessingConfig config;
-  db::ConfigRecord record;  // name, canonical JSON and its SHA-256
-};
-
 // `--config` value (preset name or JSON path; empty: the default preset).
-ResolvedConfig ResolveConfig(const std::string& name_or_path);
+using records::ResolveConfig;
+using records::ResolvedConfig;
 
 }  // namespace napkin::cli

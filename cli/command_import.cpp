@@ -12,9 +12,9 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
-#include "cli/importer.h"
 #include "cli/progress.h"
 #include "cli/triple_option.h"
+#include "ingest/import.h"
 
 namespace napkin::cli {
 namespace {
@@ -47,22 +47,23 @@ class ImportCommand : public Command {
 
     std::unique_ptr<ProgressBar> progress_bar;
     const bool show_bar = ProgressBar::WantedOnStderr(global_->quiet);
-    const ImportProgress progress = [&](std::size_t done, std::size_t total, const ImportResult& result) {
+    const ingest::ImportProgress progress = [&](std::size_t done, std::size_t total,
+                                                const ingest::ImportResult& result) {
       if (show_bar && !progress_bar) progress_bar = std::make_unique<ProgressBar>(total, true);
-      const bool prints = !result.warnings.empty() || result.outcome != ImportOutcome::kImported;
+      const bool prints = !result.warnings.empty() || result.outcome != ingest::ImportOutcome::kImported;
       if (progress_bar && prints) progress_bar->Clear();
       for (const std::string& warning : result.warnings) std::cerr << "napkin: warning: " << warning << "\n";
-      if (result.outcome == ImportOutcome::kFailed) {
+      if (result.outcome == ingest::ImportOutcome::kFailed) {
         std::cerr << "napkin: " << result.message << "\n";
-      } else if (result.outcome == ImportOutcome::kSkipped) {
+      } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
         std::cout << result.message << "\n" << std::flush;
       }
       if (progress_bar) progress_bar->Update(done, result.test_id);
     };
-    ImportReport report;
+    ingest::ImportReport report;
     try {
-      report = ImportTests(catalogue, paths_, options_, progress);
-    } catch (const ImportUsageError& error) {
+      report = ingest::ImportTests(catalogue, paths_, options_, progress);
+    } catch (const ingest::ImportUsageError& error) {
       std::cerr << "napkin: " << error.what() << "\n";
       return kExitUsage;
     }
@@ -74,7 +75,7 @@ class ImportCommand : public Command {
 
  private:
   const GlobalOptions* global_ = nullptr;
-  ImportOptions options_;
+  ingest::ImportOptions options_;
   std::string series_;
   std::string variant_;
   std::optional<std::string> test_id_;

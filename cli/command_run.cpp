@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <optional>
 
-#include "cli/array_record.h"
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
 #include "cli/progress.h"
@@ -75,7 +74,7 @@ class RunCommand : public Command {
     CheckScope();
 
     const ResolvedConfig resolved = ResolveConfig(config_);
-    jobs::RunProcessing processing{resolved.config, resolved.record, DecodeArrayRecord};
+    jobs::RunProcessing processing{resolved.config, resolved.record};
     InstallStopHandlers();
     RunProgressReporter reporter(global_->quiet);
     const jobs::RunReport report = jobs::RunScheduler(

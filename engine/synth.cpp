@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "engine/rotation.h"
@@ -318,6 +319,108 @@ ArrayGeometry DisplaceSensors(const ArrayGeometry& array, double max_offset_m, s
     sensor.position_body_m += max_offset_m * offset;
   }
   return displaced;
+}
+
+const char* SynthScenarioName(SynthScenario scenario) {
+  switch (scenario) {
+    case SynthScenario::kSeedFixedAxis:
+      return "seed-fixed-axis";
+    case SynthScenario::kSeedSequential:
+      return "seed-sequential";
+    case SynthScenario::kRandom:
+      return "random";
+    case SynthScenario::kPaddingVariants:
+      return "padding-variants";
+  }
+  return "?";
+}
+
+std::optional<SynthScenario> ParseSynthScenario(std::string_view name) {
+  for (const SynthScenario scenario : kSynthScenarios)
+    if (name == SynthScenarioName(scenario)) return scenario;
+  return std::nullopt;
+}
+
+bool HasChosenDuration(SynthScenario scenario) {
+  return scenario == SynthScenario::kRandom || scenario == SynthScenario::kPaddingVariants;
+}
+
+namespace {
+
+// "<stem>-<number>" with the number zero-padded to `width` digits.
+std::string Numbered(const std::string& stem, int number, int width) {
+  const std::string digits = std::to_string(number);
+  const std::size_t wanted = static_cast<std::size_t>(width);
+  const std::size_t padding = digits.size() < wanted ? wanted - digits.size() : 0;
+  return stem + "-" + std::string(padding, '0') + digits;
+}
+
+}  // namespace
+
+std::vector<ScenarioTest> ScenarioTests(const ScenarioOptions& options) {
+  std::vector<ScenarioTest> tests;
+  switch (options.scenario) {
+    case SynthScenario::kSeedFixedAxis:
+    case SynthScenario::kSeedSequential: {
+      ScenarioTest test;
+      test.external_id = options.id_prefix;
+      tests.push_back(std::move(test));
+      break;
+    }
+    case SynthScenario::kRandom: {
+      const int width = std::max(4, static_cast<int>(std::to_string(options.count).size()));
+      for (int i = 0; i < options.count; ++i) {
+        ScenarioTest test;
+        test.motion.seed = options.seed + static_cast<std::uint64_t>(i);
+        test.motion.duration_s = options.duration_s;
+        test.motion.synth = options.synth;
+        test.seed = test.motion.seed;
+        test.external_id = Numbered(options.id_prefix, i + 1, width);
+        tests.push_back(std::move(test));
+      }
+      break;
+    }
+    case SynthScenario::kPaddingVariants: {
+      // The same impacts (one seed per repeat) with three paddings that
+      // scale the head's load: production trim, then foams A and B.
+      struct Variant {
+        const char* name;
+        double load_factor;
+      };
+      constexpr Variant kVariants[] = {{"production", 1.0}, {"foam-a", 0.8}, {"foam-b", 0.65}};
+      for (const Variant& variant : kVariants)
+        for (int r = 0; r < options.count; ++r) {
+          ScenarioTest test;
+          test.motion.seed = options.seed + static_cast<std::uint64_t>(r);
+          test.motion.duration_s = options.duration_s;
+          test.motion.peak_acc_g *= variant.load_factor;
+          test.motion.peak_omega_radps *= variant.load_factor;
+          test.motion.synth = options.synth;
+          test.seed = test.motion.seed;
+          test.load_factor = variant.load_factor;
+          test.variant = variant.name;
+          test.external_id = Numbered(options.id_prefix + "-" + variant.name, r + 1, 2);
+          tests.push_back(std::move(test));
+        }
+      break;
+    }
+  }
+  return tests;
+}
+
+SyntheticTest SynthScenarioTest(const ArrayGeometry& array, const ScenarioOptions& options,
+                                const ScenarioTest& test) {
+  switch (options.scenario) {
+    case SynthScenario::kSeedFixedAxis:
+      // Report 4.5: head initially at phi = theta = psi = 0.5 rad.
+      return SynthSeedFixedAxis(array, Vector3d(0.5, 0.5, 0.5), options.synth);
+    case SynthScenario::kSeedSequential:
+      return SynthSequential(array, options.synth);
+    case SynthScenario::kRandom:
+    case SynthScenario::kPaddingVariants:
+      break;
+  }
+  return SynthRandomMotion(array, test.motion);
 }
 
 }  // namespace napkin::engine

@@ -24,6 +24,7 @@
 
 #include "engine/error.h"
 #include "engine/pipeline.h"
+#include "records/array_record.h"
 
 namespace napkin::jobs {
 
@@ -290,14 +291,13 @@ class ResultWriter {
 class JobReader {
  public:
   JobReader(db::Catalogue& catalogue, db::ConfigId config, std::string owner, const RunOptions& options,
-            const ArrayDecoder& decode_array, LeaseBook& book, RunState& state, ResultWriter& writer,
-            RunReport& report, const std::atomic<bool>* stop)
+            LeaseBook& book, RunState& state, ResultWriter& writer, RunReport& report,
+            const std::atomic<bool>* stop)
       : catalogue_(catalogue),
         queue_(catalogue),
         config_(config),
         owner_(std::move(owner)),
         options_(options),
-        decode_array_(decode_array),
         book_(book),
         state_(state),
         writer_(writer),
@@ -379,7 +379,8 @@ class JobReader {
     if (found == arrays_.end()) {
       CachedArray cached;
       try {
-        cached.geometry = std::make_shared<const engine::ArrayGeometry>(decode_array_(catalogue_.ReadArray(id)));
+        cached.geometry =
+            std::make_shared<const engine::ArrayGeometry>(records::DecodeArrayRecord(catalogue_.ReadArray(id)));
       } catch (const InputError& error) {
         cached.error = error.what();
       }
@@ -399,7 +400,6 @@ class JobReader {
   db::ConfigId config_;
   std::string owner_;
   const RunOptions& options_;
-  const ArrayDecoder& decode_array_;
   LeaseBook& book_;
   RunState& state_;
   ResultWriter& writer_;
@@ -478,7 +478,6 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
                        const ProgressCallback& progress, const std::atomic<bool>* stop) {
   options.Check();
   processing.config.Check();
-  if (!processing.decode_array) throw std::invalid_argument("RunScheduler: decode_array is not set");
   const auto start = SteadyClock::now();
 
   RunReport report;
@@ -508,8 +507,7 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   std::atomic<double> compute_s{0.0};
   ResultWriter writer(writer_catalogue, report.config, SolverName(processing.config.solver), report.owner, options,
                       book, state, report, progress, start);
-  JobReader reader(reader_catalogue, report.config, report.owner, options, processing.decode_array, book, state,
-                   writer, report, stop);
+  JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, writer, report, stop);
   try {
     Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,

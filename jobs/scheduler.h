@@ -29,7 +29,6 @@
 
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "engine/array_geometry.h"
 #include "engine/processing.h"
 
 namespace napkin::jobs {
@@ -51,15 +50,10 @@ struct RunOptions {
   void Check() const;
 };
 
-// Turns a catalogue array record into a geometry (formats::ParseArrayJson in
-// the CLI; jobs/ depends on engine and db only). Throws InputError.
-using ArrayDecoder = std::function<engine::ArrayGeometry(const db::ArrayRecord&)>;
-
 // The processing configuration of a run.
 struct RunProcessing {
   engine::ProcessingConfig config;
   db::ConfigRecord record;  // name, canonical JSON and its hash (identifies the results)
-  ArrayDecoder decode_array;
 };
 
 struct RunProgress {

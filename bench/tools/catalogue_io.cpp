@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
-#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -30,9 +29,8 @@
 #include "engine/error.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
-#include "formats/array_json.h"
-#include "formats/content_hash.h"
-#include "formats/processing_config_json.h"
+#include "records/array_record.h"
+#include "records/config_record.h"
 
 namespace {
 
@@ -43,25 +41,13 @@ double Seconds(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
 }
 
-db::ConfigRecord ConfigRecordFor(const engine::ProcessingConfig& config, const std::string& name) {
-  db::ConfigRecord record;
-  record.name = name;
-  record.config_json = formats::CanonicalProcessingConfig(config);
-  record.config_hash = formats::Sha256Hex(record.config_json);
-  return record;
-}
-
-engine::ProcessingConfig LoadConfig(const std::string& name) {
-  return formats::ReadProcessingConfig(formats::ResolvePreset(name, "processing"));
-}
-
 int IoBaseline(const std::string& path, int batch) {
   const auto start = SteadyClock::now();
   db::Catalogue catalogue = db::Catalogue::Open(path);
   // A config of its own, so the catalogue's real results are not touched.
   engine::ProcessingConfig config;
   config.filter.padding_s = 0.0123456;
-  const db::ConfigId config_id = catalogue.WriteConfig(ConfigRecordFor(config, "io-baseline"));
+  const db::ConfigId config_id = catalogue.WriteConfig(records::MakeConfigRecord(config, "io-baseline"));
   db::JobQueue queue(catalogue);
   queue.EnqueueMissing(config_id);
   const std::string owner = "io-baseline";
@@ -129,8 +115,9 @@ int Verify(const std::string& path, std::size_t sample, std::uint64_t seed, cons
   db::CatalogueOptions options;
   options.read_only = true;
   db::Catalogue catalogue = db::Catalogue::Open(path, options);
-  const engine::ProcessingConfig config = LoadConfig(config_name);
-  const auto config_id = catalogue.FindConfigByHash(ConfigRecordFor(config, config_name).config_hash);
+  const records::ResolvedConfig resolved = records::ResolveConfig(config_name);
+  const engine::ProcessingConfig& config = resolved.config;
+  const auto config_id = catalogue.FindConfigByHash(resolved.record.config_hash);
   if (!config_id) throw InputError("config '" + config_name + "' has no results in '" + path + "'.");
   std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
   if (sample > 0 && sample < tests.size()) {
@@ -140,8 +127,7 @@ int Verify(const std::string& path, std::size_t sample, std::uint64_t seed, cons
   }
   int equal = 0, different = 0;
   for (const db::TestRecord& test : tests) {
-    const engine::ArrayGeometry array =
-        formats::ParseArrayJson(nlohmann::json::parse(catalogue.ReadArray(test.array_id).definition_json), "array");
+    const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
     const engine::ProcessedTest expected =
         engine::ProcessTest(array, catalogue.ReadTestSignals(test.id), test.initial_state, config);
     const auto kinematics = catalogue.ReadKinematics(test.id, *config_id);

@@ -17,6 +17,7 @@
 #include "engine/synth.h"
 #include "formats/array_json.h"
 #include "formats/text.h"
+#include "records/array_record.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/run_command.h"
 
@@ -93,8 +94,7 @@ inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std:
   const std::optional<db::TestId> key = catalogue.FindTestByExternalId(test_id);
   if (!key) throw std::runtime_error("no test " + test_id);
   const db::TestRecord test = catalogue.ReadTest(*key);
-  const engine::ArrayGeometry array = formats::ParseArrayJson(
-      nlohmann::json::parse(catalogue.ReadArray(test.array_id).definition_json), "catalogue array");
+  const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
   const ResolvedConfig config = ResolveConfig("");
   engine::ProcessedTest processed =
       engine::ProcessTest(array, catalogue.ReadTestSignals(*key), test.initial_state, config.config);

@@ -13,16 +13,23 @@
 #include <set>
 #include <thread>
 
-#include "cli/importer.h"
 #include "formats/channel_map.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/uds1992.h"
+#include "ingest/content_hash.h"
+#include "ingest/discovery.h"
+#include "records/array_record.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::cli::test {
 namespace {
+
+using ingest::DiscoverInputs;
+using ingest::Discovery;
+using ingest::InputContentHash;
+using ingest::InputFormat;
 
 // Writes the nine NAP channels of `signals` as UDS-1992 files <folder>/<stem>.001
 // ... .009 in Table 2-1 order, with SENATT/AXIS as the nap-example map names them.
@@ -134,8 +141,7 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
     EXPECT_EQ(test.initial_state.velocity_fixed_mps, synth.initial.velocity_fixed_mps);
     // The stored array reads back as the preset, bit-exact.
     const db::ArrayRecord array = catalogue.ReadArray(test.array_id);
-    const engine::ArrayGeometry geometry =
-        formats::ParseArrayJson(nlohmann::json::parse(array.definition_json), "catalogue");
+    const engine::ArrayGeometry geometry = records::DecodeArrayRecord(array);
     ASSERT_EQ(geometry.sensors.size(), synth.array.sensors.size());
     for (std::size_t i = 0; i < geometry.sensors.size(); ++i) {
       EXPECT_EQ(geometry.sensors[i].position_body_m, synth.array.sensors[i].position_body_m);
@@ -522,12 +528,12 @@ TEST(ImportDiscovery, UdsGroupHashDependsOnEveryMemberFile) {
   WriteUdsGroup(synth.signals, dir / "u", "v1", formats::UdsNumberForm::kIeee);
   const Discovery found = DiscoverInputs({(dir / "u").string()});
   ASSERT_EQ(found.inputs.size(), 1u);
-  const std::string before = ContentHash(found.inputs[0]);
+  const std::string before = InputContentHash(found.inputs[0]);
   EXPECT_EQ(before.size(), 64u);
   std::string bytes = ReadText(dir / "u" / "v1.009");
   bytes.back() ^= 1;
   WriteText(dir / "u" / "v1.009", bytes);
-  EXPECT_NE(ContentHash(found.inputs[0]), before);
+  EXPECT_NE(InputContentHash(found.inputs[0]), before);
 }
 
 }  // namespace

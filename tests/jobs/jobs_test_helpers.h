@@ -2,31 +2,20 @@
 // Shared pieces of the scheduler tests: catalogues of synthetic tests and the
 // processing setup of a run.
 #include <cstdio>
-#include <nlohmann/json.hpp>
 #include <string>
-#include <vector>
 
 #include "db/catalogue.h"
 #include "engine/synth.h"
 #include "formats/array_json.h"
-#include "formats/content_hash.h"
-#include "formats/processing_config_json.h"
+#include "ingest/store.h"
 #include "jobs/scheduler.h"
+#include "records/array_record.h"
+#include "records/config_record.h"
 
 namespace napkin::jobs::testing {
 
-inline engine::ArrayGeometry DecodeArray(const db::ArrayRecord& record) {
-  return formats::ParseArrayJson(nlohmann::json::parse(record.definition_json), record.name);
-}
-
 inline RunProcessing Processing(const engine::ProcessingConfig& config = {}) {
-  RunProcessing processing;
-  processing.config = config;
-  processing.record.name = "test-config";
-  processing.record.config_json = formats::CanonicalProcessingConfig(config);
-  processing.record.config_hash = formats::Sha256Hex(processing.record.config_json);
-  processing.decode_array = DecodeArray;
-  return processing;
+  return RunProcessing{config, records::MakeConfigRecord(config, "test-config")};
 }
 
 inline std::string TestName(int index) {
@@ -35,28 +24,20 @@ inline std::string TestName(int index) {
   return name;
 }
 
-// Stores `test` as test `external_id` (content hash from the id: the tests
-// here only need unique hashes).
+// Stores `test` as test `external_id` with the array record `array` (by
+// default the record of the test's array; content hash from the id: the
+// tests here only need unique hashes).
 inline db::TestId StoreTest(db::Catalogue& catalogue, const engine::SyntheticTest& test,
-                            const std::string& external_id, const std::string& series = "synthetic") {
-  db::ArrayRecord array;
-  array.name = test.array.name;
-  array.definition_json = formats::ArrayToJson(test.array).dump();
-  array.definition_hash = formats::Sha256Hex(array.definition_json);
-  db::Transaction transaction = catalogue.BeginTransaction();
+                            const std::string& external_id, const std::string& series = "synthetic",
+                            const db::ArrayRecord* array = nullptr) {
   db::TestRecord record;
   record.external_id = external_id;
   record.series = series;
-  record.array_id = catalogue.WriteArray(array);
   record.initial_state = test.initial;
   record.source_path = "synth";
   record.content_hash = "synthetic " + external_id;
-  const db::TestId id = catalogue.WriteTest(record);
-  std::vector<std::string> units;
-  for (const std::string& slot : test.signals.slots) units.push_back(test.array.sensors[*test.array.FindSlot(slot)].unit);
-  catalogue.WriteRawChannels(id, test.signals, units);
-  transaction.Commit();
-  return id;
+  return *ingest::StoreTest(catalogue, test.array, array ? *array : records::MakeArrayRecord(test.array), record,
+                            test.signals);
 }
 
 // `count` random motions of `samples` samples at 10 kHz on the ideal array,

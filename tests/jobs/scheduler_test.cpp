@@ -73,7 +73,7 @@ TEST_F(SchedulerTest, ParallelResultsEqualTheTransformCoreBitForBit) {
 
   db::Catalogue catalogue = db::Catalogue::Open(path_);
   for (const db::TestRecord& test : catalogue.ReadAllTests()) {
-    const engine::ArrayGeometry array = testing::DecodeArray(catalogue.ReadArray(test.array_id));
+    const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
     const engine::ProcessedTest expected =
         engine::ProcessTest(array, catalogue.ReadTestSignals(test.id), test.initial_state, processing.config);
     const auto kinematics = catalogue.ReadKinematics(test.id, report.config);
@@ -146,16 +146,32 @@ TEST_F(SchedulerTest, FailedTestsAreRecordedWithTheirReasonAndTheRunGoesOn) {
 
 TEST_F(SchedulerTest, AnUndecodableArrayFailsItsTestsOnly) {
   AddRandomTests(path_, 3, 500);
-  RunProcessing processing = Processing();
-  processing.decode_array = [](const db::ArrayRecord& record) -> engine::ArrayGeometry {
-    throw InputError("array '" + record.name + "' cannot be read.");
-  };
-  const RunReport report = RunScheduler(path_, processing, Options(2));
+  // Three more tests whose stored array cannot be solved (no sensors).
+  const db::ArrayRecord broken{{}, "broken", R"({"name":"broken","length_unit":"m","sensors":[]})", "broken-hash"};
+  std::string decode_error;
+  try {
+    records::DecodeArrayRecord(broken);
+    ADD_FAILURE() << "DecodeArrayRecord accepted an array without sensors";
+  } catch (const InputError& e) {
+    decode_error = e.what();
+  }
+  {
+    db::Catalogue catalogue = db::Catalogue::Open(path_);
+    engine::RandomMotionOptions motion;
+    motion.duration_s = 0.05;
+    const engine::SyntheticTest test = engine::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
+    for (int i = 0; i < 3; ++i)
+      testing::StoreTest(catalogue, test, "broken-" + std::to_string(i), "synthetic", &broken);
+  }
+  const RunReport report = RunScheduler(path_, Processing(), Options(2));
+  EXPECT_EQ(report.done, 3);
   EXPECT_EQ(report.failed, 3);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
   const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(report.config);
   ASSERT_EQ(counts.failures.size(), 3u);
-  EXPECT_EQ(counts.failures[0].error, "array 'ideal-3222' cannot be read.");
+  EXPECT_EQ(counts.failures[0].test_id, "broken-0");
+  EXPECT_EQ(counts.failures[0].error, decode_error);
+  EXPECT_NE(decode_error.find("array 'broken'"), std::string::npos) << decode_error;
 }
 
 TEST_F(SchedulerTest, StopEndsAfterTheTestsInFlightAndTheNextRunFinishes) {

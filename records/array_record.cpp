@@ -1,4 +1,4 @@
-#include "cli/array_record.h"
+#include "records/array_record.h"
 
 #include <nlohmann/json.hpp>
 
@@ -6,7 +6,7 @@
 #include "formats/array_json.h"
 #include "formats/content_hash.h"
 
-namespace napkin::cli {
+namespace napkin::records {
 
 db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array) {
   db::ArrayRecord record;
@@ -27,4 +27,4 @@ engine::ArrayGeometry DecodeArrayRecord(const db::ArrayRecord& record) {
   return formats::ParseArrayJson(json, source);
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::records

@@ -6,18 +6,16 @@
 // finished test; rerunning it skips those and imports the rest.
 #include <cstddef>
 #include <cstdint>
-#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "cli/array_record.h"
 #include "db/catalogue.h"
-#include "engine/array_geometry.h"
 #include "engine/error.h"
+#include "ingest/discovery.h"
 
-namespace napkin::cli {
+namespace napkin::ingest {
 
 // Options that contradict each other (exit status 2, usage error), e.g.
 // --test-id for paths that hold several tests.
@@ -25,38 +23,6 @@ class ImportUsageError : public InputError {
  public:
   using InputError::InputError;
 };
-
-enum class InputFormat { kCsv, kIsoMme, kUds1992 };
-const char* InputFormatName(InputFormat format);  // "csv", "iso-mme", "uds-1992"
-
-// One test found in the import paths.
-struct ImportInput {
-  InputFormat format = InputFormat::kCsv;
-  // The default test id: file name without extension (CSV), folder name
-  // (ISO-MME; the .mme file's stem when the .mme file itself was given), or
-  // the shared stem of a UDS-1992 group (v0001.001 ... v0001.009 -> v0001).
-  std::string name;
-  // The CSV file or the ISO-MME test folder; for a UDS-1992 group
-  // "<folder>/<stem>.*" (its files are in `files`).
-  std::filesystem::path source;
-  std::vector<std::filesystem::path> files;  // UDS-1992 group members, sorted by name
-};
-
-struct Discovery {
-  std::vector<ImportInput> inputs;  // in path order; tests inside a folder sorted by name
-  std::vector<std::string> errors;  // one sentence per path that holds no test
-};
-
-// Finds the tests in `paths`:
-// - a file *.csv: one CSV test; *.mme: the ISO-MME test folder around it;
-//   a file whose extension is three digits (.001): a UDS-1992 channel file,
-//   grouped with the other given UDS-1992 files of its folder and stem;
-// - a folder holding a *.mme file: one ISO-MME test;
-// - any other folder: every test inside it, searched recursively (CSV files,
-//   ISO-MME test folders, UDS-1992 stem groups; other files are ignored).
-// A path that does not exist, an unrecognised file or a folder without any
-// test is reported in `errors`.
-Discovery DiscoverInputs(const std::vector<std::string>& paths);
 
 struct ImportOptions {
   std::string array;  // preset name or array JSON path (required)
@@ -103,9 +69,4 @@ using ImportProgress = std::function<void(std::size_t done, std::size_t total, c
 ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string>& paths,
                          const ImportOptions& options, const ImportProgress& progress = {});
 
-// The content hash of an input: SHA-256 of the CSV file, of the ISO-MME
-// folder's files (formats::HashPath), or of the UDS-1992 group's file hashes
-// in name order.
-std::string ContentHash(const ImportInput& input);
-
-}  // namespace napkin::cli
+}  // namespace napkin::ingest

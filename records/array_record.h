@@ -4,7 +4,7 @@
 #include "db/catalogue.h"
 #include "engine/array_geometry.h"
 
-namespace napkin::cli {
+namespace napkin::records {
 
 // The record of `array`: name, canonical JSON (in metres, so positions read
 // back bit-exact) and the SHA-256 of that JSON.
@@ -14,4 +14,4 @@ db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array);
 // the array when its JSON is malformed or the array cannot be solved.
 engine::ArrayGeometry DecodeArrayRecord(const db::ArrayRecord& record);
 
-}  // namespace napkin::cli
+}  // namespace napkin::records

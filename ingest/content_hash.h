@@ -1,0 +1,23 @@
+#pragma once
+// The content hashes that identify a test's content in the catalogue
+// (tests.content_hash): importing or synthesising the same content twice
+// stores it once. Existing catalogues hold these values: never change what
+// they hash.
+#include <string>
+
+#include "db/catalogue.h"
+#include "engine/synth.h"
+#include "ingest/discovery.h"
+
+namespace napkin::ingest {
+
+// The hash of an input file set: SHA-256 of the CSV file, of the ISO-MME
+// folder's files (formats::HashPath), or of the UDS-1992 group's file hashes
+// in name order. Throws InputError naming an unreadable file.
+std::string InputContentHash(const ImportInput& input);
+
+// The hash of a synthetic test's content: its array record's hash, initial
+// state, time base, slot names and the samples' bytes.
+std::string SyntheticContentHash(const db::ArrayRecord& array, const engine::SyntheticTest& test);
+
+}  // namespace napkin::ingest

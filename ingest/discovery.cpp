@@ -1,0 +1,175 @@
+#include "ingest/discovery.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "engine/error.h"
+#include "formats/text.h"
+#include "formats/uds1992.h"
+
+namespace napkin::ingest {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool IsHidden(const fs::path& path) {
+  const std::string name = path.filename().string();
+  return !name.empty() && name.front() == '.';
+}
+
+bool HasExtension(const fs::path& path, std::string_view extension) {
+  return formats::EqualsIgnoreCase(path.extension().string(), extension);
+}
+
+// UDS-1992 channel files are numbered: v0001.001 ... v0001.009.
+bool IsUdsFile(const fs::path& path) {
+  const std::string extension = path.extension().string();
+  return extension.size() == 4 &&
+         std::all_of(extension.begin() + 1, extension.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+bool HoldsMmeFile(const fs::path& folder) {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folder, error))
+    if (entry.is_regular_file(error) && HasExtension(entry.path(), ".mme")) return true;
+  return false;
+}
+
+// "data/tests/" -> "data/tests" so that filename() names the folder.
+fs::path WithoutTrailingSeparator(const fs::path& path) {
+  fs::path normal = path.lexically_normal();
+  if (normal.has_parent_path() && normal.filename().empty()) normal = normal.parent_path();
+  return normal;
+}
+
+// UDS-1992 files collected from the paths, grouped by folder and stem when
+// discovery ends; `slot` is the index in `inputs` reserved for the group.
+class UdsGroups {
+ public:
+  void Add(const fs::path& file, std::vector<ImportInput>& inputs) {
+    const auto key = std::make_pair(file.parent_path().string(), file.stem().string());
+    auto [it, inserted] = slots_.try_emplace(key, inputs.size());
+    if (inserted) {
+      ImportInput input;
+      input.format = InputFormat::kUds1992;
+      input.name = file.stem().string();
+      input.source = file.parent_path() / (file.stem().string() + ".*");
+      inputs.push_back(std::move(input));
+    }
+    inputs[it->second].files.push_back(file);
+  }
+
+  // Sorts each group's files by name (the report's Table 2-1 order when no map is given).
+  static void SortMembers(std::vector<ImportInput>& inputs) {
+    for (ImportInput& input : inputs)
+      if (input.format == InputFormat::kUds1992)
+        for (auto& [stem, files] : formats::GroupUdsFilesByStem(input.files)) input.files = std::move(files);
+  }
+
+ private:
+  std::map<std::pair<std::string, std::string>, std::size_t> slots_;
+};
+
+ImportInput CsvInput(const fs::path& file) {
+  ImportInput input;
+  input.format = InputFormat::kCsv;
+  input.name = file.stem().string();
+  input.source = file;
+  return input;
+}
+
+ImportInput IsoMmeInput(const fs::path& folder, const std::string& name) {
+  ImportInput input;
+  input.format = InputFormat::kIsoMme;
+  input.name = name;
+  input.source = folder;
+  return input;
+}
+
+// Every test inside `folder` (not itself an ISO-MME test), in name order.
+// `visited` holds the canonical folders seen, so a symbolic link back up the
+// tree is not followed forever.
+void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std::set<fs::path>& visited) {
+  std::error_code error;
+  const fs::path canonical = fs::canonical(folder, error);
+  if (!error && !visited.insert(canonical).second) return;
+  std::vector<fs::path> entries;
+  for (const auto& entry : fs::directory_iterator(folder, error))
+    if (!IsHidden(entry.path())) entries.push_back(entry.path());
+  if (error) throw InputError("cannot list folder '" + folder.string() + "': " + error.message() + ".");
+  std::sort(entries.begin(), entries.end());
+  UdsGroups uds;
+  for (const fs::path& entry : entries) {
+    if (fs::is_directory(entry, error)) {
+      if (HoldsMmeFile(entry)) {
+        found.push_back(IsoMmeInput(entry, entry.filename().string()));
+      } else {
+        DiscoverFolder(entry, found, visited);
+      }
+    } else if (HasExtension(entry, ".csv")) {
+      found.push_back(CsvInput(entry));
+    } else if (IsUdsFile(entry)) {
+      uds.Add(entry, found);
+    }
+  }
+}
+
+}  // namespace
+
+const char* InputFormatName(InputFormat format) {
+  switch (format) {
+    case InputFormat::kCsv:
+      return "csv";
+    case InputFormat::kIsoMme:
+      return "iso-mme";
+    case InputFormat::kUds1992:
+      return "uds-1992";
+  }
+  return "?";
+}
+
+Discovery DiscoverInputs(const std::vector<std::string>& paths) {
+  Discovery discovery;
+  UdsGroups uds;  // UDS-1992 files given one by one
+  for (const std::string& text : paths) {
+    const fs::path path = WithoutTrailingSeparator(text);
+    std::error_code error;
+    if (!fs::exists(path, error)) {
+      discovery.errors.push_back("'" + text + "' does not exist.");
+    } else if (fs::is_directory(path, error)) {
+      if (HoldsMmeFile(path)) {
+        discovery.inputs.push_back(IsoMmeInput(path, path.filename().string()));
+        continue;
+      }
+      const std::size_t before = discovery.inputs.size();
+      try {
+        std::set<fs::path> visited;
+        DiscoverFolder(path, discovery.inputs, visited);
+      } catch (const InputError& list_error) {
+        discovery.errors.push_back(list_error.what());
+        continue;
+      }
+      if (discovery.inputs.size() == before)
+        discovery.errors.push_back("folder '" + text +
+                                   "' holds no test (no CSV file, ISO-MME test folder or UDS-1992 file).");
+    } else if (HasExtension(path, ".csv")) {
+      discovery.inputs.push_back(CsvInput(path));
+    } else if (HasExtension(path, ".mme")) {
+      discovery.inputs.push_back(
+          IsoMmeInput(path.has_parent_path() ? path.parent_path() : fs::path("."), path.stem().string()));
+    } else if (IsUdsFile(path)) {
+      uds.Add(path, discovery.inputs);
+    } else {
+      discovery.errors.push_back(
+          "'" + text +
+          "' is not a test: expected a CSV file (.csv), an ISO-MME test folder or .mme "
+          "file, a UDS-1992 channel file (.001 ...) or a folder of tests.");
+    }
+  }
+  UdsGroups::SortMembers(discovery.inputs);
+  return discovery;
+}
+
+}  // namespace napkin::ingest

@@ -1,0 +1,61 @@
+#include "ingest/synth.h"
+
+#include <nlohmann/json.hpp>
+
+#include "engine/error.h"
+#include "formats/array_json.h"
+#include "ingest/content_hash.h"
+#include "ingest/store.h"
+#include "records/array_record.h"
+
+namespace napkin::ingest {
+
+SynthPlan PlanSynth(const SynthRequest& request) {
+  SynthPlan plan;
+  plan.array = formats::LoadArray(request.array);
+  plan.array_record = records::MakeArrayRecord(plan.array);
+  const std::string name = engine::SynthScenarioName(request.scenario);
+  plan.series = request.series.empty() ? name : request.series;
+  engine::ScenarioOptions& scenario = plan.scenario;
+  scenario.scenario = request.scenario;
+  scenario.id_prefix = request.test_id.empty() ? name : request.test_id;
+  scenario.count = request.count;
+  scenario.seed = request.seed;
+  scenario.synth.rate_hz = request.rate_hz;
+  if (!engine::HasChosenDuration(request.scenario) && (request.samples || request.duration_s))
+    throw InputError("--samples and --duration apply to the random and padding-variants scenarios only; " + name +
+                     " has the report's fixed duration.");
+  scenario.duration_s =
+      request.samples ? (*request.samples - 1) / request.rate_hz : request.duration_s.value_or(0.2);
+  plan.tests = engine::ScenarioTests(scenario);
+  return plan;
+}
+
+SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan) {
+  const std::string name = engine::SynthScenarioName(plan.scenario.scenario);
+  SynthCounts counts;
+  for (const engine::ScenarioTest& scenario_test : plan.tests) {
+    const engine::SyntheticTest test = engine::SynthScenarioTest(plan.array, plan.scenario, scenario_test);
+    nlohmann::json synthetic = {{"scenario", name}, {"rate_hz", plan.scenario.synth.rate_hz}};
+    if (scenario_test.seed) synthetic["seed"] = *scenario_test.seed;
+    if (engine::HasChosenDuration(plan.scenario.scenario)) synthetic["duration_s"] = plan.scenario.duration_s;
+    if (scenario_test.load_factor) synthetic["load_factor"] = *scenario_test.load_factor;
+
+    db::TestRecord record;
+    record.external_id = scenario_test.external_id;
+    record.series = plan.series;
+    record.variant = scenario_test.variant;
+    record.metadata_json = nlohmann::json{{"synthetic", synthetic}}.dump();
+    record.initial_state = test.initial;
+    record.source_path = "synth:" + name;
+    record.content_hash = SyntheticContentHash(plan.array_record, test);
+    if (StoreTest(catalogue, plan.array, plan.array_record, record, test.signals)) {
+      ++counts.added;
+    } else {
+      ++counts.present;
+    }
+  }
+  return counts;
+}
+
+}  // namespace napkin::ingest

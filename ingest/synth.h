@@ -1,0 +1,52 @@
+#pragma once
+// The work of `napkin synth` as functions: the tests of a scenario
+// (engine::ScenarioTests) stored in the catalogue through StoreTest, one
+// transaction per test, idempotent by content hash (SyntheticContentHash).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/catalogue.h"
+#include "engine/array_geometry.h"
+#include "engine/synth.h"
+
+namespace napkin::ingest {
+
+struct SynthRequest {
+  engine::SynthScenario scenario = engine::SynthScenario::kRandom;
+  int count = 1;                     // random: tests; padding-variants: repeats per variant
+  std::uint64_t seed = 1;            // random generator seed of the first test
+  std::string array = "ideal-3222";  // array preset or JSON file the signals are generated for
+  std::string series;                // series label (default: the scenario name)
+  std::string test_id;               // test id, or the prefix of numbered ids (default: the scenario name)
+  std::optional<int> samples;        // random, padding-variants: samples per channel
+  std::optional<double> duration_s;  // ... or duration (default 0.2 s)
+  double rate_hz = 10000.0;          // sampling rate
+};
+
+// A request resolved and checked, before the catalogue is touched.
+struct SynthPlan {
+  engine::ArrayGeometry array;
+  db::ArrayRecord array_record;
+  engine::ScenarioOptions scenario;
+  std::string series;
+  std::vector<engine::ScenarioTest> tests;  // described; each is generated when it is stored
+};
+
+// Loads the array and lists the scenario's tests. Throws InputError for an
+// unknown array, or --samples / --duration given for a scenario of fixed
+// duration.
+SynthPlan PlanSynth(const SynthRequest& request);
+
+struct SynthCounts {
+  int added = 0;
+  int present = 0;  // same content already in the catalogue
+};
+
+// Generates and stores each test of `plan` (metadata {"synthetic": {scenario,
+// rate_hz, seed, duration_s, load_factor}} as far as they apply, source
+// "synth:<scenario>").
+SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan);
+
+}  // namespace napkin::ingest

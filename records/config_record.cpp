@@ -1,0 +1,28 @@
+#include "records/config_record.h"
+
+#include <filesystem>
+
+#include "formats/array_json.h"
+#include "formats/content_hash.h"
+#include "formats/processing_config_json.h"
+
+namespace napkin::records {
+
+db::ConfigRecord MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name) {
+  db::ConfigRecord record;
+  record.name = name;
+  record.config_json = formats::CanonicalProcessingConfig(config);
+  record.config_hash = formats::Sha256Hex(record.config_json);
+  return record;
+}
+
+ResolvedConfig ResolveConfig(const std::string& name_or_path) {
+  const std::string name = name_or_path.empty() ? "default" : name_or_path;
+  const std::filesystem::path path = formats::ResolvePreset(name, "processing");
+  ResolvedConfig resolved;
+  resolved.config = formats::ReadProcessingConfig(path);
+  resolved.record = MakeConfigRecord(resolved.config, path.stem().string());
+  return resolved;
+}
+
+}  // namespace napkin::records

@@ -1,0 +1,25 @@
+#pragma once
+// Processing configurations as catalogue records: the canonical JSON
+// (formats::CanonicalProcessingConfig) and its SHA-256, which identify the
+// results computed with the configuration.
+#include <string>
+
+#include "db/catalogue.h"
+#include "engine/processing.h"
+
+namespace napkin::records {
+
+// The record of `config` under `name`: name, canonical JSON and its SHA-256.
+db::ConfigRecord MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name);
+
+struct ResolvedConfig {
+  engine::ProcessingConfig config;
+  db::ConfigRecord record;  // name, canonical JSON and its SHA-256
+};
+
+// A processing configuration given by preset name or JSON path (empty: the
+// "default" preset), read and checked, with its record named after the
+// file's stem. Throws InputError naming the file and the key at fault.
+ResolvedConfig ResolveConfig(const std::string& name_or_path);
+
+}  // namespace napkin::records

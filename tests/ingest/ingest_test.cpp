@@ -1,0 +1,149 @@
+// Ingest: the content hashes existing catalogues hold (pinned byte for
+// byte), the one store sequence, and synthetic scenarios into the catalogue.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "db/catalogue.h"
+#include "engine/error.h"
+#include "formats/array_json.h"
+#include "ingest/content_hash.h"
+#include "ingest/store.h"
+#include "ingest/synth.h"
+#include "records/array_record.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::ingest {
+namespace {
+
+namespace fs = std::filesystem;
+
+void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// The expected digests are SHA-256 of the byte sequences the hashes are
+// defined by, computed independently (Python hashlib); a change here
+// would make existing catalogues import their tests a second time.
+TEST(ContentHashTest, SyntheticHashIsPinned) {
+  db::ArrayRecord array;
+  array.definition_hash = "array-hash";
+  engine::SyntheticTest test;
+  test.signals.slots = {"cg_x", "cg_y"};
+  test.signals.dt_s = 1e-4;
+  test.signals.t0_s = -0.01;
+  test.signals.samples.resize(3, 2);
+  test.signals.samples << 1, -4.5, 2, 5.25, 3, 1e300;
+  test.initial.orientation_rad = {0.1, 0.2, 0.3};
+  test.initial.velocity_fixed_mps = {1.5, -2.5, 3.5};
+  test.initial.omega_body_radps = {0.25, -0.5, 0.75};
+  EXPECT_EQ(SyntheticContentHash(array, test), "33855aa5525cd5ed506085e4f98c2f055d4f01e826f60ea50d2cb1cea753fff3");
+}
+
+TEST(ContentHashTest, InputHashesArePinned) {
+  napkin::testing::TempDir dir;
+  WriteText(dir / "t.csv", "t,cg_x\n0,1\n");
+  WriteText(dir / "v1.001", "first\n");
+  WriteText(dir / "v1.002", "second\n");
+  ImportInput csv;
+  csv.format = InputFormat::kCsv;
+  csv.source = dir / "t.csv";
+  EXPECT_EQ(InputContentHash(csv), "1bcd17f390aca6eade62177342d9520c0c04f9bc1f3da21a08f40dd710ebc53e");
+  ImportInput uds;
+  uds.format = InputFormat::kUds1992;
+  uds.source = dir / "v1.*";
+  uds.files = {dir / "v1.001", dir / "v1.002"};
+  EXPECT_EQ(InputContentHash(uds), "ee5c91a9294be5f480fbc7e55baca96fccaea646e995633d6031c61f0f14d191");
+}
+
+class StoreTestTest : public ::testing::Test {
+ protected:
+  StoreTestTest() : catalogue_(db::Catalogue::Open((dir_ / "c.db").string())) {
+    engine::RandomMotionOptions motion;
+    motion.duration_s = 0.01;
+    test_ = engine::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
+    record_.external_id = "t1";
+    record_.initial_state = test_.initial;
+    record_.source_path = "synth";
+    record_.content_hash = "content-t1";
+  }
+
+  napkin::testing::TempDir dir_;
+  db::Catalogue catalogue_;
+  engine::SyntheticTest test_;
+  db::TestRecord record_;
+};
+
+TEST_F(StoreTestTest, StoresArrayTestAndChannelsOnceByContent) {
+  const db::ArrayRecord array = records::MakeArrayRecord(test_.array);
+  const std::optional<db::TestId> id = StoreTest(catalogue_, test_.array, array, record_, test_.signals);
+  ASSERT_TRUE(id);
+  const db::TestRecord stored = catalogue_.ReadTest(*id);
+  EXPECT_EQ(stored.external_id, "t1");
+  EXPECT_EQ(catalogue_.ReadArray(stored.array_id).definition_json, array.definition_json);
+  const engine::TestSignals signals = catalogue_.ReadTestSignals(*id);
+  EXPECT_EQ(signals.slots, test_.signals.slots);
+  EXPECT_EQ(signals.samples, test_.signals.samples);
+
+  // The same content under another id is not stored again.
+  const std::string dump = catalogue_.Dump();
+  db::TestRecord again = record_;
+  again.external_id = "t2";
+  EXPECT_FALSE(StoreTest(catalogue_, test_.array, array, again, test_.signals));
+  EXPECT_EQ(catalogue_.Dump(), dump);
+}
+
+TEST_F(StoreTestTest, AChannelOutsideTheArrayStoresNothing) {
+  const std::string dump = catalogue_.Dump();
+  engine::TestSignals signals = test_.signals;
+  signals.slots[1] = "elbow_x";
+  try {
+    StoreTest(catalogue_, test_.array, records::MakeArrayRecord(test_.array), record_, signals);
+    ADD_FAILURE() << "a channel outside the array was stored";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), "channel 'elbow_x' is not a slot of array 'ideal-3222'.");
+  }
+  EXPECT_EQ(catalogue_.Dump(), dump);
+}
+
+TEST(SynthTest, PaddingVariantsAreLabelledAndStoredOnce) {
+  napkin::testing::TempDir dir;
+  db::Catalogue catalogue = db::Catalogue::Open((dir / "c.db").string());
+  SynthRequest request;
+  request.scenario = engine::SynthScenario::kPaddingVariants;
+  request.count = 2;
+  request.seed = 7;
+  request.samples = 101;
+  const SynthPlan plan = PlanSynth(request);
+  EXPECT_EQ(plan.series, "padding-variants");
+  ASSERT_EQ(plan.tests.size(), 6u);
+  const SynthCounts first = StoreSynthTests(catalogue, plan);
+  EXPECT_EQ(first.added, 6);
+  EXPECT_EQ(first.present, 0);
+  const db::TestRecord test = catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-variants-foam-a-02"));
+  EXPECT_EQ(test.series, "padding-variants");
+  EXPECT_EQ(test.variant, "foam-a");
+  EXPECT_EQ(test.source_path, "synth:padding-variants");
+  EXPECT_EQ(nlohmann::json::parse(test.metadata_json),
+            nlohmann::json::parse(R"({"synthetic":{"scenario":"padding-variants","rate_hz":10000.0,"seed":8,
+                                      "duration_s":0.01,"load_factor":0.8}})"));
+  const SynthCounts second = StoreSynthTests(catalogue, plan);
+  EXPECT_EQ(second.added, 0);
+  EXPECT_EQ(second.present, 6);
+}
+
+TEST(SynthTest, FixedDurationScenariosRefuseSamples) {
+  SynthRequest request;
+  request.scenario = engine::SynthScenario::kSeedSequential;
+  request.duration_s = 0.1;
+  try {
+    PlanSynth(request);
+    ADD_FAILURE() << "--duration accepted for seed-sequential";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "--samples and --duration apply to the random and padding-variants scenarios only; seed-sequential "
+              "has the report's fixed duration.");
+  }
+}
+
+}  // namespace
+}  // namespace napkin::ingest
