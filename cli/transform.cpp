@@ -43,6 +43,9 @@ TransformReport RunTransform(const TransformOptions& options) {
   report.warnings = std::move(csv.warnings);
   try {
     engine::ProcessedTest processed = engine::ProcessTest(array, csv.signals, initial, config);
+    // The verdict `napkin run` records: a test that fails there fails here,
+    // with the same sentence, before any output is written.
+    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
     report.kinematics = std::move(processed.kinematics);
     report.summary = std::move(processed.summary);
   } catch (const InputError& error) {

@@ -411,13 +411,9 @@ void Compute(WorkItem& item, const engine::ProcessingConfig& config, std::atomic
   const auto start = SteadyClock::now();
   try {
     item.processed = engine::ProcessTest(*item.array, item.signals, item.initial, config);
-    // Screening errors fail the test (PRODUCT.md: automated data screening);
-    // its findings are stored with the failure.
-    for (const engine::Finding& finding : item.processed.summary.findings)
-      if (finding.severity == engine::Severity::kError) {
-        item.error = finding.detail;
-        break;
-      }
+    // The verdict of engine/pipeline.h; a failed test's findings are stored
+    // with its failure.
+    if (const engine::Finding* failing = engine::FailingFinding(item.processed)) item.error = failing->detail;
   } catch (const InputError& error) {
     item.error = error.what();
   } catch (const std::exception& error) {
