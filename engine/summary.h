@@ -2,8 +2,10 @@
 // Per-test summary: every field of the query contract (FORMATS.md
 // "Per-test summary fields") plus the screening findings.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/kinematics.h"
@@ -25,7 +27,12 @@ struct Finding {
   std::string detail;                 // one sentence
 };
 
+inline constexpr std::array<Severity, 3> kSeverities{Severity::kInfo, Severity::kWarning, Severity::kError};
+
+// The one spelling of each severity ("info", "warning", "error") in the
+// summary JSON and the catalogue, and its inverse (nullopt for an unknown name).
 const char* SeverityName(Severity severity);
+std::optional<Severity> ParseSeverityName(std::string_view name);
 
 struct TestSummary {
   // query hic

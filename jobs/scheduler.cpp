@@ -35,8 +35,6 @@ double SecondsSince(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
 }
 
-const char* SolverName(engine::SolverKind kind) { return kind == engine::SolverKind::kSeed ? "seed" : "exact"; }
-
 std::string HostName() {
   char name[256] = {};
   if (gethostname(name, sizeof name - 1) != 0) return "localhost";
@@ -496,7 +494,7 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   LeaseBook book;
   RunState state;
   std::atomic<double> compute_s{0.0};
-  ResultWriter writer(writer_catalogue, report.config, SolverName(processing.config.solver), report.owner, options,
+  ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver), report.owner, options,
                       book, state, report, progress, start);
   JobReader reader(reader_catalogue, report.config, report.owner, options, processing.decode_array, book, state,
                    writer, report, stop);
