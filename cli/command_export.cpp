@@ -5,6 +5,8 @@
 #include <fmt/core.h>
 
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
@@ -29,8 +31,11 @@ class ExportCommand : public Command {
     sub->add_option(
         "--config", config_,
         "processing config preset or JSON file whose result to export (default: the latest result)");
+    std::vector<std::string> unit_systems;
+    for (const formats::LsDynaUnits system : formats::kLsDynaUnits)
+      unit_systems.emplace_back(formats::LsDynaUnitsName(system));
     sub->add_option("--units", units_, "lsdyna units: si (m, s) or english (in, s)")
-        ->check(CLI::IsMember({"si", "english"}))
+        ->check(CLI::IsMember(unit_systems))
         ->capture_default_str();
     sub->add_option("--part", part_, "lsdyna rigid part id")
         ->check(CLI::PositiveNumber)
@@ -65,7 +70,9 @@ class ExportCommand : public Command {
     } else if (format_ == "lsdyna") {
       formats::LsDynaOptions options;
       options.part_id = part_;
-      options.units = units_ == "english" ? formats::LsDynaUnits::kEnglish : formats::LsDynaUnits::kSi;
+      const std::optional<formats::LsDynaUnits> units = formats::ParseLsDynaUnitsName(units_);
+      if (!units) throw InputError("unknown lsdyna units \"" + units_ + "\" (use si or english).");
+      options.units = *units;
       formats::WriteLsDynaKeyword(*kinematics, out_, options);
     } else if (format_ == "lcfile") {
       formats::WriteLcFile(*kinematics, out_);
@@ -81,7 +88,7 @@ class ExportCommand : public Command {
   std::string format_;
   std::string out_;
   std::string config_;
-  std::string units_ = "si";
+  std::string units_ = formats::LsDynaUnitsName(formats::LsDynaUnits::kSi);
   int part_ = 1;
 };
 

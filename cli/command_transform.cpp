@@ -5,6 +5,7 @@
 #include "cli/command.h"
 #include "cli/transform.h"
 #include "cli/triple_option.h"
+#include "engine/solver.h"
 
 namespace napkin::cli {
 namespace {
@@ -18,8 +19,14 @@ class TransformCommand : public Command {
                     "initial orientation PHI,THETA,PSI (rad)");
     AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
                     "initial CG velocity VX,VY,VZ in the fixed frame (m/s)");
-    sub->add_option("--solver", options_.solver, "exact or seed (default: the config's, exact)")
-        ->check(CLI::IsMember({"exact", "seed"}));
+    std::vector<std::string> solvers;
+    std::string solver_help;
+    for (const engine::SolverKind kind : engine::kSolverKinds) {
+      solver_help += (solvers.empty() ? "" : " or ") + std::string(engine::SolverName(kind));
+      solvers.emplace_back(engine::SolverName(kind));
+    }
+    sub->add_option("--solver", options_.solver, solver_help + " (default: the config's, exact)")
+        ->check(CLI::IsMember(solvers));
     sub->add_option("--config", options_.config, "processing config preset or JSON file");
     sub->add_option("input", options_.input, "input signals (CSV)")->required();
     sub->add_option("--out", options_.out, "derived-channel CSV to write")->required();

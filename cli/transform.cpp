@@ -8,6 +8,7 @@
 #include "engine/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
+#include "engine/solver.h"
 #include "formats/array_json.h"
 #include "formats/csv.h"
 #include "formats/atomic_file.h"
@@ -18,6 +19,13 @@ namespace napkin::cli {
 namespace fs = std::filesystem;
 
 namespace {
+
+std::string SolverNames(const std::string& separator) {
+  std::string names;
+  for (const engine::SolverKind kind : engine::kSolverKinds)
+    names += (names.empty() ? "" : separator) + engine::SolverName(kind);
+  return names;
+}
 
 Eigen::Vector3d Vector3OrZero(const std::vector<double>& values) {
   return values.size() == 3 ? Eigen::Vector3d(values[0], values[1], values[2]) : Eigen::Vector3d::Zero();
@@ -33,8 +41,12 @@ TransformReport RunTransform(const TransformOptions& options) {
   // The same resolution as `napkin run` (empty: the "default" preset), so a
   // catalogue result equals the transform of the same input.
   engine::ProcessingConfig config = ResolveConfig(options.config).config;
-  if (!options.solver.empty())
-    config.solver = options.solver == "seed" ? engine::SolverKind::kSeed : engine::SolverKind::kExact;
+  if (!options.solver.empty()) {
+    const std::optional<engine::SolverKind> solver = engine::ParseSolverName(options.solver);
+    if (!solver) throw InputError("unknown solver \"" + options.solver + "\" (use " + SolverNames(" or ") + ").");
+    config.solver = *solver;
+    config.Check();  // the config's other settings may not suit this solver
+  }
   engine::InitialState initial;
   initial.orientation_rad = Vector3OrZero(options.orientation_rad);
   initial.velocity_fixed_mps = Vector3OrZero(options.initial_velocity_mps);
@@ -43,6 +55,9 @@ TransformReport RunTransform(const TransformOptions& options) {
   report.warnings = std::move(csv.warnings);
   try {
     engine::ProcessedTest processed = engine::ProcessTest(array, csv.signals, initial, config);
+    // The verdict `napkin run` records: a test that fails there fails here,
+    // with the same sentence, before any output is written.
+    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
     report.kinematics = std::move(processed.kinematics);
     report.summary = std::move(processed.summary);
   } catch (const InputError& error) {

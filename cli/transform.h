@@ -12,7 +12,7 @@ struct TransformOptions {
   std::string array;                         // preset name or array JSON path
   std::vector<double> orientation_rad;       // phi, theta, psi (empty: 0, 0, 0)
   std::vector<double> initial_velocity_mps;  // vx, vy, vz fixed frame (empty: 0)
-  std::string solver;                        // "exact" or "seed" (empty: the config's solver)
+  std::string solver;                        // engine::SolverName (empty: the config's solver)
   std::string config;                        // processing config preset/path (empty: default)
   std::string input;                         // signals file
   std::string out;                           // derived-channel CSV

@@ -27,10 +27,9 @@ void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
     field.Set(summary, row.ColumnDouble(column++));
 }
 
-// The inverse of engine::SeverityName, which wrote the column.
+// The column as engine::SeverityName wrote it.
 engine::Severity ParseSeverity(const std::string& text) {
-  for (const engine::Severity severity : {engine::Severity::kInfo, engine::Severity::kWarning, engine::Severity::kError})
-    if (text == engine::SeverityName(severity)) return severity;
+  if (const std::optional<engine::Severity> severity = engine::ParseSeverityName(text)) return *severity;
   throw InputError("finding severity '" + text + "' in the catalogue is not info, warning or error.");
 }
 

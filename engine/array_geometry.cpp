@@ -11,6 +11,22 @@
 
 namespace napkin::engine {
 
+const char* SensorKindName(SensorKind kind) {
+  switch (kind) {
+    case SensorKind::kLinear:
+      return "linear";
+    case SensorKind::kAngularRate:
+      return "angular_rate";
+  }
+  return "linear";
+}
+
+std::optional<SensorKind> ParseSensorKindName(std::string_view name) {
+  for (const SensorKind kind : kSensorKinds)
+    if (name == SensorKindName(kind)) return kind;
+  return std::nullopt;
+}
+
 std::optional<std::size_t> ArrayGeometry::FindSlot(std::string_view slot) const {
   for (std::size_t i = 0; i < sensors.size(); ++i)
     if (sensors[i].slot == slot) return i;

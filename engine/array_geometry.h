@@ -3,6 +3,7 @@
 // which axis. Body frame per SAE J211: x forward, y right, z down; positions
 // are seismic centres relative to the head CG.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -11,6 +12,13 @@
 namespace napkin::engine {
 
 enum class SensorKind { kLinear, kAngularRate };
+
+inline constexpr std::array<SensorKind, 2> kSensorKinds{SensorKind::kLinear, SensorKind::kAngularRate};
+
+// The one spelling of each kind in array JSON ("linear", "angular_rate"), and
+// its inverse (nullopt for an unknown name).
+const char* SensorKindName(SensorKind kind);
+std::optional<SensorKind> ParseSensorKindName(std::string_view name);
 
 struct Sensor {
   std::string slot;                                   // e.g. "cg_x", "yarm_z", "ars_x"

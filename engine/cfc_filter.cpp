@@ -9,6 +9,22 @@
 
 namespace napkin::engine {
 
+const char* CfcVariantName(CfcVariant variant) {
+  switch (variant) {
+    case CfcVariant::kSaeJ211:
+      return "sae";
+    case CfcVariant::kIso6487:
+      return "iso";
+  }
+  return "sae";
+}
+
+std::optional<CfcVariant> ParseCfcVariantName(std::string_view name) {
+  for (const CfcVariant variant : kCfcVariants)
+    if (name == CfcVariantName(variant)) return variant;
+  return std::nullopt;
+}
+
 namespace {
 
 // omega_a = tan(omega_d T / 2): the pre-warped analogue cut-off of one pass.

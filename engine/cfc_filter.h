@@ -18,6 +18,9 @@
 // samples) and the filter starts in the steady state of the first padded
 // value, so constants and straight lines pass unchanged, ends included.
 #include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string_view>
 
 namespace napkin::engine {
 
@@ -25,6 +28,13 @@ enum class CfcVariant {
   kSaeJ211,   // omega_d = 2 pi CFC 2.0775 (SAE J211/1 Appendix C)
   kIso6487,   // omega_d = 2 pi CFC 25/12 (ISO 6487)
 };
+
+inline constexpr std::array<CfcVariant, 2> kCfcVariants{CfcVariant::kSaeJ211, CfcVariant::kIso6487};
+
+// The one spelling of each variant in processing configs ("sae", "iso"), and
+// its inverse (nullopt for an unknown name).
+const char* CfcVariantName(CfcVariant variant);
+std::optional<CfcVariant> ParseCfcVariantName(std::string_view name);
 
 // The standard channel classes; any positive frequency is accepted too.
 inline constexpr double kCfc60 = 60.0;

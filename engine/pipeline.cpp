@@ -21,6 +21,13 @@ Eigen::Index FirstNonFinite(const Kinematics& kinematics) {
   return -1;
 }
 
+// The first error-severity finding, or nullptr: the verdict's rule.
+const Finding* FirstError(const std::vector<Finding>& findings) {
+  const auto error = std::find_if(findings.begin(), findings.end(),
+                                  [](const Finding& f) { return f.severity == Severity::kError; });
+  return error == findings.end() ? nullptr : &*error;
+}
+
 }  // namespace
 
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
@@ -60,9 +67,7 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
     message << "the solved kinematics diverge at sample " << diverged_at << " (t = "
             << processed.kinematics.time_s(diverged_at) << " s) because the channels are inconsistent with a rigid "
             << "body";
-    const auto error = std::find_if(findings.begin(), findings.end(),
-                                    [](const Finding& f) { return f.severity == Severity::kError; });
-    if (error != findings.end()) {
+    if (const Finding* error = FirstError(findings)) {
       std::string reason = error->detail;
       if (!reason.empty() && reason.back() == '.') reason.pop_back();
       message << " (screening: " << reason << ")";
@@ -76,5 +81,7 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   processed.summary.findings = std::move(findings);
   return processed;
 }
+
+const Finding* FailingFinding(const ProcessedTest& processed) { return FirstError(processed.summary.findings); }
 
 }  // namespace napkin::engine

@@ -1,8 +1,9 @@
 #pragma once
 // The transform core: everything napkin does to one test, from raw signals
-// to kinematics, criteria and screening findings. `napkin transform` and the
-// batch scheduler (jobs/) both call ProcessTest, so a catalogue result equals
-// the single-test result for the same input and configuration.
+// to kinematics, criteria and screening findings, and the verdict on it.
+// `napkin transform` and the batch scheduler (jobs/) both call ProcessTest
+// and FailingFinding, so a catalogue result (or failure) equals the
+// single-test result (or error) for the same input and configuration.
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/processing.h"
@@ -24,5 +25,12 @@ struct ProcessedTest {
 // solved kinematics diverge (quoting the screening error that explains it).
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                           const ProcessingConfig& config);
+
+// The verdict on a processed test: it fails on its first error-severity
+// finding (PRODUCT.md, automated data screening: a flipped or swapped
+// channel, saturation), whose detail is the failure sentence; nullptr when
+// it passes. `napkin run` records that sentence as the test's failure (with
+// the findings), `napkin transform` exits 1 with it and writes nothing.
+const Finding* FailingFinding(const ProcessedTest& processed);
 
 }  // namespace napkin::engine

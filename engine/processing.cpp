@@ -29,10 +29,34 @@ void CheckFinite(const std::string& key, double value) {
   if (!std::isfinite(value)) ThrowBadField(key, "a finite number", value);
 }
 
+// A setting that the others make irrelevant is refused rather than silently
+// ignored: a result must not look as if it honoured it.
+[[noreturn]] void ThrowIgnored(const std::string& key, const std::string& reason) {
+  throw InputError("processing config key \"" + key + "\" would be ignored: " + reason + ".");
+}
+
 // Sample tolerance for comparing a sample time with a configured time.
 double TimeTolerance(double dt_s) { return 1e-9 * dt_s; }
 
 }  // namespace
+
+const char* BiasModeName(BiasMode mode) {
+  switch (mode) {
+    case BiasMode::kAuto:
+      return "auto";
+    case BiasMode::kWindow:
+      return "window";
+    case BiasMode::kNone:
+      return "none";
+  }
+  return "auto";
+}
+
+std::optional<BiasMode> ParseBiasModeName(std::string_view name) {
+  for (const BiasMode mode : kBiasModes)
+    if (name == BiasModeName(mode)) return mode;
+  return std::nullopt;
+}
 
 void ProcessingConfig::Check() const {
   if (filter.linear_cfc) CheckPositive("filter.linear_cfc", *filter.linear_cfc);
@@ -63,6 +87,29 @@ void ProcessingConfig::Check() const {
     ThrowBadField("screening.saturation_run_samples", "an integer of at least 2", screening.saturation_run_samples);
   CheckPositive("screening.bias_limit_g", screening.bias_limit_g);
   CheckPositive("screening.bias_limit_radps", screening.bias_limit_radps);
+
+  // Combinations in which a setting would be silently ignored. Only a value
+  // other than the default can tell that a setting was asked for.
+  if (solver == SolverKind::kSeed && gravity.compensate)
+    throw InputError(
+        "processing config key \"gravity.compensate\" is not supported by the seed solver (LC_COMP has no gravity "
+        "term); use solver \"exact\" or turn it off.");
+  const ProcessingConfig defaults;
+  if (!gravity.compensate && gravity.g_fixed_mps2 != defaults.gravity.g_fixed_mps2)
+    ThrowIgnored("gravity.g_fixed", "gravity.compensate is false; turn compensation on or leave g_fixed out");
+  if (bias.mode != BiasMode::kWindow &&
+      (bias.window_start_s != defaults.bias.window_start_s || bias.window_end_s != defaults.bias.window_end_s))
+    ThrowIgnored("bias.window_s", std::string("bias.mode is \"") + BiasModeName(bias.mode) +
+                                      "\", the window is read only in mode \"window\"");
+  if (bias.mode != BiasMode::kAuto && bias.auto_min_pre_impact_s != defaults.bias.auto_min_pre_impact_s)
+    ThrowIgnored("bias.auto_min_pre_impact_s", std::string("bias.mode is \"") + BiasModeName(bias.mode) +
+                                                   "\", the minimum is read only in mode \"auto\"");
+  if (!filter.linear_cfc && !filter.angular_rate_cfc) {
+    if (filter.variant != defaults.filter.variant)
+      ThrowIgnored("filter.variant", "both filter classes are \"none\"");
+    if (filter.padding_s != defaults.filter.padding_s)
+      ThrowIgnored("filter.padding_s", "both filter classes are \"none\"");
+  }
 }
 
 SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState& initial) {

@@ -5,7 +5,9 @@
 // lives in formats/processing_config_json.h; its canonical dump identifies
 // the configuration of stored results.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
+#include <string_view>
 
 #include "engine/array_geometry.h"
 #include "engine/cfc_filter.h"
@@ -27,6 +29,13 @@ enum class BiasMode {
   kWindow,  // subtract the mean over [window_start_s, window_end_s] (error if the window holds no sample)
   kNone,    // keep the recorded offsets
 };
+
+inline constexpr std::array<BiasMode, 3> kBiasModes{BiasMode::kAuto, BiasMode::kWindow, BiasMode::kNone};
+
+// The one spelling of each mode in processing configs ("auto", "window",
+// "none"), and its inverse (nullopt for an unknown name).
+const char* BiasModeName(BiasMode mode);
+std::optional<BiasMode> ParseBiasModeName(std::string_view name);
 
 // Bias (zero offset) removal, applied to every channel after the time shift.
 struct BiasConfig {

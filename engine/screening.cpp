@@ -606,18 +606,4 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   return findings;
 }
 
-std::vector<Finding> Screen(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
-                            const ProcessingConfig& config) {
-  config.Check();
-  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
-  if (std::any_of(findings.begin(), findings.end(), IsFatal)) return findings;
-  TestSignals conditioned = raw_signals;
-  ApplyConditioning(array, conditioned, config);
-  SolveOptions options = MakeSolveOptions(config, initial);
-  options.solver = SolverKind::kExact;
-  const Kinematics kinematics = Solve(array, conditioned, options);
-  AppendFindings(ScreenConsistency(array, conditioned, kinematics, options, config.screening), findings);
-  return findings;
-}
-
 }  // namespace napkin::engine

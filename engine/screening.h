@@ -74,11 +74,6 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
                                        const Kinematics& exact_kinematics, const SolveOptions& exact_options,
                                        const ScreeningConfig& config);
 
-// Everything: ScreenSignals, then (unless it found a missing or non-finite
-// channel) conditioning, the exact solver and ScreenConsistency.
-std::vector<Finding> Screen(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
-                            const ProcessingConfig& config);
-
 // True for the findings after which the data cannot be processed at all
 // (missing or non-finite samples).
 bool IsFatal(const Finding& finding);

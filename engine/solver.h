@@ -1,6 +1,10 @@
 #pragma once
 // From the signals of a head accelerometer array to six-degree-of-freedom
 // kinematics. See ALGORITHMS.md "Solvers".
+#include <array>
+#include <optional>
+#include <string_view>
+
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/signals.h"
@@ -12,21 +16,34 @@ enum class SolverKind {
   kSeed,   // LC_COMP of report Appendix B, reproduced for legacy comparison
 };
 
+// Every solver, in the order their names are offered to users.
+inline constexpr std::array<SolverKind, 2> kSolverKinds{SolverKind::kExact, SolverKind::kSeed};
+
+// The one spelling of each solver ("exact", "seed") in processing configs,
+// the --solver option and the catalogue's results, and its inverse (nullopt
+// for an unknown name).
+const char* SolverName(SolverKind kind);
+std::optional<SolverKind> ParseSolverName(std::string_view name);
+
 struct GravityOptions {
   bool compensate = false;  // add back -(R^T - R0^T) g_fixed (ALGORITHMS.md "Gravity")
   Eigen::Vector3d g_fixed_mps2{0.0, 0.0, 9.80665};  // SAE: z down
 };
 
+inline constexpr int kDefaultCorrectorPasses = 3;
+
 struct SolveOptions {
   SolverKind solver = SolverKind::kExact;
   InitialState initial;
   GravityOptions gravity;
-  int corrector_passes = 3;  // predictor-corrector passes per sample (exact solver)
+  int corrector_passes = kDefaultCorrectorPasses;  // predictor-corrector passes per sample (exact solver)
 };
 
 // Solves one test. Throws InputError naming the slot when `signals` lacks a
 // channel of `array`, or the data are unusable (fewer than 2 samples,
-// non-finite values, non-positive dt).
+// non-finite values, non-positive dt), and when `options` asks the seed
+// solver for what it cannot do (gravity compensation, corrector passes)
+// rather than ignore it.
 Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options);
 
 }  // namespace napkin::engine

@@ -20,6 +20,12 @@ const char* SeverityName(Severity severity) {
   return "info";
 }
 
+std::optional<Severity> ParseSeverityName(std::string_view name) {
+  for (const Severity severity : kSeverities)
+    if (name == SeverityName(severity)) return severity;
+  return std::nullopt;
+}
+
 void SummarizeKinematics(const Kinematics& kin, TestSummary& summary) {
   const Eigen::Index n = kin.size();
   if (n == 0) return;

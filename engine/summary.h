@@ -4,8 +4,10 @@
 // and query groups of the numeric fields are in engine/summary_fields.h: a new
 // field goes there too (and into a schema migration).
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/kinematics.h"
@@ -27,7 +29,12 @@ struct Finding {
   std::string detail;                 // one sentence
 };
 
+inline constexpr std::array<Severity, 3> kSeverities{Severity::kInfo, Severity::kWarning, Severity::kError};
+
+// The one spelling of each severity ("info", "warning", "error") in the
+// summary JSON and the catalogue, and its inverse (nullopt for an unknown name).
 const char* SeverityName(Severity severity);
+std::optional<Severity> ParseSeverityName(std::string_view name);
 
 struct TestSummary {
   // query hic

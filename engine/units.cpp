@@ -1,24 +1,81 @@
 #include "engine/units.h"
 
-namespace napkin::engine {
+#include <array>
+#include <cctype>
+#include <string>
+#include <utility>
 
-std::optional<double> LengthUnitToMetres(std::string_view unit) {
-  if (unit == "m") return 1.0;
-  if (unit == "mm") return 1e-3;
-  if (unit == "in") return kMetresPerInch;
+namespace napkin::engine {
+namespace {
+
+void ReplaceAll(std::string& text, std::string_view from, std::string_view to) {
+  std::size_t position = 0;
+  while ((position = text.find(from, position)) != std::string::npos) {
+    text.replace(position, from.size(), to);
+    position += to.size();
+  }
+}
+
+// Canonical spelling: upper case, no blanks or parentheses, '^' for powers,
+// short unit names ("M/SEC**2" -> "M/S^2", "Degrees/Second" -> "DEG/S").
+std::string Canonical(std::string_view unit) {
+  std::string u;
+  for (const char c : unit)
+    if (!std::isspace(static_cast<unsigned char>(c)) && c != '(' && c != ')')
+      u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  ReplaceAll(u, "**", "^");
+  ReplaceAll(u, "\xC2\xB0", "DEG");  // degree sign (UTF-8)
+  ReplaceAll(u, "\xB0", "DEG");      // degree sign (ISO-8859-1)
+  for (const char* seconds : {"SECONDS", "SECOND", "SECS", "SEC"}) ReplaceAll(u, seconds, "S");
+  for (const char* metres : {"METERS", "METRES", "METER", "METRE"}) ReplaceAll(u, metres, "M");
+  for (const char* radians : {"RADIANS", "RADIAN"}) ReplaceAll(u, radians, "RAD");
+  for (const char* degrees : {"DEGREES", "DEGREE", "DEGS"}) ReplaceAll(u, degrees, "DEG");
+  ReplaceAll(u, "INCHES", "IN");
+  ReplaceAll(u, "INCH", "IN");
+  ReplaceAll(u, "FEET", "FT");
+  ReplaceAll(u, "FOOT", "FT");
+  return u;
+}
+
+constexpr std::array<std::pair<std::string_view, double>, 5> kMetresPer{
+    {{"M", 1.0}, {"MM", 1e-3}, {"CM", 1e-2}, {"IN", kMetresPerInch}, {"FT", kMetresPerFoot}}};
+
+std::optional<double> CanonicalLengthToMetres(const std::string& u) {
+  for (const auto& [name, factor] : kMetresPer)
+    if (u == name) return factor;
   return std::nullopt;
 }
 
-std::optional<double> LinearUnitToSi(std::string_view unit) {
-  if (unit == "g") return kStandardGravity;
-  if (unit == "m/s^2" || unit == "m/s2" || unit == "m/s**2") return 1.0;
+}  // namespace
+
+std::optional<SignalUnit> SignalUnitToSi(std::string_view unit) {
+  const std::string u = Canonical(unit);
+  if (u.empty()) return std::nullopt;
+  if (u == "G" || u == "G'S" || u == "GS" || u == "GN") return SignalUnit{SensorKind::kLinear, kStandardGravity};
+  for (const auto& [length, factor] : kMetresPer) {
+    const std::string p(length);
+    if (u == p + "/S^2" || u == p + "/S2" || u == p + "S^-2" || u == p + "S-2" || u == p + "/S/S")
+      return SignalUnit{SensorKind::kLinear, factor};
+  }
+  if (u == "RAD/S" || u == "RADPS" || u == "RAD/S^1" || u == "RADS^-1" || u == "RADS-1")
+    return SignalUnit{SensorKind::kAngularRate, 1.0};
+  if (u == "DEG/S" || u == "DEGPS" || u == "DEGS^-1" || u == "DEGS-1" || u == "DPS")
+    return SignalUnit{SensorKind::kAngularRate, kPi / 180.0};
   return std::nullopt;
+}
+
+std::optional<double> LengthUnitToMetres(std::string_view unit) { return CanonicalLengthToMetres(Canonical(unit)); }
+
+std::optional<double> LinearUnitToSi(std::string_view unit) {
+  const std::optional<SignalUnit> parsed = SignalUnitToSi(unit);
+  if (!parsed || parsed->kind != SensorKind::kLinear) return std::nullopt;
+  return parsed->si_per_unit;
 }
 
 std::optional<double> AngularRateUnitToSi(std::string_view unit) {
-  if (unit == "rad/s") return 1.0;
-  if (unit == "deg/s") return kPi / 180.0;
-  return std::nullopt;
+  const std::optional<SignalUnit> parsed = SignalUnitToSi(unit);
+  if (!parsed || parsed->kind != SensorKind::kAngularRate) return std::nullopt;
+  return parsed->si_per_unit;
 }
 
 }  // namespace napkin::engine

@@ -66,7 +66,7 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
 
   const std::string length_unit = RequireString(root, "length_unit", source, "the array");
   const std::optional<double> metres_per_unit = engine::LengthUnitToMetres(length_unit);
-  if (!metres_per_unit) Fail(source, "unknown length_unit \"" + length_unit + "\" (use in, mm or m)");
+  if (!metres_per_unit) Fail(source, "unknown length_unit \"" + length_unit + "\" (use m, mm, cm, in or ft)");
 
   const auto sensors = root.find("sensors");
   if (sensors == root.end()) Fail(source, "the array has no \"sensors\"");
@@ -84,13 +84,9 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
     if (!slots.insert(sensor.slot).second) Fail(source, where + " duplicates an earlier slot");
 
     const std::string type = RequireString(entry, "type", source, where);
-    if (type == "linear") {
-      sensor.kind = engine::SensorKind::kLinear;
-    } else if (type == "angular_rate") {
-      sensor.kind = engine::SensorKind::kAngularRate;
-    } else {
-      Fail(source, where + " has unknown type \"" + type + "\" (use linear or angular_rate)");
-    }
+    const std::optional<engine::SensorKind> kind = engine::ParseSensorKindName(type);
+    if (!kind) Fail(source, where + " has unknown type \"" + type + "\" (use linear or angular_rate)");
+    sensor.kind = *kind;
 
     sensor.unit = RequireString(entry, "unit", source, where);
     const std::optional<double> si_per_unit = sensor.kind == engine::SensorKind::kLinear
@@ -130,7 +126,7 @@ engine::ArrayGeometry ReadArrayJson(const std::filesystem::path& path) {
 
 json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_unit) {
   const std::optional<double> metres_per_unit = engine::LengthUnitToMetres(length_unit);
-  if (!metres_per_unit) throw InputError("unknown length unit \"" + std::string(length_unit) + "\" (use in, mm or m).");
+  if (!metres_per_unit) throw InputError("unknown length unit \"" + std::string(length_unit) + "\" (use m, mm, cm, in or ft).");
   json root = json::object();
   root["name"] = array.name;
   if (!array.description.empty()) root["description"] = array.description;
@@ -139,7 +135,7 @@ json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_uni
   for (const engine::Sensor& sensor : array.sensors) {
     json entry = json::object();
     entry["slot"] = sensor.slot;
-    entry["type"] = sensor.kind == engine::SensorKind::kLinear ? "linear" : "angular_rate";
+    entry["type"] = engine::SensorKindName(sensor.kind);
     const Eigen::Vector3d position = sensor.position_body_m / *metres_per_unit;
     entry["position"] = {position.x(), position.y(), position.z()};
     entry["axis"] = {sensor.axis_body.x(), sensor.axis_body.y(), sensor.axis_body.z()};

@@ -12,14 +12,6 @@
 namespace napkin::formats {
 namespace {
 
-void ReplaceAll(std::string& text, std::string_view from, std::string_view to) {
-  std::size_t position = 0;
-  while ((position = text.find(from, position)) != std::string::npos) {
-    text.replace(position, from.size(), to);
-    position += to.size();
-  }
-}
-
 std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
 
 }  // namespace
@@ -32,37 +24,7 @@ std::string RawChannel::Label() const {
 std::optional<SignalUnit> ParseSignalUnit(std::string_view unit, const std::string& where) {
   const std::string_view trimmed = Trim(unit);
   if (trimmed.empty() || EqualsIgnoreCase(trimmed, "NOVALUE") || EqualsIgnoreCase(trimmed, "NONE")) return std::nullopt;
-  std::string u = ToUpper(trimmed);
-  // Canonical spelling: no blanks, '^' for powers, short unit names.
-  ReplaceAll(u, " ", "");
-  ReplaceAll(u, "**", "^");
-  ReplaceAll(u, "\xC2\xB0", "DEG");  // degree sign (UTF-8)
-  ReplaceAll(u, "\xB0", "DEG");      // degree sign (ISO-8859-1)
-  for (const char* seconds : {"SECONDS", "SECOND", "SECS", "SEC"}) ReplaceAll(u, seconds, "S");
-  for (const char* metres : {"METERS", "METRES", "METER", "METRE"}) ReplaceAll(u, metres, "M");
-  for (const char* radians : {"RADIANS", "RADIAN"}) ReplaceAll(u, radians, "RAD");
-  for (const char* degrees : {"DEGREES", "DEGREE", "DEGS"}) ReplaceAll(u, degrees, "DEG");
-  ReplaceAll(u, "INCHES", "IN");
-  ReplaceAll(u, "INCH", "IN");
-  ReplaceAll(u, "FEET", "FT");
-  ReplaceAll(u, "FOOT", "FT");
-  ReplaceAll(u, "(", "");
-  ReplaceAll(u, ")", "");
-  using engine::SensorKind;
-  if (u == "G" || u == "G'S" || u == "GS" || u == "GN") return SignalUnit{SensorKind::kLinear, engine::kStandardGravity};
-  for (const auto& [prefix, factor] : {std::pair<const char*, double>{"M", 1.0},
-                                       {"MM", 1e-3},
-                                       {"CM", 1e-2},
-                                       {"IN", engine::kMetresPerInch},
-                                       {"FT", 0.3048}}) {
-    const std::string p = prefix;
-    if (u == p + "/S^2" || u == p + "/S2" || u == p + "S^-2" || u == p + "S-2" || u == p + "/S/S")
-      return SignalUnit{SensorKind::kLinear, factor};
-  }
-  if (u == "RAD/S" || u == "RADPS" || u == "RAD/S^1" || u == "RADS^-1" || u == "RADS-1")
-    return SignalUnit{SensorKind::kAngularRate, 1.0};
-  if (u == "DEG/S" || u == "DEGPS" || u == "DEGS^-1" || u == "DEGS-1" || u == "DPS")
-    return SignalUnit{SensorKind::kAngularRate, engine::kPi / 180.0};
+  if (const std::optional<SignalUnit> parsed = engine::SignalUnitToSi(trimmed)) return parsed;
   throw InputError(where + ": unrecognised unit " + Quoted(trimmed) +
                    " (napkin reads accelerations in g, m/s^2, ft/s^2, in/s^2 and angular rates in rad/s or deg/s).");
 }

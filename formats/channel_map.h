@@ -10,6 +10,7 @@
 
 #include "engine/array_geometry.h"
 #include "engine/signals.h"
+#include "engine/units.h"
 
 namespace napkin::formats {
 
@@ -29,14 +30,11 @@ struct RawChannel {
   std::string Label() const;
 };
 
-// Physical kind and SI factor of a signal unit.
-struct SignalUnit {
-  engine::SensorKind kind;
-  double si_per_unit;
-};
-// Parses the unit spellings of ISO-MME and UDS-1992 files ("g", "G'S",
-// "m/s**2", "M/SEC**2", "rad/s", "DEG/SEC", "°/s", ...). nullopt for a blank
-// or NOVALUE unit; throws InputError for an unrecognised one (naming `where`).
+using engine::SignalUnit;
+// The unit of an ISO-MME or UDS-1992 channel, in the spellings of
+// engine::SignalUnitToSi ("g", "G'S", "m/s**2", "M/SEC**2", "rad/s",
+// "DEG/SEC", "°/s", ...). nullopt for a blank or NOVALUE unit; throws
+// InputError for an unrecognised one (naming `where`).
 std::optional<SignalUnit> ParseSignalUnit(std::string_view unit, const std::string& where);
 
 // One slot of a channel map: ISO-MME code patterns ('?' matches any one

@@ -24,6 +24,22 @@ void AppendReal20(std::string& out, double value) {
 
 }  // namespace
 
+const char* LsDynaUnitsName(LsDynaUnits units) {
+  switch (units) {
+    case LsDynaUnits::kSi:
+      return "si";
+    case LsDynaUnits::kEnglish:
+      return "english";
+  }
+  return "si";
+}
+
+std::optional<LsDynaUnits> ParseLsDynaUnitsName(std::string_view name) {
+  for (const LsDynaUnits units : kLsDynaUnits)
+    if (name == LsDynaUnitsName(units)) return units;
+  return std::nullopt;
+}
+
 void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesystem::path& path,
                         const LsDynaOptions& options) {
   RequireSamples(kinematics, path);

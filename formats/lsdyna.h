@@ -4,7 +4,10 @@
 // Y, Z and angular velocity X, Y, Z) and six *BOUNDARY_PRESCRIBED_MOTION_RIGID
 // cards (DOF 1, 2, 3, 5, 6, 7; VAD = 0), and the report's legacy LC_FILE.DAT
 // (section 2.1.2, Appendix B listing).
+#include <array>
 #include <filesystem>
+#include <optional>
+#include <string_view>
 
 #include "engine/kinematics.h"
 
@@ -14,6 +17,13 @@ enum class LsDynaUnits {
   kSi,       // m, s (rad/s)
   kEnglish,  // in, s (rad/s), as the report's anatomic brain model
 };
+
+inline constexpr std::array<LsDynaUnits, 2> kLsDynaUnits{LsDynaUnits::kSi, LsDynaUnits::kEnglish};
+
+// The one spelling of each unit system ("si", "english"; `napkin export
+// --units`), and its inverse (nullopt for an unknown name).
+const char* LsDynaUnitsName(LsDynaUnits units);
+std::optional<LsDynaUnits> ParseLsDynaUnitsName(std::string_view name);
 
 struct LsDynaOptions {
   int part_id = 1;        // rigid part driven by the curves (--part)

@@ -104,22 +104,22 @@ class ObjectReader {
     }
   }
 
+  // A name of one of the engine's vocabularies: `parse` and `name` are its
+  // name<->enum pair, `all` its values (listed when the name is unknown).
   template <typename Enum, std::size_t N>
-  void Choice(const std::string& key, Enum& out, const std::array<std::pair<std::string_view, Enum>, N>& choices) const {
+  void Choice(const std::string& key, Enum& out, std::optional<Enum> (*parse)(std::string_view),
+              const char* (*name)(Enum), const std::array<Enum, N>& all) const {
     if (const json* value = Find(key)) {
       if (value->is_string()) {
-        const std::string text = value->get<std::string>();
-        for (const auto& [name, choice] : choices) {
-          if (name == text) {
-            out = choice;
-            return;
-          }
+        if (const std::optional<Enum> choice = parse(value->get<std::string>())) {
+          out = *choice;
+          return;
         }
       }
       std::string requirement = "one of";
       bool first = true;
-      for (const auto& choice : choices) {
-        requirement += (first ? " \"" : ", \"") + std::string(choice.first) + "\"";
+      for (const Enum choice : all) {
+        requirement += (first ? " \"" : ", \"") + std::string(name(choice)) + "\"";
         first = false;
       }
       Fail(Path(key), requirement);
@@ -139,20 +139,6 @@ class ObjectReader {
   const std::string& source_;
 };
 
-constexpr std::array<std::pair<std::string_view, engine::SolverKind>, 2> kSolvers{
-    {{"exact", engine::SolverKind::kExact}, {"seed", engine::SolverKind::kSeed}}};
-constexpr std::array<std::pair<std::string_view, engine::CfcVariant>, 2> kVariants{
-    {{"sae", engine::CfcVariant::kSaeJ211}, {"iso", engine::CfcVariant::kIso6487}}};
-constexpr std::array<std::pair<std::string_view, engine::BiasMode>, 3> kBiasModes{
-    {{"auto", engine::BiasMode::kAuto}, {"window", engine::BiasMode::kWindow}, {"none", engine::BiasMode::kNone}}};
-
-template <typename Enum, std::size_t N>
-std::string NameOf(Enum value, const std::array<std::pair<std::string_view, Enum>, N>& choices) {
-  for (const auto& [name, choice] : choices)
-    if (choice == value) return std::string(name);
-  return std::string(choices.front().first);
-}
-
 json Vector3Json(const Eigen::Vector3d& v) { return json::array({v[0], v[1], v[2]}); }
 
 json OptionalJson(const std::optional<double>& value) { return value ? json(*value) : json(nullptr); }
@@ -168,18 +154,19 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
                           "screening"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
-  top.Choice("solver", config.solver, kSolvers);
+  top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);
 
   if (const auto* object = top.Object("filter")) {
     const ObjectReader filter(*object, "filter", source, {"variant", "linear_cfc", "angular_rate_cfc", "padding_s"});
-    filter.Choice("variant", config.filter.variant, kVariants);
+    filter.Choice("variant", config.filter.variant, engine::ParseCfcVariantName, engine::CfcVariantName,
+                  engine::kCfcVariants);
     filter.FilterClass("linear_cfc", config.filter.linear_cfc);
     filter.FilterClass("angular_rate_cfc", config.filter.angular_rate_cfc);
     filter.Number("padding_s", config.filter.padding_s);
   }
   if (const auto* object = top.Object("bias")) {
     const ObjectReader bias(*object, "bias", source, {"mode", "window_s", "auto_min_pre_impact_s"});
-    bias.Choice("mode", config.bias.mode, kBiasModes);
+    bias.Choice("mode", config.bias.mode, engine::ParseBiasModeName, engine::BiasModeName, engine::kBiasModes);
     if (const auto* window = bias.Find("window_s")) {
       if (!window->is_array() || window->size() != 2 || !(*window)[0].is_number() || !(*window)[1].is_number())
         bias.Fail("bias.window_s", "an array of 2 numbers [start, end] in seconds");
@@ -233,12 +220,12 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
 
 nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
   json out = json::object();
-  out["solver"] = NameOf(config.solver, kSolvers);
-  out["filter"] = {{"variant", NameOf(config.filter.variant, kVariants)},
+  out["solver"] = engine::SolverName(config.solver);
+  out["filter"] = {{"variant", engine::CfcVariantName(config.filter.variant)},
                    {"linear_cfc", FilterClassJson(config.filter.linear_cfc)},
                    {"angular_rate_cfc", FilterClassJson(config.filter.angular_rate_cfc)},
                    {"padding_s", config.filter.padding_s}};
-  out["bias"] = {{"mode", NameOf(config.bias.mode, kBiasModes)},
+  out["bias"] = {{"mode", engine::BiasModeName(config.bias.mode)},
                  {"window_s", json::array({config.bias.window_start_s, config.bias.window_end_s})},
                  {"auto_min_pre_impact_s", config.bias.auto_min_pre_impact_s}};
   out["time"] = {{"shift_s", config.time.shift_s},

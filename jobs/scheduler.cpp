@@ -36,8 +36,6 @@ double SecondsSince(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
 }
 
-const char* SolverName(engine::SolverKind kind) { return kind == engine::SolverKind::kSeed ? "seed" : "exact"; }
-
 std::string HostName() {
   char name[256] = {};
   if (gethostname(name, sizeof name - 1) != 0) return "localhost";
@@ -416,13 +414,9 @@ void Compute(WorkItem& item, const engine::ProcessingConfig& config, std::atomic
   const auto start = SteadyClock::now();
   try {
     item.processed = engine::ProcessTest(*item.array, item.signals, item.initial, config);
-    // Screening errors fail the test (PRODUCT.md: automated data screening);
-    // its findings are stored with the failure.
-    for (const engine::Finding& finding : item.processed.summary.findings)
-      if (finding.severity == engine::Severity::kError) {
-        item.error = finding.detail;
-        break;
-      }
+    // The verdict of engine/pipeline.h; a failed test's findings are stored
+    // with its failure.
+    if (const engine::Finding* failing = engine::FailingFinding(item.processed)) item.error = failing->detail;
   } catch (const InputError& error) {
     item.error = error.what();
   } catch (const std::exception& error) {
@@ -505,7 +499,7 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   LeaseBook book;
   RunState state;
   std::atomic<double> compute_s{0.0};
-  ResultWriter writer(writer_catalogue, report.config, SolverName(processing.config.solver), report.owner, options,
+  ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver), report.owner, options,
                       book, state, report, progress, start);
   JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, writer, report, stop);
   try {

@@ -88,7 +88,8 @@ int IoBaseline(const std::string& path, int batch) {
     for (const Output& output : outputs) {
       engine::TestSummary summary;
       summary.hic15.value = static_cast<double>(output.job.test_id);
-      catalogue.WriteResult(output.job.test_id, config_id, summary, "exact", &output.kinematics);
+      catalogue.WriteResult(output.job.test_id, config_id, summary, engine::SolverName(config.solver),
+                            &output.kinematics);
       queue.CompleteJob(output.job.id, owner);
     }
     transaction.Commit();

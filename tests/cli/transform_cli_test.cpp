@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/transform.h"
+#include "engine/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/synth.h"
 #include "formats/csv.h"
@@ -109,6 +111,31 @@ TEST_F(TransformCliTest, SeedSolverRunsThroughTheSameCommand) {
                       input_.string(), "--out", (dir_ / "seed.csv").string()});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_TRUE(fs::exists(dir_ / "seed.csv"));
+}
+
+// An unknown solver name is an error, never the exact solver (issue 8).
+TEST_F(TransformCliTest, UnknownSolverIsRefusedNotTakenForExact) {
+  const CommandResult usage = RunProgram(
+      NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--solver", "fast", "--orientation", "0.5,0.5,0.5",
+                      input_.string(), "--out", (dir_ / "fast.csv").string()});
+  EXPECT_EQ(usage.exit_code, 2) << usage.err;
+  EXPECT_NE(usage.err.find("fast"), std::string::npos) << usage.err;
+  // RunTransform itself (as `napkin demo` calls it) refuses it too.
+  cli::TransformOptions options;
+  options.array = "denton-3222";
+  options.solver = "fast";
+  options.orientation_rad = {0.5, 0.5, 0.5};
+  options.input = input_.string();
+  options.out = (dir_ / "fast.csv").string();
+  try {
+    cli::RunTransform(options);
+    ADD_FAILURE() << "an unknown solver was accepted";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("unknown solver \"fast\""), std::string::npos) << message;
+    EXPECT_NE(message.find("exact or seed"), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "fast.csv"));
 }
 
 TEST_F(TransformCliTest, MissingColumnIsRefused) {

@@ -1,5 +1,6 @@
 // `napkin transform --summary` end to end (issue 3): the summary carries HIC,
-// BrIC, DAMAGE and the screening findings (`quality`) of the input file.
+// BrIC, DAMAGE and the screening findings (`quality`) of the input file; an
+// error-severity finding fails the file as `napkin run` fails it (issue 8).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,10 +61,37 @@ TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out.csv"));
 }
 
-TEST(TransformScreening, SummaryNamesTheSpikedAndTheClippedChannel) {
+TEST(TransformScreening, SummaryNamesTheSpikedChannel) {
   testing::TempDir dir;
   engine::SyntheticTest test = Motion();
-  const engine::SyntheticTest clean = test;
+  auto spiked = test.signals.samples.col(test.signals.FindSlot("xarm_y"));
+  spiked(700) += 120.0;  // g
+  formats::WriteSignalsCsv(test.signals, dir / "spiked.csv");
+  const testing::CommandResult run = Transform(dir, test, (dir / "spiked.csv").string());
+  // A warning does not fail the test: it is processed and flagged.
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
+  for (const char* key : {"hic15", "hic15_t1_s", "bric", "damage", "peak_omega_radps"})
+    EXPECT_TRUE(summary.at(key).is_number()) << key;
+  bool spike = false;
+  for (const auto& finding : summary.at("quality")) {
+    EXPECT_NE(finding.at("severity"), "error") << finding.dump();
+    if (finding.at("check") == "spike") {
+      EXPECT_EQ(finding.at("channel"), "xarm_y") << finding.dump();
+      EXPECT_EQ(finding.at("severity"), "warning");
+      EXPECT_NE(finding.at("detail").get<std::string>().find("sample 700 "), std::string::npos) << finding.dump();
+      spike = true;
+    }
+  }
+  EXPECT_TRUE(spike) << summary.at("quality").dump(2);
+}
+
+// An error-severity finding fails the test in `napkin transform` as in
+// `napkin run` (engine::FailingFinding): exit 1, the finding's sentence
+// naming the file and the channel, no output.
+TEST(TransformScreening, ClippedChannelFailsNamingItAndWritesNothing) {
+  testing::TempDir dir;
+  engine::SyntheticTest test = Motion();
   auto spiked = test.signals.samples.col(test.signals.FindSlot("xarm_y"));
   spiked(700) += 120.0;  // g
   auto clipped = test.signals.samples.col(test.signals.FindSlot("cg_z"));
@@ -71,28 +99,11 @@ TEST(TransformScreening, SummaryNamesTheSpikedAndTheClippedChannel) {
   clipped = clipped.cwiseMax(-clip).cwiseMin(clip);
   formats::WriteSignalsCsv(test.signals, dir / "faulty.csv");
   const testing::CommandResult run = Transform(dir, test, (dir / "faulty.csv").string());
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
-  for (const char* key : {"hic15", "hic15_t1_s", "bric", "damage", "peak_omega_radps"})
-    EXPECT_TRUE(summary.at(key).is_number()) << key;
-  bool spike = false, saturation = false;
-  for (const auto& finding : summary.at("quality")) {
-    if (finding.at("check") == "spike") {
-      EXPECT_EQ(finding.at("channel"), "xarm_y") << finding.dump();
-      EXPECT_EQ(finding.at("severity"), "warning");
-      EXPECT_NE(finding.at("detail").get<std::string>().find("sample 700 "), std::string::npos) << finding.dump();
-      spike = true;
-    }
-    if (finding.at("check") == "saturation") {
-      EXPECT_EQ(finding.at("channel"), "cg_z") << finding.dump();
-      EXPECT_EQ(finding.at("severity"), "error");
-      saturation = true;
-    }
-  }
-  EXPECT_TRUE(spike) << summary.at("quality").dump(2);
-  EXPECT_TRUE(saturation) << summary.at("quality").dump(2);
-  // The clipped channel is still processed: the HIC15 moves off the truth.
-  EXPECT_NE(summary.at("hic15").get<double>(), TrueHic15(clean));
+  EXPECT_EQ(run.exit_code, 1);
+  cli::test::ExpectOneSentenceError(run, {"faulty.csv: ", "cg_z", "saturat"});
+  EXPECT_EQ(run.err.find("xarm_y"), std::string::npos) << "a warning is not the verdict: " << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
 }
 
 TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
@@ -112,8 +123,9 @@ TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
 }
 
 // With angular-rate sensors omega is measured, not integrated: a flipped
-// linear channel leaves the solve finite; it is processed and flagged.
-TEST(TransformScreening, FlippedChannelIsFlaggedInTheSummary) {
+// linear channel leaves the solve finite, but its polarity error fails the
+// test all the same (as `napkin run` fails it): exit 1, nothing written.
+TEST(TransformScreening, FlippedChannelFailsNamingItAndWritesNothing) {
   testing::TempDir dir;
   engine::RandomMotionOptions options;
   options.seed = 3;
@@ -121,17 +133,57 @@ TEST(TransformScreening, FlippedChannelIsFlaggedInTheSummary) {
   test.signals.samples.col(test.signals.FindSlot("yarm_z")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
   const testing::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string(), "nap-ars-12");
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
-  EXPECT_TRUE(summary.at("hic15").is_number());
-  int polarity = 0;
-  for (const auto& finding : summary.at("quality")) {
-    if (finding.at("check") != "polarity") continue;
-    EXPECT_EQ(finding.at("channel"), "yarm_z") << finding.dump();
-    EXPECT_EQ(finding.at("severity"), "error");
-    ++polarity;
-  }
-  EXPECT_EQ(polarity, 1) << summary.at("quality").dump(2);
+  EXPECT_EQ(run.exit_code, 1);
+  cli::test::ExpectOneSentenceError(run, {"flipped.csv: ", "yarm_z appears sign flipped"});
+  EXPECT_EQ(run.err.find("diverge"), std::string::npos) << "the solve is finite: " << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
+}
+
+// `napkin run` and `napkin transform` reach one verdict on the same file: the
+// failure run records is, word for word, the sentence transform exits with
+// (after the file name); a clean file passes both.
+TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
+  testing::TempDir dir;
+  engine::RandomMotionOptions options;
+  options.seed = 3;
+  const engine::SyntheticTest clean = engine::SynthRandomMotion(testing::NapArs12(), options);
+  engine::SyntheticTest flipped = clean;
+  flipped.signals.samples.col(flipped.signals.FindSlot("yarm_z")) *= -1.0;
+  std::filesystem::create_directories(dir / "tests");
+  formats::WriteSignalsCsv(clean.signals, dir / "tests" / "clean.csv");
+  formats::WriteSignalsCsv(flipped.signals, dir / "tests" / "flipped.csv");
+
+  const std::string db = (dir / "verdict.db").string();
+  const testing::CommandResult import = cli::test::RunNapkin(
+      dir.path(), {"--db", db, "import", "--array", "nap-ars-12", "--series", "verdict",
+                   cli::test::TripleFlag("--orientation", clean.initial.orientation_rad),
+                   cli::test::TripleFlag("--initial-velocity", clean.initial.velocity_fixed_mps),
+                   (dir / "tests").string()});
+  ASSERT_EQ(import.exit_code, 0) << import.err;
+  const testing::CommandResult run = cli::test::RunNapkin(dir.path(), {"--db", db, "run"});
+  EXPECT_EQ(run.exit_code, 3) << run.err;  // partial success: one test failed
+  const testing::CommandResult status = cli::test::RunNapkin(dir.path(), {"--db", db, "status", "--format", "json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const nlohmann::json counts = nlohmann::json::parse(status.out);
+  EXPECT_EQ(counts.at("done"), 1) << status.out;
+  ASSERT_EQ(counts.at("failures").size(), 1u) << status.out;
+  EXPECT_EQ(counts.at("failures")[0].at("test_id"), "flipped") << status.out;
+  const std::string stored = counts.at("failures")[0].at("error").get<std::string>();
+  EXPECT_NE(stored.find("yarm_z appears sign flipped"), std::string::npos) << stored;
+
+  const std::string flipped_csv = (dir / "tests" / "flipped.csv").string();
+  const testing::CommandResult failed = Transform(dir, flipped, flipped_csv, "nap-ars-12");
+  EXPECT_EQ(failed.exit_code, 1);
+  EXPECT_EQ(failed.err, "napkin: " + flipped_csv + ": " + stored + "\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
+
+  const testing::CommandResult passed =
+      Transform(dir, clean, (dir / "tests" / "clean.csv").string(), "nap-ars-12");
+  EXPECT_EQ(passed.exit_code, 0) << passed.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "s.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out.csv"));
 }
 
 TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {

@@ -150,6 +150,7 @@ TEST(Conditioning, WindowAndNoneBiasModes) {
   TestSignals outside = NoisySignals(0.0, 600);
   EXPECT_THROW(ApplyConditioning(array, outside, config), InputError);
 
+  config.bias = {};  // mode "none" with a window set is refused (Check: the window would be ignored)
   config.bias.mode = BiasMode::kNone;
   TestSignals untouched = NoisySignals(-0.01, 600);
   const Eigen::MatrixXd untouched_raw = untouched.samples;

@@ -58,9 +58,25 @@ std::vector<Finding> ProcessFindings(const SyntheticTest& test, const Processing
 
 std::string Describe(const std::vector<Finding>& findings);
 
+// The findings ProcessTest has gathered (default config) when it stops on
+// diverged kinematics: the raw-signal checks, then the rigid-body checks on
+// the exact solve of the conditioned signals.
+std::vector<Finding> FindingsBeforeDivergence(const SyntheticTest& test) {
+  const ProcessingConfig config;
+  std::vector<Finding> findings = ScreenSignals(test.array, test.signals, test.initial, config);
+  TestSignals conditioned = test.signals;
+  ApplyConditioning(test.array, conditioned, config);
+  const SolveOptions exact_options = MakeSolveOptions(config, test.initial);
+  EXPECT_EQ(exact_options.solver, SolverKind::kExact);
+  const Kinematics kinematics = Solve(test.array, conditioned, exact_options);
+  AppendFindings(ScreenConsistency(test.array, conditioned, kinematics, exact_options, config.screening), findings);
+  return findings;
+}
+
 // Findings of ProcessTest on a faulty test. A fault that makes the solved
 // kinematics diverge stops ProcessTest with an InputError that must name
-// the channel at fault; the findings then come from Screen.
+// the channel at fault; the findings then come from the screening checks
+// ProcessTest ran before it stopped.
 std::vector<Finding> FaultFindings(const SyntheticTest& test, const std::string& slot) {
   try {
     return ProcessFindings(test);
@@ -68,7 +84,7 @@ std::vector<Finding> FaultFindings(const SyntheticTest& test, const std::string&
     const std::string message = error.what();
     EXPECT_NE(message.find("diverge"), std::string::npos) << message;
     EXPECT_NE(message.find(slot), std::string::npos) << message;
-    return Screen(test.array, test.signals, test.initial, ProcessingConfig{});
+    return FindingsBeforeDivergence(test);
   }
 }
 
@@ -329,6 +345,32 @@ TEST(Screening, SeedSolverRunsAreScreenedWithTheExactResidual) {
   ProcessingConfig config;
   config.solver = SolverKind::kSeed;
   ExpectOnly(ProcessFindings(test, config), "polarity", {"yarm_x"}, Severity::kError, "seed solver, flipped yarm_x");
+}
+
+// The verdict beside ProcessTest: a clean test and one with warnings only
+// pass; the first error-severity finding fails the test with its sentence.
+TEST(Verdict, FirstErrorFindingFailsTheTest) {
+  const SyntheticTest clean = RandomTest(testing::NapArs12(), 3);
+  EXPECT_EQ(FailingFinding(ProcessTest(clean.array, clean.signals, clean.initial, {})), nullptr);
+
+  SyntheticTest spiked = clean;
+  Column(spiked, "yarm_z")(700) += 100.0;  // g
+  const ProcessedTest warned = ProcessTest(spiked.array, spiked.signals, spiked.initial, {});
+  ExpectOnly(warned.summary.findings, "spike", {"yarm_z"}, Severity::kWarning, "spike on yarm_z");
+  EXPECT_EQ(FailingFinding(warned), nullptr) << Describe(warned.summary.findings);
+
+  SyntheticTest flipped = clean;
+  Column(flipped, "yarm_z") *= -1.0;
+  const ProcessedTest failed = ProcessTest(flipped.array, flipped.signals, flipped.initial, {});
+  const Finding* failing = FailingFinding(failed);
+  ASSERT_NE(failing, nullptr) << Describe(failed.summary.findings);
+  EXPECT_EQ(failing->check, "polarity");
+  EXPECT_EQ(failing->channel, "yarm_z");
+  EXPECT_EQ(failing->severity, Severity::kError);
+  for (const Finding& f : failed.summary.findings) {
+    if (&f == failing) break;
+    EXPECT_NE(f.severity, Severity::kError) << "not the first error finding\n" << Describe(failed.summary.findings);
+  }
 }
 
 TEST(Screening, FlatChannelIsInfo) {

@@ -113,7 +113,8 @@ TEST(ArrayJsonTest, BadDefinitionsNameFileAndSlot) {
   ExpectArrayError(WriteText(dir, "syntax.json", "{\"length_unit\": "), "not valid JSON");
   ExpectArrayError(WriteText(dir, "root.json", "[1, 2]"), "must be a JSON object");
   ExpectArrayError(WriteText(dir, "nounit.json", R"({"sensors": []})"), "length_unit");
-  ExpectArrayError(WriteText(dir, "badlen.json", R"({"length_unit": "ft", "sensors": []})"), "unknown length_unit \"ft\"");
+  ExpectArrayError(WriteText(dir, "badlen.json", R"({"length_unit": "furlong", "sensors": []})"),
+                   "unknown length_unit \"furlong\"");
   ExpectArrayError(WriteText(dir, "nosensors.json", R"({"length_unit": "in"})"), "no \"sensors\"");
   ExpectArrayError(WriteText(dir, "empty.json", R"({"length_unit": "in", "sensors": []})"), "no sensors");
   ExpectArrayError(WriteText(dir, "type.json", array_with(R"({"slot": "q", "type": "gyro", "axis": [1,0,0], "unit": "g"})")),

@@ -27,17 +27,16 @@ std::string ErrorOf(const json& document) {
   return "";
 }
 
+// Every field away from its default. Settings that exclude each other
+// (ProcessingConfig::Check refuses a setting another one would ignore) are
+// split between this configuration and SeedWindowConfig().
 engine::ProcessingConfig NonDefaultConfig() {
   engine::ProcessingConfig config;
-  config.solver = engine::SolverKind::kSeed;
   config.filter.variant = engine::CfcVariant::kIso6487;
   config.filter.linear_cfc = 600.0;
   config.filter.angular_rate_cfc.reset();
   config.filter.padding_s = 0.025;
-  config.bias.mode = engine::BiasMode::kWindow;
-  config.bias.window_start_s = -0.02;
-  config.bias.window_end_s = -0.001;
-  config.bias.auto_min_pre_impact_s = 0.002;
+  config.bias.auto_min_pre_impact_s = 0.002;  // mode "auto" (SeedWindowConfig has "window")
   config.time.shift_s = 0.0123;
   config.time.start_s = -0.005;
   config.time.end_s.reset();
@@ -51,6 +50,18 @@ engine::ProcessingConfig NonDefaultConfig() {
   config.screening.saturation_run_samples = 9;
   config.screening.bias_limit_g = 0.75;
   config.screening.bias_limit_radps = 0.125;
+  return config;
+}
+
+// The seed solver (no gravity compensation) and a bias window.
+engine::ProcessingConfig SeedWindowConfig() {
+  engine::ProcessingConfig config = NonDefaultConfig();
+  config.solver = engine::SolverKind::kSeed;
+  config.gravity = {};
+  config.bias.mode = engine::BiasMode::kWindow;
+  config.bias.window_start_s = -0.02;
+  config.bias.window_end_s = -0.001;
+  config.bias.auto_min_pre_impact_s = engine::BiasConfig{}.auto_min_pre_impact_s;
   return config;
 }
 
@@ -82,23 +93,24 @@ TEST(ProcessingConfigJson, CanonicalFormHasEveryFieldSorted) {
 }
 
 TEST(ProcessingConfigJson, RoundTripIsExactAndCanonical) {
-  const engine::ProcessingConfig config = NonDefaultConfig();
-  const json canonical = ProcessingConfigToJson(config);
-  const engine::ProcessingConfig parsed = ParseProcessingConfig(canonical, "round trip");
-  EXPECT_EQ(CanonicalProcessingConfig(parsed), CanonicalProcessingConfig(config));
-  EXPECT_EQ(parsed.bric.critical_radps, config.bric.critical_radps);  // 1/3 survives bit for bit
-  EXPECT_EQ(parsed.time.start_s, config.time.start_s);
-  EXPECT_FALSE(parsed.time.end_s.has_value());
-  EXPECT_FALSE(parsed.filter.angular_rate_cfc.has_value());
-  EXPECT_EQ(canonical["filter"]["angular_rate_cfc"], "none");
-  // ADL hooks.
-  const json via_adl = config;
-  EXPECT_EQ(via_adl, canonical);
-  EXPECT_EQ(CanonicalProcessingConfig(via_adl.get<engine::ProcessingConfig>()), CanonicalProcessingConfig(config));
-  // A different configuration has a different canonical dump.
-  engine::ProcessingConfig other = config;
-  other.hic.from_time_zero = false;
-  EXPECT_NE(CanonicalProcessingConfig(other), CanonicalProcessingConfig(config));
+  for (const engine::ProcessingConfig& config : {NonDefaultConfig(), SeedWindowConfig()}) {
+    const json canonical = ProcessingConfigToJson(config);
+    const engine::ProcessingConfig parsed = ParseProcessingConfig(canonical, "round trip");
+    EXPECT_EQ(CanonicalProcessingConfig(parsed), CanonicalProcessingConfig(config));
+    EXPECT_EQ(parsed.bric.critical_radps, config.bric.critical_radps);  // 1/3 survives bit for bit
+    EXPECT_EQ(parsed.time.start_s, config.time.start_s);
+    EXPECT_FALSE(parsed.time.end_s.has_value());
+    EXPECT_FALSE(parsed.filter.angular_rate_cfc.has_value());
+    EXPECT_EQ(canonical["filter"]["angular_rate_cfc"], "none");
+    // ADL hooks.
+    const json via_adl = config;
+    EXPECT_EQ(via_adl, canonical);
+    EXPECT_EQ(CanonicalProcessingConfig(via_adl.get<engine::ProcessingConfig>()), CanonicalProcessingConfig(config));
+    // A different configuration has a different canonical dump.
+    engine::ProcessingConfig other = config;
+    other.hic.from_time_zero = false;
+    EXPECT_NE(CanonicalProcessingConfig(other), CanonicalProcessingConfig(config));
+  }
 }
 
 TEST(ProcessingConfigJson, PartialDocumentsKeepDefaultsAndIntegersEqualDoubles) {
@@ -157,7 +169,14 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigErrorCase{"text_for_time", R"({"time": {"start_s": "0"}})", {"time.start_s"}},
         ConfigErrorCase{"array_for_section", R"({"gravity": []})", {"gravity", "object"}},
         ConfigErrorCase{"unknown_solver", R"({"solver": "fast"})", {"solver", "\"exact\""}},
-        ConfigErrorCase{"array_for_document", R"([1, 2])", {"test.json", "object"}}),
+        ConfigErrorCase{"array_for_document", R"([1, 2])", {"test.json", "object"}},
+        // Settings another one would silently ignore are refused (issue 8).
+        ConfigErrorCase{"seed_solver_with_gravity_compensation",
+                        R"({"solver": "seed", "gravity": {"compensate": true}})",
+                        {"test.json: ", "gravity.compensate", "seed solver", "\"exact\""}},
+        ConfigErrorCase{"bias_window_without_window_mode",
+                        R"({"bias": {"mode": "none", "window_s": [-0.02, 0.0]}})",
+                        {"test.json: ", "bias.window_s", "ignored", "\"none\""}}),
     testing::CaseName());
 
 TEST(ProcessingConfigJson, DefaultPresetIsTheDefaultConfiguration) {
