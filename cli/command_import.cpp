@@ -4,6 +4,7 @@
 // inputs were refused but others stored (or already present), 1 when none
 // could be stored.
 #include <fmt/core.h>
+#include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <iostream>
@@ -52,21 +53,15 @@ class ImportCommand : public Command {
       if (show_bar && !progress_bar) progress_bar = std::make_unique<ProgressBar>(total, true);
       const bool prints = !result.warnings.empty() || result.outcome != ingest::ImportOutcome::kImported;
       if (progress_bar && prints) progress_bar->Clear();
-      for (const std::string& warning : result.warnings) std::cerr << "napkin: warning: " << warning << "\n";
+      for (const std::string& warning : result.warnings) spdlog::warn("{}", warning);
       if (result.outcome == ingest::ImportOutcome::kFailed) {
-        std::cerr << "napkin: " << result.message << "\n";
+        spdlog::error("{}", result.message);
       } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
         std::cout << result.message << "\n" << std::flush;
       }
       if (progress_bar) progress_bar->Update(done, result.test_id);
     };
-    ingest::ImportReport report;
-    try {
-      report = ingest::ImportTests(catalogue, paths_, options_, progress);
-    } catch (const ingest::ImportUsageError& error) {
-      std::cerr << "napkin: " << error.what() << "\n";
-      return kExitUsage;
-    }
+    const ingest::ImportReport report = ingest::ImportTests(catalogue, paths_, options_, progress);
     progress_bar.reset();
     std::cout << report.SummaryLine() << "\n";
     if (report.failed == 0) return kExitOk;

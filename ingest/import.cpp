@@ -149,11 +149,11 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   prepared.default_map = formats::LoadChannelMap("default");
   prepared.initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
   prepared.initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
-  if (options.test_id && options.test_id->empty()) throw ImportUsageError("--test-id must not be empty.");
+  if (options.test_id && options.test_id->empty()) throw UsageError("--test-id must not be empty.");
 
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)
-    throw ImportUsageError("--test-id names one test, but the paths hold " +
+    throw UsageError("--test-id names one test, but the paths hold " +
                            std::to_string(discovery.inputs.size() + discovery.errors.size()) + " inputs.");
 
   ImportReport report;

@@ -17,13 +17,6 @@
 
 namespace napkin::ingest {
 
-// Options that contradict each other (exit status 2, usage error), e.g.
-// --test-id for paths that hold several tests.
-class ImportUsageError : public InputError {
- public:
-  using InputError::InputError;
-};
-
 struct ImportOptions {
   std::string array;  // preset name or array JSON path (required)
   std::optional<std::string> series;

@@ -12,6 +12,7 @@
 #include "ingest/store.h"
 #include "ingest/synth.h"
 #include "records/array_record.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::ingest {
@@ -85,15 +86,15 @@ TEST_F(StoreTestTest, StoresArrayTestAndChannelsOnceByContent) {
   EXPECT_EQ(signals.samples, test_.signals.samples);
 
   // The same content under another id is not stored again.
-  const std::string dump = catalogue_.Dump();
+  const std::string dump = db::CatalogueInspector(catalogue_).Dump();
   db::TestRecord again = record_;
   again.external_id = "t2";
   EXPECT_FALSE(StoreTest(catalogue_, test_.array, array, again, test_.signals));
-  EXPECT_EQ(catalogue_.Dump(), dump);
+  EXPECT_EQ(db::CatalogueInspector(catalogue_).Dump(), dump);
 }
 
 TEST_F(StoreTestTest, AChannelOutsideTheArrayStoresNothing) {
-  const std::string dump = catalogue_.Dump();
+  const std::string dump = db::CatalogueInspector(catalogue_).Dump();
   engine::TestSignals signals = test_.signals;
   signals.slots[1] = "elbow_x";
   try {
@@ -102,7 +103,7 @@ TEST_F(StoreTestTest, AChannelOutsideTheArrayStoresNothing) {
   } catch (const InputError& error) {
     EXPECT_EQ(std::string(error.what()), "channel 'elbow_x' is not a slot of array 'ideal-3222'.");
   }
-  EXPECT_EQ(catalogue_.Dump(), dump);
+  EXPECT_EQ(db::CatalogueInspector(catalogue_).Dump(), dump);
 }
 
 TEST(SynthTest, PaddingVariantsAreLabelledAndStoredOnce) {
