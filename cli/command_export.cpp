@@ -10,7 +10,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"

@@ -6,7 +6,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::cli {
 namespace {

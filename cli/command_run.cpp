@@ -11,7 +11,7 @@
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
 #include "cli/progress.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "jobs/scheduler.h"
 
 namespace napkin::cli {

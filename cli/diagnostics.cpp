@@ -11,7 +11,7 @@
 
 #include "cli/command.h"
 #include "db/sqlite.h"
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::cli {
 namespace {

@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/text.h"
 
 namespace napkin::cli {

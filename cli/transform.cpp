@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "cli/catalogue_access.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
 #include "engine/solver.h"

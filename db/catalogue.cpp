@@ -9,7 +9,7 @@
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
 #include "db/migrate.h"
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::db {
 

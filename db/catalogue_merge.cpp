@@ -6,7 +6,7 @@
 // hash, series by name (keys of a shard that imported new tests differ).
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::db {
 

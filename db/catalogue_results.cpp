@@ -9,7 +9,7 @@
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/summary_fields.h"
 
 namespace napkin::db {

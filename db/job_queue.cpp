@@ -13,7 +13,7 @@
 #include <stdexcept>
 
 #include "db/catalogue_internal.h"
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::db {
 

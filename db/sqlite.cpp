@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::db {
 

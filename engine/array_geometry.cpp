@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "engine/array_analysis.h"
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::engine {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 
 namespace napkin::engine {

@@ -8,7 +8,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 
 namespace napkin::engine {

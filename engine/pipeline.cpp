@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "engine/criteria.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/screening.h"
 #include "engine/solver.h"
 

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::engine {
 

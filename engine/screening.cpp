@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/exact_solver.h"
 #include "engine/units.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/rotation.h"
 #include "engine/units.h"
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/exact_solver.h"
 #include "engine/seed_solver.h"
 

@@ -6,7 +6,7 @@
 #include <set>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"

@@ -8,7 +8,7 @@
 #include <random>
 #include <system_error>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::formats {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 #include "formats/array_json.h"
 #include "formats/json_file.h"

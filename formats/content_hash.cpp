@@ -5,7 +5,7 @@
 #include <fstream>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::formats {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"

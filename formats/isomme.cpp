@@ -5,7 +5,7 @@
 #include <map>
 #include <optional>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"

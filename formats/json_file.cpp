@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::formats {
 

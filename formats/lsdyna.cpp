@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 #include "formats/atomic_file.h"
 

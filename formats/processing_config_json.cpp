@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::formats {
 

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <map>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"
 #include "formats/text.h"

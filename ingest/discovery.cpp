@@ -5,7 +5,7 @@
 #include <set>
 #include <utility>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/text.h"
 #include "formats/uds1992.h"
 

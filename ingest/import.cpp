@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
 #include "formats/csv.h"

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "db/catalogue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "ingest/discovery.h"
 
 namespace napkin::ingest {

@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/array_json.h"
 #include "ingest/content_hash.h"
 #include "ingest/store.h"

@@ -22,7 +22,7 @@
 #include <thread>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/pipeline.h"
 #include "records/array_record.h"
 

@@ -2,7 +2,7 @@
 
 #include <optional>
 
-#include "engine/error.h"
+#include "common/error.h"
 
 namespace napkin::records {
 

@@ -26,7 +26,7 @@
 
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
 #include "records/array_record.h"

@@ -21,12 +21,11 @@
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/run_command.h"
 
-namespace napkin::cli::test {
+namespace napkin::test_support {
 
 namespace fs = std::filesystem;
 
-using napkin::testing::ReadText;
-using RunResult = napkin::testing::CommandResult;
+using RunResult = napkin::test_support::CommandResult;
 
 inline void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
@@ -34,13 +33,13 @@ inline void WriteText(const fs::path& path, const std::string& text) {
 
 // Runs `napkin args...` with `dir` as the working directory (stdin from /dev/null).
 inline RunResult RunNapkin(const fs::path& dir, const std::vector<std::string>& args) {
-  return napkin::testing::RunProgram(NAPKIN_BINARY, args, dir);
+  return napkin::test_support::RunProgram(NAPKIN_BINARY, args, dir);
 }
 
 // Starts `napkin args...` (stdout and stderr to the given files); wait with
-// napkin::testing::WaitProgram.
+// napkin::test_support::WaitProgram.
 inline pid_t StartNapkin(const std::vector<std::string>& args, const fs::path& out_path, const fs::path& err_path) {
-  return napkin::testing::StartProgram(NAPKIN_BINARY, args, out_path, err_path);
+  return napkin::test_support::StartProgram(NAPKIN_BINARY, args, out_path, err_path);
 }
 
 inline std::vector<std::string> Lines(const std::string& text) {
@@ -103,4 +102,4 @@ inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std:
   return processed;
 }
 
-}  // namespace napkin::cli::test
+}  // namespace napkin::test_support

@@ -13,7 +13,9 @@
 #include "tests/support/lsdyna_keyword.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli::test {
+namespace napkin::cli {
+
+using namespace napkin::test_support;
 namespace {
 
 class CliExport : public ::testing::Test {
@@ -34,7 +36,7 @@ class CliExport : public ::testing::Test {
     return RunNapkin(dir_.path(), args);
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   engine::SyntheticTest synth_;
 };
 
@@ -117,9 +119,9 @@ TEST_F(CliExport, IsoMmeExportReimportsAsA6aOmegaTestWithTheStoredChannels) {
   }
 }
 
-using napkin::testing::ParsedKeyword;
-using napkin::testing::ParseKeyword;
-using napkin::testing::Trapezoid;
+using napkin::test_support::ParsedKeyword;
+using napkin::test_support::ParseKeyword;
+using napkin::test_support::Trapezoid;
 
 TEST_F(CliExport, LsDynaVelocitiesIntegrateToTheStoredDisplacement) {
   const engine::ProcessedTest processed = ProcessAndStore(dir_ / "napkin.db", "e0001");
@@ -193,4 +195,4 @@ TEST_F(CliExport, WithoutResultsOrForAnUnknownTestItSaysWhatToDo) {
 }
 
 }  // namespace
-}  // namespace napkin::cli::test
+}  // namespace napkin::cli

@@ -23,7 +23,9 @@
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli::test {
+namespace napkin::cli {
+
+using namespace napkin::test_support;
 namespace {
 
 using ingest::DiscoverInputs;
@@ -92,7 +94,7 @@ class CliImport : public ::testing::Test {
 
   fs::path db_path() const { return dir_ / "napkin.db"; }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
 };
 
 // ------------------------------------------------------------ round trips
@@ -272,7 +274,7 @@ TEST_F(CliImport, FolderWithABadTestInTheMiddleKeepsTheOthersAndARerunResumes) {
 
 TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt) {
   const auto written = WriteFolderOfTests(dir_ / "series");
-  const pid_t child = napkin::testing::StartProgram(
+  const pid_t child = napkin::test_support::StartProgram(
       NAPKIN_BINARY, {"--db", "napkin.db", "import", "--array", "denton-3222", "series"}, "/dev/null", "/dev/null",
       dir_.path());
   ASSERT_GT(child, 0);
@@ -481,7 +483,7 @@ TEST_F(CliImport, TripleOptionsTakeOneArgumentWhereverTheyStand) {
 // ------------------------------------------------------------ discovery
 
 TEST(ImportDiscovery, FindsEachKindOfTestInAFolderTree) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const engine::SyntheticTest synth = SynthNapTest(61);
   fs::create_directories(dir / "tree" / "nested");
   formats::WriteSignalsCsv(synth.signals, dir / "tree" / "a.csv");
@@ -523,7 +525,7 @@ TEST(ImportDiscovery, FindsEachKindOfTestInAFolderTree) {
 }
 
 TEST(ImportDiscovery, UdsGroupHashDependsOnEveryMemberFile) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const engine::SyntheticTest synth = SynthNapTest(62);
   WriteUdsGroup(synth.signals, dir / "u", "v1", formats::UdsNumberForm::kIeee);
   const Discovery found = DiscoverInputs({(dir / "u").string()});
@@ -537,4 +539,4 @@ TEST(ImportDiscovery, UdsGroupHashDependsOnEveryMemberFile) {
 }
 
 }  // namespace
-}  // namespace napkin::cli::test
+}  // namespace napkin::cli

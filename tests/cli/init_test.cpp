@@ -8,13 +8,15 @@
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli::test {
+namespace napkin::cli {
+
+using namespace napkin::test_support;
 namespace {
 
 const int kLatest = static_cast<int>(schema::Migrations().size());
 
 TEST(CliInit, CreatesThenReportsUpToDateWithoutChangingAnything) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const RunResult created = RunNapkin(dir.path(), {"init"});
   EXPECT_EQ(created.exit_code, 0) << created.err;
   EXPECT_EQ(created.out, "created catalogue 'napkin.db' (schema version " + std::to_string(kLatest) + ").\n");
@@ -31,7 +33,7 @@ TEST(CliInit, CreatesThenReportsUpToDateWithoutChangingAnything) {
 }
 
 TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const fs::path path = dir / "old.db";
   // A catalogue written by an earlier build that knew only migration 1.
   const std::vector<schema::Migration> first_only(schema::Migrations().begin(),
@@ -86,7 +88,7 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
 }
 
 TEST(CliInit, RefusesAFileThatIsNotACatalogueAndLeavesItAlone) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string text = "time_s,cg_x\n0,1\n";
   WriteText(dir / "notes.db", text);
   const RunResult run = RunNapkin(dir.path(), {"--db", "notes.db", "init"});
@@ -96,4 +98,4 @@ TEST(CliInit, RefusesAFileThatIsNotACatalogueAndLeavesItAlone) {
 }
 
 }  // namespace
-}  // namespace napkin::cli::test
+}  // namespace napkin::cli

@@ -5,13 +5,15 @@
 #include <limits>
 
 #include "cli/table_output.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/summary_fields.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli::test {
+namespace napkin::cli {
+
+using namespace napkin::test_support;
 namespace {
 
 // FORMATS.md "Per-test summary fields": the test's labels, then the fields
@@ -57,7 +59,7 @@ class CliQuery : public ::testing::Test {
     return nlohmann::ordered_json::parse(run.out);
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   engine::ProcessedTest processed_q1_;
   engine::ProcessedTest processed_q3_;
 };
@@ -203,4 +205,4 @@ TEST(TableOutput, NullsQuotingAndNonFiniteNumbers) {
 }
 
 }  // namespace
-}  // namespace napkin::cli::test
+}  // namespace napkin::cli

@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-using CliResult = testing::CommandResult;
+using CliResult = test_support::CommandResult;
 
 // No partial results: every result row has its 36 derived channels and a
 // done job, every done job has its result, and no test has two results.
@@ -41,7 +41,7 @@ class RunCliTest : public ::testing::Test {
  protected:
   CliResult Napkin(std::vector<std::string> args, const std::string& db) {
     args.insert(args.begin(), {"--db", db});
-    return cli::test::RunNapkin(dir_.path(), args);
+    return test_support::RunNapkin(dir_.path(), args);
   }
   void Synth(const std::string& db, int count, int samples) {
     const CliResult synth = Napkin({"synth", "--scenario", "random", "--count", std::to_string(count), "--samples",
@@ -55,7 +55,7 @@ class RunCliTest : public ::testing::Test {
     return nlohmann::json::parse(status.out);
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
 };
 
 TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
@@ -72,7 +72,7 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
   int kills = 0;
   for (int round = 0; round < 6; ++round) {
     const std::int64_t target = watcher_inspector.CountRows("results") + more_results(random);
-    const pid_t pid = cli::test::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
+    const pid_t pid = test_support::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
                                            dir_ / "run.err");
     int status = 0;
     bool finished = false;
@@ -121,10 +121,10 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
 TEST_F(RunCliTest, TwoConcurrentRunsProcessEachTestExactlyOnce) {
   const std::string db = dir_ / "concurrent.db";
   Synth(db, 120, 1000);
-  const pid_t a = cli::test::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
-  const pid_t b = cli::test::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
-  EXPECT_EQ(testing::WaitProgram(a), 0) << testing::ReadText(dir_ / "a.err");
-  EXPECT_EQ(testing::WaitProgram(b), 0) << testing::ReadText(dir_ / "b.err");
+  const pid_t a = test_support::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
+  const pid_t b = test_support::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
+  EXPECT_EQ(test_support::WaitProgram(a), 0) << test_support::ReadText(dir_ / "a.err");
+  EXPECT_EQ(test_support::WaitProgram(b), 0) << test_support::ReadText(dir_ / "b.err");
   db::Catalogue catalogue = db::Catalogue::Open(db);
   db::CatalogueInspector inspector(catalogue);
   EXPECT_EQ(inspector.CountRows("jobs"), 120);
@@ -231,19 +231,19 @@ TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
     std::ofstream(array) << catalogue.ReadArray(test.array_id).definition_json;
     const fs::path out = dir_ / (test.external_id + ".derived.csv");
     const fs::path summary = dir_ / (test.external_id + ".summary.json");
-    const CliResult transform = cli::test::RunNapkin(
+    const CliResult transform = test_support::RunNapkin(
         dir_.path(),
         {"transform", input.string(), "--array", array.string(),
-         cli::test::TripleFlag("--orientation", test.initial_state.orientation_rad),
-         cli::test::TripleFlag("--initial-velocity", test.initial_state.velocity_fixed_mps), "--out", out.string(),
+         test_support::TripleFlag("--orientation", test.initial_state.orientation_rad),
+         test_support::TripleFlag("--initial-velocity", test.initial_state.velocity_fixed_mps), "--out", out.string(),
          "--summary", summary.string()});
     ASSERT_EQ(transform.exit_code, 0) << transform.err;
 
     const db::ConfigId config = *catalogue.ReadLatestResultConfig(test.id);
     const fs::path stored = dir_ / (test.external_id + ".stored.csv");
     formats::WriteDerivedCsv(*catalogue.ReadKinematics(test.id, config), stored);
-    EXPECT_EQ(testing::ReadText(out), testing::ReadText(stored)) << test.external_id;
-    const auto json = nlohmann::json::parse(testing::ReadText(summary));
+    EXPECT_EQ(test_support::ReadText(out), test_support::ReadText(stored)) << test.external_id;
+    const auto json = nlohmann::json::parse(test_support::ReadText(summary));
     const engine::TestSummary result = *catalogue.ReadSummary(test.id, config);
     EXPECT_EQ(json["hic15"].get<double>(), result.hic15.value) << test.external_id;
     EXPECT_EQ(json["hic36"].get<double>(), result.hic36.value) << test.external_id;

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "cli/transform.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/synth.h"
 #include "formats/csv.h"
@@ -15,7 +15,7 @@
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::testing {
+namespace napkin::test_support {
 namespace {
 
 namespace fs = std::filesystem;
@@ -206,4 +206,4 @@ TEST_F(TransformCliTest, UsageErrorsExitTwo) {
 }
 
 }  // namespace
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

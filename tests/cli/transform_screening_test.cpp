@@ -22,14 +22,14 @@
 namespace napkin {
 namespace {
 
-using testing::ReadText;
+using test_support::ReadText;
 
 // Runs `napkin transform` on `input` with the test's initial state.
-testing::CommandResult Transform(const testing::TempDir& dir, const engine::SyntheticTest& test,
+test_support::CommandResult Transform(const test_support::TempDir& dir, const engine::SyntheticTest& test,
                                  const std::string& input, const std::string& array = "denton-3222") {
-  return testing::RunProgram(
-      NAPKIN_BINARY, {"transform", "--array", array, cli::test::TripleFlag("--orientation", test.initial.orientation_rad),
-                      cli::test::TripleFlag("--initial-velocity", test.initial.velocity_fixed_mps), "--out",
+  return test_support::RunProgram(
+      NAPKIN_BINARY, {"transform", "--array", array, test_support::TripleFlag("--orientation", test.initial.orientation_rad),
+                      test_support::TripleFlag("--initial-velocity", test.initial.velocity_fixed_mps), "--out",
                       (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
 }
 
@@ -43,14 +43,14 @@ double TrueHic15(const engine::SyntheticTest& test) {
 engine::SyntheticTest Motion() {
   engine::RandomMotionOptions options;
   options.seed = 3;
-  return engine::SynthRandomMotion(testing::Denton3222(), options);
+  return engine::SynthRandomMotion(test_support::Denton3222(), options);
 }
 
 TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   const engine::SyntheticTest test = Motion();
   formats::WriteSignalsCsv(test.signals, dir / "clean.csv");
-  const testing::CommandResult run = Transform(dir, test, (dir / "clean.csv").string());
+  const test_support::CommandResult run = Transform(dir, test, (dir / "clean.csv").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
   EXPECT_NEAR(summary.at("hic15").get<double>(), TrueHic15(test), 0.001 * TrueHic15(test));
@@ -62,12 +62,12 @@ TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
 }
 
 TEST(TransformScreening, SummaryNamesTheSpikedChannel) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   engine::SyntheticTest test = Motion();
   auto spiked = test.signals.samples.col(test.signals.FindSlot("xarm_y"));
   spiked(700) += 120.0;  // g
   formats::WriteSignalsCsv(test.signals, dir / "spiked.csv");
-  const testing::CommandResult run = Transform(dir, test, (dir / "spiked.csv").string());
+  const test_support::CommandResult run = Transform(dir, test, (dir / "spiked.csv").string());
   // A warning does not fail the test: it is processed and flagged.
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
@@ -90,7 +90,7 @@ TEST(TransformScreening, SummaryNamesTheSpikedChannel) {
 // `napkin run` (engine::FailingFinding): exit 1, the finding's sentence
 // naming the file and the channel, no output.
 TEST(TransformScreening, ClippedChannelFailsNamingItAndWritesNothing) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   engine::SyntheticTest test = Motion();
   auto spiked = test.signals.samples.col(test.signals.FindSlot("xarm_y"));
   spiked(700) += 120.0;  // g
@@ -98,20 +98,20 @@ TEST(TransformScreening, ClippedChannelFailsNamingItAndWritesNothing) {
   const double clip = 0.8 * clipped.cwiseAbs().maxCoeff();
   clipped = clipped.cwiseMax(-clip).cwiseMin(clip);
   formats::WriteSignalsCsv(test.signals, dir / "faulty.csv");
-  const testing::CommandResult run = Transform(dir, test, (dir / "faulty.csv").string());
+  const test_support::CommandResult run = Transform(dir, test, (dir / "faulty.csv").string());
   EXPECT_EQ(run.exit_code, 1);
-  cli::test::ExpectOneSentenceError(run, {"faulty.csv: ", "cg_z", "saturat"});
+  test_support::ExpectOneSentenceError(run, {"faulty.csv: ", "cg_z", "saturat"});
   EXPECT_EQ(run.err.find("xarm_y"), std::string::npos) << "a warning is not the verdict: " << run.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
 }
 
 TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   engine::SyntheticTest test = Motion();
   test.signals.samples.col(test.signals.FindSlot("zarm_x")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
-  const testing::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string());
+  const test_support::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string());
   // The linear-only solve of this motion diverges with zarm_x flipped: no
   // result, exit 1, the reason names the channel, nothing is written.
   EXPECT_EQ(run.exit_code, 1);
@@ -126,15 +126,15 @@ TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
 // linear channel leaves the solve finite, but its polarity error fails the
 // test all the same (as `napkin run` fails it): exit 1, nothing written.
 TEST(TransformScreening, FlippedChannelFailsNamingItAndWritesNothing) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   engine::RandomMotionOptions options;
   options.seed = 3;
-  engine::SyntheticTest test = engine::SynthRandomMotion(testing::NapArs12(), options);
+  engine::SyntheticTest test = engine::SynthRandomMotion(test_support::NapArs12(), options);
   test.signals.samples.col(test.signals.FindSlot("yarm_z")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
-  const testing::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string(), "nap-ars-12");
+  const test_support::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string(), "nap-ars-12");
   EXPECT_EQ(run.exit_code, 1);
-  cli::test::ExpectOneSentenceError(run, {"flipped.csv: ", "yarm_z appears sign flipped"});
+  test_support::ExpectOneSentenceError(run, {"flipped.csv: ", "yarm_z appears sign flipped"});
   EXPECT_EQ(run.err.find("diverge"), std::string::npos) << "the solve is finite: " << run.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
@@ -144,10 +144,10 @@ TEST(TransformScreening, FlippedChannelFailsNamingItAndWritesNothing) {
 // failure run records is, word for word, the sentence transform exits with
 // (after the file name); a clean file passes both.
 TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   engine::RandomMotionOptions options;
   options.seed = 3;
-  const engine::SyntheticTest clean = engine::SynthRandomMotion(testing::NapArs12(), options);
+  const engine::SyntheticTest clean = engine::SynthRandomMotion(test_support::NapArs12(), options);
   engine::SyntheticTest flipped = clean;
   flipped.signals.samples.col(flipped.signals.FindSlot("yarm_z")) *= -1.0;
   std::filesystem::create_directories(dir / "tests");
@@ -155,15 +155,15 @@ TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
   formats::WriteSignalsCsv(flipped.signals, dir / "tests" / "flipped.csv");
 
   const std::string db = (dir / "verdict.db").string();
-  const testing::CommandResult import = cli::test::RunNapkin(
+  const test_support::CommandResult import = test_support::RunNapkin(
       dir.path(), {"--db", db, "import", "--array", "nap-ars-12", "--series", "verdict",
-                   cli::test::TripleFlag("--orientation", clean.initial.orientation_rad),
-                   cli::test::TripleFlag("--initial-velocity", clean.initial.velocity_fixed_mps),
+                   test_support::TripleFlag("--orientation", clean.initial.orientation_rad),
+                   test_support::TripleFlag("--initial-velocity", clean.initial.velocity_fixed_mps),
                    (dir / "tests").string()});
   ASSERT_EQ(import.exit_code, 0) << import.err;
-  const testing::CommandResult run = cli::test::RunNapkin(dir.path(), {"--db", db, "run"});
+  const test_support::CommandResult run = test_support::RunNapkin(dir.path(), {"--db", db, "run"});
   EXPECT_EQ(run.exit_code, 3) << run.err;  // partial success: one test failed
-  const testing::CommandResult status = cli::test::RunNapkin(dir.path(), {"--db", db, "status", "--format", "json"});
+  const test_support::CommandResult status = test_support::RunNapkin(dir.path(), {"--db", db, "status", "--format", "json"});
   ASSERT_EQ(status.exit_code, 0) << status.err;
   const nlohmann::json counts = nlohmann::json::parse(status.out);
   EXPECT_EQ(counts.at("done"), 1) << status.out;
@@ -173,13 +173,13 @@ TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
   EXPECT_NE(stored.find("yarm_z appears sign flipped"), std::string::npos) << stored;
 
   const std::string flipped_csv = (dir / "tests" / "flipped.csv").string();
-  const testing::CommandResult failed = Transform(dir, flipped, flipped_csv, "nap-ars-12");
+  const test_support::CommandResult failed = Transform(dir, flipped, flipped_csv, "nap-ars-12");
   EXPECT_EQ(failed.exit_code, 1);
   EXPECT_EQ(failed.err, "napkin: " + flipped_csv + ": " + stored + "\n");
   EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
 
-  const testing::CommandResult passed =
+  const test_support::CommandResult passed =
       Transform(dir, clean, (dir / "tests" / "clean.csv").string(), "nap-ars-12");
   EXPECT_EQ(passed.exit_code, 0) << passed.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "s.json"));
@@ -187,7 +187,7 @@ TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
 }
 
 TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   const engine::SyntheticTest test = Motion();
   formats::WriteSignalsCsv(test.signals, dir / "clean.csv");
   // Replace the yarm_x value of one data row by "nan".
@@ -215,7 +215,7 @@ TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {
   }
   out.close();
   ASSERT_GE(yarm_x_column, 0);
-  const testing::CommandResult run = Transform(dir, test, (dir / "dropout.csv").string());
+  const test_support::CommandResult run = Transform(dir, test, (dir / "dropout.csv").string());
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("dropout.csv"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("yarm_x"), std::string::npos) << run.err;

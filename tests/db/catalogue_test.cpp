@@ -13,7 +13,7 @@
 
 #include "db/float64_blob.h"
 #include "db/job_queue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/summary_fields.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
@@ -55,8 +55,8 @@ void FillWithRandomBits(double* values, Eigen::Index n, std::mt19937_64& random)
 class CatalogueTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    array_ = catalogue_.WriteArray(testing::IdealArray());
-    config_ = catalogue_.WriteConfig(testing::DefaultConfig());
+    array_ = catalogue_.WriteArray(test_support::IdealArray());
+    config_ = catalogue_.WriteConfig(test_support::DefaultConfig());
   }
   Catalogue catalogue_ = Catalogue::Open(":memory:");
   CatalogueInspector inspector_{catalogue_};
@@ -102,7 +102,7 @@ TEST_F(CatalogueTest, TestRecordRoundTrips) {
 }
 
 TEST_F(CatalogueTest, DuplicateTestsAreRefusedInOneSentence) {
-  testing::AddTest(catalogue_, array_, "v0001");
+  test_support::AddTest(catalogue_, array_, "v0001");
   TestRecord same_id;
   same_id.external_id = "v0001";
   same_id.array_id = array_;
@@ -126,15 +126,15 @@ TEST_F(CatalogueTest, DuplicateTestsAreRefusedInOneSentence) {
 }
 
 TEST_F(CatalogueTest, ArraysAndConfigsAreDeduplicatedByHash) {
-  EXPECT_EQ(catalogue_.WriteArray(testing::IdealArray()), array_);
-  EXPECT_EQ(catalogue_.WriteConfig(testing::DefaultConfig()), config_);
-  const ConfigId other = catalogue_.WriteConfig(testing::DefaultConfig(R"({"filter":"cfc180"})"));
+  EXPECT_EQ(catalogue_.WriteArray(test_support::IdealArray()), array_);
+  EXPECT_EQ(catalogue_.WriteConfig(test_support::DefaultConfig()), config_);
+  const ConfigId other = catalogue_.WriteConfig(test_support::DefaultConfig(R"({"filter":"cfc180"})"));
   EXPECT_NE(other, config_);
-  EXPECT_EQ(catalogue_.FindConfigByHash(testing::DefaultConfig().config_hash), config_);
+  EXPECT_EQ(catalogue_.FindConfigByHash(test_support::DefaultConfig().config_hash), config_);
   EXPECT_EQ(catalogue_.ReadConfig(other).config_json, R"({"filter":"cfc180"})");
-  EXPECT_EQ(catalogue_.ReadArray(array_).definition_json, testing::IdealArray().definition_json);
+  EXPECT_EQ(catalogue_.ReadArray(array_).definition_json, test_support::IdealArray().definition_json);
 
-  ArrayRecord collision = testing::IdealArray();
+  ArrayRecord collision = test_support::IdealArray();
   collision.definition_json = "{}";
   EXPECT_THROW(catalogue_.WriteArray(collision), InputError);
 }
@@ -144,8 +144,8 @@ TEST_F(CatalogueTest, HostileNamesRoundTripAndQueryCorrectly) {
   const std::string hostile_series = "x'); DROP TABLE tests;--";
   const std::string hostile_variant = "\" OR 1=1 --";
   const std::string hostile_id = "v'0001\"; DELETE FROM results; --";
-  const TestId hostile = testing::AddTest(catalogue_, array_, hostile_id, hostile_series, hostile_variant);
-  const TestId plain = testing::AddTest(catalogue_, array_, "plain", "other", "A");
+  const TestId hostile = test_support::AddTest(catalogue_, array_, hostile_id, hostile_series, hostile_variant);
+  const TestId plain = test_support::AddTest(catalogue_, array_, "plain", "other", "A");
   engine::TestSummary summary;
   summary.hic15 = {700.0, 0.01, 0.02};
   catalogue_.WriteResult(hostile, config_, summary, "exact");
@@ -173,7 +173,7 @@ TEST_F(CatalogueTest, HostileNamesRoundTripAndQueryCorrectly) {
 // ----------------------------------------------------------------- signals
 
 TEST_F(CatalogueTest, SignalsRoundTripBitExact) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   std::mt19937_64 random(42);
   engine::TestSignals signals;
   signals.dt_s = 1.0 / 12500.0;  // not representable exactly: must survive as is
@@ -211,7 +211,7 @@ TEST_F(CatalogueTest, SignalsRoundTripBitExact) {
 }
 
 TEST_F(CatalogueTest, RewritingSignalsReplacesTheChannels) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   engine::TestSignals signals;
   signals.slots = {"a", "b", "c"};
   signals.samples = Eigen::MatrixXd::Ones(10, 3);
@@ -258,7 +258,7 @@ void ExpectSameKinematics(const engine::Kinematics& a, const engine::Kinematics&
 }
 
 TEST_F(CatalogueTest, KinematicsRoundTripBitExact) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   for (const Eigen::Index n : {Eigen::Index{0}, Eigen::Index{1}, Eigen::Index{777}}) {
     const engine::Kinematics kinematics = RandomKinematics(n, 7 + static_cast<std::uint64_t>(n));
     catalogue_.WriteKinematics(test, config_, kinematics);
@@ -268,11 +268,11 @@ TEST_F(CatalogueTest, KinematicsRoundTripBitExact) {
     ExpectSameKinematics(*read, kinematics);
   }
   EXPECT_FALSE(
-      catalogue_.ReadKinematics(test, catalogue_.WriteConfig(testing::DefaultConfig("{}"))).has_value());
+      catalogue_.ReadKinematics(test, catalogue_.WriteConfig(test_support::DefaultConfig("{}"))).has_value());
 }
 
 TEST_F(CatalogueTest, DerivedChannelsAreNamedForPlainSqlite) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   catalogue_.WriteKinematics(test, config_, RandomKinematics(11, 3));
   auto names = inspector_.connection().Prepare(
       "SELECT count(*), sum(sample_count = 11), min(dt_s), max(dt_s) FROM derived_channels WHERE test_id = "
@@ -303,7 +303,7 @@ engine::TestSummary RandomSummary(std::uint64_t seed) {
 }
 
 TEST_F(CatalogueTest, SummaryAndFindingsRoundTrip) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   EXPECT_FALSE(catalogue_.ReadSummary(test, config_).has_value());
   const engine::TestSummary summary = RandomSummary(1);
   catalogue_.WriteResult(test, config_, summary, "seed");
@@ -315,7 +315,7 @@ TEST_F(CatalogueTest, SummaryAndFindingsRoundTrip) {
 }
 
 TEST_F(CatalogueTest, NanSummaryFieldsReadBackAsNan) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   engine::TestSummary summary = RandomSummary(2);
   summary.bric = std::numeric_limits<double>::quiet_NaN();
   summary.hic36.value = std::numeric_limits<double>::infinity();
@@ -327,7 +327,7 @@ TEST_F(CatalogueTest, NanSummaryFieldsReadBackAsNan) {
 }
 
 TEST_F(CatalogueTest, ResultWithoutKinematicsDropsOlderDerivedChannels) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   const engine::Kinematics kinematics = RandomKinematics(20, 9);
   catalogue_.WriteResult(test, config_, RandomSummary(3), "exact", &kinematics);
   ASSERT_TRUE(catalogue_.ReadKinematics(test, config_).has_value());
@@ -357,11 +357,11 @@ TEST_F(CatalogueTest, QueryViewsCarryTheContractColumns) {
 }
 
 TEST_F(CatalogueTest, QueriesShowEachTestsLatestResultFilteredByLabels) {
-  const TestId a1 = testing::AddTest(catalogue_, array_, "a1", "sled", "A");
-  const TestId b1 = testing::AddTest(catalogue_, array_, "b1", "sled", "B");
-  const TestId c1 = testing::AddTest(catalogue_, array_, "c1", "tower", "A");
-  testing::AddTest(catalogue_, array_, "d1", "sled", "A");  // never processed
-  const ConfigId newer = catalogue_.WriteConfig(testing::DefaultConfig(R"({"filter":"cfc180"})"));
+  const TestId a1 = test_support::AddTest(catalogue_, array_, "a1", "sled", "A");
+  const TestId b1 = test_support::AddTest(catalogue_, array_, "b1", "sled", "B");
+  const TestId c1 = test_support::AddTest(catalogue_, array_, "c1", "tower", "A");
+  test_support::AddTest(catalogue_, array_, "d1", "sled", "A");  // never processed
+  const ConfigId newer = catalogue_.WriteConfig(test_support::DefaultConfig(R"({"filter":"cfc180"})"));
 
   engine::TestSummary summary = RandomSummary(5);
   summary.hic15.value = 100.0;
@@ -408,7 +408,7 @@ TEST_F(CatalogueTest, QueriesShowEachTestsLatestResultFilteredByLabels) {
 // ------------------------------------------------------------ transactions
 
 TEST_F(CatalogueTest, ExceptionInsideAWriteRollsItBackCompletely) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   catalogue_.WriteResult(test, config_, RandomSummary(6), "exact");
   const std::string before = inspector_.Dump();
 
@@ -426,13 +426,13 @@ TEST_F(CatalogueTest, ExceptionInsideAWriteRollsItBackCompletely) {
 }
 
 TEST_F(CatalogueTest, ExceptionInsideAnOuterTransactionRollsBackEveryWrite) {
-  testing::AddTest(catalogue_, array_, "v0001");
+  test_support::AddTest(catalogue_, array_, "v0001");
   const std::string before = inspector_.Dump();
   struct Abort {};
   EXPECT_THROW(
       {
         Transaction transaction = catalogue_.BeginTransaction();
-        const TestId test = testing::AddTest(catalogue_, array_, "v0002", "new-series");
+        const TestId test = test_support::AddTest(catalogue_, array_, "v0002", "new-series");
         engine::TestSignals signals;
         signals.slots = {"cg_x"};
         signals.samples = Eigen::MatrixXd::Ones(5, 1);
@@ -448,9 +448,9 @@ TEST_F(CatalogueTest, ExceptionInsideAnOuterTransactionRollsBackEveryWrite) {
 
 TEST_F(CatalogueTest, FailedInnerWriteRollsBackOnlyItselfInsideACommittedTransaction) {
   Transaction transaction = catalogue_.BeginTransaction();
-  testing::AddTest(catalogue_, array_, "v0001");
-  EXPECT_THROW(testing::AddTest(catalogue_, array_, "v0001"), InputError);  // nested savepoint rolled back
-  testing::AddTest(catalogue_, array_, "v0002");
+  test_support::AddTest(catalogue_, array_, "v0001");
+  EXPECT_THROW(test_support::AddTest(catalogue_, array_, "v0001"), InputError);  // nested savepoint rolled back
+  test_support::AddTest(catalogue_, array_, "v0002");
   transaction.Commit();
   const auto tests = catalogue_.ReadAllTests();
   ASSERT_EQ(tests.size(), 2u);
@@ -465,7 +465,7 @@ TEST_F(CatalogueTest, SqliteErrorsNameTheCallAndTheStatement) {
 }
 
 TEST_F(CatalogueTest, CachedStatementsAreResetAfterAnException) {
-  const TestId test = testing::AddTest(catalogue_, array_, "v0001");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
   EXPECT_THROW(catalogue_.ReadTest(TestId{999}), InputError);
   EXPECT_EQ(catalogue_.ReadTest(test).external_id, "v0001");
   // Same statement used again after a throw in the middle of a read.

@@ -5,7 +5,7 @@
 
 #include "db/catalogue.h"
 
-namespace napkin::db::testing {
+namespace napkin::test_support {
 
 inline ArrayRecord IdealArray() {
   return ArrayRecord{
@@ -30,4 +30,4 @@ inline TestId AddTest(Catalogue& catalogue, ArrayId array, const std::string& ex
   return catalogue.WriteTest(test);
 }
 
-}  // namespace napkin::db::testing
+}  // namespace napkin::test_support

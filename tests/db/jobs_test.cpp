@@ -10,7 +10,7 @@
 
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -38,15 +38,15 @@ class JobsTest : public ::testing::Test {
   }
   // n tests "t000".."t<n-1>" in series "S", variants alternating A/B.
   void AddTests(Catalogue& catalogue, int n) {
-    const ArrayId array = catalogue.WriteArray(testing::IdealArray());
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
     for (int i = 0; i < n; ++i) {
       char name[8];
       std::snprintf(name, sizeof name, "t%03d", i);
-      testing::AddTest(catalogue, array, name, "S", i % 2 == 0 ? "A" : "B");
+      test_support::AddTest(catalogue, array, name, "S", i % 2 == 0 ? "A" : "B");
     }
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   std::string path_ = dir_ / "jobs.db";
   ManualClock clock_;
 };
@@ -55,7 +55,7 @@ TEST_F(JobsTest, EnqueueClaimCompleteAndCount) {
   Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
   AddTests(catalogue, 5);
-  const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+  const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
   StatusCounts counts = queue.ReadStatusCounts(config);
   EXPECT_EQ(counts.tests, 5);
   EXPECT_EQ(counts.pending, 5);
@@ -114,7 +114,7 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
     Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
     AddTests(catalogue, kTests);
-    queue.EnqueueMissing(catalogue.WriteConfig(testing::DefaultConfig()));
+    queue.EnqueueMissing(catalogue.WriteConfig(test_support::DefaultConfig()));
   }
   std::vector<std::vector<std::int64_t>> claimed(2);
   std::atomic<int> errors = 0;
@@ -125,7 +125,7 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
         CatalogueOptions options;  // own connection on the same file, real clock
         Catalogue catalogue = Catalogue::Open(path_, options);
         JobQueue queue(catalogue);
-        const ConfigId config = *catalogue.FindConfigByHash(testing::DefaultConfig().config_hash);
+        const ConfigId config = *catalogue.FindConfigByHash(test_support::DefaultConfig().config_hash);
         const std::string owner = "worker-" + std::to_string(w);
         for (;;) {
           const auto jobs = queue.ClaimJobs(config, owner, 3, 600.0);
@@ -152,7 +152,7 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
 TEST_F(JobsTest, ExpiredLeaseIsReclaimedAndTheOldOwnerLosesIt) {
   Catalogue first = OpenCatalogue();
   AddTests(first, 4);
-  const ConfigId config = first.WriteConfig(testing::DefaultConfig());
+  const ConfigId config = first.WriteConfig(test_support::DefaultConfig());
   JobQueue first_queue(first);
   first_queue.EnqueueMissing(config);
   Catalogue second = OpenCatalogue();
@@ -190,7 +190,7 @@ TEST_F(JobsTest, ChangedConfigReenqueuesWithoutDeletingEarlierResults) {
   Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
   AddTests(catalogue, 3);
-  const ConfigId old_config = catalogue.WriteConfig(testing::DefaultConfig(R"({"filter":"cfc1000"})"));
+  const ConfigId old_config = catalogue.WriteConfig(test_support::DefaultConfig(R"({"filter":"cfc1000"})"));
   queue.EnqueueMissing(old_config);
   for (const Job& job : queue.ClaimJobs(old_config, "w", 10, 60.0)) {
     engine::TestSummary summary;
@@ -202,7 +202,7 @@ TEST_F(JobsTest, ChangedConfigReenqueuesWithoutDeletingEarlierResults) {
   EXPECT_EQ(queue.EnqueueMissing(old_config), 0) << "nothing missing or stale";
 
   // The config file changed: new canonical JSON, new hash.
-  const ConfigId new_config = catalogue.WriteConfig(testing::DefaultConfig(R"({"filter":"cfc180"})"));
+  const ConfigId new_config = catalogue.WriteConfig(test_support::DefaultConfig(R"({"filter":"cfc180"})"));
   ASSERT_NE(new_config, old_config);
   StatusCounts counts = queue.ReadStatusCounts(new_config);
   EXPECT_EQ(counts.pending, 3);
@@ -218,7 +218,7 @@ TEST_F(JobsTest, DoneJobWhoseResultVanishedIsMissingAgain) {
   Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
   AddTests(catalogue, 2);
-  const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+  const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
   queue.EnqueueMissing(config);
   for (const Job& job : queue.ClaimJobs(config, "w", 10, 60.0)) {
     catalogue.WriteResult(job.test_id, config, engine::TestSummary{}, "exact");
@@ -238,8 +238,8 @@ TEST_F(JobsTest, ScopesSelectBySeriesVariantIdsAndShard) {
   Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
   AddTests(catalogue, 10);
-  testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "other", "T", "A");
-  const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+  test_support::AddTest(catalogue, catalogue.WriteArray(test_support::IdealArray()), "other", "T", "A");
+  const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
 
   JobScope variant_a;
   variant_a.tests = {"S", "A", {}};
@@ -269,8 +269,8 @@ TEST_F(JobsTest, ClaimsOnlyTheRequestedConfig) {
   Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
   AddTests(catalogue, 2);
-  const ConfigId a = catalogue.WriteConfig(testing::DefaultConfig("{\"a\":1}"));
-  const ConfigId b = catalogue.WriteConfig(testing::DefaultConfig("{\"b\":1}"));
+  const ConfigId a = catalogue.WriteConfig(test_support::DefaultConfig("{\"a\":1}"));
+  const ConfigId b = catalogue.WriteConfig(test_support::DefaultConfig("{\"b\":1}"));
   queue.EnqueueMissing(a);
   EXPECT_TRUE(queue.ClaimJobs(b, "w", 10, 60.0).empty());
   const auto jobs = queue.ClaimJobs(a, "w", 10, 60.0);
@@ -282,7 +282,7 @@ TEST_F(JobsTest, ClaimsStayInTheirScopeAndReleasedLeasesAreClaimableAtOnce) {
   Catalogue catalogue = OpenCatalogue();
   JobQueue queue(catalogue);
   AddTests(catalogue, 6);  // variants A: t000, t002, t004; B: t001, t003, t005
-  const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+  const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
   EXPECT_EQ(queue.EnqueueMissing(config), 6);
 
   JobScope variant_b;

@@ -7,7 +7,7 @@
 
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/summary_fields.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
@@ -39,15 +39,15 @@ class MergeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     Catalogue main = Catalogue::Open(main_path_);
-    const ArrayId array = main.WriteArray(testing::IdealArray());
+    const ArrayId array = main.WriteArray(test_support::IdealArray());
     for (const char* id : {"t0", "t1", "t2", "t3", "t4", "t5"}) {
-      const TestId test = testing::AddTest(main, array, id, "S", "A");
+      const TestId test = test_support::AddTest(main, array, id, "S", "A");
       engine::TestSignals signals;
       signals.slots = {"cg_x"};
       signals.samples = Eigen::MatrixXd::Constant(8, 1, 1.0);
       main.WriteRawChannels(test, signals, std::vector<std::string>{"g"});
     }
-    main.WriteConfig(testing::DefaultConfig());
+    main.WriteConfig(test_support::DefaultConfig());
   }  // closing checkpoints the WAL: the file alone is the catalogue
 
   // The summary ProcessShard writes for test `external_id` ("t<k>").
@@ -65,7 +65,7 @@ class MergeTest : public ::testing::Test {
     std::filesystem::copy_file(main_path_, path);
     Catalogue shard = Catalogue::Open(path);
     JobQueue queue(shard);
-    const ConfigId config = *shard.FindConfigByHash(testing::DefaultConfig().config_hash);
+    const ConfigId config = *shard.FindConfigByHash(test_support::DefaultConfig().config_hash);
     JobScope scope;
     scope.shard = Shard{index, count};
     queue.EnqueueMissing(config, scope);
@@ -86,7 +86,7 @@ class MergeTest : public ::testing::Test {
     return path;
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   std::string main_path_ = dir_ / "main.db";
 };
 
@@ -94,7 +94,7 @@ TEST_F(MergeTest, ShardsMergeIntoTheCompleteCatalogue) {
   const std::string shard0 = ProcessShard(0, 2);
   const std::string shard1 = ProcessShard(1, 2);
   Catalogue main = Catalogue::Open(main_path_);
-  const ConfigId config = *main.FindConfigByHash(testing::DefaultConfig().config_hash);
+  const ConfigId config = *main.FindConfigByHash(test_support::DefaultConfig().config_hash);
 
   const MergeReport first = main.MergeShard(shard0);
   const MergeReport second = main.MergeShard(shard1);
@@ -139,11 +139,11 @@ TEST_F(MergeTest, TestsImportedInAShardAreAddedWithTheirChannels) {
   {
     Catalogue shard = Catalogue::Open(shard_path);
     // A new array and series on the shard shift its keys away from main's.
-    ArrayRecord other_array = testing::IdealArray();
+    ArrayRecord other_array = test_support::IdealArray();
     other_array.definition_hash = "other";
     other_array.definition_json = "{\"other\":true}";
     const ArrayId array = shard.WriteArray(other_array);
-    const TestId test = testing::AddTest(shard, array, "t9", "new-series", "B");
+    const TestId test = test_support::AddTest(shard, array, "t9", "new-series", "B");
     engine::TestSignals signals;
     signals.slots = {"cg_x", "cg_y"};
     signals.samples = Eigen::MatrixXd::Random(5, 2);
@@ -167,13 +167,13 @@ TEST_F(MergeTest, ConflictingTestIdsAndForeignFilesAreRefused) {
   std::filesystem::copy_file(main_path_, shard_path);
   {
     Catalogue main = Catalogue::Open(main_path_);
-    testing::AddTest(main, main.WriteArray(testing::IdealArray()), "t9");
+    test_support::AddTest(main, main.WriteArray(test_support::IdealArray()), "t9");
   }
   {
     Catalogue shard = Catalogue::Open(shard_path);
     TestRecord clash;
     clash.external_id = "t9";
-    clash.array_id = shard.WriteArray(testing::IdealArray());
+    clash.array_id = shard.WriteArray(test_support::IdealArray());
     clash.source_path = "/other/t9.csv";
     clash.content_hash = "different content";
     shard.WriteTest(clash);
@@ -202,7 +202,7 @@ TEST_F(MergeTest, ADifferentResultForTheSameTestAndConfigIsRefused) {
   std::filesystem::copy_file(main_path_, again);
   {
     Catalogue copy = Catalogue::Open(again);
-    const ConfigId config = *copy.FindConfigByHash(testing::DefaultConfig().config_hash);
+    const ConfigId config = *copy.FindConfigByHash(test_support::DefaultConfig().config_hash);
     // Shard 0 of 2 holds the keys 2, 4, 6: t1, t3 (failed) and t5.
     const TestId t1 = *copy.FindTestByExternalId("t1");
     const engine::Kinematics kinematics = *copy.ReadKinematics(t1, config);

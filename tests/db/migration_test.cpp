@@ -6,7 +6,7 @@
 
 #include "db/catalogue.h"
 #include "db/migrate.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -34,7 +34,7 @@ TEST(Migrations, EmbeddedFilesAreNumberedFromOneWithoutGaps) {
 }
 
 TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "upgrade.db";
   const auto embedded = schema::Migrations();
   const int k = static_cast<int>(embedded.size());
@@ -43,9 +43,9 @@ TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
   {
     Catalogue catalogue = Catalogue::Open(path);
     ASSERT_EQ(catalogue.schema_version(), k);
-    const ArrayId array = catalogue.WriteArray(testing::IdealArray());
-    testing::AddTest(catalogue, array, "v0001", "sled", "foam-a");
-    testing::AddTest(catalogue, array, "v0002", "sled", "foam-b");
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    test_support::AddTest(catalogue, array, "v0001", "sled", "foam-a");
+    test_support::AddTest(catalogue, array, "v0002", "sled", "foam-b");
     engine::TestSignals signals;
     signals.slots = {"cg_x"};
     signals.samples = Eigen::MatrixXd::Constant(4, 1, 0.25);
@@ -85,16 +85,16 @@ TEST(Migrations, UpgradeInPlaceKeepsRowsAndBumpsVersion) {
 }
 
 TEST(Migrations, UpgradeFromTheFirstVersionAddsTheViews) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "v1.db";
   {
     CatalogueOptions first_only;
     first_only.migrations = schema::Migrations().first(1);
     Catalogue catalogue = Catalogue::Open(path, first_only);
     EXPECT_EQ(catalogue.schema_version(), 1);
-    const ArrayId array = catalogue.WriteArray(testing::IdealArray());
-    const TestId test = testing::AddTest(catalogue, array, "v0001", "sled");
-    const ConfigId config = catalogue.WriteConfig(testing::DefaultConfig());
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    const TestId test = test_support::AddTest(catalogue, array, "v0001", "sled");
+    const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
     engine::TestSummary summary;
     summary.hic15 = {512.5, 0.010, 0.025};
     catalogue.WriteResult(test, config, summary, "exact");
@@ -109,12 +109,12 @@ TEST(Migrations, UpgradeFromTheFirstVersionAddsTheViews) {
 }
 
 TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "fail.db";
   std::string before;
   {
     Catalogue catalogue = Catalogue::Open(path);
-    testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "v0001");
+    test_support::AddTest(catalogue, catalogue.WriteArray(test_support::IdealArray()), "v0001");
     before = CatalogueInspector(catalogue).Dump();
   }
   const int k = static_cast<int>(schema::Migrations().size());
@@ -132,11 +132,11 @@ TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {
 }
 
 TEST(Migrations, MigrationBreakingForeignKeysIsRejected) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "fk.db";
   {
     Catalogue catalogue = Catalogue::Open(path);
-    testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "v0001");
+    test_support::AddTest(catalogue, catalogue.WriteArray(test_support::IdealArray()), "v0001");
   }
   const int k = static_cast<int>(schema::Migrations().size());
   const auto migrations = EmbeddedPlus({{k + 1, "900_orphan.sql", "DELETE FROM arrays;"}});
@@ -149,7 +149,7 @@ TEST(Migrations, MigrationBreakingForeignKeysIsRejected) {
 }
 
 TEST(Migrations, NewerCatalogueIsRefused) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "newer.db";
   const int k = static_cast<int>(schema::Migrations().size());
   {
@@ -165,7 +165,7 @@ TEST(Migrations, NewerCatalogueIsRefused) {
 }
 
 TEST(Migrations, OutdatedCatalogueOpenedReadOnlyAsksForInit) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "old.db";
   {
     CatalogueOptions first_only;

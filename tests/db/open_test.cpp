@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "db/catalogue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -30,7 +30,7 @@ void WriteFile(const std::filesystem::path& path, const std::string& contents) {
 }
 
 TEST(CatalogueOpen, NewFileIsMigratedToTheLatestSchema) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "new.db";
   Catalogue catalogue = Catalogue::Open(path);
   Connection& connection = CatalogueInspector(catalogue).connection();
@@ -46,18 +46,18 @@ TEST(CatalogueOpen, NewFileIsMigratedToTheLatestSchema) {
 TEST(CatalogueOpen, InMemoryCatalogueIsPrivateAndComplete) {
   Catalogue first = Catalogue::Open(":memory:");
   Catalogue second = Catalogue::Open(":memory:");
-  const ArrayId array = first.WriteArray(testing::IdealArray());
-  testing::AddTest(first, array, "t1");
+  const ArrayId array = first.WriteArray(test_support::IdealArray());
+  test_support::AddTest(first, array, "t1");
   EXPECT_EQ(first.ReadAllTests().size(), 1u);
   EXPECT_TRUE(second.ReadAllTests().empty());
 }
 
 TEST(CatalogueOpen, ReopeningKeepsData) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "keep.db";
   {
     Catalogue catalogue = Catalogue::Open(path);
-    testing::AddTest(catalogue, catalogue.WriteArray(testing::IdealArray()), "t1", "S", "A");
+    test_support::AddTest(catalogue, catalogue.WriteArray(test_support::IdealArray()), "t1", "S", "A");
   }
   Catalogue catalogue = Catalogue::Open(path);
   const auto tests = catalogue.ReadAllTests();
@@ -68,7 +68,7 @@ TEST(CatalogueOpen, ReopeningKeepsData) {
 }
 
 TEST(CatalogueOpen, WriteProtectedFileIsReportedInOneSentence) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "x.db";
   { Catalogue::Open(path); }
   std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::group_read |
@@ -84,17 +84,17 @@ TEST(CatalogueOpen, WriteProtectedFileIsReportedInOneSentence) {
 }
 
 TEST(CatalogueOpen, ReadOnlyModeRefusesWrites) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "ro.db";
   { Catalogue::Open(path); }
   CatalogueOptions read_only;
   read_only.read_only = true;
   Catalogue catalogue = Catalogue::Open(path, read_only);
-  EXPECT_THROW(catalogue.WriteArray(testing::IdealArray()), DatabaseError);
+  EXPECT_THROW(catalogue.WriteArray(test_support::IdealArray()), DatabaseError);
 }
 
 TEST(CatalogueOpen, TextFileIsNotASqliteDatabase) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   for (const std::string& contents :
        {std::string("time_s,cg_x\n0.0,1.0\n"), std::string(4096, 'z'), std::string("SQLite format 2")}) {
     const std::string path = dir / "x.db";
@@ -107,7 +107,7 @@ TEST(CatalogueOpen, TextFileIsNotASqliteDatabase) {
 }
 
 TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefusedAndUntouched) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "other.db";
   {
     Connection other = Connection::Open(path);
@@ -132,7 +132,7 @@ TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefusedAndUntouched) {
 }
 
 TEST(CatalogueOpen, MissingFileInReadOnlyModeIsReported) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   const std::string path = dir / "absent.db";
   CatalogueOptions read_only;
   read_only.read_only = true;

@@ -40,7 +40,7 @@ class SchemaTest : public ::testing::Test {
     connection_.emplace(Connection::Open(path_, {.read_only = true}));
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   std::string path_ = dir_ / "catalogue.db";
   std::optional<Connection> connection_;
 };

@@ -7,7 +7,7 @@
 
 #include "engine/array_analysis.h"
 #include "engine/array_geometry.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/exact_solver.h"
 #include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
@@ -44,15 +44,15 @@ TEST_P(ReferenceArrayTest, IsValidAndClassified) {
 
 INSTANTIATE_TEST_SUITE_P(
     Reference, ReferenceArrayTest,
-    ::testing::Values(ClassifiedArrayCase{"ideal_3222", &testing::Ideal3222, ExactPath::kLinear},
-                      ClassifiedArrayCase{"volpe_table4_2", &testing::VolpeTable42, ExactPath::kLinear},
-                      ClassifiedArrayCase{"denton_3222", &testing::Denton3222, ExactPath::kLinear},
-                      ClassifiedArrayCase{"six_a_omega_cg", &testing::SixAOmegaCg, ExactPath::kSixAOmega},
-                      ClassifiedArrayCase{"nap_ars12", &testing::NapArs12, ExactPath::kFused}),
-    testing::CaseName());
+    ::testing::Values(ClassifiedArrayCase{"ideal_3222", &test_support::Ideal3222, ExactPath::kLinear},
+                      ClassifiedArrayCase{"volpe_table4_2", &test_support::VolpeTable42, ExactPath::kLinear},
+                      ClassifiedArrayCase{"denton_3222", &test_support::Denton3222, ExactPath::kLinear},
+                      ClassifiedArrayCase{"six_a_omega_cg", &test_support::SixAOmegaCg, ExactPath::kSixAOmega},
+                      ClassifiedArrayCase{"nap_ars12", &test_support::NapArs12, ExactPath::kFused}),
+    test_support::CaseName());
 
 TEST(ArrayGeometry, SlotLookupAndKinds) {
-  const ArrayGeometry array = testing::NapArs12();
+  const ArrayGeometry array = test_support::NapArs12();
   ASSERT_TRUE(array.FindSlot("xarm_y").has_value());
   EXPECT_EQ(*array.FindSlot("xarm_y"), 6u);
   EXPECT_FALSE(array.FindSlot("nope").has_value());
@@ -61,7 +61,7 @@ TEST(ArrayGeometry, SlotLookupAndKinds) {
 }
 
 TEST(ArrayGeometry, NormalisesAxes) {
-  ArrayGeometry array = testing::Ideal3222();
+  ArrayGeometry array = test_support::Ideal3222();
   array.sensors[4].axis_body = Eigen::Vector3d(3.0, 0.0, 4.0);
   ValidateArray(array);
   EXPECT_NEAR(array.sensors[4].axis_body.norm(), 1.0, 1e-15);
@@ -79,7 +79,7 @@ void PrintTo(const MalformedArrayCase& malformed, std::ostream* os) { *os << mal
 
 // The ideal 3-2-2-2 whose cg_x sensor has an unknown unit with this factor.
 ArrayGeometry UnknownUnit(double factor) {
-  ArrayGeometry bad_unit = testing::Ideal3222();
+  ArrayGeometry bad_unit = test_support::Ideal3222();
   bad_unit.sensors[0].unit = "furlong/fortnight^2";
   bad_unit.sensors[0].si_per_unit = factor;
   return bad_unit;
@@ -102,28 +102,28 @@ INSTANTIATE_TEST_SUITE_P(
                                          "array 'foo' has no sensors"},
                       MalformedArrayCase{"duplicate_slot",
                                          [] {
-                                           ArrayGeometry duplicate = testing::Ideal3222();
+                                           ArrayGeometry duplicate = test_support::Ideal3222();
                                            duplicate.sensors[3].slot = "cg_x";
                                            return duplicate;
                                          },
                                          "slot 'cg_x' appears more than once"},
                       MalformedArrayCase{"unnamed_slot",
                                          [] {
-                                           ArrayGeometry unnamed = testing::Ideal3222();
+                                           ArrayGeometry unnamed = test_support::Ideal3222();
                                            unnamed.sensors[2].slot.clear();
                                            return unnamed;
                                          },
                                          "sensor 3 has an empty slot name"},
                       MalformedArrayCase{"zero_axis",
                                          [] {
-                                           ArrayGeometry zero_axis = testing::Ideal3222();
+                                           ArrayGeometry zero_axis = test_support::Ideal3222();
                                            zero_axis.sensors[5].axis_body.setZero();
                                            return zero_axis;
                                          },
                                          "slot 'xarm_z' has a zero or non-finite sense axis"},
                       MalformedArrayCase{"nan_axis",
                                          [] {
-                                           ArrayGeometry nan_axis = testing::Ideal3222();
+                                           ArrayGeometry nan_axis = test_support::Ideal3222();
                                            nan_axis.sensors[5].axis_body.x() =
                                                std::numeric_limits<double>::quiet_NaN();
                                            return nan_axis;
@@ -131,7 +131,7 @@ INSTANTIATE_TEST_SUITE_P(
                                          "slot 'xarm_z' has a zero or non-finite sense axis"},
                       MalformedArrayCase{"infinite_position",
                                          [] {
-                                           ArrayGeometry nan_position = testing::Ideal3222();
+                                           ArrayGeometry nan_position = test_support::Ideal3222();
                                            nan_position.sensors[7].position_body_m.z() =
                                                std::numeric_limits<double>::infinity();
                                            return nan_position;
@@ -144,11 +144,11 @@ INSTANTIATE_TEST_SUITE_P(
                       MalformedArrayCase{"unknown_unit_nan_factor",
                                          [] { return UnknownUnit(std::numeric_limits<double>::quiet_NaN()); },
                                          "slot 'cg_x' has unknown unit 'furlong/fortnight^2'"}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
   // All nine at the CG: alpha is invisible (rank 3 of 6).
-  ArrayGeometry at_cg = testing::Ideal3222();
+  ArrayGeometry at_cg = test_support::Ideal3222();
   at_cg.name = "foo";
   for (Sensor& sensor : at_cg.sensors) sensor.position_body_m.setZero();
   const std::string message = RejectionMessage(at_cg);
@@ -157,14 +157,14 @@ TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
   EXPECT_THAT(message, HasSubstr("add sensors off the CG or angular-rate sensors."));
 
   // Only five sensors can never reach rank 6.
-  ArrayGeometry five = testing::Ideal3222();
+  ArrayGeometry five = test_support::Ideal3222();
   five.sensors.resize(5);
   EXPECT_THAT(RejectionMessage(five), HasSubstr("rank 5 of 6"));
 
   // Without the z arm the 3-2-2-2 still senses alpha_x (yarm_z), alpha_y
   // (xarm_z) and alpha_z (yarm_x, xarm_y); dropping yarm_z as well leaves
   // nothing with a lever arm for alpha_x.
-  ArrayGeometry no_z_arm = testing::Ideal3222();
+  ArrayGeometry no_z_arm = test_support::Ideal3222();
   no_z_arm.sensors.resize(7);
   EXPECT_EQ(RejectionMessage(no_z_arm), "");
   ArrayGeometry no_alpha_x = no_z_arm;
@@ -172,17 +172,17 @@ TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
   EXPECT_THAT(RejectionMessage(no_alpha_x), HasSubstr("rank 5 of 6"));
 
   // 3 accelerometers + only 2 rate axes.
-  ArrayGeometry two_rates = testing::SixAOmegaCg();
+  ArrayGeometry two_rates = test_support::SixAOmegaCg();
   two_rates.sensors.pop_back();
   EXPECT_THAT(RejectionMessage(two_rates), HasSubstr("angular-rate sensors span only 2 of 3 axes"));
 
   // 3 rate axes but two parallel accelerometers: the CG acceleration is undetermined.
-  ArrayGeometry parallel = testing::SixAOmegaCg();
+  ArrayGeometry parallel = test_support::SixAOmegaCg();
   parallel.sensors[1].axis_body = Eigen::Vector3d::UnitX();
   EXPECT_THAT(RejectionMessage(parallel), HasSubstr("linear sense axes span only 2 of 3 directions"));
 
   // Rate sensors along two axes only, even with many of them.
-  ArrayGeometry coplanar_rates = testing::SixAOmegaCg();
+  ArrayGeometry coplanar_rates = test_support::SixAOmegaCg();
   coplanar_rates.sensors[5].axis_body = Eigen::Vector3d(1.0, 1.0, 0.0);
   EXPECT_THAT(RejectionMessage(coplanar_rates), HasSubstr("span only 2 of 3 axes"));
 }
@@ -190,7 +190,7 @@ TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
 TEST(ArrayGeometry, RankIsIndependentOfLengthUnitScale) {
   // The same NAP shrunk 1000x is still solvable (the rank test scales the
   // alpha columns by the lever arm).
-  ArrayGeometry tiny = testing::Denton3222();
+  ArrayGeometry tiny = test_support::Denton3222();
   for (Sensor& sensor : tiny.sensors) sensor.position_body_m *= 1e-3;
   EXPECT_NO_THROW(ValidateArray(tiny));
 }

@@ -9,7 +9,7 @@
 #include <complex>
 #include <random>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 
 namespace napkin::engine {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/units.h"
 

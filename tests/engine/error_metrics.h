@@ -11,7 +11,7 @@
 #include "engine/synth.h"
 #include "engine/units.h"
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 struct KinematicsErrors {
   double omega_rel = 0.0;        // max |omega - truth| / max |truth| (body)
@@ -52,4 +52,4 @@ inline engine::SolveOptions OptionsFor(const engine::SyntheticTest& test) {
   return options;
 }
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

@@ -20,10 +20,10 @@
 namespace napkin::engine {
 namespace {
 
-using testing::CompareKinematics;
-using testing::KinematicsErrors;
-using testing::OptionsFor;
-using testing::PrintErrors;
+using test_support::CompareKinematics;
+using test_support::KinematicsErrors;
+using test_support::OptionsFor;
+using test_support::PrintErrors;
 
 // A 3-2-2-2 NAP geometry of the report (Tables 4-1, 4-2) or of the Denton
 // head.
@@ -35,9 +35,9 @@ struct NapGeometryCase {
 void PrintTo(const NapGeometryCase& geometry, std::ostream* os) { *os << geometry.name; }
 
 const NapGeometryCase kNapGeometries[] = {
-    {"ideal_3222", &testing::Ideal3222, 1},
-    {"volpe_table4_2", &testing::VolpeTable42, 25},
-    {"denton_3222", &testing::Denton3222, 49},
+    {"ideal_3222", &test_support::Ideal3222, 1},
+    {"volpe_table4_2", &test_support::VolpeTable42, 25},
+    {"denton_3222", &test_support::Denton3222, 49},
 };
 
 class ExactSolverOnNapTest : public ::testing::TestWithParam<NapGeometryCase> {};
@@ -114,7 +114,7 @@ TEST_P(ExactSolverOnNapTest, RandomMotionsWithDisplacedSensorsMeetAccuracyTarget
 }
 
 INSTANTIATE_TEST_SUITE_P(NapGeometries, ExactSolverOnNapTest, ::testing::ValuesIn(kNapGeometries),
-                         testing::CaseName());
+                         test_support::CaseName());
 
 }  // namespace
 }  // namespace napkin::engine

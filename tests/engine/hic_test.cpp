@@ -7,7 +7,7 @@
 #include <random>
 
 #include "engine/criteria.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/units.h"
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engine/criteria.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/synth.h"
 #include "engine/units.h"
@@ -132,30 +132,30 @@ void ExpectOnly(const std::vector<Finding>& findings, const std::string& check,
 // fixed-axis rotation (tilted, so every NAP channel carries signal).
 std::vector<SyntheticTest> FaultHosts() {
   std::vector<SyntheticTest> hosts;
-  for (std::uint64_t seed : {1, 2, 3}) hosts.push_back(RandomTest(testing::Denton3222(), seed));
-  hosts.push_back(RandomTest(testing::Ideal3222(), 4));
-  hosts.push_back(SynthSeedFixedAxis(testing::Denton3222(), kTiltedOrientation));
+  for (std::uint64_t seed : {1, 2, 3}) hosts.push_back(RandomTest(test_support::Denton3222(), seed));
+  hosts.push_back(RandomTest(test_support::Ideal3222(), 4));
+  hosts.push_back(SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
   return hosts;
 }
 
 TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
   std::vector<std::pair<std::string, SyntheticTest>> tests;
-  for (std::uint64_t seed = 1; seed <= 6; ++seed) tests.emplace_back("denton", RandomTest(testing::Denton3222(), seed));
-  for (std::uint64_t seed = 7; seed <= 9; ++seed) tests.emplace_back("ideal", RandomTest(testing::Ideal3222(), seed));
-  for (std::uint64_t seed = 10; seed <= 12; ++seed) tests.emplace_back("ars12", RandomTest(testing::NapArs12(), seed));
-  for (std::uint64_t seed = 13; seed <= 14; ++seed) tests.emplace_back("6aw", RandomTest(testing::SixAOmegaCg(), seed));
-  tests.emplace_back("fixed-axis", SynthSeedFixedAxis(testing::Denton3222(), kTiltedOrientation));
-  tests.emplace_back("fixed-axis-upright", SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d::Zero()));
-  tests.emplace_back("sequential", SynthSequential(testing::Denton3222()));
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) tests.emplace_back("denton", RandomTest(test_support::Denton3222(), seed));
+  for (std::uint64_t seed = 7; seed <= 9; ++seed) tests.emplace_back("ideal", RandomTest(test_support::Ideal3222(), seed));
+  for (std::uint64_t seed = 10; seed <= 12; ++seed) tests.emplace_back("ars12", RandomTest(test_support::NapArs12(), seed));
+  for (std::uint64_t seed = 13; seed <= 14; ++seed) tests.emplace_back("6aw", RandomTest(test_support::SixAOmegaCg(), seed));
+  tests.emplace_back("fixed-axis", SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
+  tests.emplace_back("fixed-axis-upright", SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d::Zero()));
+  tests.emplace_back("sequential", SynthSequential(test_support::Denton3222()));
   // Noisy (0.5 g RMS) and conditioned with the defaults.
   for (std::uint64_t seed = 21; seed <= 26; ++seed) {
-    SyntheticTest test = RandomTest(seed % 2 ? testing::Denton3222() : testing::NapArs12(), seed);
+    SyntheticTest test = RandomTest(seed % 2 ? test_support::Denton3222() : test_support::NapArs12(), seed);
     AddLinearNoise(test, 0.5, 100 + seed);
     tests.emplace_back("noisy", std::move(test));
   }
   // Sensors displaced up to 5 mm, processed with their true geometry.
   for (std::uint64_t seed = 31; seed <= 33; ++seed)
-    tests.emplace_back("displaced", RandomTest(DisplaceSensors(testing::Denton3222(), 0.005, seed), seed));
+    tests.emplace_back("displaced", RandomTest(DisplaceSensors(test_support::Denton3222(), 0.005, seed), seed));
   ASSERT_GE(tests.size(), 20u);
   for (const auto& [kind, test] : tests) {
     const std::vector<Finding> findings = ProcessFindings(test);
@@ -164,10 +164,10 @@ TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
 }
 
 TEST(Screening, ArrayWithoutRedundancySaysSoAtInfo) {
-  const SyntheticTest test = RandomTest(testing::SixAOmegaCg(), 3);
+  const SyntheticTest test = RandomTest(test_support::SixAOmegaCg(), 3);
   EXPECT_EQ(ResidualRedundancy(test.array), 0);
-  EXPECT_EQ(ResidualRedundancy(testing::Denton3222()), 3);
-  EXPECT_EQ(ResidualRedundancy(testing::NapArs12()), 6);
+  EXPECT_EQ(ResidualRedundancy(test_support::Denton3222()), 3);
+  EXPECT_EQ(ResidualRedundancy(test_support::NapArs12()), 6);
   const std::vector<Finding> findings = ProcessFindings(test);
   ASSERT_EQ(findings.size(), 1u) << Describe(findings);
   EXPECT_EQ(findings[0].check, "consistency");
@@ -237,7 +237,7 @@ TEST(Screening, SpikeIsAWarningAtItsSample) {
 }
 
 TEST(Screening, SpikeOnTheCrashPulseOfANoisyRecordIsFoundWithoutFalseAlarms) {
-  SyntheticTest test = RandomTest(testing::Denton3222(), 8);
+  SyntheticTest test = RandomTest(test_support::Denton3222(), 8);
   AddLinearNoise(test, 0.5, 808);
   auto column = Column(test, "yarm_x");
   Index peak_at = 0;
@@ -262,7 +262,7 @@ TEST(Screening, TwoGBiasWithoutPreImpactDataIsAWarning) {
 TEST(Screening, TwoGBiasInThePreImpactMeanIsAWarning) {
   for (std::uint64_t seed : {1, 2}) {
     for (const std::string slot : {"cg_z", "yarm_x", "zarm_y"}) {
-      SyntheticTest test = RandomTest(testing::Denton3222(), seed);
+      SyntheticTest test = RandomTest(test_support::Denton3222(), seed);
       const Index pre = 100;
       Eigen::MatrixXd samples = Eigen::MatrixXd::Zero(pre + test.signals.size(), test.signals.samples.cols());
       samples.bottomRows(test.signals.size()) = test.signals.samples;
@@ -311,7 +311,7 @@ TEST(Screening, NanDropoutIsAnErrorAndStopsProcessingNamingSlotAndSample) {
 }
 
 TEST(Screening, MissingChannelIsAnErrorNamingTheSlot) {
-  SyntheticTest test = RandomTest(testing::Denton3222(), 1);
+  SyntheticTest test = RandomTest(test_support::Denton3222(), 1);
   test.signals.slots[4] = "not_a_slot";
   const std::vector<Finding> findings = ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
   ExpectOnly(findings, "missing", {"yarm_x"}, Severity::kError, "missing yarm_x");
@@ -340,7 +340,7 @@ TEST(Screening, ScaleFactorErrorShowsInTheResidualNamingTheChannel) {
 }
 
 TEST(Screening, SeedSolverRunsAreScreenedWithTheExactResidual) {
-  SyntheticTest test = SynthSeedFixedAxis(testing::Ideal3222(), kTiltedOrientation);
+  SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), kTiltedOrientation);
   Column(test, "yarm_x") *= -1.0;
   ProcessingConfig config;
   config.solver = SolverKind::kSeed;
@@ -350,7 +350,7 @@ TEST(Screening, SeedSolverRunsAreScreenedWithTheExactResidual) {
 // The verdict beside ProcessTest: a clean test and one with warnings only
 // pass; the first error-severity finding fails the test with its sentence.
 TEST(Verdict, FirstErrorFindingFailsTheTest) {
-  const SyntheticTest clean = RandomTest(testing::NapArs12(), 3);
+  const SyntheticTest clean = RandomTest(test_support::NapArs12(), 3);
   EXPECT_EQ(FailingFinding(ProcessTest(clean.array, clean.signals, clean.initial, {})), nullptr);
 
   SyntheticTest spiked = clean;
@@ -374,7 +374,7 @@ TEST(Verdict, FirstErrorFindingFailsTheTest) {
 }
 
 TEST(Screening, FlatChannelIsInfo) {
-  SyntheticTest test = RandomTest(testing::Denton3222(), 2);
+  SyntheticTest test = RandomTest(test_support::Denton3222(), 2);
   const std::vector<Finding> clean = ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
   EXPECT_TRUE(clean.empty()) << Describe(clean);
   Column(test, "cg_z").setConstant(0.25);
@@ -388,7 +388,7 @@ TEST(Screening, FlatChannelIsInfo) {
 TEST(Screening, NoisyTestsWithDefaultFilteringKeepPeakOmegaAndHic15) {
   double worst_omega = 0.0, worst_hic = 0.0;
   int motions = 0;
-  for (const ArrayGeometry& array : {testing::Denton3222(), testing::Ideal3222()}) {
+  for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::Ideal3222()}) {
     for (std::uint64_t seed = 1; seed <= 6; ++seed) {
       SyntheticTest test = RandomTest(array, seed);
       ASSERT_DOUBLE_EQ(test.signals.dt_s, 1e-4);

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/units.h"
@@ -48,7 +48,7 @@ struct LcCompRow {
   std::array<double, 9> t{};
 };
 
-std::filesystem::path LcCompDir() { return testing::FixturesDir() / "lc_comp"; }
+std::filesystem::path LcCompDir() { return test_support::FixturesDir() / "lc_comp"; }
 
 LcCompInput ReadInput(const std::string& name) {
   std::ifstream in(LcCompDir() / name);
@@ -267,11 +267,11 @@ TEST_P(SeedGoldenTest, KinematicsAreTheListingOutputsInSi) {
 
 INSTANTIATE_TEST_SUITE_P(
     LcComp, SeedGoldenTest,
-    ::testing::Values(GoldenCase{"in_ideal.txt", "out_ideal_ideal.txt", &testing::Ideal3222},
-                      GoldenCase{"in_table42.txt", "out_table42_table42.txt", &testing::VolpeTable42},
-                      GoldenCase{"in_table42.txt", "out_table42_ideal.txt", &testing::Ideal3222},
-                      GoldenCase{"in_denton.txt", "out_denton_denton.txt", &testing::Denton3222},
-                      GoldenCase{"in_denton_angles.txt", "out_denton_angles.txt", &testing::Denton3222}),
+    ::testing::Values(GoldenCase{"in_ideal.txt", "out_ideal_ideal.txt", &test_support::Ideal3222},
+                      GoldenCase{"in_table42.txt", "out_table42_table42.txt", &test_support::VolpeTable42},
+                      GoldenCase{"in_table42.txt", "out_table42_ideal.txt", &test_support::Ideal3222},
+                      GoldenCase{"in_denton.txt", "out_denton_denton.txt", &test_support::Denton3222},
+                      GoldenCase{"in_denton_angles.txt", "out_denton_angles.txt", &test_support::Denton3222}),
     [](const ::testing::TestParamInfo<GoldenCase>& info) {
       std::string name = info.param.output;
       name = name.substr(4, name.size() - 8);  // out_<name>.txt
@@ -288,7 +288,7 @@ void ExpectVector(const Eigen::Vector3f& actual, float x, float y, float z, cons
 }
 
 TEST(SeedGeometry, DentonArrayGivesTheListingsDentonBlock) {
-  const SeedGeometry g = SeedGeometryOf(testing::Denton3222());
+  const SeedGeometry g = SeedGeometryOf(test_support::Denton3222());
   EXPECT_EQ(g.rx, 2.200f);
   EXPECT_EQ(g.ry, 1.900f);
   EXPECT_EQ(g.rz, 3.20f);
@@ -304,7 +304,7 @@ TEST(SeedGeometry, DentonArrayGivesTheListingsDentonBlock) {
 }
 
 TEST(SeedGeometry, Table42ArrayGivesTheListingsTable42Block) {
-  const SeedGeometry g = SeedGeometryOf(testing::VolpeTable42());
+  const SeedGeometry g = SeedGeometryOf(test_support::VolpeTable42());
   EXPECT_EQ(g.rx, 2.403f);
   EXPECT_EQ(g.ry, 2.103f);
   EXPECT_EQ(g.rz, 3.20f);
@@ -320,7 +320,7 @@ TEST(SeedGeometry, Table42ArrayGivesTheListingsTable42Block) {
 }
 
 TEST(SeedGeometry, IdealArrayHasTable41ArmsAndNoOffsets) {
-  const SeedGeometry g = SeedGeometryOf(testing::Ideal3222());
+  const SeedGeometry g = SeedGeometryOf(test_support::Ideal3222());
   EXPECT_EQ(g.rx, 2.2f);
   EXPECT_EQ(g.ry, 1.9f);
   EXPECT_EQ(g.rz, 3.2f);
@@ -351,41 +351,41 @@ void ExpectInvalidArray(const ArrayGeometry& array, const std::string& needle) {
 
 TEST(SeedArrayValidation, RejectsArraysThatAreNot3222WithTable21Axes) {
   {
-    ArrayGeometry array = testing::SixAOmegaCg();
+    ArrayGeometry array = test_support::SixAOmegaCg();
     ExpectInvalidArray(array, "'yarm_z' is missing");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     array.sensors.erase(array.sensors.begin() + 8);  // zarm_y
     ExpectInvalidArray(array, "'zarm_y' is missing");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     SlotOf(array, "yarm_x").axis_body = Eigen::Vector3d::UnitY();
     ExpectInvalidArray(array, "'yarm_x' does not sense along its Table 2-1 axis");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     SlotOf(array, "cg_z").axis_body = -Eigen::Vector3d::UnitZ();
     ExpectInvalidArray(array, "'cg_z' does not sense along its Table 2-1 axis");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     SlotOf(array, "xarm_y").kind = SensorKind::kAngularRate;
     ExpectInvalidArray(array, "'xarm_y' must be a linear accelerometer");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     array.sensors.push_back(array.sensors[0]);
     ExpectInvalidArray(array, "'cg_x' appears twice");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     SlotOf(array, "zarm_x").position_body_m.z() = 0.0;
     ExpectInvalidArray(array, "z (zarm_x) arm length is zero");
   }
   {
-    ArrayGeometry array = testing::Denton3222();
+    ArrayGeometry array = test_support::Denton3222();
     SlotOf(array, "cg_y").position_body_m.x() = std::nan("");
     ExpectInvalidArray(array, "'cg_y' has a non-finite position");
   }
@@ -393,8 +393,8 @@ TEST(SeedArrayValidation, RejectsArraysThatAreNot3222WithTable21Axes) {
 
 TEST(SeedArrayValidation, ScaledAxesAreAcceptedAndExtraSensorsIgnored) {
   const LcCompInput input = ReadInput("in_denton_angles.txt");
-  const ListingTrace plain = RunListing(testing::Denton3222(), SignalsOf(input), InitialOf(input));
-  ArrayGeometry array = testing::NapArs12();
+  const ListingTrace plain = RunListing(test_support::Denton3222(), SignalsOf(input), InitialOf(input));
+  ArrayGeometry array = test_support::NapArs12();
   SlotOf(array, "xarm_z").axis_body *= 2.5;
   TestSignals signals = SignalsOf(input);
   // Rate channels in the signals, which the seed solver has no use for.
@@ -409,8 +409,8 @@ TEST(SeedArrayValidation, ScaledAxesAreAcceptedAndExtraSensorsIgnored) {
 
 TEST(SeedSignals, ChannelsInOtherUnitsAreConvertedToG) {
   const LcCompInput input = ReadInput("in_denton_angles.txt");
-  const ListingTrace in_g = RunListing(testing::Denton3222(), SignalsOf(input), InitialOf(input));
-  ArrayGeometry array = testing::Denton3222();
+  const ListingTrace in_g = RunListing(test_support::Denton3222(), SignalsOf(input), InitialOf(input));
+  ArrayGeometry array = test_support::Denton3222();
   TestSignals signals = SignalsOf(input);
   for (Sensor& sensor : array.sensors) sensor.unit = "m/s^2", sensor.si_per_unit = 1.0;
   signals.samples *= kStandardGravity;
@@ -426,7 +426,7 @@ TEST(SeedSignals, MissingChannelOrNonFiniteSampleIsAnInputError) {
     TestSignals signals = SignalsOf(input);
     signals.slots[4] = "something_else";
     try {
-      SolveSeed(testing::Denton3222(), signals, InitialOf(input));
+      SolveSeed(test_support::Denton3222(), signals, InitialOf(input));
       ADD_FAILURE() << "accepted missing channel";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("'yarm_x'"), std::string::npos) << e.what();
@@ -436,7 +436,7 @@ TEST(SeedSignals, MissingChannelOrNonFiniteSampleIsAnInputError) {
     TestSignals signals = SignalsOf(input);
     signals.samples(17, 6) = std::numeric_limits<double>::quiet_NaN();
     try {
-      SolveSeed(testing::Denton3222(), signals, InitialOf(input));
+      SolveSeed(test_support::Denton3222(), signals, InitialOf(input));
       ADD_FAILURE() << "accepted NaN";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("'xarm_y' row 17"), std::string::npos) << e.what();
@@ -445,7 +445,7 @@ TEST(SeedSignals, MissingChannelOrNonFiniteSampleIsAnInputError) {
   {
     TestSignals signals = SignalsOf(input);
     signals.dt_s = 0.0;
-    EXPECT_THROW(SolveSeed(testing::Denton3222(), signals, InitialOf(input)), InputError);
+    EXPECT_THROW(SolveSeed(test_support::Denton3222(), signals, InitialOf(input)), InputError);
   }
 }
 
@@ -453,7 +453,7 @@ TEST(SeedSignals, NoSamplesGiveEmptyKinematics) {
   TestSignals signals;
   for (const char* slot : kNapSlots) signals.slots.push_back(slot);
   signals.samples.resize(0, 9);
-  EXPECT_EQ(SolveSeed(testing::Denton3222(), signals, InitialState{}).size(), 0);
+  EXPECT_EQ(SolveSeed(test_support::Denton3222(), signals, InitialState{}).size(), 0);
 }
 
 // ---------------------------------------------------------------------------
@@ -532,7 +532,7 @@ void Print(const char* label, const ScenarioErrors& e) {
 }
 
 TEST(SeedScenario45, Table42DataAsIdealShowsTheReportsErrors) {
-  const ScenarioErrors e = Evaluate(testing::Ideal3222(), "in_table42.txt");
+  const ScenarioErrors e = Evaluate(test_support::Ideal3222(), "in_table42.txt");
   Print("table42 data as ideal-3222", e);
   // Report section 4.5: uncompensated processing of non-coplanar data gives
   // cross-axis angular velocities of several percent of the 50 rad/s peak
@@ -547,8 +547,8 @@ TEST(SeedScenario45, Table42DataAsIdealShowsTheReportsErrors) {
 }
 
 TEST(SeedScenario45, Table42CompensationCutsCrossAxisErrorHundredfold) {
-  const ScenarioErrors raw = Evaluate(testing::Ideal3222(), "in_table42.txt");
-  const ScenarioErrors compensated = Evaluate(testing::VolpeTable42(), "in_table42.txt");
+  const ScenarioErrors raw = Evaluate(test_support::Ideal3222(), "in_table42.txt");
+  const ScenarioErrors compensated = Evaluate(test_support::VolpeTable42(), "in_table42.txt");
   Print("table42 data as volpe-table4-2", compensated);
   const double ratio_x = raw.max_omega_error.x() / compensated.max_omega_error.x();
   const double ratio_z = raw.max_omega_error.z() / compensated.max_omega_error.z();
@@ -561,8 +561,8 @@ TEST(SeedScenario45, Table42CompensationCutsCrossAxisErrorHundredfold) {
 }
 
 TEST(SeedScenario45, IdealAndDentonAreAccurateButNotExact) {
-  for (const auto& [array, input] : {std::pair{testing::Ideal3222(), "in_ideal.txt"},
-                                     std::pair{testing::Denton3222(), "in_denton.txt"}}) {
+  for (const auto& [array, input] : {std::pair{test_support::Ideal3222(), "in_ideal.txt"},
+                                     std::pair{test_support::Denton3222(), "in_denton.txt"}}) {
     const ScenarioErrors e = Evaluate(array, input);
     Print(array.name.c_str(), e);
     // Matched geometry: the angular acceleration is exact, so the cross
@@ -605,10 +605,10 @@ TestSignals QuietSignals(Eigen::Index n, double dt) {
 
 TEST(SeedInitialState, InitialVelocityIsTrapintsW0) {
   const LcCompInput input = ReadInput("in_denton.txt");
-  const Kinematics at_rest = SolveSeed(testing::Denton3222(), SignalsOf(input), InitialOf(input));
+  const Kinematics at_rest = SolveSeed(test_support::Denton3222(), SignalsOf(input), InitialOf(input));
   InitialState moving = InitialOf(input);
   moving.velocity_fixed_mps = Eigen::Vector3d(1.5, -2.0, 0.25);
-  const Kinematics kin = SolveSeed(testing::Denton3222(), SignalsOf(input), moving);
+  const Kinematics kin = SolveSeed(test_support::Denton3222(), SignalsOf(input), moving);
   // TRAPINT starts its DOUBLE accumulator at REAL*4(w0): every velocity is
   // shifted by w0, up to the REAL*4 rounding of the stored result.
   for (Eigen::Index k = 0; k < kin.size(); ++k) {
@@ -632,7 +632,7 @@ TEST(SeedInitialState, ConstantInitialBodyRateFollowsTheExactRotation) {
   InitialState initial;
   initial.orientation_rad = Eigen::Vector3d(0.2, -0.4, 0.9);
   initial.omega_body_radps = Eigen::Vector3d(10.0, -20.0, 30.0);  // |omega| dt = 3.7 mrad: 4 sub-steps
-  const Kinematics kin = SolveSeed(testing::Ideal3222(), QuietSignals(n, dt), initial);
+  const Kinematics kin = SolveSeed(test_support::Ideal3222(), QuietSignals(n, dt), initial);
   const Eigen::Vector3f omega_f = initial.omega_body_radps.cast<float>();
   for (Eigen::Index k = 0; k < n; ++k)
     EXPECT_TRUE(kin.omega_body.row(k).transpose() == omega_f.cast<double>()) << k;
@@ -670,7 +670,7 @@ TEST(SeedSignals, Real4OverflowIsAnInputErrorNotANumber) {
   TestSignals signals = SignalsOf(input);
   signals.samples(40, 3) = 1e30;  // yarm_z
   try {
-    SolveSeed(testing::Denton3222(), signals, InitialOf(input));
+    SolveSeed(test_support::Denton3222(), signals, InitialOf(input));
     ADD_FAILURE() << "accepted an overflowing sample";
   } catch (const InputError& e) {
     const std::string message = e.what();

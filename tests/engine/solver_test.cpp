@@ -7,7 +7,7 @@
 #include <limits>
 #include <ostream>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/exact_solver.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
@@ -22,10 +22,10 @@ namespace napkin::engine {
 namespace {
 
 using ::testing::HasSubstr;
-using testing::CompareKinematics;
-using testing::KinematicsErrors;
-using testing::OptionsFor;
-using testing::PrintErrors;
+using test_support::CompareKinematics;
+using test_support::KinematicsErrors;
+using test_support::OptionsFor;
+using test_support::PrintErrors;
 
 std::string SolveError(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options = {}) {
   try {
@@ -37,7 +37,7 @@ std::string SolveError(const ArrayGeometry& array, const TestSignals& signals, c
 }
 
 TEST(Solver, RejectsUnusableSignals) {
-  const SyntheticTest test = SynthSeedFixedAxis(testing::Denton3222(), Eigen::Vector3d::Zero());
+  const SyntheticTest test = SynthSeedFixedAxis(test_support::Denton3222(), Eigen::Vector3d::Zero());
   EXPECT_EQ(SolveError(test.array, test.signals), "");
 
   TestSignals missing = test.signals;
@@ -73,7 +73,7 @@ TEST(Solver, RejectsUnusableSignals) {
 }
 
 TEST(Solver, ExtraChannelsAndColumnOrderDoNotMatter) {
-  const SyntheticTest test = SynthSeedFixedAxis(testing::VolpeTable42(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const SyntheticTest test = SynthSeedFixedAxis(test_support::VolpeTable42(), Eigen::Vector3d(0.5, 0.5, 0.5));
   TestSignals shuffled;
   shuffled.dt_s = test.signals.dt_s;
   shuffled.slots = {"extra"};
@@ -93,7 +93,7 @@ TEST(Solver, ExtraChannelsAndColumnOrderDoNotMatter) {
 // NAP + ARS on the random motions, sensors displaced up to 0.25 in:
 // omega <= 0.05 % of peak, CG acceleration <= 0.1 % of peak.
 TEST(Solver, AngularRatePathsMeetAccuracyTargets) {
-  for (const ArrayGeometry& nominal : {testing::SixAOmegaCg(), testing::NapArs12()}) {
+  for (const ArrayGeometry& nominal : {test_support::SixAOmegaCg(), test_support::NapArs12()}) {
     KinematicsErrors worst;
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
       SCOPED_TRACE(nominal.name + " seed " + std::to_string(seed));
@@ -124,7 +124,7 @@ TEST(Solver, AngularRatePathsMeetAccuracyTargets) {
 
 // Rate sensors in deg/s are converted by the array's unit factor.
 TEST(Solver, RateSensorsInDegreesPerSecond) {
-  ArrayGeometry array = testing::SixAOmegaCg();
+  ArrayGeometry array = test_support::SixAOmegaCg();
   for (Sensor& sensor : array.sensors) {
     if (sensor.kind != SensorKind::kAngularRate) continue;
     sensor.unit = "deg/s";
@@ -166,12 +166,12 @@ TEST_P(SequentialRotationsTest, EndAtKnownOrientation) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ReferenceArrays, SequentialRotationsTest,
-                         ::testing::Values(ReferenceArrayCase{"ideal_3222", &testing::Ideal3222},
-                                           ReferenceArrayCase{"volpe_table4_2", &testing::VolpeTable42},
-                                           ReferenceArrayCase{"denton_3222", &testing::Denton3222},
-                                           ReferenceArrayCase{"six_a_omega_cg", &testing::SixAOmegaCg},
-                                           ReferenceArrayCase{"nap_ars12", &testing::NapArs12}),
-                         testing::CaseName());
+                         ::testing::Values(ReferenceArrayCase{"ideal_3222", &test_support::Ideal3222},
+                                           ReferenceArrayCase{"volpe_table4_2", &test_support::VolpeTable42},
+                                           ReferenceArrayCase{"denton_3222", &test_support::Denton3222},
+                                           ReferenceArrayCase{"six_a_omega_cg", &test_support::SixAOmegaCg},
+                                           ReferenceArrayCase{"nap_ars12", &test_support::NapArs12}),
+                         test_support::CaseName());
 
 // Gravity (ALGORITHMS.md): with compensation the solver recovers the true
 // CG acceleration; without it the velocity error is metres per second.
@@ -179,7 +179,7 @@ TEST(Solver, GravityCompensationRecoversTruth) {
   RandomMotionOptions motion;
   motion.synth.gravity = true;
   for (std::uint64_t seed : {4, 9}) {
-    for (const ArrayGeometry& array : {testing::Denton3222(), testing::NapArs12(), testing::SixAOmegaCg()}) {
+    for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::NapArs12(), test_support::SixAOmegaCg()}) {
       motion.seed = seed;
       const SyntheticTest test = SynthRandomMotion(array, motion);
       SolveOptions options = OptionsFor(test);
@@ -200,7 +200,7 @@ TEST(Solver, GravityCompensationRecoversTruth) {
 TEST(Solver, ZeroGravityGivesIdenticalResultsWithAndWithoutCompensation) {
   RandomMotionOptions motion;
   motion.seed = 6;
-  for (const ArrayGeometry& array : {testing::VolpeTable42(), testing::NapArs12()}) {
+  for (const ArrayGeometry& array : {test_support::VolpeTable42(), test_support::NapArs12()}) {
     const SyntheticTest test = SynthRandomMotion(array, motion);
     SolveOptions options = OptionsFor(test);
     options.gravity.g_fixed_mps2.setZero();
@@ -219,7 +219,7 @@ TEST(Solver, ZeroGravityGivesIdenticalResultsWithAndWithoutCompensation) {
 // The residual is the array's self-consistency: ~0 on clean data, large
 // where one channel is corrupted.
 TEST(Solver, ResidualFlagsACorruptedChannel) {
-  for (const ArrayGeometry& array : {testing::Denton3222(), testing::NapArs12()}) {
+  for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::NapArs12()}) {
     const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
     const Kinematics clean = Solve(test.array, test.signals, OptionsFor(test));
     EXPECT_LT(clean.residual.maxCoeff(), 0.005 * kStandardGravity) << array.name;
@@ -234,7 +234,7 @@ TEST(Solver, ResidualFlagsACorruptedChannel) {
 }
 
 TEST(Solver, InitialVelocityAndOrientationAreHonoured) {
-  const SyntheticTest test = SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d(0.1, -0.2, 0.3));
+  const SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.1, -0.2, 0.3));
   SolveOptions options = OptionsFor(test);
   options.initial.velocity_fixed_mps = Eigen::Vector3d(1.0, -2.0, 3.0);
   const Kinematics solved = Solve(test.array, test.signals, options);
@@ -262,7 +262,7 @@ namespace {
 // The shortest records (2 to 5 samples) solve with finite results on every
 // path: the differentiators fall back to lower-order stencils.
 TEST(Solver, ShortRecordsGiveFiniteResults) {
-  for (const ArrayGeometry& array : {testing::Denton3222(), testing::SixAOmegaCg(), testing::NapArs12()}) {
+  for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::SixAOmegaCg(), test_support::NapArs12()}) {
     const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
     for (Eigen::Index n = 2; n <= 5; ++n) {
       TestSignals shortened = test.signals;

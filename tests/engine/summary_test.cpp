@@ -55,7 +55,7 @@ TEST(Summary, PeaksFinalPoseAndResidualOfAHandMadeRecord) {
 
 // Report section 4.5 truth: the summary carries the known answers.
 TEST(Summary, SeedFixedAxisKnownAnswers) {
-  const SyntheticTest test = SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
   TestSummary summary;
   SummarizeKinematics(test.truth, summary);
   EXPECT_NEAR(summary.peak_omega_radps, report::kPeakOmegaFixedYRadps, 1e-12);

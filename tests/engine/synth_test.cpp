@@ -68,7 +68,7 @@ void ExpectSelfConsistent(const SyntheticTest& test, double tolerance) {
 }
 
 TEST(Synth, SeedFixedAxisTruthIsTheReportScenario) {
-  const SyntheticTest test = SynthSeedFixedAxis(testing::Denton3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const SyntheticTest test = SynthSeedFixedAxis(test_support::Denton3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
   const Kinematics& truth = test.truth;
   ASSERT_EQ(truth.size(), 1001);  // t = 0 ... 0.1 s inclusive at 10 kHz
   EXPECT_DOUBLE_EQ(truth.time_s(1000), 0.1);
@@ -96,7 +96,7 @@ TEST(Synth, SeedFixedAxisTruthIsTheReportScenario) {
 }
 
 TEST(Synth, SequentialEndsAtThreeBodyTurns) {
-  const SyntheticTest test = SynthSequential(testing::Ideal3222());
+  const SyntheticTest test = SynthSequential(test_support::Ideal3222());
   const Kinematics& truth = test.truth;
   ASSERT_EQ(truth.size(), 1501);
   const Eigen::Matrix3d final_r = QuatAt(truth.quat_fixed_from_body, truth.size() - 1).toRotationMatrix();
@@ -112,10 +112,10 @@ TEST(Synth, SequentialEndsAtThreeBodyTurns) {
 TEST(Synth, RandomMotionIsSeededSmoothAndStartsAtRest) {
   RandomMotionOptions options;
   options.seed = 11;
-  const SyntheticTest a = SynthRandomMotion(testing::VolpeTable42(), options);
-  const SyntheticTest b = SynthRandomMotion(testing::VolpeTable42(), options);
+  const SyntheticTest a = SynthRandomMotion(test_support::VolpeTable42(), options);
+  const SyntheticTest b = SynthRandomMotion(test_support::VolpeTable42(), options);
   options.seed = 12;
-  const SyntheticTest c = SynthRandomMotion(testing::VolpeTable42(), options);
+  const SyntheticTest c = SynthRandomMotion(test_support::VolpeTable42(), options);
   EXPECT_EQ(a.signals.samples, b.signals.samples);
   EXPECT_NE(a.signals.samples, c.signals.samples);
   ASSERT_EQ(a.truth.size(), 2001);
@@ -127,7 +127,7 @@ TEST(Synth, RandomMotionIsSeededSmoothAndStartsAtRest) {
   // Peaks of the order asked for.
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     options.seed = seed;
-    const SyntheticTest t = SynthRandomMotion(testing::Ideal3222(), options);
+    const SyntheticTest t = SynthRandomMotion(test_support::Ideal3222(), options);
     const double peak_omega = t.truth.omega_body.rowwise().norm().maxCoeff();
     const double peak_acc_g = t.truth.acc_fixed.rowwise().norm().maxCoeff() / kStandardGravity;
     EXPECT_GT(peak_omega, 0.3 * options.peak_omega_radps);
@@ -137,13 +137,13 @@ TEST(Synth, RandomMotionIsSeededSmoothAndStartsAtRest) {
   }
   options.random_initial_orientation = false;
   options.random_initial_velocity = false;
-  const SyntheticTest still = SynthRandomMotion(testing::Ideal3222(), options);
+  const SyntheticTest still = SynthRandomMotion(test_support::Ideal3222(), options);
   EXPECT_EQ(still.initial.orientation_rad.norm(), 0.0);
   EXPECT_EQ(still.initial.velocity_fixed_mps.norm(), 0.0);
 }
 
 TEST(Synth, SignalsUseEachSlotsUnit) {
-  ArrayGeometry array = testing::NapArs12();
+  ArrayGeometry array = test_support::NapArs12();
   array.sensors[10].unit = "deg/s";
   array.sensors[10].si_per_unit = kPi / 180.0;
   array.sensors[0].unit = "m/s^2";
@@ -169,8 +169,8 @@ TEST(Synth, SignalsUseEachSlotsUnit) {
 TEST(Synth, GravityReadingIsZeroedAtStartAndFollowsTheHeadTurn) {
   SynthOptions with_gravity;
   with_gravity.gravity = true;
-  const SyntheticTest plain = SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
-  const SyntheticTest heavy = SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5), with_gravity);
+  const SyntheticTest plain = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const SyntheticTest heavy = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5), with_gravity);
   EXPECT_LE((plain.signals.samples.row(0) - heavy.signals.samples.row(0)).norm(), 1e-15);
   // Truth is the same motion; only the readings differ, by -(R^T - R0^T) g.
   EXPECT_EQ(plain.truth.acc_body, heavy.truth.acc_body);
@@ -183,7 +183,7 @@ TEST(Synth, GravityReadingIsZeroedAtStartAndFollowsTheHeadTurn) {
 }
 
 TEST(Synth, DisplaceSensorsMovesEverySensorWithinTheBound) {
-  const ArrayGeometry nominal = testing::Denton3222();
+  const ArrayGeometry nominal = test_support::Denton3222();
   const double bound = 0.25 * kMetresPerInch;
   const ArrayGeometry a = DisplaceSensors(nominal, bound, 5);
   const ArrayGeometry b = DisplaceSensors(nominal, bound, 5);

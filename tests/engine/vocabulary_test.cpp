@@ -11,7 +11,7 @@
 
 #include "engine/array_geometry.h"
 #include "engine/cfc_filter.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/processing.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
@@ -148,7 +148,7 @@ TEST(ProcessingConfigCheck, RefusesSettingsThatWouldBeIgnored) {
 }
 
 TEST(Solve, SeedSolverRefusesWhatItWouldIgnore) {
-  const SyntheticTest test = SynthSeedFixedAxis(testing::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
   SolveOptions options;
   options.solver = SolverKind::kSeed;
   options.initial = test.initial;

@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/units.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
@@ -12,7 +12,7 @@
 namespace napkin::formats {
 namespace {
 
-using testing::TempDir;
+using test_support::TempDir;
 
 void ExpectSameArray(const engine::ArrayGeometry& expected, const engine::ArrayGeometry& actual) {
   ASSERT_EQ(expected.sensors.size(), actual.sensors.size()) << expected.name;
@@ -52,25 +52,25 @@ void ExpectArrayError(const std::filesystem::path& path, const std::string& frag
 }
 
 TEST(ArrayJsonTest, PresetsEqualTheReportGeometries) {
-  const std::filesystem::path dir = testing::SourceDir() / "config" / "arrays";
-  ExpectSameArray(testing::Ideal3222(), ReadArrayJson(dir / "ideal-3222.json"));
-  ExpectSameArray(testing::VolpeTable42(), ReadArrayJson(dir / "volpe-table4-2.json"));
-  ExpectSameArray(testing::Denton3222(), ReadArrayJson(dir / "denton-3222.json"));
-  ExpectSameArray(testing::SixAOmegaCg(), ReadArrayJson(dir / "6aw-cg.json"));
-  ExpectSameArray(testing::NapArs12(), ReadArrayJson(dir / "nap-ars-12.json"));
+  const std::filesystem::path dir = test_support::SourceDir() / "config" / "arrays";
+  ExpectSameArray(test_support::Ideal3222(), ReadArrayJson(dir / "ideal-3222.json"));
+  ExpectSameArray(test_support::VolpeTable42(), ReadArrayJson(dir / "volpe-table4-2.json"));
+  ExpectSameArray(test_support::Denton3222(), ReadArrayJson(dir / "denton-3222.json"));
+  ExpectSameArray(test_support::SixAOmegaCg(), ReadArrayJson(dir / "6aw-cg.json"));
+  ExpectSameArray(test_support::NapArs12(), ReadArrayJson(dir / "nap-ars-12.json"));
   for (const char* name : {"ideal-3222", "volpe-table4-2", "denton-3222", "6aw-cg", "nap-ars-12"})
     EXPECT_EQ(ReadArrayJson(dir / (std::string(name) + ".json")).name, name);
 }
 
 TEST(ArrayJsonTest, LoadArrayFindsPresetsByName) {
-  ExpectSameArray(testing::Denton3222(), LoadArray("denton-3222"));
+  ExpectSameArray(test_support::Denton3222(), LoadArray("denton-3222"));
   EXPECT_THROW(LoadArray("no-such-array"), InputError);
 }
 
 TEST(ArrayJsonTest, RoundTripInEveryLengthUnit) {
   TempDir dir;
   for (const char* unit : {"in", "mm", "m"}) {
-    engine::ArrayGeometry array = testing::NapArs12();
+    engine::ArrayGeometry array = test_support::NapArs12();
     array.sensors[4].unit = "m/s^2";
     array.sensors[4].si_per_unit = 1.0;
     array.sensors[10].unit = "deg/s";

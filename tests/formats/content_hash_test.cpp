@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::formats {
@@ -33,7 +33,7 @@ TEST(Sha256Test, IncrementalEqualsOneShotAcrossBlockBoundaries) {
 }
 
 TEST(HashPathTest, FolderHashDependsOnNamesAndContent) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   std::filesystem::create_directories(dir / "t/Channel");
   std::ofstream(dir / "t/a.mme") << "x";
   std::ofstream(dir / "t/Channel/a.001") << "1\n2\n";

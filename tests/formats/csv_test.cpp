@@ -18,14 +18,14 @@
 namespace napkin::formats {
 namespace {
 
-using test::ExpectInputError;
-using test::MakeSignals;
-using test::WriteBytes;
-using testing::TempDir;
+using test_support::ExpectInputError;
+using test_support::MakeSignals;
+using test_support::WriteBytes;
+using test_support::TempDir;
 
 TEST(CsvTest, RawSignalsRoundTripToIdenticalSamples) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::NapArs12();
+  const engine::ArrayGeometry array = test_support::NapArs12();
   const engine::TestSignals written = MakeSignals(array, 1234, 1e-4, -0.01);
   WriteSignalsCsv(written, dir / "raw.csv");
   const CsvSignals read = ReadSignalsCsv(dir / "raw.csv", &array);
@@ -39,7 +39,7 @@ TEST(CsvTest, RawSignalsRoundTripToIdenticalSamples) {
 
 TEST(CsvTest, ColumnsInAnyOrderCommentsCrlfAndExtraColumns) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   // Slots shuffled, an extra column, comment lines, CRLF, blanks around values.
   WriteBytes(dir / "in.csv",
              "# a comment\r\n"
@@ -92,7 +92,7 @@ class CsvErrorTest : public ::testing::TestWithParam<CsvErrorCase> {};
 
 TEST_P(CsvErrorTest, NamesFileRowAndColumn) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   const std::filesystem::path path = dir / (std::string(GetParam().name) + ".csv");
   WriteBytes(path, GetParam().text);
   std::vector<std::string> fragments = GetParam().fragments;
@@ -129,11 +129,11 @@ INSTANTIATE_TEST_SUITE_P(
         CsvErrorCase{"one_row", kHeader + "0,1,2,3,4,5,6\n", {"1 data row", "at least two"}},
         CsvErrorCase{"no_header", "# only comments\n", {"no header"}},
         CsvErrorCase{"dup", "time_s,cg_x,cg_x\n", {"names column \"cg_x\" twice"}}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(CsvTest, MissingFileIsNamed) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   ExpectInputError([&] { ReadSignalsCsv(dir / "absent.csv", &array); }, {(dir / "absent.csv").string(), "cannot open"});
 }
 
@@ -163,7 +163,7 @@ engine::Kinematics MakeKinematics(Eigen::Index n) {
 TEST(CsvTest, DerivedHeaderIsTheContract) {
   TempDir dir;
   WriteDerivedCsv(MakeKinematics(3), dir / "derived.csv");
-  const std::string text = test::ReadBytes(dir / "derived.csv");
+  const std::string text = test_support::ReadBytes(dir / "derived.csv");
   const std::string expected_header =
       "time_s,omega_body_x_radps,omega_body_y_radps,omega_body_z_radps,"
       "alpha_body_x_radps2,alpha_body_y_radps2,alpha_body_z_radps2,"
@@ -203,7 +203,7 @@ TEST(CsvTest, WriterLeavesNoPartialFileBehind) {
   bad.samples.resize(3, 1);  // slots do not match columns
   EXPECT_THROW(WriteSignalsCsv(bad, dir / "out.csv"), InputError);
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
-  EXPECT_THROW(WriteSignalsCsv(MakeSignals(testing::Ideal3222(), 3, 1e-3, 0), dir / "missing-dir" / "out.csv"),
+  EXPECT_THROW(WriteSignalsCsv(MakeSignals(test_support::Ideal3222(), 3, 1e-3, 0), dir / "missing-dir" / "out.csv"),
                InputError);
 }
 

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "engine/array_geometry.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/signals.h"
 
-namespace napkin::formats::test {
+namespace napkin::test_support {
 
 // Smooth, distinct, non-trivial samples for every slot of `array`; with
 // `single_precision` each value is representable as a float (UDS-1992 REAL*4).
@@ -59,4 +59,4 @@ inline void ExpectInputError(const std::function<void()>& action, const std::vec
   }
 }
 
-}  // namespace napkin::formats::test
+}  // namespace napkin::test_support

@@ -17,8 +17,8 @@
 namespace napkin::formats {
 namespace {
 
-using test::ExpectInputError;
-using testing::TempDir;
+using test_support::ExpectInputError;
+using test_support::TempDir;
 
 TEST(ChannelMapTest, CodePatterns) {
   EXPECT_TRUE(CodeMatches("??HEAD0000??ACX?", "11HEAD0000H3ACXA"));
@@ -50,7 +50,7 @@ class ChannelMapErrorTest : public ::testing::TestWithParam<BadMapCase> {};
 TEST_P(ChannelMapErrorTest, NamesFileAndSlot) {
   TempDir dir;
   const std::filesystem::path path = dir / (std::string(GetParam().name) + ".json");
-  test::WriteBytes(path, GetParam().text);
+  test_support::WriteBytes(path, GetParam().text);
   ExpectInputError([&] { ReadChannelMap(path); }, {path.string(), GetParam().fragment});
 }
 
@@ -62,7 +62,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadMapCase{"noslots", R"({"name": "x"})", "no \"slots\""},
                       BadMapCase{"type", R"({"slots": {"cg_x": {"code": 5}}})",
                                  "slot \"cg_x\": \"code\" must be a string"}),
-    testing::CaseName());
+    test_support::CaseName());
 
 // A unit as ISO-MME or UDS-1992 files spell it, with the kind and SI factor
 // it stands for.
@@ -93,7 +93,7 @@ INSTANTIATE_TEST_SUITE_P(
                       UnitCase{"m_s2_caret", "m/s^2", engine::SensorKind::kLinear, 1.0},
                       UnitCase{"FT_SEC2", "FT/SEC**2", engine::SensorKind::kLinear, 0.3048},
                       UnitCase{"IN_SEC2", "IN/SEC**2", engine::SensorKind::kLinear, 0.0254}),
-    testing::CaseName());
+    test_support::CaseName());
 
 INSTANTIATE_TEST_SUITE_P(
     AngularRate, SignalUnitSpellingTest,
@@ -103,7 +103,7 @@ INSTANTIATE_TEST_SUITE_P(
                       UnitCase{"deg_s", "deg/s", engine::SensorKind::kAngularRate, engine::kPi / 180},
                       UnitCase{"degree_sign_s", "\xC2\xB0/s", engine::SensorKind::kAngularRate,
                                engine::kPi / 180}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(SignalUnitTest, NoUnitOrAnUnknownOne) {
   EXPECT_FALSE(ParseSignalUnit("NOVALUE", "x"));
@@ -125,7 +125,7 @@ TEST_P(IsoMmePresetTest, RawSignalsRoundTrip) {
   TempDir dir;
   const engine::ArrayGeometry array = GetParam().array();
   const ChannelMap map = LoadChannelMap(GetParam().map);
-  const engine::TestSignals written = test::MakeSignals(array, 517, 1e-4, -0.005);
+  const engine::TestSignals written = test_support::MakeSignals(array, 517, 1e-4, -0.005);
   const auto folder = dir / array.name;
   WriteIsoMme(written, array, map, folder, "T" + array.name);
   const engine::TestSignals read = ReadIsoMmeSignals(folder, array, map);
@@ -138,18 +138,18 @@ TEST_P(IsoMmePresetTest, RawSignalsRoundTrip) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPreset, IsoMmePresetTest,
-                         ::testing::Values(PresetCase{"denton_3222", &testing::Denton3222, "nap-example"},
-                                           PresetCase{"volpe_table4_2", &testing::VolpeTable42,
+                         ::testing::Values(PresetCase{"denton_3222", &test_support::Denton3222, "nap-example"},
+                                           PresetCase{"volpe_table4_2", &test_support::VolpeTable42,
                                                       "nap-example"},
-                                           PresetCase{"six_a_omega_cg", &testing::SixAOmegaCg, "default"}),
-                         testing::CaseName());
+                                           PresetCase{"six_a_omega_cg", &test_support::SixAOmegaCg, "default"}),
+                         test_support::CaseName());
 
 TEST(IsoMmeTest, WritingAgainReplacesTheFolderAsAWhole) {
   TempDir dir;
   const ChannelMap standard = LoadChannelMap("default");
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
-  WriteIsoMme(test::MakeSignals(array, 517, 1e-4, -0.005), array, standard, dir / "6aw-cg", "T6aw-cg");
-  const engine::TestSignals shorter = test::MakeSignals(array, 10, 1e-3, 0.0);
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
+  WriteIsoMme(test_support::MakeSignals(array, 517, 1e-4, -0.005), array, standard, dir / "6aw-cg", "T6aw-cg");
+  const engine::TestSignals shorter = test_support::MakeSignals(array, 10, 1e-3, 0.0);
   WriteIsoMme(shorter, array, standard, dir / "6aw-cg", "T6aw-cg");
   EXPECT_EQ(ReadIsoMmeSignals(dir / "6aw-cg", array, standard).size(), 10);
 }
@@ -179,19 +179,19 @@ std::vector<std::string> Ramp(int count, double start, double step) {
 
 void WriteFolder(const std::filesystem::path& folder, const std::vector<std::string>& channels) {
   std::filesystem::create_directories(folder / "Channel");
-  test::WriteBytes(folder / "test.mme", "Data format                 :ISO-MME\r\nTest number                 :SN-77\r\n");
+  test_support::WriteBytes(folder / "test.mme", "Data format                 :ISO-MME\r\nTest number                 :SN-77\r\n");
   std::string chn = "Number of channels          :" + std::to_string(channels.size()) + "\r\n";
-  test::WriteBytes(folder / "Channel" / "test.chn", chn);
+  test_support::WriteBytes(folder / "Channel" / "test.chn", chn);
   for (std::size_t i = 0; i < channels.size(); ++i) {
     char name[32];
     std::snprintf(name, sizeof(name), "test.%03zu", i + 1);
-    test::WriteBytes(folder / "Channel" / name, channels[i]);
+    test_support::WriteBytes(folder / "Channel" / name, channels[i]);
   }
 }
 
 TEST(IsoMmeTest, ReadsForeignFolderOnCommonTimeSpanInSlotUnits) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   WriteFolder(dir / "t", {
                              ChannelText("11NECKUP0000H3FOXA", "kN", 0.001, 0.0, Ramp(5, 0, 1)),  // not a head channel
                              ChannelText("11HEAD0000H3ACXA", "g", 0.001, -0.002, Ramp(10, 0, 1)),
@@ -246,7 +246,7 @@ TEST_P(IsoMmeChannelErrorTest, NamesFileChannelOrSlot) {
   GetParam().spoil(channels);
   WriteFolder(dir / "case", channels);
   ExpectInputError(
-      [&] { ReadIsoMmeSignals(dir / "case", testing::SixAOmegaCg(), LoadChannelMap("default")); },
+      [&] { ReadIsoMmeSignals(dir / "case", test_support::SixAOmegaCg(), LoadChannelMap("default")); },
       GetParam().fragments);
 }
 
@@ -302,29 +302,29 @@ INSTANTIATE_TEST_SUITE_P(
                                       text.find("Unit") - text.find("Sampling interval"));
                          },
                          {"test.001", "no \"Sampling interval\""}}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(IsoMmeTest, MissingChannelFilesAreNamed) {
   TempDir dir;
   const auto folder = dir / "nochannel";
   std::filesystem::create_directories(folder);
-  test::WriteBytes(folder / "a.mme", "Data format :ISO-MME\n");
+  test_support::WriteBytes(folder / "a.mme", "Data format :ISO-MME\n");
   ExpectInputError([&] { ReadIsoMme(folder); }, {folder.string(), "no Channel folder"});
   std::filesystem::create_directories(folder / "Channel");
-  test::WriteBytes(folder / "Channel" / "a.chn", "Number of channels :2\n");
-  test::WriteBytes(folder / "Channel" / "a.001",
+  test_support::WriteBytes(folder / "Channel" / "a.chn", "Number of channels :2\n");
+  test_support::WriteBytes(folder / "Channel" / "a.001",
                    ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
   ExpectInputError([&] { ReadIsoMme(folder); }, {"a.002", "channel 2 of 2", "missing"});
 }
 
 TEST(IsoMmeTest, MapOrArrayThatDoNotFitTheChannelsAreErrors) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::SixAOmegaCg();
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   const ChannelMap map = LoadChannelMap("default");
   const std::vector<std::string> good = GoodChannels();
   {
     // A map that sends one channel to two slots.
-    test::WriteBytes(dir / "twice.json", R"({"name": "twice", "slots": {
+    test_support::WriteBytes(dir / "twice.json", R"({"name": "twice", "slots": {
         "cg_x": {"code": "??HEAD0000??ACX?"}, "cg_y": {"code": "??HEAD0000??ACX?"}, "cg_z": {"code": "??HEAD0000??ACZ?"},
         "ars_x": {"code": "??HEAD0000??AVX?"}, "ars_y": {"code": "??HEAD0000??AVY?"}, "ars_z": {"code": "??HEAD0000??AVZ?"}}})");
     WriteFolder(dir / "twice", good);
@@ -333,7 +333,7 @@ TEST(IsoMmeTest, MapOrArrayThatDoNotFitTheChannelsAreErrors) {
   }
   WriteFolder(dir / "good", good);
   EXPECT_EQ(ReadIsoMmeSignals(dir / "good", array, map).size(), 6);
-  ExpectInputError([&] { ReadIsoMmeSignals(dir / "good", testing::Denton3222(), map); },
+  ExpectInputError([&] { ReadIsoMmeSignals(dir / "good", test_support::Denton3222(), map); },
                    {"has no entry for slot \"yarm_z\""});
 }
 

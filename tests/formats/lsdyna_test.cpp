@@ -13,11 +13,11 @@
 namespace napkin::formats {
 namespace {
 
-using testing::KeywordField;
-using testing::ParsedKeyword;
-using testing::ParseKeyword;
-using testing::TempDir;
-using testing::Trapezoid;
+using test_support::KeywordField;
+using test_support::ParsedKeyword;
+using test_support::ParseKeyword;
+using test_support::TempDir;
+using test_support::Trapezoid;
 
 constexpr double kPulse = 0.05;  // s
 constexpr double kPeakVelocity[3] = {3.0, -1.5, 0.75};  // m/s
@@ -117,7 +117,7 @@ TEST(LsDynaTest, RejectsSingleSampleWithoutLeavingAFile) {
   TempDir dir;
   engine::Kinematics k;
   k.Resize(1);
-  test::ExpectInputError([&] { WriteLsDynaKeyword(k, dir / "x.k"); }, {"x.k", "fewer than two samples"});
+  test_support::ExpectInputError([&] { WriteLsDynaKeyword(k, dir / "x.k"); }, {"x.k", "fewer than two samples"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 

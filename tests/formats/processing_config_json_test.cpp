@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "tests/support/named_cases.h"
 #include "tests/support/test_support.h"
 
@@ -177,16 +177,16 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigErrorCase{"bias_window_without_window_mode",
                         R"({"bias": {"mode": "none", "window_s": [-0.02, 0.0]}})",
                         {"test.json: ", "bias.window_s", "ignored", "\"none\""}}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(ProcessingConfigJson, DefaultPresetIsTheDefaultConfiguration) {
-  const auto path = testing::SourceDir() / "config" / "processing" / "default.json";
+  const auto path = test_support::SourceDir() / "config" / "processing" / "default.json";
   const engine::ProcessingConfig preset = ReadProcessingConfig(path);
   EXPECT_EQ(CanonicalProcessingConfig(preset), CanonicalProcessingConfig(engine::ProcessingConfig{}));
 }
 
 TEST(ProcessingConfigJson, FileErrorsNameTheFile) {
-  testing::TempDir dir;
+  test_support::TempDir dir;
   EXPECT_THROW(ReadProcessingConfig(dir / "missing.json"), InputError);
   {
     std::ofstream(dir / "broken.json") << "{\"filter\": ";

@@ -19,8 +19,8 @@
 namespace napkin::formats {
 namespace {
 
-using test::ExpectInputError;
-using testing::TempDir;
+using test_support::ExpectInputError;
+using test_support::TempDir;
 
 // VAX F_floating: bit 15 sign, bits 14-7 excess-128 exponent, fraction 0.1f
 // with hidden bit; words little-endian, high-order word first. The longword
@@ -58,7 +58,7 @@ INSTANTIATE_TEST_SUITE_P(
                           "largest", std::ldexp(1.0 - std::ldexp(1.0, -24), 127), {0xFF, 0x7F, 0xFF, 0xFF}},
                       // Smallest positive F_floating: 0.5 * 2^-127 = 2^-128.
                       VaxBitsCase{"smallest_positive", std::ldexp(1.0, -128), {0x80, 0x00, 0x00, 0x00}}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(VaxFloatTest, ReservedOperandAndOverflowAreRefused) {
   const std::uint8_t reserved_operand[4] = {0x00, 0x80, 0x12, 0x34};
@@ -163,7 +163,7 @@ TEST(UdsLayoutTest, ReadsHandBuiltSunFile) {
     for (int i = 0; i < 125; ++i) put_be(1024 + r * 512 + 12 + 4 * i, std::bit_cast<std::uint32_t>(float(r * 125 + i)));
   }
   TempDir dir;
-  test::WriteBytes(dir / "t.002", bytes);
+  test_support::WriteBytes(dir / "t.002", bytes);
   const UdsChannel channel = ReadUds1992(dir / "t.002");
   EXPECT_EQ(channel.test_number, 77);
   EXPECT_EQ(channel.senatt, "HEAD Y ARM");
@@ -202,7 +202,7 @@ TEST_P(UdsErrorTest, NamesTheFile) {
   const auto good = dir / "good.001";
   WriteUds1992(MakeChannel(UdsNumberForm::kIeee, 0, 400), good);  // 4 data records
   const auto path = dir / (std::string(GetParam().name) + ".001");
-  test::WriteBytes(path, GetParam().spoil(test::ReadBytes(good)));
+  test_support::WriteBytes(path, GetParam().spoil(test_support::ReadBytes(good)));
   std::vector<std::string> all = {path.string()};
   all.insert(all.end(), GetParam().fragments.begin(), GetParam().fragments.end());
   ExpectInputError([&] { ReadUds1992(path); }, all);
@@ -244,17 +244,17 @@ INSTANTIATE_TEST_SUITE_P(
                                                   std::numeric_limits<float>::quiet_NaN());
                                    },
                                    {"sample 7", "not a finite number"}}),
-    testing::CaseName());
+    test_support::CaseName());
 
 TEST(UdsVaxErrorTest, ReservedOperandNamesFileAndSample) {
   TempDir dir;
   UdsChannel vax = MakeChannel(UdsNumberForm::kVax, 0, 10);
   WriteUds1992(vax, dir / "vax.001");
-  std::string reserved = test::ReadBytes(dir / "vax.001");
+  std::string reserved = test_support::ReadBytes(dir / "vax.001");
   reserved[2 * 512 + 12 + 4 * 3] = 0x00;
   reserved[2 * 512 + 12 + 4 * 3 + 1] = static_cast<char>(0x80);
   const auto path = dir / "reserved.001";
-  test::WriteBytes(path, reserved);
+  test_support::WriteBytes(path, reserved);
   ExpectInputError([&] { ReadUds1992(path); }, {path.string(), "sample 3", "VAX reserved operand"});
 }
 
@@ -294,8 +294,8 @@ std::vector<std::filesystem::path> WriteNapTest(const TempDir& dir, const engine
 
 TEST(UdsTestReadTest, NineFilesInTable21OrderWithoutMap) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::Denton3222();
-  const engine::TestSignals written = test::MakeSignals(array, 700, 1e-4, 0.0, true);
+  const engine::ArrayGeometry array = test_support::Denton3222();
+  const engine::TestSignals written = test_support::MakeSignals(array, 700, 1e-4, 0.0, true);
   std::vector<std::filesystem::path> files = WriteNapTest(dir, written, UdsNumberForm::kVax, nullptr);
   std::reverse(files.begin(), files.end());  // order of the arguments does not matter; names do
   const engine::TestSignals read = ReadUdsTest(files, array, nullptr, "v0001");
@@ -308,10 +308,10 @@ TEST(UdsTestReadTest, NineFilesInTable21OrderWithoutMap) {
 
 TEST(UdsTestReadTest, SlotsFromSenattAndAxisThroughTheMap) {
   TempDir dir;
-  const engine::ArrayGeometry array = testing::Denton3222();
+  const engine::ArrayGeometry array = test_support::Denton3222();
   const ChannelMap map = LoadChannelMap("nap-example");
   // Give the array's slots in a different order from Table 2-1 to prove the map decides.
-  engine::TestSignals written = test::MakeSignals(array, 300, 2e-4, 0.01, true);
+  engine::TestSignals written = test_support::MakeSignals(array, 300, 2e-4, 0.01, true);
   const std::vector<std::filesystem::path> files = WriteNapTest(dir, written, UdsNumberForm::kSun, &map);
   engine::ArrayGeometry shuffled = array;
   std::reverse(shuffled.sensors.begin(), shuffled.sensors.end());

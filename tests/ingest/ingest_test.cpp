@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "db/catalogue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/array_json.h"
 #include "ingest/content_hash.h"
 #include "ingest/store.h"
@@ -41,7 +41,7 @@ TEST(ContentHashTest, SyntheticHashIsPinned) {
 }
 
 TEST(ContentHashTest, InputHashesArePinned) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   WriteText(dir / "t.csv", "t,cg_x\n0,1\n");
   WriteText(dir / "v1.001", "first\n");
   WriteText(dir / "v1.002", "second\n");
@@ -68,7 +68,7 @@ class StoreTestTest : public ::testing::Test {
     record_.content_hash = "content-t1";
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   db::Catalogue catalogue_;
   engine::SyntheticTest test_;
   db::TestRecord record_;
@@ -107,7 +107,7 @@ TEST_F(StoreTestTest, AChannelOutsideTheArrayStoresNothing) {
 }
 
 TEST(SynthTest, PaddingVariantsAreLabelledAndStoredOnce) {
-  napkin::testing::TempDir dir;
+  napkin::test_support::TempDir dir;
   db::Catalogue catalogue = db::Catalogue::Open((dir / "c.db").string());
   SynthRequest request;
   request.scenario = engine::SynthScenario::kPaddingVariants;

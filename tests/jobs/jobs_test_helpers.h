@@ -12,7 +12,7 @@
 #include "records/array_record.h"
 #include "records/config_record.h"
 
-namespace napkin::jobs::testing {
+namespace napkin::test_support {
 
 inline RunProcessing Processing(const engine::ProcessingConfig& config = {}) {
   return RunProcessing{config, records::MakeConfigRecord(config, "test-config")};
@@ -53,4 +53,4 @@ inline void AddRandomTests(const std::string& path, int count, int samples = 100
   }
 }
 
-}  // namespace napkin::jobs::testing
+}  // namespace napkin::test_support

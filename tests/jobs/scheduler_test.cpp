@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "db/job_queue.h"
-#include "engine/error.h"
+#include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
 #include "tests/jobs/jobs_test_helpers.h"
@@ -21,9 +21,9 @@
 namespace napkin::jobs {
 namespace {
 
-using testing::AddRandomTests;
-using testing::Processing;
-using testing::TestName;
+using test_support::AddRandomTests;
+using test_support::Processing;
+using test_support::TestName;
 
 void ExpectSameKinematics(const engine::Kinematics& stored, const engine::Kinematics& computed,
                           const std::string& test) {
@@ -52,7 +52,7 @@ class SchedulerTest : public ::testing::Test {
     return options;
   }
 
-  napkin::testing::TempDir dir_;
+  napkin::test_support::TempDir dir_;
   std::string path_ = dir_ / "catalogue.db";
 };
 
@@ -106,11 +106,11 @@ TEST_F(SchedulerTest, FailedTestsAreRecordedWithTheirReasonAndTheRunGoesOn) {
     motion.duration_s = 0.05;
     engine::SyntheticTest bad = engine::SynthRandomMotion(array, motion);
     bad.signals.samples(200, 4) = std::numeric_limits<double>::quiet_NaN();
-    testing::StoreTest(catalogue, bad, "bad-nan");
+    test_support::StoreTest(catalogue, bad, "bad-nan");
     engine::SyntheticTest short_of_one = engine::SynthRandomMotion(array, motion);
     short_of_one.signals.slots.pop_back();  // "zarm_y" is missing
     short_of_one.signals.samples.conservativeResize(Eigen::NoChange, 8);
-    testing::StoreTest(catalogue, short_of_one, "missing-channel");
+    test_support::StoreTest(catalogue, short_of_one, "missing-channel");
     // The errors the transform core gives for these inputs.
     for (auto [test, error] : {std::pair{&bad, &nan_error}, std::pair{&short_of_one, &missing_error}}) {
       try {
@@ -161,7 +161,7 @@ TEST_F(SchedulerTest, AnUndecodableArrayFailsItsTestsOnly) {
     motion.duration_s = 0.05;
     const engine::SyntheticTest test = engine::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
     for (int i = 0; i < 3; ++i)
-      testing::StoreTest(catalogue, test, "broken-" + std::to_string(i), "synthetic", &broken);
+      test_support::StoreTest(catalogue, test, "broken-" + std::to_string(i), "synthetic", &broken);
   }
   const RunReport report = RunScheduler(path_, Processing(), Options(2));
   EXPECT_EQ(report.done, 3);

@@ -3,7 +3,7 @@
 // array.
 #include <gtest/gtest.h>
 
-#include "engine/error.h"
+#include "common/error.h"
 #include "formats/array_json.h"
 #include "formats/content_hash.h"
 #include "formats/processing_config_json.h"

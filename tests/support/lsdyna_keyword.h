@@ -16,7 +16,7 @@
 
 #include "formats/text.h"
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 // The number in columns [start, start + width) of a fixed-width card; records
 // a test failure (and returns 0) when the card is short or the field is not a number.
@@ -93,4 +93,4 @@ inline double Trapezoid(const std::vector<std::pair<double, double>>& points) {
   return integral;
 }
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

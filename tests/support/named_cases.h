@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 // Names a case after its `name` field, for INSTANTIATE_TEST_SUITE_P:
 // "Suite/Fixture.Test/<name>". GoogleTest accepts only [A-Za-z0-9_] in it.
@@ -17,4 +17,4 @@ struct CaseName {
   }
 };
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

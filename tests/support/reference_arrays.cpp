@@ -4,7 +4,7 @@
 
 #include "engine/units.h"
 
-namespace napkin::testing {
+namespace napkin::test_support {
 namespace {
 
 using engine::ArrayGeometry;
@@ -88,4 +88,4 @@ ArrayGeometry NapArs12() {
   return array;
 }
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

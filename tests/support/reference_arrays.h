@@ -4,7 +4,7 @@
 // check the presets against them.
 #include "engine/array_geometry.h"
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 // Table 4-1, idealized coplanar 3-2-2-2 (arms 2.2, 1.9, 3.2 in).
 engine::ArrayGeometry Ideal3222();
@@ -17,4 +17,4 @@ engine::ArrayGeometry SixAOmegaCg();
 // Denton NAP plus three angular-rate sensors (12 channels).
 engine::ArrayGeometry NapArs12();
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

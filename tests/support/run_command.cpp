@@ -9,7 +9,7 @@
 
 #include "tests/support/test_support.h"
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 std::string ReadText(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -56,4 +56,4 @@ CommandResult RunProgram(const std::string& program, const std::vector<std::stri
   return result;
 }
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 struct CommandResult {
   int exit_code = -1;  // -1 when a signal ended the program
@@ -33,4 +33,4 @@ int WaitProgram(pid_t pid);
 CommandResult RunProgram(const std::string& program, const std::vector<std::string>& args,
                          const std::filesystem::path& cwd = {});
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

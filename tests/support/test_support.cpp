@@ -3,7 +3,7 @@
 #include <random>
 #include <system_error>
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 TempDir::TempDir() {
   std::random_device device;
@@ -20,4 +20,4 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, error);
 }
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-namespace napkin::testing {
+namespace napkin::test_support {
 
 inline std::filesystem::path SourceDir() { return NAPKIN_SOURCE_DIR; }
 inline std::filesystem::path FixturesDir() { return NAPKIN_FIXTURES_DIR; }
@@ -22,4 +22,4 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-}  // namespace napkin::testing
+}  // namespace napkin::test_support

@@ -1,6 +1,7 @@
 #pragma once
-// Error types shared by every layer. Each message is one sentence that names
-// the file, test, channel or row at fault; the CLI prints it and exits 1.
+// Error types shared by every folder (engine, formats, db, records, ingest,
+// jobs, cli). Each message is one sentence that names the file, test, channel
+// or row at fault; cli/diagnostics.h maps each type to its exit status.
 #include <stdexcept>
 #include <string>
 
