@@ -6,26 +6,10 @@
 #include <set>
 #include <sstream>
 
-#include "engine/array_analysis.h"
 #include "common/error.h"
+#include "engine/array_analysis.h"
 
 namespace napkin::engine {
-
-const char* SensorKindName(SensorKind kind) {
-  switch (kind) {
-    case SensorKind::kLinear:
-      return "linear";
-    case SensorKind::kAngularRate:
-      return "angular_rate";
-  }
-  return "linear";
-}
-
-std::optional<SensorKind> ParseSensorKindName(std::string_view name) {
-  for (const SensorKind kind : kSensorKinds)
-    if (name == SensorKindName(kind)) return kind;
-  return std::nullopt;
-}
 
 std::optional<std::size_t> ArrayGeometry::FindSlot(std::string_view slot) const {
   for (std::size_t i = 0; i < sensors.size(); ++i)
@@ -134,7 +118,8 @@ void ValidateArray(ArrayGeometry& array) {
   std::ostringstream message;
   if (rate_rank == 3) {
     message << label << ": the linear sense axes span only " << linear_axis_rank
-            << " of 3 directions, so the CG acceleration is undetermined; add a linear sensor along the missing axis.";
+            << " of 3 directions, so the CG acceleration is undetermined; add a linear sensor along the "
+               "missing axis.";
   } else {
     message << label << ": the linear sensors do not determine the six rigid-body accelerations (rank "
             << linear_rank << " of 6)";

@@ -9,24 +9,30 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/vocabulary.h"
+
 namespace napkin::engine {
 
 enum class SensorKind { kLinear, kAngularRate };
 
-inline constexpr std::array<SensorKind, 2> kSensorKinds{SensorKind::kLinear, SensorKind::kAngularRate};
+inline constexpr std::array<NamedValue<SensorKind>, 2> kSensorKindNames{
+    {{SensorKind::kLinear, "linear"}, {SensorKind::kAngularRate, "angular_rate"}}};
+inline constexpr std::array<SensorKind, 2> kSensorKinds = ValuesOf(kSensorKindNames);
 
 // The one spelling of each kind in array JSON ("linear", "angular_rate"), and
 // its inverse (nullopt for an unknown name).
-const char* SensorKindName(SensorKind kind);
-std::optional<SensorKind> ParseSensorKindName(std::string_view name);
+inline const char* SensorKindName(SensorKind kind) { return NameIn(kSensorKindNames, kind); }
+inline std::optional<SensorKind> ParseSensorKindName(std::string_view name) {
+  return ValueNamed(kSensorKindNames, name);
+}
 
 struct Sensor {
-  std::string slot;                                   // e.g. "cg_x", "yarm_z", "ars_x"
+  std::string slot;  // e.g. "cg_x", "yarm_z", "ars_x"
   SensorKind kind = SensorKind::kLinear;
   Eigen::Vector3d position_body_m = Eigen::Vector3d::Zero();  // from head CG, body axes
   Eigen::Vector3d axis_body = Eigen::Vector3d::UnitX();       // unit sense axis
-  std::string unit = "g";                             // unit of the recorded samples
-  double si_per_unit = 9.80665;                       // samples * si_per_unit = SI value
+  std::string unit = "g";                                     // unit of the recorded samples
+  double si_per_unit = 9.80665;                               // samples * si_per_unit = SI value
 };
 
 struct ArrayGeometry {

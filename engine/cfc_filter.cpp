@@ -9,22 +9,6 @@
 
 namespace napkin::engine {
 
-const char* CfcVariantName(CfcVariant variant) {
-  switch (variant) {
-    case CfcVariant::kSaeJ211:
-      return "sae";
-    case CfcVariant::kIso6487:
-      return "iso";
-  }
-  return "sae";
-}
-
-std::optional<CfcVariant> ParseCfcVariantName(std::string_view name) {
-  for (const CfcVariant variant : kCfcVariants)
-    if (name == CfcVariantName(variant)) return variant;
-  return std::nullopt;
-}
-
 namespace {
 
 // omega_a = tan(omega_d T / 2): the pre-warped analogue cut-off of one pass.
@@ -103,7 +87,10 @@ double CfcTwoPassGain(double frequency_hz, double cfc_hz, double dt_s, CfcVarian
 }
 
 CfcFilter::CfcFilter(double cfc_hz, double dt_s, CfcVariant variant, double padding_s)
-    : cfc_hz_(cfc_hz), dt_s_(dt_s), padding_s_(padding_s), coefficients_(ComputeCfcCoefficients(cfc_hz, dt_s, variant)) {
+    : cfc_hz_(cfc_hz),
+      dt_s_(dt_s),
+      padding_s_(padding_s),
+      coefficients_(ComputeCfcCoefficients(cfc_hz, dt_s, variant)) {
   if (!(std::isfinite(padding_s) && padding_s >= 0.0)) {
     std::ostringstream message;
     message << "the CFC filter padding " << padding_s << " s is not a non-negative duration.";

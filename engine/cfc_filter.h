@@ -22,19 +22,25 @@
 #include <optional>
 #include <string_view>
 
+#include "engine/vocabulary.h"
+
 namespace napkin::engine {
 
 enum class CfcVariant {
-  kSaeJ211,   // omega_d = 2 pi CFC 2.0775 (SAE J211/1 Appendix C)
-  kIso6487,   // omega_d = 2 pi CFC 25/12 (ISO 6487)
+  kSaeJ211,  // omega_d = 2 pi CFC 2.0775 (SAE J211/1 Appendix C)
+  kIso6487,  // omega_d = 2 pi CFC 25/12 (ISO 6487)
 };
 
-inline constexpr std::array<CfcVariant, 2> kCfcVariants{CfcVariant::kSaeJ211, CfcVariant::kIso6487};
+inline constexpr std::array<NamedValue<CfcVariant>, 2> kCfcVariantNames{
+    {{CfcVariant::kSaeJ211, "sae"}, {CfcVariant::kIso6487, "iso"}}};
+inline constexpr std::array<CfcVariant, 2> kCfcVariants = ValuesOf(kCfcVariantNames);
 
 // The one spelling of each variant in processing configs ("sae", "iso"), and
 // its inverse (nullopt for an unknown name).
-const char* CfcVariantName(CfcVariant variant);
-std::optional<CfcVariant> ParseCfcVariantName(std::string_view name);
+inline const char* CfcVariantName(CfcVariant variant) { return NameIn(kCfcVariantNames, variant); }
+inline std::optional<CfcVariant> ParseCfcVariantName(std::string_view name) {
+  return ValueNamed(kCfcVariantNames, name);
+}
 
 // The standard channel classes; any positive frequency is accepted too.
 inline constexpr double kCfc60 = 60.0;
@@ -57,7 +63,8 @@ CfcCoefficients ComputeCfcCoefficients(double cfc_hz, double dt_s, CfcVariant va
 
 // Exact amplitude gain G(f) = |H(f)|^2 of the forward + backward filter: a
 // sine of frequency f comes out multiplied by G(f), with no phase shift.
-double CfcTwoPassGain(double frequency_hz, double cfc_hz, double dt_s, CfcVariant variant = CfcVariant::kSaeJ211);
+double CfcTwoPassGain(double frequency_hz, double cfc_hz, double dt_s,
+                      CfcVariant variant = CfcVariant::kSaeJ211);
 
 // A configured filter for one class and sampling interval. Reuses an
 // internal padded work buffer, so filtering many channels of one length

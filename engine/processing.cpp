@@ -40,24 +40,6 @@ double TimeTolerance(double dt_s) { return 1e-9 * dt_s; }
 
 }  // namespace
 
-const char* BiasModeName(BiasMode mode) {
-  switch (mode) {
-    case BiasMode::kAuto:
-      return "auto";
-    case BiasMode::kWindow:
-      return "window";
-    case BiasMode::kNone:
-      return "none";
-  }
-  return "auto";
-}
-
-std::optional<BiasMode> ParseBiasModeName(std::string_view name) {
-  for (const BiasMode mode : kBiasModes)
-    if (name == BiasModeName(mode)) return mode;
-  return std::nullopt;
-}
-
 void ProcessingConfig::Check() const {
   if (filter.linear_cfc) CheckPositive("filter.linear_cfc", *filter.linear_cfc);
   if (filter.angular_rate_cfc) CheckPositive("filter.angular_rate_cfc", *filter.angular_rate_cfc);
@@ -84,7 +66,8 @@ void ProcessingConfig::Check() const {
   CheckPositive("screening.spike_size_g", screening.spike_size_g);
   CheckPositive("screening.spike_size_radps", screening.spike_size_radps);
   if (screening.saturation_run_samples < 2)
-    ThrowBadField("screening.saturation_run_samples", "an integer of at least 2", screening.saturation_run_samples);
+    ThrowBadField("screening.saturation_run_samples", "an integer of at least 2",
+                  screening.saturation_run_samples);
   CheckPositive("screening.bias_limit_g", screening.bias_limit_g);
   CheckPositive("screening.bias_limit_radps", screening.bias_limit_radps);
 
@@ -92,13 +75,14 @@ void ProcessingConfig::Check() const {
   // other than the default can tell that a setting was asked for.
   if (solver == SolverKind::kSeed && gravity.compensate)
     throw InputError(
-        "processing config key \"gravity.compensate\" is not supported by the seed solver (LC_COMP has no gravity "
+        "processing config key \"gravity.compensate\" is not supported by the seed solver (LC_COMP has no "
+        "gravity "
         "term); use solver \"exact\" or turn it off.");
   const ProcessingConfig defaults;
   if (!gravity.compensate && gravity.g_fixed_mps2 != defaults.gravity.g_fixed_mps2)
     ThrowIgnored("gravity.g_fixed", "gravity.compensate is false; turn compensation on or leave g_fixed out");
-  if (bias.mode != BiasMode::kWindow &&
-      (bias.window_start_s != defaults.bias.window_start_s || bias.window_end_s != defaults.bias.window_end_s))
+  if (bias.mode != BiasMode::kWindow && (bias.window_start_s != defaults.bias.window_start_s ||
+                                         bias.window_end_s != defaults.bias.window_end_s))
     ThrowIgnored("bias.window_s", std::string("bias.mode is \"") + BiasModeName(bias.mode) +
                                       "\", the window is read only in mode \"window\"");
   if (bias.mode != BiasMode::kAuto && bias.auto_min_pre_impact_s != defaults.bias.auto_min_pre_impact_s)
@@ -156,8 +140,8 @@ void CheckConditionable(const TestSignals& signals) {
     for (Eigen::Index k = 0; k < signals.size(); ++k) {
       if (!std::isfinite(signals.samples(k, c))) {
         std::ostringstream message;
-        message << "channel " << signals.slots[static_cast<std::size_t>(c)] << " has a non-finite value at sample "
-                << k << " (t = " << signals.TimeAt(k) << " s).";
+        message << "channel " << signals.slots[static_cast<std::size_t>(c)]
+                << " has a non-finite value at sample " << k << " (t = " << signals.TimeAt(k) << " s).";
         throw InputError(message.str());
       }
     }

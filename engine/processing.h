@@ -13,15 +13,16 @@
 #include "engine/cfc_filter.h"
 #include "engine/signals.h"
 #include "engine/solver.h"
+#include "engine/vocabulary.h"
 
 namespace napkin::engine {
 
 // Channel filtering, per sensor kind. A class of nullopt means "none".
 struct FilterConfig {
-  CfcVariant variant = CfcVariant::kSaeJ211;       // "sae" (J211/1) or "iso" (ISO 6487) design frequency
-  std::optional<double> linear_cfc = kCfc1000;     // class for linear accelerometers (head: CFC 1000)
-  std::optional<double> angular_rate_cfc = kCfc60; // class for angular-rate sensors (CFC 60)
-  double padding_s = 0.010;                        // reflected padding at each end (>= 10 ms recommended)
+  CfcVariant variant = CfcVariant::kSaeJ211;        // "sae" (J211/1) or "iso" (ISO 6487) design frequency
+  std::optional<double> linear_cfc = kCfc1000;      // class for linear accelerometers (head: CFC 1000)
+  std::optional<double> angular_rate_cfc = kCfc60;  // class for angular-rate sensors (CFC 60)
+  double padding_s = 0.010;                         // reflected padding at each end (>= 10 ms recommended)
 };
 
 enum class BiasMode {
@@ -30,27 +31,32 @@ enum class BiasMode {
   kNone,    // keep the recorded offsets
 };
 
-inline constexpr std::array<BiasMode, 3> kBiasModes{BiasMode::kAuto, BiasMode::kWindow, BiasMode::kNone};
+inline constexpr std::array<NamedValue<BiasMode>, 3> kBiasModeNames{
+    {{BiasMode::kAuto, "auto"}, {BiasMode::kWindow, "window"}, {BiasMode::kNone, "none"}}};
+inline constexpr std::array<BiasMode, 3> kBiasModes = ValuesOf(kBiasModeNames);
 
 // The one spelling of each mode in processing configs ("auto", "window",
 // "none"), and its inverse (nullopt for an unknown name).
-const char* BiasModeName(BiasMode mode);
-std::optional<BiasMode> ParseBiasModeName(std::string_view name);
+inline const char* BiasModeName(BiasMode mode) { return NameIn(kBiasModeNames, mode); }
+inline std::optional<BiasMode> ParseBiasModeName(std::string_view name) {
+  return ValueNamed(kBiasModeNames, name);
+}
 
 // Bias (zero offset) removal, applied to every channel after the time shift.
 struct BiasConfig {
-  BiasMode mode = BiasMode::kAuto;     // see BiasMode
-  double window_start_s = -0.010;      // kWindow: first time of the pre-impact window (after the shift)
-  double window_end_s = 0.0;           // kWindow: last time of the pre-impact window (after the shift)
-  double auto_min_pre_impact_s = 0.001; // kAuto: pre-impact data needed before the mean is subtracted
+  BiasMode mode = BiasMode::kAuto;       // see BiasMode
+  double window_start_s = -0.010;        // kWindow: first time of the pre-impact window (after the shift)
+  double window_end_s = 0.0;             // kWindow: last time of the pre-impact window (after the shift)
+  double auto_min_pre_impact_s = 0.001;  // kAuto: pre-impact data needed before the mean is subtracted
 };
 
 // Time base (report section 3.4: "time shifted to the beginning of the
 // acceleration pulse and truncated").
 struct TimeConfig {
-  double shift_s = 0.0;             // subtracted from every time stamp: the sample at t = shift_s becomes t = 0
-  std::optional<double> start_s;    // keep samples with t >= start_s (after the shift); nullopt = from the first
-  std::optional<double> end_s;      // keep samples with t <= end_s (after the shift); nullopt = to the last
+  double shift_s = 0.0;  // subtracted from every time stamp: the sample at t = shift_s becomes t = 0
+  std::optional<double>
+      start_s;                  // keep samples with t >= start_s (after the shift); nullopt = from the first
+  std::optional<double> end_s;  // keep samples with t <= end_s (after the shift); nullopt = to the last
 };
 
 struct HicConfig {
@@ -64,13 +70,13 @@ struct BricConfig {
 // Thresholds of the data-screening checks (report sections 2.2 and 3.4:
 // bias, spikes, saturation, self-consistency of the array).
 struct ScreeningConfig {
-  double residual_limit_g = 5.0;        // per-sample rigid-body residual norm above which samples are flagged
-  double spike_size_g = 50.0;           // one-sample jump of a linear channel against both neighbours
-  double spike_size_radps = 20.0;       // one-sample jump of an angular-rate channel against both neighbours
-  int saturation_run_samples = 5;       // run of equal samples at a channel's extreme that flags clipping
-  double bias_limit_g = 1.5;            // zero offset of a linear channel beyond which bias is reported
-                                        // (above 1 g, so an unzeroed channel reading gravity is no fault)
-  double bias_limit_radps = 0.5;        // pre-impact mean of an angular-rate channel beyond which bias is reported
+  double residual_limit_g = 5.0;   // per-sample rigid-body residual norm above which samples are flagged
+  double spike_size_g = 50.0;      // one-sample jump of a linear channel against both neighbours
+  double spike_size_radps = 20.0;  // one-sample jump of an angular-rate channel against both neighbours
+  int saturation_run_samples = 5;  // run of equal samples at a channel's extreme that flags clipping
+  double bias_limit_g = 1.5;       // zero offset of a linear channel beyond which bias is reported
+                                   // (above 1 g, so an unzeroed channel reading gravity is no fault)
+  double bias_limit_radps = 0.5;   // pre-impact mean of an angular-rate channel beyond which bias is reported
 };
 
 struct ProcessingConfig {

@@ -42,22 +42,6 @@ void CheckSignals(const ArrayGeometry& array, const TestSignals& signals) {
 
 }  // namespace
 
-const char* SolverName(SolverKind kind) {
-  switch (kind) {
-    case SolverKind::kExact:
-      return "exact";
-    case SolverKind::kSeed:
-      return "seed";
-  }
-  return "exact";
-}
-
-std::optional<SolverKind> ParseSolverName(std::string_view name) {
-  for (const SolverKind kind : kSolverKinds)
-    if (name == SolverName(kind)) return kind;
-  return std::nullopt;
-}
-
 Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
   ArrayGeometry validated = array;
   ValidateArray(validated);
@@ -65,9 +49,11 @@ Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const S
   if (options.solver == SolverKind::kSeed) {
     // Refused rather than ignored (ProcessingConfig::Check says the same).
     if (options.gravity.compensate)
-      throw InputError("gravity compensation is not supported by the seed solver (LC_COMP has no gravity term).");
+      throw InputError(
+          "gravity compensation is not supported by the seed solver (LC_COMP has no gravity term).");
     if (options.corrector_passes != kDefaultCorrectorPasses)
-      throw InputError("corrector_passes is not supported by the seed solver (LC_COMP integrates in one pass).");
+      throw InputError(
+          "corrector_passes is not supported by the seed solver (LC_COMP integrates in one pass).");
     return SolveSeed(validated, signals, options.initial);
   }
   if (options.corrector_passes < 1)

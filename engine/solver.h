@@ -8,6 +8,7 @@
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/signals.h"
+#include "engine/vocabulary.h"
 
 namespace napkin::engine {
 
@@ -17,13 +18,17 @@ enum class SolverKind {
 };
 
 // Every solver, in the order their names are offered to users.
-inline constexpr std::array<SolverKind, 2> kSolverKinds{SolverKind::kExact, SolverKind::kSeed};
+inline constexpr std::array<NamedValue<SolverKind>, 2> kSolverNames{
+    {{SolverKind::kExact, "exact"}, {SolverKind::kSeed, "seed"}}};
+inline constexpr std::array<SolverKind, 2> kSolverKinds = ValuesOf(kSolverNames);
 
 // The one spelling of each solver ("exact", "seed") in processing configs,
 // the --solver option and the catalogue's results, and its inverse (nullopt
 // for an unknown name).
-const char* SolverName(SolverKind kind);
-std::optional<SolverKind> ParseSolverName(std::string_view name);
+inline const char* SolverName(SolverKind kind) { return NameIn(kSolverNames, kind); }
+inline std::optional<SolverKind> ParseSolverName(std::string_view name) {
+  return ValueNamed(kSolverNames, name);
+}
 
 struct GravityOptions {
   bool compensate = false;  // add back -(R^T - R0^T) g_fixed (ALGORITHMS.md "Gravity")

@@ -8,24 +8,6 @@
 
 namespace napkin::engine {
 
-const char* SeverityName(Severity severity) {
-  switch (severity) {
-    case Severity::kInfo:
-      return "info";
-    case Severity::kWarning:
-      return "warning";
-    case Severity::kError:
-      return "error";
-  }
-  return "info";
-}
-
-std::optional<Severity> ParseSeverityName(std::string_view name) {
-  for (const Severity severity : kSeverities)
-    if (name == SeverityName(severity)) return severity;
-  return std::nullopt;
-}
-
 void SummarizeKinematics(const Kinematics& kin, TestSummary& summary) {
   const Eigen::Index n = kin.size();
   if (n == 0) return;

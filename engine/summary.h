@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/kinematics.h"
+#include "engine/vocabulary.h"
 
 namespace napkin::engine {
 
@@ -23,18 +24,22 @@ struct HicWindow {
 enum class Severity { kInfo, kWarning, kError };
 
 struct Finding {
-  std::string check;                  // e.g. "saturation", "polarity", "residual"
-  std::optional<std::string> channel; // slot name, or none for the whole test
+  std::string check;                   // e.g. "saturation", "polarity", "residual"
+  std::optional<std::string> channel;  // slot name, or none for the whole test
   Severity severity = Severity::kInfo;
-  std::string detail;                 // one sentence
+  std::string detail;  // one sentence
 };
 
-inline constexpr std::array<Severity, 3> kSeverities{Severity::kInfo, Severity::kWarning, Severity::kError};
+inline constexpr std::array<NamedValue<Severity>, 3> kSeverityNames{
+    {{Severity::kInfo, "info"}, {Severity::kWarning, "warning"}, {Severity::kError, "error"}}};
+inline constexpr std::array<Severity, 3> kSeverities = ValuesOf(kSeverityNames);
 
 // The one spelling of each severity ("info", "warning", "error") in the
 // summary JSON and the catalogue, and its inverse (nullopt for an unknown name).
-const char* SeverityName(Severity severity);
-std::optional<Severity> ParseSeverityName(std::string_view name);
+inline const char* SeverityName(Severity severity) { return NameIn(kSeverityNames, severity); }
+inline std::optional<Severity> ParseSeverityName(std::string_view name) {
+  return ValueNamed(kSeverityNames, name);
+}
 
 struct TestSummary {
   // query hic
@@ -43,8 +48,8 @@ struct TestSummary {
   double a3ms_g = 0.0;
   // query rotation
   Eigen::Vector3d peak_omega_body_radps = Eigen::Vector3d::Zero();  // max |omega_i|, body axes
-  double peak_omega_radps = 0.0;   // resultant
-  double peak_alpha_radps2 = 0.0;  // resultant
+  double peak_omega_radps = 0.0;                                    // resultant
+  double peak_alpha_radps2 = 0.0;                                   // resultant
   double bric = 0.0;
   double damage = 0.0;
   Eigen::Vector4d final_quat_wxyz = Eigen::Vector4d(1, 0, 0, 0);

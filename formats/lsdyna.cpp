@@ -12,7 +12,8 @@ namespace napkin::formats {
 namespace {
 
 void RequireSamples(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
-  if (kinematics.size() < 2) throw InputError(path.string() + ": cannot write load curves of fewer than two samples.");
+  if (kinematics.size() < 2)
+    throw InputError(path.string() + ": cannot write load curves of fewer than two samples.");
 }
 
 // A real in a 20-column field: 12 significant digits, always fits.
@@ -23,22 +24,6 @@ void AppendReal20(std::string& out, double value) {
 }
 
 }  // namespace
-
-const char* LsDynaUnitsName(LsDynaUnits units) {
-  switch (units) {
-    case LsDynaUnits::kSi:
-      return "si";
-    case LsDynaUnits::kEnglish:
-      return "english";
-  }
-  return "si";
-}
-
-std::optional<LsDynaUnits> ParseLsDynaUnitsName(std::string_view name) {
-  for (const LsDynaUnits units : kLsDynaUnits)
-    if (name == LsDynaUnitsName(units)) return units;
-  return std::nullopt;
-}
 
 void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesystem::path& path,
                         const LsDynaOptions& options) {
@@ -54,9 +39,12 @@ void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesys
     std::string title;
   };
   const Curve curves[6] = {
-      {&kinematics.vel_fixed, 0, length_scale, 1, std::string("CG velocity X, fixed frame (") + length_unit + "/s)"},
-      {&kinematics.vel_fixed, 1, length_scale, 2, std::string("CG velocity Y, fixed frame (") + length_unit + "/s)"},
-      {&kinematics.vel_fixed, 2, length_scale, 3, std::string("CG velocity Z, fixed frame (") + length_unit + "/s)"},
+      {&kinematics.vel_fixed, 0, length_scale, 1,
+       std::string("CG velocity X, fixed frame (") + length_unit + "/s)"},
+      {&kinematics.vel_fixed, 1, length_scale, 2,
+       std::string("CG velocity Y, fixed frame (") + length_unit + "/s)"},
+      {&kinematics.vel_fixed, 2, length_scale, 3,
+       std::string("CG velocity Z, fixed frame (") + length_unit + "/s)"},
       {&kinematics.omega_fixed, 0, 1.0, 5, "angular velocity about fixed X (rad/s)"},
       {&kinematics.omega_fixed, 1, 1.0, 6, "angular velocity about fixed Y (rad/s)"},
       {&kinematics.omega_fixed, 2, 1.0, 7, "angular velocity about fixed Z (rad/s)"},
@@ -72,8 +60,8 @@ void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesys
       out += "$ " + curve.title + "\n";
       out += "*DEFINE_CURVE\n";
       out += "$     LCID      SIDR       SFA       SFO      OFFA      OFFO    DATTYP\n";
-      std::snprintf(line, sizeof(line), "%10d%10d%10.1f%10.1f%10.1f%10.1f%10d\n", options.first_curve_id + i, 0, 1.0,
-                    1.0, 0.0, 0.0, 0);
+      std::snprintf(line, sizeof(line), "%10d%10d%10.1f%10.1f%10.1f%10.1f%10d\n", options.first_curve_id + i,
+                    0, 1.0, 1.0, 0.0, 0.0, 0);
       out += line;
       out += "$                 A1                  O1\n";
       for (Eigen::Index k = 0; k < n; ++k) {
@@ -87,8 +75,8 @@ void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesys
     for (int i = 0; i < 6; ++i) {
       out += "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n";
       out += "$      PID       DOF       VAD      LCID        SF       VID     DEATH     BIRTH\n";
-      std::snprintf(line, sizeof(line), "%10d%10d%10d%10d%10.1f%10d%10.3e%10.1f\n", options.part_id, curves[i].dof, 0,
-                    options.first_curve_id + i, 1.0, 0, 1e28, 0.0);
+      std::snprintf(line, sizeof(line), "%10d%10d%10d%10d%10.1f%10d%10.3e%10.1f\n", options.part_id,
+                    curves[i].dof, 0, options.first_curve_id + i, 1.0, 0, 1e28, 0.0);
       out += line;
     }
     out += "*END\n";

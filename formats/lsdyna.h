@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "engine/kinematics.h"
+#include "engine/vocabulary.h"
 
 namespace napkin::formats {
 
@@ -18,16 +19,20 @@ enum class LsDynaUnits {
   kEnglish,  // in, s (rad/s), as the report's anatomic brain model
 };
 
-inline constexpr std::array<LsDynaUnits, 2> kLsDynaUnits{LsDynaUnits::kSi, LsDynaUnits::kEnglish};
+inline constexpr std::array<engine::NamedValue<LsDynaUnits>, 2> kLsDynaUnitsNames{
+    {{LsDynaUnits::kSi, "si"}, {LsDynaUnits::kEnglish, "english"}}};
+inline constexpr std::array<LsDynaUnits, 2> kLsDynaUnits = engine::ValuesOf(kLsDynaUnitsNames);
 
 // The one spelling of each unit system ("si", "english"; `napkin export
 // --units`), and its inverse (nullopt for an unknown name).
-const char* LsDynaUnitsName(LsDynaUnits units);
-std::optional<LsDynaUnits> ParseLsDynaUnitsName(std::string_view name);
+inline const char* LsDynaUnitsName(LsDynaUnits units) { return engine::NameIn(kLsDynaUnitsNames, units); }
+inline std::optional<LsDynaUnits> ParseLsDynaUnitsName(std::string_view name) {
+  return engine::ValueNamed(kLsDynaUnitsNames, name);
+}
 
 struct LsDynaOptions {
-  int part_id = 1;        // rigid part driven by the curves (--part)
-  int first_curve_id = 1; // LCIDs first_curve_id ... first_curve_id + 5
+  int part_id = 1;         // rigid part driven by the curves (--part)
+  int first_curve_id = 1;  // LCIDs first_curve_id ... first_curve_id + 5
   LsDynaUnits units = LsDynaUnits::kSi;
 };
 

@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
+#include "common/error.h"
 #include "engine/array_geometry.h"
 #include "engine/cfc_filter.h"
-#include "common/error.h"
 #include "engine/processing.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
@@ -46,6 +46,8 @@ TEST(Vocabulary, EveryNameParsesBackToItsValue) {
   ExpectRoundTrip(kSensorKinds, SensorKindName, ParseSensorKindName);
 }
 
+// Also: every enumerator has its table entry (a missing one would fall back
+// to the table's first name).
 TEST(Vocabulary, NamesAreTheDocumentedSpellings) {
   EXPECT_STREQ(SolverName(SolverKind::kExact), "exact");
   EXPECT_STREQ(SolverName(SolverKind::kSeed), "seed");
@@ -54,6 +56,9 @@ TEST(Vocabulary, NamesAreTheDocumentedSpellings) {
   EXPECT_STREQ(BiasModeName(BiasMode::kNone), "none");
   EXPECT_STREQ(CfcVariantName(CfcVariant::kSaeJ211), "sae");
   EXPECT_STREQ(CfcVariantName(CfcVariant::kIso6487), "iso");
+  EXPECT_STREQ(SeverityName(Severity::kInfo), "info");
+  EXPECT_STREQ(SeverityName(Severity::kWarning), "warning");
+  EXPECT_STREQ(SeverityName(Severity::kError), "error");
   EXPECT_STREQ(SensorKindName(SensorKind::kLinear), "linear");
   EXPECT_STREQ(SensorKindName(SensorKind::kAngularRate), "angular_rate");
 }
