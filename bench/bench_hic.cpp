@@ -12,8 +12,8 @@
 namespace napkin::engine {
 namespace {
 
-constexpr double kDt = 1e-4;        // 10 kHz
-constexpr double kT0 = -0.05;       // 50 ms pre-impact
+constexpr double kDt = 1e-4;   // 10 kHz
+constexpr double kT0 = -0.05;  // 50 ms pre-impact
 constexpr Eigen::Index kSamples = 20000;
 
 // A crash-like resultant head acceleration (g): a primary impact, a
@@ -29,8 +29,8 @@ const Eigen::VectorXd& CrashLikeSignal() {
     };
     for (Eigen::Index k = 0; k < kSamples; ++k) {
       const double t = kT0 + static_cast<double>(k) * kDt;
-      a[k] = haversine(t, 0.010, 0.014, 85.0) + haversine(t, 0.030, 0.030, 38.0) + haversine(t, 0.075, 0.040, 12.0) +
-             noise(rng);
+      a[k] = haversine(t, 0.010, 0.014, 85.0) + haversine(t, 0.030, 0.030, 38.0) +
+             haversine(t, 0.075, 0.040, 12.0) + noise(rng);
     }
     CfcFilterInPlace(a, kDt, kCfc1000);
     return Eigen::VectorXd(a.cwiseAbs());  // a resultant is non-negative
@@ -57,7 +57,9 @@ void BM_HicExhaustive(benchmark::State& state, double window_s) {
 }
 
 BENCHMARK_CAPTURE(BM_HicFast, unlimited, kUnlimitedHicWindow)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_HicExhaustive, unlimited, kUnlimitedHicWindow)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_HicExhaustive, unlimited, kUnlimitedHicWindow)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(2);
 BENCHMARK_CAPTURE(BM_HicFast, hic36, kHic36Window)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_HicExhaustive, hic36, kHic36Window)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_HicFast, hic15, kHic15Window)->Unit(benchmark::kMillisecond);

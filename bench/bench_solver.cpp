@@ -11,7 +11,7 @@ namespace {
 
 ArrayGeometry DentonNap() {
   // Appendix A Denton 3-2-2-2 positions (in), Table 2-1 axes.
-  const double positions_in[9][3] = {{0.203, 0, 0}, {0, 0.203, 0},   {0, 0, 0.203},
+  const double positions_in[9][3] = {{0.203, 0, 0},   {0, 0.203, 0},   {0, 0, 0.203},
                                      {0, 1.9, 0.203}, {0.203, 1.9, 0}, {2.2, 0, 0.203},
                                      {2.2, 0.203, 0}, {0.203, 0, 3.2}, {0, 0.203, 3.2}};
   const int axes[9] = {0, 1, 2, 2, 0, 2, 1, 0, 1};
@@ -32,7 +32,8 @@ void BM_ExactSolverNap20000(benchmark::State& state) {
   RandomMotionOptions motion;
   motion.seed = 1;
   motion.duration_s = 1.9999;  // 20,000 samples at 10 kHz
-  const SyntheticTest test = SynthRandomMotion(DisplaceSensors(DentonNap(), 0.25 * kMetresPerInch, 1), motion);
+  const SyntheticTest test =
+      SynthRandomMotion(DisplaceSensors(DentonNap(), 0.25 * kMetresPerInch, 1), motion);
   SolveOptions options;
   options.initial = test.initial;
   for (auto _ : state) {
@@ -41,8 +42,8 @@ void BM_ExactSolverNap20000(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * test.signals.size());
   state.counters["samples"] = static_cast<double>(test.signals.size());
-  state.counters["samples_per_s"] =
-      benchmark::Counter(static_cast<double>(test.signals.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(test.signals.size()),
+                                                       benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_ExactSolverNap20000)->Unit(benchmark::kMillisecond);
 

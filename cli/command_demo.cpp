@@ -53,7 +53,8 @@ ScenarioNumbers Measure(const TransformReport& report) {
 class DemoCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
-    CLI::App* sub = app.add_subcommand("demo", "run the report's validation scenarios and print known answers");
+    CLI::App* sub =
+        app.add_subcommand("demo", "run the report's validation scenarios and print known answers");
     sub->add_option("--dir", dir_, "working directory for the demo files")->capture_default_str();
     return sub;
   }
@@ -62,10 +63,11 @@ class DemoCommand : public Command {
     fs::create_directories(dir_);
     const char* geometries[3] = {"ideal-3222", "volpe-table4-2", "denton-3222"};
     ScenarioNumbers numbers[3];
-    fmt::print("napkin demo — report section 4.5: rotation about an axis parallel to fixed Y, 10 in from the CG,\n"
-               "head initially at phi = theta = psi = 0.5 rad, 100 ms at 10 kHz, processed by `napkin transform`\n"
-               "(exact solver) with each 3-2-2-2 geometry. Files in {}/\n\n",
-               dir_);
+    fmt::print(
+        "napkin demo — report section 4.5: rotation about an axis parallel to fixed Y, 10 in from the CG,\n"
+        "head initially at phi = theta = psi = 0.5 rad, 100 ms at 10 kHz, processed by `napkin transform`\n"
+        "(exact solver) with each 3-2-2-2 geometry. Files in {}/\n\n",
+        dir_);
     for (int g = 0; g < 3; ++g) {
       const engine::ArrayGeometry array = formats::LoadArray(geometries[g]);
       const engine::SyntheticTest test = engine::SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
@@ -126,10 +128,9 @@ class DemoCommand : public Command {
       const Eigen::Index last = k.size() - 1;
       const Eigen::Quaterniond q(k.quat_fixed_from_body(last, 0), k.quat_fixed_from_body(last, 1),
                                  k.quat_fixed_from_body(last, 2), k.quat_fixed_from_body(last, 3));
-      const Eigen::Quaterniond q_true(test.truth.quat_fixed_from_body(last, 0),
-                                      test.truth.quat_fixed_from_body(last, 1),
-                                      test.truth.quat_fixed_from_body(last, 2),
-                                      test.truth.quat_fixed_from_body(last, 3));
+      const Eigen::Quaterniond q_true(
+          test.truth.quat_fixed_from_body(last, 0), test.truth.quat_fixed_from_body(last, 1),
+          test.truth.quat_fixed_from_body(last, 2), test.truth.quat_fixed_from_body(last, 3));
       fmt::print("{:<40} {:>11.4f} rad/s {:>11.4f} rad/s {:>14.4f} deg\n", std::string("seed, ") + as,
                  k.omega_fixed.col(0).cwiseAbs().maxCoeff(), k.omega_fixed.col(2).cwiseAbs().maxCoeff(),
                  engine::AngleBetween(q, q_true) * engine::kDegPerRad);

@@ -43,7 +43,8 @@ std::optional<db::Shard> ParseShard(const std::string& text) {
     return error == std::errc() && end == digits.data() + digits.size() && !digits.empty();
   };
   const std::string_view view(text);
-  if (!parse(view.substr(0, slash), shard.index) || !parse(view.substr(slash + 1), shard.count)) return std::nullopt;
+  if (!parse(view.substr(0, slash), shard.index) || !parse(view.substr(slash + 1), shard.count))
+    return std::nullopt;
   if (shard.count < 1 || shard.index < 0 || shard.index >= shard.count) return std::nullopt;
   return shard;
 }
@@ -52,8 +53,8 @@ class RunCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
-    CLI::App* sub =
-        app.add_subcommand("run", "process every test whose results are missing or stale for the config; resumable");
+    CLI::App* sub = app.add_subcommand(
+        "run", "process every test whose results are missing or stale for the config; resumable");
     sub->add_option("--series", series_, "only the tests of this series");
     sub->add_option("--test", test_ids_, "only this test (repeatable)");
     sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
@@ -62,7 +63,8 @@ class RunCommand : public Command {
     sub->add_flag("--force", options_.force, "recompute tests whose results are up to date");
     sub->add_option("--shard", shard_, "process shard I of N (0 <= I < N) of the tests: I/N")
         ->check([](const std::string& text) {
-          return ParseShard(text) ? std::string() : std::string("--shard takes I/N with 0 <= I < N, e.g. 0/3");
+          return ParseShard(text) ? std::string()
+                                  : std::string("--shard takes I/N with 0 <= I < N, e.g. 0/3");
         });
     return sub;
   }
@@ -78,22 +80,24 @@ class RunCommand : public Command {
     InstallStopHandlers();
     RunProgressReporter reporter(global_->quiet);
     const jobs::RunReport report = jobs::RunScheduler(
-        global_->db_path, processing, options_, [&](const jobs::RunProgress& progress) { reporter(progress); },
-        &g_stop_requested);
+        global_->db_path, processing, options_,
+        [&](const jobs::RunProgress& progress) { reporter(progress); }, &g_stop_requested);
     reporter.Finish();
 
     const double processed = static_cast<double>(report.done + report.failed);
     if (!global_->quiet)
       spdlog::info(
-          "{} tests done, {} failed, {} up to date; {:.1f} s, {:.2f} tests/s, {:.3g} samples/s (reading {:.1f} s, "
+          "{} tests done, {} failed, {} up to date; {:.1f} s, {:.2f} tests/s, {:.3g} samples/s (reading "
+          "{:.1f} s, "
           "computing {:.1f} s over {} threads, writing {:.1f} s)",
           report.done, report.failed, report.skipped, report.wall_s,
           report.wall_s > 0 ? processed / report.wall_s : 0.0,
           report.wall_s > 0 ? static_cast<double>(report.samples) / report.wall_s : 0.0, report.read_s,
           report.compute_s, report.threads, report.write_s);
     if (report.stopped) {
-      spdlog::error("run stopped by a signal after committing the tests in flight; run it again to process the "
-                    "rest.");
+      spdlog::error(
+          "run stopped by a signal after committing the tests in flight; run it again to process the "
+          "rest.");
       return kExitFailure;
     }
     if (report.failed > 0) {

@@ -17,7 +17,9 @@ class StatusCommand : public Command {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("status", "counts of tests by state for the config, and the failures");
     sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
-    sub->add_option("--format", format_, "table or json")->check(CLI::IsMember({"table", "json"}))->capture_default_str();
+    sub->add_option("--format", format_, "table or json")
+        ->check(CLI::IsMember({"table", "json"}))
+        ->capture_default_str();
     return sub;
   }
 
@@ -25,7 +27,8 @@ class StatusCommand : public Command {
     const ResolvedConfig resolved = ResolveConfig(config_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     // A config never run on this catalogue has no key: every test is pending.
-    const db::ConfigId config = catalogue.FindConfigByHash(resolved.record.config_hash).value_or(db::ConfigId{0});
+    const db::ConfigId config =
+        catalogue.FindConfigByHash(resolved.record.config_hash).value_or(db::ConfigId{0});
     const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(config);
 
     if (format_ == "json") {

@@ -18,7 +18,8 @@ class SynthCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
-    CLI::App* sub = app.add_subcommand("synth", "add synthetic tests with exact known answers to the catalogue");
+    CLI::App* sub =
+        app.add_subcommand("synth", "add synthetic tests with exact known answers to the catalogue");
     std::vector<std::string> scenarios;
     for (const engine::SynthScenario scenario : engine::kSynthScenarios)
       scenarios.push_back(engine::SynthScenarioName(scenario));
@@ -26,19 +27,25 @@ class SynthCommand : public Command {
                     "seed-fixed-axis (report 4.5), seed-sequential (report 4.4), random, padding-variants")
         ->required()
         ->check(CLI::IsMember(scenarios));
-    sub->add_option("--count", request_.count, "random: number of tests; padding-variants: repeats per variant")
+    sub->add_option("--count", request_.count,
+                    "random: number of tests; padding-variants: repeats per variant")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     sub->add_option("--seed", request_.seed, "seed of the first random motion")->capture_default_str();
     sub->add_option("--array", request_.array, "array preset name or array JSON file")->capture_default_str();
     sub->add_option("--series", request_.series, "series label (default: the scenario name)");
-    sub->add_option("--test-id", request_.test_id, "test id, or prefix of numbered ids (default: the scenario name)");
-    auto* samples = sub->add_option("--samples", request_.samples, "random, padding-variants: samples per channel")
-                        ->check(CLI::Range(2, 100000000));
-    sub->add_option("--duration", request_.duration_s, "random, padding-variants: duration in s (default 0.2)")
+    sub->add_option("--test-id", request_.test_id,
+                    "test id, or prefix of numbered ids (default: the scenario name)");
+    auto* samples =
+        sub->add_option("--samples", request_.samples, "random, padding-variants: samples per channel")
+            ->check(CLI::Range(2, 100000000));
+    sub->add_option("--duration", request_.duration_s,
+                    "random, padding-variants: duration in s (default 0.2)")
         ->check(CLI::PositiveNumber)
         ->excludes(samples);
-    sub->add_option("--rate", request_.rate_hz, "sampling rate in Hz")->check(CLI::PositiveNumber)->capture_default_str();
+    sub->add_option("--rate", request_.rate_hz, "sampling rate in Hz")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     return sub;
   }
 
@@ -47,8 +54,9 @@ class SynthCommand : public Command {
     const ingest::SynthPlan plan = ingest::PlanSynth(request_);
     db::Catalogue catalogue = OpenCatalogue(*global_);
     const ingest::SynthCounts counts = ingest::StoreSynthTests(catalogue, plan);
-    fmt::print("{}: {} synthetic test{} added, {} already present (scenario {}, series '{}').\n", global_->db_path,
-               counts.added, counts.added == 1 ? "" : "s", counts.present, scenario_, plan.series);
+    fmt::print("{}: {} synthetic test{} added, {} already present (scenario {}, series '{}').\n",
+               global_->db_path, counts.added, counts.added == 1 ? "" : "s", counts.present, scenario_,
+               plan.series);
     return kExitOk;
   }
 

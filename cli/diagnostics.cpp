@@ -10,8 +10,8 @@
 #include <new>
 
 #include "cli/command.h"
-#include "db/sqlite.h"
 #include "common/error.h"
+#include "db/sqlite.h"
 
 namespace napkin::cli {
 namespace {
@@ -67,7 +67,8 @@ int ReportFailure(const std::exception_ptr& error, const std::string& db_path) {
   } catch (const db::DatabaseError& database) {
     if (database.busy()) {
       spdlog::error(
-          "catalogue '{}' is busy: another napkin process has held its write lock longer than the wait allows; "
+          "catalogue '{}' is busy: another napkin process has held its write lock longer than the wait "
+          "allows; "
           "run the command again when that process has finished ({}).",
           db_path, database.what());
     } else {
@@ -86,7 +87,8 @@ int ReportFailure(const std::exception_ptr& error, const std::string& db_path) {
     return kExitFailure;
   } catch (...) {
     spdlog::error(
-        "internal error: an unknown exception; this is a bug in napkin, please report it with the command line "
+        "internal error: an unknown exception; this is a bug in napkin, please report it with the command "
+        "line "
         "that caused it.");
     return kExitFailure;
   }

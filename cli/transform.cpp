@@ -10,8 +10,8 @@
 #include "engine/processing.h"
 #include "engine/solver.h"
 #include "formats/array_json.h"
-#include "formats/csv.h"
 #include "formats/atomic_file.h"
+#include "formats/csv.h"
 #include "formats/lsdyna.h"
 #include "formats/summary_json.h"
 
@@ -43,7 +43,8 @@ TransformReport RunTransform(const TransformOptions& options) {
   engine::ProcessingConfig config = ResolveConfig(options.config).config;
   if (!options.solver.empty()) {
     const std::optional<engine::SolverKind> solver = engine::ParseSolverName(options.solver);
-    if (!solver) throw InputError("unknown solver \"" + options.solver + "\" (use " + SolverNames(" or ") + ").");
+    if (!solver)
+      throw InputError("unknown solver \"" + options.solver + "\" (use " + SolverNames(" or ") + ").");
     config.solver = *solver;
     config.Check();  // the config's other settings may not suit this solver
   }
@@ -65,8 +66,7 @@ TransformReport RunTransform(const TransformOptions& options) {
   }
 
   const std::string test_id = fs::path(options.input).stem().string();
-  const std::string summary_text =
-      formats::SummaryToJson(report.summary, test_id, "", "").dump(2) + "\n";
+  const std::string summary_text = formats::SummaryToJson(report.summary, test_id, "", "").dump(2) + "\n";
   // Each writer is atomic; if a later one fails, the earlier outputs of this
   // run are removed too, so a failed transform leaves no output behind.
   std::vector<fs::path> written;
@@ -74,7 +74,8 @@ TransformReport RunTransform(const TransformOptions& options) {
     formats::WriteDerivedCsv(report.kinematics, options.out);
     written.emplace_back(options.out);
     if (!options.summary.empty()) {
-      formats::WriteFileAtomically(options.summary, [&](formats::AtomicFile& file) { file.Write(summary_text); });
+      formats::WriteFileAtomically(options.summary,
+                                   [&](formats::AtomicFile& file) { file.Write(summary_text); });
       written.emplace_back(options.summary);
     }
     if (!options.lsdyna.empty()) formats::WriteLsDynaKeyword(report.kinematics, options.lsdyna);

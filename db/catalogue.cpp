@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "common/error.h"
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
 #include "db/migrate.h"
-#include "common/error.h"
 
 namespace napkin::db {
 

@@ -4,9 +4,9 @@
 // The shard is ATTACHed to this connection and copied with INSERT ... SELECT,
 // mapping keys through content: tests by content hash, arrays and configs by
 // hash, series by name (keys of a shard that imported new tests differ).
+#include "common/error.h"
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
-#include "common/error.h"
 
 namespace napkin::db {
 

@@ -6,10 +6,10 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "common/error.h"
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
-#include "common/error.h"
 #include "engine/summary_fields.h"
 
 namespace napkin::db {
@@ -289,8 +289,8 @@ Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
       sql = "SELECT " + SummaryViewColumns({SummaryGroup::kRotation}) + " FROM v_rotation";
       break;
     case QueryKind::kCriteria:
-      sql = "SELECT " + SummaryViewColumns({SummaryGroup::kHic, SummaryGroup::kRotation}) +
-            " FROM v_criteria";
+      sql =
+          "SELECT " + SummaryViewColumns({SummaryGroup::kHic, SummaryGroup::kRotation}) + " FROM v_criteria";
       break;
     case QueryKind::kQuality:
       sql = "SELECT * FROM v_quality";

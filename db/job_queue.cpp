@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "db/catalogue_internal.h"
 #include "common/error.h"
+#include "db/catalogue_internal.h"
 
 namespace napkin::db {
 
@@ -98,7 +98,8 @@ std::vector<Job> JobQueue::ClaimJobs(ConfigId config, const std::string& owner, 
   Transaction transaction(connection_);  // BEGIN IMMEDIATE: claims are serialised
   static const std::string kClaim =
       "WITH " + ScopeCte() +
-      " UPDATE jobs SET state = 'running', lease_owner = ?11, lease_expires_at = ?12 + ?13, started_at = ?12, "
+      " UPDATE jobs SET state = 'running', lease_owner = ?11, lease_expires_at = ?12 + ?13, started_at = "
+      "?12, "
       "finished_at = NULL, duration_s = NULL, attempts = attempts + 1 "
       "WHERE id IN (SELECT id FROM jobs WHERE config_id = ?10 AND test_id IN (SELECT test_id FROM scope) AND "
       "(state = 'queued' OR (state = 'running' AND lease_expires_at <= ?12)) ORDER BY id LIMIT ?14) "

@@ -91,7 +91,7 @@ class JobQueue {
   StatusCounts ReadStatusCounts(ConfigId config, const JobScope& scope = {});
 
  private:
-  Connection& connection_;                 // the catalogue's
+  Connection& connection_;                // the catalogue's
   const std::function<double()>& clock_;  // the catalogue's: epoch seconds
 };
 

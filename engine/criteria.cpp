@@ -23,7 +23,8 @@ void CheckInterval(double dt_s, const char* what) {
   }
 }
 
-void CheckFiniteSamples(const Eigen::Ref<const Eigen::VectorXd>& values, double dt_s, double t0_s, const char* what) {
+void CheckFiniteSamples(const Eigen::Ref<const Eigen::VectorXd>& values, double dt_s, double t0_s,
+                        const char* what) {
   for (Eigen::Index k = 0; k < values.size(); ++k) {
     if (!std::isfinite(values[k])) {
       std::ostringstream message;
@@ -59,7 +60,8 @@ HicProblem PrepareHic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_
   const Eigen::Index n = acc_g.size();
   if (options.from_time_zero) {
     const double tolerance = 1e-9 * dt_s;
-    while (problem.first < n && t0_s + static_cast<double>(problem.first) * dt_s < -tolerance) ++problem.first;
+    while (problem.first < n && t0_s + static_cast<double>(problem.first) * dt_s < -tolerance)
+      ++problem.first;
   }
   problem.count = n - problem.first;
   problem.integral.resize(problem.count);
@@ -226,7 +228,8 @@ HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double d
 // (or tie) the best is ever pruned. Windows are visited in the exhaustive
 // order (t1, then t2, ascending) and compared with the same tie rule, so the
 // result is the exhaustive one, bit for bit.
-HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s, const HicOptions& options) {
+HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+              const HicOptions& options) {
   const HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options);
   const Eigen::Index count = problem.count;
   HicBest best;
@@ -334,8 +337,8 @@ double Bric(const Eigen::Ref<const Series3>& omega_body_radps, const Eigen::Vect
   for (int axis = 0; axis < 3; ++axis) {
     if (!(std::isfinite(critical_radps[axis]) && critical_radps[axis] > 0.0)) {
       std::ostringstream message;
-      message << "BrIC: the critical angular velocity about axis " << "xyz"[axis] << " (" << critical_radps[axis]
-              << " rad/s) is not positive.";
+      message << "BrIC: the critical angular velocity about axis "
+              << "xyz"[axis] << " (" << critical_radps[axis] << " rad/s) is not positive.";
       throw InputError(message.str());
     }
   }
@@ -356,8 +359,10 @@ Eigen::Matrix3d DamageModel::Stiffness() const {
 Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
                            const DamageModel& model) {
   CheckInterval(dt_s, "DAMAGE");
-  if (!alpha_body_radps2.allFinite()) throw InputError("DAMAGE: the angular acceleration has a non-finite sample.");
-  if (!(std::isfinite(model.mass_kg) && model.mass_kg > 0.0)) throw InputError("DAMAGE: the mass is not positive.");
+  if (!alpha_body_radps2.allFinite())
+    throw InputError("DAMAGE: the angular acceleration has a non-finite sample.");
+  if (!(std::isfinite(model.mass_kg) && model.mass_kg > 0.0))
+    throw InputError("DAMAGE: the mass is not positive.");
   const Eigen::Index n = alpha_body_radps2.rows();
   Series3 displacement = Series3::Zero(n, 3);
   if (n < 2) return displacement;

@@ -44,7 +44,8 @@ struct HicOptions {
 // Fast HIC: branch and bound over t2 for each t1 in order, with a segment
 // tree of max V and max per-step increment of V; returns exactly (value,
 // t1, t2) of HicExhaustive.
-HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s, const HicOptions& options = {});
+HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+              const HicOptions& options = {});
 
 // The reference: every window, O(n * W / dt).
 HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
@@ -74,14 +75,14 @@ double Bric(const Eigen::Ref<const Series3>& omega_body_radps, const Eigen::Vect
 // discretisation by one matrix exponential of the system augmented with the
 // input and its slope), so the only error is the linear interpolation of alpha.
 struct DamageModel {
-  double mass_kg = 1.0;     // m, each axis
-  double kxx = 32142.0;     // N/m
-  double kyy = 23493.0;     // N/m
-  double kzz = 16935.0;     // N/m
-  double kxy = 0.0;         // N/m
-  double kyz = 0.0;         // N/m
-  double kxz = 1636.3;      // N/m
-  double a1_s = 5.9148e-3;  // stiffness-proportional damping, C = a1 K (s)
+  double mass_kg = 1.0;        // m, each axis
+  double kxx = 32142.0;        // N/m
+  double kyy = 23493.0;        // N/m
+  double kzz = 16935.0;        // N/m
+  double kxy = 0.0;            // N/m
+  double kyz = 0.0;            // N/m
+  double kxz = 1636.3;         // N/m
+  double a1_s = 5.9148e-3;     // stiffness-proportional damping, C = a1 K (s)
   double beta_per_m = 2.9903;  // DAMAGE = beta * max ||d||
 
   Eigen::Matrix3d Stiffness() const;

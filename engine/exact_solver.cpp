@@ -22,10 +22,10 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 // and of its time derivative given alpha:
 //   dc_i/dt = (n_i.alpha)(r_i.omega) + (n_i.omega)(r_i.alpha) - 2 (n_i.r_i)(omega.alpha).
 struct LinearSensors {
-  Matrix3Xd axis_body;       // n_i, one column per sensor
-  Matrix3Xd position_body;   // r_i
+  Matrix3Xd axis_body;         // n_i, one column per sensor
+  Matrix3Xd position_body;     // r_i
   VectorXd axis_dot_position;  // n_i . r_i
-  MatrixXd rows;             // [n_i^T, (r_i x n_i)^T], L x 6
+  MatrixXd rows;               // [n_i^T, (r_i x n_i)^T], L x 6
   // Work buffers (allocated once, reused every sample).
   VectorXd n_omega, r_omega, n_alpha, r_alpha;
 
@@ -102,7 +102,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   Vector6d solution;
 
   // Solves sample k for (a, alpha) given omega; returns alpha' too.
-  auto solve_sample = [&](Index k, const Vector3d& omega, Vector3d& acc, Vector3d& alpha, Vector3d& alpha_rate) {
+  auto solve_sample = [&](Index k, const Vector3d& omega, Vector3d& acc, Vector3d& alpha,
+                          Vector3d& alpha_rate) {
     sensors.Centripetal(omega, centripetal);
     rhs = measured.col(k) - centripetal;
     solution.noalias() = solve_rows * rhs;
@@ -157,9 +158,9 @@ void SolveSixAOmega(const ArrayGeometry& array, const TestSignals& signals, Kine
   OmegaFromRates(array, signals, out);
   LinearSensors sensors(array, array.LinearIndices());
   const Index count = sensors.size(), n = signals.size();
-  const MatrixXd axis_rows = sensors.rows.leftCols<3>();      // L x 3
-  const MatrixXd lever_rows = sensors.rows.rightCols<3>();    // L x 3
-  const MatrixXd acc_from_rhs = PseudoInverse(axis_rows);     // 3 x L
+  const MatrixXd axis_rows = sensors.rows.leftCols<3>();    // L x 3
+  const MatrixXd lever_rows = sensors.rows.rightCols<3>();  // L x 3
+  const MatrixXd acc_from_rhs = PseudoInverse(axis_rows);   // 3 x L
   const MatrixXd measured = MeasurementsBySample(array, array.LinearIndices(), signals);
   VectorXd centripetal(count), rhs(count), fitted(count), tangential(count);
   Vector3d acc;
@@ -229,7 +230,8 @@ void CompleteKinematics(const InitialState& initial, const GravityOptions& gravi
   for (Index k = 0; k < n; ++k) {
     const Eigen::Matrix3d fixed_from_body = QuatAt(kin.quat_fixed_from_body, k).toRotationMatrix();
     if (gravity.compensate)
-      kin.acc_body.row(k) += (fixed_from_body.transpose() * gravity.g_fixed_mps2 - gravity_body_0).transpose();
+      kin.acc_body.row(k) +=
+          (fixed_from_body.transpose() * gravity.g_fixed_mps2 - gravity_body_0).transpose();
     kin.omega_fixed.row(k) = (fixed_from_body * kin.omega_body.row(k).transpose()).transpose();
     kin.alpha_fixed.row(k) = (fixed_from_body * kin.alpha_body.row(k).transpose()).transpose();
     kin.acc_fixed.row(k) = (fixed_from_body * kin.acc_body.row(k).transpose()).transpose();

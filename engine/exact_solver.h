@@ -38,7 +38,8 @@ inline constexpr double kFusedRateSigmaRadps = 0.01;
 
 // Solves one test with a validated array and checked signals (Solve() does
 // both checks and then calls this).
-Kinematics SolveExact(const ArrayGeometry& validated_array, const TestSignals& signals, const SolveOptions& options);
+Kinematics SolveExact(const ArrayGeometry& validated_array, const TestSignals& signals,
+                      const SolveOptions& options);
 
 // Fills orientation, fixed-frame series, velocity, position and angles from
 // kinematics whose time_s, omega_body, alpha_body, acc_body and residual

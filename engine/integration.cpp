@@ -25,28 +25,31 @@ Eigen::MatrixXd DifferentiateFourthOrder(const Eigen::MatrixXd& f, double dt) {
   if (n < 5) return DifferentiateSecondOrder(f, dt);
   Eigen::MatrixXd d(n, f.cols());
   const double inv_12dt = 1.0 / (12.0 * dt);
-  d.middleRows(2, n - 4) =
-      (-f.bottomRows(n - 4) + 8.0 * f.middleRows(3, n - 4) - 8.0 * f.middleRows(1, n - 4) + f.topRows(n - 4)) *
-      inv_12dt;
-  d.row(0) = (-25.0 * f.row(0) + 48.0 * f.row(1) - 36.0 * f.row(2) + 16.0 * f.row(3) - 3.0 * f.row(4)) * inv_12dt;
+  d.middleRows(2, n - 4) = (-f.bottomRows(n - 4) + 8.0 * f.middleRows(3, n - 4) -
+                            8.0 * f.middleRows(1, n - 4) + f.topRows(n - 4)) *
+                           inv_12dt;
+  d.row(0) =
+      (-25.0 * f.row(0) + 48.0 * f.row(1) - 36.0 * f.row(2) + 16.0 * f.row(3) - 3.0 * f.row(4)) * inv_12dt;
   d.row(1) = (-3.0 * f.row(0) - 10.0 * f.row(1) + 18.0 * f.row(2) - 6.0 * f.row(3) + f.row(4)) * inv_12dt;
   d.row(n - 1) = (25.0 * f.row(n - 1) - 48.0 * f.row(n - 2) + 36.0 * f.row(n - 3) - 16.0 * f.row(n - 4) +
                   3.0 * f.row(n - 5)) *
                  inv_12dt;
-  d.row(n - 2) = (3.0 * f.row(n - 1) + 10.0 * f.row(n - 2) - 18.0 * f.row(n - 3) + 6.0 * f.row(n - 4) -
-                  f.row(n - 5)) *
-                 inv_12dt;
+  d.row(n - 2) =
+      (3.0 * f.row(n - 1) + 10.0 * f.row(n - 2) - 18.0 * f.row(n - 3) + 6.0 * f.row(n - 4) - f.row(n - 5)) *
+      inv_12dt;
   return d;
 }
 
-void IntegrateHermite(double dt, const Series3& f, const Series3& f_dot, const Eigen::Vector3d& y0, Series3& y) {
+void IntegrateHermite(double dt, const Series3& f, const Series3& f_dot, const Eigen::Vector3d& y0,
+                      Series3& y) {
   const Eigen::Index n = f.rows();
   y.resize(n, 3);
   if (n == 0) return;
   const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0;
   y.row(0) = y0.transpose();
   for (Eigen::Index k = 1; k < n; ++k)
-    y.row(k) = y.row(k - 1) + half_dt * (f.row(k - 1) + f.row(k)) + dt2_12 * (f_dot.row(k - 1) - f_dot.row(k));
+    y.row(k) =
+        y.row(k - 1) + half_dt * (f.row(k - 1) + f.row(k)) + dt2_12 * (f_dot.row(k - 1) - f_dot.row(k));
 }
 
 void IntegrateOrientation(double dt, const Series3& omega_body, const Series3& alpha_body,

@@ -23,7 +23,8 @@ Eigen::MatrixXd DifferentiateFourthOrder(const Eigen::MatrixXd& f, double dt);
 //   y[k] = y[k-1] + dt/2 (f[k-1] + f[k]) + dt^2/12 (f'[k-1] - f'[k]),
 // exact for cubics. The correction telescopes, so a poor derivative at one
 // sample (a kink in f) only disturbs that sample, never the running sum.
-void IntegrateHermite(double dt, const Series3& f, const Series3& f_dot, const Eigen::Vector3d& y0, Series3& y);
+void IntegrateHermite(double dt, const Series3& f, const Series3& f_dot, const Eigen::Vector3d& y0,
+                      Series3& y);
 
 // Body-to-fixed orientation from body angular velocity and acceleration:
 //   q[k] = q[k-1] * Exp(theta_k),

@@ -11,14 +11,14 @@ using Series4 = Eigen::Matrix<double, Eigen::Dynamic, 4>;
 
 struct Kinematics {
   Eigen::VectorXd time_s;
-  Series3 omega_body;   // angular velocity, body axes
-  Series3 alpha_body;   // angular acceleration, body axes
-  Series3 omega_fixed;  // = R * omega_body
-  Series3 alpha_fixed;  // = R * alpha_body
-  Series3 acc_body;     // head CG acceleration, body axes (m/s^2)
-  Series3 acc_fixed;    // = R * acc_body
-  Series3 vel_fixed;    // CG velocity, starts at the initial velocity
-  Series3 pos_fixed;    // CG displacement, starts at 0
+  Series3 omega_body;            // angular velocity, body axes
+  Series3 alpha_body;            // angular acceleration, body axes
+  Series3 omega_fixed;           // = R * omega_body
+  Series3 alpha_fixed;           // = R * alpha_body
+  Series3 acc_body;              // head CG acceleration, body axes (m/s^2)
+  Series3 acc_fixed;             // = R * acc_body
+  Series3 vel_fixed;             // CG velocity, starts at the initial velocity
+  Series3 pos_fixed;             // CG displacement, starts at 0
   Series4 quat_fixed_from_body;  // (w, x, y, z), unit; v_fixed = q * v_body
   Series3 roll_pitch_yaw_rad;    // R = Rz(yaw) Ry(pitch) Rx(roll), full range
   Series3 dcos_rad;              // acos of the diagonal of R

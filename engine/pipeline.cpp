@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
-#include "engine/criteria.h"
 #include "common/error.h"
+#include "engine/criteria.h"
 #include "engine/screening.h"
 #include "engine/solver.h"
 
@@ -30,8 +30,8 @@ const Finding* FirstError(const std::vector<Finding>& findings) {
 
 }  // namespace
 
-ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
-                          const ProcessingConfig& config) {
+ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
+                          const InitialState& initial, const ProcessingConfig& config) {
   config.Check();
   // Screening runs on the raw signals first (report section 2.2: check the
   // data before using them). A missing channel or a non-finite sample makes
@@ -49,13 +49,14 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   // Rigid-body consistency is judged by the exact solver's residual, also
   // when the result comes from the seed solver.
   if (options.solver == SolverKind::kExact) {
-    AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening), findings);
+    AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening),
+                   findings);
   } else {
     SolveOptions exact_options = options;
     exact_options.solver = SolverKind::kExact;
-    AppendFindings(
-        ScreenConsistency(array, signals, Solve(array, signals, exact_options), exact_options, config.screening),
-        findings);
+    AppendFindings(ScreenConsistency(array, signals, Solve(array, signals, exact_options), exact_options,
+                                     config.screening),
+                   findings);
   }
 
   // Signals far from a rigid body (a flipped or swapped channel of a
@@ -64,8 +65,9 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   const Eigen::Index diverged_at = FirstNonFinite(processed.kinematics);
   if (diverged_at >= 0) {
     std::ostringstream message;
-    message << "the solved kinematics diverge at sample " << diverged_at << " (t = "
-            << processed.kinematics.time_s(diverged_at) << " s) because the channels are inconsistent with a rigid "
+    message << "the solved kinematics diverge at sample " << diverged_at
+            << " (t = " << processed.kinematics.time_s(diverged_at)
+            << " s) because the channels are inconsistent with a rigid "
             << "body";
     if (const Finding* error = FirstError(findings)) {
       std::string reason = error->detail;
@@ -82,6 +84,8 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   return processed;
 }
 
-const Finding* FailingFinding(const ProcessedTest& processed) { return FirstError(processed.summary.findings); }
+const Finding* FailingFinding(const ProcessedTest& processed) {
+  return FirstError(processed.summary.findings);
+}
 
 }  // namespace napkin::engine

@@ -23,8 +23,8 @@ struct ProcessedTest {
 // InputError naming the slot, sample or setting at fault: on a missing
 // channel or a non-finite sample (the screening sentence), and when the
 // solved kinematics diverge (quoting the screening error that explains it).
-ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
-                          const ProcessingConfig& config);
+ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
+                          const InitialState& initial, const ProcessingConfig& config);
 
 // The verdict on a processed test: it fails on its first error-severity
 // finding (PRODUCT.md, automated data screening: a flipped or swapped

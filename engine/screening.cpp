@@ -90,8 +90,8 @@ double Rms(const Eigen::VectorXd& values) {
 
 // "from A g to B g", or "from a diverging solve to B g".
 std::string FromTo(double from_mps2, double to_mps2) {
-  const std::string from =
-      std::isfinite(from_mps2) ? "from " + Number(from_mps2 / kStandardGravity) + " g" : "from a diverging solve";
+  const std::string from = std::isfinite(from_mps2) ? "from " + Number(from_mps2 / kStandardGravity) + " g"
+                                                    : "from a diverging solve";
   return from + " to " + Number(to_mps2 / kStandardGravity, 3) + " g";
 }
 
@@ -109,7 +109,8 @@ std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& s
   if (count == 0) return std::nullopt;
   std::ostringstream detail;
   detail << "channel " << sensor.slot << " has " << count << " non-finite sample" << (count > 1 ? "s" : "")
-         << " (a dropout), the first at sample " << first << " (t = " << Number(signals.TimeAt(first), 6) << " s)";
+         << " (a dropout), the first at sample " << first << " (t = " << Number(signals.TimeAt(first), 6)
+         << " s)";
   if (last != first)
     detail << " and the last at sample " << last << " (t = " << Number(signals.TimeAt(last), 6) << " s)";
   detail << ".";
@@ -144,15 +145,17 @@ std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& 
     const Index start = best_end - best_run + 1;
     std::ostringstream detail;
     detail << "channel " << sensor.slot << " stays at its " << (extreme == top ? "maximum " : "minimum ")
-           << Number(extreme) << " " << sensor.unit << " for " << best_run << " consecutive samples from t = "
-           << Number(signals.TimeAt(start), 6) << " s, a flat top that indicates a clipped (saturated) signal.";
+           << Number(extreme) << " " << sensor.unit << " for " << best_run
+           << " consecutive samples from t = " << Number(signals.TimeAt(start), 6)
+           << " s, a flat top that indicates a clipped (saturated) signal.";
     worst = MakeFinding("saturation", sensor.slot, Severity::kError, detail.str());
   }
   return worst;
 }
 
 std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& signals,
-                                   const Eigen::Ref<const Eigen::VectorXd>& x, const ScreeningConfig& config) {
+                                   const Eigen::Ref<const Eigen::VectorXd>& x,
+                                   const ScreeningConfig& config) {
   const Index n = x.size();
   if (n < 3) return std::nullopt;
   const double size = InChannelUnits(sensor, config.spike_size_g, config.spike_size_radps);
@@ -162,7 +165,8 @@ std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& sign
   for (Index k = 1; k + 1 < n; ++k) {
     const double jump_back = x(k) - x(k - 1), jump_ahead = x(k) - x(k + 1);
     // A spike leaves and returns: both jumps large and of one sign.
-    if (jump_back * jump_ahead <= 0.0 || std::min(std::abs(jump_back), std::abs(jump_ahead)) <= size) continue;
+    if (jump_back * jump_ahead <= 0.0 || std::min(std::abs(jump_back), std::abs(jump_ahead)) <= size)
+      continue;
     const double second_difference = 0.5 * (jump_back + jump_ahead);
     // Robust local scale of the second differences around k (k excluded).
     window.clear();
@@ -182,7 +186,8 @@ std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& sign
   std::ostringstream detail;
   detail << "channel " << sensor.slot << " has " << count << " one-sample spike" << (count > 1 ? "s" : "")
          << " above " << Number(size) << " " << sensor.unit << ", the largest " << Number(largest) << " "
-         << sensor.unit << " at sample " << largest_at << " (t = " << Number(signals.TimeAt(largest_at), 6) << " s).";
+         << sensor.unit << " at sample " << largest_at << " (t = " << Number(signals.TimeAt(largest_at), 6)
+         << " s).";
   return MakeFinding("spike", sensor.slot, Severity::kWarning, detail.str());
 }
 
@@ -208,29 +213,34 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
   Index pre_impact = 0;
   while (pre_impact < n && signals.TimeAt(pre_impact) - config.time.shift_s < -1e-9 * dt) ++pre_impact;
   const bool has_pre_impact = pre_impact >= kPreImpactMinSamples;
-  const Index start_count = has_pre_impact
-                                ? pre_impact
-                                : std::min<Index>(std::max<Index>(kStartMinSamples, std::llround(kStartWindowS / dt)),
-                                                  std::max<Index>(1, n / 4));
+  const Index start_count =
+      has_pre_impact ? pre_impact
+                     : std::min<Index>(std::max<Index>(kStartMinSamples, std::llround(kStartWindowS / dt)),
+                                       std::max<Index>(1, n / 4));
   if (n == 0) return;
   std::vector<double> offset(array.sensors.size(), 0.0);
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
     const Sensor& sensor = array.sensors[i];
-    offset[i] = signals.samples.col(columns[i]).head(start_count).mean() - ExpectedStartReading(sensor, initial);
+    offset[i] =
+        signals.samples.col(columns[i]).head(start_count).mean() - ExpectedStartReading(sensor, initial);
   }
   // Whether conditioning will subtract the offset (ApplyConditioning).
-  const bool removed = config.bias.mode == BiasMode::kWindow ||
-                       (config.bias.mode == BiasMode::kAuto && has_pre_impact &&
-                        static_cast<double>(pre_impact) * dt >= config.bias.auto_min_pre_impact_s * (1.0 - 1e-9));
+  const bool removed =
+      config.bias.mode == BiasMode::kWindow ||
+      (config.bias.mode == BiasMode::kAuto && has_pre_impact &&
+       static_cast<double>(pre_impact) * dt >= config.bias.auto_min_pre_impact_s * (1.0 - 1e-9));
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
     const Sensor& sensor = array.sensors[i];
-    const double limit = InChannelUnits(sensor, config.screening.bias_limit_g, config.screening.bias_limit_radps);
+    const double limit =
+        InChannelUnits(sensor, config.screening.bias_limit_g, config.screening.bias_limit_radps);
     if (!(std::abs(offset[i]) > limit)) continue;
     std::ostringstream detail;
     if (has_pre_impact) {
-      detail << "channel " << sensor.slot << " has a pre-impact mean of " << Number(offset[i]) << " " << sensor.unit
-             << " over " << pre_impact << " samples before t = 0, beyond the " << Number(limit) << " " << sensor.unit
-             << " bias limit" << (removed ? " (the configured bias removal subtracts it)." : " (the configured bias removal does not).");
+      detail << "channel " << sensor.slot << " has a pre-impact mean of " << Number(offset[i]) << " "
+             << sensor.unit << " over " << pre_impact << " samples before t = 0, beyond the " << Number(limit)
+             << " " << sensor.unit << " bias limit"
+             << (removed ? " (the configured bias removal subtracts it)."
+                         : " (the configured bias removal does not).");
     } else {
       bool others_quiet = true;
       int others = 0;
@@ -244,8 +254,9 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
       }
       if (others == 0 || !others_quiet) continue;
       detail << "channel " << sensor.slot << " starts at " << Number(offset[i]) << " " << sensor.unit
-             << (sensor.kind == SensorKind::kLinear ? "" : " off its initial-rate reading") << " (mean of the first "
-             << start_count << " samples, no pre-impact data) while the other channels start near zero: a "
+             << (sensor.kind == SensorKind::kLinear ? "" : " off its initial-rate reading")
+             << " (mean of the first " << start_count
+             << " samples, no pre-impact data) while the other channels start near zero: a "
              << "zero offset beyond the " << Number(limit) << " " << sensor.unit << " bias limit that "
              << (removed ? "the configured bias window subtracts." : "no bias removal corrects.");
     }
@@ -261,7 +272,8 @@ struct ResidualFit {
   Kinematics kinematics;
 };
 
-ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals,
+                          const SolveOptions& options) {
   ResidualFit fit;
   try {
     fit.kinematics = Solve(array, signals, options);
@@ -305,8 +317,8 @@ std::optional<Finding> ExplainAsOffset(const Sensor& sensor, const TestSignals& 
   std::ostringstream detail;
   detail << "channel " << sensor.slot << " reads a nearly constant " << Number(offset) << " " << sensor.unit
          << " (RMS deviation " << Number(spread, 2) << " " << sensor.unit
-         << ") off what the other channels imply for a rigid body: a zero offset beyond the " << Number(limit) << " "
-         << sensor.unit << " bias limit.";
+         << ") off what the other channels imply for a rigid body: a zero offset beyond the " << Number(limit)
+         << " " << sensor.unit << " bias limit.";
   return MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str());
 }
 
@@ -481,7 +493,8 @@ Finding ResidualFinding(const ResidualStatistics& residual, const Kinematics& ki
 }  // namespace
 
 bool IsFatal(const Finding& finding) {
-  return finding.severity == Severity::kError && (finding.check == "missing" || finding.check == "non_finite");
+  return finding.severity == Severity::kError &&
+         (finding.check == "missing" || finding.check == "non_finite");
 }
 
 void AppendFindings(const std::vector<Finding>& more, std::vector<Finding>& findings) {
@@ -517,9 +530,9 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
     const Sensor& sensor = array.sensors[i];
     columns[i] = raw_signals.FindSlot(sensor.slot);
     if (columns[i] < 0 || columns[i] >= raw_signals.samples.cols()) {
-      findings.push_back(MakeFinding("missing", sensor.slot, Severity::kError,
-                                     "the signals have no channel for slot " + sensor.slot + " of array " +
-                                         array.name + "."));
+      findings.push_back(MakeFinding(
+          "missing", sensor.slot, Severity::kError,
+          "the signals have no channel for slot " + sensor.slot + " of array " + array.name + "."));
       complete = false;
     }
   }
@@ -537,7 +550,8 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
     if (x.size() == 0) continue;
     if (x.maxCoeff() == x.minCoeff()) {
       findings.push_back(MakeFinding("flat", sensor.slot, Severity::kInfo,
-                                     "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " + sensor.unit +
+                                     "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " +
+                                         sensor.unit +
                                          ") over the whole record: check that it was recorded."));
       continue;
     }
@@ -557,8 +571,9 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   std::vector<Finding> findings;
   if (ResidualRedundancy(array) <= 0) {
     findings.push_back(MakeFinding("consistency", std::nullopt, Severity::kInfo,
-                                   "array " + array.name + " has no redundant channel, so polarity, axis-label and "
-                                   "rigid-body residual checks are not possible."));
+                                   "array " + array.name +
+                                       " has no redundant channel, so polarity, axis-label and "
+                                       "rigid-body residual checks are not possible."));
     return findings;
   }
   if (exact_kinematics.size() == 0) return findings;

@@ -23,10 +23,15 @@ namespace {
 
 // Sense axes of the nine slots in Table 2-1 order (kNapSlots).
 constexpr std::array<std::array<double, 3>, 9> kNapAxes = {{
-    {1, 0, 0}, {0, 1, 0}, {0, 0, 1},  // cg_x, cg_y, cg_z
-    {0, 0, 1}, {1, 0, 0},             // yarm_z, yarm_x
-    {0, 0, 1}, {0, 1, 0},             // xarm_z, xarm_y
-    {1, 0, 0}, {0, 1, 0},             // zarm_x, zarm_y
+    {1, 0, 0},
+    {0, 1, 0},
+    {0, 0, 1},  // cg_x, cg_y, cg_z
+    {0, 0, 1},
+    {1, 0, 0},  // yarm_z, yarm_x
+    {0, 0, 1},
+    {0, 1, 0},  // xarm_z, xarm_y
+    {1, 0, 0},
+    {0, 1, 0},  // zarm_x, zarm_y
 }};
 
 // Tolerance on a unit sense axis being the Table 2-1 axis.
@@ -58,7 +63,8 @@ std::array<const Sensor*, 9> NapSensors(const ArrayGeometry& array) {
     if (!sensor.position_body_m.allFinite())
       throw InvalidArrayError(where + ": slot " + Quoted(sensor.slot) + " has a non-finite position.");
     if (!std::isfinite(sensor.si_per_unit) || sensor.si_per_unit <= 0.0)
-      throw InvalidArrayError(where + ": slot " + Quoted(sensor.slot) + " has no valid unit conversion factor.");
+      throw InvalidArrayError(where + ": slot " + Quoted(sensor.slot) +
+                              " has no valid unit conversion factor.");
     const double axis_norm = sensor.axis_body.norm();
     const Eigen::Vector3d expected(kNapAxes[slot][0], kNapAxes[slot][1], kNapAxes[slot][2]);
     if (!std::isfinite(axis_norm) || axis_norm == 0.0 ||
@@ -89,10 +95,12 @@ SeedGeometry GeometryOf(const ArrayGeometry& array, const std::array<const Senso
   g.rx = static_cast<float>(rx);
   g.ry = static_cast<float>(ry);
   g.rz = static_cast<float>(rz);
-  for (const auto& [arm, name] : {std::pair{g.rx, "x (xarm_z)"}, {g.ry, "y (yarm_z)"}, {g.rz, "z (zarm_x)"}}) {
+  for (const auto& [arm, name] :
+       {std::pair{g.rx, "x (xarm_z)"}, {g.ry, "y (yarm_z)"}, {g.rz, "z (zarm_x)"}}) {
     if (!std::isfinite(arm) || arm == 0.0f)
-      throw InvalidArrayError("array " + Quoted(array.name) + " cannot be processed by the seed solver: the " +
-                              name + " arm length is zero.");
+      throw InvalidArrayError("array " + Quoted(array.name) +
+                              " cannot be processed by the seed solver: the " + name +
+                              " arm length is zero.");
   }
   g.d0x = Offset(*nap[kCgX], Eigen::Vector3d::Zero());
   g.d0y = Offset(*nap[kCgY], Eigen::Vector3d::Zero());
@@ -123,7 +131,8 @@ void Trans(float del, float bomegx, float bomegy, float bomegz, double (&t)[3][3
   float delt = del;
   int nstep = 1;
   if (!std::isfinite(bomegv))
-    throw InputError("the seed solver's body angular velocity overflowed at row " + std::to_string(row) + ".");
+    throw InputError("the seed solver's body angular velocity overflowed at row " + std::to_string(row) +
+                     ".");
   if (bomegv * del > 0.001f) {
     const float increments = bomegv * del / 0.001f;
     if (!(increments < kMaxSubSteps))
@@ -206,7 +215,8 @@ ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, 
 
   const float del = static_cast<float>(signals.dt_s);
   if (!std::isfinite(signals.dt_s) || !(del > 0.0f))
-    throw InputError("the sampling interval " + std::to_string(signals.dt_s) + " s is not a positive number.");
+    throw InputError("the sampling interval " + std::to_string(signals.dt_s) +
+                     " s is not a positive number.");
   if (!initial.orientation_rad.allFinite() || !initial.velocity_fixed_mps.allFinite() ||
       !initial.omega_body_radps.allFinite())
     throw InputError("the initial state (orientation, velocity or angular velocity) is not finite.");
@@ -267,8 +277,9 @@ ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, 
   const float c8 = -(d2x3 - d0x3) / (2.f * ry);
   const float c9 = (d1y3 - d0y3) / (2.f * rx);
   if (!(std::isfinite(1.0f + c3) && 1.0f + c3 != 0.0f))
-    throw InvalidArrayError("array " + Quoted(array.name) +
-                            " cannot be processed by the seed solver: its compensation matrix (A-11) is singular.");
+    throw InvalidArrayError(
+        "array " + Quoted(array.name) +
+        " cannot be processed by the seed solver: its compensation matrix (A-11) is singular.");
 
   float ai[3][3];  // Ai(i,j) = ai[i-1][j-1]
   ai[0][0] = 1.0f;

@@ -42,16 +42,16 @@ using SeriesF3 = Eigen::Matrix<float, Eigen::Dynamic, 3>;
 // (g, rad/s, rad/s^2, in/s, deg; REAL*4 except T), row k = listing sample
 // i = k + 1, for step-by-step comparison with the reference program.
 struct ListingTrace {
-  Eigen::VectorXf time;     // time = i*del (REAL*4)
-  SeriesF3 facc_g;          // faccx, faccy, faccz
-  SeriesF3 bomeg;           // bomegxx, bomegyy, bomegzz
-  SeriesF3 bomegd;          // compensated bomegdx, bomegdy, bomegdz
-  SeriesF3 bacc_cg_g;       // bacc(1..3) after the CG correction
-  SeriesF3 fomegd;          // fomegdx, fomegdy, fomegdz
-  SeriesF3 fomeg;           // fomegx, fomegy, fomegz
-  SeriesF3 fvel_inps;       // fvelx, fvely, fvelz
-  SeriesF3 alpha_beta_gamma_deg;  // the listing's +-90 deg extraction, as `notrunc`
-  SeriesF3 ang_deg;         // ang1, ang2, ang3
+  Eigen::VectorXf time;                                 // time = i*del (REAL*4)
+  SeriesF3 facc_g;                                      // faccx, faccy, faccz
+  SeriesF3 bomeg;                                       // bomegxx, bomegyy, bomegzz
+  SeriesF3 bomegd;                                      // compensated bomegdx, bomegdy, bomegdz
+  SeriesF3 bacc_cg_g;                                   // bacc(1..3) after the CG correction
+  SeriesF3 fomegd;                                      // fomegdx, fomegdy, fomegdz
+  SeriesF3 fomeg;                                       // fomegx, fomegy, fomegz
+  SeriesF3 fvel_inps;                                   // fvelx, fvely, fvelz
+  SeriesF3 alpha_beta_gamma_deg;                        // the listing's +-90 deg extraction, as `notrunc`
+  SeriesF3 ang_deg;                                     // ang1, ang2, ang3
   Eigen::Matrix<double, Eigen::Dynamic, 9> t_rowmajor;  // T11 T12 ... T33 (DOUBLE)
 };
 

@@ -7,8 +7,8 @@
 namespace napkin::engine {
 
 struct TestSignals {
-  double dt_s = 1e-4;        // sampling interval
-  double t0_s = 0.0;         // time of the first sample
+  double dt_s = 1e-4;              // sampling interval
+  double t0_s = 0.0;               // time of the first sample
   std::vector<std::string> slots;  // column names (array slot names)
   // rows = samples, cols = channels; column-major so each channel is
   // contiguous. Values in the unit the array gives the slot (g, rad/s, ...).

@@ -65,7 +65,8 @@ SyntheticTest Sample(std::string name, const ArrayGeometry& array, Index n, cons
       double value_si;
       if (sensor.kind == SensorKind::kLinear) {
         const Vector3d& p = sensor.position_body_m;
-        const Vector3d point_acc = acc_body + s.alpha_body.cross(p) + s.omega_body.cross(s.omega_body.cross(p));
+        const Vector3d point_acc =
+            acc_body + s.alpha_body.cross(p) + s.omega_body.cross(s.omega_body.cross(p));
         value_si = sensor.axis_body.dot(point_acc - gravity_reading);
       } else {
         value_si = sensor.axis_body.dot(s.omega_body);
@@ -105,7 +106,8 @@ struct Pulse {
   double amplitude = 0.0;
 
   // f'(t), f(t), its integral and double integral from the pulse start.
-  void Evaluate(double t, double& derivative, double& value, double& integral, double& double_integral) const {
+  void Evaluate(double t, double& derivative, double& value, double& integral,
+                double& double_integral) const {
     const double u = (t - start_s) / duration_s;
     const double two_pi_u = 2.0 * kPi * u;
     if (u <= 0.0) {
@@ -114,8 +116,8 @@ struct Pulse {
       derivative = amplitude * kPi * std::sin(two_pi_u) / duration_s;
       value = amplitude * 0.5 * (1.0 - std::cos(two_pi_u));
       integral = amplitude * duration_s * 0.5 * (u - std::sin(two_pi_u) / (2.0 * kPi));
-      double_integral =
-          amplitude * duration_s * duration_s * 0.5 * (0.5 * u * u + (std::cos(two_pi_u) - 1.0) / (4.0 * kPi * kPi));
+      double_integral = amplitude * duration_s * duration_s * 0.5 *
+                        (0.5 * u * u + (std::cos(two_pi_u) - 1.0) / (4.0 * kPi * kPi));
     } else {
       derivative = value = 0.0;
       integral = amplitude * duration_s * 0.5;
@@ -126,7 +128,8 @@ struct Pulse {
 
 struct PulseSum {
   std::vector<Pulse> pulses;
-  void Evaluate(double t, double& derivative, double& value, double& integral, double& double_integral) const {
+  void Evaluate(double t, double& derivative, double& value, double& integral,
+                double& double_integral) const {
     derivative = value = integral = double_integral = 0.0;
     for (const Pulse& pulse : pulses) {
       double d, v, i, ii;
@@ -254,7 +257,8 @@ SyntheticTest SynthSequential(const ArrayGeometry& array, const SynthOptions& op
     s.alpha_body = accel[0] * x_in_body + accel[1] * y_in_body + accel[2] * Vector3d::UnitZ();
     return s;
   };
-  return Sample("seed-sequential", array, SampleCount(0.15, options.rate_hz), options, InitialState{}, motion);
+  return Sample("seed-sequential", array, SampleCount(0.15, options.rate_hz), options, InitialState{},
+                motion);
 }
 
 SyntheticTest SynthRandomMotion(const ArrayGeometry& array, const RandomMotionOptions& options) {
@@ -269,10 +273,12 @@ SyntheticTest SynthRandomMotion(const ArrayGeometry& array, const RandomMotionOp
   for (PulseSum& rate : euler_rates)
     rate = RandomPulses(uniform, 2, 4, 0.015, 0.06, duration, options.peak_omega_radps * uniform(0.4, 0.75));
   for (PulseSum& acc : cg_acc)
-    acc = RandomPulses(uniform, 1, 3, 0.006, 0.04, duration, options.peak_acc_g * kStandardGravity * uniform(0.4, 0.75));
+    acc = RandomPulses(uniform, 1, 3, 0.006, 0.04, duration,
+                       options.peak_acc_g * kStandardGravity * uniform(0.4, 0.75));
   InitialState initial;
   if (options.random_initial_orientation)
-    initial.orientation_rad = Vector3d(uniform(-kPi, kPi), uniform(-0.45 * kPi, 0.45 * kPi), uniform(-kPi, kPi));
+    initial.orientation_rad =
+        Vector3d(uniform(-kPi, kPi), uniform(-0.45 * kPi, 0.45 * kPi), uniform(-kPi, kPi));
   if (options.random_initial_velocity)
     initial.velocity_fixed_mps = Vector3d(uniform(-6.0, 6.0), uniform(-6.0, 6.0), uniform(-6.0, 6.0));
   const Matrix3d fixed_from_body_0 = InitialFixedFromBody(initial.orientation_rad);

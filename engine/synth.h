@@ -64,8 +64,9 @@ enum class SynthScenario {
   kRandom,           // `count` random motions, seeds seed, seed + 1, ...
   kPaddingVariants,  // the same random impacts under three paddings
 };
-inline constexpr SynthScenario kSynthScenarios[] = {SynthScenario::kSeedFixedAxis, SynthScenario::kSeedSequential,
-                                                    SynthScenario::kRandom, SynthScenario::kPaddingVariants};
+inline constexpr SynthScenario kSynthScenarios[] = {SynthScenario::kSeedFixedAxis,
+                                                    SynthScenario::kSeedSequential, SynthScenario::kRandom,
+                                                    SynthScenario::kPaddingVariants};
 // "seed-fixed-axis", "seed-sequential", "random", "padding-variants".
 const char* SynthScenarioName(SynthScenario scenario);
 std::optional<SynthScenario> ParseSynthScenario(std::string_view name);
@@ -75,9 +76,9 @@ bool HasChosenDuration(SynthScenario scenario);
 
 struct ScenarioOptions {
   SynthScenario scenario = SynthScenario::kRandom;
-  std::string id_prefix;   // the test id, or the prefix of numbered ids
-  int count = 1;           // random: tests; padding-variants: repeats per variant
-  std::uint64_t seed = 1;  // random generator seed of the first test
+  std::string id_prefix;    // the test id, or the prefix of numbered ids
+  int count = 1;            // random: tests; padding-variants: repeats per variant
+  std::uint64_t seed = 1;   // random generator seed of the first test
   double duration_s = 0.2;  // random, padding-variants
   SynthOptions synth;
 };

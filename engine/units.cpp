@@ -51,7 +51,8 @@ std::optional<double> CanonicalLengthToMetres(const std::string& u) {
 std::optional<SignalUnit> SignalUnitToSi(std::string_view unit) {
   const std::string u = Canonical(unit);
   if (u.empty()) return std::nullopt;
-  if (u == "G" || u == "G'S" || u == "GS" || u == "GN") return SignalUnit{SensorKind::kLinear, kStandardGravity};
+  if (u == "G" || u == "G'S" || u == "GS" || u == "GN")
+    return SignalUnit{SensorKind::kLinear, kStandardGravity};
   for (const auto& [length, factor] : kMetresPer) {
     const std::string p(length);
     if (u == p + "/S^2" || u == p + "/S2" || u == p + "S^-2" || u == p + "S-2" || u == p + "/S/S")
@@ -64,7 +65,9 @@ std::optional<SignalUnit> SignalUnitToSi(std::string_view unit) {
   return std::nullopt;
 }
 
-std::optional<double> LengthUnitToMetres(std::string_view unit) { return CanonicalLengthToMetres(Canonical(unit)); }
+std::optional<double> LengthUnitToMetres(std::string_view unit) {
+  return CanonicalLengthToMetres(Canonical(unit));
+}
 
 std::optional<double> LinearUnitToSi(std::string_view unit) {
   const std::optional<SignalUnit> parsed = SignalUnitToSi(unit);

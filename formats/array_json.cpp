@@ -36,7 +36,8 @@ std::string SensorName(std::size_t index, const std::string& slot) {
   throw InvalidArrayError(source + ": " + problem + ".");
 }
 
-std::string RequireString(const json& object, const char* key, const std::string& source, const std::string& where) {
+std::string RequireString(const json& object, const char* key, const std::string& source,
+                          const std::string& where) {
   const auto it = object.find(key);
   if (it == object.end()) Fail(source, where + " has no \"" + key + "\"");
   if (!it->is_string()) Fail(source, where + ": \"" + key + "\" must be a string, not " + JsonTypeName(*it));
@@ -59,10 +60,12 @@ Eigen::Vector3d RequireVector3(const json& value, const char* key, const std::st
 }  // namespace
 
 engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source) {
-  if (!root.is_object()) Fail(source, std::string("an array definition must be a JSON object, not ") + JsonTypeName(root));
+  if (!root.is_object())
+    Fail(source, std::string("an array definition must be a JSON object, not ") + JsonTypeName(root));
   engine::ArrayGeometry array;
   if (root.contains("name")) array.name = RequireString(root, "name", source, "the array");
-  if (root.contains("description")) array.description = RequireString(root, "description", source, "the array");
+  if (root.contains("description"))
+    array.description = RequireString(root, "description", source, "the array");
 
   const std::string length_unit = RequireString(root, "length_unit", source, "the array");
   const std::optional<double> metres_per_unit = engine::LengthUnitToMetres(length_unit);
@@ -70,13 +73,15 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
 
   const auto sensors = root.find("sensors");
   if (sensors == root.end()) Fail(source, "the array has no \"sensors\"");
-  if (!sensors->is_array()) Fail(source, std::string("\"sensors\" must be an array, not ") + JsonTypeName(*sensors));
+  if (!sensors->is_array())
+    Fail(source, std::string("\"sensors\" must be an array, not ") + JsonTypeName(*sensors));
   if (sensors->empty()) Fail(source, "the array has no sensors");
 
   std::set<std::string> slots;
   for (std::size_t i = 0; i < sensors->size(); ++i) {
     const json& entry = (*sensors)[i];
-    if (!entry.is_object()) Fail(source, SensorName(i, "") + " must be a JSON object, not " + JsonTypeName(entry));
+    if (!entry.is_object())
+      Fail(source, SensorName(i, "") + " must be a JSON object, not " + JsonTypeName(entry));
     engine::Sensor sensor;
     sensor.slot = RequireString(entry, "slot", source, SensorName(i, ""));
     if (sensor.slot.empty()) Fail(source, SensorName(i, "") + " has an empty slot name");
@@ -126,7 +131,8 @@ engine::ArrayGeometry ReadArrayJson(const std::filesystem::path& path) {
 
 json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_unit) {
   const std::optional<double> metres_per_unit = engine::LengthUnitToMetres(length_unit);
-  if (!metres_per_unit) throw InputError("unknown length unit \"" + std::string(length_unit) + "\" (use m, mm, cm, in or ft).");
+  if (!metres_per_unit)
+    throw InputError("unknown length unit \"" + std::string(length_unit) + "\" (use m, mm, cm, in or ft).");
   json root = json::object();
   root["name"] = array.name;
   if (!array.description.empty()) root["description"] = array.description;
@@ -157,7 +163,8 @@ std::filesystem::path DefaultConfigDir() {
   // there), then installed (<prefix>/share/napkin/config), then the source tree.
   if (const char* dir = std::getenv("NAPKIN_CONFIG_DIR"); dir != nullptr && *dir != '\0') return dir;
   std::error_code error;
-  const std::filesystem::path binary_dir = std::filesystem::read_symlink("/proc/self/exe", error).parent_path();
+  const std::filesystem::path binary_dir =
+      std::filesystem::read_symlink("/proc/self/exe", error).parent_path();
   if (!error) {
     for (const auto& candidate : {binary_dir / "config", binary_dir / ".." / "share" / "napkin" / "config"})
       if (std::filesystem::is_directory(candidate / "arrays", error)) return candidate.lexically_normal();

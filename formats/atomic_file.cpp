@@ -32,7 +32,8 @@ AtomicFile::AtomicFile(std::filesystem::path destination) : destination_(std::mo
   temporary_ = TemporarySibling(destination_);
   file_ = std::fopen(temporary_.c_str(), "wb");
   if (file_ == nullptr)
-    throw InputError(destination_.string() + ": cannot create the output file (" + std::strerror(errno) + ").");
+    throw InputError(destination_.string() + ": cannot create the output file (" + std::strerror(errno) +
+                     ").");
   // A large buffer: writers emit many short numbers.
   std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
 }
@@ -66,11 +67,14 @@ void AtomicFile::Commit() {
     throw InputError(destination_.string() + ": write failed (" + std::strerror(errno) + ").");
   std::error_code error;
   std::filesystem::rename(temporary_, destination_, error);
-  if (error) throw InputError(destination_.string() + ": cannot move the output file into place (" + error.message() + ").");
+  if (error)
+    throw InputError(destination_.string() + ": cannot move the output file into place (" + error.message() +
+                     ").");
   committed_ = true;
 }
 
-void WriteFileAtomically(const std::filesystem::path& destination, const std::function<void(AtomicFile&)>& write) {
+void WriteFileAtomically(const std::filesystem::path& destination,
+                         const std::function<void(AtomicFile&)>& write) {
   AtomicFile file(destination);
   write(file);
   file.Commit();
@@ -90,17 +94,21 @@ void WriteDirectoryAtomically(const std::filesystem::path& destination,
         throw InputError(destination.string() + ": exists and is not a folder.");
       const std::filesystem::path old = TemporarySibling(destination);
       std::filesystem::rename(destination, old, error);
-      if (error) throw InputError(destination.string() + ": cannot replace the existing folder (" + error.message() + ").");
+      if (error)
+        throw InputError(destination.string() + ": cannot replace the existing folder (" + error.message() +
+                         ").");
       std::filesystem::rename(temporary, destination, error);
       if (error) {
         std::filesystem::rename(old, destination);  // put the previous folder back
-        throw InputError(destination.string() + ": cannot move the output folder into place (" + error.message() + ").");
+        throw InputError(destination.string() + ": cannot move the output folder into place (" +
+                         error.message() + ").");
       }
       std::filesystem::remove_all(old, error);
     } else {
       std::filesystem::rename(temporary, destination, error);
       if (error)
-        throw InputError(destination.string() + ": cannot move the output folder into place (" + error.message() + ").");
+        throw InputError(destination.string() + ": cannot move the output folder into place (" +
+                         error.message() + ").");
     }
   } catch (...) {
     std::filesystem::remove_all(temporary, error);

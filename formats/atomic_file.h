@@ -41,7 +41,8 @@ class AtomicFile {
 };
 
 // Writes `destination` atomically with `write` filling the file.
-void WriteFileAtomically(const std::filesystem::path& destination, const std::function<void(AtomicFile&)>& write);
+void WriteFileAtomically(const std::filesystem::path& destination,
+                         const std::function<void(AtomicFile&)>& write);
 
 // A directory written atomically (ISO-MME test folders): `fill` populates a
 // temporary sibling directory, which then replaces `destination` (an existing

@@ -23,10 +23,12 @@ std::string RawChannel::Label() const {
 
 std::optional<SignalUnit> ParseSignalUnit(std::string_view unit, const std::string& where) {
   const std::string_view trimmed = Trim(unit);
-  if (trimmed.empty() || EqualsIgnoreCase(trimmed, "NOVALUE") || EqualsIgnoreCase(trimmed, "NONE")) return std::nullopt;
+  if (trimmed.empty() || EqualsIgnoreCase(trimmed, "NOVALUE") || EqualsIgnoreCase(trimmed, "NONE"))
+    return std::nullopt;
   if (const std::optional<SignalUnit> parsed = engine::SignalUnitToSi(trimmed)) return parsed;
-  throw InputError(where + ": unrecognised unit " + Quoted(trimmed) +
-                   " (napkin reads accelerations in g, m/s^2, ft/s^2, in/s^2 and angular rates in rad/s or deg/s).");
+  throw InputError(
+      where + ": unrecognised unit " + Quoted(trimmed) +
+      " (napkin reads accelerations in g, m/s^2, ft/s^2, in/s^2 and angular rates in rad/s or deg/s).");
 }
 
 const ChannelMapEntry* ChannelMap::Find(std::string_view slot) const {
@@ -67,7 +69,8 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
           fail(where + ": code pattern " + Quoted(pattern) + " has " + std::to_string(pattern.size()) +
                " characters, ISO/TS 13499 channel codes have 16");
     }
-    for (const auto& [key, field] : {std::pair<const char*, std::string*>{"senatt", &entry.senatt}, {"axis", &entry.axis}}) {
+    for (const auto& [key, field] :
+         {std::pair<const char*, std::string*>{"senatt", &entry.senatt}, {"axis", &entry.axis}}) {
       if (const auto it = value.find(key); it != value.end()) {
         if (!it->is_string()) fail(where + ": \"" + key + "\" must be a string");
         *field = std::string(Trim(it->get<std::string>()));
@@ -118,20 +121,23 @@ bool EntryMatches(const ChannelMapEntry& entry, const RawChannel& channel, engin
   }
 }
 
-std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels, const engine::ArrayGeometry& array,
-                                     const ChannelMap& map, const std::string& test_name) {
+std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
+                                     const engine::ArrayGeometry& array, const ChannelMap& map,
+                                     const std::string& test_name) {
   std::vector<std::size_t> assignment;
   for (const engine::Sensor& sensor : array.sensors) {
     const ChannelMapEntry* entry = map.Find(sensor.slot);
     if (entry == nullptr)
       throw InputError("test " + test_name + ": channel map " + Quoted(map.name) + " (" + map.source +
-                       ") has no entry for slot " + Quoted(sensor.slot) + " of array " + Quoted(array.name) + ".");
+                       ") has no entry for slot " + Quoted(sensor.slot) + " of array " + Quoted(array.name) +
+                       ".");
     std::optional<std::size_t> found;
     for (std::size_t c = 0; c < channels.size(); ++c) {
       if (!EntryMatches(*entry, channels[c], sensor.kind)) continue;
       if (found)
-        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " is matched by two channels, " +
-                         channels[*found].Label() + " and " + channels[c].Label() + ".");
+        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) +
+                         " is matched by two channels, " + channels[*found].Label() + " and " +
+                         channels[c].Label() + ".");
       found = c;
     }
     if (!found) {
@@ -140,14 +146,14 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels, co
       if (!entry->senatt.empty())
         wanted += (wanted.empty() ? "" : ", or ") + std::string("SENATT ") + Quoted(entry->senatt) +
                   (entry->axis.empty() ? "" : " AXIS " + Quoted(entry->axis));
-      throw InputError("test " + test_name + ": no channel matches slot " + Quoted(sensor.slot) + " (" + wanted +
-                       ") of channel map " + Quoted(map.name) + ".");
+      throw InputError("test " + test_name + ": no channel matches slot " + Quoted(sensor.slot) + " (" +
+                       wanted + ") of channel map " + Quoted(map.name) + ".");
     }
     for (std::size_t earlier = 0; earlier < assignment.size(); ++earlier)
       if (assignment[earlier] == *found)
         throw InputError("test " + test_name + ": " + channels[*found].Label() + " is matched by both slot " +
-                         Quoted(array.sensors[earlier].slot) + " and slot " + Quoted(sensor.slot) + " of channel map " +
-                         Quoted(map.name) + ".");
+                         Quoted(array.sensors[earlier].slot) + " and slot " + Quoted(sensor.slot) +
+                         " of channel map " + Quoted(map.name) + ".");
     assignment.push_back(*found);
   }
   return assignment;
@@ -165,23 +171,25 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
   for (const std::size_t c : channel_of_sensor) {
     const RawChannel& channel = channels.at(c);
     if (!(channel.dt_s > 0.0) || !std::isfinite(channel.dt_s))
-      throw InputError(channel.Label() + ": the sampling interval " + FormatNumber(channel.dt_s) + " s is not positive.");
+      throw InputError(channel.Label() + ": the sampling interval " + FormatNumber(channel.dt_s) +
+                       " s is not positive.");
     if (std::abs(channel.dt_s - dt) > 1e-6 * dt)
-      throw InputError("test " + test_name + ": " + first.Label() + " is sampled every " + FormatNumber(dt, 9) +
-                       " s but " + channel.Label() + " every " + FormatNumber(channel.dt_s, 9) +
-                       " s; channels must share the sampling interval.");
+      throw InputError("test " + test_name + ": " + first.Label() + " is sampled every " +
+                       FormatNumber(dt, 9) + " s but " + channel.Label() + " every " +
+                       FormatNumber(channel.dt_s, 9) + " s; channels must share the sampling interval.");
     const double offset = (channel.t0_s - first.t0_s) / dt;
     if (std::abs(offset - std::round(offset)) > 1e-3)
-      throw InputError("test " + test_name + ": " + channel.Label() + " starts at " + FormatNumber(channel.t0_s, 9) +
-                       " s, not on the sampling grid of " + first.Label() + " (first sample at " +
-                       FormatNumber(first.t0_s, 9) + " s).");
+      throw InputError("test " + test_name + ": " + channel.Label() + " starts at " +
+                       FormatNumber(channel.t0_s, 9) + " s, not on the sampling grid of " + first.Label() +
+                       " (first sample at " + FormatNumber(first.t0_s, 9) + " s).");
     if (channel.values.empty()) throw InputError(channel.Label() + ": the channel has no samples.");
     start = std::max(start, channel.t0_s);
     end = std::min(end, channel.t0_s + static_cast<double>(channel.values.size() - 1) * dt);
   }
   const long long count = std::llround((end - start) / dt) + 1;
   if (!(end >= start) || count < 2)
-    throw InputError("test " + test_name + ": the channels do not overlap in time for two samples or more (common span " +
+    throw InputError("test " + test_name +
+                     ": the channels do not overlap in time for two samples or more (common span " +
                      FormatNumber(start, 9) + " s to " + FormatNumber(end, 9) + " s).");
 
   engine::TestSignals signals;
@@ -196,15 +204,17 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
     double scale = 1.0;
     if (unit) {
       if (unit->kind != sensor.kind)
-        throw InputError("test " + test_name + ": " + channel.Label() + " in " + Quoted(channel.unit) +
-                         " cannot feed slot " + Quoted(sensor.slot) + ", which is " +
-                         (sensor.kind == engine::SensorKind::kLinear ? "an accelerometer" : "an angular-rate sensor") +
-                         ".");
+        throw InputError(
+            "test " + test_name + ": " + channel.Label() + " in " + Quoted(channel.unit) +
+            " cannot feed slot " + Quoted(sensor.slot) + ", which is " +
+            (sensor.kind == engine::SensorKind::kLinear ? "an accelerometer" : "an angular-rate sensor") +
+            ".");
       scale = unit->si_per_unit / sensor.si_per_unit;
     }
     const long long first_index = std::llround((start - channel.t0_s) / dt);
     for (long long k = 0; k < count; ++k)
-      signals.samples(k, static_cast<Eigen::Index>(s)) = channel.values[static_cast<std::size_t>(first_index + k)] * scale;
+      signals.samples(k, static_cast<Eigen::Index>(s)) =
+          channel.values[static_cast<std::size_t>(first_index + k)] * scale;
     signals.slots.push_back(sensor.slot);
   }
   return signals;

@@ -48,7 +48,7 @@ struct ChannelMapEntry {
 
 struct ChannelMap {
   std::string name;
-  std::string source;  // file it was read from
+  std::string source;                                          // file it was read from
   std::vector<std::pair<std::string, ChannelMapEntry>> slots;  // in file order
 
   const ChannelMapEntry* Find(std::string_view slot) const;
@@ -72,8 +72,9 @@ bool EntryMatches(const ChannelMapEntry& entry, const RawChannel& channel, engin
 // For every sensor of `array`, the index in `channels` of the one channel the
 // map assigns to it. Throws InputError naming the slot when the map has no
 // entry for it, or no channel or two channels match.
-std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels, const engine::ArrayGeometry& array,
-                                     const ChannelMap& map, const std::string& test_name);
+std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
+                                     const engine::ArrayGeometry& array, const ChannelMap& map,
+                                     const std::string& test_name);
 
 // Builds the test's signals: channel_of_sensor[i] feeds array.sensors[i].
 // Channels must share the sampling interval (error naming both channels) and

@@ -33,7 +33,8 @@ void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
 
 std::string_view Unquote(std::string_view text) {
   text = Trim(text);
-  if (text.size() >= 2 && text.front() == '"' && text.back() == '"') text = Trim(text.substr(1, text.size() - 2));
+  if (text.size() >= 2 && text.front() == '"' && text.back() == '"')
+    text = Trim(text.substr(1, text.size() - 2));
   return text;
 }
 
@@ -73,16 +74,17 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
       for (std::size_t i = 0; i < fields.size(); ++i) {
         std::string name(Unquote(fields[i]));
         if (name.empty())
-          throw InputError(file + ": header line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) +
-                           " has no name.");
+          throw InputError(file + ": header line " + std::to_string(line_number) + ", column " +
+                           std::to_string(i + 1) + " has no name.");
         if (!index_of.emplace(name, static_cast<int>(i)).second)
-          throw InputError(file + ": header line " + std::to_string(line_number) + " names column " + Quoted(name) +
-                           " twice.");
+          throw InputError(file + ": header line " + std::to_string(line_number) + " names column " +
+                           Quoted(name) + " twice.");
         header.push_back(std::move(name));
       }
       const auto time_it = index_of.find("time_s");
       if (time_it == index_of.end())
-        throw InputError(file + ": the header (line " + std::to_string(line_number) + ") has no time_s column.");
+        throw InputError(file + ": the header (line " + std::to_string(line_number) +
+                         ") has no time_s column.");
       time_field = time_it->second;
       if (array != nullptr) {
         for (const engine::Sensor& sensor : array->sensors) {
@@ -110,13 +112,15 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
     }
 
     if (fields.size() != header.size())
-      throw InputError(file + ": row " + std::to_string(line_number) + " has " + std::to_string(fields.size()) +
-                       " values but the header has " + std::to_string(header.size()) + " columns.");
+      throw InputError(file + ": row " + std::to_string(line_number) + " has " +
+                       std::to_string(fields.size()) + " values but the header has " +
+                       std::to_string(header.size()) + " columns.");
     auto parse = [&](int field) {
       const std::string_view value = Trim(fields[field]);
       const std::string& column = header[field];
       if (value.empty())
-        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + " is empty.");
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) +
+                         " is empty.");
       const std::optional<double> number = ParseDouble(value);
       if (!number)
         throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + ": " +
@@ -133,8 +137,8 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
 
   if (header.empty()) throw InputError(file + ": no header line (expected time_s and one column per slot).");
   if (time.size() < 2)
-    throw InputError(file + ": has " + std::to_string(time.size()) + " data row" + (time.size() == 1 ? "" : "s") +
-                     ", at least two are needed.");
+    throw InputError(file + ": has " + std::to_string(time.size()) + " data row" +
+                     (time.size() == 1 ? "" : "s") + ", at least two are needed.");
 
   // Strictly increasing, then uniformly spaced around the mean interval.
   for (std::size_t k = 1; k < time.size(); ++k)
@@ -145,8 +149,8 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
   for (std::size_t k = 1; k < time.size(); ++k) {
     const double step = time[k] - time[k - 1];
     if (std::abs(step - dt) > kMaxRelativeJitter * dt)
-      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": the time step " + FormatNumber(step, 9) +
-                       " s differs from the mean step " + FormatNumber(dt, 9) +
+      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": the time step " +
+                       FormatNumber(step, 9) + " s differs from the mean step " + FormatNumber(dt, 9) +
                        " s by more than 1e-6 (relative); samples must be uniformly spaced.");
   }
 
@@ -182,19 +186,41 @@ void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::
 }
 
 const std::vector<std::string>& DerivedCsvColumns() {
-  static const std::vector<std::string> kColumns = {
-      "time_s",
-      "omega_body_x_radps", "omega_body_y_radps", "omega_body_z_radps",
-      "alpha_body_x_radps2", "alpha_body_y_radps2", "alpha_body_z_radps2",
-      "omega_fixed_x_radps", "omega_fixed_y_radps", "omega_fixed_z_radps",
-      "alpha_fixed_x_radps2", "alpha_fixed_y_radps2", "alpha_fixed_z_radps2",
-      "acc_body_x_g", "acc_body_y_g", "acc_body_z_g",
-      "acc_fixed_x_g", "acc_fixed_y_g", "acc_fixed_z_g",
-      "vel_fixed_x_mps", "vel_fixed_y_mps", "vel_fixed_z_mps",
-      "pos_fixed_x_m", "pos_fixed_y_m", "pos_fixed_z_m",
-      "quat_w", "quat_x", "quat_y", "quat_z",
-      "roll_deg", "pitch_deg", "yaw_deg",
-      "dcos_xx_deg", "dcos_yy_deg", "dcos_zz_deg"};
+  static const std::vector<std::string> kColumns = {"time_s",
+                                                    "omega_body_x_radps",
+                                                    "omega_body_y_radps",
+                                                    "omega_body_z_radps",
+                                                    "alpha_body_x_radps2",
+                                                    "alpha_body_y_radps2",
+                                                    "alpha_body_z_radps2",
+                                                    "omega_fixed_x_radps",
+                                                    "omega_fixed_y_radps",
+                                                    "omega_fixed_z_radps",
+                                                    "alpha_fixed_x_radps2",
+                                                    "alpha_fixed_y_radps2",
+                                                    "alpha_fixed_z_radps2",
+                                                    "acc_body_x_g",
+                                                    "acc_body_y_g",
+                                                    "acc_body_z_g",
+                                                    "acc_fixed_x_g",
+                                                    "acc_fixed_y_g",
+                                                    "acc_fixed_z_g",
+                                                    "vel_fixed_x_mps",
+                                                    "vel_fixed_y_mps",
+                                                    "vel_fixed_z_mps",
+                                                    "pos_fixed_x_m",
+                                                    "pos_fixed_y_m",
+                                                    "pos_fixed_z_m",
+                                                    "quat_w",
+                                                    "quat_x",
+                                                    "quat_y",
+                                                    "quat_z",
+                                                    "roll_deg",
+                                                    "pitch_deg",
+                                                    "yaw_deg",
+                                                    "dcos_xx_deg",
+                                                    "dcos_yy_deg",
+                                                    "dcos_zz_deg"};
   return kColumns;
 }
 

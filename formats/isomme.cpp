@@ -60,7 +60,8 @@ std::optional<std::string> Lookup(const Header& header, std::string_view key) {
 bool IsNoValue(std::string_view value) { return EqualsIgnoreCase(Trim(value), "NOVALUE"); }
 
 // The entry of `directory` whose name equals `name` ignoring case.
-std::optional<std::filesystem::path> FindIgnoringCase(const std::filesystem::path& directory, const std::string& name) {
+std::optional<std::filesystem::path> FindIgnoringCase(const std::filesystem::path& directory,
+                                                      const std::string& name) {
   const std::filesystem::path exact = directory / name;
   std::error_code error;
   if (std::filesystem::exists(exact, error)) return exact;
@@ -99,7 +100,8 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   if (const auto name = Lookup(header, "Name of the channel")) channel.name = *name;
   if (const auto unit = Lookup(header, "Unit")) channel.unit = *unit;
   channel.dt_s = require_number("Sampling interval");
-  if (!(channel.dt_s > 0.0)) throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) + " is not positive.");
+  if (!(channel.dt_s > 0.0))
+    throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) + " is not positive.");
   channel.t0_s = require_number("Time of first sample");
   const std::string declared_text = require("Number of samples");
   const std::optional<long long> declared = ParseInteger(declared_text);
@@ -115,13 +117,13 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
                        ") is NOVALUE.");
     const std::optional<double> value = ParseDouble(line.text);
     if (!value || !std::isfinite(*value))
-      throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) + ") is " +
-                       Quoted(line.text.substr(0, 40)) + ", not a finite number.");
+      throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) +
+                       ") is " + Quoted(line.text.substr(0, 40)) + ", not a finite number.");
     channel.values.push_back(*value);
   }
   if (static_cast<long long>(channel.values.size()) != *declared)
-    throw InputError(file + ": the header declares " + std::to_string(*declared) + " samples but the file holds " +
-                     std::to_string(channel.values.size()) + ".");
+    throw InputError(file + ": the header declares " + std::to_string(*declared) +
+                     " samples but the file holds " + std::to_string(channel.values.size()) + ".");
   return channel;
 }
 
@@ -148,8 +150,8 @@ struct OutputChannel {
   std::vector<double> values;
 };
 
-void WriteTestFolder(const std::filesystem::path& folder, const std::string& test_number, double dt, double t0,
-                     const std::vector<OutputChannel>& channels, int precision) {
+void WriteTestFolder(const std::filesystem::path& folder, const std::string& test_number, double dt,
+                     double t0, const std::vector<OutputChannel>& channels, int precision) {
   if (test_number.empty() || test_number.find_first_of("/\\") != std::string::npos)
     throw InputError(folder.string() + ": " + Quoted(test_number) + " cannot name ISO-MME files.");
   WriteDirectoryAtomically(folder, [&](const std::filesystem::path& directory) {
@@ -189,7 +191,8 @@ void WriteTestFolder(const std::filesystem::path& folder, const std::string& tes
         AppendNumber(text, value, precision);
         text += '\n';
       }
-      WriteFileAtomically(channel_dir / ChannelFileName(test_number, i + 1), [&](AtomicFile& file) { file.Write(text); });
+      WriteFileAtomically(channel_dir / ChannelFileName(test_number, i + 1),
+                          [&](AtomicFile& file) { file.Write(text); });
     }
   });
 }
@@ -218,7 +221,8 @@ IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
       if (entry.is_regular_file() && EqualsIgnoreCase(entry.path().extension().string(), ".mme"))
         candidates.push_back(entry.path());
     if (candidates.size() != 1)
-      throw InputError(folder_or_mme.string() + ": an ISO-MME test folder holds one .mme file, this one holds " +
+      throw InputError(folder_or_mme.string() +
+                       ": an ISO-MME test folder holds one .mme file, this one holds " +
                        std::to_string(candidates.size()) + ".");
     mme = candidates.front();
   } else if (std::filesystem::is_regular_file(folder_or_mme, error)) {
@@ -238,7 +242,8 @@ IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
   if (!channel_dir || !std::filesystem::is_directory(*channel_dir, error))
     throw InputError(test.folder.string() + ": the ISO-MME test folder has no Channel folder.");
   const std::optional<std::filesystem::path> chn = FindIgnoringCase(*channel_dir, test.name + ".chn");
-  if (!chn) throw InputError((*channel_dir / (test.name + ".chn")).string() + ": the channel list is missing.");
+  if (!chn)
+    throw InputError((*channel_dir / (test.name + ".chn")).string() + ": the channel list is missing.");
   const std::string chn_text = ReadText(*chn);
   const std::vector<Line> chn_lines = SplitLines(chn_text);  // views into chn_text
   Header chn_header;
@@ -257,14 +262,15 @@ IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
     char key[64];
     std::snprintf(key, sizeof(key), "Name of channel %03lld", i);
     std::string fallback_code;
-    if (const auto listed = Lookup(chn_header, key)) fallback_code = std::string(Trim(listed->substr(0, listed->find('/'))));
+    if (const auto listed = Lookup(chn_header, key))
+      fallback_code = std::string(Trim(listed->substr(0, listed->find('/'))));
     test.channels.push_back(ReadChannelFile(*path, fallback_code));
   }
   return test;
 }
 
-engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme, const engine::ArrayGeometry& array,
-                                      const ChannelMap& map) {
+engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme,
+                                      const engine::ArrayGeometry& array, const ChannelMap& map) {
   const IsoMmeTest test = ReadIsoMme(folder_or_mme);
   const std::string test_name = test.TestNumber();
   return AssembleSignals(test.channels, AssignSlots(test.channels, array, map, test_name), array, test_name);
@@ -273,16 +279,16 @@ engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme
 std::string CodeForSlot(const ChannelMap& map, const std::string& slot) {
   const ChannelMapEntry* entry = map.Find(slot);
   if (entry == nullptr || entry->codes.empty())
-    throw InputError(map.source + ": channel map " + Quoted(map.name) + " has no code pattern for slot " + Quoted(slot) +
-                     ".");
+    throw InputError(map.source + ": channel map " + Quoted(map.name) + " has no code pattern for slot " +
+                     Quoted(slot) + ".");
   std::string code = entry->codes.front();
   for (std::size_t i = 0; i < code.size(); ++i)
     if (code[i] == '?') code[i] = i < 2 ? '1' : '0';
   return code;
 }
 
-void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array, const ChannelMap& map,
-                 const std::filesystem::path& folder, const std::string& test_number) {
+void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array,
+                 const ChannelMap& map, const std::filesystem::path& folder, const std::string& test_number) {
   std::vector<OutputChannel> channels;
   std::map<std::string, std::string> slot_of_code;
   for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
@@ -333,7 +339,8 @@ void WriteDerivedIsoMme(const engine::Kinematics& kinematics, const std::filesys
   add3(kinematics.omega_fixed, "FX", "AV", "rad/s", "angular velocity, fixed axes", 1.0);
   add3(kinematics.alpha_body, "00", "AA", "rad/s**2", "angular acceleration, body axes", 1.0);
   add3(kinematics.alpha_fixed, "FX", "AA", "rad/s**2", "angular acceleration, fixed axes", 1.0);
-  add3(kinematics.roll_pitch_yaw_rad, "FX", "AN", "deg", "roll/pitch/yaw angle about fixed", engine::kDegPerRad);
+  add3(kinematics.roll_pitch_yaw_rad, "FX", "AN", "deg", "roll/pitch/yaw angle about fixed",
+       engine::kDegPerRad);
   add3(kinematics.dcos_rad, "DC", "AN", "deg", "angle between body and fixed axis", engine::kDegPerRad);
   const char quaternion_parts[4] = {'W', 'X', 'Y', 'Z'};
   for (int c = 0; c < 4; ++c) {
@@ -342,7 +349,8 @@ void WriteDerivedIsoMme(const engine::Kinematics& kinematics, const std::filesys
     channel.name = std::string("Head orientation quaternion (body to fixed) ") + quaternion_parts[c];
     channel.unit = "1";
     channel.reference_system = "global";
-    channel.values.assign(kinematics.quat_fixed_from_body.col(c).data(), kinematics.quat_fixed_from_body.col(c).data() + n);
+    channel.values.assign(kinematics.quat_fixed_from_body.col(c).data(),
+                          kinematics.quat_fixed_from_body.col(c).data() + n);
     channels.push_back(std::move(channel));
   }
   WriteTestFolder(folder, test_number, dt, kinematics.time_s[0], channels, 12);

@@ -20,7 +20,7 @@ namespace napkin::formats {
 
 struct IsoMmeTest {
   std::filesystem::path folder;
-  std::string name;  // stem of <name>.mme
+  std::string name;                                            // stem of <name>.mme
   std::vector<std::pair<std::string, std::string>> test_info;  // the .mme header lines
   std::vector<RawChannel> channels;                            // in .chn order
 
@@ -35,8 +35,8 @@ struct IsoMmeTest {
 IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme);
 
 // Reads a test folder into signals for `array`, slots chosen by `map`.
-engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme, const engine::ArrayGeometry& array,
-                                      const ChannelMap& map);
+engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme,
+                                      const engine::ArrayGeometry& array, const ChannelMap& map);
 
 // The channel code the writer gives a slot: the map's first pattern with '?'
 // replaced ('1' for test object and position, '0' elsewhere).
@@ -45,8 +45,8 @@ std::string CodeForSlot(const ChannelMap& map, const std::string& slot);
 // Writes raw signals as an ISO-MME folder `folder` (atomically), channel codes
 // from `map`, so that ReadIsoMmeSignals(folder, array, map) gives the same
 // samples back. `test_number` names the .mme/.chn files.
-void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array, const ChannelMap& map,
-                 const std::filesystem::path& folder, const std::string& test_number);
+void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array,
+                 const ChannelMap& map, const std::filesystem::path& folder, const std::string& test_number);
 
 // Writes the derived channels of one test as an ISO-MME folder (`export
 // --format isomme`): head CG acceleration (g), velocity, displacement,

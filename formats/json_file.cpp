@@ -10,7 +10,8 @@ namespace napkin::formats {
 
 std::string ReadWholeFile(const std::filesystem::path& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) throw InputError(path.string() + ": cannot open the file (" + std::strerror(errno) + ").");
+  if (file == nullptr)
+    throw InputError(path.string() + ": cannot open the file (" + std::strerror(errno) + ").");
   std::string content;
   char buffer[1 << 16];
   std::size_t count = 0;

@@ -149,15 +149,16 @@ json FilterClassJson(const std::optional<double>& value) { return value ? json(*
 
 engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const std::string& source) {
   engine::ProcessingConfig config;
-  const ObjectReader top(json, "", source,
-                         {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "bric",
-                          "screening"});
+  const ObjectReader top(
+      json, "", source,
+      {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "bric", "screening"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
   top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);
 
   if (const auto* object = top.Object("filter")) {
-    const ObjectReader filter(*object, "filter", source, {"variant", "linear_cfc", "angular_rate_cfc", "padding_s"});
+    const ObjectReader filter(*object, "filter", source,
+                              {"variant", "linear_cfc", "angular_rate_cfc", "padding_s"});
     filter.Choice("variant", config.filter.variant, engine::ParseCfcVariantName, engine::CfcVariantName,
                   engine::kCfcVariants);
     filter.FilterClass("linear_cfc", config.filter.linear_cfc);
@@ -166,9 +167,11 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   }
   if (const auto* object = top.Object("bias")) {
     const ObjectReader bias(*object, "bias", source, {"mode", "window_s", "auto_min_pre_impact_s"});
-    bias.Choice("mode", config.bias.mode, engine::ParseBiasModeName, engine::BiasModeName, engine::kBiasModes);
+    bias.Choice("mode", config.bias.mode, engine::ParseBiasModeName, engine::BiasModeName,
+                engine::kBiasModes);
     if (const auto* window = bias.Find("window_s")) {
-      if (!window->is_array() || window->size() != 2 || !(*window)[0].is_number() || !(*window)[1].is_number())
+      if (!window->is_array() || window->size() != 2 || !(*window)[0].is_number() ||
+          !(*window)[1].is_number())
         bias.Fail("bias.window_s", "an array of 2 numbers [start, end] in seconds");
       config.bias.window_start_s = (*window)[0].get<double>();
       config.bias.window_end_s = (*window)[1].get<double>();
@@ -196,8 +199,8 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   }
   if (const auto* object = top.Object("screening")) {
     const ObjectReader screening(*object, "screening", source,
-                                 {"residual_limit_g", "spike_size_g", "spike_size_radps", "saturation_run_samples",
-                                  "bias_limit_g", "bias_limit_radps"});
+                                 {"residual_limit_g", "spike_size_g", "spike_size_radps",
+                                  "saturation_run_samples", "bias_limit_g", "bias_limit_radps"});
     screening.Number("residual_limit_g", config.screening.residual_limit_g);
     screening.Number("spike_size_g", config.screening.spike_size_g);
     screening.Number("spike_size_radps", config.screening.spike_size_radps);
@@ -231,7 +234,8 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
   out["time"] = {{"shift_s", config.time.shift_s},
                  {"start_s", OptionalJson(config.time.start_s)},
                  {"end_s", OptionalJson(config.time.end_s)}};
-  out["gravity"] = {{"compensate", config.gravity.compensate}, {"g_fixed", Vector3Json(config.gravity.g_fixed_mps2)}};
+  out["gravity"] = {{"compensate", config.gravity.compensate},
+                    {"g_fixed", Vector3Json(config.gravity.g_fixed_mps2)}};
   out["hic"] = {{"from_time_zero", config.hic.from_time_zero}};
   out["bric"] = {{"critical_radps", Vector3Json(config.bric.critical_radps)}};
   out["screening"] = {{"residual_limit_g", config.screening.residual_limit_g},
@@ -264,7 +268,9 @@ engine::ProcessingConfig ReadProcessingConfig(const std::filesystem::path& path)
 
 namespace napkin::engine {
 
-void to_json(nlohmann::json& json, const ProcessingConfig& config) { json = formats::ProcessingConfigToJson(config); }
+void to_json(nlohmann::json& json, const ProcessingConfig& config) {
+  json = formats::ProcessingConfigToJson(config);
+}
 
 void from_json(const nlohmann::json& json, ProcessingConfig& config) {
   config = formats::ParseProcessingConfig(json, "processing config");

@@ -9,9 +9,9 @@ namespace napkin::formats {
 
 void AppendNumber(std::string& out, double value, int precision) {
   char buffer[64];
-  const std::to_chars_result result =
-      precision <= 0 ? std::to_chars(buffer, buffer + sizeof(buffer), value)
-                     : std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general, precision);
+  const std::to_chars_result result = precision <= 0 ? std::to_chars(buffer, buffer + sizeof(buffer), value)
+                                                     : std::to_chars(buffer, buffer + sizeof(buffer), value,
+                                                                     std::chars_format::general, precision);
   out.append(buffer, result.ptr);
 }
 
@@ -24,11 +24,11 @@ std::string FormatNumber(double value, int precision) {
 std::string_view Trim(std::string_view text) {
   std::size_t begin = 0;
   std::size_t end = text.size();
-  while (begin < end && (text[begin] == ' ' || text[begin] == '\t' || text[begin] == '\r' || text[begin] == '\n'))
+  while (begin < end &&
+         (text[begin] == ' ' || text[begin] == '\t' || text[begin] == '\r' || text[begin] == '\n'))
     ++begin;
-  while (end > begin &&
-         (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r' || text[end - 1] == '\n' ||
-          text[end - 1] == '\0'))
+  while (end > begin && (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r' ||
+                         text[end - 1] == '\n' || text[end - 1] == '\0'))
     --end;
   return text.substr(begin, end - begin);
 }
@@ -67,7 +67,8 @@ std::string ToUpper(std::string_view text) {
 bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::toupper(static_cast<unsigned char>(a[i])) != std::toupper(static_cast<unsigned char>(b[i]))) return false;
+    if (std::toupper(static_cast<unsigned char>(a[i])) != std::toupper(static_cast<unsigned char>(b[i])))
+      return false;
   return true;
 }
 

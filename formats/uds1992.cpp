@@ -36,9 +36,9 @@ constexpr Field kTstnam{53, 12};
 constexpr Field kTitle{65, 70};
 // Remaining blank-padded strings: TSTPRF, TSTREF, TSTCFN, CMPTYP, CMPDSC, MAKE,
 // MODEL, BODY, ENGINE, OCCTYP, OCCSEX, DUMSIZ, RESTR1, RESTR2, AIS, HDR_RESV.
-constexpr Field kOtherStrings[] = {{135, 25}, {160, 10}, {170, 3},  {185, 2},  {187, 30}, {217, 15},
-                                   {232, 25}, {261, 25}, {286, 4},  {298, 6},  {308, 1},  {313, 2},
-                                   {315, 20}, {335, 20}, {379, 1},  {380, 132}};
+constexpr Field kOtherStrings[] = {{135, 25}, {160, 10}, {170, 3}, {185, 2},  {187, 30}, {217, 15},
+                                   {232, 25}, {261, 25}, {286, 4}, {298, 6},  {308, 1},  {313, 2},
+                                   {315, 20}, {335, 20}, {379, 1}, {380, 132}};
 }  // namespace file_header
 namespace curve_header {
 constexpr Field kRecordHeader{0, 12};
@@ -176,7 +176,8 @@ bool EncodeVaxF(float value, std::uint8_t bytes[4]) {
     if (exponent >= 1) {
       // IEEE single has 24 significant bits like F_floating, so this is exact.
       const auto fraction = static_cast<std::uint32_t>(std::ldexp(mantissa - 0.5, 24));
-      high_word = (value < 0.0f ? 0x8000u : 0u) | (static_cast<std::uint32_t>(exponent) << 7) | (fraction >> 16);
+      high_word =
+          (value < 0.0f ? 0x8000u : 0u) | (static_cast<std::uint32_t>(exponent) << 7) | (fraction >> 16);
       low_word = fraction & 0xFFFFu;
     }
   }
@@ -195,8 +196,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   auto record_at = [&](std::size_t index, const std::string& what) -> Record {
     const std::size_t offset = index * kUdsRecordBytes;
     if (offset >= size)
-      throw InputError(file + ": " + what + " (record " + std::to_string(index + 1) + ") is missing; the file ends after " +
-                       std::to_string(size) + " bytes.");
+      throw InputError(file + ": " + what + " (record " + std::to_string(index + 1) +
+                       ") is missing; the file ends after " + std::to_string(size) + " bytes.");
     if (offset + kUdsRecordBytes > size)
       throw InputError(file + ": " + what + " (record " + std::to_string(index + 1) + ") is truncated (" +
                        std::to_string(size - offset) + " of 512 bytes).");
@@ -221,7 +222,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   const UdsNumberForm form = channel.number_form;
   const std::int32_t nchan = ReadInt(header, file_header::kNchan, form);
   if (nchan != 1)
-    throw InputError(file + ": NCHAN is " + std::to_string(nchan) + "; napkin reads UDS-1992 files of one channel.");
+    throw InputError(file + ": NCHAN is " + std::to_string(nchan) +
+                     "; napkin reads UDS-1992 files of one channel.");
   const std::string fileform = ReadString(header, file_header::kFileform);
   if (fileform != "Y")
     throw InputError(file + ": FILEFORM is " + Quoted(fileform) +
@@ -236,8 +238,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (ReadString(curve, kRecordHeader) == "CMP-2 HDR") curve = record_at(++index, "the curve header");
   const std::string record_header = ReadString(curve, kRecordHeader);
   if (record_header != "CURVE HDR")
-    throw InputError(file + ": record " + std::to_string(index + 1) + " starts with " + Quoted(record_header) +
-                     " where the curve header (\"CURVE HDR\") belongs.");
+    throw InputError(file + ": record " + std::to_string(index + 1) + " starts with " +
+                     Quoted(record_header) + " where the curve header (\"CURVE HDR\") belongs.");
   channel.curve_name = ReadString(curve, curve_header::kCurnam);
   channel.senatt = ReadString(curve, curve_header::kSenatt);
   channel.senloc = ReadString(curve, curve_header::kSenloc);
@@ -250,7 +252,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   const std::int32_t nfp = ReadInt(curve, curve_header::kNfp, form);
   const std::int32_t nlp = ReadInt(curve, curve_header::kNlp, form);
   if (nlp < nfp)
-    throw InputError(file + ": NLP " + std::to_string(nlp) + " is less than NFP " + std::to_string(nfp) + ".");
+    throw InputError(file + ": NLP " + std::to_string(nlp) + " is less than NFP " + std::to_string(nfp) +
+                     ".");
   double del = 0.0;
   if (!ReadReal(curve, curve_header::kDel, form, del) || !std::isfinite(del) || !(del > 0.0))
     throw InputError(file + ": DEL (the sampling interval) is not a positive number.");
@@ -260,7 +263,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   channel.del_s = del;
   channel.nfp = nfp;
   double inivel = 0.0;
-  if (ReadReal(curve, curve_header::kInivel, form, inivel) && std::isfinite(inivel)) channel.initial_velocity = inivel;
+  if (ReadReal(curve, curve_header::kInivel, form, inivel) && std::isfinite(inivel))
+    channel.initial_velocity = inivel;
 
   const std::size_t count = static_cast<std::size_t>(static_cast<std::int64_t>(nlp) - nfp + 1);
   const std::size_t records = (count + kUdsValuesPerRecord - 1) / kUdsValuesPerRecord;
@@ -275,19 +279,21 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
       throw InputError(file + ": " + what + " is missing (NFP " + std::to_string(nfp) + " to NLP " +
                        std::to_string(nlp) + " needs " + std::to_string(records) + " data records).");
     if (offset + kUdsRecordBytes > size)
-      throw InputError(file + ": " + what + " is truncated (" + std::to_string(size - offset) + " of 512 bytes).");
+      throw InputError(file + ": " + what + " is truncated (" + std::to_string(size - offset) +
+                       " of 512 bytes).");
     const Record record = data + offset;
     const std::string data_header = ReadString(record, kRecordHeader);
     if (data_header != "Y DATA")
-      throw InputError(file + ": " + what + " starts with " + Quoted(data_header) + " instead of \"Y DATA\".");
+      throw InputError(file + ": " + what + " starts with " + Quoted(data_header) +
+                       " instead of \"Y DATA\".");
     const std::size_t first = r * kUdsValuesPerRecord;
     const std::size_t last = std::min(count, first + kUdsValuesPerRecord);
     for (std::size_t i = first; i < last; ++i) {
       double value = 0.0;
       const bool ok = ReadReal(record, kDataOffset + 4 * (i - first), form, value);
       if (!ok || !std::isfinite(value))
-        throw InputError(file + ": sample " + std::to_string(nfp + static_cast<std::int64_t>(i)) + " (" + what +
-                         ", value " + std::to_string(i - first + 1) + ") is " +
+        throw InputError(file + ": sample " + std::to_string(nfp + static_cast<std::int64_t>(i)) + " (" +
+                         what + ", value " + std::to_string(i - first + 1) + ") is " +
                          (ok ? "not a finite number" : "a VAX reserved operand") + ".");
       channel.values[i] = value;
     }
@@ -346,8 +352,8 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
     for (std::size_t i = first; i < last; ++i)
       if (!WriteReal(record, kDataOffset + 4 * (i - first), channel.values[i], form))
         throw InputError(file + ": sample " + std::to_string(channel.nfp + static_cast<long long>(i)) + " (" +
-                         FormatNumber(channel.values[i]) + ") cannot be stored as a " + UdsNumberFormName(form) +
-                         " real.");
+                         FormatNumber(channel.values[i]) + ") cannot be stored as a " +
+                         UdsNumberFormName(form) + " real.");
   }
   WriteFileAtomically(path, [&](AtomicFile& out) {
     out.Write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
@@ -380,8 +386,9 @@ std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUds
   return result;
 }
 
-engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files, const engine::ArrayGeometry& array,
-                                const ChannelMap* map, const std::string& test_name) {
+engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
+                                const engine::ArrayGeometry& array, const ChannelMap* map,
+                                const std::string& test_name) {
   std::vector<std::filesystem::path> sorted = files;
   std::sort(sorted.begin(), sorted.end(),
             [](const auto& a, const auto& b) { return a.filename().string() < b.filename().string(); });
@@ -395,14 +402,15 @@ engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
   } else {
     // Report section 2.2: LC_COMP asks for the nine files in Table 2-1 order.
     if (channels.size() != 9)
-      throw InputError("test " + test_name + ": " + std::to_string(channels.size()) +
-                       " UDS-1992 files without a channel map; exactly nine are assigned in the report's Table 2-1 "
-                       "order (give --channel-map otherwise).");
+      throw InputError(
+          "test " + test_name + ": " + std::to_string(channels.size()) +
+          " UDS-1992 files without a channel map; exactly nine are assigned in the report's Table 2-1 "
+          "order (give --channel-map otherwise).");
     for (const engine::Sensor& sensor : array.sensors) {
       const auto slot = std::find(std::begin(engine::kNapSlots), std::end(engine::kNapSlots), sensor.slot);
       if (slot == std::end(engine::kNapSlots))
-        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " of array " + Quoted(array.name) +
-                         " is not one of the nine Table 2-1 slots; give a channel map.");
+        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " of array " +
+                         Quoted(array.name) + " is not one of the nine Table 2-1 slots; give a channel map.");
       channel_of_sensor.push_back(static_cast<std::size_t>(slot - std::begin(engine::kNapSlots)));
     }
   }

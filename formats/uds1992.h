@@ -78,7 +78,8 @@ std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUds
 // channel map, slots are matched by SENATT/AXIS; without, exactly nine files
 // are required and assigned in name order to the report's Table 2-1 slots
 // (cg_x, cg_y, cg_z, yarm_z, yarm_x, xarm_z, xarm_y, zarm_x, zarm_y).
-engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files, const engine::ArrayGeometry& array,
-                                const ChannelMap* map, const std::string& test_name);
+engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
+                                const engine::ArrayGeometry& array, const ChannelMap* map,
+                                const std::string& test_name);
 
 }  // namespace napkin::formats

@@ -24,13 +24,21 @@ std::string SyntheticContentHash(const db::ArrayRecord& array, const engine::Syn
     hash.Update(slot);
   }
   auto update = [&](const double* values, std::size_t count) {
-    hash.Update(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(values), count * sizeof(double)));
+    hash.Update(
+        std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(values), count * sizeof(double)));
   };
   const engine::InitialState& initial = test.initial;
-  const double header[11] = {test.signals.dt_s,           test.signals.t0_s,           initial.orientation_rad[0],
-                             initial.orientation_rad[1],  initial.orientation_rad[2],  initial.velocity_fixed_mps[0],
-                             initial.velocity_fixed_mps[1], initial.velocity_fixed_mps[2], initial.omega_body_radps[0],
-                             initial.omega_body_radps[1], initial.omega_body_radps[2]};
+  const double header[11] = {test.signals.dt_s,
+                             test.signals.t0_s,
+                             initial.orientation_rad[0],
+                             initial.orientation_rad[1],
+                             initial.orientation_rad[2],
+                             initial.velocity_fixed_mps[0],
+                             initial.velocity_fixed_mps[1],
+                             initial.velocity_fixed_mps[2],
+                             initial.omega_body_radps[0],
+                             initial.omega_body_radps[1],
+                             initial.omega_body_radps[2]};
   update(header, 11);
   update(test.signals.samples.data(), static_cast<std::size_t>(test.signals.samples.size()));
   return hash.HexDigest();

@@ -154,7 +154,7 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)
     throw UsageError("--test-id names one test, but the paths hold " +
-                           std::to_string(discovery.inputs.size() + discovery.errors.size()) + " inputs.");
+                     std::to_string(discovery.inputs.size() + discovery.errors.size()) + " inputs.");
 
   ImportReport report;
   const std::size_t total = discovery.errors.size() + discovery.inputs.size();

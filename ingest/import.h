@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "db/catalogue.h"
 #include "common/error.h"
+#include "db/catalogue.h"
 #include "ingest/discovery.h"
 
 namespace napkin::ingest {

@@ -23,8 +23,8 @@ SynthPlan PlanSynth(const SynthRequest& request) {
   scenario.seed = request.seed;
   scenario.synth.rate_hz = request.rate_hz;
   if (!engine::HasChosenDuration(request.scenario) && (request.samples || request.duration_s))
-    throw InputError("--samples and --duration apply to the random and padding-variants scenarios only; " + name +
-                     " has the report's fixed duration.");
+    throw InputError("--samples and --duration apply to the random and padding-variants scenarios only; " +
+                     name + " has the report's fixed duration.");
   scenario.duration_s =
       request.samples ? (*request.samples - 1) / request.rate_hz : request.duration_s.value_or(0.2);
   plan.tests = engine::ScenarioTests(scenario);

@@ -118,8 +118,8 @@ class LeaseBook {
 // so a test that computes for long does not lose its job to another worker.
 class Heartbeat {
  public:
-  Heartbeat(std::string db_path, db::CatalogueOptions catalogue_options, const LeaseBook& book, std::string owner,
-            double lease_s)
+  Heartbeat(std::string db_path, db::CatalogueOptions catalogue_options, const LeaseBook& book,
+            std::string owner, double lease_s)
       : db_path_(std::move(db_path)),
         catalogue_options_(std::move(catalogue_options)),
         book_(book),
@@ -205,7 +205,8 @@ class ResultWriter {
     std::lock_guard lock(mutex_);
     if (pending_.empty()) oldest_ = SteadyClock::now();
     pending_.push_back(std::move(item));
-    if (static_cast<int>(pending_.size()) >= options_.commit_batch || SecondsSince(oldest_) >= options_.commit_interval_s)
+    if (static_cast<int>(pending_.size()) >= options_.commit_batch ||
+        SecondsSince(oldest_) >= options_.commit_interval_s)
       FlushLocked();
   }
 
@@ -339,7 +340,8 @@ class JobReader {
   // False when nothing is left (or a stop was requested).
   bool Claim() {
     while (!Stopping()) {
-      const auto jobs = queue_.ClaimJobs(config_, owner_, options_.claim_batch, options_.lease_s, options_.scope);
+      const auto jobs =
+          queue_.ClaimJobs(config_, owner_, options_.claim_batch, options_.lease_s, options_.scope);
       if (!jobs.empty()) {
         for (const db::Job& job : jobs) {
           book_.Add(job.id);
@@ -377,8 +379,8 @@ class JobReader {
     if (found == arrays_.end()) {
       CachedArray cached;
       try {
-        cached.geometry =
-            std::make_shared<const engine::ArrayGeometry>(records::DecodeArrayRecord(catalogue_.ReadArray(id)));
+        cached.geometry = std::make_shared<const engine::ArrayGeometry>(
+            records::DecodeArrayRecord(catalogue_.ReadArray(id)));
       } catch (const InputError& error) {
         cached.error = error.what();
       }
@@ -460,7 +462,8 @@ bool IsDeadLocalOwner(const std::string& owner) {
   if (middle == std::string::npos) return false;
   if (owner.substr(0, middle) != HostName()) return false;
   const std::string pid_text = owner.substr(middle + 1, last - middle - 1);
-  if (pid_text.empty() || !std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+  if (pid_text.empty() ||
+      !std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return false;
   const long pid = std::stol(pid_text);
   if (pid <= 0) return false;
@@ -492,15 +495,15 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
     report.skipped = counts.done;
   }
   spdlog::info("run {}: config '{}' ({}), {} tests to process, {} up to date, {} threads", report.owner,
-               processing.record.name, processing.record.config_hash.substr(0, 12), report.total, report.skipped,
-               report.threads);
+               processing.record.name, processing.record.config_hash.substr(0, 12), report.total,
+               report.skipped, report.threads);
 
   db::Catalogue writer_catalogue = db::Catalogue::Open(db_path, catalogue_options);
   LeaseBook book;
   RunState state;
   std::atomic<double> compute_s{0.0};
-  ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver), report.owner, options,
-                      book, state, report, progress, start);
+  ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
+                      report.owner, options, book, state, report, progress, start);
   JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, writer, report, stop);
   try {
     Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
@@ -508,15 +511,14 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
                                     static_cast<std::size_t>(report.threads));
     tbb::parallel_pipeline(
         static_cast<std::size_t>(report.max_tests_in_flight),
-        tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order,
-                                        [&](tbb::flow_control& control) { return reader.Next(control); }) &
-            tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel,
-                                               [&](ItemPtr item) {
-                                                 Compute(*item, processing.config, compute_s);
-                                                 return item;
-                                               }) &
-            tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_in_order,
-                                            [&](ItemPtr item) { writer.Accept(std::move(item)); }));
+        tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& control) {
+          return reader.Next(control);
+        }) & tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel, [&](ItemPtr item) {
+          Compute(*item, processing.config, compute_s);
+          return item;
+        }) & tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_in_order, [&](ItemPtr item) {
+          writer.Accept(std::move(item));
+        }));
     writer.Flush();
   } catch (...) {
     // Give our jobs back so another run need not wait for the leases.

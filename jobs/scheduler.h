@@ -34,17 +34,17 @@
 namespace napkin::jobs {
 
 struct RunOptions {
-  db::JobScope scope;              // tests to process (--series, --test, --shard); empty: all
-  bool force = false;              // --force: recompute tests whose results are up to date
-  int threads = 0;                 // --threads: worker threads; 0 = all cores
+  db::JobScope scope;                  // tests to process (--series, --test, --shard); empty: all
+  bool force = false;                  // --force: recompute tests whose results are up to date
+  int threads = 0;                     // --threads: worker threads; 0 = all cores
   int tests_in_flight_per_thread = 2;  // pipeline tokens per thread: bounds memory
-  int claim_batch = 4;             // jobs claimed per claim transaction
-  int commit_batch = 16;           // tests per result transaction
-  double commit_interval_s = 1.0;  // ... or fewer when the oldest uncommitted result is this old
-  double lease_s = 120.0;          // job lease; renewed every lease_s / 4 while the job is in flight
-  double poll_interval_s = 0.5;    // wait between claims while other workers hold the remaining jobs
-  bool store_kinematics = true;    // store derived channels (the exports need them)
-  bool durable = true;             // synchronous=FULL commits
+  int claim_batch = 4;                 // jobs claimed per claim transaction
+  int commit_batch = 16;               // tests per result transaction
+  double commit_interval_s = 1.0;      // ... or fewer when the oldest uncommitted result is this old
+  double lease_s = 120.0;              // job lease; renewed every lease_s / 4 while the job is in flight
+  double poll_interval_s = 0.5;        // wait between claims while other workers hold the remaining jobs
+  bool store_kinematics = true;        // store derived channels (the exports need them)
+  bool durable = true;                 // synchronous=FULL commits
 
   // Throws std::invalid_argument naming the field out of range.
   void Check() const;
@@ -66,16 +66,16 @@ struct RunProgress {
 using ProgressCallback = std::function<void(const RunProgress&)>;
 
 struct RunReport {
-  std::string owner;             // this run's lease owner id (host:pid:random)
-  db::ConfigId config{};         // the config's catalogue key
-  std::int64_t total = 0;        // jobs to process when the run started
-  std::int64_t skipped = 0;      // tests in scope already up to date
-  std::int64_t done = 0;         // results stored
-  std::int64_t failed = 0;       // failures recorded
-  std::int64_t lost = 0;         // results dropped because the lease had passed to another worker
-  std::int64_t released = 0;     // jobs claimed but not started (stop), returned to the queue
-  std::int64_t reclaimed = 0;    // jobs of dead local workers returned to the queue
-  std::int64_t samples = 0;      // input samples (rows x channels) of the processed tests
+  std::string owner;           // this run's lease owner id (host:pid:random)
+  db::ConfigId config{};       // the config's catalogue key
+  std::int64_t total = 0;      // jobs to process when the run started
+  std::int64_t skipped = 0;    // tests in scope already up to date
+  std::int64_t done = 0;       // results stored
+  std::int64_t failed = 0;     // failures recorded
+  std::int64_t lost = 0;       // results dropped because the lease had passed to another worker
+  std::int64_t released = 0;   // jobs claimed but not started (stop), returned to the queue
+  std::int64_t reclaimed = 0;  // jobs of dead local workers returned to the queue
+  std::int64_t samples = 0;    // input samples (rows x channels) of the processed tests
   int threads = 0;
   int max_tests_in_flight = 0;   // pipeline tokens
   int peak_tests_in_memory = 0;  // tests read and not yet committed, at most

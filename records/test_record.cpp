@@ -6,7 +6,8 @@
 
 namespace napkin::records {
 
-std::vector<std::string> SlotUnits(const engine::ArrayGeometry& array, const std::vector<std::string>& slots) {
+std::vector<std::string> SlotUnits(const engine::ArrayGeometry& array,
+                                   const std::vector<std::string>& slots) {
   std::vector<std::string> units;
   units.reserve(slots.size());
   for (const std::string& slot : slots) {

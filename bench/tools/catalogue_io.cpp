@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "common/error.h"
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
 #include "records/array_record.h"
@@ -97,8 +97,8 @@ int IoBaseline(const std::string& path, int batch) {
     tests += static_cast<std::int64_t>(jobs.size());
   }
   const double wall = Seconds(start);
-  fmt::print("io-baseline: {} tests, {} input samples read, {:.0f} MB of derived channels written\n", tests, samples,
-             bytes_written / 1e6);
+  fmt::print("io-baseline: {} tests, {} input samples read, {:.0f} MB of derived channels written\n", tests,
+             samples, bytes_written / 1e6);
   fmt::print("io-baseline: wall {:.2f} s (read {:.2f} s, write+commit {:.2f} s)\n", wall, read_s, write_s);
   fmt::print("io_baseline_wall_s={:.3f}\n", wall);
   return 0;
@@ -161,7 +161,8 @@ int main(int argc, char** argv) {
     return found != args.end() && found + 1 != args.end() ? *(found + 1) : fallback;
   };
   try {
-    if (args.size() >= 2 && args[0] == "io-baseline") return IoBaseline(args[1], std::stoi(option("--batch", "16")));
+    if (args.size() >= 2 && args[0] == "io-baseline")
+      return IoBaseline(args[1], std::stoi(option("--batch", "16")));
     if (args.size() >= 2 && args[0] == "verify")
       return Verify(args[1], std::stoul(option("--sample", "20")), std::stoull(option("--seed", "1")),
                     option("--config", "default"));
@@ -169,6 +170,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "napkin_catalogue_io: {}\n", error.what());
     return 1;
   }
-  fmt::print(stderr, "usage: napkin_catalogue_io io-baseline DB [--batch N] | verify DB [--sample N] [--seed S]\n");
+  fmt::print(stderr,
+             "usage: napkin_catalogue_io io-baseline DB [--batch N] | verify DB [--sample N] [--seed S]\n");
   return 2;
 }

@@ -38,7 +38,8 @@ inline RunResult RunNapkin(const fs::path& dir, const std::vector<std::string>& 
 
 // Starts `napkin args...` (stdout and stderr to the given files); wait with
 // napkin::test_support::WaitProgram.
-inline pid_t StartNapkin(const std::vector<std::string>& args, const fs::path& out_path, const fs::path& err_path) {
+inline pid_t StartNapkin(const std::vector<std::string>& args, const fs::path& out_path,
+                         const fs::path& err_path) {
   return napkin::test_support::StartProgram(NAPKIN_BINARY, args, out_path, err_path);
 }
 

@@ -13,8 +13,8 @@
 #include <stdexcept>
 
 #include "cli/command.h"
-#include "db/sqlite.h"
 #include "common/error.h"
+#include "db/sqlite.h"
 
 namespace napkin::cli {
 namespace {

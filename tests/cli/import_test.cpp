@@ -275,8 +275,8 @@ TEST_F(CliImport, FolderWithABadTestInTheMiddleKeepsTheOthersAndARerunResumes) {
 TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt) {
   const auto written = WriteFolderOfTests(dir_ / "series");
   const pid_t child = napkin::test_support::StartProgram(
-      NAPKIN_BINARY, {"--db", "napkin.db", "import", "--array", "denton-3222", "series"}, "/dev/null", "/dev/null",
-      dir_.path());
+      NAPKIN_BINARY, {"--db", "napkin.db", "import", "--array", "denton-3222", "series"}, "/dev/null",
+      "/dev/null", dir_.path());
   ASSERT_GT(child, 0);
   // Kill it (SIGKILL: no cleanup at all) once some tests are committed.
   std::size_t seen = 0;

@@ -44,8 +44,8 @@ class RunCliTest : public ::testing::Test {
     return test_support::RunNapkin(dir_.path(), args);
   }
   void Synth(const std::string& db, int count, int samples) {
-    const CliResult synth = Napkin({"synth", "--scenario", "random", "--count", std::to_string(count), "--samples",
-                                    std::to_string(samples)},
+    const CliResult synth = Napkin({"synth", "--scenario", "random", "--count", std::to_string(count),
+                                    "--samples", std::to_string(samples)},
                                    db);
     ASSERT_EQ(synth.exit_code, 0) << synth.err;
   }
@@ -72,8 +72,8 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
   int kills = 0;
   for (int round = 0; round < 6; ++round) {
     const std::int64_t target = watcher_inspector.CountRows("results") + more_results(random);
-    const pid_t pid = test_support::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"}, dir_ / "run.out",
-                                           dir_ / "run.err");
+    const pid_t pid = test_support::StartNapkin({"--db", db, "--quiet", "run", "--threads", "2"},
+                                                dir_ / "run.out", dir_ / "run.err");
     int status = 0;
     bool finished = false;
     const auto start = std::chrono::steady_clock::now();
@@ -95,7 +95,8 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
       break;
     }
     std::printf("kill %d: %lld results committed (target %lld)\n", kills,
-                static_cast<long long>(watcher_inspector.CountRows("results")), static_cast<long long>(target));
+                static_cast<long long>(watcher_inspector.CountRows("results")),
+                static_cast<long long>(target));
     ExpectConsistent(db, "after kill " + std::to_string(kills));
   }
   EXPECT_GE(kills, 5);
@@ -121,8 +122,10 @@ TEST_F(RunCliTest, SigkillAtRandomMomentsThenRerunLeavesEveryTestDoneOnce) {
 TEST_F(RunCliTest, TwoConcurrentRunsProcessEachTestExactlyOnce) {
   const std::string db = dir_ / "concurrent.db";
   Synth(db, 120, 1000);
-  const pid_t a = test_support::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
-  const pid_t b = test_support::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
+  const pid_t a =
+      test_support::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "a.out", dir_ / "a.err");
+  const pid_t b =
+      test_support::StartNapkin({"--db", db, "run", "--threads", "1"}, dir_ / "b.out", dir_ / "b.err");
   EXPECT_EQ(test_support::WaitProgram(a), 0) << test_support::ReadText(dir_ / "a.err");
   EXPECT_EQ(test_support::WaitProgram(b), 0) << test_support::ReadText(dir_ / "b.err");
   db::Catalogue catalogue = db::Catalogue::Open(db);
@@ -156,9 +159,8 @@ TEST_F(RunCliTest, ShardsOnCopiesMergedEqualOneUnshardedRun) {
 
   db::Catalogue a = db::Catalogue::Open(whole);
   db::Catalogue b = db::Catalogue::Open(merged);
-  for (const db::QueryKind kind :
-       {db::QueryKind::kTests, db::QueryKind::kHic, db::QueryKind::kRotation, db::QueryKind::kCriteria,
-        db::QueryKind::kQuality}) {
+  for (const db::QueryKind kind : {db::QueryKind::kTests, db::QueryKind::kHic, db::QueryKind::kRotation,
+                                   db::QueryKind::kCriteria, db::QueryKind::kQuality}) {
     const db::Table ta = a.Query(kind), tb = b.Query(kind);
     EXPECT_EQ(ta.columns, tb.columns);
     if (kind != db::QueryKind::kQuality) {  // quality: one row per finding
@@ -232,11 +234,10 @@ TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
     const fs::path out = dir_ / (test.external_id + ".derived.csv");
     const fs::path summary = dir_ / (test.external_id + ".summary.json");
     const CliResult transform = test_support::RunNapkin(
-        dir_.path(),
-        {"transform", input.string(), "--array", array.string(),
-         test_support::TripleFlag("--orientation", test.initial_state.orientation_rad),
-         test_support::TripleFlag("--initial-velocity", test.initial_state.velocity_fixed_mps), "--out", out.string(),
-         "--summary", summary.string()});
+        dir_.path(), {"transform", input.string(), "--array", array.string(),
+                      test_support::TripleFlag("--orientation", test.initial_state.orientation_rad),
+                      test_support::TripleFlag("--initial-velocity", test.initial_state.velocity_fixed_mps),
+                      "--out", out.string(), "--summary", summary.string()});
     ASSERT_EQ(transform.exit_code, 0) << transform.err;
 
     const db::ConfigId config = *catalogue.ReadLatestResultConfig(test.id);

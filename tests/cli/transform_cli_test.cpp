@@ -33,9 +33,9 @@ class TransformCliTest : public ::testing::Test {
   }
 
   CommandResult Transform(const fs::path& input, const std::string& array = "denton-3222") {
-    return RunProgram(NAPKIN_BINARY, {"transform", "--array", array, "--orientation", "0.5,0.5,0.5",
-                                      input.string(), "--out", (dir_ / "out.csv").string(), "--summary",
-                                      (dir_ / "out.json").string()},
+    return RunProgram(NAPKIN_BINARY,
+                      {"transform", "--array", array, "--orientation", "0.5,0.5,0.5", input.string(), "--out",
+                       (dir_ / "out.csv").string(), "--summary", (dir_ / "out.json").string()},
                       dir_.path());
   }
 
@@ -53,7 +53,8 @@ class TransformCliTest : public ::testing::Test {
   }
 
   // The CSV with line `line` (0-based, header = 0) replaced by `f(line)`.
-  fs::path Edited(const std::string& name, int line_number, const std::function<std::string(const std::string&)>& edit) {
+  fs::path Edited(const std::string& name, int line_number,
+                  const std::function<std::string(const std::string&)>& edit) {
     std::istringstream in(csv_text_);
     std::string line, out;
     for (int i = 0; std::getline(in, line); ++i) out += (i == line_number ? edit(line) : line) + "\n";
@@ -106,18 +107,18 @@ TEST_F(TransformCliTest, WritesTheDerivedChannelContractAndSummary) {
 }
 
 TEST_F(TransformCliTest, SeedSolverRunsThroughTheSameCommand) {
-  const CommandResult result = RunProgram(
-      NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--solver", "seed", "--orientation", "0.5,0.5,0.5",
-                      input_.string(), "--out", (dir_ / "seed.csv").string()});
+  const CommandResult result =
+      RunProgram(NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--solver", "seed", "--orientation",
+                                 "0.5,0.5,0.5", input_.string(), "--out", (dir_ / "seed.csv").string()});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_TRUE(fs::exists(dir_ / "seed.csv"));
 }
 
 // An unknown solver name is an error, never the exact solver (issue 8).
 TEST_F(TransformCliTest, UnknownSolverIsRefusedNotTakenForExact) {
-  const CommandResult usage = RunProgram(
-      NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--solver", "fast", "--orientation", "0.5,0.5,0.5",
-                      input_.string(), "--out", (dir_ / "fast.csv").string()});
+  const CommandResult usage =
+      RunProgram(NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--solver", "fast", "--orientation",
+                                 "0.5,0.5,0.5", input_.string(), "--out", (dir_ / "fast.csv").string()});
   EXPECT_EQ(usage.exit_code, 2) << usage.err;
   EXPECT_NE(usage.err.find("fast"), std::string::npos) << usage.err;
   // RunTransform itself (as `napkin demo` calls it) refuses it too.
@@ -143,7 +144,10 @@ TEST_F(TransformCliTest, MissingColumnIsRefused) {
   std::istringstream in(csv_text_);
   std::string line, out;
   while (std::getline(in, line)) {
-    if (line.starts_with("#")) { out += line + "\n"; continue; }
+    if (line.starts_with("#")) {
+      out += line + "\n";
+      continue;
+    }
     std::vector<std::string> fields;
     std::istringstream split(line);
     for (std::string field; std::getline(split, field, ',');) fields.push_back(field);
@@ -200,7 +204,8 @@ TEST_F(TransformCliTest, MissingInputFileIsRefused) {
 }
 
 TEST_F(TransformCliTest, UsageErrorsExitTwo) {
-  const CommandResult result = RunProgram(NAPKIN_BINARY, {"transform", "--array", "denton-3222", input_.string()});
+  const CommandResult result =
+      RunProgram(NAPKIN_BINARY, {"transform", "--array", "denton-3222", input_.string()});
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_EQ(RunProgram(NAPKIN_BINARY, {"no-such-command"}).exit_code, 2);
 }

@@ -26,11 +26,12 @@ using test_support::ReadText;
 
 // Runs `napkin transform` on `input` with the test's initial state.
 test_support::CommandResult Transform(const test_support::TempDir& dir, const engine::SyntheticTest& test,
-                                 const std::string& input, const std::string& array = "denton-3222") {
+                                      const std::string& input, const std::string& array = "denton-3222") {
   return test_support::RunProgram(
-      NAPKIN_BINARY, {"transform", "--array", array, test_support::TripleFlag("--orientation", test.initial.orientation_rad),
-                      test_support::TripleFlag("--initial-velocity", test.initial.velocity_fixed_mps), "--out",
-                      (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
+      NAPKIN_BINARY,
+      {"transform", "--array", array, test_support::TripleFlag("--orientation", test.initial.orientation_rad),
+       test_support::TripleFlag("--initial-velocity", test.initial.velocity_fixed_mps), "--out",
+       (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
 }
 
 double TrueHic15(const engine::SyntheticTest& test) {
@@ -57,7 +58,8 @@ TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
   EXPECT_GT(summary.at("bric").get<double>(), 0.0);
   EXPECT_GT(summary.at("damage").get<double>(), 0.0);
   ASSERT_TRUE(summary.at("quality").is_array());
-  for (const auto& finding : summary.at("quality")) EXPECT_EQ(finding.at("severity"), "info") << finding.dump();
+  for (const auto& finding : summary.at("quality"))
+    EXPECT_EQ(finding.at("severity"), "info") << finding.dump();
   EXPECT_TRUE(std::filesystem::exists(dir / "out.csv"));
 }
 
@@ -79,7 +81,8 @@ TEST(TransformScreening, SummaryNamesTheSpikedChannel) {
     if (finding.at("check") == "spike") {
       EXPECT_EQ(finding.at("channel"), "xarm_y") << finding.dump();
       EXPECT_EQ(finding.at("severity"), "warning");
-      EXPECT_NE(finding.at("detail").get<std::string>().find("sample 700 "), std::string::npos) << finding.dump();
+      EXPECT_NE(finding.at("detail").get<std::string>().find("sample 700 "), std::string::npos)
+          << finding.dump();
       spike = true;
     }
   }
@@ -163,7 +166,8 @@ TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
   ASSERT_EQ(import.exit_code, 0) << import.err;
   const test_support::CommandResult run = test_support::RunNapkin(dir.path(), {"--db", db, "run"});
   EXPECT_EQ(run.exit_code, 3) << run.err;  // partial success: one test failed
-  const test_support::CommandResult status = test_support::RunNapkin(dir.path(), {"--db", db, "status", "--format", "json"});
+  const test_support::CommandResult status =
+      test_support::RunNapkin(dir.path(), {"--db", db, "status", "--format", "json"});
   ASSERT_EQ(status.exit_code, 0) << status.err;
   const nlohmann::json counts = nlohmann::json::parse(status.out);
   EXPECT_EQ(counts.at("done"), 1) << status.out;

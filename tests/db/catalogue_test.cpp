@@ -11,9 +11,9 @@
 #include <limits>
 #include <random>
 
+#include "common/error.h"
 #include "db/float64_blob.h"
 #include "db/job_queue.h"
-#include "common/error.h"
 #include "engine/summary_fields.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
@@ -144,7 +144,8 @@ TEST_F(CatalogueTest, HostileNamesRoundTripAndQueryCorrectly) {
   const std::string hostile_series = "x'); DROP TABLE tests;--";
   const std::string hostile_variant = "\" OR 1=1 --";
   const std::string hostile_id = "v'0001\"; DELETE FROM results; --";
-  const TestId hostile = test_support::AddTest(catalogue_, array_, hostile_id, hostile_series, hostile_variant);
+  const TestId hostile =
+      test_support::AddTest(catalogue_, array_, hostile_id, hostile_series, hostile_variant);
   const TestId plain = test_support::AddTest(catalogue_, array_, "plain", "other", "A");
   engine::TestSummary summary;
   summary.hic15 = {700.0, 0.01, 0.02};
@@ -449,7 +450,8 @@ TEST_F(CatalogueTest, ExceptionInsideAnOuterTransactionRollsBackEveryWrite) {
 TEST_F(CatalogueTest, FailedInnerWriteRollsBackOnlyItselfInsideACommittedTransaction) {
   Transaction transaction = catalogue_.BeginTransaction();
   test_support::AddTest(catalogue_, array_, "v0001");
-  EXPECT_THROW(test_support::AddTest(catalogue_, array_, "v0001"), InputError);  // nested savepoint rolled back
+  EXPECT_THROW(test_support::AddTest(catalogue_, array_, "v0001"),
+               InputError);  // nested savepoint rolled back
   test_support::AddTest(catalogue_, array_, "v0002");
   transaction.Commit();
   const auto tests = catalogue_.ReadAllTests();

@@ -8,9 +8,9 @@
 #include <set>
 #include <thread>
 
+#include "common/error.h"
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "common/error.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -112,7 +112,7 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
   constexpr int kTests = 120;
   {
     Catalogue catalogue = OpenCatalogue();
-  JobQueue queue(catalogue);
+    JobQueue queue(catalogue);
     AddTests(catalogue, kTests);
     queue.EnqueueMissing(catalogue.WriteConfig(test_support::DefaultConfig()));
   }

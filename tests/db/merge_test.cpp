@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/error.h"
 #include "db/catalogue.h"
 #include "db/job_queue.h"
-#include "common/error.h"
 #include "engine/summary_fields.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
@@ -214,8 +214,8 @@ TEST_F(MergeTest, ADifferentResultForTheSameTestAndConfigIsRefused) {
   Catalogue main = Catalogue::Open(main_path_);
   const std::string before = CatalogueInspector(main).Dump();
   EXPECT_THAT([&] { main.MergeShard(again); },
-              ThrowsMessage<InputError>(StrEq("test 't5' has a result for config 'default' in shard '" + again +
-                                              "' that differs from the catalogue's result.")));
+              ThrowsMessage<InputError>(StrEq("test 't5' has a result for config 'default' in shard '" +
+                                              again + "' that differs from the catalogue's result.")));
   EXPECT_EQ(CatalogueInspector(main).Dump(), before);
 }
 

@@ -4,9 +4,9 @@
 
 #include <vector>
 
+#include "common/error.h"
 #include "db/catalogue.h"
 #include "db/migrate.h"
-#include "common/error.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "db/catalogue.h"
 #include "common/error.h"
+#include "db/catalogue.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"

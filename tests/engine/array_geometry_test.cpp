@@ -1,3 +1,5 @@
+#include "engine/array_geometry.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -5,9 +7,8 @@
 #include <limits>
 #include <ostream>
 
-#include "engine/array_analysis.h"
-#include "engine/array_geometry.h"
 #include "common/error.h"
+#include "engine/array_analysis.h"
 #include "engine/exact_solver.h"
 #include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
@@ -47,7 +48,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(ClassifiedArrayCase{"ideal_3222", &test_support::Ideal3222, ExactPath::kLinear},
                       ClassifiedArrayCase{"volpe_table4_2", &test_support::VolpeTable42, ExactPath::kLinear},
                       ClassifiedArrayCase{"denton_3222", &test_support::Denton3222, ExactPath::kLinear},
-                      ClassifiedArrayCase{"six_a_omega_cg", &test_support::SixAOmegaCg, ExactPath::kSixAOmega},
+                      ClassifiedArrayCase{"six_a_omega_cg", &test_support::SixAOmegaCg,
+                                          ExactPath::kSixAOmega},
                       ClassifiedArrayCase{"nap_ars12", &test_support::NapArs12, ExactPath::kFused}),
     test_support::CaseName());
 

@@ -75,7 +75,7 @@ TEST(CfcFilter, TwoPassGainAtTheClassFrequencyIsInsideTheJ211Corridor) {
 // analytic magnitude) to 1e-6.
 TEST(CfcFilter, LongSinesAreScaledByTheAnalyticTwoPassGainWithZeroPhase) {
   const double dt = 1e-4;
-  const Eigen::Index n = 20001;  // 2 s
+  const Eigen::Index n = 20001;      // 2 s
   const Eigen::Index margin = 1000;  // 0.1 s kept clear of the end transients
   for (const CfcVariant variant : {CfcVariant::kSaeJ211, CfcVariant::kIso6487}) {
     for (const double cfc : {kCfc60, kCfc180, kCfc600, kCfc1000}) {
@@ -88,7 +88,8 @@ TEST(CfcFilter, LongSinesAreScaledByTheAnalyticTwoPassGainWithZeroPhase) {
         filter.Apply(x, y);
         const double gain = CfcTwoPassGain(f, cfc, dt, variant);
         double worst = 0.0;
-        for (Eigen::Index k = margin; k < n - margin; ++k) worst = std::max(worst, std::abs(y[k] - gain * x[k]));
+        for (Eigen::Index k = margin; k < n - margin; ++k)
+          worst = std::max(worst, std::abs(y[k] - gain * x[k]));
         EXPECT_LT(worst, 1e-6) << "cfc " << cfc << " f " << f << " gain " << gain;
       }
     }
@@ -136,7 +137,8 @@ TEST(CfcFilter, SymmetricPulseStaysCentredAndSymmetric) {
     y.maxCoeff(&peak);
     EXPECT_EQ(peak, centre) << cfc;
     double asymmetry = 0.0;
-    for (Eigen::Index k = 1; k < 1500; ++k) asymmetry = std::max(asymmetry, std::abs(y[centre + k] - y[centre - k]));
+    for (Eigen::Index k = 1; k < 1500; ++k)
+      asymmetry = std::max(asymmetry, std::abs(y[centre + k] - y[centre - k]));
     EXPECT_LT(asymmetry, 1e-9) << cfc;
     EXPECT_LT(y[centre], x[centre]);  // low-pass lowers the peak
   }

@@ -34,7 +34,8 @@ TEST(A3ms, EqualsTheBruteForceDefinition) {
     const Eigen::Index n = 60 + static_cast<Eigen::Index>(uniform(rng) * 800);
     Eigen::VectorXd a(n);
     for (Eigen::Index k = 0; k < n; ++k)
-      a[k] = trial % 4 == 0 ? std::floor(uniform(rng) * 5.0) : 100.0 * uniform(rng) * uniform(rng);  // ties too
+      a[k] =
+          trial % 4 == 0 ? std::floor(uniform(rng) * 5.0) : 100.0 * uniform(rng) * uniform(rng);  // ties too
     EXPECT_EQ(A3ms(a, dt), BruteForceA3ms(a, dt)) << trial;
   }
 }
@@ -56,7 +57,8 @@ TEST(A3ms, HalfSineMatchesTheContinuousLevel) {
   const double amplitude = 90.0, duration = 0.012, dt = 1e-5;
   const auto n = static_cast<Eigen::Index>(std::llround(duration / dt)) + 1;
   Eigen::VectorXd a(n);
-  for (Eigen::Index k = 0; k < n; ++k) a[k] = amplitude * std::sin(kPi * static_cast<double>(k) * dt / duration);
+  for (Eigen::Index k = 0; k < n; ++k)
+    a[k] = amplitude * std::sin(kPi * static_cast<double>(k) * dt / duration);
   const double expected = amplitude * std::cos(kPi * 0.003 / (2.0 * duration));
   EXPECT_NEAR(A3ms(a, dt), expected, amplitude * kPi / duration * dt);
 }
@@ -75,7 +77,8 @@ TEST(Bric, IsTheRootSumOfSquaresOfNormalisedPeaks) {
   omega(10, 2) = 42.87 * 2.0;
   const Eigen::Vector3d critical(66.25, 56.45, 42.87);
   EXPECT_NEAR(Bric(omega, critical), std::sqrt(1.0 + 0.25 + 4.0), 1e-14);
-  EXPECT_NEAR(Bric(omega, Eigen::Vector3d(1.0, 1.0, 1.0)), Eigen::Vector3d(66.25, 28.225, 85.74).norm(), 1e-12);
+  EXPECT_NEAR(Bric(omega, Eigen::Vector3d(1.0, 1.0, 1.0)), Eigen::Vector3d(66.25, 28.225, 85.74).norm(),
+              1e-12);
   EXPECT_THROW(Bric(omega, Eigen::Vector3d(1.0, 0.0, 1.0)), InputError);
 }
 
@@ -87,13 +90,15 @@ TEST(Bric, IsTheRootSumOfSquaresOfNormalisedPeaks) {
 double StepResponse(double f0, double w, double zeta, double t) {
   const double wd = w * std::sqrt(1.0 - zeta * zeta);
   return f0 / (w * w) *
-         (1.0 - std::exp(-zeta * w * t) * (std::cos(wd * t) + zeta / std::sqrt(1.0 - zeta * zeta) * std::sin(wd * t)));
+         (1.0 - std::exp(-zeta * w * t) *
+                    (std::cos(wd * t) + zeta / std::sqrt(1.0 - zeta * zeta) * std::sin(wd * t)));
 }
 
 // ... for f = A sin(W t) from rest.
 double SineResponse(double amplitude, double forcing, double w, double zeta, double t) {
   const double c = 2.0 * zeta * w * forcing, k = w * w - forcing * forcing;
-  const double p = amplitude * k / (k * k + c * c), q = -amplitude * c / (k * k + c * c);  // q_p = p sin + q cos
+  const double p = amplitude * k / (k * k + c * c),
+               q = -amplitude * c / (k * k + c * c);  // q_p = p sin + q cos
   const double wd = w * std::sqrt(1.0 - zeta * zeta);
   const double c1 = -q;
   const double c2 = (zeta * w * c1 - p * forcing) / wd;
@@ -132,7 +137,8 @@ TEST(Damage, SineOnTheYAxisConvergesToTheClosedFormAtSecondOrder) {
   for (const double dt : {2e-4, 1e-4, 5e-5}) {
     const auto n = static_cast<Eigen::Index>(std::llround(0.1 / dt)) + 1;
     Series3 alpha_body = Series3::Zero(n, 3);
-    for (Eigen::Index k = 0; k < n; ++k) alpha_body(k, 1) = amplitude * std::sin(forcing * static_cast<double>(k) * dt);
+    for (Eigen::Index k = 0; k < n; ++k)
+      alpha_body(k, 1) = amplitude * std::sin(forcing * static_cast<double>(k) * dt);
     const Series3 d = DamageDisplacement(alpha_body, dt, model);
     double error = 0.0, peak = 0.0;
     for (Eigen::Index k = 0; k < n; ++k) {
@@ -206,7 +212,8 @@ TEST(Damage, CoupledPulsesMatchAFineStepRk4Reference) {
   Series3 z_only = Series3::Zero(n, 3);
   z_only.col(2) = alpha.col(2);
   EXPECT_GT(DamageDisplacement(z_only, dt, model).col(0).cwiseAbs().maxCoeff(), 1e-4 * scale);
-  EXPECT_NEAR(Damage(alpha, dt, model), model.beta_per_m * reference.rowwise().norm().maxCoeff(), 1e-8 * scale);
+  EXPECT_NEAR(Damage(alpha, dt, model), model.beta_per_m * reference.rowwise().norm().maxCoeff(),
+              1e-8 * scale);
 }
 
 // ---------------------------------------------------------------------------

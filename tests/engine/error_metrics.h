@@ -29,9 +29,10 @@ inline KinematicsErrors CompareKinematics(const engine::Kinematics& solved, cons
   e.omega_rel = MaxRowNorm(solved.omega_body - truth.omega_body) / MaxRowNorm(truth.omega_body);
   e.alpha_rel = MaxRowNorm(solved.alpha_body - truth.alpha_body) / MaxRowNorm(truth.alpha_body);
   for (Eigen::Index k = 0; k < truth.size(); ++k)
-    e.orientation_deg = std::max(e.orientation_deg, engine::AngleBetween(engine::QuatAt(solved.quat_fixed_from_body, k),
-                                                                         engine::QuatAt(truth.quat_fixed_from_body, k)) *
-                                                        engine::kDegPerRad);
+    e.orientation_deg =
+        std::max(e.orientation_deg, engine::AngleBetween(engine::QuatAt(solved.quat_fixed_from_body, k),
+                                                         engine::QuatAt(truth.quat_fixed_from_body, k)) *
+                                        engine::kDegPerRad);
   e.acc_rel = MaxRowNorm(solved.acc_fixed - truth.acc_fixed) / MaxRowNorm(truth.acc_fixed);
   const engine::Series3 vel_change = truth.vel_fixed.rowwise() - truth.vel_fixed.row(0);
   e.vel_rel = MaxRowNorm(solved.vel_fixed - truth.vel_fixed) / MaxRowNorm(vel_change);
@@ -40,9 +41,11 @@ inline KinematicsErrors CompareKinematics(const engine::Kinematics& solved, cons
 }
 
 inline void PrintErrors(const std::string& label, const KinematicsErrors& e) {
-  std::printf("[errors] %-34s omega %.2e %% | alpha %.2e %% | orient %.2e deg | acc %.2e %% | vel %.2e %% | pos %.2e m\n",
-              label.c_str(), 100 * e.omega_rel, 100 * e.alpha_rel, e.orientation_deg, 100 * e.acc_rel,
-              100 * e.vel_rel, e.pos_abs_m);
+  std::printf(
+      "[errors] %-34s omega %.2e %% | alpha %.2e %% | orient %.2e deg | acc %.2e %% | vel %.2e %% | pos %.2e "
+      "m\n",
+      label.c_str(), 100 * e.omega_rel, 100 * e.alpha_rel, e.orientation_deg, 100 * e.acc_rel,
+      100 * e.vel_rel, e.pos_abs_m);
 }
 
 // Solver options that start from a synthetic test's true initial state.

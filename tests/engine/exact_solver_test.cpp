@@ -1,5 +1,7 @@
 // Acceptance targets of ALGORITHMS.md "Accuracy napkin must reach" for the
 // exact solver (10 kHz, no noise), against synthetic tests with exact truth.
+#include "engine/exact_solver.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,7 +9,6 @@
 #include <cstdio>
 #include <ostream>
 
-#include "engine/exact_solver.h"
 #include "engine/report_known_answers.h"
 #include "engine/solver.h"
 #include "engine/summary.h"

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "engine/criteria.h"
 #include "common/error.h"
+#include "engine/criteria.h"
 #include "engine/report_known_answers.h"
 #include "engine/units.h"
 
@@ -67,7 +67,8 @@ TEST(Hic, ReportSection45KnownAnswers) {
   for (Eigen::Index k = mirror_i; k < mirror_j; ++k) mirror_area += 0.5e-4 * (acc_g[k] + acc_g[k + 1]);
   EXPECT_NEAR(0.015 * std::pow(mirror_area / 0.015, 2.5), hic15.value, 1e-9 * hic15.value);
 
-  for (const HicOptions& options : {Window(kUnlimitedHicWindow), Window(kHic36Window), Window(kHic15Window)}) {
+  for (const HicOptions& options :
+       {Window(kUnlimitedHicWindow), Window(kHic36Window), Window(kHic15Window)}) {
     const HicWindow fast = Hic(acc_g, 1e-4, 0.0, options);
     const HicWindow exhaustive = HicExhaustive(acc_g, 1e-4, 0.0, options);
     EXPECT_EQ(fast.value, exhaustive.value);
@@ -80,7 +81,8 @@ TEST(Hic, HalfSineKnownAnswer) {
   // a(t) = sin(20 pi t) g, t = 0 .. 0.05 s at 10 kHz: HIC over <= 30 ms is
   // 0.02048 at [0.0100, 0.0400] s (the window centred on the peak).
   Eigen::VectorXd acc_g(501);
-  for (Eigen::Index k = 0; k < acc_g.size(); ++k) acc_g[k] = std::sin(20.0 * kPi * static_cast<double>(k) * 1e-4);
+  for (Eigen::Index k = 0; k < acc_g.size(); ++k)
+    acc_g[k] = std::sin(20.0 * kPi * static_cast<double>(k) * 1e-4);
   const HicWindow hic = Hic(acc_g, 1e-4, 0.0, Window(report::kHalfSineHicWindowS));
   EXPECT_NEAR(hic.value, report::kHalfSineHic, 0.000005);
   EXPECT_NEAR(hic.t1_s, report::kHalfSineHicT1S, 1e-9);
@@ -138,7 +140,8 @@ Eigen::VectorXd RandomSignal(std::mt19937_64& rng, int kind, Eigen::Index n, dou
     case 0: {  // several haversine pulses plus noise
       const int pulses = 1 + static_cast<int>(uniform(rng) * 4);
       for (int p = 0; p < pulses; ++p) {
-        const double start = uniform(rng) * n * dt, length = (0.002 + uniform(rng) * 0.03), height = 200 * uniform(rng);
+        const double start = uniform(rng) * n * dt, length = (0.002 + uniform(rng) * 0.03),
+                     height = 200 * uniform(rng);
         for (Eigen::Index k = 0; k < n; ++k) {
           const double s = (k * dt - start) / length;
           if (s >= 0 && s <= 1) a[k] += height * 0.5 * (1 - std::cos(2 * kPi * s));

@@ -118,7 +118,8 @@ TEST(Conditioning, AutoBiasUsesPreImpactSamplesWhenThereIsAtLeastOneMillisecond)
   ApplyConditioning(array, signals, NoFilter());
   for (Eigen::Index c = 0; c < 3; ++c) {
     const double pre_impact_mean = raw.col(c).head(50).mean();  // t < 0: 50 samples
-    EXPECT_NEAR((raw.col(c).array() - pre_impact_mean - signals.samples.col(c).array()).abs().maxCoeff(), 0.0, 1e-12);
+    EXPECT_NEAR((raw.col(c).array() - pre_impact_mean - signals.samples.col(c).array()).abs().maxCoeff(), 0.0,
+                1e-12);
     EXPECT_NEAR(signals.samples.col(c).head(50).mean(), 0.0, 1e-12);
   }
   // Only 0.5 ms before t = 0: left alone.
@@ -191,7 +192,7 @@ TEST(Conditioning, ShiftThenCropKeepsTheRequestedSpan) {
   const Eigen::MatrixXd raw = signals.samples;
   ApplyConditioning(array, signals, config);
   EXPECT_NEAR(signals.t0_s, -0.002, 1e-12);
-  EXPECT_EQ(signals.size(), 521);  // -2 .. 50 ms inclusive
+  EXPECT_EQ(signals.size(), 521);                   // -2 .. 50 ms inclusive
   EXPECT_EQ(signals.samples.row(0), raw.row(100));  // raw t = 10 ms
   EXPECT_EQ(signals.samples.row(520), raw.row(620));
 

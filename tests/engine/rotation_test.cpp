@@ -1,13 +1,14 @@
 // SO(3) properties (Sophus/manif style): exp/log round trips at awkward
 // angles, integration of known motions against closed forms, full-range
 // roll/pitch/yaw.
+#include "engine/rotation.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "engine/integration.h"
-#include "engine/rotation.h"
 #include "engine/units.h"
 
 namespace napkin::engine {
@@ -55,9 +56,9 @@ TEST(Rotation, ConstantOmegaIntegrationEqualsClosedForm) {
   Series4 quat;
   IntegrateOrientation(dt, omega_body, alpha_body, q0, quat);
   for (Eigen::Index k = 0; k < n; ++k) {
-    const Eigen::Matrix3d closed = q0.toRotationMatrix() * Eigen::AngleAxisd(omega.norm() * dt * static_cast<double>(k),
-                                                                              omega.normalized())
-                                                                .toRotationMatrix();
+    const Eigen::Matrix3d closed =
+        q0.toRotationMatrix() *
+        Eigen::AngleAxisd(omega.norm() * dt * static_cast<double>(k), omega.normalized()).toRotationMatrix();
     ASSERT_LE(MatrixAngle(QuatAt(quat, k).toRotationMatrix(), closed), 1e-11) << k;
     ASSERT_NEAR(QuatAt(quat, k).norm(), 1.0, 1e-14);
   }

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/criteria.h"
 #include "common/error.h"
+#include "engine/criteria.h"
 #include "engine/pipeline.h"
 #include "engine/synth.h"
 #include "engine/units.h"
@@ -69,7 +69,8 @@ std::vector<Finding> FindingsBeforeDivergence(const SyntheticTest& test) {
   const SolveOptions exact_options = MakeSolveOptions(config, test.initial);
   EXPECT_EQ(exact_options.solver, SolverKind::kExact);
   const Kinematics kinematics = Solve(test.array, conditioned, exact_options);
-  AppendFindings(ScreenConsistency(test.array, conditioned, kinematics, exact_options, config.screening), findings);
+  AppendFindings(ScreenConsistency(test.array, conditioned, kinematics, exact_options, config.screening),
+                 findings);
   return findings;
 }
 
@@ -91,8 +92,8 @@ std::vector<Finding> FaultFindings(const SyntheticTest& test, const std::string&
 std::string Describe(const std::vector<Finding>& findings) {
   std::string text;
   for (const Finding& f : findings)
-    text += std::string("  [") + SeverityName(f.severity) + "] " + f.check + " " + f.channel.value_or("-") + ": " +
-            f.detail + "\n";
+    text += std::string("  [") + SeverityName(f.severity) + "] " + f.check + " " + f.channel.value_or("-") +
+            ": " + f.detail + "\n";
   return text;
 }
 
@@ -103,7 +104,8 @@ std::vector<Finding> AboveInfo(const std::vector<Finding>& findings) {
   return serious;
 }
 
-const Finding* FindCheck(const std::vector<Finding>& findings, const std::string& check, const std::string& channel) {
+const Finding* FindCheck(const std::vector<Finding>& findings, const std::string& check,
+                         const std::string& channel) {
   for (const Finding& f : findings)
     if (f.check == check && f.channel == channel) return &f;
   return nullptr;
@@ -140,12 +142,17 @@ std::vector<SyntheticTest> FaultHosts() {
 
 TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
   std::vector<std::pair<std::string, SyntheticTest>> tests;
-  for (std::uint64_t seed = 1; seed <= 6; ++seed) tests.emplace_back("denton", RandomTest(test_support::Denton3222(), seed));
-  for (std::uint64_t seed = 7; seed <= 9; ++seed) tests.emplace_back("ideal", RandomTest(test_support::Ideal3222(), seed));
-  for (std::uint64_t seed = 10; seed <= 12; ++seed) tests.emplace_back("ars12", RandomTest(test_support::NapArs12(), seed));
-  for (std::uint64_t seed = 13; seed <= 14; ++seed) tests.emplace_back("6aw", RandomTest(test_support::SixAOmegaCg(), seed));
+  for (std::uint64_t seed = 1; seed <= 6; ++seed)
+    tests.emplace_back("denton", RandomTest(test_support::Denton3222(), seed));
+  for (std::uint64_t seed = 7; seed <= 9; ++seed)
+    tests.emplace_back("ideal", RandomTest(test_support::Ideal3222(), seed));
+  for (std::uint64_t seed = 10; seed <= 12; ++seed)
+    tests.emplace_back("ars12", RandomTest(test_support::NapArs12(), seed));
+  for (std::uint64_t seed = 13; seed <= 14; ++seed)
+    tests.emplace_back("6aw", RandomTest(test_support::SixAOmegaCg(), seed));
   tests.emplace_back("fixed-axis", SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
-  tests.emplace_back("fixed-axis-upright", SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d::Zero()));
+  tests.emplace_back("fixed-axis-upright",
+                     SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d::Zero()));
   tests.emplace_back("sequential", SynthSequential(test_support::Denton3222()));
   // Noisy (0.5 g RMS) and conditioned with the defaults.
   for (std::uint64_t seed = 21; seed <= 26; ++seed) {
@@ -155,7 +162,8 @@ TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
   }
   // Sensors displaced up to 5 mm, processed with their true geometry.
   for (std::uint64_t seed = 31; seed <= 33; ++seed)
-    tests.emplace_back("displaced", RandomTest(DisplaceSensors(test_support::Denton3222(), 0.005, seed), seed));
+    tests.emplace_back("displaced",
+                       RandomTest(DisplaceSensors(test_support::Denton3222(), 0.005, seed), seed));
   ASSERT_GE(tests.size(), 20u);
   for (const auto& [kind, test] : tests) {
     const std::vector<Finding> findings = ProcessFindings(test);
@@ -231,7 +239,8 @@ TEST(Screening, SpikeIsAWarningAtItsSample) {
       ExpectOnly(findings, "spike", {slot}, Severity::kWarning, test.name + " spike on " + slot);
       const Finding* spike = FindCheck(findings, "spike", slot);
       ASSERT_NE(spike, nullptr);
-      EXPECT_NE(spike->detail.find("at sample " + std::to_string(k) + " "), std::string::npos) << spike->detail;
+      EXPECT_NE(spike->detail.find("at sample " + std::to_string(k) + " "), std::string::npos)
+          << spike->detail;
     }
   }
 }
@@ -252,7 +261,8 @@ TEST(Screening, TwoGBiasWithoutPreImpactDataIsAWarning) {
     for (const std::string slot : {"cg_x", "cg_y", "yarm_z", "xarm_z", "zarm_y"}) {
       SyntheticTest test = host;
       Column(test, slot).array() += 2.0;
-      ExpectOnly(FaultFindings(test, slot), "bias", {slot}, Severity::kWarning, test.name + " bias on " + slot);
+      ExpectOnly(FaultFindings(test, slot), "bias", {slot}, Severity::kWarning,
+                 test.name + " bias on " + slot);
     }
   }
 }
@@ -280,7 +290,8 @@ TEST(Screening, TwoGBiasInThePreImpactMeanIsAWarning) {
       EXPECT_NE(bias->detail.find("pre-impact mean"), std::string::npos) << bias->detail;
       EXPECT_NE(bias->detail.find("subtracts it"), std::string::npos) << bias->detail;
       // The default bias removal subtracts it, so the array stays rigid.
-      EXPECT_EQ(std::count_if(findings.begin(), findings.end(), [](const Finding& f) { return f.check == "residual"; }),
+      EXPECT_EQ(std::count_if(findings.begin(), findings.end(),
+                              [](const Finding& f) { return f.check == "residual"; }),
                 0)
           << Describe(findings);
     }
@@ -294,7 +305,8 @@ TEST(Screening, NanDropoutIsAnErrorAndStopsProcessingNamingSlotAndSample) {
       auto column = Column(test, slot);
       const Index first = column.size() / 3;
       column.segment(first, 25).setConstant(std::nan(""));
-      const std::vector<Finding> findings = ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
+      const std::vector<Finding> findings =
+          ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
       ExpectOnly(findings, "non_finite", {slot}, Severity::kError, test.name + " NaN in " + slot);
       try {
         ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});
@@ -313,7 +325,8 @@ TEST(Screening, NanDropoutIsAnErrorAndStopsProcessingNamingSlotAndSample) {
 TEST(Screening, MissingChannelIsAnErrorNamingTheSlot) {
   SyntheticTest test = RandomTest(test_support::Denton3222(), 1);
   test.signals.slots[4] = "not_a_slot";
-  const std::vector<Finding> findings = ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
+  const std::vector<Finding> findings =
+      ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
   ExpectOnly(findings, "missing", {"yarm_x"}, Severity::kError, "missing yarm_x");
   try {
     ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});
@@ -332,9 +345,9 @@ TEST(Screening, ScaleFactorErrorShowsInTheResidualNamingTheChannel) {
       Column(test, slot) *= 1.5;
       const std::vector<Finding> findings = FaultFindings(test, slot);
       ExpectOnly(findings, "residual", {slot}, Severity::kWarning, test.name + " gain error on " + slot);
-      EXPECT_TRUE(std::none_of(findings.begin(), findings.end(),
-                               [](const Finding& f) { return f.check == "polarity" || f.check == "axis_label"; }))
-          << Describe(findings);
+      EXPECT_TRUE(std::none_of(findings.begin(), findings.end(), [](const Finding& f) {
+        return f.check == "polarity" || f.check == "axis_label";
+      })) << Describe(findings);
     }
   }
 }
@@ -344,7 +357,8 @@ TEST(Screening, SeedSolverRunsAreScreenedWithTheExactResidual) {
   Column(test, "yarm_x") *= -1.0;
   ProcessingConfig config;
   config.solver = SolverKind::kSeed;
-  ExpectOnly(ProcessFindings(test, config), "polarity", {"yarm_x"}, Severity::kError, "seed solver, flipped yarm_x");
+  ExpectOnly(ProcessFindings(test, config), "polarity", {"yarm_x"}, Severity::kError,
+             "seed solver, flipped yarm_x");
 }
 
 // The verdict beside ProcessTest: a clean test and one with warnings only
@@ -369,16 +383,19 @@ TEST(Verdict, FirstErrorFindingFailsTheTest) {
   EXPECT_EQ(failing->severity, Severity::kError);
   for (const Finding& f : failed.summary.findings) {
     if (&f == failing) break;
-    EXPECT_NE(f.severity, Severity::kError) << "not the first error finding\n" << Describe(failed.summary.findings);
+    EXPECT_NE(f.severity, Severity::kError) << "not the first error finding\n"
+                                            << Describe(failed.summary.findings);
   }
 }
 
 TEST(Screening, FlatChannelIsInfo) {
   SyntheticTest test = RandomTest(test_support::Denton3222(), 2);
-  const std::vector<Finding> clean = ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
+  const std::vector<Finding> clean =
+      ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
   EXPECT_TRUE(clean.empty()) << Describe(clean);
   Column(test, "cg_z").setConstant(0.25);
-  const std::vector<Finding> findings = ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
+  const std::vector<Finding> findings =
+      ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
   ExpectOnly(findings, "flat", {"cg_z"}, Severity::kInfo, "flat cg_z");
 }
 
@@ -409,8 +426,8 @@ TEST(Screening, NoisyTestsWithDefaultFilteringKeepPeakOmegaAndHic15) {
     }
   }
   EXPECT_GE(motions, 10);
-  std::printf("noise 0.5 g RMS, %d motions: worst peak-omega error %.3f %%, worst HIC15 error %.3f %%\n", motions,
-              100.0 * worst_omega, 100.0 * worst_hic);
+  std::printf("noise 0.5 g RMS, %d motions: worst peak-omega error %.3f %%, worst HIC15 error %.3f %%\n",
+              motions, 100.0 * worst_omega, 100.0 * worst_hic);
 }
 
 }  // namespace

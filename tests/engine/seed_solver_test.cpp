@@ -138,21 +138,28 @@ float TraceReal4(const ListingTrace& trace, Eigen::Index k, int column) {
   if (column == 0) return trace.time[k];
   const int c = (column - 1) % 3;
   switch ((column - 1) / 3) {
-    case 0: return trace.facc_g(k, c);
-    case 1: return trace.bomeg(k, c);
-    case 2: return trace.fomegd(k, c);
-    case 3: return trace.alpha_beta_gamma_deg(k, c);
-    case 4: return trace.ang_deg(k, c);
-    case 5: return trace.fomeg(k, c);
-    default: return trace.fvel_inps(k, c);
+    case 0:
+      return trace.facc_g(k, c);
+    case 1:
+      return trace.bomeg(k, c);
+    case 2:
+      return trace.fomegd(k, c);
+    case 3:
+      return trace.alpha_beta_gamma_deg(k, c);
+    case 4:
+      return trace.ang_deg(k, c);
+    case 5:
+      return trace.fomeg(k, c);
+    default:
+      return trace.fvel_inps(k, c);
   }
 }
 
 constexpr const char* kColumnNames[31] = {
-    "time",    "faccx",   "faccy",   "faccz",   "bomegxx", "bomegyy", "bomegzz", "fomegdx",
-    "fomegdy", "fomegdz", "alpha",   "beta",    "gamma",   "ang1",    "ang2",    "ang3",
-    "fomegx",  "fomegy",  "fomegz",  "fvelx",   "fvely",   "fvelz",   "T11",     "T12",
-    "T13",     "T21",     "T22",     "T23",     "T31",     "T32",     "T33"};
+    "time",    "faccx",   "faccy",  "faccz", "bomegxx", "bomegyy", "bomegzz", "fomegdx",
+    "fomegdy", "fomegdz", "alpha",  "beta",  "gamma",   "ang1",    "ang2",    "ang3",
+    "fomegx",  "fomegy",  "fomegz", "fvelx", "fvely",   "fvelz",   "T11",     "T12",
+    "T13",     "T21",     "T22",    "T23",   "T31",     "T32",     "T33"};
 
 struct GoldenCase {
   const char* input;
@@ -240,7 +247,8 @@ TEST_P(SeedGoldenTest, KinematicsAreTheListingOutputsInSi) {
       // so compare at the scale of the sum's terms, not of its result.
       const double scale = std::abs(t(c, 0) * acc_body_g[0]) + std::abs(t(c, 1) * acc_body_g[1]) +
                            std::abs(t(c, 2) * acc_body_g[2]);
-      EXPECT_NEAR(to_fixed(c, acc_body_g), ref.real4[1 + c], 0x1p-24 * std::abs(ref.real4[1 + c]) + 1e-14 * scale)
+      EXPECT_NEAR(to_fixed(c, acc_body_g), ref.real4[1 + c],
+                  0x1p-24 * std::abs(ref.real4[1 + c]) + 1e-14 * scale)
           << k;
     }
     // The quaternion is the nearest rotation to T; T itself is off SO(3) by
@@ -258,9 +266,9 @@ TEST_P(SeedGoldenTest, KinematicsAreTheListingOutputsInSi) {
   // Displacement: trapezoid of the velocity from 0.
   EXPECT_EQ(kin.pos_fixed.row(0).norm(), 0.0);
   const Eigen::Index last = kin.size() - 1;
-  const Eigen::Vector3d sum = 0.5 * signals.dt_s *
-                              (2.0 * kin.vel_fixed.colwise().sum() - kin.vel_fixed.row(0) - kin.vel_fixed.row(last))
-                                  .transpose();
+  const Eigen::Vector3d sum =
+      0.5 * signals.dt_s *
+      (2.0 * kin.vel_fixed.colwise().sum() - kin.vel_fixed.row(0) - kin.vel_fixed.row(last)).transpose();
   EXPECT_TRUE(kin.pos_fixed.row(last).transpose().isApprox(sum, 1e-10));
   EXPECT_EQ(kin.residual.norm(), 0.0);
 }
@@ -466,7 +474,9 @@ constexpr double kPulse = 0.06;
 constexpr double kAmplitude = 25.0;
 constexpr double kArmIn = 10.0;
 
-double TrueOmegaY(double t) { return t <= kPulse ? kAmplitude * (1.0 - std::cos(2.0 * kPi * t / kPulse)) : 0.0; }
+double TrueOmegaY(double t) {
+  return t <= kPulse ? kAmplitude * (1.0 - std::cos(2.0 * kPi * t / kPulse)) : 0.0;
+}
 double TrueTheta(double t) {
   const double w = 2.0 * kPi / kPulse;
   return t <= kPulse ? kAmplitude * (t - std::sin(w * t) / w) : kAmplitude * kPulse;
@@ -481,12 +491,12 @@ Eigen::Vector3d TrueVelocityInps(double t) {
 }
 
 struct ScenarioErrors {
-  Eigen::Vector3d peak_omega_fixed;   // signed value of largest magnitude
-  Eigen::Vector3d max_omega_error;    // max |omega_fixed - truth| per axis
-  double final_angle_error_deg = 0;   // nearest rotation of T vs truth
-  double final_orthonormality = 0;    // max |T T^T - I| at the end
-  double max_velocity_error_inps = 0; // max |v - truth|
-  double max_position_error_in = 0;   // max |x - truth|
+  Eigen::Vector3d peak_omega_fixed;    // signed value of largest magnitude
+  Eigen::Vector3d max_omega_error;     // max |omega_fixed - truth| per axis
+  double final_angle_error_deg = 0;    // nearest rotation of T vs truth
+  double final_orthonormality = 0;     // max |T T^T - I| at the end
+  double max_velocity_error_inps = 0;  // max |v - truth|
+  double max_position_error_in = 0;    // max |x - truth|
 };
 
 ScenarioErrors Evaluate(const ArrayGeometry& array, const std::string& input_name) {
@@ -507,15 +517,17 @@ ScenarioErrors Evaluate(const ArrayGeometry& array, const std::string& input_nam
       errors.max_omega_error[c] = std::max(errors.max_omega_error[c], std::abs(omega - truth[c]));
     }
     const Eigen::Vector3d v_inps = kin.vel_fixed.row(k).transpose() / kMetresPerInch;
-    errors.max_velocity_error_inps = std::max(errors.max_velocity_error_inps, (v_inps - TrueVelocityInps(t)).norm());
+    errors.max_velocity_error_inps =
+        std::max(errors.max_velocity_error_inps, (v_inps - TrueVelocityInps(t)).norm());
     const Eigen::Vector3d x_in = kin.pos_fixed.row(k).transpose() / kMetresPerInch;
     const Eigen::Vector3d x_true = Ry(TrueTheta(t)) * Eigen::Vector3d(0, 0, -kArmIn) - x_first;
     errors.max_position_error_in = std::max(errors.max_position_error_in, (x_in - x_true).norm());
   }
   const Eigen::Index last = kin.size() - 1;
   const Eigen::Vector4d q = kin.quat_fixed_from_body.row(last).transpose();
-  errors.final_angle_error_deg = kDegPerRad * AngleBetween(Eigen::Quaterniond(q[0], q[1], q[2], q[3]),
-                                                           Eigen::Quaterniond(TrueFixedFromBody(kin.time_s[last])));
+  errors.final_angle_error_deg =
+      kDegPerRad * AngleBetween(Eigen::Quaterniond(q[0], q[1], q[2], q[3]),
+                                Eigen::Quaterniond(TrueFixedFromBody(kin.time_s[last])));
   Eigen::Matrix3d t;
   for (int e = 0; e < 9; ++e) t(e / 3, e % 3) = trace.t_rowmajor(last, e);
   errors.final_orthonormality = (t * t.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
@@ -524,7 +536,8 @@ ScenarioErrors Evaluate(const ArrayGeometry& array, const std::string& input_nam
 
 void Print(const char* label, const ScenarioErrors& e) {
   std::printf(
-      "%s: peak fixed omega (%.4f, %.4f, %.4f) rad/s, max |omega err| (%.5f, %.5f, %.5f), final angle err %.4f deg, "
+      "%s: peak fixed omega (%.4f, %.4f, %.4f) rad/s, max |omega err| (%.5f, %.5f, %.5f), final angle err "
+      "%.4f deg, "
       "|TT'-I| %.2e, max |dv| %.3f in/s, max |dx| %.4f in\n",
       label, e.peak_omega_fixed.x(), e.peak_omega_fixed.y(), e.peak_omega_fixed.z(), e.max_omega_error.x(),
       e.max_omega_error.y(), e.max_omega_error.z(), e.final_angle_error_deg, e.final_orthonormality,
@@ -615,7 +628,8 @@ TEST(SeedInitialState, InitialVelocityIsTrapintsW0) {
     for (int c = 0; c < 3; ++c) {
       const double shift = kin.vel_fixed(k, c) - at_rest.vel_fixed(k, c);
       const double rounding = 0x1p-24 * (std::abs(kin.vel_fixed(k, c)) + std::abs(at_rest.vel_fixed(k, c)));
-      EXPECT_NEAR(shift, moving.velocity_fixed_mps[c], 2e-7 * std::abs(moving.velocity_fixed_mps[c]) + rounding);
+      EXPECT_NEAR(shift, moving.velocity_fixed_mps[c],
+                  2e-7 * std::abs(moving.velocity_fixed_mps[c]) + rounding);
     }
   }
   // Everything else is independent of the initial velocity.

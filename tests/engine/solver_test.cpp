@@ -1,5 +1,7 @@
 // Solve(): input checks, the angular-rate paths (6a-omega, fused), the
 // report's sequential rotations, gravity compensation and residuals.
+#include "engine/solver.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -11,7 +13,6 @@
 #include "engine/exact_solver.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
-#include "engine/solver.h"
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "tests/engine/error_metrics.h"
@@ -21,13 +22,14 @@
 namespace napkin::engine {
 namespace {
 
-using ::testing::HasSubstr;
 using test_support::CompareKinematics;
 using test_support::KinematicsErrors;
 using test_support::OptionsFor;
 using test_support::PrintErrors;
+using ::testing::HasSubstr;
 
-std::string SolveError(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options = {}) {
+std::string SolveError(const ArrayGeometry& array, const TestSignals& signals,
+                       const SolveOptions& options = {}) {
   try {
     Solve(array, signals, options);
   } catch (const InputError& error) {
@@ -42,7 +44,8 @@ TEST(Solver, RejectsUnusableSignals) {
 
   TestSignals missing = test.signals;
   missing.slots[6] = "something_else";
-  EXPECT_THAT(SolveError(test.array, missing), HasSubstr("channel 'xarm_y' required by array 'denton-3222' is missing"));
+  EXPECT_THAT(SolveError(test.array, missing),
+              HasSubstr("channel 'xarm_y' required by array 'denton-3222' is missing"));
 
   TestSignals one_sample = test.signals;
   one_sample.samples.conservativeResize(1, Eigen::NoChange);
@@ -65,7 +68,8 @@ TEST(Solver, RejectsUnusableSignals) {
 
   SolveOptions zero_passes;
   zero_passes.corrector_passes = 0;
-  EXPECT_THAT(SolveError(test.array, test.signals, zero_passes), HasSubstr("corrector_passes must be at least 1"));
+  EXPECT_THAT(SolveError(test.array, test.signals, zero_passes),
+              HasSubstr("corrector_passes must be at least 1"));
 
   ArrayGeometry broken = test.array;
   broken.sensors[2].axis_body.setZero();
@@ -179,14 +183,16 @@ TEST(Solver, GravityCompensationRecoversTruth) {
   RandomMotionOptions motion;
   motion.synth.gravity = true;
   for (std::uint64_t seed : {4, 9}) {
-    for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::NapArs12(), test_support::SixAOmegaCg()}) {
+    for (const ArrayGeometry& array :
+         {test_support::Denton3222(), test_support::NapArs12(), test_support::SixAOmegaCg()}) {
       motion.seed = seed;
       const SyntheticTest test = SynthRandomMotion(array, motion);
       SolveOptions options = OptionsFor(test);
       options.gravity.compensate = true;
       const KinematicsErrors with = CompareKinematics(Solve(test.array, test.signals, options), test.truth);
       options.gravity.compensate = false;
-      const KinematicsErrors without = CompareKinematics(Solve(test.array, test.signals, options), test.truth);
+      const KinematicsErrors without =
+          CompareKinematics(Solve(test.array, test.signals, options), test.truth);
       PrintErrors("gravity on " + array.name + " seed " + std::to_string(seed), with);
       EXPECT_LE(with.omega_rel, 0.05e-2);
       EXPECT_LE(with.orientation_deg, 0.02);
@@ -262,7 +268,8 @@ namespace {
 // The shortest records (2 to 5 samples) solve with finite results on every
 // path: the differentiators fall back to lower-order stencils.
 TEST(Solver, ShortRecordsGiveFiniteResults) {
-  for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::SixAOmegaCg(), test_support::NapArs12()}) {
+  for (const ArrayGeometry& array :
+       {test_support::Denton3222(), test_support::SixAOmegaCg(), test_support::NapArs12()}) {
     const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
     for (Eigen::Index n = 2; n <= 5; ++n) {
       TestSignals shortened = test.signals;

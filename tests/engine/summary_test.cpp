@@ -1,10 +1,11 @@
+#include "engine/summary.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
-#include "engine/summary.h"
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "tests/support/reference_arrays.h"

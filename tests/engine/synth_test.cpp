@@ -1,5 +1,7 @@
 // The synthetic generator's truth must be exact: self-consistent under
 // numerical differentiation, and equal to the report's known answers.
+#include "engine/synth.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include "engine/integration.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
-#include "engine/synth.h"
 #include "engine/units.h"
 #include "tests/support/reference_arrays.h"
 
@@ -44,10 +45,11 @@ void ExpectSelfConsistent(const SyntheticTest& test, double tolerance) {
   const double omega_scale = truth.omega_body.rowwise().norm().maxCoeff();
   double worst = 0.0;
   for (Eigen::Index k = 1; k < n; ++k) {
-    const Eigen::Vector3d step =
-        QuaternionLog(QuatAt(truth.quat_fixed_from_body, k - 1).conjugate() * QuatAt(truth.quat_fixed_from_body, k));
-    worst = std::max(worst, (step - 0.5 * dt * (truth.omega_body.row(k - 1) + truth.omega_body.row(k)).transpose())
-                                .norm());
+    const Eigen::Vector3d step = QuaternionLog(QuatAt(truth.quat_fixed_from_body, k - 1).conjugate() *
+                                               QuatAt(truth.quat_fixed_from_body, k));
+    worst = std::max(
+        worst,
+        (step - 0.5 * dt * (truth.omega_body.row(k - 1) + truth.omega_body.row(k)).transpose()).norm());
   }
   EXPECT_LE(worst, tolerance * dt * omega_scale) << "dR/dt = R [omega]x";
   // Fixed-frame series are R times body series; angles are those of R.
@@ -90,8 +92,8 @@ TEST(Synth, SeedFixedAxisTruthIsTheReportScenario) {
   EXPECT_NEAR(test.signals.samples(300, 0) * kStandardGravity,
               test.truth.acc_body(300, 0) +
                   (test.truth.alpha_body.row(300).cross(test.array.sensors[0].position_body_m.transpose()) +
-                   test.truth.omega_body.row(300).cross(
-                       test.truth.omega_body.row(300).cross(test.array.sensors[0].position_body_m.transpose())))(0),
+                   test.truth.omega_body.row(300).cross(test.truth.omega_body.row(300).cross(
+                       test.array.sensors[0].position_body_m.transpose())))(0),
               1e-9);
 }
 
@@ -158,10 +160,12 @@ TEST(Synth, SignalsUseEachSlotsUnit) {
   for (std::size_t i = 0; i < 9; ++i) {
     const Sensor& s = test.array.sensors[i];
     const Eigen::Index k = 1234;
-    const Eigen::Vector3d w = test.truth.omega_body.row(k).transpose(), al = test.truth.alpha_body.row(k).transpose();
+    const Eigen::Vector3d w = test.truth.omega_body.row(k).transpose(),
+                          al = test.truth.alpha_body.row(k).transpose();
     const Eigen::Vector3d a = test.truth.acc_body.row(k).transpose();
     const double expected =
-        s.axis_body.dot(a + al.cross(s.position_body_m) + w.cross(w.cross(s.position_body_m))) / s.si_per_unit;
+        s.axis_body.dot(a + al.cross(s.position_body_m) + w.cross(w.cross(s.position_body_m))) /
+        s.si_per_unit;
     EXPECT_NEAR(test.signals.samples(k, static_cast<Eigen::Index>(i)), expected, 1e-9) << s.slot;
   }
 }
@@ -170,7 +174,8 @@ TEST(Synth, GravityReadingIsZeroedAtStartAndFollowsTheHeadTurn) {
   SynthOptions with_gravity;
   with_gravity.gravity = true;
   const SyntheticTest plain = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
-  const SyntheticTest heavy = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5), with_gravity);
+  const SyntheticTest heavy =
+      SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5), with_gravity);
   EXPECT_LE((plain.signals.samples.row(0) - heavy.signals.samples.row(0)).norm(), 1e-15);
   // Truth is the same motion; only the readings differ, by -(R^T - R0^T) g.
   EXPECT_EQ(plain.truth.acc_body, heavy.truth.acc_body);
@@ -178,7 +183,8 @@ TEST(Synth, GravityReadingIsZeroedAtStartAndFollowsTheHeadTurn) {
   const Eigen::Matrix3d r = QuatAt(plain.truth.quat_fixed_from_body, k).toRotationMatrix();
   const Eigen::Matrix3d r0 = QuatAt(plain.truth.quat_fixed_from_body, 0).toRotationMatrix();
   const Eigen::Vector3d reading = -(r.transpose() - r0.transpose()) * Eigen::Vector3d(0, 0, kStandardGravity);
-  EXPECT_NEAR((heavy.signals.samples(k, 0) - plain.signals.samples(k, 0)) * kStandardGravity, reading.x(), 1e-9);
+  EXPECT_NEAR((heavy.signals.samples(k, 0) - plain.signals.samples(k, 0)) * kStandardGravity, reading.x(),
+              1e-9);
   EXPECT_GT(std::abs(reading.x()), 1.0);  // the test is not vacuous
 }
 

@@ -106,7 +106,8 @@ TEST(ArrayJsonTest, AxesAreNormalisedAndUnitsConverted) {
 
 TEST(ArrayJsonTest, BadDefinitionsNameFileAndSlot) {
   TempDir dir;
-  const std::string ok_sensor = R"({"slot": "cg_x", "type": "linear", "position": [0,0,0], "axis": [1,0,0], "unit": "g"})";
+  const std::string ok_sensor =
+      R"({"slot": "cg_x", "type": "linear", "position": [0,0,0], "axis": [1,0,0], "unit": "g"})";
   auto array_with = [&](const std::string& sensor) {
     return R"({"length_unit": "in", "sensors": [)" + ok_sensor + "," + sensor + "]}";
   };
@@ -117,26 +118,51 @@ TEST(ArrayJsonTest, BadDefinitionsNameFileAndSlot) {
                    "unknown length_unit \"furlong\"");
   ExpectArrayError(WriteText(dir, "nosensors.json", R"({"length_unit": "in"})"), "no \"sensors\"");
   ExpectArrayError(WriteText(dir, "empty.json", R"({"length_unit": "in", "sensors": []})"), "no sensors");
-  ExpectArrayError(WriteText(dir, "type.json", array_with(R"({"slot": "q", "type": "gyro", "axis": [1,0,0], "unit": "g"})")),
+  ExpectArrayError(WriteText(dir, "type.json",
+                             array_with(R"({"slot": "q", "type": "gyro", "axis": [1,0,0], "unit": "g"})")),
                    "sensor 2 (slot \"q\") has unknown type \"gyro\"");
-  ExpectArrayError(WriteText(dir, "unit.json", array_with(R"({"slot": "q", "type": "linear", "position": [0,0,0], "axis": [1,0,0], "unit": "rad/s"})")),
-                   "slot \"q\") has unknown unit \"rad/s\"");
-  ExpectArrayError(WriteText(dir, "rateunit.json", array_with(R"({"slot": "w", "type": "angular_rate", "axis": [1,0,0], "unit": "g"})")),
-                   "slot \"w\") has unknown unit \"g\"");
-  ExpectArrayError(WriteText(dir, "noaxis.json", array_with(R"({"slot": "q", "type": "linear", "position": [0,0,0], "unit": "g"})")),
-                   "slot \"q\") has no \"axis\"");
-  ExpectArrayError(WriteText(dir, "nopos.json", array_with(R"({"slot": "q", "type": "linear", "axis": [1,0,0], "unit": "g"})")),
+  ExpectArrayError(
+      WriteText(
+          dir, "unit.json",
+          array_with(
+              R"({"slot": "q", "type": "linear", "position": [0,0,0], "axis": [1,0,0], "unit": "rad/s"})")),
+      "slot \"q\") has unknown unit \"rad/s\"");
+  ExpectArrayError(
+      WriteText(dir, "rateunit.json",
+                array_with(R"({"slot": "w", "type": "angular_rate", "axis": [1,0,0], "unit": "g"})")),
+      "slot \"w\") has unknown unit \"g\"");
+  ExpectArrayError(
+      WriteText(dir, "noaxis.json",
+                array_with(R"({"slot": "q", "type": "linear", "position": [0,0,0], "unit": "g"})")),
+      "slot \"q\") has no \"axis\"");
+  ExpectArrayError(WriteText(dir, "nopos.json",
+                             array_with(R"({"slot": "q", "type": "linear", "axis": [1,0,0], "unit": "g"})")),
                    "slot \"q\") has no \"position\"");
-  ExpectArrayError(WriteText(dir, "zeroaxis.json", array_with(R"({"slot": "q", "type": "linear", "position": [0,0,0], "axis": [0,0,0], "unit": "g"})")),
-                   "slot \"q\") has a zero axis");
-  ExpectArrayError(WriteText(dir, "axislen.json", array_with(R"({"slot": "q", "type": "linear", "position": [0,0,0], "axis": [1,0], "unit": "g"})")),
-                   "\"axis\" must be an array of three numbers");
-  ExpectArrayError(WriteText(dir, "axistype.json", array_with(R"({"slot": "q", "type": "linear", "position": [0,"a",0], "axis": [1,0,0], "unit": "g"})")),
-                   "\"position\" must be an array of three numbers");
-  ExpectArrayError(WriteText(dir, "slottype.json", array_with(R"({"slot": 7, "type": "linear", "position": [0,0,0], "axis": [1,0,0], "unit": "g"})")),
-                   "sensor 2: \"slot\" must be a string, not a number");
-  ExpectArrayError(WriteText(dir, "dup.json", array_with(ok_sensor)), "sensor 2 (slot \"cg_x\") duplicates an earlier slot");
-  ExpectArrayError(WriteText(dir, "noslot.json", array_with(R"({"type": "linear"})")), "sensor 2 has no \"slot\"");
+  ExpectArrayError(
+      WriteText(dir, "zeroaxis.json",
+                array_with(
+                    R"({"slot": "q", "type": "linear", "position": [0,0,0], "axis": [0,0,0], "unit": "g"})")),
+      "slot \"q\") has a zero axis");
+  ExpectArrayError(
+      WriteText(
+          dir, "axislen.json",
+          array_with(R"({"slot": "q", "type": "linear", "position": [0,0,0], "axis": [1,0], "unit": "g"})")),
+      "\"axis\" must be an array of three numbers");
+  ExpectArrayError(
+      WriteText(
+          dir, "axistype.json",
+          array_with(
+              R"({"slot": "q", "type": "linear", "position": [0,"a",0], "axis": [1,0,0], "unit": "g"})")),
+      "\"position\" must be an array of three numbers");
+  ExpectArrayError(
+      WriteText(
+          dir, "slottype.json",
+          array_with(R"({"slot": 7, "type": "linear", "position": [0,0,0], "axis": [1,0,0], "unit": "g"})")),
+      "sensor 2: \"slot\" must be a string, not a number");
+  ExpectArrayError(WriteText(dir, "dup.json", array_with(ok_sensor)),
+                   "sensor 2 (slot \"cg_x\") duplicates an earlier slot");
+  ExpectArrayError(WriteText(dir, "noslot.json", array_with(R"({"type": "linear"})")),
+                   "sensor 2 has no \"slot\"");
 }
 
 }  // namespace

@@ -20,8 +20,8 @@ namespace {
 
 using test_support::ExpectInputError;
 using test_support::MakeSignals;
-using test_support::WriteBytes;
 using test_support::TempDir;
+using test_support::WriteBytes;
 
 TEST(CsvTest, RawSignalsRoundTripToIdenticalSamples) {
   TempDir dir;
@@ -51,7 +51,8 @@ TEST(CsvTest, ColumnsInAnyOrderCommentsCrlfAndExtraColumns) {
   const CsvSignals read = ReadSignalsCsv(dir / "in.csv", &array);
   ASSERT_EQ(read.warnings.size(), 1u);
   EXPECT_NE(read.warnings[0].find("\"extra\""), std::string::npos);
-  EXPECT_EQ(read.signals.slots, (std::vector<std::string>{"cg_x", "cg_y", "cg_z", "ars_x", "ars_y", "ars_z"}));
+  EXPECT_EQ(read.signals.slots,
+            (std::vector<std::string>{"cg_x", "cg_y", "cg_z", "ars_x", "ars_y", "ars_z"}));
   ASSERT_EQ(read.signals.size(), 3);
   for (int k = 0; k < 3; ++k)
     for (int c = 0; c < 6; ++c) EXPECT_EQ(read.signals.samples(k, c), 10.0 * k + c + 1);
@@ -72,7 +73,8 @@ TEST(CsvTest, JitterWithinOnePpmIsAccepted) {
   TempDir dir;
   std::ostringstream text;
   text << "time_s,a\n";
-  for (int k = 0; k < 100; ++k) text << FormatNumber(k * 1e-4 * (1.0 + ((k % 2) ? 4e-7 / k : 0.0))) << "," << k << "\n";
+  for (int k = 0; k < 100; ++k)
+    text << FormatNumber(k * 1e-4 * (1.0 + ((k % 2) ? 4e-7 / k : 0.0))) << "," << k << "\n";
   WriteBytes(dir / "in.csv", text.str());
   EXPECT_NO_THROW(ReadSignalsCsv(dir / "in.csv"));
 }
@@ -134,7 +136,8 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(CsvTest, MissingFileIsNamed) {
   TempDir dir;
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
-  ExpectInputError([&] { ReadSignalsCsv(dir / "absent.csv", &array); }, {(dir / "absent.csv").string(), "cannot open"});
+  ExpectInputError([&] { ReadSignalsCsv(dir / "absent.csv", &array); },
+                   {(dir / "absent.csv").string(), "cannot open"});
 }
 
 engine::Kinematics MakeKinematics(Eigen::Index n) {
@@ -185,8 +188,8 @@ TEST(CsvTest, DerivedValuesInContractUnitsWithNineDigits) {
   for (Eigen::Index i = 0; i < 50; ++i) {
     for (int c = 0; c < 3; ++c) {
       const double base = static_cast<double>(i) + 0.1 * c;
-      // Columns after time_s: omega_body(0..2), alpha_body, omega_fixed, alpha_fixed, acc_body (g), acc_fixed (g),
-      // vel, pos, quat(4), rpy (deg), dcos (deg); each equals base + its group number by construction.
+      // Columns after time_s: omega_body(0..2), alpha_body, omega_fixed, alpha_fixed, acc_body (g), acc_fixed
+      // (g), vel, pos, quat(4), rpy (deg), dcos (deg); each equals base + its group number by construction.
       for (int group = 0; group < 8; ++group)
         EXPECT_NEAR(read.signals.samples(i, group * 3 + c), base + group + 1, 1e-9 * (base + group + 1));
       EXPECT_NEAR(read.signals.samples(i, 28 + c), base + 9, 1e-9 * (base + 9));
@@ -203,8 +206,9 @@ TEST(CsvTest, WriterLeavesNoPartialFileBehind) {
   bad.samples.resize(3, 1);  // slots do not match columns
   EXPECT_THROW(WriteSignalsCsv(bad, dir / "out.csv"), InputError);
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
-  EXPECT_THROW(WriteSignalsCsv(MakeSignals(test_support::Ideal3222(), 3, 1e-3, 0), dir / "missing-dir" / "out.csv"),
-               InputError);
+  EXPECT_THROW(
+      WriteSignalsCsv(MakeSignals(test_support::Ideal3222(), 3, 1e-3, 0), dir / "missing-dir" / "out.csv"),
+      InputError);
 }
 
 }  // namespace

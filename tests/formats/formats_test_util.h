@@ -8,8 +8,8 @@
 #include <functional>
 #include <string>
 
-#include "engine/array_geometry.h"
 #include "common/error.h"
+#include "engine/array_geometry.h"
 #include "engine/signals.h"
 
 namespace napkin::test_support {
@@ -26,8 +26,9 @@ inline engine::TestSignals MakeSignals(const engine::ArrayGeometry& array, Eigen
     signals.slots.push_back(array.sensors[c].slot);
     for (Eigen::Index k = 0; k < samples; ++k) {
       const double t = t0_s + static_cast<double>(k) * dt_s;
-      double value = (10.0 + static_cast<double>(c)) * std::sin(2.0 * 3.14159265358979 * (7.0 + c) * t + 0.3 * c) +
-                     1e-3 * static_cast<double>(k % 17) - 0.37 * static_cast<double>(c);
+      double value =
+          (10.0 + static_cast<double>(c)) * std::sin(2.0 * 3.14159265358979 * (7.0 + c) * t + 0.3 * c) +
+          1e-3 * static_cast<double>(k % 17) - 0.37 * static_cast<double>(c);
       if (single_precision) value = static_cast<double>(static_cast<float>(value));
       signals.samples(k, static_cast<Eigen::Index>(c)) = value;
     }
@@ -53,7 +54,8 @@ inline void ExpectInputError(const std::function<void()>& action, const std::vec
   } catch (const InputError& error) {
     const std::string message = error.what();
     for (const std::string& fragment : fragments)
-      EXPECT_NE(message.find(fragment), std::string::npos) << "message: " << message << "\nmissing: " << fragment;
+      EXPECT_NE(message.find(fragment), std::string::npos)
+          << "message: " << message << "\nmissing: " << fragment;
     EXPECT_EQ(message.back(), '.') << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }

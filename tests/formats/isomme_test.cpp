@@ -31,7 +31,8 @@ TEST(ChannelMapTest, CodePatterns) {
 
 TEST(ChannelMapTest, PresetsCoverTheirSlots) {
   const ChannelMap standard = LoadChannelMap("default");
-  for (const char* slot : {"cg_x", "cg_y", "cg_z", "ars_x", "ars_y", "ars_z"}) EXPECT_NE(standard.Find(slot), nullptr) << slot;
+  for (const char* slot : {"cg_x", "cg_y", "cg_z", "ars_x", "ars_y", "ars_z"})
+    EXPECT_NE(standard.Find(slot), nullptr) << slot;
   EXPECT_EQ(standard.Find("yarm_z"), nullptr);
   const ChannelMap nap = LoadChannelMap("nap-example");
   for (const char* slot : engine::kNapSlots) EXPECT_NE(nap.Find(slot), nullptr) << slot;
@@ -137,18 +138,19 @@ TEST_P(IsoMmePresetTest, RawSignalsRoundTrip) {
   EXPECT_EQ(test.TestNumber(), "T" + array.name);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryPreset, IsoMmePresetTest,
-                         ::testing::Values(PresetCase{"denton_3222", &test_support::Denton3222, "nap-example"},
-                                           PresetCase{"volpe_table4_2", &test_support::VolpeTable42,
-                                                      "nap-example"},
-                                           PresetCase{"six_a_omega_cg", &test_support::SixAOmegaCg, "default"}),
-                         test_support::CaseName());
+INSTANTIATE_TEST_SUITE_P(
+    EveryPreset, IsoMmePresetTest,
+    ::testing::Values(PresetCase{"denton_3222", &test_support::Denton3222, "nap-example"},
+                      PresetCase{"volpe_table4_2", &test_support::VolpeTable42, "nap-example"},
+                      PresetCase{"six_a_omega_cg", &test_support::SixAOmegaCg, "default"}),
+    test_support::CaseName());
 
 TEST(IsoMmeTest, WritingAgainReplacesTheFolderAsAWhole) {
   TempDir dir;
   const ChannelMap standard = LoadChannelMap("default");
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
-  WriteIsoMme(test_support::MakeSignals(array, 517, 1e-4, -0.005), array, standard, dir / "6aw-cg", "T6aw-cg");
+  WriteIsoMme(test_support::MakeSignals(array, 517, 1e-4, -0.005), array, standard, dir / "6aw-cg",
+              "T6aw-cg");
   const engine::TestSignals shorter = test_support::MakeSignals(array, 10, 1e-3, 0.0);
   WriteIsoMme(shorter, array, standard, dir / "6aw-cg", "T6aw-cg");
   EXPECT_EQ(ReadIsoMmeSignals(dir / "6aw-cg", array, standard).size(), 10);
@@ -165,7 +167,8 @@ std::string ChannelText(const std::string& code, const std::string& unit, double
   text += "Sampling interval           :" + std::to_string(dt) + "\r\n";
   text += "Unit                        :" + unit + "\r\n";
   text += "Time of first sample        :" + std::to_string(t0) + "\r\n";
-  text += "Number of samples           :" + std::to_string(declared >= 0 ? declared : static_cast<long>(values.size())) + "\r\n";
+  text += "Number of samples           :" +
+          std::to_string(declared >= 0 ? declared : static_cast<long>(values.size())) + "\r\n";
   text += "Data status                 :ok\r\n";
   for (const std::string& value : values) text += value + "\r\n";
   return text;
@@ -179,7 +182,8 @@ std::vector<std::string> Ramp(int count, double start, double step) {
 
 void WriteFolder(const std::filesystem::path& folder, const std::vector<std::string>& channels) {
   std::filesystem::create_directories(folder / "Channel");
-  test_support::WriteBytes(folder / "test.mme", "Data format                 :ISO-MME\r\nTest number                 :SN-77\r\n");
+  test_support::WriteBytes(folder / "test.mme",
+                           "Data format                 :ISO-MME\r\nTest number                 :SN-77\r\n");
   std::string chn = "Number of channels          :" + std::to_string(channels.size()) + "\r\n";
   test_support::WriteBytes(folder / "Channel" / "test.chn", chn);
   for (std::size_t i = 0; i < channels.size(); ++i) {
@@ -192,24 +196,25 @@ void WriteFolder(const std::filesystem::path& folder, const std::vector<std::str
 TEST(IsoMmeTest, ReadsForeignFolderOnCommonTimeSpanInSlotUnits) {
   TempDir dir;
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
-  WriteFolder(dir / "t", {
-                             ChannelText("11NECKUP0000H3FOXA", "kN", 0.001, 0.0, Ramp(5, 0, 1)),  // not a head channel
-                             ChannelText("11HEAD0000H3ACXA", "g", 0.001, -0.002, Ramp(10, 0, 1)),
-                             ChannelText("11HEAD0000H3ACYA", "m/s**2", 0.001, 0.0, Ramp(10, 0, 9.80665)),
-                             ChannelText("11HEAD0000H3ACZA", "g", 0.001, -0.001, Ramp(10, 100, 1)),
-                             ChannelText("11HEAD0000H3AVXA", "deg/s", 0.001, 0.0, Ramp(10, 0, 180)),
-                             ChannelText("11HEAD0000H3AVYA", "rad/s", 0.001, 0.0, Ramp(10, 5, 0)),
-                             ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 0.0, Ramp(10, 6, 0)),
-                         });
+  WriteFolder(dir / "t",
+              {
+                  ChannelText("11NECKUP0000H3FOXA", "kN", 0.001, 0.0, Ramp(5, 0, 1)),  // not a head channel
+                  ChannelText("11HEAD0000H3ACXA", "g", 0.001, -0.002, Ramp(10, 0, 1)),
+                  ChannelText("11HEAD0000H3ACYA", "m/s**2", 0.001, 0.0, Ramp(10, 0, 9.80665)),
+                  ChannelText("11HEAD0000H3ACZA", "g", 0.001, -0.001, Ramp(10, 100, 1)),
+                  ChannelText("11HEAD0000H3AVXA", "deg/s", 0.001, 0.0, Ramp(10, 0, 180)),
+                  ChannelText("11HEAD0000H3AVYA", "rad/s", 0.001, 0.0, Ramp(10, 5, 0)),
+                  ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 0.0, Ramp(10, 6, 0)),
+              });
   const engine::TestSignals signals = ReadIsoMmeSignals(dir / "t", array, LoadChannelMap("default"));
   // Common span: 0 ... 0.007 s (cg_x runs -0.002 ... 0.007).
   ASSERT_EQ(signals.size(), 8);
   EXPECT_NEAR(signals.t0_s, 0.0, 1e-15);
   EXPECT_EQ(signals.dt_s, 0.001);
   for (int k = 0; k < 8; ++k) {
-    EXPECT_NEAR(signals.samples(k, 0), k + 2, 1e-12);          // cg_x in g, shifted by 2 samples
-    EXPECT_NEAR(signals.samples(k, 1), k, 1e-12);              // m/s**2 -> g
-    EXPECT_NEAR(signals.samples(k, 2), 101 + k, 1e-12);        // shifted by 1 sample
+    EXPECT_NEAR(signals.samples(k, 0), k + 2, 1e-12);           // cg_x in g, shifted by 2 samples
+    EXPECT_NEAR(signals.samples(k, 1), k, 1e-12);               // m/s**2 -> g
+    EXPECT_NEAR(signals.samples(k, 2), 101 + k, 1e-12);         // shifted by 1 sample
     EXPECT_NEAR(signals.samples(k, 3), k * engine::kPi, 1e-9);  // deg/s -> rad/s
     EXPECT_EQ(signals.samples(k, 4), 5.0);
   }
@@ -313,7 +318,7 @@ TEST(IsoMmeTest, MissingChannelFilesAreNamed) {
   std::filesystem::create_directories(folder / "Channel");
   test_support::WriteBytes(folder / "Channel" / "a.chn", "Number of channels :2\n");
   test_support::WriteBytes(folder / "Channel" / "a.001",
-                   ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
+                           ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, Ramp(6, 0, 1)));
   ExpectInputError([&] { ReadIsoMme(folder); }, {"a.002", "channel 2 of 2", "missing"});
 }
 
@@ -343,8 +348,8 @@ TEST(IsoMmeTest, DerivedExportReadsBack) {
   k.Resize(20);
   for (Eigen::Index i = 0; i < 20; ++i) {
     k.time_s[i] = -0.001 + 0.0005 * static_cast<double>(i);
-    for (engine::Series3* s : {&k.omega_body, &k.alpha_body, &k.omega_fixed, &k.alpha_fixed, &k.acc_body, &k.acc_fixed,
-                               &k.vel_fixed, &k.pos_fixed, &k.roll_pitch_yaw_rad, &k.dcos_rad})
+    for (engine::Series3* s : {&k.omega_body, &k.alpha_body, &k.omega_fixed, &k.alpha_fixed, &k.acc_body,
+                               &k.acc_fixed, &k.vel_fixed, &k.pos_fixed, &k.roll_pitch_yaw_rad, &k.dcos_rad})
       s->row(i) << 1.0 * i, 2.0 * i, 3.0 * i;
     k.quat_fixed_from_body.row(i) << 1, 0, 0, 0;
   }

@@ -19,7 +19,7 @@ using test_support::ParseKeyword;
 using test_support::TempDir;
 using test_support::Trapezoid;
 
-constexpr double kPulse = 0.05;  // s
+constexpr double kPulse = 0.05;                         // s
 constexpr double kPeakVelocity[3] = {3.0, -1.5, 0.75};  // m/s
 constexpr double kPeakOmega[3] = {20.0, -35.0, 5.0};    // rad/s
 
@@ -36,7 +36,8 @@ engine::Kinematics PulseKinematics(Eigen::Index n, double t0) {
     for (int c = 0; c < 3; ++c) {
       k.vel_fixed(i, c) = kPeakVelocity[c] * s * s;
       k.omega_fixed(i, c) = kPeakOmega[c] * s * s;
-      k.pos_fixed(i, c) = kPeakVelocity[c] * (t / 2 - kPulse * std::sin(2 * engine::kPi * t / kPulse) / (4 * engine::kPi));
+      k.pos_fixed(i, c) =
+          kPeakVelocity[c] * (t / 2 - kPulse * std::sin(2 * engine::kPi * t / kPulse) / (4 * engine::kPi));
     }
   }
   return k;
@@ -85,8 +86,11 @@ TEST(LsDynaTest, LegacyLcFileLayout) {
   WriteLcFile(k, dir / "LC_FILE.DAT");
   std::ifstream in(dir / "LC_FILE.DAT");
   std::string line;
-  const char* comments[6] = {"c load curve for x velocity", "c load curve for y velocity", "c load curve for z velocity",
-                             "c load curve for angular vel. about x axis", "c load curve for angular vel. about y axis",
+  const char* comments[6] = {"c load curve for x velocity",
+                             "c load curve for y velocity",
+                             "c load curve for z velocity",
+                             "c load curve for angular vel. about x axis",
+                             "c load curve for angular vel. about y axis",
                              "c load curve for angular vel. about z axis"};
   for (int curve = 0; curve < 6; ++curve) {
     ASSERT_TRUE(std::getline(in, line));
@@ -107,7 +111,8 @@ TEST(LsDynaTest, LegacyLcFileLayout) {
       EXPECT_NEAR(points.back().second, expected, 5e-4 * std::abs(expected) + 1e-30);
       EXPECT_NEAR(points.back().first, j * kPulse / 100, 5e-4 * j * kPulse / 100);
     }
-    const double expected = curve < 3 ? kPeakVelocity[curve] * kPulse / 2 / 0.0254 : kPeakOmega[curve - 3] * kPulse / 2;
+    const double expected =
+        curve < 3 ? kPeakVelocity[curve] * kPulse / 2 / 0.0254 : kPeakOmega[curve - 3] * kPulse / 2;
     EXPECT_NEAR(Trapezoid(points), expected, 1e-3 * std::abs(expected));
   }
   EXPECT_FALSE(std::getline(in, line));
@@ -117,7 +122,8 @@ TEST(LsDynaTest, RejectsSingleSampleWithoutLeavingAFile) {
   TempDir dir;
   engine::Kinematics k;
   k.Resize(1);
-  test_support::ExpectInputError([&] { WriteLsDynaKeyword(k, dir / "x.k"); }, {"x.k", "fewer than two samples"});
+  test_support::ExpectInputError([&] { WriteLsDynaKeyword(k, dir / "x.k"); },
+                                 {"x.k", "fewer than two samples"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 

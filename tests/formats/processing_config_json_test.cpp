@@ -105,7 +105,8 @@ TEST(ProcessingConfigJson, RoundTripIsExactAndCanonical) {
     // ADL hooks.
     const json via_adl = config;
     EXPECT_EQ(via_adl, canonical);
-    EXPECT_EQ(CanonicalProcessingConfig(via_adl.get<engine::ProcessingConfig>()), CanonicalProcessingConfig(config));
+    EXPECT_EQ(CanonicalProcessingConfig(via_adl.get<engine::ProcessingConfig>()),
+              CanonicalProcessingConfig(config));
     // A different configuration has a different canonical dump.
     engine::ProcessingConfig other = config;
     other.hic.from_time_zero = false;

@@ -23,17 +23,44 @@ TEST(SummaryJsonTest, ExactlyTheContractFieldsInOrder) {
   summary.final_roll_pitch_yaw_deg = Eigen::Vector3d(10, 20, 30);
   summary.final_pos_fixed_m = Eigen::Vector3d(0.1, 0.2, 0.3);
   summary.max_rotation_deg = 45;
-  summary.findings.push_back({"saturation", std::string("yarm_z"), engine::Severity::kWarning, "Clipped at 500 g."});
+  summary.findings.push_back(
+      {"saturation", std::string("yarm_z"), engine::Severity::kWarning, "Clipped at 500 g."});
   summary.findings.push_back({"residual", std::nullopt, engine::Severity::kError, "Residual is large."});
   const nlohmann::ordered_json json = SummaryToJson(summary, "T1", "S", "foam-a");
 
-  const std::vector<std::string> expected_keys = {
-      "test_id", "series", "variant", "hic15", "hic15_t1_s", "hic15_t2_s", "hic36", "hic36_t1_s", "hic36_t2_s",
-      "hic", "hic_t1_s", "hic_t2_s", "peak_acc_g", "a3ms_g",
-      "peak_omega_x_radps", "peak_omega_y_radps", "peak_omega_z_radps", "peak_omega_radps", "peak_alpha_radps2",
-      "bric", "damage", "final_quat_w", "final_quat_x", "final_quat_y", "final_quat_z", "final_roll_deg",
-      "final_pitch_deg", "final_yaw_deg", "final_pos_x_m", "final_pos_y_m", "final_pos_z_m", "max_rotation_deg",
-      "quality"};
+  const std::vector<std::string> expected_keys = {"test_id",
+                                                  "series",
+                                                  "variant",
+                                                  "hic15",
+                                                  "hic15_t1_s",
+                                                  "hic15_t2_s",
+                                                  "hic36",
+                                                  "hic36_t1_s",
+                                                  "hic36_t2_s",
+                                                  "hic",
+                                                  "hic_t1_s",
+                                                  "hic_t2_s",
+                                                  "peak_acc_g",
+                                                  "a3ms_g",
+                                                  "peak_omega_x_radps",
+                                                  "peak_omega_y_radps",
+                                                  "peak_omega_z_radps",
+                                                  "peak_omega_radps",
+                                                  "peak_alpha_radps2",
+                                                  "bric",
+                                                  "damage",
+                                                  "final_quat_w",
+                                                  "final_quat_x",
+                                                  "final_quat_y",
+                                                  "final_quat_z",
+                                                  "final_roll_deg",
+                                                  "final_pitch_deg",
+                                                  "final_yaw_deg",
+                                                  "final_pos_x_m",
+                                                  "final_pos_y_m",
+                                                  "final_pos_z_m",
+                                                  "max_rotation_deg",
+                                                  "quality"};
   std::vector<std::string> keys;
   for (const auto& item : json.items()) keys.push_back(item.key());
   EXPECT_EQ(keys, expected_keys);

@@ -156,11 +156,12 @@ TEST(UdsLayoutTest, ReadsHandBuiltSunFile) {
   put(512 + 86, "ZL");
   put(512 + 108, "G'S");
   put_be(512 + 278, 0);
-  put_be(512 + 282, 129);                   // 130 samples: two data records
-  put_be(512 + 286, 0x3A83126F);            // 0.001f
+  put_be(512 + 282, 129);         // 130 samples: two data records
+  put_be(512 + 286, 0x3A83126F);  // 0.001f
   for (int r = 0; r < 2; ++r) {
     put(1024 + r * 512, "Y DATA      ");
-    for (int i = 0; i < 125; ++i) put_be(1024 + r * 512 + 12 + 4 * i, std::bit_cast<std::uint32_t>(float(r * 125 + i)));
+    for (int i = 0; i < 125; ++i)
+      put_be(1024 + r * 512 + 12 + 4 * i, std::bit_cast<std::uint32_t>(float(r * 125 + i)));
   }
   TempDir dir;
   test_support::WriteBytes(dir / "t.002", bytes);

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "db/catalogue.h"
 #include "common/error.h"
+#include "db/catalogue.h"
 #include "formats/array_json.h"
 #include "ingest/content_hash.h"
 #include "ingest/store.h"
@@ -20,7 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
 
 // The expected digests are SHA-256 of the byte sequences the hashes are
 // defined by, computed independently (Python hashlib); a change here
@@ -37,7 +39,8 @@ TEST(ContentHashTest, SyntheticHashIsPinned) {
   test.initial.orientation_rad = {0.1, 0.2, 0.3};
   test.initial.velocity_fixed_mps = {1.5, -2.5, 3.5};
   test.initial.omega_body_radps = {0.25, -0.5, 0.75};
-  EXPECT_EQ(SyntheticContentHash(array, test), "33855aa5525cd5ed506085e4f98c2f055d4f01e826f60ea50d2cb1cea753fff3");
+  EXPECT_EQ(SyntheticContentHash(array, test),
+            "33855aa5525cd5ed506085e4f98c2f055d4f01e826f60ea50d2cb1cea753fff3");
 }
 
 TEST(ContentHashTest, InputHashesArePinned) {
@@ -120,7 +123,8 @@ TEST(SynthTest, PaddingVariantsAreLabelledAndStoredOnce) {
   const SynthCounts first = StoreSynthTests(catalogue, plan);
   EXPECT_EQ(first.added, 6);
   EXPECT_EQ(first.present, 0);
-  const db::TestRecord test = catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-variants-foam-a-02"));
+  const db::TestRecord test =
+      catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-variants-foam-a-02"));
   EXPECT_EQ(test.series, "padding-variants");
   EXPECT_EQ(test.variant, "foam-a");
   EXPECT_EQ(test.source_path, "synth:padding-variants");
@@ -140,9 +144,10 @@ TEST(SynthTest, FixedDurationScenariosRefuseSamples) {
     PlanSynth(request);
     ADD_FAILURE() << "--duration accepted for seed-sequential";
   } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              "--samples and --duration apply to the random and padding-variants scenarios only; seed-sequential "
-              "has the report's fixed duration.");
+    EXPECT_EQ(
+        std::string(error.what()),
+        "--samples and --duration apply to the random and padding-variants scenarios only; seed-sequential "
+        "has the report's fixed duration.");
   }
 }
 

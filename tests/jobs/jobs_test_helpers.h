@@ -36,8 +36,8 @@ inline db::TestId StoreTest(db::Catalogue& catalogue, const engine::SyntheticTes
   record.initial_state = test.initial;
   record.source_path = "synth";
   record.content_hash = "synthetic " + external_id;
-  return *ingest::StoreTest(catalogue, test.array, array ? *array : records::MakeArrayRecord(test.array), record,
-                            test.signals);
+  return *ingest::StoreTest(catalogue, test.array, array ? *array : records::MakeArrayRecord(test.array),
+                            record, test.signals);
 }
 
 // `count` random motions of `samples` samples at 10 kHz on the ideal array,

@@ -10,8 +10,8 @@
 #include <chrono>
 #include <thread>
 
-#include "db/job_queue.h"
 #include "common/error.h"
+#include "db/job_queue.h"
 #include "engine/pipeline.h"
 #include "engine/summary_fields.h"
 #include "tests/jobs/jobs_test_helpers.h"
@@ -147,7 +147,8 @@ TEST_F(SchedulerTest, FailedTestsAreRecordedWithTheirReasonAndTheRunGoesOn) {
 TEST_F(SchedulerTest, AnUndecodableArrayFailsItsTestsOnly) {
   AddRandomTests(path_, 3, 500);
   // Three more tests whose stored array cannot be solved (no sensors).
-  const db::ArrayRecord broken{{}, "broken", R"({"name":"broken","length_unit":"m","sensors":[]})", "broken-hash"};
+  const db::ArrayRecord broken{
+      {}, "broken", R"({"name":"broken","length_unit":"m","sensors":[]})", "broken-hash"};
   std::string decode_error;
   try {
     records::DecodeArrayRecord(broken);
@@ -179,8 +180,8 @@ TEST_F(SchedulerTest, StopEndsAfterTheTestsInFlightAndTheNextRunFinishes) {
   RunOptions options = Options(1);
   options.commit_batch = 2;
   std::atomic<bool> stop{false};
-  const RunReport stopped =
-      RunScheduler(path_, Processing(), options, [&](const RunProgress&) { stop.store(true); }, &stop);
+  const RunReport stopped = RunScheduler(
+      path_, Processing(), options, [&](const RunProgress&) { stop.store(true); }, &stop);
   EXPECT_TRUE(stopped.stopped);
   EXPECT_GE(stopped.done, 2);
   EXPECT_LT(stopped.done, 30);

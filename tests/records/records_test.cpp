@@ -47,7 +47,8 @@ TEST(ArrayRecordTest, BadDefinitionsNameTheArray) {
     DecodeArrayRecord(no_sensors);
     ADD_FAILURE() << "an array without sensors was accepted";
   } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find("array 'y' of the catalogue"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("array 'y' of the catalogue"), std::string::npos)
+        << error.what();
   }
 }
 
