@@ -22,17 +22,15 @@ namespace seed_detail {
 namespace {
 
 // Sense axes of the nine slots in Table 2-1 order (kNapSlots).
+// One row per arm, as in the report's Table 2-1.
+// clang-format off
 constexpr std::array<std::array<double, 3>, 9> kNapAxes = {{
-    {1, 0, 0},
-    {0, 1, 0},
-    {0, 0, 1},  // cg_x, cg_y, cg_z
-    {0, 0, 1},
-    {1, 0, 0},  // yarm_z, yarm_x
-    {0, 0, 1},
-    {0, 1, 0},  // xarm_z, xarm_y
-    {1, 0, 0},
-    {0, 1, 0},  // zarm_x, zarm_y
+    {1, 0, 0}, {0, 1, 0}, {0, 0, 1},  // cg_x, cg_y, cg_z
+    {0, 0, 1}, {1, 0, 0},             // yarm_z, yarm_x
+    {0, 0, 1}, {0, 1, 0},             // xarm_z, xarm_y
+    {1, 0, 0}, {0, 1, 0},             // zarm_x, zarm_y
 }};
+// clang-format on
 
 // Tolerance on a unit sense axis being the Table 2-1 axis.
 constexpr double kAxisTolerance = 1e-6;

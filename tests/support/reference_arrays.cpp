@@ -12,17 +12,15 @@ using engine::Sensor;
 using engine::SensorKind;
 
 // Sense axes of the nine slots, Table 2-1 order.
+// One row per arm, as in the report's Table 2-1.
+// clang-format off
 constexpr std::array<std::array<double, 3>, 9> kNapAxes = {{
-    {1, 0, 0},
-    {0, 1, 0},
-    {0, 0, 1},  // cg_x, cg_y, cg_z
-    {0, 0, 1},
-    {1, 0, 0},  // yarm_z, yarm_x
-    {0, 0, 1},
-    {0, 1, 0},  // xarm_z, xarm_y
-    {1, 0, 0},
-    {0, 1, 0},  // zarm_x, zarm_y
+    {1, 0, 0}, {0, 1, 0}, {0, 0, 1},  // cg_x, cg_y, cg_z
+    {0, 0, 1}, {1, 0, 0},             // yarm_z, yarm_x
+    {0, 0, 1}, {0, 1, 0},             // xarm_z, xarm_y
+    {1, 0, 0}, {0, 1, 0},             // zarm_x, zarm_y
 }};
+// clang-format on
 
 ArrayGeometry Nap(const char* name, const std::array<std::array<double, 3>, 9>& positions_in) {
   ArrayGeometry array;
