@@ -95,7 +95,7 @@ inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std:
   if (!key) throw std::runtime_error("no test " + test_id);
   const db::TestRecord test = catalogue.ReadTest(*key);
   const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
-  const ResolvedConfig config = ResolveConfig("");
+  const cli::ResolvedConfig config = cli::ResolveConfig("");
   engine::ProcessedTest processed =
       engine::ProcessTest(array, catalogue.ReadTestSignals(*key), test.initial_state, config.config);
   const db::ConfigId config_id = catalogue.WriteConfig(config.record);

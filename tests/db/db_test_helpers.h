@@ -1,26 +1,27 @@
 #pragma once
 // Shared fixtures of the db tests: a catalogue with an array, a config and
 // a few labelled tests.
+#include <optional>
 #include <string>
 
 #include "db/catalogue.h"
 
 namespace napkin::test_support {
 
-inline ArrayRecord IdealArray() {
-  return ArrayRecord{
+inline db::ArrayRecord IdealArray() {
+  return db::ArrayRecord{
       {}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"};
 }
 
-inline ConfigRecord DefaultConfig(const std::string& json = R"({"filter":"cfc1000","solver":"exact"})") {
-  return ConfigRecord{{}, "default", json, "config-hash-" + json, {}};
+inline db::ConfigRecord DefaultConfig(const std::string& json = R"({"filter":"cfc1000","solver":"exact"})") {
+  return db::ConfigRecord{{}, "default", json, "config-hash-" + json, {}};
 }
 
 // A test with external id `external_id`, unique content hash and the given labels.
-inline TestId AddTest(Catalogue& catalogue, ArrayId array, const std::string& external_id,
-                      const std::optional<std::string>& series = std::nullopt,
-                      const std::optional<std::string>& variant = std::nullopt) {
-  TestRecord test;
+inline db::TestId AddTest(db::Catalogue& catalogue, db::ArrayId array, const std::string& external_id,
+                          const std::optional<std::string>& series = std::nullopt,
+                          const std::optional<std::string>& variant = std::nullopt) {
+  db::TestRecord test;
   test.external_id = external_id;
   test.series = series;
   test.variant = variant;

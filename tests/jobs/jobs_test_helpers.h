@@ -14,8 +14,8 @@
 
 namespace napkin::test_support {
 
-inline RunProcessing Processing(const engine::ProcessingConfig& config = {}) {
-  return RunProcessing{config, records::MakeConfigRecord(config, "test-config")};
+inline jobs::RunProcessing Processing(const engine::ProcessingConfig& config = {}) {
+  return jobs::RunProcessing{config, records::MakeConfigRecord(config, "test-config")};
 }
 
 inline std::string TestName(int index) {
