@@ -1,6 +1,7 @@
 #pragma once
 // Worst-case errors of solved kinematics against synthetic truth, as the
 // accuracy targets of ALGORITHMS.md state them.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -20,6 +21,16 @@ struct KinematicsErrors {
   double acc_rel = 0.0;          // max |a_cg - truth| / max |truth| (fixed)
   double vel_rel = 0.0;          // max |v - truth| / max |truth - v0|
   double pos_abs_m = 0.0;        // max |p - truth|
+
+  // Keeps, per measure, the larger of this and `other` (the worst case over a set of motions).
+  void KeepWorst(const KinematicsErrors& other) {
+    omega_rel = std::max(omega_rel, other.omega_rel);
+    alpha_rel = std::max(alpha_rel, other.alpha_rel);
+    orientation_deg = std::max(orientation_deg, other.orientation_deg);
+    acc_rel = std::max(acc_rel, other.acc_rel);
+    vel_rel = std::max(vel_rel, other.vel_rel);
+    pos_abs_m = std::max(pos_abs_m, other.pos_abs_m);
+  }
 };
 
 inline double MaxRowNorm(const engine::Series3& s) { return s.rowwise().norm().maxCoeff(); }

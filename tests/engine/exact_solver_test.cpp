@@ -102,12 +102,7 @@ TEST_P(ExactSolverOnNapTest, RandomMotionsWithDisplacedSensorsMeetAccuracyTarget
     EXPECT_LE(e.omega_rel, 0.05e-2);
     EXPECT_LE(e.orientation_deg, 0.02);
     EXPECT_LE(e.vel_rel, 0.05e-2);
-    worst.omega_rel = std::max(worst.omega_rel, e.omega_rel);
-    worst.alpha_rel = std::max(worst.alpha_rel, e.alpha_rel);
-    worst.orientation_deg = std::max(worst.orientation_deg, e.orientation_deg);
-    worst.acc_rel = std::max(worst.acc_rel, e.acc_rel);
-    worst.vel_rel = std::max(worst.vel_rel, e.vel_rel);
-    worst.pos_abs_m = std::max(worst.pos_abs_m, e.pos_abs_m);
+    worst.KeepWorst(e);
     worst_residual = std::max(worst_residual, solved.residual.maxCoeff());
   }
   PrintErrors("random x24 " + nominal.name, worst);

@@ -115,12 +115,7 @@ TEST(Solver, AngularRatePathsMeetAccuracyTargets) {
       // what remains in the fused case is the five-point derivative of the
       // rates disagreeing with the linear sensors at the pulses' kinks.
       EXPECT_LT(solved.residual.maxCoeff(), 0.02 * kStandardGravity);
-      worst.omega_rel = std::max(worst.omega_rel, e.omega_rel);
-      worst.alpha_rel = std::max(worst.alpha_rel, e.alpha_rel);
-      worst.orientation_deg = std::max(worst.orientation_deg, e.orientation_deg);
-      worst.acc_rel = std::max(worst.acc_rel, e.acc_rel);
-      worst.vel_rel = std::max(worst.vel_rel, e.vel_rel);
-      worst.pos_abs_m = std::max(worst.pos_abs_m, e.pos_abs_m);
+      worst.KeepWorst(e);
     }
     PrintErrors("random x8 " + nominal.name, worst);
   }
