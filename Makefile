@@ -45,7 +45,8 @@ format:
 	clang-format -i $(FORMAT_SOURCES)
 
 format-check: deps
-	clang-format --dry-run --Werror $(FORMAT_SOURCES)
+	@echo "clang-format --dry-run --Werror: every .cpp and .h file"
+	@clang-format --dry-run --Werror $(FORMAT_SOURCES)
 
 test: build format-check
 	cd $(BUILD_TEST) && ctest --output-on-failure -j$(JOBS) --timeout 1800
