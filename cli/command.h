@@ -9,7 +9,7 @@
 
 namespace napkin::cli {
 
-// Exit statuses of the CLI contract (PRODUCT.md).
+// Exit statuses of the CLI contract (README).
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;

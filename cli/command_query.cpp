@@ -1,6 +1,6 @@
 // `napkin query {tests,hic,rotation,criteria,quality}`: summaries across
 // tests from the catalogue's query views (each test's latest result), as an
-// aligned table, CSV or JSON (one object per row, FORMATS.md field names).
+// aligned table, CSV or JSON (one object per row, docs/formats.md field names).
 #include <fmt/core.h>
 
 #include <map>

@@ -32,7 +32,7 @@ class StatusCommand : public Command {
     const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(config);
 
     if (format_ == "json") {
-      // Key order as PRODUCT.md gives it.
+      // Key order as the README gives it.
       nlohmann::ordered_json failures = nlohmann::ordered_json::array();
       for (const db::JobFailure& failure : counts.failures)
         failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});

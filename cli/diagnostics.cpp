@@ -17,7 +17,7 @@ namespace napkin::cli {
 namespace {
 
 // stderr sink: user-facing levels carry the program name (the one-sentence
-// error contract of PRODUCT.md), information lines a timestamp (long runs
+// error contract in the README), information lines a timestamp (long runs
 // are logged to files).
 class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
  public:

@@ -36,7 +36,7 @@ struct SeriesRecord {
   std::string description;
 };
 
-// An accelerometer array definition (FORMATS.md), deduplicated by hash.
+// An accelerometer array definition (docs/formats.md), deduplicated by hash.
 struct ArrayRecord {
   ArrayId id{};                 // set by WriteArray / ReadArray
   std::string name;             // e.g. "denton-3222"

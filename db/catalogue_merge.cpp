@@ -1,4 +1,4 @@
-// Catalogue: merging shard catalogues (PRODUCT.md: `run --shard I/N` on
+// Catalogue: merging shard catalogues (README "Batch runs": `run --shard I/N` on
 // several machines, then `merge SHARD.db...`).
 //
 // The shard is ATTACHed to this connection and copied with INSERT ... SELECT,

@@ -1,5 +1,5 @@
 #pragma once
-// The batch scheduler's job queue (PRODUCT.md "Catalogue and batch"): one row
+// The batch scheduler's job queue (README "Batch runs", docs/architecture.md): one row
 // per (test, config) in the catalogue's `jobs` table, claimed under leases by
 // workers with their own connection (jobs/scheduler.h), counted by `napkin
 // status`.

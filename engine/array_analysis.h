@@ -12,7 +12,7 @@ namespace napkin::engine {
 // Relative singular-value tolerance for the rank decisions below.
 inline constexpr double kRankRelativeTolerance = 1e-8;
 
-// Rows [n^T, (r x n)^T] of the linear sensors `linear` (ALGORITHMS.md
+// Rows [n^T, (r x n)^T] of the linear sensors `linear` (docs/algorithms.md
 // "Rigid-body measurement model": n.(a + alpha x r) = n.a + (r x n).alpha).
 Eigen::MatrixXd LinearRigidBodyRows(const ArrayGeometry& array, const std::vector<std::size_t>& linear);
 

@@ -104,7 +104,7 @@ void ValidateArray(ArrayGeometry& array) {
     sensor.axis_body /= axis_norm;
   }
 
-  // Solvability (ALGORITHMS.md "Solvers"): either the linear sensors alone
+  // Solvability (docs/algorithms.md "Solvers"): either the linear sensors alone
   // determine (a, alpha), or angular-rate sensors give omega on three
   // independent axes and the linear sense axes span R^3 (6a-omega).
   const std::vector<std::size_t> linear = array.LinearIndices();

@@ -1,5 +1,5 @@
 #pragma once
-// Head injury criteria (ALGORITHMS.md "Injury criteria"): HIC (with its
+// Head injury criteria (docs/algorithms.md "Injury criteria"): HIC (with its
 // window), a3ms, BrIC and DAMAGE.
 #include <Eigen/Core>
 #include <limits>

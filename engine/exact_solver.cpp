@@ -79,7 +79,7 @@ MatrixXd MeasurementsBySample(const ArrayGeometry& array, const std::vector<std:
 }
 
 // kLinear: at each sample the linear sensors give
-//   n.a + (r x n).alpha = m - c(omega)            (ALGORITHMS.md "Solvers")
+//   n.a + (r x n).alpha = m - c(omega)            (docs/algorithms.md "Solvers")
 // solved by the pseudo-inverse P of the L x 6 rows (factored once; least
 // squares for L > 6). omega follows from the implicit Hermite rule
 //   omega[k] = omega[k-1] + dt/2 (alpha[k-1] + alpha[k]) + dt^2/12 (alpha'[k-1] - alpha'[k]),
@@ -224,7 +224,7 @@ void CompleteKinematics(const InitialState& initial, const GravityOptions& gravi
   const Eigen::Matrix3d fixed_from_body_0 = InitialFixedFromBody(initial.orientation_rad);
   IntegrateOrientation(dt_s, kin.omega_body, kin.alpha_body, Eigen::Quaterniond(fixed_from_body_0),
                        kin.quat_fixed_from_body);
-  // ALGORITHMS.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
+  // docs/algorithms.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
   // add the term back with the integrated orientation.
   const Vector3d gravity_body_0 = fixed_from_body_0.transpose() * gravity.g_fixed_mps2;
   for (Index k = 0; k < n; ++k) {

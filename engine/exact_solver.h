@@ -1,5 +1,5 @@
 #pragma once
-// The `exact` solver (ALGORITHMS.md "Solvers", "Orientation"): rigid-body
+// The `exact` solver (docs/algorithms.md "Solvers", "Orientation"): rigid-body
 // least squares for any geometry, with angular-rate sensors when present.
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"

@@ -1,6 +1,6 @@
 #pragma once
 // Time integration and differentiation of uniformly sampled series, and the
-// orientation integrator on SO(3) (ALGORITHMS.md "Orientation").
+// orientation integrator on SO(3) (docs/algorithms.md "Orientation").
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 

@@ -27,7 +27,7 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
                           const InitialState& initial, const ProcessingConfig& config);
 
 // The verdict on a processed test: it fails on its first error-severity
-// finding (PRODUCT.md, automated data screening: a flipped or swapped
+// finding (README "What it computes": data screening: a flipped or swapped
 // channel, saturation), whose detail is the failure sentence; nullptr when
 // it passes. `napkin run` records that sentence as the test's failure (with
 // the findings), `napkin transform` exits 1 with it and writes nothing.

@@ -1,6 +1,6 @@
 #pragma once
 // Processing configuration of a run and the signal conditioning it drives
-// (ALGORITHMS.md "Signal conditioning"; report section 3.4: time shift to the
+// (docs/algorithms.md "Signal conditioning"; report section 3.4: time shift to the
 // start of the pulse, truncation, bias removal, filtering). The JSON form
 // lives in formats/processing_config_json.h; its canonical dump identifies
 // the configuration of stored results.

@@ -4,7 +4,7 @@
 //
 // "Report" is the 1995 report (shared/seed/000_4a0f813f9bdc0a55.txt, an OCR
 // with errors); where it states a value only roughly, the value here is the
-// one ALGORITHMS.md "Known answers" derives from the report's scenario
+// one docs/algorithms.md "Known answers" derives from the report's scenario
 // definition, and the comment says so. Tolerances stay with each check: they
 // depend on what is compared (truth, exact solver, text output), not on the
 // answer.
@@ -23,7 +23,7 @@ namespace napkin::engine::report {
 // Section 4.5.2: "the resulting angular displacement about the fixed lateral
 // axis is 85.94 degrees" (also 4.5.4).
 inline constexpr double kTotalRotationRad = 1.5;
-// 1.5 rad in degrees to four decimals (ALGORITHMS.md table: 85.9437 deg;
+// 1.5 rad in degrees to four decimals (docs/algorithms.md table: 85.9437 deg;
 // exactly 85.943669...).
 inline constexpr double kTotalRotationDeg = 85.9437;
 
@@ -32,34 +32,34 @@ inline constexpr double kTotalRotationDeg = 85.9437;
 inline constexpr double kPeakOmegaFixedYRadps = 50.0;
 // Fixed omega_X and omega_Z: zero, the motion is solely about fixed Y.
 // Section 4.5.4 (Figure 4-19: "reduced to zero in the fixed coordinate
-// system"); ALGORITHMS.md table "fixed omega_X, omega_Z: 0, 0".
+// system"); docs/algorithms.md table "fixed omega_X, omega_Z: 0, 0".
 inline constexpr double kOmegaFixedXZRadps = 0.0;
 
 // Peak angular acceleration, 25 * 2 pi / 0.06 = 2617.99 rad/s^2. Section
-// 4.5.2 says "approximately 2500 rad/sec^2"; ALGORITHMS.md table: 2618.
+// 4.5.2 says "approximately 2500 rad/sec^2"; docs/algorithms.md table: 2618.
 inline constexpr double kPeakAlphaRadps2 = 2618.0;
 // The same peak to two decimals (2617.9939 rounded), for checks of the truth.
 inline constexpr double kPeakAlphaRadps2TwoDecimals = 2617.99;
 
 // Peak resultant CG acceleration, 10 in * sqrt(omega_dot^2 + omega^4) at its
-// peak, in g. ALGORITHMS.md table (the report plots it, Figure 4-13;
+// peak, in g. docs/algorithms.md table (the report plots it, Figure 4-13;
 // computed: 70.4093).
 inline constexpr double kPeakAccG = 70.41;
 
 // HIC, unlimited window. Section 4.5.2: "a HIC value of 1583 with (t2 - t1)
-// = 54.3 - 5.73 = 48.54 msec"; ALGORITHMS.md table: 1583.26, t1 = 5.7 ms,
+// = 54.3 - 5.73 = 48.54 msec"; docs/algorithms.md table: 1583.26, t1 = 5.7 ms,
 // t2 = 54.3 ms (+-0.1 ms by sampling rate; computed at 10 kHz: 1583.2623).
 inline constexpr double kHic = 1583.26;
 inline constexpr double kHicT1S = 0.0057;
 inline constexpr double kHicT2S = 0.0543;
 
-// HIC36 (window <= 36 ms). ALGORITHMS.md table (not in the report):
+// HIC36 (window <= 36 ms). docs/algorithms.md table (not in the report):
 // 1348.70 over 12.0 ... 48.0 ms (computed: 1348.698).
 inline constexpr double kHic36 = 1348.70;
 inline constexpr double kHic36T1S = 0.0120;
 inline constexpr double kHic36T2S = 0.0480;
 
-// HIC15 (window <= 15 ms). ALGORITHMS.md table (not in the report): 573.10,
+// HIC15 (window <= 15 ms). docs/algorithms.md table (not in the report): 573.10,
 // two equal maxima mirrored about t = 30 ms, either window (computed:
 // 573.0994).
 inline constexpr double kHic15 = 573.10;
@@ -78,7 +78,7 @@ inline constexpr double kUncompensatedCrossAxisFraction = 0.05;
 inline constexpr double kSequentialTurnRad = kPi / 2;
 
 // ---------------------------------------------------------------------------
-// An independent HIC answer (ALGORITHMS.md "Known answers", not from the
+// An independent HIC answer (docs/algorithms.md "Known answers", not from the
 // report): a(t) = sin(20 pi t) g, t = 0 ... 0.05 s at 10 kHz, HIC over a
 // window <= 30 ms is 0.02048 at [0.0100, 0.0400] s (the window centred on
 // the peak; computed: 0.020480).

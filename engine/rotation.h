@@ -1,5 +1,5 @@
 #pragma once
-// Rotations on SO(3). Convention (FORMATS.md): R = fixed_from_body, so a
+// Rotations on SO(3). Convention (docs/formats.md): R = fixed_from_body, so a
 // vector in body axes times R gives fixed axes; dR/dt = R [omega_body]x.
 #include <Eigen/Core>
 #include <Eigen/Geometry>

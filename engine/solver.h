@@ -1,6 +1,6 @@
 #pragma once
 // From the signals of a head accelerometer array to six-degree-of-freedom
-// kinematics. See ALGORITHMS.md "Solvers".
+// kinematics. See docs/algorithms.md "Solvers".
 #include <array>
 #include <optional>
 #include <string_view>
@@ -31,7 +31,7 @@ inline std::optional<SolverKind> ParseSolverName(std::string_view name) {
 }
 
 struct GravityOptions {
-  bool compensate = false;  // add back -(R^T - R0^T) g_fixed (ALGORITHMS.md "Gravity")
+  bool compensate = false;  // add back -(R^T - R0^T) g_fixed (docs/algorithms.md "Gravity")
   Eigen::Vector3d g_fixed_mps2{0.0, 0.0, 9.80665};  // SAE: z down
 };
 

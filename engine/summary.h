@@ -1,5 +1,5 @@
 #pragma once
-// Per-test summary: every field of the query contract (FORMATS.md
+// Per-test summary: every field of the query contract (docs/formats.md
 // "Per-test summary fields") plus the screening findings. The names, order
 // and query groups of the numeric fields are in engine/summary_fields.h: a new
 // field goes there too (and into a schema migration).

@@ -1,5 +1,5 @@
 #pragma once
-// The one list of a test's numeric summary fields (FORMATS.md "Per-test
+// The one list of a test's numeric summary fields (docs/formats.md "Per-test
 // summary fields"): their query-contract names, order and query group. The
 // results table and the views of schema/, the summary JSON, the catalogue's
 // column lists and summary equality all follow it; tests/db/schema_test.cpp

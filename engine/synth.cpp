@@ -31,7 +31,7 @@ struct MotionState {
 using Motion = std::function<MotionState(double t_s)>;
 
 // Samples `motion` at t = 0, dt, ..., (n-1) dt: what each sensor of `array`
-// records (rigid-body model of ALGORITHMS.md, in the sensor's unit) and the
+// records (rigid-body model of docs/algorithms.md, in the sensor's unit) and the
 // exact kinematics.
 SyntheticTest Sample(std::string name, const ArrayGeometry& array, Index n, const SynthOptions& options,
                      const InitialState& initial, const Motion& motion) {
@@ -57,7 +57,7 @@ SyntheticTest Sample(std::string name, const ArrayGeometry& array, Index n, cons
     const MotionState s = motion(t);
     const Matrix3d& r = s.fixed_from_body;
     const Vector3d acc_body = r.transpose() * s.acc_fixed;
-    // Accelerometers sense a - g; zeroed at t = 0 (ALGORITHMS.md "Gravity").
+    // Accelerometers sense a - g; zeroed at t = 0 (docs/algorithms.md "Gravity").
     const Vector3d gravity_reading =
         options.gravity ? Vector3d(r.transpose() * options.g_fixed_mps2 - gravity_body_0) : Vector3d::Zero();
     for (std::size_t i = 0; i < test.array.sensors.size(); ++i) {

@@ -1,5 +1,5 @@
 #pragma once
-// Accelerometer array definitions as JSON (FORMATS.md "Accelerometer array
+// Accelerometer array definitions as JSON (docs/formats.md "Accelerometer array
 // definition"; presets in config/arrays/).
 #include <filesystem>
 #include <nlohmann/json.hpp>

@@ -1,6 +1,6 @@
 #pragma once
 // Channels read from test files (ISO-MME, UDS-1992) and the channel map that
-// says which channel feeds which array slot (FORMATS.md "ISO-MME input").
+// says which channel feeds which array slot (docs/formats.md "ISO-MME input").
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>

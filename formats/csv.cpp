@@ -13,7 +13,7 @@
 namespace napkin::formats {
 namespace {
 
-// Relative tolerance on the sampling interval (FORMATS.md).
+// Relative tolerance on the sampling interval (docs/formats.md).
 constexpr double kMaxRelativeJitter = 1e-6;
 
 // Splits `line` at commas into `fields` (views into `line`).
@@ -225,7 +225,7 @@ const std::vector<std::string>& DerivedCsvColumns() {
 }
 
 void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
-  // At least 9 significant digits are required (FORMATS.md); 12 keep the
+  // At least 9 significant digits are required (docs/formats.md); 12 keep the
   // file readable and well inside the precision of the solution.
   constexpr int kDigits = 12;
   const Eigen::Index n = kinematics.size();

@@ -1,6 +1,6 @@
 #pragma once
-// CSV signals (FORMATS.md "CSV input") and the derived-channel CSV
-// (FORMATS.md "Derived channels", a contract other programs rely on).
+// CSV signals (docs/formats.md "CSV input") and the derived-channel CSV
+// (docs/formats.md "Derived channels", a contract other programs rely on).
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// ISO-MME (ISO/TS 13499) test folders (FORMATS.md "ISO-MME input"):
+// ISO-MME (ISO/TS 13499) test folders (docs/formats.md "ISO-MME input"):
 // <folder>/<name>.mme, <folder>/Channel/<name>.chn and one text file per
 // channel, <folder>/Channel/<name>.001 ...: header lines "key" blank-padded,
 // ':', value; then one sample per line. Channel codes have 16 characters:

@@ -1,5 +1,5 @@
 #pragma once
-// Load curves for finite-element head models (FORMATS.md "LS-DYNA export"):
+// Load curves for finite-element head models (docs/formats.md "LS-DYNA export"):
 // the LS-DYNA keyword file with six *DEFINE_CURVE (fixed-frame CG velocity X,
 // Y, Z and angular velocity X, Y, Z) and six *BOUNDARY_PRESCRIBED_MOTION_RIGID
 // cards (DOF 1, 2, 3, 5, 6, 7; VAD = 0), and the report's legacy LC_FILE.DAT

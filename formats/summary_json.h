@@ -1,5 +1,5 @@
 #pragma once
-// Per-test summary as JSON (FORMATS.md "Per-test summary fields"): the
+// Per-test summary as JSON (docs/formats.md "Per-test summary fields"): the
 // `transform --summary` file and one object of `query --format json`.
 #include <nlohmann/json.hpp>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// NHTSA UDS-1992 signal files (FORMATS.md "UDS-1992 input"): 512-byte records
+// NHTSA UDS-1992 signal files (docs/formats.md "UDS-1992 input"): 512-byte records
 // — file header (FILEVER "UDS-1992"), optional component-2 header ("CMP-2
 // HDR"), curve header ("CURVE HDR"), then "Y DATA" records of 125 4-byte
 // reals. Field layout per the NHTSA UDS library (S. G. Mentzer, UDS_SPEC_LIST

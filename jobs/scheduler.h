@@ -1,5 +1,5 @@
 #pragma once
-// The batch scheduler (PRODUCT.md "Catalogue and batch"): claims the jobs of
+// The batch scheduler (README "Batch runs", docs/architecture.md): claims the jobs of
 // one processing config from the catalogue, runs the transform core
 // (engine::ProcessTest) on them in parallel with oneTBB and stores the
 // results back, so that an interrupted or crashed run can simply be started

@@ -101,7 +101,7 @@ CREATE TABLE jobs (
 CREATE INDEX jobs_by_config_state ON jobs(config_id, state, lease_expires_at);
 
 -- Per-test summary for one config: every field of the query contract
--- (FORMATS.md "Per-test summary fields"). AUTOINCREMENT keeps ids monotonic so
+-- (docs/formats.md "Per-test summary fields"). AUTOINCREMENT keeps ids monotonic so
 -- the most recently written result of a test is the one with the largest id.
 CREATE TABLE results (
   id                 INTEGER PRIMARY KEY AUTOINCREMENT,

@@ -1,5 +1,5 @@
 -- napkin catalogue, schema version 2: views for `napkin query` and for plain
--- sqlite3. Column names are the query contract (FORMATS.md "Per-test summary
+-- sqlite3. Column names are the query contract (docs/formats.md "Per-test summary
 -- fields"). A test may have results under several configs; the views show
 -- its most recently written result (largest results.id).
 

@@ -16,7 +16,7 @@ namespace napkin::cli {
 using namespace napkin::test_support;
 namespace {
 
-// FORMATS.md "Per-test summary fields": the test's labels, then the fields
+// docs/formats.md "Per-test summary fields": the test's labels, then the fields
 // of the group (engine/summary_fields.h; tests/db/schema_test.cpp binds the
 // schema's views to the same table).
 std::vector<std::string> ViewFields(engine::SummaryGroup group) {

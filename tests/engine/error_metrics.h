@@ -1,6 +1,6 @@
 #pragma once
 // Worst-case errors of solved kinematics against synthetic truth, as the
-// accuracy targets of ALGORITHMS.md state them.
+// accuracy targets of docs/algorithms.md state them.
 #include <algorithm>
 #include <cstdio>
 #include <string>

@@ -1,4 +1,4 @@
-// Acceptance targets of ALGORITHMS.md "Accuracy napkin must reach" for the
+// Acceptance targets of docs/algorithms.md "Accuracy napkin must reach" for the
 // exact solver (10 kHz, no noise), against synthetic tests with exact truth.
 #include "engine/exact_solver.h"
 
@@ -62,7 +62,7 @@ TEST_P(ExactSolverOnNapTest, SeedFixedAxisMeetsReportAccuracy) {
   EXPECT_LE(max_omega_fixed_x, 0.005);
   EXPECT_LE(max_omega_fixed_z, 0.005);
 
-  // Known answers (ALGORITHMS.md table).
+  // Known answers (docs/algorithms.md table).
   TestSummary summary;
   SummarizeKinematics(solved, summary);
   EXPECT_NEAR(summary.max_rotation_deg, report::kTotalRotationDeg, 0.001);

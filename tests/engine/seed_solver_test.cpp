@@ -260,7 +260,7 @@ TEST_P(SeedGoldenTest, KinematicsAreTheListingOutputsInSi) {
     const Eigen::Vector3d rpy = kin.roll_pitch_yaw_rad.row(row).transpose();
     EXPECT_TRUE(r.isApprox(Rz(rpy.z()) * Ry(rpy.y()) * Rx(rpy.x()), 1e-12)) << k;
   }
-  // Drift of T from orthonormality in these 0.1 s runs (reference README:
+  // Drift of T from orthonormality in these 0.1 s runs (measured on the gfortran LC_COMP reference:
   // |T T^T - I| ~ 1.3e-3 at the end).
   EXPECT_LT(max_rotation_gap, 2e-3);
   // Displacement: trapezoid of the velocity from 0.
@@ -568,7 +568,7 @@ TEST(SeedScenario45, Table42CompensationCutsCrossAxisErrorHundredfold) {
   std::printf("omega error ratio uncompensated/compensated: X %.0f, Z %.0f\n", ratio_x, ratio_z);
   EXPECT_GE(ratio_x, 100.0);
   EXPECT_GE(ratio_z, 100.0);
-  // Reference README: final T error 0.0068 deg for table42 -> table42.
+  // Measured on the gfortran LC_COMP reference: final T error 0.0068 deg for table42 -> table42.
   EXPECT_LT(compensated.final_angle_error_deg, 0.01);
   EXPECT_LT(compensated.final_angle_error_deg, raw.final_angle_error_deg / 1000.0);
 }
@@ -588,12 +588,12 @@ TEST(SeedScenario45, IdealAndDentonAreAccurateButNotExact) {
     EXPECT_LT(e.max_omega_error.y(), euler_bound) << array.name;
     EXPECT_GT(e.max_omega_error.y(), 0.9 * (euler_bound - 1e-3)) << array.name;
     EXPECT_LT(e.final_angle_error_deg, 0.002) << array.name;
-    // ... but the Euler-integrated T is not orthonormal (reference README:
+    // ... but the Euler-integrated T is not orthonormal (measured on the gfortran LC_COMP reference:
     // |T T^T - I| = 1.3e-3 at the end), unlike an exact solution.
     EXPECT_GT(e.final_orthonormality, 5e-4) << array.name;
     EXPECT_LT(e.final_orthonormality, 5e-3) << array.name;
     // TRAPINT with facc(0) = 0 and the first-order T give velocity errors
-    // of ~1.7 in/s (reference README), far from an exact solution.
+    // of ~1.7 in/s (as the gfortran LC_COMP reference gives), far from an exact solution.
     EXPECT_GT(e.max_velocity_error_inps, 1.0) << array.name;
     EXPECT_LT(e.max_velocity_error_inps, 2.0) << array.name;
     // The displacement error is bounded by the integral of the velocity

@@ -172,7 +172,7 @@ INSTANTIATE_TEST_SUITE_P(ReferenceArrays, SequentialRotationsTest,
                                            ReferenceArrayCase{"nap_ars12", &test_support::NapArs12}),
                          test_support::CaseName());
 
-// Gravity (ALGORITHMS.md): with compensation the solver recovers the true
+// Gravity (docs/algorithms.md): with compensation the solver recovers the true
 // CG acceleration; without it the velocity error is metres per second.
 TEST(Solver, GravityCompensationRecoversTruth) {
   RandomMotionOptions motion;

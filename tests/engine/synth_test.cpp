@@ -76,7 +76,7 @@ TEST(Synth, SeedFixedAxisTruthIsTheReportScenario) {
   EXPECT_DOUBLE_EQ(truth.time_s(1000), 0.1);
   EXPECT_EQ(test.signals.slots.size(), 9u);
   ExpectSelfConsistent(test, 2e-4);
-  // Known answers (ALGORITHMS.md).
+  // Known answers (docs/algorithms.md).
   const Eigen::Quaterniond turn =
       QuatAt(truth.quat_fixed_from_body, 1000) * QuatAt(truth.quat_fixed_from_body, 0).conjugate();
   EXPECT_LE((QuaternionLog(turn) - Eigen::Vector3d(0, report::kTotalRotationRad, 0)).norm(), 1e-12);

@@ -1,5 +1,5 @@
 #pragma once
-// Reading back the LS-DYNA keyword files napkin writes (FORMATS.md), card by
+// Reading back the LS-DYNA keyword files napkin writes (docs/formats.md), card by
 // card, for the formats and CLI export tests. Header-only: it uses
 // formats::ParseDouble, so only test targets linking napkin_formats include it.
 #include <gtest/gtest.h>
