@@ -1,6 +1,6 @@
 // `napkin synth`: add synthetic tests with exact known answers to the
-// catalogue (report scenarios 4.4 and 4.5, random motions, a padding-variant
-// series), one transaction per test, idempotent by content hash.
+// catalogue (report scenarios 4.4 and 4.5, random motions, a padding series of
+// oblique head impacts), one transaction per test, idempotent by content hash.
 #include <fmt/core.h>
 
 #include <string>
@@ -24,23 +24,20 @@ class SynthCommand : public Command {
     for (const engine::SynthScenario scenario : engine::kSynthScenarios)
       scenarios.push_back(engine::SynthScenarioName(scenario));
     sub->add_option("--scenario", scenario_,
-                    "seed-fixed-axis (report 4.5), seed-sequential (report 4.4), random, padding-variants")
+                    "seed-fixed-axis (report 4.5), seed-sequential (report 4.4), random, padding-series")
         ->required()
         ->check(CLI::IsMember(scenarios));
     sub->add_option("--count", request_.count,
-                    "random: number of tests; padding-variants: repeats per variant")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    sub->add_option("--seed", request_.seed, "seed of the first random motion")->capture_default_str();
+                    "random: number of tests (default 1); padding-series: repeats per variant (default 5)")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--seed", request_.seed, "generator seed of the first test")->capture_default_str();
     sub->add_option("--array", request_.array, "array preset name or array JSON file")->capture_default_str();
     sub->add_option("--series", request_.series, "series label (default: the scenario name)");
     sub->add_option("--test-id", request_.test_id,
                     "test id, or prefix of numbered ids (default: the scenario name)");
-    auto* samples =
-        sub->add_option("--samples", request_.samples, "random, padding-variants: samples per channel")
-            ->check(CLI::Range(2, 100000000));
-    sub->add_option("--duration", request_.duration_s,
-                    "random, padding-variants: duration in s (default 0.2)")
+    auto* samples = sub->add_option("--samples", request_.samples, "random: samples per channel")
+                        ->check(CLI::Range(2, 100000000));
+    sub->add_option("--duration", request_.duration_s, "random: duration in s (default 0.2)")
         ->check(CLI::PositiveNumber)
         ->excludes(samples);
     sub->add_option("--rate", request_.rate_hz, "sampling rate in Hz")
@@ -62,7 +59,7 @@ class SynthCommand : public Command {
 
  private:
   const GlobalOptions* global_ = nullptr;
-  std::string scenario_;  // seed-fixed-axis, seed-sequential, random, padding-variants
+  std::string scenario_;  // seed-fixed-axis, seed-sequential, random, padding-series
   ingest::SynthRequest request_;
 };
 

@@ -154,6 +154,22 @@ class Uniform {
   std::mt19937_64 engine_;
 };
 
+// Standard normal deviate from two uniforms (Box-Muller), portable unlike
+// std::normal_distribution.
+double Normal(Uniform& uniform) {
+  const double u1 = 1.0 - uniform();  // in (0, 1]
+  const double u2 = uniform();
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+}
+
+// A normal deviate truncated at +-3 (redrawn beyond).
+double TruncatedNormal(Uniform& uniform) {
+  for (;;) {
+    const double z = Normal(uniform);
+    if (std::abs(z) <= 3.0) return z;
+  }
+}
+
 // 2-4 (or `min`-`max`) haversine pulses in [0, duration], scaled so that the
 // largest |sum| is `peak`.
 PulseSum RandomPulses(Uniform& uniform, int min_count, int max_count, double min_width_s, double max_width_s,
@@ -327,6 +343,127 @@ ArrayGeometry DisplaceSensors(const ArrayGeometry& array, double max_offset_m, s
   return displaced;
 }
 
+Vector3d NominalContactPoint(double trajectory_deg) {
+  constexpr double kRadius = 0.1, kRoundDeg = 6.0, kAboveDeg = 8.0;
+  const double azimuth = (trajectory_deg + kRoundDeg) / kDegPerRad, elevation = kAboveDeg / kDegPerRad;
+  return kRadius * Vector3d(std::cos(azimuth) * std::cos(elevation), -std::sin(azimuth) * std::cos(elevation),
+                            -std::sin(elevation));
+}
+
+SyntheticTest SynthHeadImpact(const ArrayGeometry& array, const HeadImpact& impact,
+                              const SynthOptions& options) {
+  // docs/algorithms.md "Synthetic padding series". Fixed axes = the head's
+  // initial axes (the report, section 3.4: the headpart initially coincident
+  // with the vehicle axes); the head flies along u and the padding pushes
+  // against it: F(t) = -m A hav(t) u, with the haversine's impulse
+  // A pulse / 2 = (1 + e) speed.
+  const double trajectory = impact.trajectory_deg / kDegPerRad;
+  const Vector3d u(std::cos(trajectory), -std::sin(trajectory), 0.0);
+  Pulse pulse;
+  pulse.start_s = impact.contact_start_s;
+  pulse.duration_s = impact.pulse_s;
+  pulse.amplitude = 2.0 * (1.0 + impact.restitution) * impact.speed_mps / impact.pulse_s;  // m/s^2
+  const Vector3d velocity_0 = impact.speed_mps * u;
+  const Vector3d force_direction = -u;
+  const double mass = impact.head_mass_kg;
+  const Vector3d inertia = impact.head_inertia_kgm2;
+  const Vector3d& contact = impact.contact_point_body_m;
+
+  // Euler's equations, I dw/dt + w x I w = torque (body axes), with the
+  // padding's force at the contact point and the neck's restoring torque
+  // -k theta - c w (theta: the rotation vector from the initial pose).
+  auto angular_acceleration = [&](double t, const Eigen::Quaterniond& q, const Vector3d& omega) {
+    double jerk, acc, vel, pos;
+    pulse.Evaluate(t, jerk, acc, vel, pos);
+    const Vector3d force_body = q.conjugate() * (mass * acc * force_direction);
+    const Vector3d torque = contact.cross(force_body) - impact.neck_stiffness_nm_per_rad * QuaternionLog(q) -
+                            impact.neck_damping_nms_per_rad * omega;
+    return Vector3d((torque - omega.cross(inertia.cwiseProduct(omega))).cwiseQuotient(inertia));
+  };
+  // dq/dt = q (0, w) / 2.
+  auto quaternion_rate = [](const Eigen::Vector4d& q_wxyz, const Vector3d& omega) {
+    const Eigen::Quaterniond q(q_wxyz(0), q_wxyz(1), q_wxyz(2), q_wxyz(3));
+    const Eigen::Quaterniond rate = q * Eigen::Quaterniond(0.0, omega.x(), omega.y(), omega.z());
+    return Eigen::Vector4d(0.5 * rate.w(), 0.5 * rate.x(), 0.5 * rate.y(), 0.5 * rate.z());
+  };
+  auto to_quaternion = [](const Eigen::Vector4d& q_wxyz) {
+    return Eigen::Quaterniond(q_wxyz(0), q_wxyz(1), q_wxyz(2), q_wxyz(3)).normalized();
+  };
+
+  const Index n = SampleCount(impact.duration_s, options.rate_hz);
+  constexpr int kSubSteps = 20;
+  const double h = 1.0 / (options.rate_hz * kSubSteps);
+  std::vector<MotionState> states(static_cast<std::size_t>(n));
+  Eigen::Vector4d q(1.0, 0.0, 0.0, 0.0);
+  Vector3d omega = Vector3d::Zero();
+  for (Index k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) / options.rate_hz;
+    if (k > 0) {
+      // Classical RK4 over the sample interval, in kSubSteps steps.
+      for (int step = 0; step < kSubSteps; ++step) {
+        const double t0 = static_cast<double>(k - 1) / options.rate_hz + step * h;
+        const Eigen::Vector4d k1q = quaternion_rate(q, omega);
+        const Vector3d k1w = angular_acceleration(t0, to_quaternion(q), omega);
+        const Eigen::Vector4d q2 = q + 0.5 * h * k1q;
+        const Vector3d w2 = omega + 0.5 * h * k1w;
+        const Eigen::Vector4d k2q = quaternion_rate(q2, w2);
+        const Vector3d k2w = angular_acceleration(t0 + 0.5 * h, to_quaternion(q2), w2);
+        const Eigen::Vector4d q3 = q + 0.5 * h * k2q;
+        const Vector3d w3 = omega + 0.5 * h * k2w;
+        const Eigen::Vector4d k3q = quaternion_rate(q3, w3);
+        const Vector3d k3w = angular_acceleration(t0 + 0.5 * h, to_quaternion(q3), w3);
+        const Eigen::Vector4d q4 = q + h * k3q;
+        const Vector3d w4 = omega + h * k3w;
+        const Eigen::Vector4d k4q = quaternion_rate(q4, w4);
+        const Vector3d k4w = angular_acceleration(t0 + h, to_quaternion(q4), w4);
+        q += h / 6.0 * (k1q + 2.0 * k2q + 2.0 * k3q + k4q);
+        omega += h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w);
+        q.normalize();
+      }
+    }
+    MotionState& s = states[static_cast<std::size_t>(k)];
+    const Eigen::Quaterniond orientation = to_quaternion(q);
+    s.fixed_from_body = orientation.toRotationMatrix();
+    s.omega_body = omega;
+    s.alpha_body = angular_acceleration(t, orientation, omega);
+    double jerk, acc, vel, pos;
+    pulse.Evaluate(t, jerk, acc, vel, pos);
+    s.acc_fixed = acc * force_direction;
+    s.vel_fixed = velocity_0 + vel * force_direction;
+    s.pos_fixed = velocity_0 * t + pos * force_direction;
+  }
+  InitialState initial;
+  initial.velocity_fixed_mps = velocity_0;
+  const double rate_hz = options.rate_hz;
+  SyntheticTest test = Sample("head-impact", array, n, options, initial, [&](double t) {
+    return states[static_cast<std::size_t>(std::llround(t * rate_hz))];
+  });
+
+  // Sensor noise on the signals only: the truth stays the motion's.
+  Uniform uniform(impact.noise_seed ^ 0x9e3779b97f4a7c15ULL);
+  for (std::size_t i = 0; i < test.array.sensors.size(); ++i) {
+    const Sensor& sensor = test.array.sensors[i];
+    const double rms_si =
+        sensor.kind == SensorKind::kLinear ? impact.noise_g * kStandardGravity : impact.noise_radps;
+    auto column = test.signals.samples.col(static_cast<Index>(i));
+    for (Index k = 0; k < n; ++k) column(k) += rms_si / sensor.si_per_unit * Normal(uniform);
+  }
+  return test;
+}
+
+HeadImpact ScatteredImpact(const PaddingVariant& variant, std::uint64_t seed) {
+  Uniform uniform(seed);
+  HeadImpact impact;
+  impact.speed_mps *= 1.0 + 0.015 * TruncatedNormal(uniform);
+  impact.trajectory_deg += 1.5 * TruncatedNormal(uniform);
+  impact.contact_point_body_m = NominalContactPoint(impact.trajectory_deg);
+  for (int axis = 0; axis < 3; ++axis) impact.contact_point_body_m(axis) += 0.002 * TruncatedNormal(uniform);
+  impact.pulse_s = variant.pulse_s * (1.0 + 0.02 * TruncatedNormal(uniform));
+  impact.restitution = variant.restitution;
+  impact.noise_seed = seed;
+  return impact;
+}
+
 const char* SynthScenarioName(SynthScenario scenario) {
   switch (scenario) {
     case SynthScenario::kSeedFixedAxis:
@@ -335,8 +472,8 @@ const char* SynthScenarioName(SynthScenario scenario) {
       return "seed-sequential";
     case SynthScenario::kRandom:
       return "random";
-    case SynthScenario::kPaddingVariants:
-      return "padding-variants";
+    case SynthScenario::kPaddingSeries:
+      return "padding-series";
   }
   return "?";
 }
@@ -347,8 +484,10 @@ std::optional<SynthScenario> ParseSynthScenario(std::string_view name) {
   return std::nullopt;
 }
 
-bool HasChosenDuration(SynthScenario scenario) {
-  return scenario == SynthScenario::kRandom || scenario == SynthScenario::kPaddingVariants;
+bool HasChosenDuration(SynthScenario scenario) { return scenario == SynthScenario::kRandom; }
+
+int DefaultCount(SynthScenario scenario) {
+  return scenario == SynthScenario::kPaddingSeries ? kPaddingRepeats : 1;
 }
 
 namespace {
@@ -386,24 +525,14 @@ std::vector<ScenarioTest> ScenarioTests(const ScenarioOptions& options) {
       }
       break;
     }
-    case SynthScenario::kPaddingVariants: {
-      // The same impacts (one seed per repeat) with three paddings that
-      // scale the head's load: production trim, then foams A and B.
-      struct Variant {
-        const char* name;
-        double load_factor;
-      };
-      constexpr Variant kVariants[] = {{"production", 1.0}, {"foam-a", 0.8}, {"foam-b", 0.65}};
-      for (const Variant& variant : kVariants)
-        for (int r = 0; r < options.count; ++r) {
+    case SynthScenario::kPaddingSeries: {
+      // Every test its own impact: the scatter of a real series.
+      std::uint64_t index = 0;
+      for (const PaddingVariant& variant : kPaddingVariants)
+        for (int r = 0; r < options.count; ++r, ++index) {
           ScenarioTest test;
-          test.motion.seed = options.seed + static_cast<std::uint64_t>(r);
-          test.motion.duration_s = options.duration_s;
-          test.motion.peak_acc_g *= variant.load_factor;
-          test.motion.peak_omega_radps *= variant.load_factor;
-          test.motion.synth = options.synth;
-          test.seed = test.motion.seed;
-          test.load_factor = variant.load_factor;
+          test.seed = options.seed + index;
+          test.impact = ScatteredImpact(variant, *test.seed);
           test.variant = variant.name;
           test.external_id = Numbered(options.id_prefix + "-" + variant.name, r + 1, 2);
           tests.push_back(std::move(test));
@@ -422,8 +551,12 @@ SyntheticTest SynthScenarioTest(const ArrayGeometry& array, const ScenarioOption
       return SynthSeedFixedAxis(array, Vector3d(0.5, 0.5, 0.5), options.synth);
     case SynthScenario::kSeedSequential:
       return SynthSequential(array, options.synth);
+    case SynthScenario::kPaddingSeries: {
+      SyntheticTest synthetic = SynthHeadImpact(array, test.impact.value(), options.synth);
+      synthetic.name = test.external_id;
+      return synthetic;
+    }
     case SynthScenario::kRandom:
-    case SynthScenario::kPaddingVariants:
       break;
   }
   return SynthRandomMotion(array, test.motion);

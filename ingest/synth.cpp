@@ -19,12 +19,12 @@ SynthPlan PlanSynth(const SynthRequest& request) {
   engine::ScenarioOptions& scenario = plan.scenario;
   scenario.scenario = request.scenario;
   scenario.id_prefix = request.test_id.empty() ? name : request.test_id;
-  scenario.count = request.count;
+  scenario.count = request.count.value_or(engine::DefaultCount(request.scenario));
   scenario.seed = request.seed;
   scenario.synth.rate_hz = request.rate_hz;
   if (!engine::HasChosenDuration(request.scenario) && (request.samples || request.duration_s))
-    throw InputError("--samples and --duration apply to the random and padding-variants scenarios only; " +
-                     name + " has the report's fixed duration.");
+    throw InputError("--samples and --duration apply to the random scenario only; " + name +
+                     " has the report's fixed duration.");
   scenario.duration_s =
       request.samples ? (*request.samples - 1) / request.rate_hz : request.duration_s.value_or(0.2);
   plan.tests = engine::ScenarioTests(scenario);
@@ -39,7 +39,16 @@ SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan) {
     nlohmann::json synthetic = {{"scenario", name}, {"rate_hz", plan.scenario.synth.rate_hz}};
     if (scenario_test.seed) synthetic["seed"] = *scenario_test.seed;
     if (engine::HasChosenDuration(plan.scenario.scenario)) synthetic["duration_s"] = plan.scenario.duration_s;
-    if (scenario_test.load_factor) synthetic["load_factor"] = *scenario_test.load_factor;
+    if (const std::optional<engine::HeadImpact>& impact = scenario_test.impact) {
+      const Eigen::Vector3d& contact = impact->contact_point_body_m;
+      synthetic["impact"] = {{"speed_mps", impact->speed_mps},
+                             {"trajectory_deg", impact->trajectory_deg},
+                             {"contact_point_body_m", {contact.x(), contact.y(), contact.z()}},
+                             {"pulse_s", impact->pulse_s},
+                             {"restitution", impact->restitution},
+                             {"noise_g", impact->noise_g},
+                             {"noise_radps", impact->noise_radps}};
+    }
 
     db::TestRecord record;
     record.external_id = scenario_test.external_id;

@@ -15,12 +15,13 @@ namespace napkin::ingest {
 
 struct SynthRequest {
   engine::SynthScenario scenario = engine::SynthScenario::kRandom;
-  int count = 1;                     // random: tests; padding-variants: repeats per variant
-  std::uint64_t seed = 1;            // random generator seed of the first test
+  std::optional<int> count;          // random: tests; padding-series: repeats per variant
+                                     // (default engine::DefaultCount: 1, 5)
+  std::uint64_t seed = 1;            // generator seed of the first test
   std::string array = "ideal-3222";  // array preset or JSON file the signals are generated for
   std::string series;                // series label (default: the scenario name)
   std::string test_id;               // test id, or the prefix of numbered ids (default: the scenario name)
-  std::optional<int> samples;        // random, padding-variants: samples per channel
+  std::optional<int> samples;        // random: samples per channel
   std::optional<double> duration_s;  // ... or duration (default 0.2 s)
   double rate_hz = 10000.0;          // sampling rate
 };
@@ -45,8 +46,9 @@ struct SynthCounts {
 };
 
 // Generates and stores each test of `plan` (metadata {"synthetic": {scenario,
-// rate_hz, seed, duration_s, load_factor}} as far as they apply, source
-// "synth:<scenario>").
+// rate_hz, seed, duration_s, impact}} as far as they apply, impact =
+// {speed_mps, trajectory_deg, contact_point_body_m, pulse_s, restitution,
+// noise_g, noise_radps} for padding-series; source "synth:<scenario>").
 SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan);
 
 }  // namespace napkin::ingest

@@ -1,5 +1,7 @@
-// The scenarios of `napkin synth`: names, ids, seeds and paddings.
+// The scenarios of `napkin synth`: names, ids, seeds, paddings and impacts.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "engine/synth.h"
 
@@ -11,7 +13,7 @@ TEST(SynthScenarioTest, NamesRoundTrip) {
     EXPECT_EQ(ParseSynthScenario(SynthScenarioName(scenario)), scenario);
   EXPECT_FALSE(ParseSynthScenario("Random"));
   EXPECT_TRUE(HasChosenDuration(SynthScenario::kRandom));
-  EXPECT_TRUE(HasChosenDuration(SynthScenario::kPaddingVariants));
+  EXPECT_FALSE(HasChosenDuration(SynthScenario::kPaddingSeries));
   EXPECT_FALSE(HasChosenDuration(SynthScenario::kSeedFixedAxis));
   EXPECT_FALSE(HasChosenDuration(SynthScenario::kSeedSequential));
 }
@@ -46,26 +48,36 @@ TEST(SynthScenarioTest, RandomTestsAreNumberedWithConsecutiveSeeds) {
   EXPECT_EQ(ScenarioTests(options)[2].external_id, "r-0003");
 }
 
-TEST(SynthScenarioTest, PaddingVariantsScaleTheSameImpacts) {
+TEST(SynthScenarioTest, PaddingSeriesNumbersEachVariantsRepeatsWithConsecutiveSeeds) {
   ScenarioOptions options;
-  options.scenario = SynthScenario::kPaddingVariants;
+  options.scenario = SynthScenario::kPaddingSeries;
   options.id_prefix = "pad";
   options.count = 2;
   options.seed = 4;
   const std::vector<ScenarioTest> tests = ScenarioTests(options);
   ASSERT_EQ(tests.size(), 6u);
-  const RandomMotionOptions defaults;
   const char* ids[] = {"pad-production-01", "pad-production-02", "pad-foam-a-01",
                        "pad-foam-a-02",     "pad-foam-b-01",     "pad-foam-b-02"};
-  const double factors[] = {1.0, 1.0, 0.8, 0.8, 0.65, 0.65};
   for (std::size_t i = 0; i < tests.size(); ++i) {
     EXPECT_EQ(tests[i].external_id, ids[i]);
-    EXPECT_EQ(tests[i].load_factor, factors[i]);
-    EXPECT_EQ(tests[i].seed, 4u + i % 2);
-    EXPECT_EQ(tests[i].motion.peak_acc_g, defaults.peak_acc_g * factors[i]);
-    EXPECT_EQ(tests[i].motion.peak_omega_radps, defaults.peak_omega_radps * factors[i]);
+    EXPECT_EQ(tests[i].seed, 4u + i);
+    const PaddingVariant& variant = kPaddingVariants[i / 2];
+    EXPECT_EQ(tests[i].variant, variant.name);
+    ASSERT_TRUE(tests[i].impact);
+    const HeadImpact& impact = *tests[i].impact;
+    EXPECT_EQ(impact.noise_seed, 4u + i);
+    EXPECT_EQ(impact.restitution, variant.restitution);
+    // The scatter, truncated at 3 sigma.
+    EXPECT_LE(std::abs(impact.pulse_s / variant.pulse_s - 1.0), 3 * 0.02);
+    EXPECT_LE(std::abs(impact.speed_mps / HeadImpact{}.speed_mps - 1.0), 3 * 0.015);
+    EXPECT_LE(std::abs(impact.trajectory_deg - 36.0), 3 * 1.5);
+    EXPECT_LE(
+        (impact.contact_point_body_m - NominalContactPoint(impact.trajectory_deg)).cwiseAbs().maxCoeff(),
+        3 * 0.002);
   }
-  EXPECT_EQ(tests[2].variant, "foam-a");
+  EXPECT_NE(tests[0].impact->speed_mps, tests[1].impact->speed_mps);
+  EXPECT_EQ(DefaultCount(SynthScenario::kPaddingSeries), 5);
+  EXPECT_EQ(DefaultCount(SynthScenario::kRandom), 1);
 }
 
 }  // namespace

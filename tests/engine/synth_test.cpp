@@ -188,6 +188,99 @@ TEST(Synth, GravityReadingIsZeroedAtStartAndFollowsTheHeadTurn) {
   EXPECT_GT(std::abs(reading.x()), 1.0);  // the test is not vacuous
 }
 
+// The padding series' head impact without noise: a free rigid head hit off
+// its CG (docs/algorithms.md "Synthetic padding series").
+HeadImpact QuietNominalImpact() {
+  HeadImpact impact;
+  impact.contact_point_body_m = NominalContactPoint(impact.trajectory_deg);
+  impact.noise_g = 0.0;
+  impact.noise_radps = 0.0;
+  return impact;
+}
+
+TEST(Synth, HeadImpactTruthIsAnExactRigidBodyPushedOffItsCg) {
+  const HeadImpact impact = QuietNominalImpact();
+  const SyntheticTest test = SynthHeadImpact(test_support::Ideal3222(), impact);
+  const Kinematics& truth = test.truth;
+  ASSERT_EQ(truth.size(), 1001);  // 100 ms at 10 kHz
+  ExpectSelfConsistent(test, 2e-4);
+  const double dt = test.signals.dt_s;
+
+  // The CG: a haversine pulse of impulse (1 + e) v against the trajectory,
+  // from contact_start_s for pulse_s; rebound at e v.
+  const double trajectory = impact.trajectory_deg / kDegPerRad;
+  const Eigen::Vector3d u(std::cos(trajectory), -std::sin(trajectory), 0.0);
+  EXPECT_LE((test.initial.velocity_fixed_mps - impact.speed_mps * u).norm(), 1e-12);
+  const double peak = 2.0 * (1.0 + impact.restitution) * impact.speed_mps / impact.pulse_s;
+  for (Eigen::Index k = 0; k < truth.size(); ++k) {
+    const double tau = (truth.time_s(k) - impact.contact_start_s) / impact.pulse_s;
+    const double expected = (tau > 0.0 && tau < 1.0) ? peak * std::pow(std::sin(kPi * tau), 2) : 0.0;
+    ASSERT_NEAR(truth.acc_fixed.row(k).dot(-u), expected, 1e-9 * peak) << k;
+    ASSERT_LE(truth.acc_fixed.row(k).cross(u.transpose()).norm(), 1e-9 * peak) << k;
+  }
+  EXPECT_LE(
+      (truth.vel_fixed.row(truth.size() - 1).transpose() + impact.restitution * impact.speed_mps * u).norm(),
+      1e-12);
+
+  // Angular momentum about the CG, H = R I w (fixed axes), changes by the
+  // impulse of the padding force's moment (R r_c) x F plus the neck's,
+  // recomputed from the truth by the trapezoid rule.
+  const Eigen::Matrix3d inertia = impact.head_inertia_kgm2.asDiagonal();
+  auto momentum = [&](Eigen::Index k) -> Eigen::Vector3d {
+    return QuatAt(truth.quat_fixed_from_body, k) * (inertia * truth.omega_body.row(k).transpose());
+  };
+  auto torque = [&](Eigen::Index k) -> Eigen::Vector3d {
+    const Eigen::Quaterniond q = QuatAt(truth.quat_fixed_from_body, k);
+    const Eigen::Vector3d force = impact.head_mass_kg * truth.acc_fixed.row(k).transpose();
+    const Eigen::Vector3d neck_body = -impact.neck_stiffness_nm_per_rad * QuaternionLog(q) -
+                                      impact.neck_damping_nms_per_rad * truth.omega_body.row(k).transpose();
+    return (q * impact.contact_point_body_m).cross(force) + q * neck_body;
+  };
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+  double worst = 0.0, scale = 0.0;
+  for (Eigen::Index k = 1; k < truth.size(); ++k) {
+    impulse += 0.5 * dt * (torque(k - 1) + torque(k));
+    worst = std::max(worst, (momentum(k) - momentum(0) - impulse).norm());
+    scale = std::max(scale, (momentum(k) - momentum(0)).norm());
+  }
+  EXPECT_LE(worst, 2e-4 * scale);
+
+  // An oblique contact turns the head about all three axes, at a rate of
+  // the order crash tests show.
+  const double peak_omega = truth.omega_body.rowwise().norm().maxCoeff();
+  EXPECT_GT(peak_omega, 15.0);
+  EXPECT_LT(peak_omega, 50.0);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_GT(truth.omega_body.col(axis).cwiseAbs().maxCoeff(), 1.0) << axis;
+  EXPECT_EQ(truth.omega_body.row(0).norm(), 0.0);
+}
+
+TEST(Synth, HeadImpactNoiseIsSeededAndStaysOutOfTheTruth) {
+  const HeadImpact quiet = QuietNominalImpact();
+  HeadImpact noisy = quiet;
+  noisy.noise_g = 0.2;
+  noisy.noise_seed = 21;
+  const ArrayGeometry array = test_support::Ideal3222();
+  const SyntheticTest clean = SynthHeadImpact(array, quiet);
+  const SyntheticTest a = SynthHeadImpact(array, noisy);
+  const SyntheticTest b = SynthHeadImpact(array, noisy);
+  noisy.noise_seed = 22;
+  const SyntheticTest c = SynthHeadImpact(array, noisy);
+  EXPECT_EQ(a.signals.samples, b.signals.samples);
+  EXPECT_NE(a.signals.samples, c.signals.samples);
+  EXPECT_EQ(a.truth.omega_body, clean.truth.omega_body);
+  EXPECT_EQ(a.truth.acc_fixed, clean.truth.acc_fixed);
+  EXPECT_EQ(a.truth.quat_fixed_from_body, clean.truth.quat_fixed_from_body);
+  // White noise of the asked RMS (in g) on every linear channel.
+  for (Eigen::Index i = 0; i < a.signals.samples.cols(); ++i) {
+    const Eigen::VectorXd noise = a.signals.samples.col(i) - clean.signals.samples.col(i);
+    const double mean = noise.mean();
+    const double rms = std::sqrt((noise.array() - mean).square().mean());
+    EXPECT_NEAR(rms, 0.2, 0.02) << i;
+    EXPECT_LT(std::abs(mean), 0.03) << i;
+  }
+}
+
 TEST(Synth, DisplaceSensorsMovesEverySensorWithinTheBound) {
   const ArrayGeometry nominal = test_support::Denton3222();
   const double bound = 0.25 * kMetresPerInch;

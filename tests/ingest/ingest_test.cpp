@@ -109,28 +109,41 @@ TEST_F(StoreTestTest, AChannelOutsideTheArrayStoresNothing) {
   EXPECT_EQ(db::CatalogueInspector(catalogue_).Dump(), dump);
 }
 
-TEST(SynthTest, PaddingVariantsAreLabelledAndStoredOnce) {
+TEST(SynthTest, PaddingSeriesIsLabelledDescribedAndStoredOnce) {
   napkin::test_support::TempDir dir;
   db::Catalogue catalogue = db::Catalogue::Open((dir / "c.db").string());
   SynthRequest request;
-  request.scenario = engine::SynthScenario::kPaddingVariants;
+  request.scenario = engine::SynthScenario::kPaddingSeries;
+  EXPECT_EQ(PlanSynth(request).tests.size(), 15u);  // five repeats per padding by default
   request.count = 2;
   request.seed = 7;
-  request.samples = 101;
   const SynthPlan plan = PlanSynth(request);
-  EXPECT_EQ(plan.series, "padding-variants");
+  EXPECT_EQ(plan.series, "padding-series");
   ASSERT_EQ(plan.tests.size(), 6u);
   const SynthCounts first = StoreSynthTests(catalogue, plan);
   EXPECT_EQ(first.added, 6);
   EXPECT_EQ(first.present, 0);
-  const db::TestRecord test =
-      catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-variants-foam-a-02"));
-  EXPECT_EQ(test.series, "padding-variants");
+  const db::TestRecord test = catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-series-foam-a-02"));
+  EXPECT_EQ(test.series, "padding-series");
   EXPECT_EQ(test.variant, "foam-a");
-  EXPECT_EQ(test.source_path, "synth:padding-variants");
-  EXPECT_EQ(nlohmann::json::parse(test.metadata_json),
-            nlohmann::json::parse(R"({"synthetic":{"scenario":"padding-variants","rate_hz":10000.0,"seed":8,
-                                      "duration_s":0.01,"load_factor":0.8}})"));
+  EXPECT_EQ(test.source_path, "synth:padding-series");
+  // The fourth test of the series: seed 7 + 3, and the impact drawn from it.
+  const engine::HeadImpact impact = engine::ScatteredImpact(engine::kPaddingVariants[1], 10);
+  const nlohmann::json expected_impact = {
+      {"speed_mps", impact.speed_mps},
+      {"trajectory_deg", impact.trajectory_deg},
+      {"contact_point_body_m",
+       {impact.contact_point_body_m.x(), impact.contact_point_body_m.y(), impact.contact_point_body_m.z()}},
+      {"pulse_s", impact.pulse_s},
+      {"restitution", 0.15},
+      {"noise_g", 0.2},
+      {"noise_radps", 0.05}};
+  EXPECT_EQ(nlohmann::json::parse(test.metadata_json), (nlohmann::json{{"synthetic",
+                                                                        {{"scenario", "padding-series"},
+                                                                         {"rate_hz", 10000.0},
+                                                                         {"seed", 10},
+                                                                         {"impact", expected_impact}}}}));
+  EXPECT_NEAR(test.initial_state.velocity_fixed_mps.norm(), impact.speed_mps, 1e-12);
   const SynthCounts second = StoreSynthTests(catalogue, plan);
   EXPECT_EQ(second.added, 0);
   EXPECT_EQ(second.present, 6);
@@ -144,10 +157,9 @@ TEST(SynthTest, FixedDurationScenariosRefuseSamples) {
     PlanSynth(request);
     ADD_FAILURE() << "--duration accepted for seed-sequential";
   } catch (const InputError& error) {
-    EXPECT_EQ(
-        std::string(error.what()),
-        "--samples and --duration apply to the random and padding-variants scenarios only; seed-sequential "
-        "has the report's fixed duration.");
+    EXPECT_EQ(std::string(error.what()),
+              "--samples and --duration apply to the random scenario only; seed-sequential has the report's "
+              "fixed duration.");
   }
 }
 
