@@ -7,7 +7,7 @@ BUILD_TEST ?= build/test
 BUILD_BENCH ?= build/bench
 # What the program needs (make demo), and what the tests and benchmarks add.
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format
 
 .PHONY: deps program-deps demo test build release bench format format-check clean
