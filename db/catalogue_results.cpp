@@ -311,4 +311,26 @@ Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
   return table;
 }
 
+std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, ResultSelection selection) {
+  const std::string source = selection == ResultSelection::kLatest ? "v_latest_results" : "results";
+  auto select =
+      connection_.Prepare("SELECT t.external_id, t.variant, c.id, c.name, c.config_hash, " +
+                          SummaryColumnList("r.") + " FROM " + source +
+                          " AS r JOIN tests AS t ON t.id = r.test_id JOIN configs AS c ON c.id = r.config_id "
+                          "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+                          internal::kTestFilterTerms + " ORDER BY t.external_id, c.id");
+  internal::BindTestFilter(*select, filter);
+  std::vector<LabelledResult> results;
+  while (select->Step()) {
+    LabelledResult& result = results.emplace_back();
+    result.test_id = select->ColumnText(0);
+    result.variant = select->ColumnOptionalText(1);
+    result.config_id = ConfigId{select->ColumnInt64(2)};
+    result.config_name = select->ColumnText(3);
+    result.config_hash = select->ColumnText(4);
+    ReadSummaryFields(*select, 5, result.summary);
+  }
+  return results;
+}
+
 }  // namespace napkin::db
