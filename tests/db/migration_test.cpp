@@ -124,9 +124,8 @@ TEST(Migrations, UpgradeFromTheFirstVersionAddsTheViews) {
   // Version 3 derived hic_d from the stored HIC36 with the engine's arithmetic.
   ASSERT_EQ(hic.columns.back(), "hic_d");
   EXPECT_EQ(std::get<double>(hic.rows[0].back()), engine::HicD(700.0));
-  const auto summary = catalogue.ReadSummary(*catalogue.FindTestByExternalId("v0001"),
-                                              *catalogue.ReadLatestResultConfig(
-                                                  *catalogue.FindTestByExternalId("v0001")));
+  const TestId test = *catalogue.FindTestByExternalId("v0001");
+  const auto summary = catalogue.ReadSummary(test, *catalogue.ReadLatestResultConfig(test));
   ASSERT_TRUE(summary.has_value());
   EXPECT_EQ(summary->hic_d, engine::HicD(700.0));
 }
