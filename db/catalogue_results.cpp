@@ -87,9 +87,8 @@ void CheckKinematicsShape(const engine::Kinematics& kinematics) {
 // tests/db/schema_test.cpp checks).
 std::string SummaryViewColumns(std::initializer_list<engine::SummaryGroup> groups) {
   std::string columns = "test_id, series, variant";
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (std::find(groups.begin(), groups.end(), field.group) != groups.end())
-      columns.append(", ").append(field.name);
+  for (const engine::SummaryField* field : engine::SummaryFieldsOf(groups))
+    columns.append(", ").append(field->name);
   return columns;
 }
 
