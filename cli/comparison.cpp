@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -55,17 +56,15 @@ std::string GroupOf(const db::LabelledResult& result, CompareBy by,
   return result.config_name + "@" + result.config_hash.substr(0, 8);
 }
 
-// Mean of the values of `baseline` at the tests of `pairs`.
-double PairedBaselineMean(const std::vector<double>& baseline_values) {
+double MeanOf(const std::vector<double>& values) {
   double sum = 0.0;
-  for (const double value : baseline_values) sum += value;
-  return baseline_values.empty() ? std::numeric_limits<double>::quiet_NaN()
-                                 : sum / static_cast<double>(baseline_values.size());
+  for (const double value : values) sum += value;
+  return values.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(values.size());
 }
 
 // Paired t of `group` against `baseline` over the tests both have.
 engine::MeanDifference PairedDifference(const GroupValues& group, const GroupValues& baseline,
-                                        std::size_t& pairs) {
+                                        ComparisonRow& row) {
   std::map<std::string, double> baseline_by_test;
   for (std::size_t i = 0; i < baseline.test_ids.size(); ++i)
     baseline_by_test.emplace(baseline.test_ids[i], baseline.values[i]);
@@ -77,8 +76,9 @@ engine::MeanDifference PairedDifference(const GroupValues& group, const GroupVal
     differences.push_back(group.values[i] - found->second);
     baseline_values.push_back(found->second);
   }
-  pairs = differences.size();
-  return engine::PairedComparison(differences, PairedBaselineMean(baseline_values));
+  row.pairs = differences.size();
+  row.baseline_mean = MeanOf(baseline_values);
+  return engine::PairedComparison(differences, row.baseline_mean);
 }
 
 engine::MeanDifference NoDifference() {
@@ -103,21 +103,15 @@ std::string DifferenceText(const ComparisonRow& row, CompareBy by) {
   const engine::MeanDifference& d = row.difference;
   const std::string paired = by == CompareBy::kConfig ? fmt::format(" ({} pairs)", row.pairs) : "";
   if (!std::isfinite(d.diff)) return "n < 2: no difference (1)" + paired;
-  std::string text;
-  double scale = 1.0;
-  std::string unit;
-  if (std::isfinite(d.diff_pct)) {
-    scale = d.diff_pct / d.diff;
-    unit = " %";
-    text = fmt::format("{:+.1f} %", d.diff_pct);
-  } else {
-    text = fmt::format("{:+.4g}", d.diff);
-  }
+  const bool percent = std::isfinite(d.diff_pct);
+  std::string text = percent ? fmt::format("{:+.1f} %", d.diff_pct) : fmt::format("{:+.4g}", d.diff);
   if (!std::isfinite(d.ci_low)) return text + " (no scatter: no interval)" + paired;
-  if (unit.empty())
-    text += fmt::format(" [{:+.4g}, {:+.4g}]", d.ci_low, d.ci_high);
-  else
+  if (percent) {
+    const double scale = 100.0 / row.baseline_mean;
     text += fmt::format(" [{:+.1f}, {:+.1f}]", d.ci_low * scale, d.ci_high * scale);
+  } else {
+    text += fmt::format(" [{:+.4g}, {:+.4g}]", d.ci_low, d.ci_high);
+  }
   return text + "  " + PValue(d.p_value) + paired;
 }
 
@@ -299,12 +293,15 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
       row.description = engine::Describe(values.values);
       row.baseline = comparison.baseline;
       row.is_baseline = &values == &baseline;
-      if (row.is_baseline)
+      if (row.is_baseline) {
         row.difference = NoDifference();
-      else if (request.by == CompareBy::kVariant)
+      } else if (request.by == CompareBy::kVariant) {
         row.difference = engine::WelchComparison(values.values, baseline.values);
-      else
-        row.difference = PairedDifference(values, baseline, row.pairs);
+        row.baseline_mean = metric.rows.front().description.mean;
+      } else {
+        row.difference = PairedDifference(values, baseline, row);
+      }
+      if (!std::isfinite(row.difference.diff)) row.baseline_mean = std::numeric_limits<double>::quiet_NaN();
     }
   }
   return comparison;

@@ -61,6 +61,10 @@ struct ComparisonRow {
   // diff ... p_value; every field NaN on the baseline's row and where the
   // statistics are undefined (engine/statistics.h).
   engine::MeanDifference difference;
+  // The baseline mean diff_pct refers to: the baseline group's mean (by
+  // variant) or its mean over the paired tests (by config); NaN on the
+  // baseline's row and where the difference is undefined.
+  double baseline_mean = 0.0;
   // By config: the number of tests paired with the baseline; by variant 0.
   std::size_t pairs = 0;
 };
