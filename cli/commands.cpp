@@ -12,12 +12,14 @@ std::unique_ptr<Command> MakeSynthCommand();
 std::unique_ptr<Command> MakeRunCommand();
 std::unique_ptr<Command> MakeStatusCommand();
 std::unique_ptr<Command> MakeMergeCommand();
+std::unique_ptr<Command> MakeCompareCommand();
 
 std::vector<std::unique_ptr<Command>> MakeCommands() {
   std::vector<std::unique_ptr<Command>> commands;
   commands.push_back(MakeInitCommand());
   commands.push_back(MakeImportCommand());
   commands.push_back(MakeQueryCommand());
+  commands.push_back(MakeCompareCommand());
   commands.push_back(MakeExportCommand());
   commands.push_back(MakeTransformCommand());
   commands.push_back(MakeDemoCommand());
