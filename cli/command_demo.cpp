@@ -1,21 +1,52 @@
-// `napkin demo`: the report's validation scenarios, computed vs known answers.
+// `napkin demo`: builds a catalogue from the padding series (three paddings,
+// five oblique head impacts each) and the report's section 4.5 validation
+// scenario on its three 3-2-2-2 geometries, processes it in parallel with the
+// batch scheduler, and prints what napkin tells about it: the padding
+// comparison, the validation table against the known answers, the legacy
+// solver's error, and the commands to try next.
 #include <fmt/core.h>
+#include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
 
+#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/comparison.h"
+#include "cli/table_output.h"
 #include "cli/transform.h"
+#include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "formats/array_json.h"
 #include "formats/csv.h"
+#include "ingest/synth.h"
+#include "jobs/scheduler.h"
 
 namespace napkin::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+}  // namespace
+
+std::unique_ptr<Command> MakeReportCommand();  // cli/command_report.cpp
+
+namespace {
+
+constexpr const char* kPaddingSeries = "padding-series";
+constexpr const char* kValidationSeries = "validation";
+constexpr const char* kGeometries[3] = {"ideal-3222", "volpe-table4-2", "denton-3222"};
+// The padding series is recorded with the NAP array of the report's tests (Appendix A, Denton 3-2-2-2).
+constexpr const char* kPaddingArray = "denton-3222";
+
+std::string ValidationTestId(const char* geometry) { return std::string("seed-fixed-axis-") + geometry; }
 
 // The computed counterparts of the report section 4.5 known answers
 // (engine/report_known_answers.h).
@@ -28,8 +59,7 @@ struct ScenarioNumbers {
   double hic = 0, hic_t1_ms = 0, hic_t2_ms = 0, hic36 = 0, hic15 = 0;
 };
 
-ScenarioNumbers Measure(const TransformReport& report) {
-  const engine::Kinematics& k = report.kinematics;
+ScenarioNumbers Measure(const engine::Kinematics& k, const engine::TestSummary& summary) {
   const Eigen::Index last = k.size() - 1;
   auto quat = [&](Eigen::Index i) {
     return Eigen::Quaterniond(k.quat_fixed_from_body(i, 0), k.quat_fixed_from_body(i, 1),
@@ -40,110 +70,227 @@ ScenarioNumbers Measure(const TransformReport& report) {
   n.peak_omega_y_fixed = k.omega_fixed.col(1).maxCoeff();
   n.max_abs_omega_xz_fixed =
       std::max(k.omega_fixed.col(0).cwiseAbs().maxCoeff(), k.omega_fixed.col(2).cwiseAbs().maxCoeff());
-  n.peak_alpha = report.summary.peak_alpha_radps2;
-  n.peak_acc_g = report.summary.peak_acc_g;
-  n.hic = report.summary.hic.value;
-  n.hic_t1_ms = report.summary.hic.t1_s * 1e3;
-  n.hic_t2_ms = report.summary.hic.t2_s * 1e3;
-  n.hic36 = report.summary.hic36.value;
-  n.hic15 = report.summary.hic15.value;
+  n.peak_alpha = summary.peak_alpha_radps2;
+  n.peak_acc_g = summary.peak_acc_g;
+  n.hic = summary.hic.value;
+  n.hic_t1_ms = summary.hic.t1_s * 1e3;
+  n.hic_t2_ms = summary.hic.t2_s * 1e3;
+  n.hic36 = summary.hic36.value;
+  n.hic15 = summary.hic15.value;
   return n;
+}
+
+// Removes the catalogue a previous demo built in the folder (with its SQLite
+// side files) and the report; true when there was one.
+bool RemovePreviousDemo(const fs::path& db_path, const fs::path& report_path) {
+  bool removed = false;
+  for (const std::string suffix : {"", "-wal", "-shm", "-journal"}) {
+    std::error_code error;
+    removed |= fs::remove(db_path.string() + suffix, error) && suffix.empty();
+    if (error)
+      throw InputError("cannot remove '" + db_path.string() + suffix +
+                       "' of a previous demo: " + error.message());
+  }
+  std::error_code error;
+  fs::remove(report_path, error);
+  return removed;
+}
+
+// The padding series and the three validation tests, stored as `napkin
+// synth` stores them.
+int StoreDemoTests(const std::string& db_path) {
+  db::Catalogue catalogue = db::Catalogue::Open(db_path);
+  int added = 0;
+  ingest::SynthRequest padding;
+  padding.scenario = engine::SynthScenario::kPaddingSeries;
+  padding.array = kPaddingArray;
+  added += ingest::StoreSynthTests(catalogue, ingest::PlanSynth(padding)).added;
+  for (const char* geometry : kGeometries) {
+    ingest::SynthRequest validation;
+    validation.scenario = engine::SynthScenario::kSeedFixedAxis;
+    validation.array = geometry;
+    validation.series = kValidationSeries;
+    validation.test_id = ValidationTestId(geometry);
+    added += ingest::StoreSynthTests(catalogue, ingest::PlanSynth(validation)).added;
+  }
+  return added;
+}
+
+// The padding series compared by variant against production trim, as
+// `napkin compare --series padding-series --baseline production --metrics ...`
+// prints it, for the metrics that tell the story: HIC, the CG acceleration, and
+// the rotation that the padding barely changes.
+void PrintPaddingComparison(db::Catalogue& catalogue) {
+  ComparisonRequest request;
+  request.series = kPaddingSeries;
+  request.baseline = "production";
+  request.metrics = {"hic15", "hic_d", "peak_acc_g", "peak_omega_radps", "peak_alpha_radps2", "bric"};
+  fmt::print("{}", FormatComparison(BuildComparison(catalogue, request), TableFormat::kTable));
+}
+
+// `napkin --db DB report --out PATH` run in this process: the HTML report of
+// every test of the catalogue (it prints the path it wrote).
+void WriteDemoReport(const std::string& db_path, const fs::path& report_path) {
+  GlobalOptions global;
+  global.db_path = db_path;
+  CLI::App app;
+  const std::unique_ptr<Command> report = MakeReportCommand();
+  report->Setup(app, global);
+  std::vector<std::string> args = {"report", "--out", report_path.string()};
+  std::reverse(args.begin(), args.end());  // CLI11 takes a vector of arguments last first
+  app.parse(args);
+  if (report->Run() != kExitOk) throw InputError("the demo report '" + report_path.string() + "' failed.");
+}
+
+// Report section 4.5, from the catalogue's results of the validation tests.
+void PrintValidationTable(db::Catalogue& catalogue, db::ConfigId config) {
+  ScenarioNumbers numbers[3];
+  for (int g = 0; g < 3; ++g) {
+    const db::TestId test = catalogue.FindTestByExternalId(ValidationTestId(kGeometries[g])).value();
+    numbers[g] =
+        Measure(catalogue.ReadKinematics(test, config).value(), catalogue.ReadSummary(test, config).value());
+  }
+  fmt::print(
+      "report section 4.5: rotation about an axis parallel to fixed Y, 10 in from the CG, head initially at\n"
+      "phi = theta = psi = 0.5 rad, 100 ms at 10 kHz (series '{}'), processed with each 3-2-2-2 geometry\n"
+      "(exact solver):\n",
+      kValidationSeries);
+  fmt::print("{:<40} {:>12} {:>14} {:>14} {:>14}\n", "quantity", "known", kGeometries[0], kGeometries[1],
+             kGeometries[2]);
+  // The known column is printed as the report states it (`known_format`),
+  // the computed columns to the precision that shows the agreement.
+  auto row = [&](const char* label, double known, const char* known_format, double ScenarioNumbers::*field,
+                 const char* format) {
+    fmt::print("{:<40} {:>12}", label, fmt::format(fmt::runtime(known_format), known));
+    for (const auto& n : numbers) fmt::print(" {:>14}", fmt::format(fmt::runtime(format), n.*field));
+    fmt::print("\n");
+  };
+  namespace known = engine::report;
+  row("total rotation about fixed Y (deg)", known::kTotalRotationDeg, "{:.4f}",
+      &ScenarioNumbers::rotation_about_y_deg, "{:.4f}");
+  row("peak fixed omega_Y (rad/s)", known::kPeakOmegaFixedYRadps, "{:.0f}",
+      &ScenarioNumbers::peak_omega_y_fixed, "{:.4f}");
+  row("max |fixed omega_X|, |omega_Z| (rad/s)", known::kOmegaFixedXZRadps, "{:.0f}",
+      &ScenarioNumbers::max_abs_omega_xz_fixed, "{:.2e}");
+  row("peak angular acceleration (rad/s^2)", known::kPeakAlphaRadps2, "{:.0f}", &ScenarioNumbers::peak_alpha,
+      "{:.1f}");
+  row("peak resultant CG acceleration (g)", known::kPeakAccG, "{:.2f}", &ScenarioNumbers::peak_acc_g,
+      "{:.2f}");
+  row("HIC, unlimited window", known::kHic, "{:.2f}", &ScenarioNumbers::hic, "{:.2f}");
+  row("  t1 (ms)", known::kHicT1S * 1e3, "{:.1f}", &ScenarioNumbers::hic_t1_ms, "{:.1f}");
+  row("  t2 (ms)", known::kHicT2S * 1e3, "{:.1f}", &ScenarioNumbers::hic_t2_ms, "{:.1f}");
+  row("HIC36", known::kHic36, "{:.2f}", &ScenarioNumbers::hic36, "{:.2f}");
+  row("HIC15", known::kHic15, "{:.2f}", &ScenarioNumbers::hic15, "{:.2f}");
+}
+
+// The report's point (section 4.5, Table 4-2): the legacy program without
+// compensation for the true geometry is off by percents. Computed by `napkin
+// transform` (seed solver) on files in `dir`.
+void PrintSeedSolverTable(const fs::path& dir) {
+  fmt::print("\nseed solver (LC_COMP, Appendix B) on Table 4-2 data:\n");
+  const engine::ArrayGeometry table42 = formats::LoadArray("volpe-table4-2");
+  const engine::SyntheticTest test = engine::SynthSeedFixedAxis(table42, Eigen::Vector3d(0.5, 0.5, 0.5));
+  const std::string input = (dir / "seed-fixed-axis_volpe-table4-2.csv").string();
+  formats::WriteSignalsCsv(test.signals, input);
+  fmt::print("{:<40} {:>16} {:>16} {:>18}\n", "processed as", "peak |omega_X|", "peak |omega_Z|",
+             "final orient. err");
+  for (const char* as : {"ideal-3222", "volpe-table4-2"}) {
+    TransformOptions options;
+    options.array = as;
+    options.solver = "seed";
+    options.orientation_rad = {0.5, 0.5, 0.5};
+    options.input = input;
+    options.out = (dir / (std::string("seed_as_") + as + ".csv")).string();
+    const TransformReport report = RunTransform(options);
+    const engine::Kinematics& k = report.kinematics;
+    const Eigen::Index last = k.size() - 1;
+    const Eigen::Quaterniond q(k.quat_fixed_from_body(last, 0), k.quat_fixed_from_body(last, 1),
+                               k.quat_fixed_from_body(last, 2), k.quat_fixed_from_body(last, 3));
+    const Eigen::Quaterniond q_true(
+        test.truth.quat_fixed_from_body(last, 0), test.truth.quat_fixed_from_body(last, 1),
+        test.truth.quat_fixed_from_body(last, 2), test.truth.quat_fixed_from_body(last, 3));
+    fmt::print("{:<40} {:>11.4f} rad/s {:>11.4f} rad/s {:>14.4f} deg\n", std::string("seed, ") + as,
+               k.omega_fixed.col(0).cwiseAbs().maxCoeff(), k.omega_fixed.col(2).cwiseAbs().maxCoeff(),
+               engine::AngleBetween(q, q_true) * engine::kDegPerRad);
+  }
+  fmt::print(
+      "(report: about {:.0f} % of the {:.0f} rad/s peak in fixed omega_X and omega_Z without "
+      "compensation)\n",
+      100 * engine::report::kUncompensatedCrossAxisFraction, engine::report::kPeakOmegaFixedYRadps);
 }
 
 class DemoCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
-    CLI::App* sub =
-        app.add_subcommand("demo", "run the report's validation scenarios and print known answers");
-    sub->add_option("--dir", dir_, "working directory for the demo files")->capture_default_str();
+    CLI::App* sub = app.add_subcommand("demo",
+                                       "build a demo catalogue (padding series + the report's validation "
+                                       "scenarios), run it, show the results");
+    sub->add_option("--out,--dir", dir_,
+                    "folder of the demo: its catalogue napkin.db (rebuilt on every run), report and files")
+        ->capture_default_str();
+    sub->add_option("--threads", threads_, "worker threads (default: all cores)")->check(CLI::PositiveNumber);
     return sub;
   }
 
   int Run() override {
-    fs::create_directories(dir_);
-    const char* geometries[3] = {"ideal-3222", "volpe-table4-2", "denton-3222"};
-    ScenarioNumbers numbers[3];
-    fmt::print(
-        "napkin demo — report section 4.5: rotation about an axis parallel to fixed Y, 10 in from the CG,\n"
-        "head initially at phi = theta = psi = 0.5 rad, 100 ms at 10 kHz, processed by `napkin transform`\n"
-        "(exact solver) with each 3-2-2-2 geometry. Files in {}/\n\n",
-        dir_);
-    for (int g = 0; g < 3; ++g) {
-      const engine::ArrayGeometry array = formats::LoadArray(geometries[g]);
-      const engine::SyntheticTest test = engine::SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
-      TransformOptions options;
-      options.array = geometries[g];
-      options.orientation_rad = {0.5, 0.5, 0.5};
-      options.input = (fs::path(dir_) / (std::string("seed-fixed-axis_") + geometries[g] + ".csv")).string();
-      options.out = (fs::path(dir_) / (std::string("derived_") + geometries[g] + ".csv")).string();
-      options.summary = (fs::path(dir_) / (std::string("summary_") + geometries[g] + ".json")).string();
-      formats::WriteSignalsCsv(test.signals, options.input);
-      numbers[g] = Measure(RunTransform(options));
-    }
-    fmt::print("{:<40} {:>12} {:>14} {:>14} {:>14}\n", "quantity", "known", geometries[0], geometries[1],
-               geometries[2]);
-    // The known column is printed as the report states it (`known_format`),
-    // the computed columns to the precision that shows the agreement.
-    auto row = [&](const char* label, double known, const char* known_format, double ScenarioNumbers::*field,
-                   const char* format) {
-      fmt::print("{:<40} {:>12}", label, fmt::format(fmt::runtime(known_format), known));
-      for (const auto& n : numbers) fmt::print(" {:>14}", fmt::format(fmt::runtime(format), n.*field));
-      fmt::print("\n");
-    };
-    namespace known = engine::report;
-    row("total rotation about fixed Y (deg)", known::kTotalRotationDeg, "{:.4f}",
-        &ScenarioNumbers::rotation_about_y_deg, "{:.4f}");
-    row("peak fixed omega_Y (rad/s)", known::kPeakOmegaFixedYRadps, "{:.0f}",
-        &ScenarioNumbers::peak_omega_y_fixed, "{:.4f}");
-    row("max |fixed omega_X|, |omega_Z| (rad/s)", known::kOmegaFixedXZRadps, "{:.0f}",
-        &ScenarioNumbers::max_abs_omega_xz_fixed, "{:.2e}");
-    row("peak angular acceleration (rad/s^2)", known::kPeakAlphaRadps2, "{:.0f}",
-        &ScenarioNumbers::peak_alpha, "{:.1f}");
-    row("peak resultant CG acceleration (g)", known::kPeakAccG, "{:.2f}", &ScenarioNumbers::peak_acc_g,
-        "{:.2f}");
-    row("HIC, unlimited window", known::kHic, "{:.2f}", &ScenarioNumbers::hic, "{:.2f}");
-    row("  t1 (ms)", known::kHicT1S * 1e3, "{:.1f}", &ScenarioNumbers::hic_t1_ms, "{:.1f}");
-    row("  t2 (ms)", known::kHicT2S * 1e3, "{:.1f}", &ScenarioNumbers::hic_t2_ms, "{:.1f}");
-    row("HIC36", known::kHic36, "{:.2f}", &ScenarioNumbers::hic36, "{:.2f}");
-    row("HIC15", known::kHic15, "{:.2f}", &ScenarioNumbers::hic15, "{:.2f}");
+    const fs::path dir(dir_);
+    fs::create_directories(dir);
+    const fs::path db_path = dir / "napkin.db";
+    const fs::path report_path = dir / "report.html";
+    const std::string db = db_path.string();
+    const bool replaced = RemovePreviousDemo(db_path, report_path);
 
-    // The report's point (section 4.5, Table 4-2): the legacy program without
-    // compensation for the true geometry is off by percents.
-    fmt::print("\nseed solver (LC_COMP, Appendix B) on Table 4-2 data:\n");
-    const engine::ArrayGeometry table42 = formats::LoadArray("volpe-table4-2");
-    const engine::SyntheticTest test = engine::SynthSeedFixedAxis(table42, Eigen::Vector3d(0.5, 0.5, 0.5));
-    const std::string input = (fs::path(dir_) / "seed-fixed-axis_volpe-table4-2.csv").string();
-    formats::WriteSignalsCsv(test.signals, input);
-    fmt::print("{:<40} {:>16} {:>16} {:>18}\n", "processed as", "peak |omega_X|", "peak |omega_Z|",
-               "final orient. err");
-    for (const char* as : {"ideal-3222", "volpe-table4-2"}) {
-      TransformOptions options;
-      options.array = as;
-      options.solver = "seed";
-      options.orientation_rad = {0.5, 0.5, 0.5};
-      options.input = input;
-      options.out = (fs::path(dir_) / (std::string("seed_as_") + as + ".csv")).string();
-      const TransformReport report = RunTransform(options);
-      const engine::Kinematics& k = report.kinematics;
-      const Eigen::Index last = k.size() - 1;
-      const Eigen::Quaterniond q(k.quat_fixed_from_body(last, 0), k.quat_fixed_from_body(last, 1),
-                                 k.quat_fixed_from_body(last, 2), k.quat_fixed_from_body(last, 3));
-      const Eigen::Quaterniond q_true(
-          test.truth.quat_fixed_from_body(last, 0), test.truth.quat_fixed_from_body(last, 1),
-          test.truth.quat_fixed_from_body(last, 2), test.truth.quat_fixed_from_body(last, 3));
-      fmt::print("{:<40} {:>11.4f} rad/s {:>11.4f} rad/s {:>14.4f} deg\n", std::string("seed, ") + as,
-                 k.omega_fixed.col(0).cwiseAbs().maxCoeff(), k.omega_fixed.col(2).cwiseAbs().maxCoeff(),
-                 engine::AngleBetween(q, q_true) * engine::kDegPerRad);
-    }
+    fmt::print("napkin demo: catalogue {}{}\n", db,
+               replaced ? " (rebuilt from scratch: the previous demo's catalogue was replaced)" : "");
+    const int added = StoreDemoTests(db);
     fmt::print(
-        "(report: about {:.0f} % of the {:.0f} rad/s peak in fixed omega_X and omega_Z without "
-        "compensation)\n",
-        100 * engine::report::kUncompensatedCrossAxisFraction, engine::report::kPeakOmegaFixedYRadps);
+        "  {} tests: series '{}' (oblique head impacts modelled on the report's sections 3.3 and 3.10:\n"
+        "  production trim, foam-a, foam-b, {} repeats each, {} array) and series '{}' (report 4.5 on {}, "
+        "{}, {})\n",
+        added, kPaddingSeries, engine::kPaddingRepeats, kPaddingArray, kValidationSeries, kGeometries[0],
+        kGeometries[1], kGeometries[2]);
+
+    // Process them as `napkin run` does: in parallel, resumably.
+    const ResolvedConfig resolved = ResolveConfig("");
+    const jobs::RunProcessing processing{resolved.config, resolved.record};
+    jobs::RunOptions options;
+    options.threads =
+        threads_ > 0 ? threads_ : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const spdlog::level::level_enum log_level = spdlog::get_level();
+    spdlog::set_level(spdlog::level::warn);  // the demo prints its own summary line
+    const jobs::RunReport run = jobs::RunScheduler(db, processing, options);
+    spdlog::set_level(log_level);
+    fmt::print("  processed {} tests in {:.2f} s on {} threads (config '{}'), {} failed\n\n", run.done,
+               run.wall_s, run.threads, resolved.record.name, run.failed);
+    if (run.failed > 0)
+      throw InputError(std::to_string(run.failed) + " demo tests failed; `napkin --db " + db +
+                       " status` lists them.");
+
+    db::CatalogueOptions read_only;
+    read_only.read_only = true;
+    db::Catalogue catalogue = db::Catalogue::Open(db, read_only);
+    fmt::print("padding series: HIC and rotation of production trim vs foam A and foam B\n");
+    PrintPaddingComparison(catalogue);
+    fmt::print("\n");
+    PrintValidationTable(catalogue, run.config);
+    PrintSeedSolverTable(dir);
+
+    fmt::print("\n");
+    WriteDemoReport(db, report_path);
+    const std::string napkin = "napkin --db " + db;
+    fmt::print(
+        "\nnext, try:\n"
+        "  {0} query hic --where \"hic15>700\"\n"
+        "  {0} compare --series {1} --by variant --baseline production\n"
+        "  {0} report --series {1} --out padding.html\n"
+        "  {0} export --test {1}-production-01 --format lsdyna --out head.k\n",
+        napkin, kPaddingSeries);
     return kExitOk;
   }
 
  private:
   std::string dir_ = "napkin-demo";
+  int threads_ = 0;
 };
 
 }  // namespace
