@@ -12,6 +12,7 @@ std::unique_ptr<Command> MakeSynthCommand();
 std::unique_ptr<Command> MakeRunCommand();
 std::unique_ptr<Command> MakeStatusCommand();
 std::unique_ptr<Command> MakeMergeCommand();
+std::unique_ptr<Command> MakeCompareCommand();
 std::unique_ptr<Command> MakeReportCommand();
 
 std::vector<std::unique_ptr<Command>> MakeCommands() {
@@ -19,6 +20,7 @@ std::vector<std::unique_ptr<Command>> MakeCommands() {
   commands.push_back(MakeInitCommand());
   commands.push_back(MakeImportCommand());
   commands.push_back(MakeQueryCommand());
+  commands.push_back(MakeCompareCommand());
   commands.push_back(MakeExportCommand());
   commands.push_back(MakeTransformCommand());
   commands.push_back(MakeDemoCommand());

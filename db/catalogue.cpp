@@ -158,6 +158,14 @@ std::optional<SeriesRecord> Catalogue::ReadSeries(const std::string& name) {
   return SeriesRecord{SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)};
 }
 
+std::vector<SeriesRecord> Catalogue::ReadAllSeries() {
+  auto select = connection_.Prepare("SELECT id, name, description FROM series ORDER BY name");
+  std::vector<SeriesRecord> series;
+  while (select->Step())
+    series.push_back({SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)});
+  return series;
+}
+
 // ------------------------------------------------------------------- arrays
 
 ArrayId Catalogue::WriteArray(const ArrayRecord& array) {
@@ -404,6 +412,16 @@ std::optional<ConfigId> Catalogue::FindConfigByHash(const std::string& config_ha
   select->Bind(1, config_hash);
   if (!select->Step()) return std::nullopt;
   return ConfigId{select->ColumnInt64(0)};
+}
+
+std::vector<ConfigRecord> Catalogue::ReadAllConfigs() {
+  auto select =
+      connection_.Prepare("SELECT id, name, config_json, config_hash, created_at FROM configs ORDER BY id");
+  std::vector<ConfigRecord> configs;
+  while (select->Step())
+    configs.push_back({ConfigId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2),
+                       select->ColumnText(3), select->ColumnText(4)});
+  return configs;
 }
 
 }  // namespace napkin::db

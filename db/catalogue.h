@@ -90,6 +90,20 @@ struct Table {
   std::vector<std::vector<Cell>> rows;
 };
 
+// One stored result with its test's labels and its config (`napkin compare`).
+struct LabelledResult {
+  std::string test_id;  // the test's external id
+  std::optional<std::string> variant;
+  ConfigId config_id{};
+  std::string config_name;
+  std::string config_hash;
+  engine::TestSummary summary;  // the summary fields; findings are not read
+};
+
+// Which results ReadResults returns: each test's most recently written one
+// (what the query views show), or one per config the test has results for.
+enum class ResultSelection { kLatest, kEveryConfig };
+
 // What MergeShard took from a shard catalogue.
 struct MergeReport {
   std::int64_t tests_added = 0;      // tests (with raw channels) the catalogue did not have
@@ -124,6 +138,8 @@ class Catalogue {
   // Returns the series' key, creating it if new (an existing description is kept).
   SeriesId WriteSeries(const std::string& name, const std::string& description = "");
   std::optional<SeriesRecord> ReadSeries(const std::string& name);
+  // Every series, in name order.
+  std::vector<SeriesRecord> ReadAllSeries();
 
   // ---- arrays
   // Returns the key of the array with this hash, inserting it if new.
@@ -154,6 +170,8 @@ class Catalogue {
   ConfigId WriteConfig(const ConfigRecord& config);
   ConfigRecord ReadConfig(ConfigId id);
   std::optional<ConfigId> FindConfigByHash(const std::string& config_hash);
+  // Every config, in key (creation) order.
+  std::vector<ConfigRecord> ReadAllConfigs();
 
   // ---- results
   // Stores (replacing) the test's summary and findings for `config`, and its
@@ -174,6 +192,9 @@ class Catalogue {
   std::optional<ConfigId> ReadLatestResultConfig(TestId test);
   // `napkin query <kind>` rows from the views, ordered by test id.
   Table Query(QueryKind kind, const TestFilter& filter = {});
+  // The results of the tests of `filter` (see ResultSelection), ordered by
+  // test id, then config key.
+  std::vector<LabelledResult> ReadResults(const TestFilter& filter, ResultSelection selection);
 
   // ---- jobs: db::JobQueue (db/job_queue.h) works on this connection.
 

@@ -87,9 +87,8 @@ void CheckKinematicsShape(const engine::Kinematics& kinematics) {
 // tests/db/schema_test.cpp checks).
 std::string SummaryViewColumns(std::initializer_list<engine::SummaryGroup> groups) {
   std::string columns = "test_id, series, variant";
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (std::find(groups.begin(), groups.end(), field.group) != groups.end())
-      columns.append(", ").append(field.name);
+  for (const engine::SummaryField* field : engine::SummaryFieldsOf(groups))
+    columns.append(", ").append(field->name);
   return columns;
 }
 
@@ -309,6 +308,28 @@ Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
     for (int c = 0; c < select->ColumnCount(); ++c) row.push_back(ReadCell(*select, c));
   }
   return table;
+}
+
+std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, ResultSelection selection) {
+  const std::string source = selection == ResultSelection::kLatest ? "v_latest_results" : "results";
+  auto select =
+      connection_.Prepare("SELECT t.external_id, t.variant, c.id, c.name, c.config_hash, " +
+                          SummaryColumnList("r.") + " FROM " + source +
+                          " AS r JOIN tests AS t ON t.id = r.test_id JOIN configs AS c ON c.id = r.config_id "
+                          "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+                          internal::kTestFilterTerms + " ORDER BY t.external_id, c.id");
+  internal::BindTestFilter(*select, filter);
+  std::vector<LabelledResult> results;
+  while (select->Step()) {
+    LabelledResult& result = results.emplace_back();
+    result.test_id = select->ColumnText(0);
+    result.variant = select->ColumnOptionalText(1);
+    result.config_id = ConfigId{select->ColumnInt64(2)};
+    result.config_name = select->ColumnText(3);
+    result.config_hash = select->ColumnText(4);
+    ReadSummaryFields(*select, 5, result.summary);
+  }
+  return results;
 }
 
 }  // namespace napkin::db

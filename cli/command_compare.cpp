@@ -1,0 +1,65 @@
+// `napkin compare --series S --by variant|config`: each group's statistics of
+// the chosen metrics and their differences from a baseline group with 95 %
+// confidence intervals and p-values (cli/comparison.h; docs/formats.md
+// "napkin compare").
+#include <fmt/core.h>
+
+#include "cli/catalogue_access.h"
+#include "cli/command.h"
+#include "cli/comparison.h"
+
+namespace napkin::cli {
+namespace {
+
+class CompareCommand : public Command {
+ public:
+  CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
+    global_ = &global;
+    CLI::App* sub = app.add_subcommand(
+        "compare", "compare the variants (or processing configs) of a series: means, differences, 95 % CIs");
+    sub->add_option("--series", request_.series, "the series whose tests are compared")->required();
+    sub->add_option("--by", by_, "variant (Welch's t) or config (paired t over the same tests)")
+        ->check(CLI::IsMember({"variant", "config"}))
+        ->capture_default_str();
+    sub->add_option("--baseline", baseline_,
+                    "the group the others are compared with (default: first by name)");
+    sub->add_option("--metrics", request_.metrics,
+                    "comma-separated summary fields (default: " + DefaultMetricsText() + ")")
+        ->delimiter(',');
+    sub->add_option("--config", request_.configs,
+                    "stored config NAME or HASH-PREFIX: by variant, whose results (default: each test's "
+                    "latest); by config, the configs compared (repeatable; default: all)");
+    sub->add_option("--format", format_, "table, csv or json")
+        ->check(CLI::IsMember({"table", "csv", "json"}))
+        ->capture_default_str();
+    return sub;
+  }
+
+  int Run() override {
+    request_.by = ParseCompareBy(by_);
+    request_.baseline = baseline_;
+    db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
+    const Comparison comparison = BuildComparison(catalogue, request_);
+    fmt::print("{}", FormatComparison(comparison, ParseTableFormat(format_)));
+    return kExitOk;
+  }
+
+ private:
+  static std::string DefaultMetricsText() {
+    std::string text;
+    for (const std::string& metric : DefaultComparisonMetrics()) text += (text.empty() ? "" : ",") + metric;
+    return text;
+  }
+
+  const GlobalOptions* global_ = nullptr;
+  ComparisonRequest request_;
+  std::string by_ = "variant";
+  std::optional<std::string> baseline_;
+  std::string format_ = "table";
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeCompareCommand() { return std::make_unique<CompareCommand>(); }
+
+}  // namespace napkin::cli

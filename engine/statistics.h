@@ -1,0 +1,55 @@
+#pragma once
+// Descriptive statistics and two-sample comparisons of a metric across tests
+// (docs/algorithms.md "Comparing groups of tests"): what `napkin compare` and
+// `napkin report` print. The t distribution is Boost.Math's students_t.
+//
+// Undefined quantities are NaN (null in the CLI's JSON and CSV):
+//  * Describe: every field of an empty sample; sd of a sample of one.
+//  * WelchComparison: every field when either sample has n < 2; when both
+//    samples have n >= 2 but both sd are 0 (standard error 0), t, df, the
+//    interval and p (diff and diff_pct stay defined).
+//  * PairedComparison: every field when n < 2; t, the interval and p when the
+//    differences have sd 0.
+//  * diff_pct: also when the baseline mean is 0.
+// Values must be finite (callers drop absent results); a NaN or infinity
+// throws std::invalid_argument.
+#include <cstddef>
+#include <span>
+
+namespace napkin::engine {
+
+// The confidence level of every interval here.
+inline constexpr double kConfidenceLevel = 0.95;
+
+struct Description {
+  std::size_t n = 0;
+  double mean = 0.0;
+  double sd = 0.0;      // sample standard deviation (divisor n - 1)
+  double median = 0.0;  // mean of the two middle values when n is even
+  double min = 0.0;
+  double max = 0.0;
+};
+
+Description Describe(std::span<const double> values);
+
+// A difference of means against a baseline with its 95 % interval.
+struct MeanDifference {
+  double diff = 0.0;      // mean(sample) - mean(baseline); for paired data, mean of the differences
+  double diff_pct = 0.0;  // 100 diff / mean(baseline)
+  double se = 0.0;        // standard error of diff
+  double df = 0.0;        // degrees of freedom of t
+  double t = 0.0;         // diff / se
+  double ci_low = 0.0;    // diff -+ t_{0.975, df} se
+  double ci_high = 0.0;
+  double p_value = 0.0;  // two-sided: 2 (1 - F_t(|t|; df))
+};
+
+// Welch's unequal-variance t (Welch 1947), with the Welch–Satterthwaite
+// degrees of freedom.
+MeanDifference WelchComparison(std::span<const double> sample, std::span<const double> baseline);
+
+// Paired t on per-test differences d_i = x_i - baseline_i; `baseline_mean`
+// (the mean of the baseline values of the same pairs) scales diff_pct.
+MeanDifference PairedComparison(std::span<const double> differences, double baseline_mean);
+
+}  // namespace napkin::engine

@@ -1,0 +1,167 @@
+// engine/statistics.h against published numbers (Student's 1908 sleep data as
+// R's t.test prints them), against closed forms, and against its
+// undefined-value rules (docs/algorithms.md "Comparing groups of tests").
+#include "engine/statistics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace napkin::engine {
+namespace {
+
+// Student (1908), "The probable error of a mean", Biometrika 6(1), table of
+// Cushny & Peebles' additional hours of sleep of ten patients under two
+// hypnotics (R's datasets::sleep). R's documented examples
+// `t.test(extra ~ group, data = sleep)` and `... paired = TRUE` print:
+//   Welch: t = -1.8608, df = 17.776, p-value = 0.07939,
+//          95 percent confidence interval: -3.3654832  0.2054832
+//   paired: t = -4.0621, df = 9, p-value = 0.002833,
+//          95 percent confidence interval: -2.4598858 -0.7001142,
+//          mean difference -1.58
+// (group 1 minus group 2: the sample is drug 1, the baseline drug 2).
+const std::vector<double> kSleepDrug1 = {0.7, -1.6, -0.2, -1.2, -0.1, 3.4, 3.7, 0.8, 0.0, 2.0};
+const std::vector<double> kSleepDrug2 = {1.9, 0.8, 1.1, 0.1, -0.1, 4.4, 5.5, 1.6, 4.6, 3.4};
+
+// |actual - printed| within half a unit of the printed last digit.
+void ExpectPrinted(double actual, double printed, double last_digit) {
+  EXPECT_NEAR(actual, printed, 0.5 * last_digit) << "printed " << printed;
+}
+
+TEST(WelchComparison, StudentSleepDataAsPrintedByR) {
+  const MeanDifference welch = WelchComparison(kSleepDrug1, kSleepDrug2);
+  ExpectPrinted(welch.t, -1.8608, 1e-4);
+  ExpectPrinted(welch.df, 17.776, 1e-3);
+  ExpectPrinted(welch.p_value, 0.07939, 1e-5);
+  ExpectPrinted(welch.ci_low, -3.3654832, 1e-7);
+  ExpectPrinted(welch.ci_high, 0.2054832, 1e-7);
+  EXPECT_NEAR(welch.diff, 0.75 - 2.33, 1e-12);
+  EXPECT_NEAR(welch.diff_pct, 100.0 * (0.75 - 2.33) / 2.33, 1e-10);
+}
+
+TEST(PairedComparison, StudentSleepDataAsPrintedByR) {
+  std::vector<double> differences;
+  for (std::size_t i = 0; i < kSleepDrug1.size(); ++i) differences.push_back(kSleepDrug1[i] - kSleepDrug2[i]);
+  const MeanDifference paired = PairedComparison(differences, 2.33);
+  ExpectPrinted(paired.diff, -1.58, 1e-2);
+  ExpectPrinted(paired.t, -4.0621, 1e-4);
+  EXPECT_EQ(paired.df, 9.0);
+  ExpectPrinted(paired.p_value, 0.002833, 1e-6);
+  ExpectPrinted(paired.ci_low, -2.4598858, 1e-7);
+  ExpectPrinted(paired.ci_high, -0.7001142, 1e-7);
+}
+
+TEST(Describe, ClosedFormsOfSmallSamples) {
+  // 2, 4, 4, 4, 5, 5, 7, 9: mean 5, sum of squares 32, sd sqrt(32/7).
+  const std::vector<double> values = {9, 4, 5, 4, 2, 7, 4, 5};
+  const Description d = Describe(values);
+  EXPECT_EQ(d.n, 8u);
+  EXPECT_DOUBLE_EQ(d.mean, 5.0);
+  EXPECT_DOUBLE_EQ(d.sd, std::sqrt(32.0 / 7.0));
+  EXPECT_DOUBLE_EQ(d.median, 4.5);
+  EXPECT_EQ(d.min, 2.0);
+  EXPECT_EQ(d.max, 9.0);
+
+  const Description odd = Describe(std::vector<double>{3.0, -1.0, 10.0});
+  EXPECT_EQ(odd.median, 3.0);
+  EXPECT_DOUBLE_EQ(odd.sd, std::sqrt(((3.0 - 4.0) * (3.0 - 4.0) + 25.0 + 36.0) / 2.0));
+
+  const Description one = Describe(std::vector<double>{7.5});
+  EXPECT_EQ(one.n, 1u);
+  EXPECT_EQ(one.mean, 7.5);
+  EXPECT_EQ(one.median, 7.5);
+  EXPECT_EQ(one.min, 7.5);
+  EXPECT_EQ(one.max, 7.5);
+  EXPECT_TRUE(std::isnan(one.sd));
+
+  const Description none = Describe(std::vector<double>{});
+  EXPECT_EQ(none.n, 0u);
+  EXPECT_TRUE(std::isnan(none.mean) && std::isnan(none.sd) && std::isnan(none.median) &&
+              std::isnan(none.min) && std::isnan(none.max));
+}
+
+TEST(WelchComparison, EqualSizesAndVariancesGiveThePooledDegreesOfFreedom) {
+  // The same n and variance: Welch's df is 2 (n - 1), here 4 with n = 3.
+  // Sample {1, 2, 3} vs {0, 1, 2}: diff 1, variances 1, se sqrt(2/3).
+  const MeanDifference welch = WelchComparison(std::vector<double>{1, 2, 3}, std::vector<double>{0, 1, 2});
+  EXPECT_DOUBLE_EQ(welch.diff, 1.0);
+  EXPECT_DOUBLE_EQ(welch.diff_pct, 100.0);
+  EXPECT_DOUBLE_EQ(welch.se, std::sqrt(2.0 / 3.0));
+  EXPECT_DOUBLE_EQ(welch.df, 4.0);
+  EXPECT_DOUBLE_EQ(welch.t, 1.0 / std::sqrt(2.0 / 3.0));
+  // t with 4 degrees of freedom in closed form: P(|T| > t) = 1 - t (6 + t^2) / (4 + t^2)^(3/2).
+  const double t = welch.t;
+  EXPECT_NEAR(welch.p_value, 1.0 - t * (6.0 + t * t) / std::pow(4.0 + t * t, 1.5), 1e-14);
+  // The 97.5 % point of t with 4 degrees of freedom, 2.776445105 (tables).
+  EXPECT_NEAR((welch.ci_high - welch.diff) / welch.se, 2.7764451051977987, 1e-12);
+  EXPECT_NEAR(welch.ci_low + welch.ci_high, 2.0 * welch.diff, 1e-14);
+}
+
+TEST(WelchComparison, TwoDegreesOfFreedomHaveAClosedFormQuantile) {
+  // A constant baseline leaves the sample's n - 1 degrees of freedom:
+  // {0, 3, 6} vs {1, 1, 1} has v_sample = 9 / 3 = 3, v_baseline = 0, df = 3^2 / (3^2 / 2) = 2.
+  const MeanDifference welch = WelchComparison(std::vector<double>{0, 3, 6}, std::vector<double>{1, 1, 1});
+  EXPECT_DOUBLE_EQ(welch.df, 2.0);
+  EXPECT_DOUBLE_EQ(welch.diff, 2.0);
+  EXPECT_DOUBLE_EQ(welch.se, std::sqrt(3.0));
+  // t with 2 degrees of freedom: P(|T| > t) = 1 - t / sqrt(2 + t^2); the
+  // 97.5 % point is q with q / sqrt(2 + q^2) = 0.95, q = sqrt(2 * 0.95^2 / (1 - 0.95^2)).
+  const double t = 2.0 / std::sqrt(3.0);
+  EXPECT_NEAR(welch.p_value, 1.0 - t / std::sqrt(2.0 + t * t), 1e-14);
+  const double q = std::sqrt(2.0 * 0.95 * 0.95 / (1.0 - 0.95 * 0.95));
+  EXPECT_NEAR(welch.ci_low, 2.0 - q * std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(welch.ci_high, 2.0 + q * std::sqrt(3.0), 1e-12);
+}
+
+TEST(WelchComparison, UndefinedWhereTheDocumentedRulesSay) {
+  const MeanDifference small = WelchComparison(std::vector<double>{1.0}, std::vector<double>{1, 2, 3});
+  for (const double value :
+       {small.diff, small.diff_pct, small.se, small.df, small.t, small.ci_low, small.ci_high, small.p_value})
+    EXPECT_TRUE(std::isnan(value));
+  EXPECT_TRUE(std::isnan(WelchComparison(std::vector<double>{1, 2}, std::vector<double>{}).diff));
+
+  // Both constant: diff and diff_pct defined, no interval.
+  const MeanDifference constant = WelchComparison(std::vector<double>{3, 3}, std::vector<double>{2, 2, 2});
+  EXPECT_EQ(constant.diff, 1.0);
+  EXPECT_EQ(constant.diff_pct, 50.0);
+  EXPECT_EQ(constant.se, 0.0);
+  for (const double value : {constant.df, constant.t, constant.ci_low, constant.ci_high, constant.p_value})
+    EXPECT_TRUE(std::isnan(value));
+
+  // Baseline mean 0: no percentage, the rest defined.
+  const MeanDifference zero = WelchComparison(std::vector<double>{1, 2}, std::vector<double>{-1, 1});
+  EXPECT_TRUE(std::isnan(zero.diff_pct));
+  EXPECT_EQ(zero.diff, 1.5);
+  EXPECT_TRUE(std::isfinite(zero.p_value));
+
+  EXPECT_THROW(WelchComparison(std::vector<double>{1, NAN}, std::vector<double>{1, 2}),
+               std::invalid_argument);
+  EXPECT_THROW(Describe(std::vector<double>{INFINITY}), std::invalid_argument);
+}
+
+TEST(PairedComparison, ClosedFormsAndUndefinedCases) {
+  // Differences {1, 2, 3}: mean 2, sd 1, se 1/sqrt(3), df 2, t = 2 sqrt(3).
+  const MeanDifference paired = PairedComparison(std::vector<double>{1, 2, 3}, 8.0);
+  EXPECT_DOUBLE_EQ(paired.diff, 2.0);
+  EXPECT_DOUBLE_EQ(paired.diff_pct, 25.0);
+  EXPECT_DOUBLE_EQ(paired.se, 1.0 / std::sqrt(3.0));
+  EXPECT_EQ(paired.df, 2.0);
+  const double t = 2.0 * std::sqrt(3.0);
+  EXPECT_NEAR(paired.t, t, 1e-14);
+  EXPECT_NEAR(paired.p_value, 1.0 - t / std::sqrt(2.0 + t * t), 1e-14);
+
+  const MeanDifference one = PairedComparison(std::vector<double>{5.0}, 1.0);
+  EXPECT_TRUE(std::isnan(one.diff) && std::isnan(one.p_value) && std::isnan(one.ci_low));
+
+  const MeanDifference constant = PairedComparison(std::vector<double>{0.5, 0.5, 0.5}, 1.0);
+  EXPECT_EQ(constant.diff, 0.5);
+  EXPECT_EQ(constant.diff_pct, 50.0);
+  EXPECT_EQ(constant.df, 2.0);
+  EXPECT_TRUE(std::isnan(constant.t) && std::isnan(constant.ci_low) && std::isnan(constant.ci_high) &&
+              std::isnan(constant.p_value));
+}
+
+}  // namespace
+}  // namespace napkin::engine
