@@ -1,11 +1,13 @@
 // `napkin report`: one self-contained HTML file (docs/formats.md "HTML
-// report") with each selected test's latest result: criteria, time
+// report"): the comparison of each series' variants (cli/comparison.h, as
+// `napkin compare`), then each selected test's latest result: criteria, time
 // histories, screening findings and final pose. Reads the catalogue one test
 // at a time (the writer keeps only the reduced traces); formats/html_report.h
 // writes the page.
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -16,8 +18,11 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/comparison.h"
 #include "common/error.h"
+#include "engine/statistics.h"
 #include "formats/html_report.h"
+#include "formats/text.h"
 
 #ifndef NAPKIN_VERSION
 #error "NAPKIN_VERSION (CMake PROJECT_VERSION) is defined by cli/CMakeLists.txt"
@@ -30,6 +35,68 @@ std::string Joined(const std::vector<std::string>& values) {
   std::string text;
   for (const std::string& value : values) text += (text.empty() ? "" : ", ") + value;
   return text;
+}
+
+// "1 test", "6 tests".
+std::string Tests(std::size_t count) { return std::to_string(count) + (count == 1 ? " test" : " tests"); }
+
+// A cell of the compare table as text: 5 significant digits, "—" for null.
+std::string CellText(const db::Cell& cell) {
+  if (const auto* integer = std::get_if<std::int64_t>(&cell)) return std::to_string(*integer);
+  if (const auto* text = std::get_if<std::string>(&cell)) return *text;
+  if (const auto* number = std::get_if<double>(&cell); number && std::isfinite(*number))
+    return formats::FormatNumber(*number, 5);
+  return "—";
+}
+
+// The series' variants compared as `napkin compare --series S` does (every
+// test of the series with a result, its latest), with each variant's values
+// per metric and the 95 % interval of its mean: the one-sample t interval,
+// which is engine::PairedComparison's interval of differences from zero.
+formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::string& series) {
+  ComparisonRequest request;
+  request.series = series;
+  request.by = CompareBy::kVariant;
+  const Comparison comparison = BuildComparison(catalogue, request);
+
+  formats::ReportComparison report;
+  report.series = series;
+  const db::Table table = ComparisonTable(comparison);
+  report.columns = table.columns;
+  for (const std::vector<db::Cell>& row : table.rows) {
+    std::vector<std::string>& cells = report.rows.emplace_back();
+    for (const db::Cell& cell : row) cells.push_back(CellText(cell));
+  }
+  report.notes.push_back(
+      "Every test of series " + series + " with a result (its latest), as napkin compare --series " + series +
+      " shows them; baseline " + comparison.baseline +
+      "; diff = mean − baseline mean with its 95 % confidence interval (Welch's t) and the "
+      "two-sided p-value.");
+  std::set<std::string> small_groups;
+  for (const MetricComparison& metric : comparison.metrics) {
+    formats::ReportDistribution& distribution = report.distributions.emplace_back();
+    distribution.metric = metric.metric;
+    for (std::size_t g = 0; g < metric.groups.size(); ++g) {
+      const GroupValues& values = metric.groups[g];
+      formats::ReportDistribution::Group& group = distribution.groups.emplace_back();
+      group.name = values.group;
+      group.values = values.values;
+      group.mean = metric.rows[g].description.mean;
+      if (values.values.size() < 2) {
+        small_groups.insert(values.group);
+        continue;
+      }
+      const engine::MeanDifference interval = engine::PairedComparison(values.values, 1.0);
+      if (std::isfinite(interval.ci_low) && std::isfinite(interval.ci_high)) {
+        group.ci_low = interval.ci_low;
+        group.ci_high = interval.ci_high;
+      }
+    }
+  }
+  for (const std::string& group : small_groups)
+    report.notes.push_back("Variant " + group +
+                           " has fewer than 2 tests with results: no interval and no p-value (—).");
+  return report;
 }
 
 class ReportCommand : public Command {
@@ -86,16 +153,18 @@ class ReportCommand : public Command {
     for (const auto& [id, config] : configs)
       header.configs.push_back({config.name, config.config_hash, config.config_json});
 
-    // INTEGRATION POINT (issue 9, `napkin compare`): the comparison of each
-    // series with more than one variant goes here as formats::ReportComparison
-    // (table and per-metric distributions), built by the compare helper's
-    // builder and its statistics (engine/statistics.h).
-    const std::vector<formats::ReportComparison> comparisons;
+    // Each series of the report with more than one variant is compared.
+    std::map<std::string, std::set<std::string>> variants_by_series;
+    for (const formats::ReportTest& test : tests)
+      if (test.series && test.variant) variants_by_series[*test.series].insert(*test.variant);
+    std::vector<formats::ReportComparison> comparisons;
+    for (const auto& [series, variants] : variants_by_series)
+      if (variants.size() > 1) comparisons.push_back(SeriesComparison(catalogue, series));
 
     formats::WriteHtmlReport(header, comparisons, tests, out_);
-    fmt::print("wrote {}: {} tests, {} bytes.\n", out_, tests.size(), std::filesystem::file_size(out_));
+    fmt::print("wrote {}: {}, {} bytes.\n", out_, Tests(tests.size()), std::filesystem::file_size(out_));
     if (!without_results.empty())
-      fmt::print("left out {} tests without results ({}); run `napkin run` first.\n", without_results.size(),
+      fmt::print("left out {} without results ({}); run `napkin run` first.\n", Tests(without_results.size()),
                  Joined(without_results));
     return kExitOk;
   }

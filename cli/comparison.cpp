@@ -154,11 +154,10 @@ std::string HumanComparison(const Comparison& comparison) {
     }
   }
   if (small_group)
-    out += by_variant
-               ? "\n(1) n < 2: a group with fewer than 2 tests (or a baseline with fewer than 2) has no "
-                 "difference, interval or p-value (null in --format json and csv).\n"
-               : "\n(1) n < 2: fewer than 2 tests have results under both configs: no difference, "
-                 "interval or p-value (null in --format json and csv).\n";
+    out += by_variant ? "\n(1) n < 2: with fewer than 2 tests in the group or the baseline there is no "
+                        "difference, interval or p-value (null in --format json and csv).\n"
+                      : "\n(1) n < 2: fewer than 2 tests have results under both configs: no difference, "
+                        "interval or p-value (null in --format json and csv).\n";
   return out;
 }
 

@@ -86,7 +86,9 @@ h3 { font-size: 15px; margin: 18px 0 6px; color: var(--accent); }
 table { border-collapse: collapse; margin: 4px 0 8px; }
 th, td { border: 1px solid var(--line); padding: 3px 9px; text-align: left; vertical-align: top; }
 th { background: var(--band); font-weight: 600; }
-td.num { text-align: right; font-variant-numeric: tabular-nums; }
+td.num, table.compare td:nth-child(n+3) { text-align: right; font-variant-numeric: tabular-nums; }
+table.compare { font-size: 13px; }
+table.compare td { padding: 2px 7px; }
 table.meta th { width: 170px; }
 table.meta code { word-break: break-all; }
 details { margin: 4px 0; }
@@ -223,6 +225,7 @@ constexpr const char* kDrawScript = R"js(
       axes: {
         x: {
           drawGrid: false,
+          axisLabelWidth: 120,
           ticker: function () { return groups.map(function (g, k) { return { v: k, label: esc(g.name) }; }); },
           valueFormatter: function (x) { var k = Math.round(x); return k >= 0 && k < groups.length ? esc(groups[k].name) : ''; }
         },
@@ -523,7 +526,6 @@ std::string RenderHtmlReport(const ReportHeader& header, std::span<const ReportC
   AppendHeader(html, header, tests);
 
   json data = {{"charts", json::array()}, {"distributions", json::array()}};
-  if (!comparisons.empty()) html += "<h2>Comparisons</h2>\n";
   for (std::size_t i = 0; i < comparisons.size(); ++i)
     AppendComparison(html, data["distributions"], comparisons[i], i);
   for (std::size_t i = 0; i < tests.size(); ++i) AppendTest(html, data["charts"], tests[i], i);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/comparison.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
@@ -37,7 +38,8 @@ class ReportCli : public ::testing::Test {
     for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
              {"synth", "--scenario", "padding-variants", "--count", "2", "--samples", "4000"},
              {"run", "--threads", "2"},
-             {"synth", "--scenario", "random", "--series", "pending", "--samples", "1000"}}) {
+             {"synth", "--scenario", "random", "--series", "pending", "--test-id", "pending", "--seed", "777",
+              "--samples", "1000"}}) {
       const RunResult result = Napkin(args);
       ASSERT_EQ(result.exit_code, 0) << result.err;
     }
@@ -59,7 +61,11 @@ TEST_F(ReportCli, ReportsTheSelectedTestsWithFourChartsEach) {
   const std::string html = test_support::ReadText(dir_->path() / "series.html");
   EXPECT_EQ(report.out, "wrote series.html: 6 tests, " + std::to_string(html.size()) + " bytes.\n");
   EXPECT_EQ(Count(html, "<section class=\"test\""), 6u);
-  EXPECT_EQ(Count(html, "<div class=\"chart\""), 24u);
+  EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"chart-"), 24u);
+  // The series has three variants: the compare table and one distribution plot per metric.
+  EXPECT_EQ(Count(html, "<section class=\"comparison\">"), 1u);
+  EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"dist-"), cli::DefaultComparisonMetrics().size());
+  EXPECT_EQ(Count(html, "<tr><td>hic15</td><td>"), 3u);  // one compare row per variant
   for (const char* variant : {"production", "foam-a", "foam-b"})
     EXPECT_THAT(html, HasSubstr(std::string("variant ") + variant));
   EXPECT_THAT(html, HasSubstr("<strong>default</strong>"));  // the processing config
@@ -72,12 +78,21 @@ TEST_F(ReportCli, SelectsByVariantAndTestAndLeavesOutTestsWithoutResults) {
   ASSERT_EQ(by_variant.exit_code, 0) << by_variant.err;
   EXPECT_EQ(Count(test_support::ReadText(dir_->path() / "foams.html"), "<section class=\"test\""), 4u);
 
+  const RunResult by_test = Napkin({"report", "--test", "padding-variants-foam-b-02", "--test",
+                                    "padding-variants-production-01", "--out", "two.html"});
+  ASSERT_EQ(by_test.exit_code, 0) << by_test.err;
+  EXPECT_EQ(by_test.out.rfind("wrote two.html: 2 tests, ", 0), 0u) << by_test.out;
+  const std::string two = test_support::ReadText(dir_->path() / "two.html");
+  EXPECT_EQ(Count(two, "<section class=\"test\""), 2u);
+  EXPECT_THAT(two, HasSubstr("<h2>Test padding-variants-foam-b-02<"));
+  EXPECT_THAT(two, HasSubstr("<h2>Test padding-variants-production-01<"));
+
   const RunResult everything = Napkin({"report", "--out", "all.html"});
   ASSERT_EQ(everything.exit_code, 0) << everything.err;
   const std::vector<std::string> lines = test_support::Lines(everything.out);
   ASSERT_EQ(lines.size(), 2u) << everything.out;
   EXPECT_THAT(lines[0], HasSubstr(": 6 tests, "));
-  EXPECT_THAT(lines[1], HasSubstr("left out 1 tests without results"));
+  EXPECT_THAT(lines[1], HasSubstr("left out 1 test without results (pending"));
   EXPECT_THAT(lines[1], HasSubstr("run `napkin run` first"));
 }
 
@@ -155,7 +170,7 @@ TEST_F(ReportInChromium, DrawsEveryChartWithoutScriptErrors) {
   const RunResult dump = RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + page.string());
   ASSERT_EQ(dump.exit_code, 0) << dump.err;
   const std::vector<bool> drawn = ChartsWithCanvas(dump.out);
-  ASSERT_EQ(drawn.size(), 24u) << dump.out.substr(0, 2000);
+  ASSERT_EQ(drawn.size(), 24u + cli::DefaultComparisonMetrics().size()) << dump.out.substr(0, 2000);
   for (std::size_t i = 0; i < drawn.size(); ++i) EXPECT_TRUE(drawn[i]) << "chart " << i << " not drawn";
   EXPECT_THAT(dump.out, HasSubstr("dygraph-legend"));  // dygraphs wrote its legends
   EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)

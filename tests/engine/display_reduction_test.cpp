@@ -79,10 +79,10 @@ TEST(PeakPreservingSamples, EveryBucketsExtremesSurviveAndTheGlobalOnesExactly) 
 }
 
 TEST(PeakPreservingSamples, ShortRecordsAreKeptWhole) {
-  Eigen::MatrixXd traces(5, 2);
-  traces << 1, 2, 3, 4, 5, 6, 7, 8, 9, 10;
-  EXPECT_EQ(PeakPreservingSamples(traces, 6), (std::vector<Eigen::Index>{0, 1, 2, 3, 4}));
-  EXPECT_EQ(PeakPreservingSamples(traces, 5), (std::vector<Eigen::Index>{0, 1, 2, 3, 4}));
+  Eigen::MatrixXd traces(6, 2);
+  traces << 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12;
+  EXPECT_EQ(PeakPreservingSamples(traces, 6), (std::vector<Eigen::Index>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(PeakPreservingSamples(traces.topRows(5), 6), (std::vector<Eigen::Index>{0, 1, 2, 3, 4}));
 }
 
 TEST(PeakPreservingSamples, OneBucketKeepsTheEndsAndTheExtremes) {

@@ -1,0 +1,426 @@
+// `napkin compare` on a fixed catalogue whose results are written with chosen
+// numbers (db::Catalogue::WriteResult): golden table and JSON output, the
+// numbers recomputed independently from the stored per-test results (read
+// back with `napkin query --format json` and db::Catalogue::ReadSummary), the
+// CSV contract, and the usage errors (docs/formats.md "napkin compare").
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <boost/math/distributions/students_t.hpp>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "cli/comparison.h"
+#include "engine/summary_fields.h"
+#include "tests/cli/cli_test_util.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::cli {
+
+using namespace napkin::test_support;
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct FixedTest {
+  const char* id;
+  const char* variant;
+  double hic15;       // NaN: absent (NULL) in the catalogue
+  double peak_acc_g;  //
+  double offset;      // no-gravity config: every value + offset (NaN: no result under it)
+};
+
+// Series "sled": five production tests, five foam-a tests with one more whose
+// HIC15 is absent, and one foam-b test (n < 2). Series "drop": one test, never run.
+const std::vector<FixedTest> kTests = {
+    {"s01", "production", 912.5, 98.5, 1.5},  {"s02", "production", 1004.25, 104.0, 2.0},
+    {"s03", "production", 871.0, 95.25, 0.5}, {"s04", "production", 955.75, 101.75, 3.25},
+    {"s05", "production", 990.5, 99.0, 1.0},  {"s06", "foam-a", 701.25, 80.0, -0.5},
+    {"s07", "foam-a", 745.0, 84.5, 0.75},     {"s08", "foam-a", 688.5, 79.25, 2.5},
+    {"s09", "foam-a", 730.75, 83.0, 1.25},    {"s10", "foam-a", 712.0, 81.5, 0.25},
+    {"s11", "foam-a", kNaN, 82.25, kNaN},     {"s12", "foam-b", 640.0, 75.0, kNaN},
+};
+
+// The other default metrics: a smooth function of the test's position.
+double OtherMetric(std::size_t metric, std::size_t test) {
+  return (10.0 + 3.0 * static_cast<double>(metric)) * (1.0 + 0.037 * static_cast<double>(test * test % 7));
+}
+
+class CliCompare : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    db::Catalogue catalogue = db::Catalogue::Open((dir_ / "napkin.db").string());
+    const db::ArrayId array = catalogue.WriteArray(
+        {{}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"});
+    const db::ConfigId no_gravity =
+        catalogue.WriteConfig({{}, "no-gravity", R"({"gravity":false})", "e1b2c3d4e5f60718293a", {}});
+    const db::ConfigId standard =
+        catalogue.WriteConfig({{}, "default", R"({"gravity":true})", "d0a1b2c3d4e5f6071829", {}});
+    std::vector<db::TestId> keys;
+    for (const FixedTest& fixed : kTests) {
+      db::TestRecord test;
+      test.external_id = fixed.id;
+      test.series = "sled";
+      test.variant = fixed.variant;
+      test.array_id = array;
+      test.source_path = std::string("/data/") + fixed.id + ".csv";
+      test.content_hash = std::string("content-") + fixed.id;
+      keys.push_back(catalogue.WriteTest(test));
+    }
+    db::TestRecord never_run;
+    never_run.external_id = "d01";
+    never_run.series = "drop";
+    never_run.array_id = array;
+    never_run.source_path = "/data/d01.csv";
+    never_run.content_hash = "content-d01";
+    catalogue.WriteTest(never_run);
+    // no-gravity first, default last: default is each test's latest result.
+    for (const bool standard_pass : {false, true}) {
+      for (std::size_t i = 0; i < kTests.size(); ++i) {
+        const double offset = standard_pass ? 0.0 : kTests[i].offset;
+        if (std::isnan(offset)) continue;
+        catalogue.WriteResult(keys[i], standard_pass ? standard : no_gravity, Summary(i, offset), "exact");
+      }
+    }
+  }
+
+  static engine::TestSummary Summary(std::size_t test, double offset) {
+    engine::TestSummary summary;
+    std::size_t metric = 0;
+    for (const engine::SummaryField& field : engine::SummaryFields())
+      field.Set(summary, OtherMetric(metric++, test) + offset);
+    summary.hic15.value = kTests[test].hic15 + offset;
+    summary.peak_acc_g = kTests[test].peak_acc_g + offset;
+    return summary;
+  }
+
+  RunResult Compare(std::vector<std::string> args) {
+    args.insert(args.begin(), "compare");
+    return RunNapkin(dir_.path(), args);
+  }
+
+  nlohmann::json CompareJson(std::vector<std::string> args) {
+    args.insert(args.end(), {"--format", "json"});
+    const RunResult run = Compare(args);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_EQ(run.err, "");
+    return nlohmann::json::parse(run.out);
+  }
+
+  napkin::test_support::TempDir dir_;
+};
+
+// ---------------------------------------------------------------- golden output
+
+TEST_F(CliCompare, TableByVariantIsTheGoldenText) {
+  const RunResult run = Compare(
+      {"--series", "sled", "--by", "variant", "--baseline", "production", "--metrics", "hic15,peak_acc_g"});
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_EQ(run.err, "");
+  EXPECT_EQ(run.out, R"(series sled: variants compared with variant 'production'
+difference of means in % of the baseline mean, [95 % confidence interval] (Welch's t), two-sided p
+
+hic15
+  variant     n   mean       sd  median    min      max  vs production
+  production  5  946.8  55.2549  955.75    871  1004.25  (baseline)
+  foam-a      5  715.5  22.6226     712  688.5      745  -24.4 % [-31.6, -17.3]  p=0.00025
+  foam-b      1    640        -     640    640      640  n < 2: no difference (1)
+
+peak_acc_g
+  variant     n   mean       sd  median    min   max  vs production
+  production  5   99.7   3.3326      99  95.25   104  (baseline)
+  foam-a      6  81.75  1.93649  81.875  79.25  84.5  -18.0 % [-22.1, -13.9]  p<0.0001
+  foam-b      1     75        -      75     75    75  n < 2: no difference (1)
+
+(1) n < 2: with fewer than 2 tests in the group or the baseline there is no difference, interval or p-value (null in --format json and csv).
+)");
+}
+
+TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
+  const RunResult run = Compare({"--series", "sled", "--metrics", "hic15", "--format", "json"});
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_EQ(run.err, "");
+  EXPECT_EQ(run.out, R"([
+  {
+    "metric": "hic15",
+    "group": "foam-a",
+    "n": 5,
+    "mean": 715.5,
+    "sd": 22.622582743798286,
+    "median": 712.0,
+    "min": 688.5,
+    "max": 745.0,
+    "baseline": "foam-a",
+    "diff": null,
+    "diff_pct": null,
+    "ci_low": null,
+    "ci_high": null,
+    "p_value": null
+  },
+  {
+    "metric": "hic15",
+    "group": "foam-b",
+    "n": 1,
+    "mean": 640.0,
+    "sd": null,
+    "median": 640.0,
+    "min": 640.0,
+    "max": 640.0,
+    "baseline": "foam-a",
+    "diff": null,
+    "diff_pct": null,
+    "ci_low": null,
+    "ci_high": null,
+    "p_value": null
+  },
+  {
+    "metric": "hic15",
+    "group": "production",
+    "n": 5,
+    "mean": 946.8,
+    "sd": 55.254920595364176,
+    "median": 955.75,
+    "min": 871.0,
+    "max": 1004.25,
+    "baseline": "foam-a",
+    "diff": 231.29999999999995,
+    "diff_pct": 32.32704402515723,
+    "ci_low": 163.82910040032897,
+    "ci_high": 298.77089959967094,
+    "p_value": 0.0002509509818844315
+  }
+]
+)");
+}
+
+TEST_F(CliCompare, TableByConfigIsTheGoldenText) {
+  const RunResult run =
+      Compare({"--series", "sled", "--by", "config", "--baseline", "default", "--metrics", "hic15"});
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_EQ(run.err, "");
+  EXPECT_EQ(run.out, R"(series sled: processing configs compared with config 'default'
+mean of the per-test differences in % of the baseline's mean over the same tests, [95 % confidence interval] (paired t), two-sided p
+
+hic15
+  config       n     mean       sd   median  min      max  vs default
+  default     11  813.773   134.62      745  640  1004.25  (baseline)
+  no-gravity  10    832.4  128.712  808.625  691  1006.25  +0.2 % [+0.1, +0.2]  p=0.0062 (10 pairs)
+)");
+}
+
+// ------------------------------------------------- independent recomputation
+
+// Relative agreement to 1e-9 (absolute near 0); null must match NaN.
+void ExpectClose(const nlohmann::json& value, double expected, const std::string& what) {
+  if (std::isnan(expected)) {
+    EXPECT_TRUE(value.is_null()) << what << " = " << value;
+    return;
+  }
+  ASSERT_TRUE(value.is_number()) << what << " = " << value;
+  const double actual = value.get<double>();
+  EXPECT_LE(std::abs(actual - expected), 1e-9 * std::max(1.0, std::abs(expected)))
+      << what << ": " << actual << " vs " << expected;
+}
+
+struct Independent {
+  double n, mean, sd, median, min, max;
+};
+
+// The statistics by their textbook definitions, written out here.
+Independent Straightforward(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  const double n = static_cast<double>(x.size());
+  double sum = 0.0;
+  for (const double v : x) sum += v;
+  const double mean = sum / n;
+  double squares = 0.0;
+  for (const double v : x) squares += (v - mean) * (v - mean);
+  const double median = x.size() % 2 ? x[x.size() / 2] : 0.5 * (x[x.size() / 2 - 1] + x[x.size() / 2]);
+  return {n, mean, x.size() > 1 ? std::sqrt(squares / (n - 1.0)) : kNaN, median, x.front(), x.back()};
+}
+
+// diff, diff_pct, ci_low, ci_high, p from diff, se, df (t quantile and cdf from Boost).
+std::array<double, 5> Interval(double diff, double baseline_mean, double se, double df) {
+  const boost::math::students_t t_distribution(df);
+  const double q = boost::math::quantile(t_distribution, 0.975);
+  const double p = 2.0 * (1.0 - boost::math::cdf(t_distribution, std::abs(diff / se)));
+  return {diff, 100.0 * diff / baseline_mean, diff - q * se, diff + q * se, p};
+}
+
+void ExpectRow(const nlohmann::json& row, const Independent& stats, const std::array<double, 5>& difference) {
+  const std::string what = row["metric"].get<std::string>() + "/" + row["group"].get<std::string>();
+  EXPECT_EQ(row["n"].get<double>(), stats.n) << what;
+  ExpectClose(row["mean"], stats.mean, what + " mean");
+  ExpectClose(row["sd"], stats.sd, what + " sd");
+  ExpectClose(row["median"], stats.median, what + " median");
+  ExpectClose(row["min"], stats.min, what + " min");
+  ExpectClose(row["max"], stats.max, what + " max");
+  const char* keys[] = {"diff", "diff_pct", "ci_low", "ci_high", "p_value"};
+  for (int k = 0; k < 5; ++k) ExpectClose(row[keys[k]], difference[k], what + " " + keys[k]);
+}
+
+TEST_F(CliCompare, ByVariantNumbersEqualAnIndependentRecomputationFromTheStoredResults) {
+  // The per-test results as `napkin query` reads them back (each test's latest result).
+  const RunResult query = RunNapkin(dir_.path(), {"query", "hic", "--series", "sled", "--format", "json"});
+  ASSERT_EQ(query.exit_code, 0) << query.err;
+  const nlohmann::json stored = nlohmann::json::parse(query.out);
+  ASSERT_EQ(stored.size(), kTests.size());
+
+  const nlohmann::json rows = CompareJson({"--series", "sled", "--metrics", "hic15,peak_acc_g,a3ms_g"});
+  ASSERT_EQ(rows.size(), 9u);
+  std::size_t checked = 0;
+  for (const std::string metric : {"hic15", "peak_acc_g", "a3ms_g"}) {
+    std::map<std::string, std::vector<double>> by_variant;
+    for (const auto& test : stored)
+      if (!test[metric].is_null()) by_variant[test["variant"]].push_back(test[metric].get<double>());
+    const std::vector<double>& baseline = by_variant.at("foam-a");  // first in name order
+    const Independent b = Straightforward(baseline);
+    for (const auto& row : rows) {
+      if (row["metric"] != metric) continue;
+      EXPECT_EQ(row["baseline"], "foam-a");
+      const std::vector<double>& values = by_variant.at(row["group"]);
+      const Independent a = Straightforward(values);
+      std::array<double, 5> difference = {kNaN, kNaN, kNaN, kNaN, kNaN};
+      if (row["group"] != "foam-a" && a.n >= 2 && b.n >= 2) {
+        const double va = a.sd * a.sd / a.n, vb = b.sd * b.sd / b.n;
+        const double df = (va + vb) * (va + vb) / (va * va / (a.n - 1) + vb * vb / (b.n - 1));
+        difference = Interval(a.mean - b.mean, b.mean, std::sqrt(va + vb), df);
+      }
+      ExpectRow(row, a, difference);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 9u);
+  // The foam-a HIC15 of s11 is absent: n counts the five present values.
+  EXPECT_EQ(rows[0]["group"], "foam-a");
+  EXPECT_EQ(rows[0]["n"], 5);
+  EXPECT_EQ(rows[3]["n"], 6);  // peak_acc_g of foam-a
+}
+
+TEST_F(CliCompare, ByConfigNumbersEqualAnIndependentPairedRecomputation) {
+  // The stored summaries under each config, read one by one.
+  db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
+  std::map<std::string, db::ConfigId> configs;
+  for (const db::ConfigRecord& config : catalogue.ReadAllConfigs()) configs[config.name] = config.id;
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--by", "config", "--baseline", "d0a1b2", "--metrics", "hic15,bric"});
+  ASSERT_EQ(rows.size(), 4u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row["baseline"], "default");
+    const engine::SummaryField* field = nullptr;
+    for (const engine::SummaryField& f : engine::SummaryFields())
+      if (row["metric"] == f.name) field = &f;
+    ASSERT_NE(field, nullptr);
+    std::vector<double> values, differences, baseline_values;
+    for (const FixedTest& fixed : kTests) {
+      const db::TestId key = *catalogue.FindTestByExternalId(fixed.id);
+      const auto own = catalogue.ReadSummary(key, configs.at(row["group"]));
+      const auto base = catalogue.ReadSummary(key, configs.at("default"));
+      if (own && !std::isnan(field->Get(*own))) values.push_back(field->Get(*own));
+      if (own && base && !std::isnan(field->Get(*own)) && !std::isnan(field->Get(*base))) {
+        differences.push_back(field->Get(*own) - field->Get(*base));
+        baseline_values.push_back(field->Get(*base));
+      }
+    }
+    std::array<double, 5> difference = {kNaN, kNaN, kNaN, kNaN, kNaN};
+    if (row["group"] == "no-gravity") {
+      ASSERT_EQ(differences.size(), 10u);
+      const Independent d = Straightforward(differences);
+      const Independent b = Straightforward(baseline_values);
+      difference = Interval(d.mean, b.mean, d.sd / std::sqrt(d.n), d.n - 1.0);
+    }
+    ExpectRow(row, Straightforward(values), difference);
+  }
+}
+
+// ------------------------------------------------------------ contract shape
+
+TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
+  const nlohmann::ordered_json rows =
+      nlohmann::ordered_json::parse(Compare({"--series", "sled", "--format", "json"}).out);
+  const std::vector<std::string> metrics = DefaultComparisonMetrics();
+  ASSERT_EQ(rows.size(), 3 * metrics.size());
+  const std::vector<std::string> keys = {"metric",   "group",  "n",       "mean",     "sd",
+                                         "median",   "min",    "max",     "baseline", "diff",
+                                         "diff_pct", "ci_low", "ci_high", "p_value"};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::vector<std::string> row_keys;
+    for (const auto& item : rows[i].items()) row_keys.push_back(item.key());
+    EXPECT_EQ(row_keys, keys);
+    EXPECT_EQ(rows[i]["metric"], metrics[i / 3]);
+    EXPECT_EQ(rows[i]["group"], (std::array<const char*, 3>{"foam-a", "foam-b", "production"}[i % 3]));
+  }
+  // Baseline row and the n < 2 group: the difference fields are null.
+  for (const char* key : {"diff", "diff_pct", "ci_low", "ci_high", "p_value"}) {
+    EXPECT_TRUE(rows[0][key].is_null()) << key;
+    EXPECT_TRUE(rows[1][key].is_null()) << key;
+    EXPECT_TRUE(rows[2][key].is_number()) << key;
+  }
+  EXPECT_TRUE(rows[1]["sd"].is_null());
+
+  const RunResult csv = Compare({"--series", "sled", "--metrics", "hic15", "--format", "csv"});
+  ASSERT_EQ(csv.exit_code, 0);
+  EXPECT_EQ(csv.err, "");
+  const std::vector<std::string> lines = Lines(csv.out);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0], "metric,group,n,mean,sd,median,min,max,baseline,diff,diff_pct,ci_low,ci_high,p_value");
+  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,,,,,");
+  const nlohmann::json json = CompareJson({"--series", "sled", "--metrics", "hic15"});
+  EXPECT_EQ(
+      lines[3].rfind("hic15,production,5," + formats::FormatNumber(json[2]["mean"].get<double>()) + ",", 0),
+      0u)
+      << lines[3];
+}
+
+TEST_F(CliCompare, ConfigChoosesTheResultsComparedByVariant) {
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--metrics", "hic15", "--config", "no-gravity"});
+  ASSERT_EQ(rows.size(), 2u);  // foam-b has no result under no-gravity
+  EXPECT_EQ(rows[0]["group"], "foam-a");
+  EXPECT_EQ(rows[1]["group"], "production");
+  // production under no-gravity: the chosen numbers plus their offsets.
+  EXPECT_DOUBLE_EQ(rows[1]["max"].get<double>(), 1004.25 + 2.0);
+  EXPECT_DOUBLE_EQ(rows[1]["min"].get<double>(), 871.0 + 0.5);
+}
+
+// ------------------------------------------------------------------ errors
+
+TEST_F(CliCompare, UsageErrorsExitTwoWithOneLineListingTheChoices) {
+  const RunResult series = Compare({"--series", "nope"});
+  EXPECT_EQ(series.exit_code, 2);
+  EXPECT_EQ(series.out, "");
+  ExpectOneSentenceError(series, {"unknown series 'nope'", "drop, sled"});
+
+  const RunResult baseline = Compare({"--series", "sled", "--baseline", "foam-c"});
+  EXPECT_EQ(baseline.exit_code, 2);
+  ExpectOneSentenceError(baseline, {"unknown baseline 'foam-c'", "foam-a, foam-b, production"});
+
+  const RunResult metric = Compare({"--series", "sled", "--metrics", "hic15,hic99"});
+  EXPECT_EQ(metric.exit_code, 2);
+  ExpectOneSentenceError(metric, {"unknown metric 'hic99'", "hic15, hic15_t1_s", "max_rotation_deg"});
+
+  const RunResult config = Compare({"--series", "sled", "--config", "fast"});
+  EXPECT_EQ(config.exit_code, 2);
+  ExpectOneSentenceError(config,
+                         {"unknown config 'fast'", "no-gravity (e1b2c3d4e5f6)", "default (d0a1b2c3d4e5)"});
+
+  const RunResult two = Compare({"--series", "sled", "--config", "default", "--config", "no-gravity"});
+  EXPECT_EQ(two.exit_code, 2);
+  ExpectOneSentenceError(two, {"--by config"});
+
+  const RunResult by = Compare({"--series", "sled", "--by", "colour"});
+  EXPECT_EQ(by.exit_code, 2);
+  EXPECT_EQ(by.out, "");
+}
+
+TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {
+  const RunResult run = Compare({"--series", "drop"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(run.out, "");
+  ExpectOneSentenceError(run, {"series 'drop' has no results", "run `napkin run` first"});
+}
+
+}  // namespace
+}  // namespace napkin::cli
