@@ -29,14 +29,15 @@ std::size_t Count(const std::string& text, const std::string& what) {
   return count;
 }
 
-// One catalogue for the suite: padding-variants, 2 repeats of 3 variants (6
-// tests of 4,000 samples), run; and one test synthesised but not run.
+// One catalogue for the suite: padding-series, 2 repeats of 3 variants (6
+// tests of 4,001 samples: 100 ms at 40 kHz), run; and one test synthesised
+// but not run.
 class ReportCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test_support::TempDir;
     for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-             {"synth", "--scenario", "padding-variants", "--count", "2", "--samples", "4000"},
+             {"synth", "--scenario", "padding-series", "--count", "2", "--rate", "40000"},
              {"run", "--threads", "2"},
              {"synth", "--scenario", "random", "--series", "pending", "--test-id", "pending", "--seed", "777",
               "--samples", "1000"}}) {
@@ -55,7 +56,7 @@ class ReportCli : public ::testing::Test {
 test_support::TempDir* ReportCli::dir_ = nullptr;
 
 TEST_F(ReportCli, ReportsTheSelectedTestsWithFourChartsEach) {
-  const RunResult report = Napkin({"report", "--series", "padding-variants", "--out", "series.html"});
+  const RunResult report = Napkin({"report", "--series", "padding-series", "--out", "series.html"});
   ASSERT_EQ(report.exit_code, 0) << report.err;
   EXPECT_EQ(report.err, "");
   const std::string html = test_support::ReadText(dir_->path() / "series.html");
@@ -78,14 +79,14 @@ TEST_F(ReportCli, SelectsByVariantAndTestAndLeavesOutTestsWithoutResults) {
   ASSERT_EQ(by_variant.exit_code, 0) << by_variant.err;
   EXPECT_EQ(Count(test_support::ReadText(dir_->path() / "foams.html"), "<section class=\"test\""), 4u);
 
-  const RunResult by_test = Napkin({"report", "--test", "padding-variants-foam-b-02", "--test",
-                                    "padding-variants-production-01", "--out", "two.html"});
+  const RunResult by_test = Napkin({"report", "--test", "padding-series-foam-b-02", "--test",
+                                    "padding-series-production-01", "--out", "two.html"});
   ASSERT_EQ(by_test.exit_code, 0) << by_test.err;
   EXPECT_EQ(by_test.out.rfind("wrote two.html: 2 tests, ", 0), 0u) << by_test.out;
   const std::string two = test_support::ReadText(dir_->path() / "two.html");
   EXPECT_EQ(Count(two, "<section class=\"test\""), 2u);
-  EXPECT_THAT(two, HasSubstr("<h2>Test padding-variants-foam-b-02<"));
-  EXPECT_THAT(two, HasSubstr("<h2>Test padding-variants-production-01<"));
+  EXPECT_THAT(two, HasSubstr("<h2>Test padding-series-foam-b-02<"));
+  EXPECT_THAT(two, HasSubstr("<h2>Test padding-series-production-01<"));
 
   const RunResult everything = Napkin({"report", "--out", "all.html"});
   ASSERT_EQ(everything.exit_code, 0) << everything.err;
@@ -156,7 +157,7 @@ class ReportInChromium : public ReportCli {
  protected:
   void SetUp() override {
     if (ChromiumBinary().empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
-    const RunResult report = Napkin({"report", "--series", "padding-variants", "--out", "browser.html"});
+    const RunResult report = Napkin({"report", "--series", "padding-series", "--out", "browser.html"});
     ASSERT_EQ(report.exit_code, 0) << report.err;
     html_ = test_support::ReadText(dir_->path() / "browser.html");
   }
