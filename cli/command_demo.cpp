@@ -30,15 +30,12 @@
 #include "jobs/scheduler.h"
 
 namespace napkin::cli {
-namespace {
-
-namespace fs = std::filesystem;
-
-}  // namespace
 
 std::unique_ptr<Command> MakeReportCommand();  // cli/command_report.cpp
 
 namespace {
+
+namespace fs = std::filesystem;
 
 constexpr const char* kPaddingSeries = "padding-series";
 constexpr const char* kValidationSeries = "validation";
