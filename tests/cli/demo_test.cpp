@@ -82,10 +82,10 @@ TEST(DemoCli, BuildsAndRunsItsCatalogueAndPrintsTheValidationTable) {
 
   // The padding series compared against production trim: both foams lower
   // in HIC15, the whole 95 % interval of the difference below zero.
-  EXPECT_TRUE(std::regex_search(
-      out, std::regex("\nhic15\n[^\n]*vs production\n  production +5 [^\n]*\\(baseline\\)\n"
-                      "  foam-a +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\][^\n]*\n"
-                      "  foam-b +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\]")))
+  EXPECT_TRUE(
+      std::regex_search(out, std::regex("\nhic15\n[^\n]*vs production\n  production +5 [^\n]*\\(baseline\\)\n"
+                                        "  foam-a +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\][^\n]*\n"
+                                        "  foam-b +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\]")))
       << out;
   // The report of the whole catalogue, and what to try next.
   EXPECT_NE(out.find("wrote d/report.html: 18 tests, "), std::string::npos) << out;
