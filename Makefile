@@ -5,10 +5,13 @@ JOBS ?= $(shell nproc)
 BUILD_RELEASE ?= build/release
 BUILD_TEST ?= build/test
 BUILD_BENCH ?= build/bench
-# What the program needs (make demo), and what the tests and benchmarks add.
+# What the program needs (make demo): Boost.Math for compare's t distribution,
+# dygraphs embedded into the binary for report's charts. What the tests and
+# benchmarks add: Chromium opens the HTML report headless.
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
-DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs
+DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
+  chromium
 
 .PHONY: deps program-deps demo test build release bench format format-check clean
 

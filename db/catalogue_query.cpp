@@ -33,15 +33,15 @@ const char* KindName(QueryKind kind) {
   return "?";
 }
 
-// The summary groups a kind shows (none for tests and quality).
-std::vector<SummaryGroup> KindGroups(QueryKind kind) {
+// The summary fields a kind shows, in view order (none for tests and quality).
+std::vector<const engine::SummaryField*> KindSummaryFields(QueryKind kind) {
   switch (kind) {
     case QueryKind::kHic:
-      return {SummaryGroup::kHic};
+      return engine::SummaryFieldsOf({SummaryGroup::kHic});
     case QueryKind::kRotation:
-      return {SummaryGroup::kRotation};
+      return engine::SummaryFieldsOf({SummaryGroup::kRotation});
     case QueryKind::kCriteria:
-      return {SummaryGroup::kHic, SummaryGroup::kRotation};
+      return engine::SummaryFieldsOf({SummaryGroup::kHic, SummaryGroup::kRotation});
     default:
       return {};
   }
@@ -190,9 +190,7 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
   };
   if (kind == QueryKind::kTests) add_text({"array", "source_path", "content_hash", "imported_at"});
   if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
-  const std::vector<SummaryGroup> groups = KindGroups(kind);
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (std::find(groups.begin(), groups.end(), field.group) != groups.end()) fields.push_back({field.name, true});
+  for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
   return fields;
 }
 

@@ -417,6 +417,7 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   summary.hic15 = Hic(acc_g, dt, t0, options);
   options.window_s = kHic36Window;
   summary.hic36 = Hic(acc_g, dt, t0, options);
+  summary.hic_d = HicD(summary.hic36.value);
   options.window_s = kUnlimitedHicWindow;
   summary.hic = Hic(acc_g, dt, t0, options);
   summary.a3ms_g = A3ms(acc_g, dt);

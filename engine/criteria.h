@@ -52,6 +52,16 @@ HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double d
                         const HicOptions& options = {});
 
 // ---------------------------------------------------------------------------
+// HIC(d), the free-motion headform's HIC of FMVSS No. 201 (49 CFR 571.201,
+// S6.3: the upper interior impact requirement): HIC(d) = 0.75446 HIC36 +
+// 166.4, a linear map of the HIC with windows up to 36 ms that makes the
+// headform's number comparable to a whole dummy's (docs/algorithms.md
+// "Injury criteria"). A NaN HIC36 gives a NaN HIC(d).
+inline constexpr double kHicDSlope = 0.75446;
+inline constexpr double kHicDOffset = 166.4;
+inline double HicD(double hic36) { return kHicDSlope * hic36 + kHicDOffset; }
+
+// ---------------------------------------------------------------------------
 // a3ms: the highest level exceeded for a cumulative (not necessarily
 // continuous) 3 ms. Each sample stands for dt of time, so with
 // N = ceil(duration / dt) (1e-9 relative tolerance) it is the largest L such
@@ -94,7 +104,7 @@ Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, d
 double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model = {});
 
 // ---------------------------------------------------------------------------
-// Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), a3ms_g,
+// Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), hic_d, a3ms_g,
 // bric (omega_body, config.bric) and damage (alpha_body) of `summary`. The
 // time base must be uniform (dt from the first two samples); throws
 // InputError when there are fewer than 2 samples.

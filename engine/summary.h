@@ -46,6 +46,7 @@ struct TestSummary {
   HicWindow hic15, hic36, hic;  // hic: no window limit
   double peak_acc_g = 0.0;      // resultant CG acceleration, fixed frame
   double a3ms_g = 0.0;
+  double hic_d = 0.0;  // FMVSS 201 free-motion headform HIC(d), from hic36
   // query rotation
   Eigen::Vector3d peak_omega_body_radps = Eigen::Vector3d::Zero();  // max |omega_i|, body axes
   double peak_omega_radps = 0.0;                                    // resultant

@@ -58,6 +58,10 @@ constexpr SummaryField kSummaryFields[] = {
     // A screening measure (beside the findings), not a result of the contract's views.
     {"max_residual_mps2", G::kQuality, "largest solver residual (m/s^2)",
      [](S& s) -> double& { return s.max_residual_mps2; }},
+    // Added by schema 3 (a column appended to the results table, hence last);
+    // the views list it after the other HIC fields.
+    {"hic_d", G::kHic, "FMVSS 201 free-motion headform HIC(d) = 0.75446 HIC36 + 166.4",
+     [](S& s) -> double& { return s.hic_d; }},
 };
 
 bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
@@ -66,10 +70,17 @@ bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::is
 
 std::span<const SummaryField> SummaryFields() { return kSummaryFields; }
 
+std::vector<const SummaryField*> SummaryFieldsOf(std::initializer_list<SummaryGroup> groups) {
+  std::vector<const SummaryField*> fields;
+  for (const SummaryGroup group : groups)
+    for (const SummaryField& field : kSummaryFields)
+      if (field.group == group) fields.push_back(&field);
+  return fields;
+}
+
 std::vector<std::string> SummaryFieldNames(SummaryGroup group) {
   std::vector<std::string> names;
-  for (const SummaryField& field : kSummaryFields)
-    if (field.group == group) names.emplace_back(field.name);
+  for (const SummaryField* field : SummaryFieldsOf({group})) names.emplace_back(field->name);
   return names;
 }
 

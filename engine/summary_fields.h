@@ -4,6 +4,7 @@
 // results table and the views of schema/, the summary JSON, the catalogue's
 // column lists and summary equality all follow it; tests/db/schema_test.cpp
 // proves that the schema agrees with it.
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <vector>
@@ -32,9 +33,14 @@ struct SummaryField {
   void Set(TestSummary& summary, double value) const { field(summary) = value; }
 };
 
-// Every numeric field, in contract order (the order of the results table's
-// columns, of the views and of the summary JSON).
+// Every numeric field, in the order of the results table's columns (fields
+// added by later schema versions come last, as their columns do).
 std::span<const SummaryField> SummaryFields();
+
+// The fields of `groups` in contract order: group by group, each in the order
+// above. The order of the views' columns, of `napkin query` and of the
+// summary JSON (hic_d, added later, follows the other HIC fields).
+std::vector<const SummaryField*> SummaryFieldsOf(std::initializer_list<SummaryGroup> groups);
 
 // The names of the fields of `group`, in contract order.
 std::vector<std::string> SummaryFieldNames(SummaryGroup group);

@@ -30,8 +30,9 @@ nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const s
   json["test_id"] = test_id;
   json["series"] = series;
   json["variant"] = variant;
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (field.group != engine::SummaryGroup::kQuality) json[field.name] = Number(field.Get(summary));
+  for (const engine::SummaryField* field :
+       engine::SummaryFieldsOf({engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation}))
+    json[field->name] = Number(field->Get(summary));
   nlohmann::ordered_json quality = nlohmann::ordered_json::array();
   for (const engine::Finding& finding : summary.findings) quality.push_back(FindingToJson(finding));
   json["quality"] = std::move(quality);

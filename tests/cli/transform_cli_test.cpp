@@ -98,6 +98,8 @@ TEST_F(TransformCliTest, WritesTheDerivedChannelContractAndSummary) {
   EXPECT_NEAR(summary["hic_t2_s"].get<double>(), engine::report::kHicT2S, 1e-4 + 1e-9);
   EXPECT_NEAR(summary["hic36"].get<double>(), engine::report::kHic36, 0.01);
   EXPECT_NEAR(summary["hic15"].get<double>(), engine::report::kHic15, 0.01);
+  // FMVSS 201 HIC(d) from the stored HIC36, exactly the engine's arithmetic.
+  EXPECT_EQ(summary["hic_d"].get<double>(), 0.75446 * summary["hic36"].get<double>() + 166.4);
   EXPECT_NEAR(summary["peak_acc_g"].get<double>(), engine::report::kPeakAccG, 0.005);
   for (const char* field : {"peak_omega_radps", "peak_alpha_radps2", "bric", "damage", "final_quat_w",
                             "final_roll_deg", "final_pos_x_m", "max_rotation_deg", "a3ms_g"})

@@ -352,7 +352,7 @@ TEST_F(CatalogueTest, QueryViewsCarryTheContractColumns) {
   EXPECT_EQ(catalogue_.Query(QueryKind::kHic).columns, hic);
   EXPECT_EQ(catalogue_.Query(QueryKind::kRotation).columns, rotation);
   EXPECT_EQ(catalogue_.Query(QueryKind::kCriteria).columns, criteria);
-  EXPECT_EQ(criteria.size(), 3u + 11u + 18u);
+  EXPECT_EQ(criteria.size(), 3u + 12u + 18u);
   EXPECT_THAT(catalogue_.Query(QueryKind::kQuality).columns,
               ElementsAre("test_id", "series", "variant", "check", "channel", "severity", "detail"));
 }

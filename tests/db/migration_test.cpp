@@ -2,11 +2,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <vector>
 
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "db/migrate.h"
+#include "engine/criteria.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -17,6 +19,20 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::StrEq;
 using ::testing::ThrowsMessage;
+
+// A results row with the columns of schema versions 1 and 2 (before hic_d),
+// as a program of those versions wrote it.
+void InsertVersion1Result(Catalogue& catalogue, TestId test, ConfigId config, double hic15,
+                          std::optional<double> hic36) {
+  auto insert = CatalogueInspector(catalogue).connection().Prepare(
+      "INSERT INTO results (test_id, config_id, solver, computed_at, hic15, hic15_t1_s, hic15_t2_s, hic36) "
+      "VALUES (?1, ?2, 'exact', '2026-01-01T00:00:00Z', ?3, 0.010, 0.025, ?4)");
+  insert->Bind(1, test);
+  insert->Bind(2, config);
+  insert->Bind(3, hic15);
+  insert->Bind(4, hic36);
+  insert->Execute();
+}
 
 std::vector<schema::Migration> EmbeddedPlus(std::vector<schema::Migration> extra) {
   std::vector<schema::Migration> migrations(schema::Migrations().begin(), schema::Migrations().end());
@@ -95,9 +111,8 @@ TEST(Migrations, UpgradeFromTheFirstVersionAddsTheViews) {
     const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
     const TestId test = test_support::AddTest(catalogue, array, "v0001", "sled");
     const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
-    engine::TestSummary summary;
-    summary.hic15 = {512.5, 0.010, 0.025};
-    catalogue.WriteResult(test, config, summary, "exact");
+    // The result as this version's program wrote it: the columns of version 1.
+    InsertVersion1Result(catalogue, test, config, /*hic15=*/512.5, /*hic36=*/700.0);
     EXPECT_THROW(catalogue.Query(QueryKind::kHic), DatabaseError) << "no views in version 1";
   }
   Catalogue catalogue = Catalogue::Open(path);
@@ -106,6 +121,35 @@ TEST(Migrations, UpgradeFromTheFirstVersionAddsTheViews) {
   ASSERT_EQ(hic.rows.size(), 1u);
   EXPECT_EQ(std::get<std::string>(hic.rows[0][0]), "v0001");
   EXPECT_EQ(std::get<double>(hic.rows[0][3]), 512.5);
+  // Version 3 derived hic_d from the stored HIC36 with the engine's arithmetic.
+  ASSERT_EQ(hic.columns.back(), "hic_d");
+  EXPECT_EQ(std::get<double>(hic.rows[0].back()), engine::HicD(700.0));
+  const TestId test = *catalogue.FindTestByExternalId("v0001");
+  const auto summary = catalogue.ReadSummary(test, *catalogue.ReadLatestResultConfig(test));
+  ASSERT_TRUE(summary.has_value());
+  EXPECT_EQ(summary->hic_d, engine::HicD(700.0));
+}
+
+TEST(Migrations, UpgradeFromVersion2LeavesResultsWithoutHic36Null) {
+  napkin::test_support::TempDir dir;
+  const std::string path = dir / "v2.db";
+  {
+    CatalogueOptions first_two;
+    first_two.migrations = schema::Migrations().first(2);
+    Catalogue catalogue = Catalogue::Open(path, first_two);
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
+    InsertVersion1Result(catalogue, test_support::AddTest(catalogue, array, "with", "sled"), config, 300.0,
+                         1234.5);
+    InsertVersion1Result(catalogue, test_support::AddTest(catalogue, array, "without", "sled"), config, 300.0,
+                         std::nullopt);
+  }
+  Catalogue catalogue = Catalogue::Open(path);
+  const Table hic = catalogue.Query(QueryKind::kHic);
+  ASSERT_EQ(hic.rows.size(), 2u);
+  EXPECT_EQ(std::get<std::string>(hic.rows[0][0]), "with");
+  EXPECT_EQ(std::get<double>(hic.rows[0].back()), 0.75446 * 1234.5 + 166.4);
+  EXPECT_TRUE(std::holds_alternative<std::monostate>(hic.rows[1].back()));
 }
 
 TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {

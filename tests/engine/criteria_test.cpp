@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "common/error.h"
@@ -218,6 +219,15 @@ TEST(Damage, CoupledPulsesMatchAFineStepRk4Reference) {
 
 // ---------------------------------------------------------------------------
 
+TEST(HicD, IsTheFmvss201LinearMapOfHic36) {
+  // FMVSS No. 201 S6.3: HIC(d) = 0.75446 HIC36 + 166.4, so its limit of 1000
+  // corresponds to HIC36 = (1000 - 166.4) / 0.75446 = 1104.89...
+  EXPECT_NEAR(HicD((1000.0 - 166.4) / 0.75446), 1000.0, 1e-9);
+  EXPECT_NEAR(HicD(0.0), 166.4, 1e-12);
+  EXPECT_NEAR(HicD(1000.0) - HicD(500.0), 0.75446 * 500.0, 1e-9);
+  EXPECT_TRUE(std::isnan(HicD(std::numeric_limits<double>::quiet_NaN())));
+}
+
 TEST(FillCriteria, ReportSection45ScenarioFromKinematics) {
   // Rotation about an axis parallel to fixed Y through a point 10 in from the
   // CG: tangential r omega_dot and centripetal r omega^2 in the X-Z plane.
@@ -247,6 +257,8 @@ TEST(FillCriteria, ReportSection45ScenarioFromKinematics) {
   EXPECT_NEAR(summary.hic.t2_s, report::kHicT2S, 1e-9);
   EXPECT_NEAR(summary.hic36.value, report::kHic36, 0.01);
   EXPECT_NEAR(summary.hic15.value, report::kHic15, 0.01);
+  EXPECT_NEAR(summary.hic_d, 0.75446 * report::kHic36 + 166.4, 0.75446 * 0.01);
+  EXPECT_EQ(summary.hic_d, HicD(summary.hic36.value));
   const Eigen::VectorXd acc_g = kinematics.acc_fixed.rowwise().norm() / kStandardGravity;
   EXPECT_EQ(summary.a3ms_g, A3ms(acc_g, dt));
   EXPECT_NEAR(summary.bric, Eigen::Vector3d(5.0 / 66.25, 50.0 / 56.45, 10.0 / 42.87).norm(), 1e-12);

@@ -14,6 +14,7 @@ TEST(SummaryJsonTest, ExactlyTheContractFieldsInOrder) {
   summary.hic = {701.0, 0.004, 0.050};
   summary.peak_acc_g = 88.0;
   summary.a3ms_g = 80.0;
+  summary.hic_d = 694.5;
   summary.peak_omega_body_radps = Eigen::Vector3d(1, 2, 3);
   summary.peak_omega_radps = 3.5;
   summary.peak_alpha_radps2 = 1500;
@@ -42,6 +43,7 @@ TEST(SummaryJsonTest, ExactlyTheContractFieldsInOrder) {
                                                   "hic_t2_s",
                                                   "peak_acc_g",
                                                   "a3ms_g",
+                                                  "hic_d",
                                                   "peak_omega_x_radps",
                                                   "peak_omega_y_radps",
                                                   "peak_omega_z_radps",
@@ -81,11 +83,12 @@ TEST(SummaryJsonTest, ExactlyTheContractFieldsInOrder) {
   EXPECT_EQ(FindingToJson(summary.findings[0])["channel"], "yarm_z");
   EXPECT_EQ(FindingToJson(summary.findings[1]).dump(), json["quality"][1].dump());
   // The whole text, byte for byte, as the hand-written writer produced it
-  // before the field table drove it.
+  // before the field table drove it (plus hic_d, added with schema 3).
   EXPECT_EQ(json.dump(),
             R"({"test_id":"T1","series":"S","variant":"foam-a","hic15":512.5,"hic15_t1_s":0.01,)"
             R"("hic15_t2_s":0.025,"hic36":700.0,"hic36_t1_s":0.005,"hic36_t2_s":0.041,"hic":701.0,)"
-            R"("hic_t1_s":0.004,"hic_t2_s":0.05,"peak_acc_g":88.0,"a3ms_g":80.0,"peak_omega_x_radps":1.0,)"
+            R"("hic_t1_s":0.004,"hic_t2_s":0.05,"peak_acc_g":88.0,"a3ms_g":80.0,"hic_d":694.5,)"
+            R"("peak_omega_x_radps":1.0,)"
             R"("peak_omega_y_radps":2.0,"peak_omega_z_radps":3.0,"peak_omega_radps":3.5,)"
             R"("peak_alpha_radps2":1500.0,"bric":0.7,"damage":null,"final_quat_w":0.5,"final_quat_x":0.5,)"
             R"("final_quat_y":-0.5,"final_quat_z":0.5,"final_roll_deg":10.0,"final_pitch_deg":20.0,)"
