@@ -100,7 +100,7 @@ TEST(WhereExpression, QuotedStringsHoldBlanksQuotesParenthesesAndOperators) {
   EXPECT_EQ(text(R"(series = "C:\\data\\")"), R"(C:\data\)");
   EXPECT_EQ(text(R"(series = "")"), "");
   EXPECT_EQ(text(R"(series="x'); DROP TABLE tests;--")"), "x'); DROP TABLE tests;--");
-  EXPECT_EQ(Grouping(R"(series="a or b" or variant="(c)")"), R"((series = "a or b" or variant = "(c)"))");
+  EXPECT_EQ(Grouping(R"x(series="a or b" or variant="(c)")x"), R"x((series = "a or b" or variant = "(c)"))x");
 }
 
 TEST(WhereExpression, EmptyExpression) {
@@ -167,8 +167,8 @@ TEST(WhereExpression, NumericFieldsTakeNumbersOnly) {
             Expected("hic15>abc", "field 'hic15' holds numbers, but 'abc' at column 7 is not a number"));
   EXPECT_EQ(ErrorOf(R"(hic15>"700")"),
             Expected(R"(hic15>"700")", R"(field 'hic15' holds numbers, but "700" at column 7 is not a number)"));
-  for (const std::string& word : {"inf", "nan", "1e999", "7OO", "+-1", "0x10", "1,5"})
-    EXPECT_NE(ErrorOf("hic15>" + word).find("is not a number"), std::string::npos) << word;
+  for (const char* word : {"inf", "nan", "1e999", "7OO", "+-1", "0x10", "1,5"})
+    EXPECT_NE(ErrorOf(std::string("hic15>") + word).find("is not a number"), std::string::npos) << word;
 }
 
 TEST(WhereExpression, ErrorsAreOneLine) {
