@@ -39,8 +39,9 @@ void QueryFilterOptions::Register(CLI::App& command) {
   command.add_option("--variant", variants, "only tests of this variant (repeatable: any of them)")
       ->allow_extra_args(false);
   command
-      .add_option("--where", where,
-                  "only rows where EXPR holds, e.g. \"hic15>700 and variant=foam-a\" (repeatable: all of them)")
+      .add_option(
+          "--where", where,
+          "only rows where EXPR holds, e.g. \"hic15>700 and variant=foam-a\" (repeatable: all of them)")
       ->allow_extra_args(false);
   command.add_option("--sort", sort, "order by FIELD[:desc] (repeatable; ties: by test_id)")
       ->allow_extra_args(false);
@@ -54,7 +55,8 @@ db::QueryRequest QueryFilterOptions::Request(db::QueryKind kind) const {
   db::QueryRequest request;
   request.series = series;
   request.variants = variants;
-  for (const std::string& expression : where) request.where.push_back(ParseWhereExpression(expression, fields));
+  for (const std::string& expression : where)
+    request.where.push_back(ParseWhereExpression(expression, fields));
   for (const std::string& key : sort) request.sort.push_back(ParseSortKey(key, fields));
   if (!limit.empty()) request.limit = ParseRowLimit(limit);
   return request;
@@ -75,9 +77,10 @@ db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField
                        std::string(text.substr(colon + 1)) + "'.");
     key.descending = direction == "desc";
   }
-  if (std::none_of(fields.begin(), fields.end(), [&](const db::QueryField& f) { return f.name == key.field; }))
-    throw UsageError("--sort \"" + std::string(text) + "\": unknown field '" + key.field + "'; the fields are " +
-                     FieldList(fields) + ".");
+  if (std::none_of(fields.begin(), fields.end(),
+                   [&](const db::QueryField& f) { return f.name == key.field; }))
+    throw UsageError("--sort \"" + std::string(text) + "\": unknown field '" + key.field +
+                     "'; the fields are " + FieldList(fields) + ".");
   return key;
 }
 
@@ -103,12 +106,13 @@ db::ConfigId ResolveConfigSelector(db::Catalogue& catalogue, const std::string& 
                      " configs: " + ConfigList(named) + "; give a hash prefix instead.");
   const std::string prefix = Lowercase(selector);
   std::vector<db::ConfigRecord> hashed;
-  std::copy_if(configs.begin(), configs.end(), std::back_inserter(hashed), [&](const db::ConfigRecord& config) {
-    return Lowercase(config.config_hash).rfind(prefix, 0) == 0;
-  });
+  std::copy_if(
+      configs.begin(), configs.end(), std::back_inserter(hashed),
+      [&](const db::ConfigRecord& config) { return Lowercase(config.config_hash).rfind(prefix, 0) == 0; });
   if (hashed.size() == 1) return hashed.front().id;
   if (hashed.empty())
-    throw UsageError("--config '" + selector + "' is neither the name nor a hash prefix of a config; the configs are " +
+    throw UsageError("--config '" + selector +
+                     "' is neither the name nor a hash prefix of a config; the configs are " +
                      ConfigList(configs) + ".");
   throw UsageError("--config '" + selector + "' starts the hashes of " + std::to_string(hashed.size()) +
                    " configs: " + ConfigList(hashed) + "; give more of the hash.");

@@ -49,7 +49,8 @@ class Parser {
  private:
   [[noreturn]] void Fail(const std::string& problem) const {
     std::string shown(text_);
-    std::replace_if(shown.begin(), shown.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    std::replace_if(
+        shown.begin(), shown.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
     std::string fields;
     for (const db::QueryField& field : fields_) fields += (fields.empty() ? "" : ", ") + field.name;
     throw UsageError("--where \"" + shown + "\": " + problem + "; the fields are " + fields + ".");
@@ -57,7 +58,8 @@ class Parser {
 
   // "at column N, found 'X'" (or "found the end").
   static std::string Found(const Token& token) {
-    if (token.kind == Token::Kind::kEnd) return "at column " + std::to_string(token.column) + ", found the end";
+    if (token.kind == Token::Kind::kEnd)
+      return "at column " + std::to_string(token.column) + ", found the end";
     const std::string shown = token.kind == Token::Kind::kString ? token.text : "'" + token.text + "'";
     return "at column " + std::to_string(token.column) + ", found " + shown;
   }
@@ -84,7 +86,7 @@ class Parser {
         token.kind = Token::Kind::kOperator;
         token.text = text_.substr(i, c != '=' && equals_follows ? 2 : 1);
         using Op = db::ComparisonOperator;
-        token.op = c == '=' ? Op::kEqual
+        token.op = c == '='   ? Op::kEqual
                    : c == '!' ? Op::kNotEqual
                    : c == '<' ? (equals_follows ? Op::kLessEqual : Op::kLess)
                               : (equals_follows ? Op::kGreaterEqual : Op::kGreater);
@@ -97,7 +99,8 @@ class Parser {
         std::size_t j = i + 1;
         for (;; ++j) {
           if (j == text_.size())
-            Fail("the text value starting at column " + std::to_string(token.column) + " has no closing '\"'");
+            Fail("the text value starting at column " + std::to_string(token.column) +
+                 " has no closing '\"'");
           if (text_[j] == '"') break;
           if (text_[j] == '\\') {
             if (j + 1 == text_.size() || (text_[j + 1] != '"' && text_[j + 1] != '\\'))
@@ -152,10 +155,9 @@ class Parser {
       const Token open = Take();
       db::WhereExpression inner = Disjunction();
       if (Peek().kind == Token::Kind::kEnd)
-        Fail("the '(' at column " + std::to_string(open.column) + " is never closed (the expression ends at column " +
-             std::to_string(Peek().column) + ")");
-      if (Peek().kind != Token::Kind::kRightParenthesis)
-        Fail("expected 'and', 'or' or ')' " + Found(Peek()));
+        Fail("the '(' at column " + std::to_string(open.column) +
+             " is never closed (the expression ends at column " + std::to_string(Peek().column) + ")");
+      if (Peek().kind != Token::Kind::kRightParenthesis) Fail("expected 'and', 'or' or ')' " + Found(Peek()));
       Take();
       return inner;
     }
@@ -164,7 +166,8 @@ class Parser {
 
   db::WhereExpression Comparison() {
     const Token field_token = Take();
-    if (field_token.kind != Token::Kind::kWord || IsKeyword(field_token, "and") || IsKeyword(field_token, "or"))
+    if (field_token.kind != Token::Kind::kWord || IsKeyword(field_token, "and") ||
+        IsKeyword(field_token, "or"))
       Fail("expected a field name " + Found(field_token));
     const auto field = std::find_if(fields_.begin(), fields_.end(),
                                     [&](const db::QueryField& f) { return f.name == field_token.text; });
@@ -180,7 +183,8 @@ class Parser {
 
     db::WhereComparison comparison{field->name, op.op, value.value};
     if (field->numeric) {
-      const std::optional<double> number = value.kind == Token::Kind::kWord ? Number(value.value) : std::nullopt;
+      const std::optional<double> number =
+          value.kind == Token::Kind::kWord ? Number(value.value) : std::nullopt;
       if (!number)
         Fail("field '" + field->name + "' holds numbers, but " +
              (value.kind == Token::Kind::kString ? value.text : "'" + value.text + "'") + " at column " +

@@ -56,10 +56,18 @@ void WriteFixedCatalogue(const fs::path& path) {
   db::Catalogue catalogue = db::Catalogue::Open(path.string(), options);
   const db::ArrayId array = catalogue.WriteArray(
       {{}, "denton-3222", R"({"name":"denton-3222","length_unit":"in","sensors":[]})", "array-hash-denton"});
-  const db::ConfigId defaults = catalogue.WriteConfig(
-      {{}, "default", R"({"filter":"cfc1000"})", "ab12c0ffee00000000000000000000000000000000000000000000000000aaaa", {}});
-  const db::ConfigId cfc180 = catalogue.WriteConfig(
-      {{}, "cfc180", R"({"filter":"cfc180"})", "ab34beef0000000000000000000000000000000000000000000000000000bbbb", {}});
+  const db::ConfigId defaults =
+      catalogue.WriteConfig({{},
+                             "default",
+                             R"({"filter":"cfc1000"})",
+                             "ab12c0ffee00000000000000000000000000000000000000000000000000aaaa",
+                             {}});
+  const db::ConfigId cfc180 =
+      catalogue.WriteConfig({{},
+                             "cfc180",
+                             R"({"filter":"cfc180"})",
+                             "ab34beef0000000000000000000000000000000000000000000000000000bbbb",
+                             {}});
 
   struct Chosen {
     std::string id, series, variant;
@@ -67,14 +75,23 @@ void WriteFixedCatalogue(const fs::path& path) {
     std::vector<engine::Finding> findings;
   };
   const std::vector<Chosen> tests = {
-      {"g01", "sled", "production", ChosenResult{812.5, 845.25, 804.107315, 98.5, 0.75, 21.5},
+      {"g01",
+       "sled",
+       "production",
+       ChosenResult{812.5, 845.25, 804.107315, 98.5, 0.75, 21.5},
        {{"bias", "cg_x", engine::Severity::kInfo, "Offset of 0.2 g removed."}}},
       {"g02", "sled", "production", ChosenResult{1034, 1101.5, 997.43769, 112.25, 0.875, 25.75}, {}},
       {"g03", "sled", "foam-a", ChosenResult{540.75, 566, 593.42436, 71.5, 0.5, 17.25}, {}},
-      {"g04", "sled", "foam-a", ChosenResult{612, 640.5, 649.63163, 78, 0.625, 30.5},
+      {"g04",
+       "sled",
+       "foam-a",
+       ChosenResult{612, 640.5, 649.63163, 78, 0.625, 30.5},
        {{"saturation", "cg_y", engine::Severity::kWarning, "Channel cg_y is flat at 200 g for 0.4 ms."}}},
       {"g05", "sled", "foam-b", ChosenResult{455.5, 480.25, 528.729415, 64.75, 0.4375, 12}, {}},
-      {"g06", "pillar", "production", ChosenResult{791, 802, 771.47692, 95, 0.9375, 34.25},
+      {"g06",
+       "pillar",
+       "production",
+       ChosenResult{791, 802, 771.47692, 95, 0.9375, 34.25},
        {{"residual", std::nullopt, engine::Severity::kWarning, "Residual exceeds 2 m/s^2 for 1.5 ms."},
         {"bias", "cg_z", engine::Severity::kInfo, "Offset of 0.1 g removed."}}},
       {"g07", kHostileSeries, "foam-b", ChosenResult{kNan, 390.5, 461.01663, 52.5, 0.3125, 9.5}, {}},
@@ -139,7 +156,8 @@ class CliQueryGolden : public ::testing::Test {
     EXPECT_EQ(run.exit_code, 0) << run.err;
     EXPECT_EQ(run.err, "");
     const fs::path golden = kGoldenDir / (name + ".txt");
-    if (const char* update = std::getenv("NAPKIN_UPDATE_GOLDEN"); update != nullptr && std::string(update) == "1") {
+    if (const char* update = std::getenv("NAPKIN_UPDATE_GOLDEN");
+        update != nullptr && std::string(update) == "1") {
       std::ofstream(golden, std::ios::binary) << run.out;
       return;
     }
@@ -148,7 +166,8 @@ class CliQueryGolden : public ::testing::Test {
   }
 
   // `napkin query args...` is a usage error: exit 2, one line holding `fragments`.
-  static void ExpectUsageError(const std::vector<std::string>& args, std::initializer_list<std::string> fragments) {
+  static void ExpectUsageError(const std::vector<std::string>& args,
+                               std::initializer_list<std::string> fragments) {
     const RunResult run = Query(args);
     EXPECT_EQ(run.exit_code, 2) << run.err;
     EXPECT_EQ(run.out, "");
@@ -168,14 +187,15 @@ TEST_F(CliQueryGolden, UnfilteredTablesInEveryFormat) {
 
 TEST_F(CliQueryGolden, WhereFiltersInEveryFormat) {
   ExpectGolden("hic_where_and_table", {"hic", "--where", "hic15>500 and variant=foam-a"});
-  ExpectGolden("hic_where_or_csv",
-               {"hic", "--where", "variant = foam-b or (series = pillar and hic36 >= 800)", "--format", "csv"});
-  ExpectGolden("criteria_where_twice_json",
-               {"criteria", "--where", "series=sled", "--where", "bric < 0.6 OR max_rotation_deg > 30",
-                "--format", "json"});
+  ExpectGolden(
+      "hic_where_or_csv",
+      {"hic", "--where", "variant = foam-b or (series = pillar and hic36 >= 800)", "--format", "csv"});
+  ExpectGolden("criteria_where_twice_json", {"criteria", "--where", "series=sled", "--where",
+                                             "bric < 0.6 OR max_rotation_deg > 30", "--format", "json"});
   ExpectGolden("hic_where_hic_d_table", {"hic", "--where", "hic_d > 600", "--sort", "hic_d:desc"});
   ExpectGolden("quality_where_json", {"quality", "--where", "severity = warning", "--format", "json"});
-  ExpectGolden("tests_where_csv", {"tests", "--where", "test_id >= g05 and array = denton-3222", "--format", "csv"});
+  ExpectGolden("tests_where_csv",
+               {"tests", "--where", "test_id >= g05 and array = denton-3222", "--format", "csv"});
   // NULL matches nothing: g07's HIC15 is NULL, so it is in neither answer.
   ExpectGolden("hic_where_null_csv", {"hic", "--where", "hic15 < 600 or hic15 >= 600", "--format", "csv"});
 }
@@ -186,7 +206,8 @@ TEST_F(CliQueryGolden, SortAndLimit) {
   ExpectGolden("hic_sort_two_keys_table", {"hic", "--sort", "variant", "--sort", "hic15:desc"});
   ExpectGolden("hic_sort_nulls_last_csv", {"hic", "--sort", "hic15", "--format", "csv"});
   ExpectGolden("hic_limit_zero_table", {"hic", "--limit", "0"});
-  ExpectGolden("quality_sort_limit_csv", {"quality", "--sort", "check:desc", "--limit", "2", "--format", "csv"});
+  ExpectGolden("quality_sort_limit_csv",
+               {"quality", "--sort", "check:desc", "--limit", "2", "--format", "csv"});
 }
 
 TEST_F(CliQueryGolden, ConfigSelectsTheResultSet) {
@@ -194,13 +215,13 @@ TEST_F(CliQueryGolden, ConfigSelectsTheResultSet) {
   ExpectGolden("criteria_config_prefix_csv", {"criteria", "--config", "AB34", "--format", "csv"});
   ExpectGolden("tests_config_json", {"tests", "--config", "cfc180", "--format", "json"});
   ExpectGolden("quality_config_table", {"quality", "--config", "ab12"});
-  ExpectGolden("hic_config_where_sort_json",
-               {"hic", "--config", "default", "--where", "hic15 > 600", "--sort", "hic15:desc", "--format", "json"});
+  ExpectGolden("hic_config_where_sort_json", {"hic", "--config", "default", "--where", "hic15 > 600",
+                                              "--sort", "hic15:desc", "--format", "json"});
 }
 
 TEST_F(CliQueryGolden, RepeatedSeriesAndVariants) {
-  ExpectGolden("tests_series_variant_table",
-               {"tests", "--series", "sled", "--series", "pillar", "--variant", "production", "--variant", "foam-b"});
+  ExpectGolden("tests_series_variant_table", {"tests", "--series", "sled", "--series", "pillar", "--variant",
+                                              "production", "--variant", "foam-b"});
   // One value per option: the positional query kind may follow.
   ExpectGolden("tests_series_before_kind_table", {"--series", "pillar", "tests"});
 }
@@ -214,16 +235,19 @@ TEST_F(CliQueryGolden, SqlLikeTextIsAValue) {
 }
 
 TEST_F(CliQueryGolden, UsageErrorsAreOneLineExitTwo) {
-  ExpectUsageError({"hic", "--where", "hic16>700"},
-                   {"unknown field 'hic16' at column 1", "the fields are test_id, series, variant, hic15,", "hic_d"});
+  ExpectUsageError(
+      {"hic", "--where", "hic16>700"},
+      {"unknown field 'hic16' at column 1", "the fields are test_id, series, variant, hic15,", "hic_d"});
   ExpectUsageError({"hic", "--where", "bric>1"}, {"unknown field 'bric'"});
-  ExpectUsageError({"rotation", "--where", "bric>1 and"}, {"expected a field name at column 11, found the end"});
+  ExpectUsageError({"rotation", "--where", "bric>1 and"},
+                   {"expected a field name at column 11, found the end"});
   ExpectUsageError({"hic", "--where", "hic15>>700"}, {"expected a value after '>' at column 7, found '>'"});
   ExpectUsageError({"hic", "--where", "(hic15>700"}, {"the '(' at column 1 is never closed"});
   ExpectUsageError({"hic", "--where", "hic15>abc"}, {"field 'hic15' holds numbers, but 'abc'"});
   ExpectUsageError({"hic", "--where", "variant='foam-a'"}, {"single quote at column 9"});
-  ExpectUsageError({"quality", "--where", "check=bias", "--where", "hic15>1"},
-                   {"unknown field 'hic15'", "the fields are test_id, series, variant, check, channel, severity, detail"});
+  ExpectUsageError(
+      {"quality", "--where", "check=bias", "--where", "hic15>1"},
+      {"unknown field 'hic15'", "the fields are test_id, series, variant, check, channel, severity, detail"});
   ExpectUsageError({"hic", "--sort", "hic16"}, {"--sort \"hic16\": unknown field 'hic16'"});
   ExpectUsageError({"hic", "--sort", "hic15:down"}, {"the direction after ':' is asc or desc, not 'down'"});
   ExpectUsageError({"hic", "--limit", "-1"}, {"--limit takes a whole number of rows, 0 or more, not '-1'"});
@@ -231,10 +255,10 @@ TEST_F(CliQueryGolden, UsageErrorsAreOneLineExitTwo) {
   ExpectUsageError({"hic", "--config", "cfc60"},
                    {"--config 'cfc60' is neither the name nor a hash prefix of a config",
                     "default (hash ab12c0ffee00), cfc180 (hash ab34beef0000)"});
-  ExpectUsageError({"hic", "--config", "ab"},
-                   {"--config 'ab' starts the hashes of 2 configs", "default (hash ab12c0ffee00), cfc180 (hash "
-                                                                     "ab34beef0000)",
-                    "give more of the hash"});
+  ExpectUsageError({"hic", "--config", "ab"}, {"--config 'ab' starts the hashes of 2 configs",
+                                               "default (hash ab12c0ffee00), cfc180 (hash "
+                                               "ab34beef0000)",
+                                               "give more of the hash"});
 }
 
 TEST(CliQueryConfig, NoConfigsYetAndAmbiguousNames) {

@@ -87,13 +87,15 @@ TEST(WhereExpression, ValuesAreNumbersForNumericFieldsAndTextForTextFields) {
   EXPECT_EQ(std::get<double>(value("hic15 > 0.1")), 0.1);
   EXPECT_EQ(std::get<std::string>(value("test_id = 0012")), "0012") << "text fields keep the text as typed";
   EXPECT_EQ(std::get<std::string>(value("variant = foam-a")), "foam-a");
-  EXPECT_EQ(std::get<std::string>(value("variant = and")), "and") << "a keyword in a value's place is a value";
+  EXPECT_EQ(std::get<std::string>(value("variant = and")), "and")
+      << "a keyword in a value's place is a value";
   EXPECT_EQ(std::get<std::string>(value("variant = Foam.B_2")), "Foam.B_2");
 }
 
 TEST(WhereExpression, QuotedStringsHoldBlanksQuotesParenthesesAndOperators) {
   auto text = [](const std::string& where) {
-    return std::get<std::string>(std::get<db::WhereComparison>(ParseWhereExpression(where, HicFields()).node).value);
+    return std::get<std::string>(
+        std::get<db::WhereComparison>(ParseWhereExpression(where, HicFields()).node).value);
   };
   EXPECT_EQ(text(R"(series = "sled 2024 (A) <= x and y")"), "sled 2024 (A) <= x and y");
   EXPECT_EQ(text(R"(series = "say \"hi\"")"), R"(say "hi")");
@@ -110,36 +112,46 @@ TEST(WhereExpression, EmptyExpression) {
 
 TEST(WhereExpression, UnknownField) {
   EXPECT_EQ(ErrorOf("hic16>700"), Expected("hic16>700", "unknown field 'hic16' at column 1"));
-  EXPECT_EQ(ErrorOf("hic15>1 and HIC36>1"), Expected("hic15>1 and HIC36>1", "unknown field 'HIC36' at column 13"));
+  EXPECT_EQ(ErrorOf("hic15>1 and HIC36>1"),
+            Expected("hic15>1 and HIC36>1", "unknown field 'HIC36' at column 13"));
   EXPECT_EQ(ErrorOf("bric>1"), Expected("bric>1", "unknown field 'bric' at column 1"))
       << "a rotation field is not a field of query hic";
 }
 
 TEST(WhereExpression, MissingFieldName) {
   EXPECT_EQ(ErrorOf(">700"), Expected(">700", "expected a field name at column 1, found '>'"));
-  EXPECT_EQ(ErrorOf("hic15>1 and"), Expected("hic15>1 and", "expected a field name at column 12, found the end"));
-  EXPECT_EQ(ErrorOf("and hic15>1"), Expected("and hic15>1", "expected a field name at column 1, found 'and'"));
-  EXPECT_EQ(ErrorOf(R"("hic15">1)"), Expected(R"("hic15">1)", R"(expected a field name at column 1, found "hic15")"));
+  EXPECT_EQ(ErrorOf("hic15>1 and"),
+            Expected("hic15>1 and", "expected a field name at column 12, found the end"));
+  EXPECT_EQ(ErrorOf("and hic15>1"),
+            Expected("and hic15>1", "expected a field name at column 1, found 'and'"));
+  EXPECT_EQ(ErrorOf(R"("hic15">1)"),
+            Expected(R"("hic15">1)", R"(expected a field name at column 1, found "hic15")"));
   EXPECT_EQ(ErrorOf("()"), Expected("()", "expected a field name at column 2, found ')'"));
 }
 
 TEST(WhereExpression, MissingOperator) {
-  EXPECT_EQ(ErrorOf("hic15 700"),
-            Expected("hic15 700", "expected an operator (= != < <= > >=) after 'hic15' at column 7, found '700'"));
-  EXPECT_EQ(ErrorOf("hic15"),
-            Expected("hic15", "expected an operator (= != < <= > >=) after 'hic15' at column 6, found the end"));
+  EXPECT_EQ(
+      ErrorOf("hic15 700"),
+      Expected("hic15 700", "expected an operator (= != < <= > >=) after 'hic15' at column 7, found '700'"));
+  EXPECT_EQ(
+      ErrorOf("hic15"),
+      Expected("hic15", "expected an operator (= != < <= > >=) after 'hic15' at column 6, found the end"));
 }
 
 TEST(WhereExpression, MissingValue) {
   EXPECT_EQ(ErrorOf("hic15>"), Expected("hic15>", "expected a value after '>' at column 7, found the end"));
-  EXPECT_EQ(ErrorOf("hic15>>700"), Expected("hic15>>700", "expected a value after '>' at column 7, found '>'"));
-  EXPECT_EQ(ErrorOf("hic15==700"), Expected("hic15==700", "expected a value after '=' at column 7, found '='"));
-  EXPECT_EQ(ErrorOf("hic15 = (1)"), Expected("hic15 = (1)", "expected a value after '=' at column 9, found '('"));
+  EXPECT_EQ(ErrorOf("hic15>>700"),
+            Expected("hic15>>700", "expected a value after '>' at column 7, found '>'"));
+  EXPECT_EQ(ErrorOf("hic15==700"),
+            Expected("hic15==700", "expected a value after '=' at column 7, found '='"));
+  EXPECT_EQ(ErrorOf("hic15 = (1)"),
+            Expected("hic15 = (1)", "expected a value after '=' at column 9, found '('"));
 }
 
 TEST(WhereExpression, TrailingTokens) {
   EXPECT_EQ(ErrorOf("hic15>1 hic36>2"),
-            Expected("hic15>1 hic36>2", "expected 'and', 'or' or the end of the expression at column 9, found 'hic36'"));
+            Expected("hic15>1 hic36>2",
+                     "expected 'and', 'or' or the end of the expression at column 9, found 'hic36'"));
   EXPECT_EQ(ErrorOf("hic15>1)"),
             Expected("hic15>1)", "expected 'and', 'or' or the end of the expression at column 8, found ')'"));
   EXPECT_EQ(ErrorOf("(hic15>1 hic36>2)"),
@@ -148,25 +160,30 @@ TEST(WhereExpression, TrailingTokens) {
 
 TEST(WhereExpression, UnclosedParenthesis) {
   EXPECT_EQ(ErrorOf("(hic15>1 or (hic36>2)"),
-            Expected("(hic15>1 or (hic36>2)", "the '(' at column 1 is never closed (the expression ends at column 22)"));
+            Expected("(hic15>1 or (hic36>2)",
+                     "the '(' at column 1 is never closed (the expression ends at column 22)"));
 }
 
 TEST(WhereExpression, BadQuotingAndStrayCharacters) {
   EXPECT_EQ(ErrorOf(R"(variant="foam)"),
             Expected(R"(variant="foam)", "the text value starting at column 9 has no closing '\"'"));
-  EXPECT_EQ(ErrorOf(R"(variant="a\n")"),
-            Expected(R"(variant="a\n")",
-                     R"(unknown escape at column 11 (inside double quotes, \" is a quote and \\ a backslash))"));
+  EXPECT_EQ(
+      ErrorOf(R"(variant="a\n")"),
+      Expected(R"(variant="a\n")",
+               R"(unknown escape at column 11 (inside double quotes, \" is a quote and \\ a backslash))"));
   EXPECT_EQ(ErrorOf("variant='foam-a'"),
-            Expected("variant='foam-a'", "single quote at column 9: write text values in double quotes (\"like this\")"));
-  EXPECT_EQ(ErrorOf("hic15 ! 700"), Expected("hic15 ! 700", "'!' at column 7 is not an operator (not equal is !=)"));
+            Expected("variant='foam-a'",
+                     "single quote at column 9: write text values in double quotes (\"like this\")"));
+  EXPECT_EQ(ErrorOf("hic15 ! 700"),
+            Expected("hic15 ! 700", "'!' at column 7 is not an operator (not equal is !=)"));
 }
 
 TEST(WhereExpression, NumericFieldsTakeNumbersOnly) {
   EXPECT_EQ(ErrorOf("hic15>abc"),
             Expected("hic15>abc", "field 'hic15' holds numbers, but 'abc' at column 7 is not a number"));
-  EXPECT_EQ(ErrorOf(R"(hic15>"700")"),
-            Expected(R"(hic15>"700")", R"(field 'hic15' holds numbers, but "700" at column 7 is not a number)"));
+  EXPECT_EQ(
+      ErrorOf(R"(hic15>"700")"),
+      Expected(R"(hic15>"700")", R"(field 'hic15' holds numbers, but "700" at column 7 is not a number)"));
   for (const char* word : {"inf", "nan", "1e999", "7OO", "+-1", "0x10", "1,5"})
     EXPECT_NE(ErrorOf(std::string("hic15>") + word).find("is not a number"), std::string::npos) << word;
 }
@@ -174,7 +191,8 @@ TEST(WhereExpression, NumericFieldsTakeNumbersOnly) {
 TEST(WhereExpression, ErrorsAreOneLine) {
   const std::string message = ErrorOf("hic15>\nabc");
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  EXPECT_EQ(message, Expected("hic15> abc", "field 'hic15' holds numbers, but 'abc' at column 8 is not a number"));
+  EXPECT_EQ(message,
+            Expected("hic15> abc", "field 'hic15' holds numbers, but 'abc' at column 8 is not a number"));
 }
 
 }  // namespace

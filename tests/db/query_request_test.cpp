@@ -36,7 +36,8 @@ engine::TestSummary Summary(double base, double hic15) {
   double offset = 0.0;
   for (const engine::SummaryField& field : engine::SummaryFields()) field.Set(summary, base + offset++);
   summary.hic15.value = hic15;
-  summary.findings = {{"bias", "cg_x", engine::Severity::kInfo, "Offset removed at " + std::to_string(base) + "."}};
+  summary.findings = {
+      {"bias", "cg_x", engine::Severity::kInfo, "Offset removed at " + std::to_string(base) + "."}};
   return summary;
 }
 
@@ -84,8 +85,8 @@ class QueryRequestTest : public ::testing::Test {
 };
 
 TEST_F(QueryRequestTest, QueryFieldsAreTheColumnsOfEachQuery) {
-  for (const QueryKind kind :
-       {QueryKind::kTests, QueryKind::kHic, QueryKind::kRotation, QueryKind::kCriteria, QueryKind::kQuality}) {
+  for (const QueryKind kind : {QueryKind::kTests, QueryKind::kHic, QueryKind::kRotation, QueryKind::kCriteria,
+                               QueryKind::kQuality}) {
     std::vector<std::string> names;
     for (const QueryField& field : QueryFields(kind)) names.push_back(field.name);
     EXPECT_EQ(names, catalogue_.Query(kind).columns);
@@ -116,11 +117,11 @@ TEST_F(QueryRequestTest, AndOrTreesAndSeveralWhereExpressions) {
   using Op = ComparisonOperator;
   using Kind = WhereJunction::Kind;
   // hic15 > 600 or (variant = B and series = sled) ... or a4 by id.
-  const WhereExpression tree = Junction(
-      Kind::kOr, {Compare("hic15", Op::kGreater, 680.0),
-                  Junction(Kind::kAnd, {Compare("variant", Op::kEqual, std::string("B")),
-                                        Compare("series", Op::kEqual, std::string("sled"))}),
-                  Compare("test_id", Op::kEqual, std::string("a3"))});
+  const WhereExpression tree =
+      Junction(Kind::kOr, {Compare("hic15", Op::kGreater, 680.0),
+                           Junction(Kind::kAnd, {Compare("variant", Op::kEqual, std::string("B")),
+                                                 Compare("series", Op::kEqual, std::string("sled"))}),
+                           Compare("test_id", Op::kEqual, std::string("a3"))});
   EXPECT_THAT(Ids(Where(tree)), ElementsAre("a1", "a2", "a3"));
   QueryRequest both = Where(tree);
   both.where.push_back(Compare("variant", Op::kEqual, std::string("A")));  // ANDed
@@ -204,7 +205,8 @@ TEST_F(QueryRequestTest, ConfigSelectsThatResultSetForEveryKind) {
   request.config = config_;
   request.where.push_back(Compare("hic15", ComparisonOperator::kGreater, 800.0));
   EXPECT_THAT(Ids(request), ElementsAre("a2"));
-  request.where = {Compare("detail", ComparisonOperator::kEqual, std::string("Offset removed at 20.000000."))};
+  request.where = {
+      Compare("detail", ComparisonOperator::kEqual, std::string("Offset removed at 20.000000."))};
   EXPECT_THAT(Ids(request, QueryKind::kQuality), ElementsAre("a2"));
 }
 
@@ -223,11 +225,13 @@ TEST_F(QueryRequestTest, RepeatedSeriesAndVariantsMatchAnyWithinAndAllAcross) {
 
 TEST_F(QueryRequestTest, UnknownFieldsAndMismatchedValuesAreRefused) {
   using Op = ComparisonOperator;
-  EXPECT_THAT([&] { catalogue_.Query(QueryKind::kHic, Where(Compare("bric", Op::kGreater, 1.0))); },
-              ThrowsMessage<UsageError>(HasSubstr("--where names unknown field 'bric'; the fields of query hic are "
-                                                  "test_id, series, variant, hic15")));
-  EXPECT_THAT([&] { catalogue_.Query(QueryKind::kHic, Where(Compare("hic15", Op::kGreater, std::string("1")))); },
-              ThrowsMessage<UsageError>(HasSubstr("compares numeric field 'hic15' with text")));
+  EXPECT_THAT(
+      [&] { catalogue_.Query(QueryKind::kHic, Where(Compare("bric", Op::kGreater, 1.0))); },
+      ThrowsMessage<UsageError>(HasSubstr("--where names unknown field 'bric'; the fields of query hic are "
+                                          "test_id, series, variant, hic15")));
+  EXPECT_THAT(
+      [&] { catalogue_.Query(QueryKind::kHic, Where(Compare("hic15", Op::kGreater, std::string("1")))); },
+      ThrowsMessage<UsageError>(HasSubstr("compares numeric field 'hic15' with text")));
   EXPECT_THAT([&] { catalogue_.Query(QueryKind::kTests, Where(Compare("series", Op::kEqual, 1.0))); },
               ThrowsMessage<UsageError>(HasSubstr("compares text field 'series' with a number")));
   QueryRequest sort;
