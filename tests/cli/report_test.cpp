@@ -1,0 +1,239 @@
+// `napkin report` end to end: a synthetic padding series is synthesised,
+// run and reported; the page is checked as text, then opened in headless
+// Chromium (skipped where Chromium is not installed): every chart drawn (a
+// canvas in each chart's element), no script error, and a screenshot that is
+// not blank.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "cli/comparison.h"
+#include "tests/cli/cli_test_util.h"
+#include "tests/support/run_command.h"
+#include "tests/support/test_support.h"
+
+namespace napkin {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::RunResult;
+using ::testing::HasSubstr;
+
+std::size_t Count(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
+  return count;
+}
+
+// One catalogue for the suite: padding-variants, 2 repeats of 3 variants (6
+// tests of 4,000 samples), run; and one test synthesised but not run.
+class ReportCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test_support::TempDir;
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"synth", "--scenario", "padding-variants", "--count", "2", "--samples", "4000"},
+             {"run", "--threads", "2"},
+             {"synth", "--scenario", "random", "--series", "pending", "--test-id", "pending", "--seed", "777",
+              "--samples", "1000"}}) {
+      const RunResult result = Napkin(args);
+      ASSERT_EQ(result.exit_code, 0) << result.err;
+    }
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static RunResult Napkin(const std::vector<std::string>& args) {
+    return test_support::RunNapkin(dir_->path(), args);
+  }
+
+  static test_support::TempDir* dir_;
+};
+test_support::TempDir* ReportCli::dir_ = nullptr;
+
+TEST_F(ReportCli, ReportsTheSelectedTestsWithFourChartsEach) {
+  const RunResult report = Napkin({"report", "--series", "padding-variants", "--out", "series.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_EQ(report.err, "");
+  const std::string html = test_support::ReadText(dir_->path() / "series.html");
+  EXPECT_EQ(report.out, "wrote series.html: 6 tests, " + std::to_string(html.size()) + " bytes.\n");
+  EXPECT_EQ(Count(html, "<section class=\"test\""), 6u);
+  EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"chart-"), 24u);
+  // The series has three variants: the compare table and one distribution plot per metric.
+  EXPECT_EQ(Count(html, "<section class=\"comparison\">"), 1u);
+  EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"dist-"), cli::DefaultComparisonMetrics().size());
+  EXPECT_EQ(Count(html, "<tr><td>hic15</td><td>"), 3u);  // one compare row per variant
+  for (const char* variant : {"production", "foam-a", "foam-b"})
+    EXPECT_THAT(html, HasSubstr(std::string("variant ") + variant));
+  EXPECT_THAT(html, HasSubstr("<strong>default</strong>"));  // the processing config
+  EXPECT_THAT(html, HasSubstr("<meta name=\"generator\" content=\"napkin "));
+}
+
+TEST_F(ReportCli, SelectsByVariantAndTestAndLeavesOutTestsWithoutResults) {
+  const RunResult by_variant =
+      Napkin({"report", "--variant", "foam-a", "--variant", "foam-b", "--out", "foams.html"});
+  ASSERT_EQ(by_variant.exit_code, 0) << by_variant.err;
+  EXPECT_EQ(Count(test_support::ReadText(dir_->path() / "foams.html"), "<section class=\"test\""), 4u);
+
+  const RunResult by_test = Napkin({"report", "--test", "padding-variants-foam-b-02", "--test",
+                                    "padding-variants-production-01", "--out", "two.html"});
+  ASSERT_EQ(by_test.exit_code, 0) << by_test.err;
+  EXPECT_EQ(by_test.out.rfind("wrote two.html: 2 tests, ", 0), 0u) << by_test.out;
+  const std::string two = test_support::ReadText(dir_->path() / "two.html");
+  EXPECT_EQ(Count(two, "<section class=\"test\""), 2u);
+  EXPECT_THAT(two, HasSubstr("<h2>Test padding-variants-foam-b-02<"));
+  EXPECT_THAT(two, HasSubstr("<h2>Test padding-variants-production-01<"));
+
+  const RunResult everything = Napkin({"report", "--out", "all.html"});
+  ASSERT_EQ(everything.exit_code, 0) << everything.err;
+  const std::vector<std::string> lines = test_support::Lines(everything.out);
+  ASSERT_EQ(lines.size(), 2u) << everything.out;
+  EXPECT_THAT(lines[0], HasSubstr(": 6 tests, "));
+  EXPECT_THAT(lines[1], HasSubstr("left out 1 test without results (pending"));
+  EXPECT_THAT(lines[1], HasSubstr("run `napkin run` first"));
+}
+
+TEST_F(ReportCli, ExplainsWhatIsMissing) {
+  const RunResult unknown = Napkin({"report", "--test", "nope", "--out", "x.html"});
+  EXPECT_EQ(unknown.exit_code, 1);
+  test_support::ExpectOneSentenceError(unknown, {"test 'nope' is not in catalogue"});
+
+  const RunResult no_match = Napkin({"report", "--series", "nope", "--out", "x.html"});
+  EXPECT_EQ(no_match.exit_code, 1);
+  test_support::ExpectOneSentenceError(no_match, {"matches series nope"});
+
+  const RunResult not_run = Napkin({"report", "--series", "pending", "--out", "x.html"});
+  EXPECT_EQ(not_run.exit_code, 1);
+  test_support::ExpectOneSentenceError(not_run, {"run `napkin run` first"});
+  EXPECT_FALSE(fs::exists(dir_->path() / "x.html"));
+
+  const RunResult no_out = Napkin({"report"});
+  EXPECT_EQ(no_out.exit_code, 2);
+}
+
+// ---- headless Chromium
+
+std::string ChromiumBinary() {
+  for (const char* path : {"/usr/bin/chromium", "/usr/bin/chromium-headless-shell"})
+    if (fs::exists(path)) return path;
+  return {};
+}
+
+// Runs headless Chromium on `url` with a fresh profile in `dir`, at most 120 s.
+RunResult RunChromium(const fs::path& dir, std::vector<std::string> args, const std::string& url) {
+  std::vector<std::string> command = {"120",
+                                      ChromiumBinary(),
+                                      "--headless",
+                                      "--no-sandbox",
+                                      "--disable-gpu",
+                                      "--no-first-run",
+                                      "--disable-extensions",
+                                      "--user-data-dir=" + (dir / "profile").string(),
+                                      "--virtual-time-budget=10000"};
+  command.insert(command.end(), args.begin(), args.end());
+  command.push_back(url);
+  return test_support::RunProgram("/usr/bin/timeout", command, dir);
+}
+
+// For each chart element of a dumped DOM: whether a canvas was drawn inside it.
+std::vector<bool> ChartsWithCanvas(const std::string& dom) {
+  std::vector<bool> drawn;
+  const std::string marker = "<div class=\"chart\"";
+  for (std::size_t at = dom.find(marker); at != std::string::npos;) {
+    const std::size_t next = dom.find(marker, at + 1);
+    const std::string element = dom.substr(at, next == std::string::npos ? std::string::npos : next - at);
+    drawn.push_back(element.find("<canvas") != std::string::npos &&
+                    element.substr(0, element.find('>')).find("data-drawn=\"true\"") != std::string::npos);
+    at = next;
+  }
+  return drawn;
+}
+
+class ReportInChromium : public ReportCli {
+ protected:
+  void SetUp() override {
+    if (ChromiumBinary().empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
+    const RunResult report = Napkin({"report", "--series", "padding-variants", "--out", "browser.html"});
+    ASSERT_EQ(report.exit_code, 0) << report.err;
+    html_ = test_support::ReadText(dir_->path() / "browser.html");
+  }
+  std::string html_;
+  test_support::TempDir browser_dir_;
+};
+
+TEST_F(ReportInChromium, DrawsEveryChartWithoutScriptErrors) {
+  const fs::path page = browser_dir_ / "report.html";
+  test_support::WriteText(page, html_);
+  const RunResult dump = RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + page.string());
+  ASSERT_EQ(dump.exit_code, 0) << dump.err;
+  const std::vector<bool> drawn = ChartsWithCanvas(dump.out);
+  ASSERT_EQ(drawn.size(), 24u + cli::DefaultComparisonMetrics().size()) << dump.out.substr(0, 2000);
+  for (std::size_t i = 0; i < drawn.size(); ++i) EXPECT_TRUE(drawn[i]) << "chart " << i << " not drawn";
+  EXPECT_THAT(dump.out, HasSubstr("dygraph-legend"));  // dygraphs wrote its legends
+  EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)
+      << dump.out.substr(dump.out.find("napkin-script-error"), 400);
+
+  // The check can fail: the same page with a throwing script shows the error marker.
+  std::string broken = html_;
+  broken.insert(broken.rfind("</body>"), "<script>undefinedFunctionOfTheTest();</script>");
+  test_support::WriteText(browser_dir_ / "broken.html", broken);
+  const RunResult broken_dump =
+      RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + (browser_dir_ / "broken.html").string());
+  ASSERT_EQ(broken_dump.exit_code, 0) << broken_dump.err;
+  EXPECT_THAT(broken_dump.out, HasSubstr("class=\"napkin-script-error\""));
+  EXPECT_THAT(broken_dump.out, HasSubstr("undefinedFunctionOfTheTest"));
+}
+
+// Counts, in Chromium itself, the pixels of a PNG that are not white and
+// those that are strongly coloured (the traces), and writes them into the page.
+constexpr const char* kPixelCountPage = R"html(<!DOCTYPE html>
+<html><body><img id="shot" src="shot.png"><script>
+window.addEventListener('load', function () {
+  var image = document.getElementById('shot');
+  var canvas = document.createElement('canvas');
+  canvas.width = image.naturalWidth; canvas.height = image.naturalHeight;
+  var context = canvas.getContext('2d');
+  context.drawImage(image, 0, 0);
+  var d = context.getImageData(0, 0, canvas.width, canvas.height).data, ink = 0, colour = 0;
+  for (var i = 0; i < d.length; i += 4) {
+    if (d[i] < 235 || d[i + 1] < 235 || d[i + 2] < 235) ++ink;
+    if (Math.max(d[i], d[i + 1], d[i + 2]) - Math.min(d[i], d[i + 1], d[i + 2]) > 80) ++colour;
+  }
+  var result = document.createElement('pre');
+  result.id = 'pixels';
+  result.textContent = 'size ' + canvas.width + 'x' + canvas.height + ' ink ' + ink + ' colour ' + colour;
+  document.body.appendChild(result);
+});
+</script></body></html>
+)html";
+
+TEST_F(ReportInChromium, ScreenshotIsNotBlank) {
+  const fs::path page = browser_dir_ / "report.html";
+  test_support::WriteText(page, html_);
+  const fs::path shot = browser_dir_ / "shot.png";
+  const RunResult screenshot = RunChromium(
+      browser_dir_.path(), {"--screenshot=" + shot.string(), "--window-size=1280,1800", "--hide-scrollbars"},
+      "file://" + page.string());
+  ASSERT_EQ(screenshot.exit_code, 0) << screenshot.err;
+  ASSERT_TRUE(fs::exists(shot)) << screenshot.err;
+
+  test_support::WriteText(browser_dir_ / "pixels.html", kPixelCountPage);
+  const RunResult count = RunChromium(browser_dir_.path(), {"--allow-file-access-from-files", "--dump-dom"},
+                                      "file://" + (browser_dir_ / "pixels.html").string());
+  ASSERT_EQ(count.exit_code, 0) << count.err;
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(count.out, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
+      << count.out;
+  const double pixels = std::stod(match[1]) * std::stod(match[2]);
+  EXPECT_EQ(match[1], "1280");
+  EXPECT_EQ(match[2], "1800");
+  // Text, tables, axes and traces: a blank (white) page has neither ink nor colour.
+  EXPECT_GT(std::stod(match[3]) / pixels, 0.02) << match[0];
+  EXPECT_GT(std::stod(match[4]), 2000.0) << match[0];
+}
+
+}  // namespace
+}  // namespace napkin
