@@ -1,11 +1,60 @@
 #include "cli/catalogue_access.h"
 
+#include <algorithm>
+#include <cctype>
+#include <iterator>
+
+#include "common/error.h"
+
 namespace napkin::cli {
+namespace {
+
+std::string Lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// "name (hash 0123456789ab), ..." of `configs`.
+std::string ConfigList(const std::vector<db::ConfigRecord>& configs) {
+  std::string list;
+  for (const db::ConfigRecord& config : configs)
+    list += (list.empty() ? "" : ", ") + config.name + " (hash " + config.config_hash.substr(0, 12) + ")";
+  return list;
+}
+
+}  // namespace
 
 db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only) {
   db::CatalogueOptions options;
   options.read_only = read_only;
   return db::Catalogue::Open(global.db_path, options);
+}
+
+db::ConfigRecord ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector) {
+  const std::vector<db::ConfigRecord> configs = catalogue.ReadAllConfigs();
+  if (configs.empty())
+    throw UsageError("--config '" + selector +
+                     "': the catalogue has no processing configs yet; run `napkin run` first.");
+  std::vector<db::ConfigRecord> named;
+  std::copy_if(configs.begin(), configs.end(), std::back_inserter(named),
+               [&](const db::ConfigRecord& config) { return config.name == selector; });
+  if (named.size() == 1) return named.front();
+  if (named.size() > 1)
+    throw UsageError("--config '" + selector + "' names " + std::to_string(named.size()) +
+                     " configs: " + ConfigList(named) + "; give a hash prefix instead.");
+  const std::string prefix = Lowercase(selector);
+  std::vector<db::ConfigRecord> hashed;
+  std::copy_if(
+      configs.begin(), configs.end(), std::back_inserter(hashed),
+      [&](const db::ConfigRecord& config) { return Lowercase(config.config_hash).rfind(prefix, 0) == 0; });
+  if (hashed.size() == 1) return hashed.front();
+  if (hashed.empty())
+    throw UsageError("--config '" + selector +
+                     "' is neither the name nor a hash prefix of a config; the configs are " +
+                     ConfigList(configs) + ".");
+  throw UsageError("--config '" + selector + "' starts the hashes of " + std::to_string(hashed.size()) +
+                   " configs: " + ConfigList(hashed) + "; give more of the hash.");
 }
 
 }  // namespace napkin::cli

@@ -12,7 +12,14 @@ namespace napkin::cli {
 
 db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false);
 
-// `--config` value (preset name or JSON path; empty: the default preset).
+// A stored processing config named by a `--config NAME|HASH-PREFIX` selector
+// (query, compare, report): the config whose name is `selector` (exactly
+// one), else the one config whose hash starts with it (case-insensitive).
+// Throws UsageError listing the catalogue's configs (name and hash) when none
+// or several match.
+db::ConfigRecord ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector);
+
+// `run`/`export --config` value (preset name or JSON path; empty: the default preset).
 using records::ResolveConfig;
 using records::ResolvedConfig;
 

@@ -1,12 +1,15 @@
 // `napkin query {tests,hic,rotation,criteria,quality}`: summaries across
-// tests from the catalogue's query views (each test's latest result), as an
-// aligned table, CSV or JSON (one object per row, docs/formats.md field names).
+// tests from the catalogue's query views (each test's latest result, or the
+// results of --config), filtered by --series, --variant and --where, ordered
+// by --sort, cut by --limit (docs/formats.md "Query filters"), as an aligned
+// table, CSV or JSON (one object per row, docs/formats.md field names).
 #include <fmt/core.h>
 
 #include <map>
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/query_filters.h"
 #include "cli/table_output.h"
 
 namespace napkin::cli {
@@ -29,8 +32,7 @@ class QueryCommand : public Command {
     sub->add_option("what", what_, "tests, hic, rotation, criteria or quality")
         ->required()
         ->check(CLI::IsMember({"tests", "hic", "rotation", "criteria", "quality"}));
-    sub->add_option("--series", series_, "only tests of this series");
-    sub->add_option("--variant", variant_, "only tests of this variant");
+    filters_.Register(*sub);
     sub->add_option("--format", format_, "table, csv or json")
         ->check(CLI::IsMember({"table", "csv", "json"}))
         ->capture_default_str();
@@ -38,11 +40,11 @@ class QueryCommand : public Command {
   }
 
   int Run() override {
+    const db::QueryKind kind = Kinds().at(what_);
+    db::QueryRequest request = filters_.Request(kind);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    db::TestFilter filter;
-    filter.series = series_;
-    filter.variant = variant_;
-    const db::Table table = catalogue.Query(Kinds().at(what_), filter);
+    request.config = filters_.Config(catalogue);
+    const db::Table table = catalogue.Query(kind, request);
     fmt::print("{}", FormatTable(table, ParseTableFormat(format_)));
     return kExitOk;
   }
@@ -50,8 +52,7 @@ class QueryCommand : public Command {
  private:
   const GlobalOptions* global_ = nullptr;
   std::string what_;
-  std::optional<std::string> series_;
-  std::optional<std::string> variant_;
+  QueryFilterOptions filters_;
   std::string format_ = "table";
 };
 

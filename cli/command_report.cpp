@@ -19,6 +19,7 @@
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
+#include "cli/where_expression.h"
 #include "common/error.h"
 #include "engine/statistics.h"
 #include "formats/html_report.h"
@@ -107,17 +108,25 @@ class ReportCommand : public Command {
     sub->add_option("--series", series_, "only tests of this series (repeatable)");
     sub->add_option("--variant", variants_, "only tests of this variant (repeatable)");
     sub->add_option("--test", test_ids_, "only this test (repeatable)");
+    sub->add_option("--where", where_,
+                    "only tests whose results satisfy EXPR, as in `napkin query criteria --where` "
+                    "(repeatable: all of them)")
+        ->allow_extra_args(false);
     sub->add_option("--out", out_, "HTML file to write")->required();
     return sub;
   }
 
   int Run() override {
+    // A malformed --where is a usage error before the catalogue is opened.
+    std::vector<db::WhereExpression> where;
+    for (const std::string& expression : where_)
+      where.push_back(ParseWhereExpression(expression, db::QueryFields(db::QueryKind::kCriteria)));
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     for (const std::string& id : test_ids_)
       if (!catalogue.ExistsTestByExternalId(id))
         throw InputError("test '" + id + "' is not in catalogue '" + global_->db_path + "'.");
 
-    std::vector<db::TestRecord> selected = SelectedTests(catalogue);
+    std::vector<db::TestRecord> selected = SelectedTests(catalogue, where);
     if (selected.empty() && Selection().empty())
       throw InputError("catalogue '" + global_->db_path +
                        "' holds no tests; add some with `napkin import` or `napkin synth` first.");
@@ -171,10 +180,20 @@ class ReportCommand : public Command {
 
  private:
   // The selected tests, ordered by series, variant and test id.
-  std::vector<db::TestRecord> SelectedTests(db::Catalogue& catalogue) const {
+  std::vector<db::TestRecord> SelectedTests(db::Catalogue& catalogue,
+                                            const std::vector<db::WhereExpression>& where) const {
     db::TestFilter filter;
     filter.external_ids = test_ids_;
     std::vector<db::TestRecord> tests = catalogue.ReadAllTests(filter);
+    if (!where.empty()) {  // the tests whose latest results `query criteria --where` lists
+      db::QueryRequest request;
+      request.external_ids = test_ids_;
+      request.where = where;
+      const db::Table rows = catalogue.Query(db::QueryKind::kCriteria, request);
+      std::set<std::string> matching;
+      for (const std::vector<db::Cell>& row : rows.rows) matching.insert(std::get<std::string>(row.front()));
+      std::erase_if(tests, [&](const db::TestRecord& test) { return !matching.count(test.external_id); });
+    }
     const std::set<std::string> series(series_.begin(), series_.end());
     const std::set<std::string> variants(variants_.begin(), variants_.end());
     std::erase_if(tests, [&](const db::TestRecord& test) {
@@ -193,6 +212,7 @@ class ReportCommand : public Command {
     if (!series_.empty()) parts.push_back("series " + Joined(series_));
     if (!variants_.empty()) parts.push_back("variant " + Joined(variants_));
     if (!test_ids_.empty()) parts.push_back("test " + Joined(test_ids_));
+    for (const std::string& expression : where_) parts.push_back("where " + expression);
     return Joined(parts);
   }
 
@@ -202,6 +222,7 @@ class ReportCommand : public Command {
   std::vector<std::string> series_;
   std::vector<std::string> variants_;
   std::vector<std::string> test_ids_;
+  std::vector<std::string> where_;
   std::string out_;
 };
 

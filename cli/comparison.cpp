@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "cli/catalogue_access.h"
 #include "common/error.h"
 #include "engine/summary_fields.h"
 
@@ -41,10 +42,6 @@ std::vector<const engine::SummaryField*> ResolveMetrics(const std::vector<std::s
     if (std::find(fields.begin(), fields.end(), field) == fields.end()) fields.push_back(field);
   }
   return fields;
-}
-
-std::string ConfigLabel(const db::ConfigRecord& config) {
-  return config.name + " (" + config.config_hash.substr(0, 12) + ")";
 }
 
 // The group of a result: its variant, or its config's name (with a hash
@@ -177,27 +174,6 @@ std::vector<std::string> DefaultComparisonMetrics() {
   return metrics;
 }
 
-db::ConfigRecord ResolveStoredConfig(db::Catalogue& catalogue, const std::string& name_or_hash_prefix) {
-  const std::vector<db::ConfigRecord> configs = catalogue.ReadAllConfigs();
-  std::vector<const db::ConfigRecord*> by_name;
-  std::vector<const db::ConfigRecord*> by_hash;
-  for (const db::ConfigRecord& config : configs) {
-    if (config.name == name_or_hash_prefix) by_name.push_back(&config);
-    if (!name_or_hash_prefix.empty() && config.config_hash.rfind(name_or_hash_prefix, 0) == 0)
-      by_hash.push_back(&config);
-  }
-  if (by_name.size() == 1) return *by_name.front();
-  if (by_name.empty() && by_hash.size() == 1) return *by_hash.front();
-  std::vector<std::string> labels;
-  for (const db::ConfigRecord& config : configs) labels.push_back(ConfigLabel(config));
-  const std::string known = configs.empty() ? "the catalogue has no configs: run `napkin run` first"
-                                            : "configs: " + JoinNames(labels);
-  if (by_name.size() > 1 || by_hash.size() > 1)
-    throw UsageError("config '" + name_or_hash_prefix + "' names more than one config; give a longer hash (" +
-                     known + ").");
-  throw UsageError("unknown config '" + name_or_hash_prefix + "' (" + known + ").");
-}
-
 Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request) {
   if (!catalogue.ReadSeries(request.series)) {
     std::vector<std::string> names;
@@ -212,7 +188,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
         "--by variant compares the results of one config; give --config once (or use --by config).");
   std::set<std::int64_t> config_ids;
   for (const std::string& spec : request.configs)
-    config_ids.insert(static_cast<std::int64_t>(ResolveStoredConfig(catalogue, spec).id));
+    config_ids.insert(static_cast<std::int64_t>(ResolveConfigSelector(catalogue, spec).id));
 
   db::TestFilter filter;
   filter.series = request.series;

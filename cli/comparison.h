@@ -30,7 +30,7 @@ struct ComparisonRequest {
   std::optional<std::string> baseline;
   // Summary field names (engine::SummaryFields()); empty: DefaultComparisonMetrics().
   std::vector<std::string> metrics;
-  // Processing configs as NAME or HASH-PREFIX (ResolveStoredConfig). By
+  // Processing configs as NAME or HASH-PREFIX (ResolveConfigSelector, cli/catalogue_access.h). By
   // variant: at most one, whose results are compared (default: each test's
   // latest result, as `napkin query`). By config: the configs compared
   // (default: every config with results in the series).
@@ -97,10 +97,5 @@ db::Table ComparisonTable(const Comparison& comparison);
 // kJson and kCsv: FormatTable(ComparisonTable(comparison)). kTable: one
 // aligned block per metric, for people (docs/formats.md "napkin compare").
 std::string FormatComparison(const Comparison& comparison, TableFormat format);
-
-// A config stored in the catalogue by name (when one config has it) or by a
-// prefix of its hash (when one config's hash starts with it). Throws
-// UsageError listing the stored configs otherwise.
-db::ConfigRecord ResolveStoredConfig(db::Catalogue& catalogue, const std::string& name_or_hash_prefix);
 
 }  // namespace napkin::cli

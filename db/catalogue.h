@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "db/sqlite.h"
+#include "db/where_expression.h"
 #include "engine/kinematics.h"
 #include "engine/signals.h"
 #include "engine/summary.h"
@@ -103,6 +104,41 @@ struct LabelledResult {
 // Which results ReadResults returns: each test's most recently written one
 // (what the query views show), or one per config the test has results for.
 enum class ResultSelection { kLatest, kEveryConfig };
+
+// A column of a query table that --where and --sort may name: a summary
+// field (a number) or a label (text).
+struct QueryField {
+  std::string name;
+  bool numeric = false;
+};
+
+// The columns of `napkin query <kind>`, in order (docs/formats.md "Query
+// filters"): test_id, series, variant and the engine::SummaryFields() of the
+// kind's groups; `tests` and `quality` their own text columns.
+std::vector<QueryField> QueryFields(QueryKind kind);
+
+// One --sort key.
+struct SortKey {
+  std::string field;  // one of QueryFields(kind)
+  bool descending = false;
+};
+
+// Which rows `napkin query` shows and in what order; empty members do not
+// filter. Rows match every member (and within series, variants or test ids
+// any one of the names).
+struct QueryRequest {
+  std::vector<std::string> series;
+  std::vector<std::string> variants;
+  std::vector<std::string> external_ids;
+  std::vector<WhereExpression> where;  // all must hold; fields from QueryFields(kind)
+  // Sort keys in order (rows with NULL in a key come last in either
+  // direction), then test_id (and for quality check, channel, detail).
+  std::vector<SortKey> sort;
+  std::optional<std::int64_t> limit;  // at most this many rows (>= 0)
+  // The results (and findings) of this config; empty: each test's most
+  // recently written result. `tests` then lists the tests with a result of it.
+  std::optional<ConfigId> config;
+};
 
 // What MergeShard took from a shard catalogue.
 struct MergeReport {
@@ -195,6 +231,11 @@ class Catalogue {
   // The results of the tests of `filter` (see ResultSelection), ordered by
   // test id, then config key.
   std::vector<LabelledResult> ReadResults(const TestFilter& filter, ResultSelection selection);
+  // The same table, filtered, sorted, limited and of the chosen result set
+  // as `request` says; every value is bound as an SQL parameter. Throws
+  // UsageError when a field of `request` is not in QueryFields(kind) or a
+  // text value is compared with a numeric field.
+  Table Query(QueryKind kind, const QueryRequest& request);
 
   // ---- jobs: db::JobQueue (db/job_queue.h) works on this connection.
 

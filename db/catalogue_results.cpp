@@ -1,7 +1,7 @@
-// Catalogue: results, findings, derived channels (kinematics) and queries.
+// Catalogue: results, findings and derived channels (kinematics); queries are
+// in catalogue_query.cpp.
 #include <algorithm>
 #include <array>
-#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
@@ -80,31 +80,6 @@ void CheckKinematicsShape(const engine::Kinematics& kinematics) {
   check(kinematics.roll_pitch_yaw_rad.rows(), "roll_pitch_yaw_rad");
   check(kinematics.dcos_rad.rows(), "dcos_rad");
   check(kinematics.residual.rows(), "residual");
-}
-
-// The columns of a summary view: the test's labels, then the fields of
-// `groups` in contract order (schema/002_query_views.sql has the same, as
-// tests/db/schema_test.cpp checks).
-std::string SummaryViewColumns(std::initializer_list<engine::SummaryGroup> groups) {
-  std::string columns = "test_id, series, variant";
-  for (const engine::SummaryField* field : engine::SummaryFieldsOf(groups))
-    columns.append(", ").append(field->name);
-  return columns;
-}
-
-Cell ReadCell(const Statement& row, int column) {
-  switch (row.ColumnType(column)) {
-    case SQLITE_INTEGER:
-      return row.ColumnInt64(column);
-    case SQLITE_FLOAT:
-      return row.ColumnDouble(column);
-    case SQLITE_TEXT:
-      return row.ColumnText(column);
-    case SQLITE_NULL:
-      return std::monostate{};
-    default:
-      throw std::logic_error("query views hold no BLOB columns");
-  }
 }
 
 }  // namespace
@@ -272,43 +247,7 @@ std::optional<ConfigId> Catalogue::ReadLatestResultConfig(TestId test) {
   return ConfigId{select->ColumnInt64(0)};
 }
 
-// ------------------------------------------------------------------ queries
-
-Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
-  using engine::SummaryGroup;
-  std::string sql;
-  switch (kind) {
-    case QueryKind::kTests:
-      sql = "SELECT * FROM v_tests";
-      break;
-    case QueryKind::kHic:
-      sql = "SELECT " + SummaryViewColumns({SummaryGroup::kHic}) + " FROM v_hic";
-      break;
-    case QueryKind::kRotation:
-      sql = "SELECT " + SummaryViewColumns({SummaryGroup::kRotation}) + " FROM v_rotation";
-      break;
-    case QueryKind::kCriteria:
-      sql =
-          "SELECT " + SummaryViewColumns({SummaryGroup::kHic, SummaryGroup::kRotation}) + " FROM v_criteria";
-      break;
-    case QueryKind::kQuality:
-      sql = "SELECT * FROM v_quality";
-      break;
-  }
-  sql += std::string(" WHERE ") + internal::kViewFilterTerms + " ORDER BY test_id";
-  if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";
-
-  auto select = connection_.Prepare(sql);
-  internal::BindTestFilter(*select, filter);
-  Table table;
-  for (int c = 0; c < select->ColumnCount(); ++c) table.columns.push_back(select->ColumnName(c));
-  while (select->Step()) {
-    std::vector<Cell>& row = table.rows.emplace_back();
-    row.reserve(table.columns.size());
-    for (int c = 0; c < select->ColumnCount(); ++c) row.push_back(ReadCell(*select, c));
-  }
-  return table;
-}
+// ------------------------------------------------------------------ results with labels
 
 std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, ResultSelection selection) {
   const std::string source = selection == ResultSelection::kLatest ? "v_latest_results" : "results";

@@ -403,8 +403,8 @@ TEST_F(CliCompare, UsageErrorsExitTwoWithOneLineListingTheChoices) {
 
   const RunResult config = Compare({"--series", "sled", "--config", "fast"});
   EXPECT_EQ(config.exit_code, 2);
-  ExpectOneSentenceError(config,
-                         {"unknown config 'fast'", "no-gravity (e1b2c3d4e5f6)", "default (d0a1b2c3d4e5)"});
+  ExpectOneSentenceError(config, {"--config 'fast' is neither the name nor a hash prefix of a config",
+                                  "no-gravity (hash e1b2c3d4e5f6)", "default (hash d0a1b2c3d4e5)"});
 
   const RunResult two = Compare({"--series", "sled", "--config", "default", "--config", "no-gravity"});
   EXPECT_EQ(two.exit_code, 2);

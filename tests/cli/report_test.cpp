@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <vector>
@@ -95,6 +96,27 @@ TEST_F(ReportCli, SelectsByVariantAndTestAndLeavesOutTestsWithoutResults) {
   EXPECT_THAT(lines[0], HasSubstr(": 6 tests, "));
   EXPECT_THAT(lines[1], HasSubstr("left out 1 test without results (pending"));
   EXPECT_THAT(lines[1], HasSubstr("run `napkin run` first"));
+}
+
+TEST_F(ReportCli, WhereSelectsTheTestsQueryLists) {
+  // The three largest HIC15 by `query`; the report of hic15 >= the third of them has exactly those.
+  const RunResult top = Napkin({"query", "hic", "--sort", "hic15:desc", "--limit", "3", "--format", "json"});
+  ASSERT_EQ(top.exit_code, 0) << top.err;
+  const nlohmann::json rows = nlohmann::json::parse(top.out);
+  ASSERT_EQ(rows.size(), 3u);
+  const RunResult report =
+      Napkin({"report", "--where", "hic15 >= " + rows[2]["hic15"].dump(), "--out", "top.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_EQ(report.out.rfind("wrote top.html: 3 tests, ", 0), 0u) << report.out;
+  const std::string html = test_support::ReadText(dir_->path() / "top.html");
+  EXPECT_EQ(Count(html, "<section class=\"test\""), 3u);
+  for (const auto& row : rows)
+    EXPECT_THAT(html, HasSubstr("<h2>Test " + row["test_id"].get<std::string>() + "<"));
+
+  const RunResult bad = Napkin({"report", "--where", "hic15 >> 3", "--out", "bad.html"});
+  EXPECT_EQ(bad.exit_code, 2);
+  test_support::ExpectOneSentenceError(bad, {"--where \"hic15 >> 3\"", "hic_d"});
+  EXPECT_FALSE(fs::exists(dir_->path() / "bad.html"));
 }
 
 TEST_F(ReportCli, ExplainsWhatIsMissing) {

@@ -1,0 +1,88 @@
+#include "cli/query_filters.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <system_error>
+
+#include "cli/catalogue_access.h"
+#include "cli/where_expression.h"
+#include "common/error.h"
+
+namespace napkin::cli {
+namespace {
+
+std::string FieldList(const std::vector<db::QueryField>& fields) {
+  std::string list;
+  for (const db::QueryField& field : fields) list += (list.empty() ? "" : ", ") + field.name;
+  return list;
+}
+
+std::string Lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+}  // namespace
+
+void QueryFilterOptions::Register(CLI::App& command) {
+  command.add_option("--series", series, "only tests of this series (repeatable: any of them)")
+      ->allow_extra_args(false);
+  command.add_option("--variant", variants, "only tests of this variant (repeatable: any of them)")
+      ->allow_extra_args(false);
+  command
+      .add_option(
+          "--where", where,
+          "only rows where EXPR holds, e.g. \"hic15>700 and variant=foam-a\" (repeatable: all of them)")
+      ->allow_extra_args(false);
+  command.add_option("--sort", sort, "order by FIELD[:desc] (repeatable; ties: by test_id)")
+      ->allow_extra_args(false);
+  command.add_option("--limit", limit, "at most N rows");
+  command.add_option("--config", config,
+                     "results of this processing config (name or hash prefix; default: each test's latest)");
+}
+
+db::QueryRequest QueryFilterOptions::Request(db::QueryKind kind) const {
+  const std::vector<db::QueryField> fields = db::QueryFields(kind);
+  db::QueryRequest request;
+  request.series = series;
+  request.variants = variants;
+  for (const std::string& expression : where)
+    request.where.push_back(ParseWhereExpression(expression, fields));
+  for (const std::string& key : sort) request.sort.push_back(ParseSortKey(key, fields));
+  if (!limit.empty()) request.limit = ParseRowLimit(limit);
+  return request;
+}
+
+std::optional<db::ConfigId> QueryFilterOptions::Config(db::Catalogue& catalogue) const {
+  if (config.empty()) return std::nullopt;
+  return ResolveConfigSelector(catalogue, config).id;
+}
+
+db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField>& fields) {
+  const std::size_t colon = text.rfind(':');
+  db::SortKey key{std::string(text.substr(0, colon)), false};
+  if (colon != std::string_view::npos) {
+    const std::string direction = Lowercase(std::string(text.substr(colon + 1)));
+    if (direction != "asc" && direction != "desc")
+      throw UsageError("--sort \"" + std::string(text) + "\": the direction after ':' is asc or desc, not '" +
+                       std::string(text.substr(colon + 1)) + "'.");
+    key.descending = direction == "desc";
+  }
+  if (std::none_of(fields.begin(), fields.end(),
+                   [&](const db::QueryField& f) { return f.name == key.field; }))
+    throw UsageError("--sort \"" + std::string(text) + "\": unknown field '" + key.field +
+                     "'; the fields are " + FieldList(fields) + ".");
+  return key;
+}
+
+std::int64_t ParseRowLimit(std::string_view text) {
+  std::int64_t limit = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), limit);
+  if (error != std::errc() || end != text.data() + text.size() || limit < 0)
+    throw UsageError("--limit takes a whole number of rows, 0 or more, not '" + std::string(text) + "'.");
+  return limit;
+}
+
+}  // namespace napkin::cli

@@ -1,0 +1,242 @@
+// Catalogue: `napkin query` tables (docs/formats.md "Per-test summary fields"
+// and "Query filters") from the views of schema/002_query_views.sql, or, for
+// one processing config, from the same joins over that config's results.
+// Field names reach the SQL only after they were found in QueryFields(kind);
+// every value is bound as a parameter.
+#include <algorithm>
+#include <initializer_list>
+#include <stdexcept>
+
+#include "common/error.h"
+#include "db/catalogue.h"
+#include "db/catalogue_internal.h"
+#include "engine/summary_fields.h"
+
+namespace napkin::db {
+namespace {
+
+using engine::SummaryGroup;
+
+const char* KindName(QueryKind kind) {
+  switch (kind) {
+    case QueryKind::kTests:
+      return "tests";
+    case QueryKind::kHic:
+      return "hic";
+    case QueryKind::kRotation:
+      return "rotation";
+    case QueryKind::kCriteria:
+      return "criteria";
+    case QueryKind::kQuality:
+      return "quality";
+  }
+  return "?";
+}
+
+// The summary fields a kind shows, in view order (none for tests and quality).
+std::vector<const engine::SummaryField*> KindSummaryFields(QueryKind kind) {
+  switch (kind) {
+    case QueryKind::kHic:
+      return engine::SummaryFieldsOf({SummaryGroup::kHic});
+    case QueryKind::kRotation:
+      return engine::SummaryFieldsOf({SummaryGroup::kRotation});
+    case QueryKind::kCriteria:
+      return engine::SummaryFieldsOf({SummaryGroup::kHic, SummaryGroup::kRotation});
+    default:
+      return {};
+  }
+}
+
+// A column name as an SQL identifier (names come from QueryFields; quoting
+// also covers the keyword "check").
+std::string Identifier(const std::string& name) {
+  std::string quoted = "\"";
+  for (const char c : name) {
+    quoted += c;
+    if (c == '"') quoted += '"';
+  }
+  return quoted + "\"";
+}
+
+// The statement's parameter values, numbered ?1, ?2, ... in the order added.
+class Parameters {
+ public:
+  using Value = std::variant<std::int64_t, double, std::string>;
+  std::string Add(Value value) {
+    values_.push_back(std::move(value));
+    return "?" + std::to_string(values_.size());
+  }
+  void BindTo(Statement& statement) const {
+    for (std::size_t i = 0; i < values_.size(); ++i)
+      std::visit([&](const auto& value) { statement.Bind(static_cast<int>(i + 1), value); }, values_[i]);
+  }
+
+ private:
+  std::vector<Value> values_;
+};
+
+std::string FieldList(const std::vector<QueryField>& fields) {
+  std::string list;
+  for (const QueryField& field : fields) list += (list.empty() ? "" : ", ") + field.name;
+  return list;
+}
+
+const QueryField& FindField(QueryKind kind, const std::vector<QueryField>& fields, const std::string& name,
+                            const char* option) {
+  const auto found =
+      std::find_if(fields.begin(), fields.end(), [&](const QueryField& field) { return field.name == name; });
+  if (found == fields.end())
+    throw UsageError(std::string(option) + " names unknown field '" + name + "'; the fields of query " +
+                     KindName(kind) + " are " + FieldList(fields) + ".");
+  return *found;
+}
+
+std::string ComparisonSql(QueryKind kind, const std::vector<QueryField>& fields,
+                          const WhereComparison& comparison, Parameters& parameters) {
+  const QueryField& field = FindField(kind, fields, comparison.field, "--where");
+  if (field.numeric != std::holds_alternative<double>(comparison.value))
+    throw UsageError("--where compares " + std::string(field.numeric ? "numeric" : "text") + " field '" +
+                     field.name + "' with " + (field.numeric ? "text" : "a number") + "; compare it with " +
+                     (field.numeric ? "a number." : "text."));
+  const std::string value = std::visit([&](const auto& v) { return parameters.Add(v); }, comparison.value);
+  return Identifier(field.name) + " " + ComparisonOperatorText(comparison.op) + " " + value;
+}
+
+std::string WhereSql(QueryKind kind, const std::vector<QueryField>& fields, const WhereExpression& expression,
+                     Parameters& parameters) {
+  if (const auto* comparison = std::get_if<WhereComparison>(&expression.node))
+    return ComparisonSql(kind, fields, *comparison, parameters);
+  const auto& junction = std::get<WhereJunction>(expression.node);
+  if (junction.operands.empty()) throw std::invalid_argument("WhereJunction without operands");
+  const char* keyword = junction.kind == WhereJunction::Kind::kAnd ? " AND " : " OR ";
+  std::string sql = "(";
+  for (std::size_t i = 0; i < junction.operands.size(); ++i)
+    sql += (i > 0 ? keyword : "") + WhereSql(kind, fields, junction.operands[i], parameters);
+  return sql + ")";
+}
+
+// Rows of the results of one config, with the labels of their tests: the
+// joins of the views v_hic, v_rotation and v_criteria, every summary column.
+std::string ResultsOfConfigSql(const std::string& config_parameter) {
+  return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, " +
+         internal::SummaryColumnList("r.") +
+         " FROM results AS r JOIN tests AS t ON t.id = r.test_id"
+         " LEFT JOIN series AS s ON s.id = t.series_id WHERE r.config_id = " +
+         config_parameter + ")";
+}
+
+// What the rows of `kind` are selected from: its view, or the same rows
+// under `config`.
+std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Parameters& parameters) {
+  if (!config) {
+    switch (kind) {
+      case QueryKind::kTests:
+        return "v_tests";
+      case QueryKind::kHic:
+        return "v_hic";
+      case QueryKind::kRotation:
+        return "v_rotation";
+      case QueryKind::kCriteria:
+        return "v_criteria";
+      case QueryKind::kQuality:
+        return "v_quality";
+    }
+  }
+  const std::string config_parameter = parameters.Add(static_cast<std::int64_t>(*config));
+  switch (kind) {
+    case QueryKind::kTests:
+      return "(SELECT * FROM v_tests WHERE test_id IN (SELECT t.external_id FROM results AS r"
+             " JOIN tests AS t ON t.id = r.test_id WHERE r.config_id = " +
+             config_parameter + "))";
+    case QueryKind::kQuality:
+      return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant,"
+             " f.check_name AS \"check\", f.channel AS channel, f.severity AS severity, f.detail AS detail"
+             " FROM findings AS f JOIN tests AS t ON t.id = f.test_id"
+             " LEFT JOIN series AS s ON s.id = t.series_id WHERE f.config_id = " +
+             config_parameter + ")";
+    default:
+      return ResultsOfConfigSql(config_parameter);
+  }
+}
+
+// `column IN (names)` as a JSON array parameter; empty when `names` is empty.
+std::string AnyOfSql(const char* column, const std::vector<std::string>& names, Parameters& parameters) {
+  const std::optional<std::string> json = internal::JsonStringArray(names);
+  if (!json) return "";
+  return std::string(" AND ") + column + " IN (SELECT value FROM json_each(" + parameters.Add(*json) + "))";
+}
+
+Cell ReadCell(const Statement& row, int column) {
+  switch (row.ColumnType(column)) {
+    case SQLITE_INTEGER:
+      return row.ColumnInt64(column);
+    case SQLITE_FLOAT:
+      return row.ColumnDouble(column);
+    case SQLITE_TEXT:
+      return row.ColumnText(column);
+    case SQLITE_NULL:
+      return std::monostate{};
+    default:
+      throw std::logic_error("query views hold no BLOB columns");
+  }
+}
+
+}  // namespace
+
+std::vector<QueryField> QueryFields(QueryKind kind) {
+  std::vector<QueryField> fields = {{"test_id", false}, {"series", false}, {"variant", false}};
+  const auto add_text = [&fields](std::initializer_list<const char*> names) {
+    for (const char* name : names) fields.push_back({name, false});
+  };
+  if (kind == QueryKind::kTests) add_text({"array", "source_path", "content_hash", "imported_at"});
+  if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
+  for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
+  return fields;
+}
+
+Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
+  QueryRequest request;
+  if (filter.series) request.series.push_back(*filter.series);
+  if (filter.variant) request.variants.push_back(*filter.variant);
+  request.external_ids = filter.external_ids;
+  return Query(kind, request);
+}
+
+Table Catalogue::Query(QueryKind kind, const QueryRequest& request) {
+  const std::vector<QueryField> fields = QueryFields(kind);
+  Parameters parameters;
+  std::string sql = "SELECT ";
+  for (std::size_t i = 0; i < fields.size(); ++i) sql += (i > 0 ? ", " : "") + Identifier(fields[i].name);
+  sql += " FROM " + SourceSql(kind, request.config, parameters) + " WHERE 1";
+  sql += AnyOfSql("series", request.series, parameters);
+  sql += AnyOfSql("variant", request.variants, parameters);
+  sql += AnyOfSql("test_id", request.external_ids, parameters);
+  for (const WhereExpression& expression : request.where)
+    sql += " AND (" + WhereSql(kind, fields, expression, parameters) + ")";
+
+  sql += " ORDER BY ";
+  for (const SortKey& key : request.sort)
+    sql += Identifier(FindField(kind, fields, key.field, "--sort").name) +
+           (key.descending ? " DESC" : " ASC") + " NULLS LAST, ";
+  sql += "test_id";
+  if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";
+  if (request.limit) {
+    if (*request.limit < 0)
+      throw UsageError("--limit must be a whole number of rows, 0 or more; it is " +
+                       std::to_string(*request.limit) + ".");
+    sql += " LIMIT " + parameters.Add(*request.limit);
+  }
+
+  auto select = connection_.Prepare(sql);
+  parameters.BindTo(*select);
+  Table table;
+  for (int c = 0; c < select->ColumnCount(); ++c) table.columns.push_back(select->ColumnName(c));
+  while (select->Step()) {
+    std::vector<Cell>& row = table.rows.emplace_back();
+    row.reserve(table.columns.size());
+    for (int c = 0; c < select->ColumnCount(); ++c) row.push_back(ReadCell(*select, c));
+  }
+  return table;
+}
+
+}  // namespace napkin::db
