@@ -113,6 +113,26 @@ int StoreDemoTests(const std::string& db_path) {
   return added;
 }
 
+// The padding series' raw channels as a laboratory delivers them, one CSV
+// file per test in a folder per padding (DIR/csv/<variant>/<test>.csv), for
+// the README's tour of `napkin import`. Returns the folder.
+fs::path WritePaddingCsvFiles(const fs::path& dir) {
+  ingest::SynthRequest padding;
+  padding.scenario = engine::SynthScenario::kPaddingSeries;
+  padding.array = kPaddingArray;
+  const ingest::SynthPlan plan = ingest::PlanSynth(padding);
+  const fs::path csv_dir = dir / "csv";
+  std::error_code error;
+  fs::remove_all(csv_dir, error);  // files of a previous demo
+  for (const engine::ScenarioTest& test : plan.tests) {
+    const fs::path folder = csv_dir / test.variant.value_or("none");
+    fs::create_directories(folder);
+    formats::WriteSignalsCsv(engine::SynthScenarioTest(plan.array, plan.scenario, test).signals,
+                             folder / (test.external_id + ".csv"));
+  }
+  return csv_dir;
+}
+
 // The padding series compared by variant against production trim, as
 // `napkin compare --series padding-series --baseline production --metrics ...`
 // prints it, for the metrics that tell the story: HIC, the CG acceleration, and
@@ -271,6 +291,7 @@ class DemoCommand : public Command {
     fmt::print("\n");
     PrintValidationTable(catalogue, run.config);
     PrintSeedSolverTable(dir);
+    const fs::path csv_dir = WritePaddingCsvFiles(dir);
 
     fmt::print("\n");
     WriteDemoReport(db, report_path);
@@ -280,8 +301,10 @@ class DemoCommand : public Command {
         "  {0} query hic --where \"hic15>700\"\n"
         "  {0} compare --series {1} --by variant --baseline production\n"
         "  {0} report --series {1} --out padding.html\n"
-        "  {0} export --test {1}-production-01 --format lsdyna --out head.k\n",
-        napkin, kPaddingSeries);
+        "  {0} export --test {1}-production-01 --format lsdyna --out head.k\n"
+        "  napkin --db lab.db import --array {3} --series sled --variant foam-b {2}/foam-b  "
+        "(the raw channels of the padding series are in {2}/)\n",
+        napkin, kPaddingSeries, csv_dir.string(), kPaddingArray);
     return kExitOk;
   }
 
