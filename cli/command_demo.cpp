@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli/catalogue_access.h"
+#include "cli/catalogue_report.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
 #include "cli/table_output.h"
@@ -30,8 +31,6 @@
 #include "jobs/scheduler.h"
 
 namespace napkin::cli {
-
-std::unique_ptr<Command> MakeReportCommand();  // cli/command_report.cpp
 
 namespace {
 
@@ -143,20 +142,6 @@ void PrintPaddingComparison(db::Catalogue& catalogue) {
   request.baseline = "production";
   request.metrics = {"hic15", "hic_d", "peak_acc_g", "peak_omega_radps", "peak_alpha_radps2", "bric"};
   fmt::print("{}", FormatComparison(BuildComparison(catalogue, request), TableFormat::kTable));
-}
-
-// `napkin --db DB report --out PATH` run in this process: the HTML report of
-// every test of the catalogue (it prints the path it wrote).
-void WriteDemoReport(const std::string& db_path, const fs::path& report_path) {
-  GlobalOptions global;
-  global.db_path = db_path;
-  CLI::App app;
-  const std::unique_ptr<Command> report = MakeReportCommand();
-  report->Setup(app, global);
-  std::vector<std::string> args = {"report", "--out", report_path.string()};
-  std::reverse(args.begin(), args.end());  // CLI11 takes a vector of arguments last first
-  app.parse(args);
-  if (report->Run() != kExitOk) throw InputError("the demo report '" + report_path.string() + "' failed.");
 }
 
 // Report section 4.5, from the catalogue's results of the validation tests.
@@ -294,7 +279,7 @@ class DemoCommand : public Command {
     const fs::path csv_dir = WritePaddingCsvFiles(dir);
 
     fmt::print("\n");
-    WriteDemoReport(db, report_path);
+    fmt::print("{}", WrittenReportText(WriteCatalogueReport(db, {}, report_path.string())));
     const std::string napkin = "napkin --db " + db;
     fmt::print(
         "\nnext, try:\n"

@@ -43,18 +43,26 @@ class ReportCli : public ::testing::Test {
              {"synth", "--scenario", "random", "--series", "pending", "--test-id", "pending", "--seed", "777",
               "--samples", "1000"}}) {
       const RunResult result = Napkin(args);
-      ASSERT_EQ(result.exit_code, 0) << result.err;
+      if (result.exit_code != 0 && setup_error_.empty())
+        setup_error_ =
+            "napkin " + args.front() + " exited " + std::to_string(result.exit_code) + ": " + result.err;
     }
   }
   static void TearDownTestSuite() { delete dir_; }
+
+  // A failed suite set-up fails every test (an assertion in SetUpTestSuite
+  // would only skip them).
+  void SetUp() override { ASSERT_EQ(setup_error_, "") << "the suite's catalogue could not be built"; }
 
   static RunResult Napkin(const std::vector<std::string>& args) {
     return test_support::RunNapkin(dir_->path(), args);
   }
 
   static test_support::TempDir* dir_;
+  static std::string setup_error_;
 };
 test_support::TempDir* ReportCli::dir_ = nullptr;
+std::string ReportCli::setup_error_;
 
 TEST_F(ReportCli, ReportsTheSelectedTestsWithFourChartsEach) {
   const RunResult report = Napkin({"report", "--series", "padding-series", "--out", "series.html"});
@@ -178,6 +186,8 @@ std::vector<bool> ChartsWithCanvas(const std::string& dom) {
 class ReportInChromium : public ReportCli {
  protected:
   void SetUp() override {
+    ReportCli::SetUp();
+    if (HasFatalFailure()) return;
     if (ChromiumBinary().empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
     const RunResult report = Napkin({"report", "--series", "padding-series", "--out", "browser.html"});
     ASSERT_EQ(report.exit_code, 0) << report.err;

@@ -1,0 +1,220 @@
+// The report `napkin report` and `napkin demo` write: one self-contained HTML file (docs/formats.md "HTML
+// report"): the comparison of each series' variants (cli/comparison.h, as
+// `napkin compare`), then each selected test's latest result: criteria, time
+// histories, screening findings and final pose. Reads the catalogue one test
+// at a time (the writer keeps only the reduced traces); formats/html_report.h
+// writes the page.
+#include "cli/catalogue_report.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "cli/comparison.h"
+#include "cli/where_expression.h"
+#include "common/error.h"
+#include "engine/statistics.h"
+#include "formats/html_report.h"
+#include "formats/text.h"
+
+#ifndef NAPKIN_VERSION
+#error "NAPKIN_VERSION (CMake PROJECT_VERSION) is defined by cli/CMakeLists.txt"
+#endif
+
+namespace napkin::cli {
+namespace {
+
+std::string Joined(const std::vector<std::string>& values) {
+  std::string text;
+  for (const std::string& value : values) text += (text.empty() ? "" : ", ") + value;
+  return text;
+}
+
+// "1 test", "6 tests".
+std::string Tests(std::size_t count) { return std::to_string(count) + (count == 1 ? " test" : " tests"); }
+
+// A cell of the compare table as text: 5 significant digits, "—" for null.
+std::string CellText(const db::Cell& cell) {
+  if (const auto* integer = std::get_if<std::int64_t>(&cell)) return std::to_string(*integer);
+  if (const auto* text = std::get_if<std::string>(&cell)) return *text;
+  if (const auto* number = std::get_if<double>(&cell); number && std::isfinite(*number))
+    return formats::FormatNumber(*number, 5);
+  return "—";
+}
+
+// The series' variants compared as `napkin compare --series S` does (every
+// test of the series with a result, its latest), with each variant's values
+// per metric and the 95 % interval of its mean: the one-sample t interval,
+// which is engine::PairedComparison's interval of differences from zero.
+formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::string& series) {
+  ComparisonRequest request;
+  request.series = series;
+  request.by = CompareBy::kVariant;
+  const Comparison comparison = BuildComparison(catalogue, request);
+
+  formats::ReportComparison report;
+  report.series = series;
+  const db::Table table = ComparisonTable(comparison);
+  report.columns = table.columns;
+  for (const std::vector<db::Cell>& row : table.rows) {
+    std::vector<std::string>& cells = report.rows.emplace_back();
+    for (const db::Cell& cell : row) cells.push_back(CellText(cell));
+  }
+  report.notes.push_back(
+      "Every test of series " + series + " with a result (its latest), as napkin compare --series " + series +
+      " shows them; baseline " + comparison.baseline +
+      "; diff = mean − baseline mean with its 95 % confidence interval (Welch's t) and the "
+      "two-sided p-value.");
+  std::set<std::string> small_groups;
+  for (const MetricComparison& metric : comparison.metrics) {
+    formats::ReportDistribution& distribution = report.distributions.emplace_back();
+    distribution.metric = metric.metric;
+    for (std::size_t g = 0; g < metric.groups.size(); ++g) {
+      const GroupValues& values = metric.groups[g];
+      formats::ReportDistribution::Group& group = distribution.groups.emplace_back();
+      group.name = values.group;
+      group.values = values.values;
+      group.mean = metric.rows[g].description.mean;
+      if (values.values.size() < 2) {
+        small_groups.insert(values.group);
+        continue;
+      }
+      const engine::MeanDifference interval = engine::PairedComparison(values.values, 1.0);
+      if (std::isfinite(interval.ci_low) && std::isfinite(interval.ci_high)) {
+        group.ci_low = interval.ci_low;
+        group.ci_high = interval.ci_high;
+      }
+    }
+  }
+  for (const std::string& group : small_groups)
+    report.notes.push_back("Variant " + group +
+                           " has fewer than 2 tests with results: no interval and no p-value (—).");
+  return report;
+}
+
+// The selected tests, ordered by series, variant and test id.
+std::vector<db::TestRecord> SelectedTests(db::Catalogue& catalogue, const ReportSelection& selection,
+                                          const std::vector<db::WhereExpression>& where) {
+  db::TestFilter filter;
+  filter.external_ids = selection.test_ids;
+  std::vector<db::TestRecord> tests = catalogue.ReadAllTests(filter);
+  if (!where.empty()) {  // the tests whose latest results `query criteria --where` lists
+    db::QueryRequest request;
+    request.external_ids = selection.test_ids;
+    request.where = where;
+    const db::Table rows = catalogue.Query(db::QueryKind::kCriteria, request);
+    std::set<std::string> matching;
+    for (const std::vector<db::Cell>& row : rows.rows) matching.insert(std::get<std::string>(row.front()));
+    std::erase_if(tests, [&](const db::TestRecord& test) { return !matching.count(test.external_id); });
+  }
+  const std::set<std::string> series(selection.series.begin(), selection.series.end());
+  const std::set<std::string> variants(selection.variants.begin(), selection.variants.end());
+  std::erase_if(tests, [&](const db::TestRecord& test) {
+    return (!series.empty() && (!test.series || !series.count(*test.series))) ||
+           (!variants.empty() && (!test.variant || !variants.count(*test.variant)));
+  });
+  std::stable_sort(tests.begin(), tests.end(), [](const db::TestRecord& a, const db::TestRecord& b) {
+    return std::tie(a.series, a.variant, a.external_id) < std::tie(b.series, b.variant, b.external_id);
+  });
+  return tests;
+}
+
+// What was asked for, e.g. "series sled, variant foam-a"; "" for every test.
+std::string Selection(const ReportSelection& selection) {
+  std::vector<std::string> parts;
+  if (!selection.series.empty()) parts.push_back("series " + Joined(selection.series));
+  if (!selection.variants.empty()) parts.push_back("variant " + Joined(selection.variants));
+  if (!selection.test_ids.empty()) parts.push_back("test " + Joined(selection.test_ids));
+  for (const std::string& expression : selection.where) parts.push_back("where " + expression);
+  return Joined(parts);
+}
+
+std::string Described(const ReportSelection& selection) {
+  return Selection(selection).empty() ? "the catalogue" : Selection(selection);
+}
+
+}  // namespace
+
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const std::string& out) {
+  // A malformed --where is a usage error before the catalogue is opened.
+  std::vector<db::WhereExpression> where;
+  for (const std::string& expression : selection.where)
+    where.push_back(ParseWhereExpression(expression, db::QueryFields(db::QueryKind::kCriteria)));
+  db::CatalogueOptions read_only;
+  read_only.read_only = true;
+  db::Catalogue catalogue = db::Catalogue::Open(db_path, read_only);
+  for (const std::string& id : selection.test_ids)
+    if (!catalogue.ExistsTestByExternalId(id))
+      throw InputError("test '" + id + "' is not in catalogue '" + db_path + "'.");
+
+  std::vector<db::TestRecord> selected = SelectedTests(catalogue, selection, where);
+  if (selected.empty() && Selection(selection).empty())
+    throw InputError("catalogue '" + db_path +
+                     "' holds no tests; add some with `napkin import` or `napkin synth` first.");
+  if (selected.empty())
+    throw InputError("no test in catalogue '" + db_path + "' matches " + Selection(selection) + ".");
+
+  formats::ReportHeader header;
+  header.catalogue = db_path;
+  header.napkin_version = NAPKIN_VERSION;
+  header.selection = Selection(selection);
+  std::map<db::ConfigId, db::ConfigRecord> configs;
+  std::vector<formats::ReportTest> tests;
+  std::vector<std::string> without_results;
+  for (const db::TestRecord& record : selected) {
+    const std::optional<db::ConfigId> config_id = catalogue.ReadLatestResultConfig(record.id);
+    std::optional<engine::TestSummary> summary;
+    std::optional<engine::Kinematics> kinematics;
+    if (config_id) summary = catalogue.ReadSummary(record.id, *config_id);
+    if (summary) kinematics = catalogue.ReadKinematics(record.id, *config_id);
+    if (!kinematics) {
+      without_results.push_back(record.external_id);
+      continue;
+    }
+    auto config = configs.find(*config_id);
+    if (config == configs.end()) config = configs.emplace(*config_id, catalogue.ReadConfig(*config_id)).first;
+    tests.push_back(formats::MakeReportTest(record.external_id, record.series, record.variant,
+                                            config->second.name, std::move(*summary), *kinematics));
+  }
+  if (tests.empty())
+    throw InputError("no test of " + Described(selection) +
+                     " has results with derived channels yet; run `napkin run` first.");
+  for (const auto& [id, config] : configs)
+    header.configs.push_back({config.name, config.config_hash, config.config_json});
+
+  // Each series of the report with more than one variant is compared.
+  std::map<std::string, std::set<std::string>> variants_by_series;
+  for (const formats::ReportTest& test : tests)
+    if (test.series && test.variant) variants_by_series[*test.series].insert(*test.variant);
+  std::vector<formats::ReportComparison> comparisons;
+  for (const auto& [series, variants] : variants_by_series)
+    if (variants.size() > 1) comparisons.push_back(SeriesComparison(catalogue, series));
+
+  formats::WriteHtmlReport(header, comparisons, tests, out);
+  WrittenReport written;
+  written.path = out;
+  written.tests = tests.size();
+  written.bytes = std::filesystem::file_size(out);
+  written.without_results = std::move(without_results);
+  return written;
+}
+
+std::string WrittenReportText(const WrittenReport& written) {
+  std::string text =
+      fmt::format("wrote {}: {}, {} bytes.\n", written.path, Tests(written.tests), written.bytes);
+  if (!written.without_results.empty())
+    text += fmt::format("left out {} without results ({}); run `napkin run` first.\n",
+                        Tests(written.without_results.size()), Joined(written.without_results));
+  return text;
+}
+
+}  // namespace napkin::cli

@@ -1,0 +1,40 @@
+#pragma once
+// The HTML report of a catalogue's tests (docs/formats.md "HTML report"), as
+// `napkin report` and `napkin demo` write it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace napkin::cli {
+
+// Which tests the report shows; empty members do not filter. A test matches
+// every member (within one member any of the names); `where` holds
+// `--where` expressions over the `query criteria` fields.
+struct ReportSelection {
+  std::vector<std::string> series;
+  std::vector<std::string> variants;
+  std::vector<std::string> test_ids;
+  std::vector<std::string> where;
+};
+
+struct WrittenReport {
+  std::string path;
+  std::size_t tests = 0;  // tests shown
+  std::uintmax_t bytes = 0;
+  std::vector<std::string> without_results;  // selected tests left out: no results yet
+};
+
+// Writes the report of the selected tests of the catalogue at `db_path`
+// (opened read-only) to `out`: each test's latest result, and the
+// comparison of each series with more than one variant. Throws UsageError
+// for a malformed `where` (before the catalogue is opened), InputError (one
+// sentence) for an unknown test id, a selection matching no test, or no test
+// with results.
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const std::string& out);
+
+// "wrote FILE: N tests, B bytes." and, when some were left out, a second
+// line naming them; each line ends with a newline.
+std::string WrittenReportText(const WrittenReport& written);
+
+}  // namespace napkin::cli
