@@ -109,7 +109,7 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
     throw InputError(file + ": \"Number of samples\" is " + Quoted(declared_text) + ", not a count.");
 
   // Every declared size is checked against the bytes present before anything is allocated (one
-  // sample per line after the header, docs/formats.md "ISO-MME").
+  // sample per line after the header, docs/formats.md "ISO-MME (ISO/TS 13499) input").
   const std::size_t sample_lines = lines.size() - first_sample;
   if (static_cast<unsigned long long>(*declared) > sample_lines)
     throw InputError(file + ": channel " + channel.code + ": the header declares " +

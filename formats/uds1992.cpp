@@ -272,7 +272,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
     throw InputError(file + ": NFP " + std::to_string(nfp) + " to NLP " + std::to_string(nlp) +
                      " declares an implausible number of samples.");
   // Every data record is present before the samples are allocated: a declared count is checked
-  // against the file's size first (docs/formats.md "UDS-1992").
+  // against the file's size first (docs/formats.md "UDS-1992 input").
   auto data_record = [&](std::size_t r) -> Record {
     const std::string what = "data record " + std::to_string(r + 1);
     const std::size_t offset = (index + 1 + r) * kUdsRecordBytes;
