@@ -108,6 +108,13 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   if (!declared || *declared < 0)
     throw InputError(file + ": \"Number of samples\" is " + Quoted(declared_text) + ", not a count.");
 
+  // Every declared size is checked against the bytes present before anything is allocated (one
+  // sample per line after the header, docs/formats.md "ISO-MME (ISO/TS 13499) input").
+  const std::size_t sample_lines = lines.size() - first_sample;
+  if (static_cast<unsigned long long>(*declared) > sample_lines)
+    throw InputError(file + ": channel " + channel.code + ": the header declares " +
+                     std::to_string(*declared) + " samples but the file holds " +
+                     std::to_string(sample_lines) + " lines of samples.");
   channel.values.reserve(static_cast<std::size_t>(*declared));
   for (std::size_t i = first_sample; i < lines.size(); ++i) {
     const Line& line = lines[i];

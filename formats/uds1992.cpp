@@ -271,17 +271,27 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (count > 100'000'000)
     throw InputError(file + ": NFP " + std::to_string(nfp) + " to NLP " + std::to_string(nlp) +
                      " declares an implausible number of samples.");
-  channel.values.resize(count);
-  for (std::size_t r = 0; r < records; ++r) {
+  // Every data record is present before the samples are allocated: a declared count is checked
+  // against the file's size first (docs/formats.md "UDS-1992 input").
+  auto data_record = [&](std::size_t r) -> Record {
     const std::string what = "data record " + std::to_string(r + 1);
     const std::size_t offset = (index + 1 + r) * kUdsRecordBytes;
     if (offset >= size)
       throw InputError(file + ": " + what + " is missing (NFP " + std::to_string(nfp) + " to NLP " +
-                       std::to_string(nlp) + " needs " + std::to_string(records) + " data records).");
+                       std::to_string(nlp) + " needs " + std::to_string(records) +
+                       " data records, the file of " + std::to_string(size) + " bytes holds " +
+                       std::to_string(size / kUdsRecordBytes - (index + 1)) + ").");
     if (offset + kUdsRecordBytes > size)
       throw InputError(file + ": " + what + " is truncated (" + std::to_string(size - offset) +
                        " of 512 bytes).");
-    const Record record = data + offset;
+    return data + offset;
+  };
+  const std::size_t complete_data_records = size / kUdsRecordBytes - (index + 1);
+  if (records > complete_data_records) data_record(complete_data_records);  // throws
+  channel.values.resize(count);
+  for (std::size_t r = 0; r < records; ++r) {
+    const std::string what = "data record " + std::to_string(r + 1);
+    const Record record = data_record(r);
     const std::string data_header = ReadString(record, kRecordHeader);
     if (data_header != "Y DATA")
       throw InputError(file + ": " + what + " starts with " + Quoted(data_header) +

@@ -1,10 +1,13 @@
 #include "ingest/import.h"
 
 #include <cmath>
+#include <exception>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <utility>
 
 #include "common/error.h"
+#include "db/sqlite.h"
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
 #include "formats/csv.h"
@@ -126,6 +129,17 @@ ImportResult ImportOne(db::Catalogue& catalogue, const ImportInput& input, const
   } catch (const InputError& error) {
     result.outcome = ImportOutcome::kFailed;
     result.message = NamingSource(error.what(), input);
+  } catch (const db::DatabaseError&) {
+    throw;  // the catalogue itself failed: that concerns every test, not this one
+  } catch (const std::bad_alloc&) {
+    // One test's failure of any kind is recorded against it and the batch goes on (README "import").
+    result.outcome = ImportOutcome::kFailed;
+    result.message = "test '" + test_id + "' from " + input.source.string() +
+                     " needs more memory than is available (std::bad_alloc); it was not imported.";
+  } catch (const std::exception& error) {
+    result.outcome = ImportOutcome::kFailed;
+    result.message = "test '" + test_id + "' from " + input.source.string() + " could not be read (" +
+                     error.what() + "); it was not imported.";
   }
   return result;
 }

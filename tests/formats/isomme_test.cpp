@@ -306,7 +306,29 @@ INSTANTIATE_TEST_SUITE_P(
                            text.erase(text.find("Sampling interval"),
                                       text.find("Unit") - text.find("Sampling interval"));
                          },
-                         {"test.001", "no \"Sampling interval\""}}),
+                         {"test.001", "no \"Sampling interval\""}},
+        // Issue 11, item 1: absurd declared counts are refused before anything is allocated.
+        ChannelErrorCase{"DeclaredSampleCountTenToTheTen",
+                         [](std::vector<std::string>& channels) {
+                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
+                                                     10'000'000'000L);
+                         },
+                         {"test.002", "11HEAD0000H3ACYA",
+                          "declares 10000000000 samples but the file holds 6"}},
+        ChannelErrorCase{"DeclaredSampleCountTenToTheTwelve",
+                         [](std::vector<std::string>& channels) {
+                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
+                                                     1'000'000'000'000L);
+                         },
+                         {"test.002", "11HEAD0000H3ACYA",
+                          "declares 1000000000000 samples but the file holds 6"}},
+        ChannelErrorCase{"DeclaredSampleCountInt64Max",
+                         [](std::vector<std::string>& channels) {
+                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
+                                                     9'223'372'036'854'775'807L);
+                         },
+                         {"test.002", "11HEAD0000H3ACYA",
+                          "declares 9223372036854775807 samples but the file holds 6"}}),
     test_support::CaseName());
 
 TEST(IsoMmeTest, MissingChannelFilesAreNamed) {

@@ -4,11 +4,17 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "formats/channel_map.h"
 #include "tests/formats/formats_test_util.h"
@@ -244,8 +250,63 @@ INSTANTIATE_TEST_SUITE_P(
                                      return Poked(good, 2 * 512 + 12 + 4 * 7,
                                                   std::numeric_limits<float>::quiet_NaN());
                                    },
-                                   {"sample 7", "not a finite number"}}),
+                                   {"sample 7", "not a finite number"}},
+                      // Issue 11, item 2: a 1 KB file (the two headers) declaring NLP 99,999,999.
+                      UdsErrorCase{"absurd_nlp",
+                                   [](const std::string& good) {
+                                     return Poked(good.substr(0, 2 * 512), 512 + 282,
+                                                  std::int32_t{99'999'999});
+                                   },
+                                   {"data record 1 is missing", "NLP 99999999 needs 800000 data records",
+                                    "the file of 1024 bytes holds 0"}}),
     test_support::CaseName());
+
+// Issue 11, item 2: the declared count is checked against the file's size before the samples are
+// allocated, so the 1 KB file with NLP 99,999,999 (800 MB of samples) is refused under an
+// address-space limit of 64 MB above what the process already maps. Run in a child process so
+// the limit does not outlive the test.
+TEST(UdsSizeTest, DeclaredCountIsCheckedBeforeAllocating) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "an address-space limit cannot be set under AddressSanitizer";
+#else
+  TempDir dir;
+  const auto good = dir / "good.001";
+  WriteUds1992(MakeChannel(UdsNumberForm::kIeee, 0, 400), good);
+  const auto path = dir / "absurd_nlp.001";
+  test_support::WriteBytes(
+      path, Poked(test_support::ReadBytes(good).substr(0, 2 * 512), 512 + 282, std::int32_t{99'999'999}));
+  std::fflush(nullptr);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    long mapped_pages = 0;
+    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(statm, "%ld", &mapped_pages) != 1) mapped_pages = 0;
+      std::fclose(statm);
+    }
+    if (mapped_pages <= 0) _exit(4);
+    const rlim_t limit =
+        static_cast<rlim_t>(mapped_pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE)) + (rlim_t{64} << 20);
+    const rlimit address_space{limit, limit};
+    if (setrlimit(RLIMIT_AS, &address_space) != 0) _exit(4);
+    try {
+      ReadUds1992(path);
+    } catch (const InputError&) {
+      _exit(0);  // refused as it should be
+    } catch (const std::bad_alloc&) {
+      _exit(2);  // allocated the declared count first
+    } catch (...) {
+      _exit(3);
+    }
+    _exit(1);  // accepted
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0)
+      << "1: accepted, 2: std::bad_alloc, 3: another exception, 4: no limit set";
+#endif
+}
 
 TEST(UdsVaxErrorTest, ReservedOperandNamesFileAndSample) {
   TempDir dir;

@@ -4,14 +4,20 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "formats/array_json.h"
+#include "formats/channel_map.h"
+#include "formats/csv.h"
+#include "formats/isomme.h"
 #include "ingest/content_hash.h"
+#include "ingest/import.h"
 #include "ingest/store.h"
 #include "ingest/synth.h"
 #include "records/array_record.h"
+#include "tests/formats/formats_test_util.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
@@ -161,6 +167,54 @@ TEST(SynthTest, FixedDurationScenariosRefuseSamples) {
               "--samples and --duration apply to the random scenario only; seed-sequential has the report's "
               "fixed duration.");
   }
+}
+
+// Issue 11, item 1: an ISO-MME channel declaring an absurd "Number of samples" is refused with
+// one sentence naming the file; the good CSV tests of the same folder are imported (the
+// partial success the CLI reports with exit status 3, README "import").
+TEST(ImportTestsTest, AnAbsurdSampleCountFailsOnlyItsOwnTest) {
+  napkin::test_support::TempDir dir;
+  const engine::ArrayGeometry array = formats::LoadArray("denton-3222");
+  const fs::path folder = dir / "series";
+  fs::create_directories(folder);
+  formats::WriteSignalsCsv(test_support::MakeSignals(array, 50, 1e-4, 0.0), folder / "a0001.csv");
+  formats::WriteSignalsCsv(test_support::MakeSignals(array, 60, 1e-4, 0.0), folder / "a0002.csv");
+  formats::WriteIsoMme(test_support::MakeSignals(array, 40, 1e-4, 0.0), array,
+                       formats::LoadChannelMap("nap-example"), folder / "m0001", "M0001");
+  fs::path spoilt;
+  for (const auto& entry : fs::directory_iterator(folder / "m0001" / "Channel"))
+    if (entry.path().extension() == ".001") spoilt = entry.path();
+  ASSERT_FALSE(spoilt.empty());
+  const std::string text = test_support::ReadBytes(spoilt);
+  const std::regex count_line("(Number of samples *:)[0-9]+");
+  ASSERT_TRUE(std::regex_search(text, count_line));
+  WriteText(spoilt, std::regex_replace(text, count_line, "$019223372036854775807"));
+
+  db::Catalogue catalogue = db::Catalogue::Open((dir / "c.db").string());
+  ImportOptions options;
+  options.array = "denton-3222";
+  options.channel_map = "nap-example";
+  const ImportReport report = ImportTests(catalogue, {folder.string()}, options, {});
+  EXPECT_EQ(report.imported, 2);
+  EXPECT_EQ(report.failed, 1);
+  EXPECT_EQ(report.skipped, 0);
+  ASSERT_EQ(report.results.size(), 3u);
+  int failures = 0;
+  for (const ImportResult& result : report.results) {
+    if (result.outcome != ImportOutcome::kFailed) {
+      EXPECT_TRUE(catalogue.FindTestByExternalId(result.test_id)) << result.test_id;
+      continue;
+    }
+    ++failures;
+    EXPECT_EQ(result.test_id, "m0001");
+    EXPECT_NE(result.message.find(spoilt.string()), std::string::npos) << result.message;
+    EXPECT_NE(result.message.find("declares 9223372036854775807 samples"), std::string::npos)
+        << result.message;
+    EXPECT_EQ(result.message.find('\n'), std::string::npos) << result.message;
+  }
+  EXPECT_EQ(failures, 1);
+  EXPECT_FALSE(catalogue.FindTestByExternalId("m0001"));
+  EXPECT_EQ(report.SummaryLine(), "imported 2 tests, skipped 0 already present, 1 failed.");
 }
 
 }  // namespace
