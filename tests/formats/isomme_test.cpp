@@ -257,78 +257,87 @@ TEST_P(IsoMmeChannelErrorTest, NamesFileChannelOrSlot) {
 
 INSTANTIATE_TEST_SUITE_P(
     SpoiltChannels, IsoMmeChannelErrorTest,
-    ::testing::Values(
-        ChannelErrorCase{"NoValueSample",
-                         [](std::vector<std::string>& channels) {
-                           auto values = Ramp(6, 0, 1);
-                           values[3] = "NOVALUE";
-                           channels[2] = ChannelText("11HEAD0000H3ACZA", "g", 0.001, 0.0, values);
-                         },
-                         {"test.003", "sample 4", "line 12", "NOVALUE"}},
-        ChannelErrorCase{"DeclaredSampleCountDiffers",
-                         [](std::vector<std::string>& channels) {
-                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1), 9);
-                         },
-                         {"test.002", "declares 9 samples but the file holds 6"}},
-        ChannelErrorCase{"SamplingIntervalsDiffer",
-                         [](std::vector<std::string>& channels) {
-                           channels[4] = ChannelText("11HEAD0000H3AVYA", "rad/s", 0.0005, 0.0, Ramp(6, 0, 1));
-                         },
-                         {"11HEAD0000H3ACXA", "11HEAD0000H3AVYA", "share the sampling interval"}},
-        ChannelErrorCase{"TimeSpansDoNotOverlap",
-                         [](std::vector<std::string>& channels) {
-                           channels[5] = ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 1.0, Ramp(6, 0, 1));
-                         },
-                         {"SN-77", "do not overlap"}},
-        ChannelErrorCase{
-            "SlotMatchedByTwoChannels",
-            [](std::vector<std::string>& channels) {
-              channels.push_back(ChannelText("11HEADCG0000ACXP", "g", 0.001, 0.0, Ramp(6, 0, 1)));
-            },
-            {"slot \"cg_x\" is matched by two channels", "11HEAD0000H3ACXA", "11HEADCG0000ACXP"}},
-        ChannelErrorCase{"SlotWithoutChannel",
-                         [](std::vector<std::string>& channels) { channels.erase(channels.begin() + 4); },
-                         {"no channel matches slot \"ars_y\""}},
-        ChannelErrorCase{"AccelerationUnitOnARateCode",
-                         [](std::vector<std::string>& channels) {
-                           channels[3] = ChannelText("11HEAD0000H3AVXA", "g", 0.001, 0.0, Ramp(6, 0, 1));
-                         },
-                         {"no channel matches slot \"ars_x\""}},
-        ChannelErrorCase{
-            "SampleNotANumber",
-            [](std::vector<std::string>& channels) {
-              channels[0] = ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0, {"0", "1", "x2", "3", "4", "5"});
-            },
-            {"test.001", "sample 3", "\"x2\", not a finite number"}},
-        ChannelErrorCase{"NoSamplingInterval",
-                         [](std::vector<std::string>& channels) {
-                           std::string& text = channels[0];
-                           text.erase(text.find("Sampling interval"),
-                                      text.find("Unit") - text.find("Sampling interval"));
-                         },
-                         {"test.001", "no \"Sampling interval\""}},
-        // Issue 11, item 1: absurd declared counts are refused before anything is allocated.
-        ChannelErrorCase{"DeclaredSampleCountTenToTheTen",
-                         [](std::vector<std::string>& channels) {
-                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
-                                                     10'000'000'000L);
-                         },
-                         {"test.002", "11HEAD0000H3ACYA",
-                          "declares 10000000000 samples but the file holds 6"}},
-        ChannelErrorCase{"DeclaredSampleCountTenToTheTwelve",
-                         [](std::vector<std::string>& channels) {
-                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
-                                                     1'000'000'000'000L);
-                         },
-                         {"test.002", "11HEAD0000H3ACYA",
-                          "declares 1000000000000 samples but the file holds 6"}},
-        ChannelErrorCase{"DeclaredSampleCountInt64Max",
-                         [](std::vector<std::string>& channels) {
-                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
-                                                     9'223'372'036'854'775'807L);
-                         },
-                         {"test.002", "11HEAD0000H3ACYA",
-                          "declares 9223372036854775807 samples but the file holds 6"}}),
+    ::
+        testing::Values(ChannelErrorCase{"NoValueSample",
+                                         [](std::vector<std::string>& channels) {
+                                           auto values = Ramp(6, 0, 1);
+                                           values[3] = "NOVALUE";
+                                           channels[2] =
+                                               ChannelText("11HEAD0000H3ACZA", "g", 0.001, 0.0, values);
+                                         },
+                                         {"test.003", "sample 4", "line 12", "NOVALUE"}},
+                        ChannelErrorCase{"DeclaredSampleCountDiffers",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0,
+                                                                     Ramp(6, 0, 1), 9);
+                                         },
+                                         {"test.002", "declares 9 samples but the file holds 6"}},
+                        ChannelErrorCase{
+                            "SamplingIntervalsDiffer",
+                            [](std::vector<std::string>& channels) {
+                              channels[4] =
+                                  ChannelText("11HEAD0000H3AVYA", "rad/s", 0.0005, 0.0, Ramp(6, 0, 1));
+                            },
+                            {"11HEAD0000H3ACXA", "11HEAD0000H3AVYA", "share the sampling interval"}},
+                        ChannelErrorCase{"TimeSpansDoNotOverlap",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[5] = ChannelText("11HEAD0000H3AVZA", "rad/s", 0.001, 1.0,
+                                                                     Ramp(6, 0, 1));
+                                         },
+                                         {"SN-77", "do not overlap"}},
+                        ChannelErrorCase{"SlotMatchedByTwoChannels",
+                                         [](std::vector<std::string>& channels) {
+                                           channels.push_back(ChannelText("11HEADCG0000ACXP", "g", 0.001, 0.0,
+                                                                          Ramp(6, 0, 1)));
+                                         },
+                                         {"slot \"cg_x\" is matched by two channels", "11HEAD0000H3ACXA",
+                                          "11HEADCG0000ACXP"}},
+                        ChannelErrorCase{
+                            "SlotWithoutChannel",
+                            [](std::vector<std::string>& channels) { channels.erase(channels.begin() + 4); },
+                            {"no channel matches slot \"ars_y\""}},
+                        ChannelErrorCase{"AccelerationUnitOnARateCode",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[3] = ChannelText("11HEAD0000H3AVXA", "g", 0.001, 0.0,
+                                                                     Ramp(6, 0, 1));
+                                         },
+                                         {"no channel matches slot \"ars_x\""}},
+                        ChannelErrorCase{"SampleNotANumber",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[0] = ChannelText("11HEAD0000H3ACXA", "g", 0.001, 0.0,
+                                                                     {"0", "1", "x2", "3", "4", "5"});
+                                         },
+                                         {"test.001", "sample 3", "\"x2\", not a finite number"}},
+                        ChannelErrorCase{"NoSamplingInterval",
+                                         [](std::vector<std::string>& channels) {
+                                           std::string& text = channels[0];
+                                           text.erase(text.find("Sampling interval"),
+                                                      text.find("Unit") - text.find("Sampling interval"));
+                                         },
+                                         {"test.001", "no \"Sampling interval\""}},
+                        // Issue 11, item 1: absurd declared counts are refused before anything is allocated.
+                        ChannelErrorCase{"DeclaredSampleCountTenToTheTen",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0,
+                                                                     Ramp(6, 0, 1), 10'000'000'000L);
+                                         },
+                                         {"test.002", "11HEAD0000H3ACYA",
+                                          "declares 10000000000 samples but the file holds 6"}},
+                        ChannelErrorCase{"DeclaredSampleCountTenToTheTwelve",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[1] = ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0,
+                                                                     Ramp(6, 0, 1), 1'000'000'000'000L);
+                                         },
+                                         {"test.002", "11HEAD0000H3ACYA",
+                                          "declares 1000000000000 samples but the file holds 6"}},
+                        ChannelErrorCase{"DeclaredSampleCountInt64Max",
+                                         [](std::vector<std::string>& channels) {
+                                           channels[1] =
+                                               ChannelText("11HEAD0000H3ACYA", "g", 0.001, 0.0, Ramp(6, 0, 1),
+                                                           9'223'372'036'854'775'807L);
+                                         },
+                                         {"test.002", "11HEAD0000H3ACYA",
+                                          "declares 9223372036854775807 samples but the file holds 6"}}),
     test_support::CaseName());
 
 TEST(IsoMmeTest, MissingChannelFilesAreNamed) {

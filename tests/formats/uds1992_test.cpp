@@ -1,6 +1,9 @@
 #include "formats/uds1992.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdint>
@@ -11,10 +14,6 @@
 #include <ostream>
 #include <string>
 #include <vector>
-
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "formats/channel_map.h"
 #include "tests/formats/formats_test_util.h"
@@ -217,48 +216,46 @@ TEST_P(UdsErrorTest, NamesTheFile) {
 
 INSTANTIATE_TEST_SUITE_P(
     SpoiltFiles, UdsErrorTest,
-    ::testing::Values(UdsErrorCase{"truncated",
-                                   [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
-                                   {"data record 4 is truncated (312 of 512 bytes)"}},
-                      UdsErrorCase{"missing",
-                                   [](const std::string& good) { return good.substr(0, 4 * 512); },
-                                   {"data record 3 is missing"}},
-                      UdsErrorCase{"short_header",
-                                   [](const std::string& good) { return good.substr(0, 100); },
-                                   {"file header", "truncated (100 of 512 bytes)"}},
-                      UdsErrorCase{"no_curve",
-                                   [](const std::string& good) { return good.substr(0, 512); },
-                                   {"curve header", "missing"}},
-                      UdsErrorCase{"version",
-                                   [](const std::string& good) { return Replaced(good, 0, "UDS-1991"); },
-                                   {"FILEVER is \"UDS-1991\""}},
-                      UdsErrorCase{"numform",
-                                   [](const std::string& good) { return Replaced(good, 26, "CRAY "); },
-                                   {"unknown NUMFORM \"CRAY\""}},
-                      UdsErrorCase{
-                          "crossed",
-                          [](const std::string& good) { return Poked(good, 512 + 282, std::int32_t{-5}); },
-                          {"NLP -5 is less than NFP 0"}},
-                      UdsErrorCase{"record",
-                                   [](const std::string& good) { return Replaced(good, 3 * 512, "X DATA"); },
-                                   {"data record 2 starts with \"X DATA\""}},
-                      UdsErrorCase{"curve",
-                                   [](const std::string& good) { return Replaced(good, 512, "CURVE XXX"); },
-                                   {"record 2 starts with \"CURVE XXX\""}},
-                      UdsErrorCase{"nan",
-                                   [](const std::string& good) {
-                                     return Poked(good, 2 * 512 + 12 + 4 * 7,
-                                                  std::numeric_limits<float>::quiet_NaN());
-                                   },
-                                   {"sample 7", "not a finite number"}},
-                      // Issue 11, item 2: a 1 KB file (the two headers) declaring NLP 99,999,999.
-                      UdsErrorCase{"absurd_nlp",
-                                   [](const std::string& good) {
-                                     return Poked(good.substr(0, 2 * 512), 512 + 282,
-                                                  std::int32_t{99'999'999});
-                                   },
-                                   {"data record 1 is missing", "NLP 99999999 needs 800000 data records",
-                                    "the file of 1024 bytes holds 0"}}),
+    ::testing::Values(
+        UdsErrorCase{"truncated",
+                     [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
+                     {"data record 4 is truncated (312 of 512 bytes)"}},
+        UdsErrorCase{"missing",
+                     [](const std::string& good) { return good.substr(0, 4 * 512); },
+                     {"data record 3 is missing"}},
+        UdsErrorCase{"short_header",
+                     [](const std::string& good) { return good.substr(0, 100); },
+                     {"file header", "truncated (100 of 512 bytes)"}},
+        UdsErrorCase{"no_curve",
+                     [](const std::string& good) { return good.substr(0, 512); },
+                     {"curve header", "missing"}},
+        UdsErrorCase{"version",
+                     [](const std::string& good) { return Replaced(good, 0, "UDS-1991"); },
+                     {"FILEVER is \"UDS-1991\""}},
+        UdsErrorCase{"numform",
+                     [](const std::string& good) { return Replaced(good, 26, "CRAY "); },
+                     {"unknown NUMFORM \"CRAY\""}},
+        UdsErrorCase{"crossed",
+                     [](const std::string& good) { return Poked(good, 512 + 282, std::int32_t{-5}); },
+                     {"NLP -5 is less than NFP 0"}},
+        UdsErrorCase{"record",
+                     [](const std::string& good) { return Replaced(good, 3 * 512, "X DATA"); },
+                     {"data record 2 starts with \"X DATA\""}},
+        UdsErrorCase{"curve",
+                     [](const std::string& good) { return Replaced(good, 512, "CURVE XXX"); },
+                     {"record 2 starts with \"CURVE XXX\""}},
+        UdsErrorCase{"nan",
+                     [](const std::string& good) {
+                       return Poked(good, 2 * 512 + 12 + 4 * 7, std::numeric_limits<float>::quiet_NaN());
+                     },
+                     {"sample 7", "not a finite number"}},
+        // Issue 11, item 2: a 1 KB file (the two headers) declaring NLP 99,999,999.
+        UdsErrorCase{"absurd_nlp",
+                     [](const std::string& good) {
+                       return Poked(good.substr(0, 2 * 512), 512 + 282, std::int32_t{99'999'999});
+                     },
+                     {"data record 1 is missing", "NLP 99999999 needs 800000 data records",
+                      "the file of 1024 bytes holds 0"}}),
     test_support::CaseName());
 
 // Issue 11, item 2: the declared count is checked against the file's size before the samples are
