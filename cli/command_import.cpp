@@ -36,6 +36,11 @@ class ImportCommand : public Command {
                     "initial CG velocity VX,VY,VZ in the fixed frame (m/s)");
     sub->add_option("--channel-map", options_.channel_map,
                     "channel map preset or JSON file (ISO-MME, UDS-1992)");
+    sub->add_option("--column", options_.csv_columns,
+                    "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
+        ->allow_extra_args(false);
+    sub->add_option("--position", position_,
+                    "take only the dummy at this position (ISO-MME test object and position, e.g. 11)");
     sub->add_option("paths", paths_, "test files or folders")->required();
     return sub;
   }
@@ -44,6 +49,7 @@ class ImportCommand : public Command {
     if (!series_.empty()) options_.series = series_;
     if (!variant_.empty()) options_.variant = variant_;
     if (test_id_) options_.test_id = *test_id_;
+    if (position_) options_.position = *position_;
     db::Catalogue catalogue = OpenCatalogue(*global_);
 
     std::unique_ptr<ProgressBar> progress_bar;
@@ -74,6 +80,7 @@ class ImportCommand : public Command {
   std::string series_;
   std::string variant_;
   std::optional<std::string> test_id_;
+  std::optional<std::string> position_;
   std::vector<std::string> paths_;
 };
 

@@ -28,6 +28,9 @@ class TransformCommand : public Command {
     sub->add_option("--solver", options_.solver, solver_help + " (default: the config's, exact)")
         ->check(CLI::IsMember(solvers));
     sub->add_option("--config", options_.config, "processing config preset or JSON file");
+    sub->add_option("--column", options_.csv_columns,
+                    "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
+        ->allow_extra_args(false);
     sub->add_option("input", options_.input, "input signals (CSV)")->required();
     sub->add_option("--out", options_.out, "derived-channel CSV to write")->required();
     sub->add_option("--summary", options_.summary, "per-test summary JSON to write");

@@ -36,7 +36,8 @@ Eigen::Vector3d Vector3OrZero(const std::vector<double>& values) {
 TransformReport RunTransform(const TransformOptions& options) {
   const engine::ArrayGeometry array = formats::LoadArray(options.array);
   if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
-  formats::CsvSignals csv = formats::ReadSignalsCsv(options.input, &array);
+  formats::CsvSignals csv =
+      formats::ReadSignalsCsv(options.input, &array, formats::ParseCsvColumnOptions(options.csv_columns));
 
   // The same resolution as `napkin run` (empty: the "default" preset), so a
   // catalogue result equals the transform of the same input.

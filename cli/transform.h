@@ -15,6 +15,7 @@ struct TransformOptions {
   std::string solver;                        // engine::SolverName (empty: the config's solver)
   std::string config;                        // processing config preset/path (empty: default)
   std::string input;                         // signals file
+  std::vector<std::string> csv_columns;      // --column SLOT=NAME
   std::string out;                           // derived-channel CSV
   std::string summary;                       // summary JSON (optional)
   std::string lsdyna;                        // LS-DYNA keyword file (optional)

@@ -188,7 +188,9 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
   const auto add_text = [&fields](std::initializer_list<const char*> names) {
     for (const char* name : names) fields.push_back({name, false});
   };
-  if (kind == QueryKind::kTests) add_text({"array", "source_path", "content_hash", "imported_at"});
+  if (kind == QueryKind::kTests)
+    add_text({"array", "source_path", "content_hash", "imported_at", "position", "test_number", "title", "vehicle",
+              "dummy", "test_date", "laboratory"});
   if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
   return fields;

@@ -37,6 +37,13 @@ const ChannelMapEntry* ChannelMap::Find(std::string_view slot) const {
   return nullptr;
 }
 
+std::vector<std::pair<std::string, std::string>> ChannelMap::CsvColumns() const {
+  std::vector<std::pair<std::string, std::string>> columns;
+  for (const auto& [name, entry] : slots)
+    if (!entry.column.empty()) columns.emplace_back(name, entry.column);
+  return columns;
+}
+
 ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source) {
   auto fail = [&](const std::string& problem) -> void { throw InputError(source + ": " + problem + "."); };
   if (!json.is_object()) fail("a channel map must be a JSON object");
@@ -51,7 +58,8 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
   if (!slots->is_object()) fail("\"slots\" must be an object (slot name -> {code, senatt, axis})");
   for (const auto& [slot, value] : slots->items()) {
     const std::string where = "slot " + Quoted(slot);
-    if (!value.is_object()) fail(where + " must map to an object with \"code\", \"senatt\" and/or \"axis\"");
+    if (!value.is_object())
+      fail(where + " must map to an object with \"code\", \"senatt\", \"axis\" and/or \"column\"");
     ChannelMapEntry entry;
     if (const auto code = value.find("code"); code != value.end()) {
       if (code->is_string()) {
@@ -70,14 +78,16 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
                " characters, ISO/TS 13499 channel codes have 16");
     }
     for (const auto& [key, field] :
-         {std::pair<const char*, std::string*>{"senatt", &entry.senatt}, {"axis", &entry.axis}}) {
+         {std::pair<const char*, std::string*>{"senatt", &entry.senatt},
+          {"axis", &entry.axis},
+          {"column", &entry.column}}) {
       if (const auto it = value.find(key); it != value.end()) {
         if (!it->is_string()) fail(where + ": \"" + key + "\" must be a string");
         *field = std::string(Trim(it->get<std::string>()));
       }
     }
-    if (entry.codes.empty() && entry.senatt.empty())
-      fail(where + " has neither a \"code\" pattern nor a \"senatt\"");
+    if (entry.codes.empty() && entry.senatt.empty() && entry.column.empty())
+      fail(where + " has no \"code\" pattern, \"senatt\" or \"column\"");
     map.slots.emplace_back(slot, std::move(entry));
   }
   return map;
@@ -161,7 +171,8 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
 
 engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
                                     const std::vector<std::size_t>& channel_of_sensor,
-                                    const engine::ArrayGeometry& array, const std::string& test_name) {
+                                    const engine::ArrayGeometry& array, const std::string& test_name,
+                                    std::vector<std::string>* notes) {
   if (channel_of_sensor.size() != array.sensors.size() || channel_of_sensor.empty())
     throw InputError("test " + test_name + ": internal error, the slot assignment does not cover the array.");
   const RawChannel& first = channels.at(channel_of_sensor[0]);
@@ -191,6 +202,23 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
     throw InputError("test " + test_name +
                      ": the channels do not overlap in time for two samples or more (common span " +
                      FormatNumber(start, 9) + " s to " + FormatNumber(end, 9) + " s).");
+  if (notes != nullptr) {
+    // Channels of different spans are cropped to the common span, and the test says so
+    // (docs/formats.md "ISO-MME (ISO/TS 13499) input").
+    std::string cropped;
+    for (const std::size_t c : channel_of_sensor) {
+      const RawChannel& channel = channels[c];
+      const long long dropped = static_cast<long long>(channel.values.size()) - count;
+      if (dropped <= 0) continue;
+      const std::string label = !channel.code.empty() ? channel.code : channel.source;
+      if (cropped.find(label) != std::string::npos) continue;
+      cropped += (cropped.empty() ? "" : ", ") + label + " (" + std::to_string(dropped) + " samples)";
+    }
+    if (!cropped.empty())
+      notes->push_back("test " + test_name + ": the channels' time spans differ; all were cropped to the common span " +
+                       FormatNumber(start, 9) + " s to " + FormatNumber(end, 9) + " s, dropping samples of " +
+                       cropped + ".");
+  }
 
   engine::TestSignals signals;
   signals.dt_s = dt;

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "engine/array_geometry.h"
@@ -21,6 +22,12 @@ struct RawChannel {
   std::string name;    // ISO-MME "Name of the channel" / UDS-1992 CURNAM or CURDSC
   std::string senatt;  // UDS-1992 sensor attachment ("" for ISO-MME)
   std::string axis;    // UDS-1992 axis ("XL", ...) ("" for ISO-MME)
+  // The dummy the channel belongs to (docs/formats.md "Several dummies in one
+  // test"): the ISO-MME code's test object and position ("11", "13"), the
+  // UDS-1992 SENLOC ("01", "03"); "" when the file names none.
+  std::string position;
+  // UDS-1992 INIVEL in m/s along the channel's own axis (nullopt: none recorded).
+  std::optional<double> initial_velocity_mps;
   std::string unit;    // as written ("g", "m/s**2", "G'S", "DEG/SEC", ...; "" if none)
   double dt_s = 0.0;   // sampling interval
   double t0_s = 0.0;   // time of the first sample
@@ -40,10 +47,13 @@ std::optional<SignalUnit> ParseSignalUnit(std::string_view unit, const std::stri
 // One slot of a channel map: ISO-MME code patterns ('?' matches any one
 // character; a JSON string or an array of alternatives) and/or the UDS-1992
 // SENATT and AXIS (trimmed, case-insensitive).
+// A CSV signals file is read through the slot's "column" (docs/formats.md
+// "CSV input").
 struct ChannelMapEntry {
   std::vector<std::string> codes;
   std::string senatt;
   std::string axis;
+  std::string column;
 };
 
 struct ChannelMap {
@@ -52,6 +62,8 @@ struct ChannelMap {
   std::vector<std::pair<std::string, ChannelMapEntry>> slots;  // in file order
 
   const ChannelMapEntry* Find(std::string_view slot) const;
+  // The slots with a "column" entry: slot -> CSV column name, in map order.
+  std::vector<std::pair<std::string, std::string>> CsvColumns() const;
 };
 
 // Reads a channel map; throws InputError naming the file and the slot at fault.
@@ -80,9 +92,11 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
 // Channels must share the sampling interval (error naming both channels) and
 // lie on one time grid that they share for at least two samples; the result
 // covers the common time span, each value converted into the unit the array
-// gives the slot.
+// gives the slot. When the channels' spans differ, one sentence saying what
+// was cropped is added to `notes` (if given).
 engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
                                     const std::vector<std::size_t>& channel_of_sensor,
-                                    const engine::ArrayGeometry& array, const std::string& test_name);
+                                    const engine::ArrayGeometry& array, const std::string& test_name,
+                                    std::vector<std::string>* notes = nullptr);
 
 }  // namespace napkin::formats

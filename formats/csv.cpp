@@ -40,9 +40,39 @@ std::string_view Unquote(std::string_view text) {
 
 std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
 
+// The column `slot` is read from: its mapping in `columns`, else its own name.
+const std::string& ColumnOf(const std::string& slot, const CsvColumnMap& columns) {
+  for (const auto& [mapped_slot, column] : columns)
+    if (mapped_slot == slot) return column;
+  return slot;
+}
+
+std::string ColumnDescription(const std::string& slot, const CsvColumnMap& columns) {
+  const std::string& column = ColumnOf(slot, columns);
+  if (column == slot) return "no column for slot " + Quoted(slot);
+  return "no column " + Quoted(column) + " (mapped to slot " + Quoted(slot) + ")";
+}
+
 }  // namespace
 
-CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array) {
+CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
+  CsvColumnMap columns;
+  for (const std::string& option : options) {
+    const std::size_t equals = option.find('=');
+    const std::string slot = equals == std::string::npos ? "" : std::string(Trim(option.substr(0, equals)));
+    const std::string column = equals == std::string::npos ? "" : std::string(Trim(option.substr(equals + 1)));
+    if (slot.empty() || column.empty())
+      throw UsageError("--column takes SLOT=NAME (the CSV column NAME feeds slot SLOT), not " + Quoted(option) +
+                       ".");
+    for (const auto& [earlier, unused] : columns)
+      if (earlier == slot) throw UsageError("--column maps slot " + Quoted(slot) + " twice.");
+    columns.emplace_back(slot, column);
+  }
+  return columns;
+}
+
+CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array,
+                          const CsvColumnMap& columns) {
   const std::string file = path.string();
   std::string text = ReadWholeFile(path);
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
@@ -81,24 +111,30 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
                            Quoted(name) + " twice.");
         header.push_back(std::move(name));
       }
-      const auto time_it = index_of.find("time_s");
+      const auto time_it = index_of.find(ColumnOf("time_s", columns));
       if (time_it == index_of.end())
-        throw InputError(file + ": the header (line " + std::to_string(line_number) +
-                         ") has no time_s column.");
+        throw InputError(file + ": the header (line " + std::to_string(line_number) + ") has " +
+                         (ColumnOf("time_s", columns) == "time_s"
+                              ? std::string("no time_s column.")
+                              : "no column " + Quoted(ColumnOf("time_s", columns)) + " (mapped to time_s)."));
       time_field = time_it->second;
       if (array != nullptr) {
+        for (const auto& [slot, column] : columns)
+          if (slot != "time_s" && !array->FindSlot(slot))
+            throw InputError(file + ": the column map names slot " + Quoted(slot) + " (column " +
+                             Quoted(column) + "), which array " + Quoted(array->name) + " does not have.");
         for (const engine::Sensor& sensor : array->sensors) {
-          const auto it = index_of.find(sensor.slot);
+          const auto it = index_of.find(ColumnOf(sensor.slot, columns));
           if (it == index_of.end())
-            throw InputError(file + ": no column for slot " + Quoted(sensor.slot) + " of array " +
+            throw InputError(file + ": " + ColumnDescription(sensor.slot, columns) + " of array " +
                              Quoted(array->name) + ".");
           wanted_field.push_back(it->second);
           result.signals.slots.push_back(sensor.slot);
         }
-        for (const std::string& name : header)
-          if (name != "time_s" && std::none_of(array->sensors.begin(), array->sensors.end(),
-                                               [&](const engine::Sensor& s) { return s.slot == name; }))
-            result.warnings.push_back(file + ": column " + Quoted(name) + " is not a slot of array " +
+        for (std::size_t i = 0; i < header.size(); ++i)
+          if (static_cast<int>(i) != time_field &&
+              std::find(wanted_field.begin(), wanted_field.end(), static_cast<int>(i)) == wanted_field.end())
+            result.warnings.push_back(file + ": column " + Quoted(header[i]) + " is not a slot of array " +
                                       Quoted(array->name) + " and is ignored.");
       } else {
         for (std::size_t i = 0; i < header.size(); ++i) {

@@ -97,6 +97,8 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   const std::optional<std::string> code = Lookup(header, "Channel code");
   channel.code = code && !code->empty() && !IsNoValue(*code) ? *code : fallback_code;
   if (channel.code.empty()) throw InputError(file + ": the header has no \"Channel code\".");
+  // ISO/TS 13499 codes begin with the test object and the position (docs/formats.md).
+  if (Trim(channel.code).size() == 16) channel.position = std::string(Trim(channel.code).substr(0, 2));
   if (const auto name = Lookup(header, "Name of the channel")) channel.name = *name;
   if (const auto unit = Lookup(header, "Unit")) channel.unit = *unit;
   channel.dt_s = require_number("Sampling interval");
@@ -215,6 +217,25 @@ std::string IsoMmeTest::TestNumber() const {
   for (const auto& [key, value] : test_info)
     if (EqualsIgnoreCase(key, "Test number") && !value.empty() && !IsNoValue(value)) return value;
   return name;
+}
+
+TestInfo IsoMmeTestInfo(const IsoMmeTest& test, const RawChannel& head_channel) {
+  auto value_of = [&](const std::string& key) -> std::string {
+    const std::optional<std::string> value = Lookup(test.test_info, key);
+    return value && !IsNoValue(*value) ? *value : std::string();
+  };
+  TestInfo info;
+  info.test_number = test.TestNumber();
+  info.title = value_of("Title");
+  info.date = value_of("Date of the test");
+  info.laboratory = value_of("Laboratory name");
+  const std::string code(Trim(head_channel.code));
+  if (code.size() == 16) {
+    info.vehicle = value_of(std::string("Name of test object ") + code[0]);
+    const std::string fine3 = code.substr(10, 2);
+    if (fine3 != "00" && fine3 != "??") info.dummy = fine3;
+  }
+  return info;
 }
 
 IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {

@@ -15,6 +15,7 @@
 #include "engine/kinematics.h"
 #include "engine/signals.h"
 #include "formats/channel_map.h"
+#include "formats/test_info.h"
 
 namespace napkin::formats {
 
@@ -33,6 +34,11 @@ struct IsoMmeTest {
 // header key, NOVALUE or non-numeric sample, fewer or more samples than
 // declared, ...).
 IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme);
+
+// The test-level information of `test` for the dummy whose head channel is
+// `head_channel` (its code gives the test object, hence the vehicle, and the
+// dummy type in fine location 3).
+TestInfo IsoMmeTestInfo(const IsoMmeTest& test, const RawChannel& head_channel);
 
 // Reads a test folder into signals for `array`, slots chosen by `map`.
 engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme,

@@ -34,6 +34,10 @@ constexpr Field kTstsrc{34, 15};
 constexpr std::size_t kTstno = 49;
 constexpr Field kTstnam{53, 12};
 constexpr Field kTitle{65, 70};
+constexpr Field kMake{217, 15};
+constexpr Field kModel{232, 25};
+constexpr Field kOcctyp{298, 6};
+constexpr Field kDumsiz{313, 2};
 // Remaining blank-padded strings: TSTPRF, TSTREF, TSTCFN, CMPTYP, CMPDSC, MAKE,
 // MODEL, BODY, ENGINE, OCCTYP, OCCSEX, DUMSIZ, RESTR1, RESTR2, AIS, HDR_RESV.
 constexpr Field kOtherStrings[] = {{135, 25}, {160, 10}, {170, 3}, {185, 2},  {187, 30}, {217, 15},
@@ -232,6 +236,11 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   channel.test_number = ReadInt(header, file_header::kTstno, form);
   channel.test_name = ReadString(header, file_header::kTstnam);
   channel.title = ReadString(header, file_header::kTitle);
+  channel.test_source = ReadString(header, file_header::kTstsrc);
+  channel.make = ReadString(header, file_header::kMake);
+  channel.model = ReadString(header, file_header::kModel);
+  channel.occupant_type = ReadString(header, file_header::kOcctyp);
+  channel.dummy_size = ReadString(header, file_header::kDumsiz);
 
   std::size_t index = 1;
   Record curve = record_at(index, "the curve header");
@@ -330,6 +339,11 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
   WriteString(header, file_header::kTstnam, channel.test_name);
   WriteString(header, file_header::kTitle, channel.title);
   for (const Field field : file_header::kOtherStrings) WriteString(header, field, "");
+  if (!channel.test_source.empty()) WriteString(header, file_header::kTstsrc, channel.test_source);
+  WriteString(header, file_header::kMake, channel.make);
+  WriteString(header, file_header::kModel, channel.model);
+  WriteString(header, file_header::kOcctyp, channel.occupant_type);
+  WriteString(header, file_header::kDumsiz, channel.dummy_size);
 
   std::uint8_t* curve = bytes.data() + kUdsRecordBytes;
   WriteString(curve, curve_header::kRecordHeader, "CURVE HDR");
@@ -380,7 +394,46 @@ RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& 
   raw.dt_s = channel.del_s;
   raw.t0_s = static_cast<double>(channel.nfp) * channel.del_s;
   raw.values = channel.values;
+  raw.position = channel.senloc;
+  // INIVEL is in the velocity unit of DIMSYS (docs/formats.md "UDS-1992 input").
+  const std::string dimsys = ToUpper(channel.dimsys);
+  const double mps_per_unit = dimsys == "SI" ? 1.0 : dimsys == "ENG" ? 0.44704 : 1.0 / 3.6;
+  if (channel.initial_velocity != 0.0) raw.initial_velocity_mps = channel.initial_velocity * mps_per_unit;
   return raw;
+}
+
+TestInfo UdsTestInfo(const UdsChannel& channel) {
+  auto joined = [](const std::string& a, const std::string& b) {
+    return a.empty() ? b : b.empty() ? a : a + " " + b;
+  };
+  TestInfo info;
+  if (channel.test_number != 0) info.test_number = std::to_string(channel.test_number);
+  info.title = channel.title;
+  info.vehicle = joined(channel.make, channel.model);
+  info.dummy = joined(channel.occupant_type, channel.dummy_size);
+  info.laboratory = channel.test_source;
+  return info;
+}
+
+bool InTableTwoOneOrder(std::size_t file_count, const engine::ArrayGeometry& array) {
+  if (file_count != 9) return false;
+  return std::all_of(array.sensors.begin(), array.sensors.end(), [](const engine::Sensor& sensor) {
+    return std::find(std::begin(engine::kNapSlots), std::end(engine::kNapSlots), sensor.slot) !=
+           std::end(engine::kNapSlots);
+  });
+}
+
+std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& array,
+                                               const std::string& test_name) {
+  std::vector<std::size_t> channel_of_sensor;
+  for (const engine::Sensor& sensor : array.sensors) {
+    const auto slot = std::find(std::begin(engine::kNapSlots), std::end(engine::kNapSlots), sensor.slot);
+    if (slot == std::end(engine::kNapSlots))
+      throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " of array " +
+                       Quoted(array.name) + " is not one of the nine Table 2-1 slots; give a channel map.");
+    channel_of_sensor.push_back(static_cast<std::size_t>(slot - std::begin(engine::kNapSlots)));
+  }
+  return channel_of_sensor;
 }
 
 std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUdsFilesByStem(
@@ -406,24 +459,13 @@ engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
   channels.reserve(sorted.size());
   for (const std::filesystem::path& file : sorted) channels.push_back(ToRawChannel(ReadUds1992(file), file));
 
-  std::vector<std::size_t> channel_of_sensor;
-  if (map != nullptr) {
-    channel_of_sensor = AssignSlots(channels, array, *map, test_name);
-  } else {
-    // Report section 2.2: LC_COMP asks for the nine files in Table 2-1 order.
-    if (channels.size() != 9)
-      throw InputError(
-          "test " + test_name + ": " + std::to_string(channels.size()) +
-          " UDS-1992 files without a channel map; exactly nine are assigned in the report's Table 2-1 "
-          "order (give --channel-map otherwise).");
-    for (const engine::Sensor& sensor : array.sensors) {
-      const auto slot = std::find(std::begin(engine::kNapSlots), std::end(engine::kNapSlots), sensor.slot);
-      if (slot == std::end(engine::kNapSlots))
-        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " of array " +
-                         Quoted(array.name) + " is not one of the nine Table 2-1 slots; give a channel map.");
-      channel_of_sensor.push_back(static_cast<std::size_t>(slot - std::begin(engine::kNapSlots)));
-    }
-  }
+  // Report section 2.2: LC_COMP reads nine files in Table 2-1 order; other
+  // groups without a map go through the default map, as ISO-MME folders do.
+  if (map == nullptr && InTableTwoOneOrder(channels.size(), array))
+    return AssembleSignals(channels, TableTwoOneAssignment(array, test_name), array, test_name);
+  const ChannelMap default_map = map == nullptr ? LoadChannelMap("default") : ChannelMap{};
+  const ChannelMap& used = map != nullptr ? *map : default_map;
+  const std::vector<std::size_t> channel_of_sensor = AssignSlots(channels, array, used, test_name);
   return AssembleSignals(channels, channel_of_sensor, array, test_name);
 }
 

@@ -14,6 +14,7 @@
 #include "engine/array_geometry.h"
 #include "engine/signals.h"
 #include "formats/channel_map.h"
+#include "formats/test_info.h"
 
 namespace napkin::formats {
 
@@ -30,6 +31,11 @@ struct UdsChannel {
   int test_number = 0;         // TSTNO
   std::string test_name;       // TSTNAM
   std::string title;           // TITLE
+  std::string test_source;     // TSTSRC (the laboratory)
+  std::string make;            // MAKE
+  std::string model;           // MODEL
+  std::string occupant_type;   // OCCTYP (dummy type)
+  std::string dummy_size;      // DUMSIZ
   std::string curve_name;      // CURNAM
   std::string senatt;          // sensor attachment, e.g. "HEAD CG"
   std::string senloc;          // SENLOC
@@ -55,8 +61,20 @@ UdsChannel ReadUds1992(const std::filesystem::path& path);
 // when a value cannot be represented (e.g. beyond the VAX F-float range).
 void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path);
 
-// The channel as a RawChannel (unit from YUNITS, t0 = NFP * DEL).
+// The channel as a RawChannel (unit from YUNITS, t0 = NFP * DEL, position
+// from SENLOC, INIVEL converted to m/s: km/h for DIMSYS MET, m/s for SI,
+// mph for ENG).
 RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& path);
+
+// The test-level information of a UDS-1992 file header.
+TestInfo UdsTestInfo(const UdsChannel& channel);
+
+// Whether `file_count` files without a channel map are read in the report's
+// Table 2-1 order: nine files, and every slot of `array` a Table 2-1 slot.
+bool InTableTwoOneOrder(std::size_t file_count, const engine::ArrayGeometry& array);
+// For each sensor of `array`, the index of its file in Table 2-1 order.
+std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& array, const std::string& test_name);
+
 
 // VAX F_floating <-> value. The four bytes are as stored: two little-endian
 // 16-bit words, the first holding sign (bit 15), excess-128 exponent (bits
@@ -75,9 +93,10 @@ std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUds
     const std::vector<std::filesystem::path>& files);
 
 // Reads the UDS-1992 files of one test into signals for `array`. With a
-// channel map, slots are matched by SENATT/AXIS; without, exactly nine files
-// are required and assigned in name order to the report's Table 2-1 slots
-// (cg_x, cg_y, cg_z, yarm_z, yarm_x, xarm_z, xarm_y, zarm_x, zarm_y).
+// channel map, slots are matched by SENATT/AXIS; without, nine files for an
+// array of Table 2-1 slots are assigned in name order to the report's Table
+// 2-1 slots (cg_x, cg_y, cg_z, yarm_z, yarm_x, xarm_z, xarm_y, zarm_x,
+// zarm_y), and any other group is matched through the "default" map.
 engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
                                 const engine::ArrayGeometry& array, const ChannelMap* map,
                                 const std::string& test_name);

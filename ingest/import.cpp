@@ -9,11 +9,12 @@
 #include "common/error.h"
 #include "db/sqlite.h"
 #include "formats/array_json.h"
+#include "engine/rotation.h"
 #include "formats/channel_map.h"
+#include "formats/content_hash.h"
 #include "formats/csv.h"
-#include "formats/isomme.h"
-#include "formats/uds1992.h"
 #include "ingest/content_hash.h"
+#include "ingest/dummy_heads.h"
 #include "ingest/store.h"
 #include "records/array_record.h"
 
@@ -43,105 +44,142 @@ struct PreparedImport {
   engine::ArrayGeometry array;
   db::ArrayRecord array_record;
   std::optional<formats::ChannelMap> channel_map;  // given with --channel-map
-  formats::ChannelMap default_map;                 // for ISO-MME without --channel-map
+  formats::ChannelMap default_map;                 // for ISO-MME and UDS-1992 without --channel-map
+  formats::CsvColumnMap csv_columns;               // the map's "column" entries, then --column
   engine::InitialState initial;
+  bool velocity_given = false;  // --initial-velocity
 };
 
-struct ReadTest {
-  engine::TestSignals signals;
-  std::vector<std::string> warnings;
-  std::string channel_map;  // name of the map used, "" for CSV and Table 2-1 order
-};
-
-ReadTest ReadInput(const ImportInput& input, const PreparedImport& prepared, const std::string& test_id) {
-  ReadTest read;
-  switch (input.format) {
-    case InputFormat::kCsv: {
-      formats::CsvSignals csv = formats::ReadSignalsCsv(input.source, &prepared.array);
-      read.signals = std::move(csv.signals);
-      read.warnings = std::move(csv.warnings);
-      break;
-    }
-    case InputFormat::kIsoMme: {
-      const formats::ChannelMap& map = prepared.channel_map ? *prepared.channel_map : prepared.default_map;
-      read.signals = formats::ReadIsoMmeSignals(input.source, prepared.array, map);
-      read.channel_map = map.name;
-      break;
-    }
-    case InputFormat::kUds1992: {
-      const formats::ChannelMap* map = prepared.channel_map ? &*prepared.channel_map : nullptr;
-      read.signals = formats::ReadUdsTest(input.files, prepared.array, map, test_id);
-      if (map != nullptr) read.channel_map = map->name;
-      break;
-    }
-  }
-  return read;
+// The test-level information as metadata (docs/formats.md "Test information"): empty fields left out.
+nlohmann::json TestInfoJson(const formats::TestInfo& info, const std::string& position) {
+  nlohmann::json json = nlohmann::json::object();
+  for (const auto& [key, value] : {std::pair<const char*, const std::string*>{"test_number", &info.test_number},
+                                   {"title", &info.title},
+                                   {"vehicle", &info.vehicle},
+                                   {"dummy", &info.dummy},
+                                   {"position", &position},
+                                   {"date", &info.date},
+                                   {"laboratory", &info.laboratory}})
+    if (!value->empty()) json[key] = *value;
+  return json;
 }
 
-ImportResult ImportOne(db::Catalogue& catalogue, const ImportInput& input, const PreparedImport& prepared,
-                       const ImportOptions& options) {
+ImportResult Failed(const std::string& test_id, std::string message) {
   ImportResult result;
-  result.test_id = options.test_id.value_or(input.name);
-  const std::string& test_id = result.test_id;
+  result.outcome = ImportOutcome::kFailed;
+  result.test_id = test_id;
+  result.message = std::move(message);
+  return result;
+}
+
+// Stores one dummy head of `input`; the input's content hash was not found.
+ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const PreparedImport& prepared,
+                       const ImportOptions& options, HeadSignals& head, const std::string& test_id,
+                       const std::string& content_hash) {
+  ImportResult result;
+  result.test_id = test_id;
   auto skipped = [&] {
     result.outcome = ImportOutcome::kSkipped;
     result.message = test_id + ": already imported (same content), skipped.";
     return result;
   };
+  if (catalogue.ExistsTestByHash(content_hash)) return skipped();
+  if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
+    const db::TestRecord record = catalogue.ReadTest(*existing);
+    throw InputError("test '" + test_id + "' from '" + input.source.string() +
+                     "' differs from the catalogue's test of that id (imported from '" + record.source_path +
+                     "'); import it with another --test-id.");
+  }
+  nlohmann::json metadata = nlohmann::json::object();
+  metadata["format"] = InputFormatName(input.format);
+  if (!head.channel_map.empty()) metadata["channel_map"] = head.channel_map;
+  if (input.format == InputFormat::kUds1992) {
+    nlohmann::json files = nlohmann::json::array();
+    for (const fs::path& file : input.files) files.push_back(file.filename().string());
+    metadata["files"] = std::move(files);
+  }
+  if (nlohmann::json info = TestInfoJson(head.info, head.position); !info.empty()) metadata["test"] = std::move(info);
+  if (!head.notes.empty()) metadata["notes"] = head.notes;
+
+  db::TestRecord record;
+  record.external_id = test_id;
+  record.series = options.series;
+  record.variant = options.variant;
+  record.initial_state = prepared.initial;
+  if (!prepared.velocity_given && head.initial_velocity_body_mps) {
+    // INIVEL is along the CG channels' own axes: rotated into the fixed frame by R0.
+    record.initial_state.velocity_fixed_mps =
+        engine::InitialFixedFromBody(prepared.initial.orientation_rad) * *head.initial_velocity_body_mps;
+    metadata["initial_velocity"] = "inivel";
+  }
+  record.metadata_json = metadata.dump();
+  std::error_code error;
+  const fs::path absolute = fs::absolute(input.source, error);
+  record.source_path = (error ? input.source : absolute).lexically_normal().string();
+  record.content_hash = content_hash;
+
+  // The store skips content another process stored meanwhile.
+  if (!StoreTest(catalogue, prepared.array, prepared.array_record, record, head.signals)) return skipped();
+  result.outcome = ImportOutcome::kImported;
+  result.message = test_id + ": imported from " + record.source_path + ".";
+  for (std::string& note : head.notes) result.warnings.push_back(NamingSource(note, input));
+  return result;
+}
+
+// The results of one input: one per dummy head imported, or one failure.
+std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput& input,
+                                    const PreparedImport& prepared, const ImportOptions& options) {
+  const std::string test_id = options.test_id.value_or(input.name);
   try {
-    const std::string content_hash = InputContentHash(input);
-    if (catalogue.ExistsTestByHash(content_hash)) return skipped();
-    if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
-      const db::TestRecord record = catalogue.ReadTest(*existing);
-      throw InputError("test '" + test_id + "' from '" + input.source.string() +
-                       "' differs from the catalogue's test of that id (imported from '" +
-                       record.source_path + "'); import it with another --test-id.");
+    const std::string input_hash = InputContentHash(input);
+    // An input of one dummy keeps its content hash; nothing more to read when it is stored.
+    if (!options.position && catalogue.ExistsTestByHash(input_hash)) {
+      ImportResult result;
+      result.outcome = ImportOutcome::kSkipped;
+      result.test_id = test_id;
+      result.message = test_id + ": already imported (same content), skipped.";
+      return {result};
     }
 
     // Read and check everything before writing anything.
-    ReadTest read = ReadInput(input, prepared, test_id);
-    nlohmann::json metadata = nlohmann::json::object();
-    metadata["format"] = InputFormatName(input.format);
-    if (!read.channel_map.empty()) metadata["channel_map"] = read.channel_map;
-    if (input.format == InputFormat::kUds1992) {
-      nlohmann::json files = nlohmann::json::array();
-      for (const fs::path& file : input.files) files.push_back(file.filename().string());
-      metadata["files"] = std::move(files);
+    HeadReadOptions read_options;
+    read_options.array = &prepared.array;
+    read_options.channel_map = prepared.channel_map ? &*prepared.channel_map : nullptr;
+    read_options.default_map = &prepared.default_map;
+    read_options.csv_columns = prepared.csv_columns;
+    read_options.position = options.position;
+    read_options.one_test_expected = options.test_id.has_value();
+    InputHeads read = ReadInputHeads(input, read_options, test_id);
+
+    std::vector<ImportResult> results;
+    for (HeadSignals& head : read.heads) {
+      // Several dummies: TEST/<position>, and the position in the content hash
+      // (docs/formats.md "Several dummies in one test").
+      const std::string head_id = read.several && !options.test_id ? test_id + "/" + head.position : test_id;
+      const std::string content_hash =
+          read.several ? formats::Sha256Hex(input_hash + "\nposition " + head.position) : input_hash;
+      try {
+        results.push_back(StoreHead(catalogue, input, prepared, options, head, head_id, content_hash));
+      } catch (const InputError& error) {
+        results.push_back(Failed(head_id, NamingSource(error.what(), input)));
+      }
     }
-
-    db::TestRecord record;
-    record.external_id = test_id;
-    record.series = options.series;
-    record.variant = options.variant;
-    record.metadata_json = metadata.dump();
-    record.initial_state = prepared.initial;
-    std::error_code error;
-    const fs::path absolute = fs::absolute(input.source, error);
-    record.source_path = (error ? input.source : absolute).lexically_normal().string();
-    record.content_hash = content_hash;
-
-    // The store skips content another process stored meanwhile.
-    if (!StoreTest(catalogue, prepared.array, prepared.array_record, record, read.signals)) return skipped();
-
-    result.outcome = ImportOutcome::kImported;
-    result.message = test_id + ": imported from " + record.source_path + ".";
-    for (std::string& warning : read.warnings) result.warnings.push_back(NamingSource(warning, input));
+    if (!results.empty())
+      for (std::string& warning : read.warnings)
+        results.front().warnings.insert(results.front().warnings.begin(), NamingSource(warning, input));
+    return results;
   } catch (const InputError& error) {
-    result.outcome = ImportOutcome::kFailed;
-    result.message = NamingSource(error.what(), input);
+    return {Failed(test_id, NamingSource(error.what(), input))};
   } catch (const db::DatabaseError&) {
     throw;  // the catalogue itself failed: that concerns every test, not this one
   } catch (const std::bad_alloc&) {
     // One test's failure of any kind is recorded against it and the batch goes on (README "import").
-    result.outcome = ImportOutcome::kFailed;
-    result.message = "test '" + test_id + "' from " + input.source.string() +
-                     " needs more memory than is available (std::bad_alloc); it was not imported.";
+    return {Failed(test_id, "test '" + test_id + "' from " + input.source.string() +
+                                " needs more memory than is available (std::bad_alloc); it was not imported.")};
   } catch (const std::exception& error) {
-    result.outcome = ImportOutcome::kFailed;
-    result.message = "test '" + test_id + "' from " + input.source.string() + " could not be read (" +
-                     error.what() + "); it was not imported.";
+    return {Failed(test_id, "test '" + test_id + "' from " + input.source.string() + " could not be read (" +
+                                error.what() + "); it was not imported.")};
   }
-  return result;
 }
 
 }  // namespace
@@ -161,9 +199,20 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   prepared.array_record = records::MakeArrayRecord(prepared.array);
   if (!options.channel_map.empty()) prepared.channel_map = formats::LoadChannelMap(options.channel_map);
   prepared.default_map = formats::LoadChannelMap("default");
+  if (prepared.channel_map) prepared.csv_columns = prepared.channel_map->CsvColumns();
+  for (auto& [slot, column] : formats::ParseCsvColumnOptions(options.csv_columns)) {
+    std::erase_if(prepared.csv_columns, [&](const auto& mapped) { return mapped.first == slot; });
+    prepared.csv_columns.emplace_back(slot, column);
+  }
+  for (const auto& [slot, column] : prepared.csv_columns)
+    if (slot != "time_s" && !prepared.array.FindSlot(slot))
+      throw UsageError("--column names slot '" + slot + "', which array '" + prepared.array.name +
+                       "' does not have.");
   prepared.initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
   prepared.initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
+  prepared.velocity_given = !options.initial_velocity_mps.empty();
   if (options.test_id && options.test_id->empty()) throw UsageError("--test-id must not be empty.");
+  if (options.position && options.position->empty()) throw UsageError("--position must not be empty.");
 
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)
@@ -181,20 +230,22 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
     if (progress) progress(++done, total, report.results.back());
   }
   for (const ImportInput& input : discovery.inputs) {
-    ImportResult result = ImportOne(catalogue, input, prepared, options);
-    switch (result.outcome) {
-      case ImportOutcome::kImported:
-        ++report.imported;
-        break;
-      case ImportOutcome::kSkipped:
-        ++report.skipped;
-        break;
-      case ImportOutcome::kFailed:
-        ++report.failed;
-        break;
+    ++done;
+    for (ImportResult& result : ImportOne(catalogue, input, prepared, options)) {
+      switch (result.outcome) {
+        case ImportOutcome::kImported:
+          ++report.imported;
+          break;
+        case ImportOutcome::kSkipped:
+          ++report.skipped;
+          break;
+        case ImportOutcome::kFailed:
+          ++report.failed;
+          break;
+      }
+      report.results.push_back(std::move(result));
+      if (progress) progress(done, total, report.results.back());
     }
-    report.results.push_back(std::move(result));
-    if (progress) progress(++done, total, report.results.back());
   }
   return report;
 }

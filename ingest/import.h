@@ -23,14 +23,25 @@ struct ImportOptions {
   std::optional<std::string> variant;
   std::optional<std::string> test_id;        // only when exactly one test is found
   std::vector<double> orientation_rad;       // phi, theta, psi (empty: 0, 0, 0)
-  std::vector<double> initial_velocity_mps;  // vx, vy, vz fixed frame (empty: 0)
+  // vx, vy, vz fixed frame (empty: the UDS-1992 INIVEL of the CG channels
+  // rotated by the orientation, else 0; docs/formats.md "UDS-1992 input").
+  std::vector<double> initial_velocity_mps;
   // Preset name or path. Empty: the "default" map for ISO-MME folders, and
-  // the report's Table 2-1 order (nine files by name) for UDS-1992 groups.
+  // for UDS-1992 groups the report's Table 2-1 order (nine files by name, an
+  // array of Table 2-1 slots), else the "default" map.
   std::string channel_map;
+  // `--column SLOT=NAME` (CSV columns feeding slots; they override the
+  // channel map's "column" entries).
+  std::vector<std::string> csv_columns;
+  // `--position P`: only the dummy head at this position (docs/formats.md
+  // "Several dummies in one test"). Without it every head found is imported,
+  // as TEST/<position> when there are several.
+  std::optional<std::string> position;
 };
 
 enum class ImportOutcome { kImported, kSkipped, kFailed };
 
+// One result per catalogue test: an input holding several dummy heads gives one per head.
 struct ImportResult {
   ImportOutcome outcome = ImportOutcome::kFailed;
   std::string test_id;

@@ -112,8 +112,10 @@ TEST_F(CliQuery, SeriesAndVariantFilterTheTests) {
   EXPECT_EQ(ids({"tests", "--series", "sled", "--variant", "foam-b"}), std::vector<std::string>{"q2"});
   EXPECT_EQ(ids({"tests", "--series", "none"}), std::vector<std::string>{});
   const nlohmann::ordered_json tests = QueryJson({"tests", "--series", "drop"});
-  EXPECT_EQ(Keys(tests[0]), (std::vector<std::string>{"test_id", "series", "variant", "array", "source_path",
-                                                      "content_hash", "imported_at"}));
+  EXPECT_EQ(Keys(tests[0]),
+            (std::vector<std::string>{"test_id", "series", "variant", "array", "source_path", "content_hash",
+                                      "imported_at", "position", "test_number", "title", "vehicle", "dummy",
+                                      "test_date", "laboratory"}));
   EXPECT_EQ(tests[0]["array"], "denton-3222");
   EXPECT_EQ(tests[0]["source_path"], (dir_ / "q3.csv").string());
 }

@@ -1,0 +1,178 @@
+#include "ingest/dummy_heads.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include "common/error.h"
+#include "formats/isomme.h"
+#include "formats/uds1992.h"
+
+namespace napkin::ingest {
+namespace {
+
+std::string PositionList(const std::vector<std::string>& positions) {
+  std::string list;
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == positions.size() ? " and " : ", ") + positions[i];
+  return list;
+}
+
+// The positions of the channels some slot of `map` matches, in order.
+std::vector<std::string> MatchedPositions(const std::vector<formats::RawChannel>& channels,
+                                          const engine::ArrayGeometry& array, const formats::ChannelMap& map) {
+  std::set<std::string> positions;
+  for (const engine::Sensor& sensor : array.sensors) {
+    const formats::ChannelMapEntry* entry = map.Find(sensor.slot);
+    if (entry == nullptr) continue;
+    for (const formats::RawChannel& channel : channels)
+      if (formats::EntryMatches(*entry, channel, sensor.kind)) positions.insert(channel.position);
+  }
+  return {positions.begin(), positions.end()};
+}
+
+// A channel's description without its samples (what AssignSlots looks at).
+formats::RawChannel Described(const formats::RawChannel& channel) {
+  formats::RawChannel described;
+  described.source = channel.source;
+  described.code = channel.code;
+  described.name = channel.name;
+  described.senatt = channel.senatt;
+  described.axis = channel.axis;
+  described.unit = channel.unit;
+  described.position = channel.position;
+  return described;
+}
+
+}  // namespace
+
+DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
+                               const engine::ArrayGeometry& array, const formats::ChannelMap& map,
+                               const std::string& test_name) {
+  DummyHeadSearch search;
+  const std::vector<std::string> positions = MatchedPositions(channels, array, map);
+  if (positions.size() <= 1) {
+    search.heads.push_back({positions.empty() ? "" : positions.front(),
+                            formats::AssignSlots(channels, array, map, test_name)});
+    return search;
+  }
+  std::optional<std::string> first_error;
+  for (const std::string& position : positions) {
+    std::vector<formats::RawChannel> own;
+    std::vector<std::size_t> index_in_test;
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      if (channels[c].position != position) continue;
+      own.push_back(Described(channels[c]));
+      index_in_test.push_back(c);
+    }
+    try {
+      DummyHead head{position, formats::AssignSlots(own, array, map, test_name + "/" + position)};
+      for (std::size_t& c : head.channel_of_sensor) c = index_in_test[c];
+      search.heads.push_back(std::move(head));
+    } catch (const InputError& error) {
+      if (!first_error) first_error = error.what();
+      search.warnings.push_back(std::string(error.what()) + " Position " + position +
+                                " is not imported: its channels do not feed every slot of array \"" +
+                                array.name + "\".");
+    }
+  }
+  if (search.heads.empty()) throw InputError(*first_error);
+  return search;
+}
+
+std::optional<Eigen::Vector3d> InitialVelocityBody(const std::vector<formats::RawChannel>& channels,
+                                                   const std::vector<std::size_t>& channel_of_sensor,
+                                                   const engine::ArrayGeometry& array) {
+  std::optional<Eigen::Vector3d> velocity_body;
+  for (std::size_t s = 0; s < array.sensors.size() && s < channel_of_sensor.size(); ++s) {
+    const engine::Sensor& sensor = array.sensors[s];
+    if (sensor.kind != engine::SensorKind::kLinear || !sensor.position_body_m.isZero(0.0)) continue;
+    const formats::RawChannel& channel = channels.at(channel_of_sensor[s]);
+    if (!channel.initial_velocity_mps) continue;
+    // INIVEL is the speed along the channel's own sense axis (docs/formats.md "UDS-1992 input").
+    for (int axis = 0; axis < 3; ++axis) {
+      if (std::abs(std::abs(sensor.axis_body[axis]) - 1.0) > 1e-12) continue;
+      if (!velocity_body) velocity_body = Eigen::Vector3d::Zero();
+      (*velocity_body)[axis] = *channel.initial_velocity_mps * sensor.axis_body[axis];
+    }
+  }
+  return velocity_body;
+}
+
+InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options, const std::string& test_name) {
+  const engine::ArrayGeometry& array = *options.array;
+  InputHeads result;
+  if (input.format == InputFormat::kCsv) {
+    formats::CsvSignals csv = formats::ReadSignalsCsv(input.source, &array, options.csv_columns);
+    HeadSignals head;
+    head.signals = std::move(csv.signals);
+    result.warnings = std::move(csv.warnings);
+    if (options.position)
+      throw InputError("test " + test_name + ": --position " + *options.position +
+                       " takes one dummy of an ISO-MME or UDS-1992 test; a CSV file holds one.");
+    result.heads.push_back(std::move(head));
+    return result;
+  }
+
+  std::vector<formats::RawChannel> channels;
+  std::vector<formats::TestInfo> info_of_channel;  // UDS-1992: per file
+  std::optional<formats::IsoMmeTest> isomme;
+  std::string name = test_name;
+  const formats::ChannelMap* map = options.channel_map != nullptr ? options.channel_map : options.default_map;
+  std::vector<DummyHead> heads;
+  if (input.format == InputFormat::kIsoMme) {
+    isomme = formats::ReadIsoMme(input.source);
+    name = isomme->TestNumber();
+    channels = std::move(isomme->channels);
+  } else {
+    for (const std::filesystem::path& file : input.files) {
+      const formats::UdsChannel channel = formats::ReadUds1992(file);
+      info_of_channel.push_back(formats::UdsTestInfo(channel));
+      channels.push_back(formats::ToRawChannel(channel, file));
+    }
+    // Report section 2.2: nine files in Table 2-1 order need no map; any other
+    // group goes through the default map, as ISO-MME folders do.
+    if (options.channel_map == nullptr && formats::InTableTwoOneOrder(channels.size(), array)) {
+      heads.push_back({"", formats::TableTwoOneAssignment(array, test_name)});
+      map = nullptr;
+    }
+  }
+  if (map != nullptr) {
+    DummyHeadSearch search = FindDummyHeads(channels, array, *map, name);
+    heads = std::move(search.heads);
+    result.warnings = std::move(search.warnings);
+  }
+
+  std::vector<std::string> positions;
+  for (const DummyHead& head : heads) positions.push_back(head.position);
+  if (options.position) {
+    const auto chosen = std::find(positions.begin(), positions.end(), *options.position);
+    if (chosen == positions.end())
+      throw InputError("test " + test_name + " has no dummy head at position " + *options.position + " (" +
+                       (heads.size() == 1 && heads.front().position.empty()
+                            ? std::string("its channels name no position")
+                            : "it holds position " + PositionList(positions)) +
+                       ").");
+    heads = {heads[static_cast<std::size_t>(chosen - positions.begin())]};
+  } else if (heads.size() > 1 && options.one_test_expected) {
+    throw InputError("test " + test_name + " holds dummy heads at positions " + PositionList(positions) +
+                     " but --test-id names one test; give --position to take one.");
+  }
+  result.several = positions.size() > 1;
+
+  for (const DummyHead& dummy : heads) {
+    HeadSignals head;
+    head.position = dummy.position;
+    head.signals = formats::AssembleSignals(channels, dummy.channel_of_sensor, array,
+                                            result.several ? name + "/" + dummy.position : name, &head.notes);
+    const formats::RawChannel& first = channels.at(dummy.channel_of_sensor.front());
+    head.info = isomme ? formats::IsoMmeTestInfo(*isomme, first) : info_of_channel.at(dummy.channel_of_sensor.front());
+    head.initial_velocity_body_mps = InitialVelocityBody(channels, dummy.channel_of_sensor, array);
+    if (map != nullptr) head.channel_map = map->name;
+    result.heads.push_back(std::move(head));
+  }
+  return result;
+}
+
+}  // namespace napkin::ingest

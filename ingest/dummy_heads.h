@@ -1,0 +1,83 @@
+#pragma once
+// Reading one import input into the dummy heads it holds (docs/formats.md
+// "Several dummies in one test"): a real ISO-MME or UDS-1992 test records
+// several dummies (driver at position 11, passenger at 13, ...); each head
+// the channel map finds is one catalogue test. Also what the files say about
+// the test (formats::TestInfo), the UDS-1992 initial velocity, and notes
+// such as channels cropped to their common span.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/array_geometry.h"
+#include "engine/signals.h"
+#include "formats/channel_map.h"
+#include "formats/csv.h"
+#include "formats/test_info.h"
+#include "ingest/discovery.h"
+
+namespace napkin::ingest {
+
+// For every sensor of the array, the channel feeding it, for one dummy.
+struct DummyHead {
+  std::string position;  // formats::RawChannel::position shared by its channels ("" if none)
+  std::vector<std::size_t> channel_of_sensor;
+};
+
+struct DummyHeadSearch {
+  std::vector<DummyHead> heads;       // in position order
+  std::vector<std::string> warnings;  // positions whose channels do not cover the array
+};
+
+// The dummy heads `map` finds among `channels`. When the matched channels
+// name one position (or none), this is AssignSlots over all channels and
+// its errors. With several positions, each position's channels are assigned
+// on their own; a position that cannot feed every slot is left out with a
+// warning, and when none can, the first position's error is thrown.
+DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
+                               const engine::ArrayGeometry& array, const formats::ChannelMap& map,
+                               const std::string& test_name);
+
+// The initial CG velocity in body axes from the channels feeding the CG
+// accelerometers (sensors at the origin sensing along a body axis) that
+// record one (UDS-1992 INIVEL, along the channel's own axis); nullopt when
+// none does.
+std::optional<Eigen::Vector3d> InitialVelocityBody(const std::vector<formats::RawChannel>& channels,
+                                                   const std::vector<std::size_t>& channel_of_sensor,
+                                                   const engine::ArrayGeometry& array);
+
+// One dummy head of an input, read and checked, ready to store.
+struct HeadSignals {
+  std::string position;  // "" when the input names none (CSV, Table 2-1 order, one unnamed dummy)
+  engine::TestSignals signals;
+  formats::TestInfo info;
+  std::optional<Eigen::Vector3d> initial_velocity_body_mps;
+  std::string channel_map;         // map used; "" for CSV and Table 2-1 order
+  std::vector<std::string> notes;  // recorded with the test (e.g. cropped spans)
+};
+
+struct InputHeads {
+  std::vector<HeadSignals> heads;  // the heads to import
+  // The input holds several dummy heads: each test id gets "/<position>"
+  // and each content hash the position.
+  bool several = false;
+  std::vector<std::string> warnings;  // ignored CSV columns, positions left out
+};
+
+struct HeadReadOptions {
+  const engine::ArrayGeometry* array = nullptr;
+  const formats::ChannelMap* channel_map = nullptr;  // --channel-map, or null
+  const formats::ChannelMap* default_map = nullptr;  // the "default" preset
+  formats::CsvColumnMap csv_columns;                 // --column and the map's "column" entries
+  std::optional<std::string> position;               // --position: take this head only
+  bool one_test_expected = false;                    // --test-id names one test
+};
+
+// Reads `input` into its dummy heads. Throws InputError (one sentence) for
+// a file problem, for --position naming a position the input lacks, and
+// when several heads are found where one test is expected (--test-id
+// without --position).
+InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options, const std::string& test_name);
+
+}  // namespace napkin::ingest
