@@ -189,8 +189,8 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
     for (const char* name : names) fields.push_back({name, false});
   };
   if (kind == QueryKind::kTests)
-    add_text({"array", "source_path", "content_hash", "imported_at", "position", "test_number", "title", "vehicle",
-              "dummy", "test_date", "laboratory"});
+    add_text({"array", "source_path", "content_hash", "imported_at", "position", "test_number", "title",
+              "vehicle", "dummy", "test_date", "laboratory"});
   if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
   return fields;

@@ -77,10 +77,9 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
           fail(where + ": code pattern " + Quoted(pattern) + " has " + std::to_string(pattern.size()) +
                " characters, ISO/TS 13499 channel codes have 16");
     }
-    for (const auto& [key, field] :
-         {std::pair<const char*, std::string*>{"senatt", &entry.senatt},
-          {"axis", &entry.axis},
-          {"column", &entry.column}}) {
+    for (const auto& [key, field] : {std::pair<const char*, std::string*>{"senatt", &entry.senatt},
+                                     {"axis", &entry.axis},
+                                     {"column", &entry.column}}) {
       if (const auto it = value.find(key); it != value.end()) {
         if (!it->is_string()) fail(where + ": \"" + key + "\" must be a string");
         *field = std::string(Trim(it->get<std::string>()));
@@ -215,7 +214,8 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
       cropped += (cropped.empty() ? "" : ", ") + label + " (" + std::to_string(dropped) + " samples)";
     }
     if (!cropped.empty())
-      notes->push_back("test " + test_name + ": the channels' time spans differ; all were cropped to the common span " +
+      notes->push_back("test " + test_name +
+                       ": the channels' time spans differ; all were cropped to the common span " +
                        FormatNumber(start, 9) + " s to " + FormatNumber(end, 9) + " s, dropping samples of " +
                        cropped + ".");
   }

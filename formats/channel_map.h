@@ -28,9 +28,9 @@ struct RawChannel {
   std::string position;
   // UDS-1992 INIVEL in m/s along the channel's own axis (nullopt: none recorded).
   std::optional<double> initial_velocity_mps;
-  std::string unit;    // as written ("g", "m/s**2", "G'S", "DEG/SEC", ...; "" if none)
-  double dt_s = 0.0;   // sampling interval
-  double t0_s = 0.0;   // time of the first sample
+  std::string unit;   // as written ("g", "m/s**2", "G'S", "DEG/SEC", ...; "" if none)
+  double dt_s = 0.0;  // sampling interval
+  double t0_s = 0.0;  // time of the first sample
   std::vector<double> values;
 
   // How messages name the channel: its code, else its file.

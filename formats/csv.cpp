@@ -60,10 +60,11 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
   for (const std::string& option : options) {
     const std::size_t equals = option.find('=');
     const std::string slot = equals == std::string::npos ? "" : std::string(Trim(option.substr(0, equals)));
-    const std::string column = equals == std::string::npos ? "" : std::string(Trim(option.substr(equals + 1)));
+    const std::string column =
+        equals == std::string::npos ? "" : std::string(Trim(option.substr(equals + 1)));
     if (slot.empty() || column.empty())
-      throw UsageError("--column takes SLOT=NAME (the CSV column NAME feeds slot SLOT), not " + Quoted(option) +
-                       ".");
+      throw UsageError("--column takes SLOT=NAME (the CSV column NAME feeds slot SLOT), not " +
+                       Quoted(option) + ".");
     for (const auto& [earlier, unused] : columns)
       if (earlier == slot) throw UsageError("--column maps slot " + Quoted(slot) + " twice.");
     columns.emplace_back(slot, column);

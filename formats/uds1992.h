@@ -73,8 +73,8 @@ TestInfo UdsTestInfo(const UdsChannel& channel);
 // Table 2-1 order: nine files, and every slot of `array` a Table 2-1 slot.
 bool InTableTwoOneOrder(std::size_t file_count, const engine::ArrayGeometry& array);
 // For each sensor of `array`, the index of its file in Table 2-1 order.
-std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& array, const std::string& test_name);
-
+std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& array,
+                                               const std::string& test_name);
 
 // VAX F_floating <-> value. The four bytes are as stored: two little-endian
 // 16-bit words, the first holding sign (bit 15), excess-128 exponent (bits

@@ -21,7 +21,8 @@ std::string PositionList(const std::vector<std::string>& positions) {
 
 // The positions of the channels some slot of `map` matches, in order.
 std::vector<std::string> MatchedPositions(const std::vector<formats::RawChannel>& channels,
-                                          const engine::ArrayGeometry& array, const formats::ChannelMap& map) {
+                                          const engine::ArrayGeometry& array,
+                                          const formats::ChannelMap& map) {
   std::set<std::string> positions;
   for (const engine::Sensor& sensor : array.sensors) {
     const formats::ChannelMapEntry* entry = map.Find(sensor.slot);
@@ -53,8 +54,8 @@ DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
   DummyHeadSearch search;
   const std::vector<std::string> positions = MatchedPositions(channels, array, map);
   if (positions.size() <= 1) {
-    search.heads.push_back({positions.empty() ? "" : positions.front(),
-                            formats::AssignSlots(channels, array, map, test_name)});
+    search.heads.push_back(
+        {positions.empty() ? "" : positions.front(), formats::AssignSlots(channels, array, map, test_name)});
     return search;
   }
   std::optional<std::string> first_error;
@@ -100,7 +101,8 @@ std::optional<Eigen::Vector3d> InitialVelocityBody(const std::vector<formats::Ra
   return velocity_body;
 }
 
-InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options, const std::string& test_name) {
+InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options,
+                          const std::string& test_name) {
   const engine::ArrayGeometry& array = *options.array;
   InputHeads result;
   if (input.format == InputFormat::kCsv) {
@@ -167,7 +169,8 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     head.signals = formats::AssembleSignals(channels, dummy.channel_of_sensor, array,
                                             result.several ? name + "/" + dummy.position : name, &head.notes);
     const formats::RawChannel& first = channels.at(dummy.channel_of_sensor.front());
-    head.info = isomme ? formats::IsoMmeTestInfo(*isomme, first) : info_of_channel.at(dummy.channel_of_sensor.front());
+    head.info = isomme ? formats::IsoMmeTestInfo(*isomme, first)
+                       : info_of_channel.at(dummy.channel_of_sensor.front());
     head.initial_velocity_body_mps = InitialVelocityBody(channels, dummy.channel_of_sensor, array);
     if (map != nullptr) head.channel_map = map->name;
     result.heads.push_back(std::move(head));

@@ -78,6 +78,7 @@ struct HeadReadOptions {
 // a file problem, for --position naming a position the input lacks, and
 // when several heads are found where one test is expected (--test-id
 // without --position).
-InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options, const std::string& test_name);
+InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options,
+                          const std::string& test_name);
 
 }  // namespace napkin::ingest

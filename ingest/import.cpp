@@ -8,8 +8,8 @@
 
 #include "common/error.h"
 #include "db/sqlite.h"
-#include "formats/array_json.h"
 #include "engine/rotation.h"
+#include "formats/array_json.h"
 #include "formats/channel_map.h"
 #include "formats/content_hash.h"
 #include "formats/csv.h"
@@ -53,13 +53,14 @@ struct PreparedImport {
 // The test-level information as metadata (docs/formats.md "Test information"): empty fields left out.
 nlohmann::json TestInfoJson(const formats::TestInfo& info, const std::string& position) {
   nlohmann::json json = nlohmann::json::object();
-  for (const auto& [key, value] : {std::pair<const char*, const std::string*>{"test_number", &info.test_number},
-                                   {"title", &info.title},
-                                   {"vehicle", &info.vehicle},
-                                   {"dummy", &info.dummy},
-                                   {"position", &position},
-                                   {"date", &info.date},
-                                   {"laboratory", &info.laboratory}})
+  for (const auto& [key, value] :
+       {std::pair<const char*, const std::string*>{"test_number", &info.test_number},
+        {"title", &info.title},
+        {"vehicle", &info.vehicle},
+        {"dummy", &info.dummy},
+        {"position", &position},
+        {"date", &info.date},
+        {"laboratory", &info.laboratory}})
     if (!value->empty()) json[key] = *value;
   return json;
 }
@@ -98,7 +99,8 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
     for (const fs::path& file : input.files) files.push_back(file.filename().string());
     metadata["files"] = std::move(files);
   }
-  if (nlohmann::json info = TestInfoJson(head.info, head.position); !info.empty()) metadata["test"] = std::move(info);
+  if (nlohmann::json info = TestInfoJson(head.info, head.position); !info.empty())
+    metadata["test"] = std::move(info);
   if (!head.notes.empty()) metadata["notes"] = head.notes;
 
   db::TestRecord record;
@@ -174,8 +176,9 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
     throw;  // the catalogue itself failed: that concerns every test, not this one
   } catch (const std::bad_alloc&) {
     // One test's failure of any kind is recorded against it and the batch goes on (README "import").
-    return {Failed(test_id, "test '" + test_id + "' from " + input.source.string() +
-                                " needs more memory than is available (std::bad_alloc); it was not imported.")};
+    return {
+        Failed(test_id, "test '" + test_id + "' from " + input.source.string() +
+                            " needs more memory than is available (std::bad_alloc); it was not imported.")};
   } catch (const std::exception& error) {
     return {Failed(test_id, "test '" + test_id + "' from " + input.source.string() + " could not be read (" +
                                 error.what() + "); it was not imported.")};

@@ -21,8 +21,8 @@ struct ImportOptions {
   std::string array;  // preset name or array JSON path (required)
   std::optional<std::string> series;
   std::optional<std::string> variant;
-  std::optional<std::string> test_id;        // only when exactly one test is found
-  std::vector<double> orientation_rad;       // phi, theta, psi (empty: 0, 0, 0)
+  std::optional<std::string> test_id;   // only when exactly one test is found
+  std::vector<double> orientation_rad;  // phi, theta, psi (empty: 0, 0, 0)
   // vx, vy, vz fixed frame (empty: the UDS-1992 INIVEL of the CG channels
   // rotated by the orientation, else 0; docs/formats.md "UDS-1992 input").
   std::vector<double> initial_velocity_mps;

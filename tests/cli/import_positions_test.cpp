@@ -33,12 +33,12 @@ class CliImportPositions : public ::testing::Test {
 };
 
 TEST_F(CliImportPositions, EachDummyHeadIsATestAndTheTestsQueryShowsItsInformation) {
-  const RunResult import = Napkin({"import", "--array", "6aw-cg", "--series", "frontal", "MD0001", "--quiet"});
+  const RunResult import =
+      Napkin({"import", "--array", "6aw-cg", "--series", "frontal", "MD0001", "--quiet"});
   ASSERT_EQ(import.exit_code, 0) << import.err;
   EXPECT_EQ(Lines(import.out).back(), "imported 2 tests, skipped 0 already present.");
 
-  const RunResult query =
-      Napkin({"query", "tests", "--where", "position=13", "--format", "json"});
+  const RunResult query = Napkin({"query", "tests", "--where", "position=13", "--format", "json"});
   ASSERT_EQ(query.exit_code, 0) << query.err;
   const nlohmann::json rows = nlohmann::json::parse(query.out);
   ASSERT_EQ(rows.size(), 1U);
@@ -56,9 +56,10 @@ TEST_F(CliImportPositions, EachDummyHeadIsATestAndTheTestsQueryShowsItsInformati
   ASSERT_EQ(csv.exit_code, 0) << csv.err;
   const std::vector<std::string> lines = Lines(csv.out);
   ASSERT_EQ(lines.size(), 3U);
-  EXPECT_EQ(lines[0],
-            "test_id,series,variant,array,source_path,content_hash,imported_at,position,test_number,title,vehicle,"
-            "dummy,test_date,laboratory");
+  EXPECT_EQ(
+      lines[0],
+      "test_id,series,variant,array,source_path,content_hash,imported_at,position,test_number,title,vehicle,"
+      "dummy,test_date,laboratory");
   EXPECT_EQ(lines[1].rfind("MD0001/13,", 0), 0U);
   EXPECT_EQ(lines[2].rfind("MD0001/11,", 0), 0U);
 }
@@ -83,12 +84,13 @@ TEST_F(CliImportPositions, AnAmbiguousPositionIsOneSentenceAndChangesNothing) {
 }
 
 TEST_F(CliImportPositions, ColumnOptionsNameTheCsvColumnsOnImportAndTransform) {
-  napkin::test_support::WriteText(dir_ / "lab.csv",
-                                  "Time,AX,AY,AZ,RX,RY,RZ\n0,0,0,0,0,0,0\n0.001,1,0,0,0,0,0\n0.002,2,0,0,0,0,0\n"
-                                  "0.003,2,0,0,0,0,0\n0.004,1,0,0,0,0,0\n0.005,0,0,0,0,0,0\n");
-  const std::vector<std::string> columns = {"--column", "time_s=Time", "--column", "cg_x=AX", "--column", "cg_y=AY",
-                                            "--column", "cg_z=AZ",     "--column", "ars_x=RX", "--column",
-                                            "ars_y=RY", "--column", "ars_z=RZ"};
+  napkin::test_support::WriteText(
+      dir_ / "lab.csv",
+      "Time,AX,AY,AZ,RX,RY,RZ\n0,0,0,0,0,0,0\n0.001,1,0,0,0,0,0\n0.002,2,0,0,0,0,0\n"
+      "0.003,2,0,0,0,0,0\n0.004,1,0,0,0,0,0\n0.005,0,0,0,0,0,0\n");
+  const std::vector<std::string> columns = {"--column", "time_s=Time", "--column", "cg_x=AX",  "--column",
+                                            "cg_y=AY",  "--column",    "cg_z=AZ",  "--column", "ars_x=RX",
+                                            "--column", "ars_y=RY",    "--column", "ars_z=RZ"};
   std::vector<std::string> import = {"import", "--array", "6aw-cg", "lab.csv", "--quiet"};
   import.insert(import.end(), columns.begin(), columns.end());
   const RunResult imported = Napkin(import);
@@ -101,7 +103,8 @@ TEST_F(CliImportPositions, ColumnOptionsNameTheCsvColumnsOnImportAndTransform) {
   ASSERT_EQ(transformed.exit_code, 0) << transformed.err;
   EXPECT_TRUE(std::filesystem::exists(dir_ / "lab_out.csv"));
 
-  const RunResult without = RunNapkin(dir_.path(), {"transform", "--array", "6aw-cg", "lab.csv", "--out", "x.csv"});
+  const RunResult without =
+      RunNapkin(dir_.path(), {"transform", "--array", "6aw-cg", "lab.csv", "--out", "x.csv"});
   EXPECT_EQ(without.exit_code, 1);
   ExpectOneSentenceError(without, {"lab.csv", "no time_s column"});
 

@@ -36,10 +36,14 @@ TEST(IsoMmeTestInfoTest, PositionsAndTestInformationOfAGeneratedLabTest) {
   EXPECT_EQ(test.channels[6].code, "13HEAD0000HFACXA");
   EXPECT_EQ(passenger.test_number, "MD0001");
   EXPECT_EQ(passenger.title, generated.title);
-  EXPECT_EQ(passenger.vehicle, "Kompaktwagen \xC3\x84" "4");
+  EXPECT_EQ(passenger.vehicle,
+            "Kompaktwagen \xC3\x84"
+            "4");
   EXPECT_EQ(passenger.dummy, "HF");
   EXPECT_EQ(passenger.date, "2019-05-21");
-  EXPECT_EQ(passenger.laboratory, "Pr\xC3\xBC" "fstand M\xC3\xBCnchen");
+  EXPECT_EQ(passenger.laboratory,
+            "Pr\xC3\xBC"
+            "fstand M\xC3\xBCnchen");
 }
 
 TEST(UdsTestInfoTest, HeaderFieldsAndInivelInMetresPerSecond) {
@@ -57,7 +61,8 @@ TEST(UdsTestInfoTest, HeaderFieldsAndInivelInMetresPerSecond) {
   channel.axis = "XL";
   channel.initial_velocity = 90.0;
   channel.values = {1.0, 2.0};
-  for (const auto& [dimsys, mps] : {std::pair<const char*, double>{"MET", 25.0}, {"SI", 90.0}, {"ENG", 40.2336}}) {
+  for (const auto& [dimsys, mps] :
+       {std::pair<const char*, double>{"MET", 25.0}, {"SI", 90.0}, {"ENG", 40.2336}}) {
     channel.dimsys = dimsys;
     WriteUds1992(channel, dir / "c.001");
     const UdsChannel read = ReadUds1992(dir / "c.001");
@@ -90,11 +95,13 @@ TEST(TableTwoOneTest, OnlyNineFilesForAnArrayOfTableTwoOneSlots) {
 
 TEST(ChannelMapTest, ColumnEntriesAreSlotsOfTheMap) {
   const ChannelMap map = ParseChannelMap(
-      nlohmann::json::parse(R"({"slots": {"cg_x": {"column": "Head X"}, "cg_y": {"code": "??HEAD0000??ACY?"}}})"),
+      nlohmann::json::parse(
+          R"({"slots": {"cg_x": {"column": "Head X"}, "cg_y": {"code": "??HEAD0000??ACY?"}}})"),
       "m.json");
   EXPECT_EQ(map.CsvColumns(), (std::vector<std::pair<std::string, std::string>>{{"cg_x", "Head X"}}));
-  ExpectInputError([] { ParseChannelMap(nlohmann::json::parse(R"({"slots": {"cg_x": {"axis": "XL"}}})"), "m.json"); },
-                   {"m.json", "slot \"cg_x\" has no \"code\" pattern, \"senatt\" or \"column\""});
+  ExpectInputError(
+      [] { ParseChannelMap(nlohmann::json::parse(R"({"slots": {"cg_x": {"axis": "XL"}}})"), "m.json"); },
+      {"m.json", "slot \"cg_x\" has no \"code\" pattern, \"senatt\" or \"column\""});
 }
 
 TEST(CsvColumnMapTest, MappedColumnsFeedTheirSlots) {
@@ -104,17 +111,24 @@ TEST(CsvColumnMapTest, MappedColumnsFeedTheirSlots) {
   array.sensors.push_back({"cg_x"});
   array.sensors.push_back({"cg_y"});
   WriteBytes(dir / "a.csv", "t,Y,X,cg_x\n0,1,2,3\n0.5,4,5,6\n");
-  const CsvSignals read = ReadSignalsCsv(dir / "a.csv", &array, {{"time_s", "t"}, {"cg_x", "X"}, {"cg_y", "Y"}});
+  const CsvSignals read =
+      ReadSignalsCsv(dir / "a.csv", &array, {{"time_s", "t"}, {"cg_x", "X"}, {"cg_y", "Y"}});
   EXPECT_EQ(read.signals.slots, (std::vector<std::string>{"cg_x", "cg_y"}));
   EXPECT_EQ(read.signals.dt_s, 0.5);
   EXPECT_EQ(read.signals.samples(1, 0), 5.0);
   EXPECT_EQ(read.signals.samples(1, 1), 4.0);
   ASSERT_EQ(read.warnings.size(), 1U);  // the unmapped "cg_x" column is not read
   EXPECT_NE(read.warnings[0].find("column \"cg_x\""), std::string::npos);
-  ExpectInputError([&] { ReadSignalsCsv(dir / "a.csv", &array, {{"time_s", "t"}, {"cg_y", "Q"}}); },
-                   {"a.csv", "no column \"Q\" (mapped to slot \"cg_y\")"});
-  ExpectInputError([&] { ReadSignalsCsv(dir / "a.csv", &array, {{"cg_z", "X"}}); },
-                   {"a.csv", "slot \"cg_z\"", "does not have"});
+  ExpectInputError(
+      [&] {
+        ReadSignalsCsv(dir / "a.csv", &array, {{"time_s", "t"}, {"cg_y", "Q"}});
+      },
+      {"a.csv", "no column \"Q\" (mapped to slot \"cg_y\")"});
+  ExpectInputError(
+      [&] {
+        ReadSignalsCsv(dir / "a.csv", &array, {{"cg_z", "X"}});
+      },
+      {"a.csv", "slot \"cg_z\"", "does not have"});
   EXPECT_EQ(ParseCsvColumnOptions({"cg_x = Head X", "time_s=t"}),
             (CsvColumnMap{{"cg_x", "Head X"}, {"time_s", "t"}}));
   EXPECT_THROW(ParseCsvColumnOptions({"cg_x"}), UsageError);

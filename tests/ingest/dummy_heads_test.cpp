@@ -83,8 +83,8 @@ TEST(MultiDummyImportTest, TwoDummyIsoMmeTestImportsExactlyItsTwoHeadsInUnderOne
   EXPECT_EQ(again.imported, 0);
 
   db::QueryRequest request;
-  request.where.push_back(db::WhereExpression{db::WhereComparison{"position", db::ComparisonOperator::kEqual,
-                                                                  std::string("13")}});
+  request.where.push_back(db::WhereExpression{
+      db::WhereComparison{"position", db::ComparisonOperator::kEqual, std::string("13")}});
   const db::Table table = catalogue.Query(db::QueryKind::kTests, request);
   ASSERT_EQ(table.rows.size(), 1U);
   EXPECT_EQ(std::get<std::string>(table.rows[0][0]), "MD0001/13");
@@ -132,8 +132,9 @@ TEST(MultiDummyImportTest, AmbiguousOrMissingPositionIsOneSentenceAndLeavesTheCa
   options.position = "12";
   const ImportReport missing = ImportTests(catalogue, {(dir / "MD0001").string()}, options);
   ASSERT_EQ(missing.failed, 1);
-  EXPECT_NE(missing.results.front().message.find("no dummy head at position 12 (it holds position 11 and 13)"),
-            std::string::npos)
+  EXPECT_NE(
+      missing.results.front().message.find("no dummy head at position 12 (it holds position 11 and 13)"),
+      std::string::npos)
       << missing.results.front().message;
   EXPECT_EQ(db::CatalogueInspector(catalogue).Dump(), before);
 
@@ -146,8 +147,8 @@ TEST(MultiDummyImportTest, AmbiguousOrMissingPositionIsOneSentenceAndLeavesTheCa
 }
 
 // A UDS-1992 channel of a generated test: a half-sine pulse, INIVEL in km/h (DIMSYS MET).
-formats::UdsChannel UdsHeadChannel(const std::string& senloc, const std::string& axis, bool rate, double amplitude,
-                                   double inivel_kmh) {
+formats::UdsChannel UdsHeadChannel(const std::string& senloc, const std::string& axis, bool rate,
+                                   double amplitude, double inivel_kmh) {
   formats::UdsChannel channel;
   channel.test_number = 4321;
   channel.title = "FRONTAL BARRIER 56 KMH";
@@ -237,8 +238,8 @@ TEST(UdsImportTest, WithoutAMapTheDefaultMapFindsEachDummyAndInivelIsTheInitialV
 
 TEST(IsoMmeImportTest, ChannelsOfDifferentSpansAreCroppedWithANoteRecordedWithTheTest) {
   TempDir dir;
-  test_support::WriteMultiDummyIsoMme(dir / "T1", {.test_number = "T1", .head_positions = {"11"},
-                                                   .channel_count = 12, .samples = 40});
+  test_support::WriteMultiDummyIsoMme(
+      dir / "T1", {.test_number = "T1", .head_positions = {"11"}, .channel_count = 12, .samples = 40});
   // Drop the last five samples of the head's y accelerometer (channel 3: acc x, rate x, acc y ...).
   const fs::path file = dir / "T1" / "Channel" / "T1.003";
   std::ifstream in(file, std::ios::binary);
@@ -271,7 +272,8 @@ TEST(IsoMmeImportTest, ChannelsOfDifferentSpansAreCroppedWithANoteRecordedWithTh
 
 TEST(CsvImportTest, ColumnOptionsAndTheMapsColumnEntriesNameTheColumns) {
   TempDir dir;
-  std::ofstream(dir / "lab.csv") << "Time,AX,AY,AZ,RX,RY,RZ,extra\n0,1,2,3,4,5,6,7\n0.001,1.5,2.5,3.5,4.5,5.5,6.5,7.5\n";
+  std::ofstream(dir / "lab.csv")
+      << "Time,AX,AY,AZ,RX,RY,RZ,extra\n0,1,2,3,4,5,6,7\n0.001,1.5,2.5,3.5,4.5,5.5,6.5,7.5\n";
   std::ofstream(dir / "map.json")
       << R"({"name": "lab", "slots": {"cg_x": {"column": "AX"}, "cg_y": {"column": "AY"}, "cg_z": {"column": "AZ"},
             "ars_x": {"column": "RX"}, "ars_y": {"column": "RY"}, "ars_z": {"column": "nope"}}})";

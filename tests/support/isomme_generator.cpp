@@ -42,7 +42,7 @@ struct Channel {
 // Body regions and vehicle locations that fill a test besides the heads
 // (ISO/TS 13499 main locations and physical dimensions).
 struct Filler {
-  const char* location;  // main location + fine locations 1-2 (8 characters)
+  const char* location;   // main location + fine locations 1-2 (8 characters)
   const char* dimension;  // physical dimension (2 characters)
   const char* directions;
   const char* unit_latin1;
@@ -107,10 +107,14 @@ GeneratedIsoMme WriteMultiDummyIsoMme(const fs::path& folder, const MultiDummyIs
     for (int a = 0; a < 3; ++a) {
       const std::string axis(1, axes[a]);
       Channel acc{head.position + "HEAD0000" + head.dummy_code + "AC" + axis + "A",
-                  "Head CG acceleration " + axis, "g", {}};
+                  "Head CG acceleration " + axis,
+                  "g",
+                  {}};
       acc.values.assign(head.acc_g.col(a).data(), head.acc_g.col(a).data() + n);
       Channel rate{head.position + "HEAD0000" + head.dummy_code + "AV" + axis + "D",
-                   "Head angular velocity " + axis, "\xB0/s", {}};
+                   "Head angular velocity " + axis,
+                   "\xB0/s",
+                   {}};
       rate.values.assign(head.omega_degps.col(a).data(), head.omega_degps.col(a).data() + n);
       channels.push_back(std::move(acc));
       channels.push_back(std::move(rate));
@@ -124,8 +128,11 @@ GeneratedIsoMme WriteMultiDummyIsoMme(const fs::path& folder, const MultiDummyIs
     for (const Filler& filler : kDummyFillers)
       for (const char* direction = filler.directions; *direction != '\0'; ++direction) {
         const std::size_t d = static_cast<std::size_t>(&position - spec.head_positions.data());
-        fillers.push_back({position + filler.location + dummy_codes[d % 4] + filler.dimension + *direction + "A",
-                           std::string(filler.name) + " " + *direction, filler.unit_latin1, {}});
+        fillers.push_back(
+            {position + filler.location + dummy_codes[d % 4] + filler.dimension + *direction + "A",
+             std::string(filler.name) + " " + *direction,
+             filler.unit_latin1,
+             {}});
       }
   for (int repeat = 0; static_cast<int>(channels.size() + fillers.size()) < spec.channel_count; ++repeat)
     for (const Filler& filler : kVehicleFillers)
@@ -133,7 +140,9 @@ GeneratedIsoMme WriteMultiDummyIsoMme(const fs::path& folder, const MultiDummyIs
         // Vehicle 1 (test object 1, position 0), then barrier-side objects 2, 3 ...
         const std::string object = std::to_string(1 + repeat);
         fillers.push_back({object + "0" + filler.location + "00" + filler.dimension + *direction + "C",
-                           std::string(filler.name) + " " + *direction, filler.unit_latin1, {}});
+                           std::string(filler.name) + " " + *direction,
+                           filler.unit_latin1,
+                           {}});
       }
   for (Channel& filler : fillers) {
     if (static_cast<int>(channels.size()) >= spec.channel_count) break;
@@ -148,13 +157,17 @@ GeneratedIsoMme WriteMultiDummyIsoMme(const fs::path& folder, const MultiDummyIs
   fs::create_directories(folder / "Channel");
   std::string mme;
   AppendLine(mme, "Data format edition number", "1.6");
-  AppendLine(mme, "Laboratory name", "Pr\xFC" "fstand M\xFCnchen");
+  AppendLine(mme, "Laboratory name",
+             "Pr\xFC"
+             "fstand M\xFCnchen");
   AppendLine(mme, "Laboratory test ref. number", spec.test_number);
   AppendLine(mme, "Test number", spec.test_number);
   AppendLine(mme, "Title", generated.title);
   AppendLine(mme, "Date of the test", generated.date);
   AppendLine(mme, "Number of test objects", "1");
-  AppendLine(mme, "Name of test object 1", "Kompaktwagen \xC4" "4");
+  AppendLine(mme, "Name of test object 1",
+             "Kompaktwagen \xC4"
+             "4");
   AppendLine(mme, "Velocity test object 1", "15.56");
   AppendLine(mme, "Number of dummies", std::to_string(spec.head_positions.size()));
   WriteBytes(folder / (spec.test_number + ".mme"), mme);

@@ -15,7 +15,7 @@ namespace napkin::test_support {
 struct MultiDummyIsoMmeSpec {
   std::string test_number = "MD0001";
   std::vector<std::string> head_positions = {"11", "13"};  // test object + position
-  int channel_count = 120;  // all channels, head channels included
+  int channel_count = 120;                                 // all channels, head channels included
   int samples = 2000;
   double dt_s = 1e-4;
   double t0_s = -0.01;
@@ -25,8 +25,8 @@ struct MultiDummyIsoMmeSpec {
 // text reads back to exactly these doubles).
 struct GeneratedHead {
   std::string position;
-  std::string dummy_code;      // fine location 3 ("H3", "HF")
-  Eigen::MatrixXd acc_g;       // samples x 3 (x, y, z), in g
+  std::string dummy_code;       // fine location 3 ("H3", "HF")
+  Eigen::MatrixXd acc_g;        // samples x 3 (x, y, z), in g
   Eigen::MatrixXd omega_degps;  // samples x 3, in deg/s
 };
 
