@@ -86,7 +86,7 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
       }
     }
     if (entry.codes.empty() && entry.senatt.empty() && entry.column.empty())
-      fail(where + " has no \"code\" pattern, \"senatt\" or \"column\"");
+      fail(where + " has neither a \"code\" pattern nor a \"senatt\" nor a \"column\"");
     map.slots.emplace_back(slot, std::move(entry));
   }
   return map;

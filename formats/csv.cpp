@@ -73,7 +73,7 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
 }
 
 CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array,
-                          const CsvColumnMap& columns) {
+                          const CsvColumnMap& column_map) {
   const std::string file = path.string();
   std::string text = ReadWholeFile(path);
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
@@ -112,22 +112,23 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
                            Quoted(name) + " twice.");
         header.push_back(std::move(name));
       }
-      const auto time_it = index_of.find(ColumnOf("time_s", columns));
+      const auto time_it = index_of.find(ColumnOf("time_s", column_map));
       if (time_it == index_of.end())
-        throw InputError(file + ": the header (line " + std::to_string(line_number) + ") has " +
-                         (ColumnOf("time_s", columns) == "time_s"
-                              ? std::string("no time_s column.")
-                              : "no column " + Quoted(ColumnOf("time_s", columns)) + " (mapped to time_s)."));
+        throw InputError(
+            file + ": the header (line " + std::to_string(line_number) + ") has " +
+            (ColumnOf("time_s", column_map) == "time_s"
+                 ? std::string("no time_s column.")
+                 : "no column " + Quoted(ColumnOf("time_s", column_map)) + " (mapped to time_s)."));
       time_field = time_it->second;
       if (array != nullptr) {
-        for (const auto& [slot, column] : columns)
+        for (const auto& [slot, column] : column_map)
           if (slot != "time_s" && !array->FindSlot(slot))
             throw InputError(file + ": the column map names slot " + Quoted(slot) + " (column " +
                              Quoted(column) + "), which array " + Quoted(array->name) + " does not have.");
         for (const engine::Sensor& sensor : array->sensors) {
-          const auto it = index_of.find(ColumnOf(sensor.slot, columns));
+          const auto it = index_of.find(ColumnOf(sensor.slot, column_map));
           if (it == index_of.end())
-            throw InputError(file + ": " + ColumnDescription(sensor.slot, columns) + " of array " +
+            throw InputError(file + ": " + ColumnDescription(sensor.slot, column_map) + " of array " +
                              Quoted(array->name) + ".");
           wanted_field.push_back(it->second);
           result.signals.slots.push_back(sensor.slot);

@@ -423,6 +423,17 @@ bool InTableTwoOneOrder(std::size_t file_count, const engine::ArrayGeometry& arr
   });
 }
 
+InputError DefaultMapError(const InputError& error, std::size_t file_count, const std::string& test_name) {
+  std::string reason = error.what();
+  const std::string prefix = "test " + test_name + ": ";
+  if (reason.rfind(prefix, 0) == 0) reason.erase(0, prefix.size());
+  if (!reason.empty() && reason.back() == '.') reason.pop_back();
+  return InputError(prefix + std::to_string(file_count) +
+                    " UDS-1992 files without a channel map (not nine in the report's Table 2-1 order) were "
+                    "matched by SENATT/AXIS through the \"default\" map, and " +
+                    reason + "; give --channel-map.");
+}
+
 std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& array,
                                                const std::string& test_name) {
   std::vector<std::size_t> channel_of_sensor;
@@ -465,7 +476,13 @@ engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
     return AssembleSignals(channels, TableTwoOneAssignment(array, test_name), array, test_name);
   const ChannelMap default_map = map == nullptr ? LoadChannelMap("default") : ChannelMap{};
   const ChannelMap& used = map != nullptr ? *map : default_map;
-  const std::vector<std::size_t> channel_of_sensor = AssignSlots(channels, array, used, test_name);
+  std::vector<std::size_t> channel_of_sensor;
+  try {
+    channel_of_sensor = AssignSlots(channels, array, used, test_name);
+  } catch (const InputError& error) {
+    if (map != nullptr) throw;
+    throw DefaultMapError(error, channels.size(), test_name);
+  }
   return AssembleSignals(channels, channel_of_sensor, array, test_name);
 }
 

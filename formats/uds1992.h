@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/error.h"
 #include "engine/array_geometry.h"
 #include "engine/signals.h"
 #include "formats/channel_map.h"
@@ -72,6 +73,10 @@ TestInfo UdsTestInfo(const UdsChannel& channel);
 // Whether `file_count` files without a channel map are read in the report's
 // Table 2-1 order: nine files, and every slot of `array` a Table 2-1 slot.
 bool InTableTwoOneOrder(std::size_t file_count, const engine::ArrayGeometry& array);
+// The error of the "default" map for a group of `file_count` files given
+// without a map and not in Table 2-1 order: `error` (the map's sentence),
+// saying why the map was used, as one sentence.
+InputError DefaultMapError(const InputError& error, std::size_t file_count, const std::string& test_name);
 // For each sensor of `array`, the index of its file in Table 2-1 order.
 std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& array,
                                                const std::string& test_name);

@@ -141,9 +141,14 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     }
   }
   if (map != nullptr) {
-    DummyHeadSearch search = FindDummyHeads(channels, array, *map, name);
-    heads = std::move(search.heads);
-    result.warnings = std::move(search.warnings);
+    try {
+      DummyHeadSearch search = FindDummyHeads(channels, array, *map, name);
+      heads = std::move(search.heads);
+      result.warnings = std::move(search.warnings);
+    } catch (const InputError& error) {
+      if (input.format != InputFormat::kUds1992 || options.channel_map != nullptr) throw;
+      throw formats::DefaultMapError(error, channels.size(), name);
+    }
   }
 
   std::vector<std::string> positions;

@@ -101,7 +101,7 @@ TEST(ChannelMapTest, ColumnEntriesAreSlotsOfTheMap) {
   EXPECT_EQ(map.CsvColumns(), (std::vector<std::pair<std::string, std::string>>{{"cg_x", "Head X"}}));
   ExpectInputError(
       [] { ParseChannelMap(nlohmann::json::parse(R"({"slots": {"cg_x": {"axis": "XL"}}})"), "m.json"); },
-      {"m.json", "slot \"cg_x\" has no \"code\" pattern, \"senatt\" or \"column\""});
+      {"m.json", "slot \"cg_x\" has neither a \"code\" pattern nor a \"senatt\" nor a \"column\""});
 }
 
 TEST(CsvColumnMapTest, MappedColumnsFeedTheirSlots) {
@@ -126,7 +126,7 @@ TEST(CsvColumnMapTest, MappedColumnsFeedTheirSlots) {
       {"a.csv", "no column \"Q\" (mapped to slot \"cg_y\")"});
   ExpectInputError(
       [&] {
-        ReadSignalsCsv(dir / "a.csv", &array, {{"cg_z", "X"}});
+        ReadSignalsCsv(dir / "a.csv", &array, {{"time_s", "t"}, {"cg_z", "X"}});
       },
       {"a.csv", "slot \"cg_z\"", "does not have"});
   EXPECT_EQ(ParseCsvColumnOptions({"cg_x = Head X", "time_s=t"}),
