@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path out = argv[1];
+  for (const fuzz::FuzzTarget& target : fuzz::FuzzTargets()) fs::create_directories(out / target.name);
   const fs::path scratch = fs::temp_directory_path() / "napkin-fuzz-seeds";
   fs::remove_all(scratch);
   fs::create_directories(scratch);
