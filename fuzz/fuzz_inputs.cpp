@@ -161,7 +161,7 @@ Outcome RunIsoMmeMme(std::string_view input) {
     WriteFile(folder / "Channel" / "FUZZ.001", kDefaultChannel);
   } else {
     for (std::size_t i = 2; i < parts.size(); ++i) {
-      char suffix[8];
+      char suffix[24];
       std::snprintf(suffix, sizeof(suffix), ".%03zu", i - 1);
       WriteFile(folder / "Channel" / (std::string("FUZZ") + suffix), parts[i]);
     }

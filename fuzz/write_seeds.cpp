@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   joined += fuzz::kIsoMmePartSeparator;
   joined += formats::ReadWholeFile(folder / "Channel" / "SEED.chn");
   for (std::size_t i = 1; i <= array.sensors.size(); ++i) {
-    char name[16];
+    char name[32];
     std::snprintf(name, sizeof(name), "SEED.%03zu", i);
     const std::string channel = formats::ReadWholeFile(folder / "Channel" / name);
     joined += fuzz::kIsoMmePartSeparator;
