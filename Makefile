@@ -5,6 +5,7 @@ JOBS ?= $(shell nproc)
 BUILD_RELEASE ?= build/release
 BUILD_TEST ?= build/test
 BUILD_BENCH ?= build/bench
+BUILD_FUZZ ?= build/fuzz
 # What the program needs (make demo): Boost.Math for compare's t distribution,
 # dygraphs embedded into the binary for report's charts. What the tests and
 # benchmarks add: Chromium opens the HTML report headless.
@@ -12,12 +13,15 @@ PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
   chromium
+# What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
+FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 
-.PHONY: deps program-deps demo test build release bench format format-check clean
+.PHONY: deps program-deps fuzz-deps demo test build release bench fuzz format format-check clean
 
 deps: PACKAGES = $(DEBIAN_PACKAGES)
 program-deps: PACKAGES = $(PROGRAM_PACKAGES)
-deps program-deps:
+fuzz-deps: PACKAGES = $(FUZZ_PACKAGES)
+deps program-deps fuzz-deps:
 	@missing=""; for p in $(PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
@@ -63,6 +67,33 @@ $(BUILD_BENCH)/CMakeCache.txt: | deps
 bench: deps $(BUILD_BENCH)/CMakeCache.txt
 	cmake --build $(BUILD_BENCH) -j$(JOBS)
 	$(BUILD_BENCH)/bench/napkin_bench
+
+# Coverage-guided fuzzing of the parsers (fuzz/, docs/architecture.md "Fuzzing"), not part of
+# `make test`: a clang build with libFuzzer and the sanitizers, each target run for FUZZ_SECONDS on
+# a corpus kept in $(BUILD_FUZZ)/corpus/<target>, seeded from fuzz/seeds/<target>. A finding
+# leaves its input in $(BUILD_FUZZ)/artifacts/<target>/: fix it, then add the input to
+# fuzz/regressions/<target>/, which `make test` runs through the same target.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?= csv isomme_channel isomme_mme uds1992 array_json processing_config_json channel_map_json
+
+$(BUILD_FUZZ)/CMakeCache.txt: | fuzz-deps
+	cmake -S . -B $(BUILD_FUZZ) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=OFF -DNAPKIN_BUILD_FUZZ=ON
+
+fuzz: fuzz-deps $(BUILD_FUZZ)/CMakeCache.txt
+	cmake --build $(BUILD_FUZZ) -j$(JOBS) --target napkin_fuzzers
+	@failed=""; for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(BUILD_FUZZ)/corpus/$$t $(BUILD_FUZZ)/artifacts/$$t $(BUILD_FUZZ)/logs $(BUILD_FUZZ)/tmp; \
+	  echo "napkin fuzz: $$t for $(FUZZ_SECONDS) s (log $(BUILD_FUZZ)/logs/$$t.log)"; \
+	  TMPDIR=$(abspath $(BUILD_FUZZ))/tmp $(BUILD_FUZZ)/fuzz/$${t}_fuzzer -max_total_time=$(FUZZ_SECONDS) \
+	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(BUILD_FUZZ)/artifacts/$$t/ \
+	    $(BUILD_FUZZ)/corpus/$$t fuzz/seeds/$$t > $(BUILD_FUZZ)/logs/$$t.log 2>&1 || failed="$$failed $$t"; \
+	  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)|^#[0-9]+.*DONE' $(BUILD_FUZZ)/logs/$$t.log; \
+	done; \
+	if [ -n "$$failed" ]; then \
+	  echo "napkin fuzz: findings in:$$failed (inputs in $(BUILD_FUZZ)/artifacts/<target>/, details in the logs)"; \
+	  exit 1; \
+	fi
 
 clean:
 	rm -rf build

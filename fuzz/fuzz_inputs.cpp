@@ -1,0 +1,221 @@
+#include "fuzz/fuzz_inputs.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "common/error.h"
+#include "engine/array_geometry.h"
+#include "formats/array_json.h"
+#include "formats/channel_map.h"
+#include "formats/csv.h"
+#include "formats/isomme.h"
+#include "formats/processing_config_json.h"
+#include "formats/uds1992.h"
+
+namespace napkin::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A private folder under $TMPDIR for the files of the current input, removed at exit.
+class ScratchDirectory {
+ public:
+  ScratchDirectory() {
+    std::string pattern = (fs::temp_directory_path() / "napkin-fuzz-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr)
+      throw std::runtime_error("napkin fuzz: cannot create a scratch folder " + pattern + " (" +
+                               std::strerror(errno) + ").");
+    path_ = pattern;
+  }
+  ~ScratchDirectory() {
+    std::error_code error;
+    fs::remove_all(path_, error);
+  }
+  ScratchDirectory(const ScratchDirectory&) = delete;
+  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+const fs::path& Scratch() {
+  static const ScratchDirectory directory;
+  return directory.path();
+}
+
+void WriteFile(const fs::path& path, std::string_view bytes) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) throw std::runtime_error("napkin fuzz: cannot write " + path.string() + ".");
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+  if (std::fclose(file) != 0 || !written)
+    throw std::runtime_error("napkin fuzz: cannot write " + path.string() + ".");
+}
+
+// The array and channel map the import is most often given for nine-accelerometer tests.
+const engine::ArrayGeometry& NineAccelerometerArray() {
+  static const engine::ArrayGeometry array = formats::LoadArray("denton-3222");
+  return array;
+}
+const formats::ChannelMap& NineAccelerometerMap() {
+  static const formats::ChannelMap map = formats::LoadChannelMap("nap-example");
+  return map;
+}
+
+// Runs `parse`; an InputError is the parser's rejection.
+template <typename Parse>
+Outcome Attempt(Parse&& parse) {
+  try {
+    parse();
+    return Outcome::kAccepted;
+  } catch (const InputError&) {
+    return Outcome::kRejected;
+  }
+}
+
+Outcome Either(Outcome a, Outcome b) {
+  return a == Outcome::kAccepted || b == Outcome::kAccepted ? Outcome::kAccepted : Outcome::kRejected;
+}
+
+// Each channel's unit as the import reads it (formats::ParseSignalUnit).
+void ParseUnits(const std::vector<formats::RawChannel>& channels) {
+  for (const formats::RawChannel& channel : channels) formats::ParseSignalUnit(channel.unit, channel.Label());
+}
+
+Outcome RunCsv(std::string_view input) {
+  const fs::path path = Scratch() / "signals.csv";
+  WriteFile(path, input);
+  const Outcome any_columns = Attempt([&] { formats::ReadSignalsCsv(path); });
+  const Outcome array_columns = Attempt([&] { formats::ReadSignalsCsv(path, &NineAccelerometerArray()); });
+  return Either(any_columns, array_columns);
+}
+
+constexpr std::string_view kDefaultMme =
+    "Data format                 :ISO-MME\n"
+    "Version                     :1.6\n"
+    "Test number                 :FUZZ-1\n"
+    "Number of test objects      :1\n";
+constexpr std::string_view kDefaultChn =
+    "Instrumentation standard    :ISO 6487\n"
+    "Number of channels          :1\n"
+    "Name of channel 001         :11HEADCG0000ACXA / Head cg_x\n";
+constexpr std::string_view kDefaultChannel =
+    "Channel code                :11HEADCG0000ACXA\n"
+    "Name of the channel         :Head cg_x\n"
+    "Sampling interval           :0.0001\n"
+    "Unit                        :g\n"
+    "Time of first sample        :0\n"
+    "Number of samples           :3\n"
+    "0\n1.5\n-2\n";
+
+// Reads the test folder as `import` does: the test, each channel's unit, and
+// the signals of the nine-accelerometer array when the channels cover it.
+Outcome ReadIsoMmeFolder(const fs::path& folder) {
+  return Attempt([&] {
+    const formats::IsoMmeTest test = formats::ReadIsoMme(folder);
+    ParseUnits(test.channels);
+    const std::string test_name = test.TestNumber();
+    if (test.channels.size() >= NineAccelerometerArray().sensors.size()) {
+      Attempt([&] {
+        formats::AssembleSignals(
+            test.channels,
+            formats::AssignSlots(test.channels, NineAccelerometerArray(), NineAccelerometerMap(), test_name),
+            NineAccelerometerArray(), test_name);
+      });
+    }
+  });
+}
+
+Outcome RunIsoMmeChannel(std::string_view input) {
+  static const fs::path folder = [] {
+    const fs::path path = Scratch() / "isomme_channel";
+    fs::create_directories(path / "Channel");
+    WriteFile(path / "FUZZ.mme", kDefaultMme);
+    WriteFile(path / "Channel" / "FUZZ.chn", kDefaultChn);
+    return path;
+  }();
+  WriteFile(folder / "Channel" / "FUZZ.001", input);
+  return ReadIsoMmeFolder(folder);
+}
+
+Outcome RunIsoMmeMme(std::string_view input) {
+  std::vector<std::string_view> parts;
+  for (std::size_t start = 0;;) {
+    const std::size_t end = input.find(kIsoMmePartSeparator, start);
+    parts.push_back(
+        input.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+    if (end == std::string_view::npos || parts.size() == 2 + kIsoMmeMaxChannelFiles) break;
+    start = end + 1;
+  }
+  const fs::path folder = Scratch() / "isomme_mme";
+  fs::remove_all(folder);
+  fs::create_directories(folder / "Channel");
+  WriteFile(folder / "FUZZ.mme", parts[0]);
+  WriteFile(folder / "Channel" / "FUZZ.chn", parts.size() > 1 ? parts[1] : kDefaultChn);
+  if (parts.size() <= 2) {
+    WriteFile(folder / "Channel" / "FUZZ.001", kDefaultChannel);
+  } else {
+    for (std::size_t i = 2; i < parts.size(); ++i) {
+      char suffix[24];
+      std::snprintf(suffix, sizeof(suffix), ".%03zu", i - 1);
+      WriteFile(folder / "Channel" / (std::string("FUZZ") + suffix), parts[i]);
+    }
+  }
+  return ReadIsoMmeFolder(folder);
+}
+
+Outcome RunUds1992(std::string_view input) {
+  const fs::path path = Scratch() / "FUZZ.001";
+  WriteFile(path, input);
+  return Attempt([&] {
+    const formats::RawChannel channel = formats::ToRawChannel(formats::ReadUds1992(path), path);
+    ParseUnits({channel});
+  });
+}
+
+Outcome RunArrayJson(std::string_view input) {
+  const fs::path path = Scratch() / "array.json";
+  WriteFile(path, input);
+  return Attempt([&] { formats::ReadArrayJson(path); });
+}
+
+Outcome RunProcessingConfigJson(std::string_view input) {
+  const fs::path path = Scratch() / "processing.json";
+  WriteFile(path, input);
+  return Attempt([&] { formats::CanonicalProcessingConfig(formats::ReadProcessingConfig(path)); });
+}
+
+Outcome RunChannelMapJson(std::string_view input) {
+  const fs::path path = Scratch() / "channel-map.json";
+  WriteFile(path, input);
+  return Attempt([&] { formats::ReadChannelMap(path); });
+}
+
+}  // namespace
+
+const std::vector<FuzzTarget>& FuzzTargets() {
+  static const std::vector<FuzzTarget> targets = {
+      {"csv", "formats::ReadSignalsCsv (any columns, and the denton-3222 array)", RunCsv},
+      {"isomme_channel", "formats::ReadIsoMme, one ISO-MME channel file", RunIsoMmeChannel},
+      {"isomme_mme", "formats::ReadIsoMme, AssignSlots, AssembleSignals: .mme, .chn and channel files",
+       RunIsoMmeMme},
+      {"uds1992", "formats::ReadUds1992, one UDS-1992 file", RunUds1992},
+      {"array_json", "formats::ReadArrayJson", RunArrayJson},
+      {"processing_config_json", "formats::ReadProcessingConfig", RunProcessingConfigJson},
+      {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},
+  };
+  return targets;
+}
+
+const FuzzTarget& GetFuzzTarget(std::string_view name) {
+  for (const FuzzTarget& target : FuzzTargets())
+    if (target.name == name) return target;
+  throw std::invalid_argument("napkin fuzz: no fuzz target " + std::string(name) + ".");
+}
+
+}  // namespace napkin::fuzz
