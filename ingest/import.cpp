@@ -15,6 +15,7 @@
 #include "formats/uds1992.h"
 #include "ingest/content_hash.h"
 #include "ingest/store.h"
+#include "ingest/zip_input.h"
 #include "records/array_record.h"
 
 namespace napkin::ingest {
@@ -51,6 +52,7 @@ struct ReadTest {
   engine::TestSignals signals;
   std::vector<std::string> warnings;
   std::string channel_map;  // name of the map used, "" for CSV and Table 2-1 order
+  std::optional<InputFormat> archived_format;  // the format inside a zip archive
 };
 
 ReadTest ReadInput(const ImportInput& input, const PreparedImport& prepared, const std::string& test_id) {
@@ -70,8 +72,19 @@ ReadTest ReadInput(const ImportInput& input, const PreparedImport& prepared, con
     }
     case InputFormat::kUds1992: {
       const formats::ChannelMap* map = prepared.channel_map ? &*prepared.channel_map : nullptr;
-      read.signals = formats::ReadUdsTest(input.files, prepared.array, map, test_id);
+      read.signals = formats::ReadUdsTest(input.files, prepared.array, map, test_id, &read.warnings);
       if (map != nullptr) read.channel_map = map->name;
+      break;
+    }
+    case InputFormat::kZipArchive: {
+      const ArchiveTest archive(input.source);  // its temporary folder is removed on leaving
+      try {
+        read = ReadInput(archive.input(), prepared, test_id);
+      } catch (const InputError& error) {
+        throw InputError(archive.InArchiveTerms(error.what()));
+      }
+      for (std::string& warning : read.warnings) warning = archive.InArchiveTerms(warning);
+      read.archived_format = archive.input().format;
       break;
     }
   }
@@ -101,7 +114,8 @@ ImportResult ImportOne(db::Catalogue& catalogue, const ImportInput& input, const
     // Read and check everything before writing anything.
     ReadTest read = ReadInput(input, prepared, test_id);
     nlohmann::json metadata = nlohmann::json::object();
-    metadata["format"] = InputFormatName(input.format);
+    metadata["format"] = InputFormatName(read.archived_format.value_or(input.format));
+    if (read.archived_format) metadata["archive"] = InputFormatName(input.format);
     if (!read.channel_map.empty()) metadata["channel_map"] = read.channel_map;
     if (input.format == InputFormat::kUds1992) {
       nlohmann::json files = nlohmann::json::array();
