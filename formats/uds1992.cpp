@@ -225,8 +225,9 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
     throw InputError(file + ": NCHAN is " + std::to_string(nchan) +
                      "; napkin reads UDS-1992 files of one channel.");
   if (nchan > 1)
-    channel.warnings.push_back(file + ": NCHAN is " + std::to_string(nchan) +
-                               "; the file holds one curve, read as its one channel (as NHTSA's reader does).");
+    channel.warnings.push_back(
+        file + ": NCHAN is " + std::to_string(nchan) +
+        "; the file holds one curve, read as its one channel (as NHTSA's reader does).");
   const std::string fileform = ReadString(header, file_header::kFileform);
   if (fileform != "Y")
     throw InputError(file + ": FILEFORM is " + Quoted(fileform) +
@@ -409,7 +410,8 @@ engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
   channels.reserve(sorted.size());
   for (const std::filesystem::path& file : sorted) {
     const UdsChannel channel = ReadUds1992(file);
-    if (warnings != nullptr) warnings->insert(warnings->end(), channel.warnings.begin(), channel.warnings.end());
+    if (warnings != nullptr)
+      warnings->insert(warnings->end(), channel.warnings.begin(), channel.warnings.end());
     channels.push_back(ToRawChannel(channel, file));
   }
 

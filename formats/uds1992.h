@@ -38,11 +38,11 @@ struct UdsChannel {
   std::string yunits = "G'S";
   std::string xtyp = "TIME";
   std::string xunits = "SECONDS";
-  std::string curve_description;  // CURDSC
-  int nfp = 0;                    // index of the first sample (sample i is at i * del)
-  double del_s = 1e-4;            // sampling interval (stored as REAL*4)
-  double initial_velocity = 0.0;  // INIVEL
-  std::vector<double> values;     // NLP - NFP + 1 samples (REAL*4 precision)
+  std::string curve_description;      // CURDSC
+  int nfp = 0;                        // index of the first sample (sample i is at i * del)
+  double del_s = 1e-4;                // sampling interval (stored as REAL*4)
+  double initial_velocity = 0.0;      // INIVEL
+  std::vector<double> values;         // NLP - NFP + 1 samples (REAL*4 precision)
   std::vector<std::string> warnings;  // what the reader noticed but read anyway (NCHAN above 1)
 
   int nlp() const { return nfp + static_cast<int>(values.size()) - 1; }

@@ -19,9 +19,8 @@ std::string LibzipMessage(int code) {
 }
 
 std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) {
-    return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-  });
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); });
   return text;
 }
 
@@ -45,8 +44,7 @@ std::optional<std::string> UnsafeMemberName(std::string_view name) {
   return std::nullopt;
 }
 
-ZipArchive::ZipArchive(const std::filesystem::path& path, ZipLimits limits)
-    : path_(path), limits_(limits) {
+ZipArchive::ZipArchive(const std::filesystem::path& path, ZipLimits limits) : path_(path), limits_(limits) {
   int code = 0;
   archive_ = zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code);
   if (archive_ == nullptr)
@@ -110,9 +108,9 @@ std::string ZipArchive::Read(const ZipMember& member) {
   if (member.size > limits_.ratio_floor_bytes &&
       static_cast<double>(member.size) > limits_.max_ratio * static_cast<double>(member.compressed_size)) {
     char ratio[32];
-    std::snprintf(ratio, sizeof(ratio), "%.0f", static_cast<double>(member.size) /
-                                                     static_cast<double>(std::max<std::uint64_t>(
-                                                         member.compressed_size, 1)));
+    std::snprintf(ratio, sizeof(ratio), "%.0f",
+                  static_cast<double>(member.size) /
+                      static_cast<double>(std::max<std::uint64_t>(member.compressed_size, 1)));
     throw InputError(Where(member) + " inflates " + ratio + " times (" + Bytes(member.compressed_size) +
                      " to " + Bytes(member.size) + "), the ratio of a zip bomb.");
   }

@@ -32,7 +32,7 @@ struct ZipLimits {
 
 struct ZipMember {
   std::uint64_t index = 0;
-  std::string name;  // as stored, '/' separated ('\\' read as '/')
+  std::string name;                   // as stored, '/' separated ('\\' read as '/')
   std::uint64_t size = 0;             // declared uncompressed size
   std::uint64_t compressed_size = 0;  // declared compressed size
   bool directory = false;             // name ends with '/'

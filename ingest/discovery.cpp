@@ -164,8 +164,9 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
         continue;
       }
       if (discovery.inputs.size() == before)
-        discovery.errors.push_back("folder '" + text +
-                                   "' holds no test (no CSV file, ISO-MME test folder, UDS-1992 file or zip archive).");
+        discovery.errors.push_back(
+            "folder '" + text +
+            "' holds no test (no CSV file, ISO-MME test folder, UDS-1992 file or zip archive).");
     } else if (HasExtension(path, ".csv")) {
       discovery.inputs.push_back(CsvInput(path));
     } else if (HasExtension(path, ".mme")) {

@@ -51,7 +51,7 @@ struct PreparedImport {
 struct ReadTest {
   engine::TestSignals signals;
   std::vector<std::string> warnings;
-  std::string channel_map;  // name of the map used, "" for CSV and Table 2-1 order
+  std::string channel_map;                     // name of the map used, "" for CSV and Table 2-1 order
   std::optional<InputFormat> archived_format;  // the format inside a zip archive
 };
 

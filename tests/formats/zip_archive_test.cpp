@@ -48,7 +48,8 @@ void ExpectMentions(const std::string& message, std::initializer_list<std::strin
 
 // Little-endian 32-bit field of a zip header.
 void PatchWord(std::string& bytes, std::size_t offset, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) bytes[offset + static_cast<std::size_t>(i)] = static_cast<char>(value >> (8 * i));
+  for (int i = 0; i < 4; ++i)
+    bytes[offset + static_cast<std::size_t>(i)] = static_cast<char>(value >> (8 * i));
 }
 std::uint32_t WordAt(const std::string& bytes, std::size_t offset) {
   std::uint32_t value = 0;
@@ -81,8 +82,8 @@ class ZipArchiveTest : public ::testing::Test {
 TEST(UnsafeMemberName, RefusesAbsolutePathsDriveLettersAndParentComponents) {
   for (const char* safe : {"a.mme", "T1/Channel/T1.001", "./x.csv", "..a/b..", "dir/"})
     EXPECT_FALSE(UnsafeMemberName(safe)) << safe;
-  for (const char* unsafe : {"/etc/passwd", "\\x.mme", "C:/x.mme", "c:x", "../x.mme", "a/../../x",
-                             "a\\..\\x", "a/..", "", "a\nb"})
+  for (const char* unsafe :
+       {"/etc/passwd", "\\x.mme", "C:/x.mme", "c:x", "../x.mme", "a/../../x", "a\\..\\x", "a/..", "", "a\nb"})
     EXPECT_TRUE(UnsafeMemberName(unsafe)) << unsafe;
 }
 

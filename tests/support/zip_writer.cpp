@@ -42,7 +42,8 @@ std::vector<ZipEntry> FolderEntries(const std::filesystem::path& folder, const s
     bytes << in.rdbuf();
     entries.push_back({prefix + entry.path().lexically_relative(folder).generic_string(), bytes.str()});
   }
-  std::sort(entries.begin(), entries.end(), [](const ZipEntry& a, const ZipEntry& b) { return a.name < b.name; });
+  std::sort(entries.begin(), entries.end(),
+            [](const ZipEntry& a, const ZipEntry& b) { return a.name < b.name; });
   return entries;
 }
 
