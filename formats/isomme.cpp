@@ -1,6 +1,7 @@
 #include "formats/isomme.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -159,6 +160,13 @@ struct OutputChannel {
   std::vector<double> values;
 };
 
+// The shortest decimal without exponent that reads back as `value` (0.0001, not 1e-04).
+std::string FixedDecimal(double value) {
+  char buffer[400];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed);
+  return std::string(buffer, result.ptr);
+}
+
 // The decimal a computed grid value stands for: 15 significant digits
 // ((t_last - t_first) / (n - 1) = 9.9999999999999991e-05 is 0.0001).
 double IntendedDecimal(double value) { return *ParseDouble(FormatNumber(value, 15)); }
@@ -195,7 +203,7 @@ void WriteTestFolder(const std::filesystem::path& folder, const std::string& tes
       AppendHeaderLine(text, "Name of the channel", channel.name);
       AppendHeaderLine(text, "Data source", "calculated");
       AppendHeaderLine(text, "Reference system", channel.reference_system);
-      AppendHeaderLine(text, "Sampling interval", FormatNumber(dt));
+      AppendHeaderLine(text, "Sampling interval", FixedDecimal(dt));
       AppendHeaderLine(text, "Channel frequency class", channel.cfc ? FormatNumber(*channel.cfc) : "NOVALUE");
       AppendHeaderLine(text, "Reference channel", "implicit");
       AppendHeaderLine(text, "Unit", channel.unit);

@@ -95,7 +95,7 @@ TEST_F(CliExportFormats, IsoMmeRoundTripGivesIdenticalCriteria) {
   ASSERT_EQ(import.exit_code, 0) << import.err;
   // The exported channels are conditioned already: the second run applies no bias removal or filter.
   WriteText(dir_ / "as-exported.json",
-            R"({"name": "as-exported", "filter": {"linear_cfc": null, "angular_rate_cfc": null},
+            R"({"name": "as-exported", "filter": {"linear_cfc": "none", "angular_rate_cfc": "none"},
                 "bias": {"mode": "none"}})");
   const RunResult run = RunNapkin(dir_.path(), {"run", "--config", "as-exported.json"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
