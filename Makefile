@@ -10,7 +10,7 @@ BUILD_FUZZ ?= build/fuzz
 # dygraphs embedded into the binary for report's charts. What the tests and
 # benchmarks add: Chromium opens the HTML report headless.
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
   chromium
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.

@@ -1,9 +1,11 @@
 // `napkin export`: one test's stored derived channels (the kinematics its
 // latest result, or the result under --config, wrote) as the derived-channel
 // CSV, LS-DYNA keyword load curves, the legacy LC_FILE.DAT, or an ISO-MME
-// folder. Reads the catalogue only; the output is written atomically.
+// folder, or the report's UDS-1992 output files. Reads the catalogue only; the
+// output is written atomically.
 #include <fmt/core.h>
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +16,9 @@
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
+#include "formats/processing_config_json.h"
+#include "formats/uds_export.h"
+#include "records/array_record.h"
 
 namespace napkin::cli {
 namespace {
@@ -24,10 +29,19 @@ class ExportCommand : public Command {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("export", "write one test's derived channels");
     sub->add_option("--test", test_id_, "test id")->required();
-    sub->add_option("--format", format_, "csv, lsdyna, lcfile or isomme")
+    sub->add_option("--format", format_, "csv, lsdyna, lcfile, isomme or uds")
         ->required()
-        ->check(CLI::IsMember({"csv", "lsdyna", "lcfile", "isomme"}));
-    sub->add_option("--out", out_, "file to write (a folder for isomme)")->required();
+        ->check(CLI::IsMember({"csv", "lsdyna", "lcfile", "isomme", "uds"}));
+    sub->add_option("--out", out_, "file to write (a folder for isomme and uds)")->required();
+    sub->add_option("--numform", numform_, "uds number form: ieee, vax or sun")
+        ->check(CLI::IsMember({"ieee", "vax", "sun"}))
+        ->capture_default_str();
+    sub->add_option("--position", position_,
+                    "isomme: test object and seat position of the channel codes (default: the test's "
+                    "stored position, else 11)");
+    sub->add_option("--dummy-type", dummy_type_,
+                    "isomme: dummy type of the channel codes, e.g. H3 (default: the test's stored dummy "
+                    "type, else 00)");
     sub->add_option(
         "--config", config_,
         "processing config preset or JSON file whose result to export (default: the latest result)");
@@ -76,13 +90,44 @@ class ExportCommand : public Command {
       formats::WriteLsDynaKeyword(*kinematics, out_, options);
     } else if (format_ == "lcfile") {
       formats::WriteLcFile(*kinematics, out_);
+    } else if (format_ == "uds") {
+      const formats::UdsNumberForm form = numform_ == "vax"   ? formats::UdsNumberForm::kVax
+                                          : numform_ == "sun" ? formats::UdsNumberForm::kSun
+                                                              : formats::UdsNumberForm::kIeee;
+      formats::WriteDerivedUds(*kinematics, out_, test_id_, form);
     } else {
-      formats::WriteDerivedIsoMme(*kinematics, out_, test_id_);
+      formats::WriteDerivedIsoMme(*kinematics, out_, test_id_, IsoMmeOptions(catalogue, *test, *config));
     }
     return kExitOk;
   }
 
  private:
+  // The channel codes' position and dummy type (options, else the test's
+  // metadata "position" / "dummy_type"), the filters the result's config
+  // applied, and whether the array has angular-rate sensors.
+  formats::IsoMmeExportOptions IsoMmeOptions(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
+    formats::IsoMmeExportOptions options;
+    const db::TestRecord record = catalogue.ReadTest(test);
+    const nlohmann::json metadata = nlohmann::json::parse(record.metadata_json, nullptr, false);
+    auto stored = [&](const char* key) -> std::optional<std::string> {
+      if (!metadata.is_object() || !metadata.contains(key)) return std::nullopt;
+      const nlohmann::json& value = metadata.at(key);
+      if (value.is_string()) return value.get<std::string>();
+      if (value.is_number_integer()) return std::to_string(value.get<long long>());
+      return std::nullopt;
+    };
+    options.position = position_.value_or(stored("position").value_or(options.position));
+    options.dummy_type = dummy_type_.value_or(stored("dummy_type").value_or(options.dummy_type));
+    const engine::ProcessingConfig processing = formats::ParseProcessingConfig(
+        nlohmann::json::parse(catalogue.ReadConfig(config).config_json), "the result's config");
+    options.linear_cfc = processing.filter.linear_cfc;
+    options.angular_rate_cfc = processing.filter.angular_rate_cfc;
+    for (const engine::Sensor& sensor :
+         records::DecodeArrayRecord(catalogue.ReadArray(record.array_id)).sensors)
+      if (sensor.kind == engine::SensorKind::kAngularRate) options.angular_rate_sensors = true;
+    return options;
+  }
+
   const GlobalOptions* global_ = nullptr;
   std::string test_id_;
   std::string format_;
@@ -90,6 +135,9 @@ class ExportCommand : public Command {
   std::string config_;
   std::string units_ = formats::LsDynaUnitsName(formats::LsDynaUnits::kSi);
   int part_ = 1;
+  std::string numform_ = "ieee";
+  std::optional<std::string> position_;
+  std::optional<std::string> dummy_type_;
 };
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "formats/isomme.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -156,8 +158,20 @@ struct OutputChannel {
   std::string name;
   std::string unit;
   std::string reference_system;  // "local" (body axes) or "global" (fixed axes)
+  std::optional<double> cfc;     // filter class applied (nullopt: none)
   std::vector<double> values;
 };
+
+// The shortest decimal without exponent that reads back as `value` (0.0001, not 1e-04).
+std::string FixedDecimal(double value) {
+  char buffer[400];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed);
+  return std::string(buffer, result.ptr);
+}
+
+// The decimal a computed grid value stands for: 15 significant digits
+// ((t_last - t_first) / (n - 1) = 9.9999999999999991e-05 is 0.0001).
+double IntendedDecimal(double value) { return *ParseDouble(FormatNumber(value, 15)); }
 
 void WriteTestFolder(const std::filesystem::path& folder, const std::string& test_number, double dt,
                      double t0, const std::vector<OutputChannel>& channels, int precision) {
@@ -191,7 +205,9 @@ void WriteTestFolder(const std::filesystem::path& folder, const std::string& tes
       AppendHeaderLine(text, "Name of the channel", channel.name);
       AppendHeaderLine(text, "Data source", "calculated");
       AppendHeaderLine(text, "Reference system", channel.reference_system);
-      AppendHeaderLine(text, "Sampling interval", FormatNumber(dt));
+      AppendHeaderLine(text, "Sampling interval", FixedDecimal(dt));
+      AppendHeaderLine(text, "Channel frequency class", channel.cfc ? FormatNumber(*channel.cfc) : "NOVALUE");
+      AppendHeaderLine(text, "Reference channel", "implicit");
       AppendHeaderLine(text, "Unit", channel.unit);
       AppendHeaderLine(text, "Time of first sample", FormatNumber(t0));
       AppendHeaderLine(text, "Number of samples", std::to_string(channel.values.size()));
@@ -212,6 +228,15 @@ std::string IsoUnit(const std::string& unit) {
 }
 
 }  // namespace
+
+char FilterClassLetter(std::optional<double> cfc) {
+  if (!cfc) return '0';
+  if (*cfc == 1000.0) return 'A';
+  if (*cfc == 600.0) return 'B';
+  if (*cfc == 180.0) return 'C';
+  if (*cfc == 60.0) return 'D';
+  return 'X';
+}
 
 std::string IsoMmeTest::TestNumber() const {
   for (const auto& [key, value] : test_info)
@@ -338,50 +363,77 @@ void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry
 }
 
 void WriteDerivedIsoMme(const engine::Kinematics& kinematics, const std::filesystem::path& folder,
-                        const std::string& test_number) {
+                        const std::string& test_number, const IsoMmeExportOptions& options) {
   const Eigen::Index n = kinematics.size();
   if (n < 2) throw InputError(folder.string() + ": cannot export fewer than two samples.");
-  const double dt = (kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1);
+  auto code_field = [&](const std::string& value, const char* what) {
+    if (value.size() != 2 || !std::all_of(value.begin(), value.end(), [](char c) {
+          return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z');
+        }))
+      throw UsageError("the ISO-MME " + std::string(what) + " \"" + value +
+                       "\" is not two characters 0-9 or A-Z.");
+  };
+  code_field(options.position, "position");
+  code_field(options.dummy_type, "dummy type");
+  const double dt =
+      IntendedDecimal((kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1));
+  // Linear motion comes from the accelerometers; angular motion from the
+  // rate sensors when the array has them, else from the accelerometers.
+  const std::optional<double> linear_cfc = options.linear_cfc;
+  const std::optional<double> angular_cfc =
+      options.angular_rate_sensors ? options.angular_rate_cfc : options.linear_cfc;
+  // ISO/TS 13499 code: position (2), HEAD, fine locations 1-2, dummy type
+  // (fine location 3), dimension, direction, filter class.
+  auto code = [&](const char* fine12, const char* dimension, char direction, std::optional<double> cfc) {
+    return options.position + "HEAD" + fine12 + options.dummy_type + dimension + direction +
+           FilterClassLetter(cfc);
+  };
   std::vector<OutputChannel> channels;
   const char axes[3] = {'X', 'Y', 'Z'};
-  // Fine location 3: "00" body axes, "FX" fixed axes.
-  auto add3 = [&](const engine::Series3& series, const char* fine3, const char* dimension, const char* unit,
-                  const char* what, double scale) {
+  // Fine locations 1-2: "0000" body axes (the head CG sensor's own code),
+  // "00GL" fixed (global) axes, "00DC" direction-cosine angles.
+  auto add3 = [&](const engine::Series3& series, const char* fine12, const char* dimension, const char* unit,
+                  const char* what, double scale, std::optional<double> cfc) {
     for (int a = 0; a < 3; ++a) {
       OutputChannel channel;
-      channel.code = std::string("11HEADCG00") + fine3 + dimension + axes[a] + "0";
+      channel.code = code(fine12, dimension, axes[a], cfc);
       channel.name = std::string("Head CG ") + what + " " + axes[a];
       channel.unit = unit;
-      channel.reference_system = std::string(fine3) == "FX" ? "global" : "local";
+      channel.reference_system = std::string(fine12) == "0000" ? "local" : "global";
+      channel.cfc = cfc;
       channel.values.resize(static_cast<std::size_t>(n));
       for (Eigen::Index k = 0; k < n; ++k) channel.values[static_cast<std::size_t>(k)] = series(k, a) * scale;
       channels.push_back(std::move(channel));
     }
   };
   const double g_per_si = 1.0 / engine::kStandardGravity;
-  add3(kinematics.acc_body, "00", "AC", "g", "acceleration, body axes", g_per_si);
-  add3(kinematics.acc_fixed, "FX", "AC", "g", "acceleration, fixed axes", g_per_si);
-  add3(kinematics.vel_fixed, "FX", "VE", "m/s", "velocity, fixed axes", 1.0);
-  add3(kinematics.pos_fixed, "FX", "DS", "m", "displacement, fixed axes", 1.0);
-  add3(kinematics.omega_body, "00", "AV", "rad/s", "angular velocity, body axes", 1.0);
-  add3(kinematics.omega_fixed, "FX", "AV", "rad/s", "angular velocity, fixed axes", 1.0);
-  add3(kinematics.alpha_body, "00", "AA", "rad/s**2", "angular acceleration, body axes", 1.0);
-  add3(kinematics.alpha_fixed, "FX", "AA", "rad/s**2", "angular acceleration, fixed axes", 1.0);
-  add3(kinematics.roll_pitch_yaw_rad, "FX", "AN", "deg", "roll/pitch/yaw angle about fixed",
-       engine::kDegPerRad);
-  add3(kinematics.dcos_rad, "DC", "AN", "deg", "angle between body and fixed axis", engine::kDegPerRad);
+  add3(kinematics.acc_body, "0000", "AC", "g", "acceleration, body axes", g_per_si, linear_cfc);
+  add3(kinematics.acc_fixed, "00GL", "AC", "g", "acceleration, fixed axes", g_per_si, linear_cfc);
+  add3(kinematics.vel_fixed, "00GL", "VE", "m/s", "velocity, fixed axes", 1.0, linear_cfc);
+  add3(kinematics.pos_fixed, "00GL", "DS", "m", "displacement, fixed axes", 1.0, linear_cfc);
+  add3(kinematics.omega_body, "0000", "AV", "rad/s", "angular velocity, body axes", 1.0, angular_cfc);
+  add3(kinematics.omega_fixed, "00GL", "AV", "rad/s", "angular velocity, fixed axes", 1.0, angular_cfc);
+  add3(kinematics.alpha_body, "0000", "AA", "rad/s**2", "angular acceleration, body axes", 1.0, angular_cfc);
+  add3(kinematics.alpha_fixed, "00GL", "AA", "rad/s**2", "angular acceleration, fixed axes", 1.0,
+       angular_cfc);
+  add3(kinematics.roll_pitch_yaw_rad, "00GL", "AN", "deg", "roll/pitch/yaw angle about fixed",
+       engine::kDegPerRad, angular_cfc);
+  add3(kinematics.dcos_rad, "00DC", "AN", "deg", "angle between body and fixed axis", engine::kDegPerRad,
+       angular_cfc);
   const char quaternion_parts[4] = {'W', 'X', 'Y', 'Z'};
   for (int c = 0; c < 4; ++c) {
     OutputChannel channel;
-    channel.code = std::string("11HEADCG00FXQU") + quaternion_parts[c] + "0";
+    channel.code = code("00GL", "QU", quaternion_parts[c], angular_cfc);
     channel.name = std::string("Head orientation quaternion (body to fixed) ") + quaternion_parts[c];
     channel.unit = "1";
     channel.reference_system = "global";
+    channel.cfc = angular_cfc;
     channel.values.assign(kinematics.quat_fixed_from_body.col(c).data(),
                           kinematics.quat_fixed_from_body.col(c).data() + n);
     channels.push_back(std::move(channel));
   }
-  WriteTestFolder(folder, test_number, dt, kinematics.time_s[0], channels, 12);
+  // Shortest exact numbers: a re-import reads back the very doubles napkin computed.
+  WriteTestFolder(folder, test_number, dt, IntendedDecimal(kinematics.time_s[0]), channels, 0);
 }
 
 }  // namespace napkin::formats

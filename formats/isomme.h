@@ -7,6 +7,7 @@
 // (2 each), physical dimension (2), direction (1), filter class (1), e.g.
 // 11HEAD0000H3ACXA.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,11 +55,32 @@ std::string CodeForSlot(const ChannelMap& map, const std::string& slot);
 void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array,
                  const ChannelMap& map, const std::filesystem::path& folder, const std::string& test_number);
 
+// What an ISO-MME export says about the channels (ISO/TS 13499 channel codes,
+// docs/formats.md "ISO-MME export").
+struct IsoMmeExportOptions {
+  std::string position =
+      "11";  // code characters 1-2: test object and seat position (11 driver, 13 passenger)
+  std::string dummy_type = "00";  // fine location 3 (e.g. "H3"); "00" when not known
+  // The CFC filters napkin applied (nullopt: none) to the linear
+  // accelerometers, and to the angular-rate sensors when the array has them
+  // (angular motion then comes from them; otherwise from the accelerometers).
+  std::optional<double> linear_cfc;
+  std::optional<double> angular_rate_cfc;
+  bool angular_rate_sensors = false;
+};
+
+// ISO/TS 13499 filter class letter of a CFC: 0 (none), A (1000), B (600),
+// C (180), D (60), X (another class).
+char FilterClassLetter(std::optional<double> cfc);
+
 // Writes the derived channels of one test as an ISO-MME folder (`export
 // --format isomme`): head CG acceleration (g), velocity, displacement,
-// angular velocity and acceleration in body ("00") and fixed ("FX") axes,
-// roll/pitch/yaw and DCOS angles (deg), orientation quaternion.
+// angular velocity and acceleration in body (fine locations "0000") and
+// fixed ("00GL") axes, roll/pitch/yaw ("00GL" AN) and DCOS ("00DC" AN) angles
+// (deg), orientation quaternion ("00GL" QU). Every channel header carries
+// `Channel frequency class`, `Reference channel` (implicit: the time base is
+// `Time of first sample` and the exact decimal `Sampling interval`).
 void WriteDerivedIsoMme(const engine::Kinematics& kinematics, const std::filesystem::path& folder,
-                        const std::string& test_number);
+                        const std::string& test_number, const IsoMmeExportOptions& options = {});
 
 }  // namespace napkin::formats

@@ -225,9 +225,13 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   }
   const UdsNumberForm form = channel.number_form;
   const std::int32_t nchan = ReadInt(header, file_header::kNchan, form);
-  if (nchan != 1)
+  if (nchan < 1)
     throw InputError(file + ": NCHAN is " + std::to_string(nchan) +
                      "; napkin reads UDS-1992 files of one channel.");
+  if (nchan > 1)
+    channel.warnings.push_back(
+        file + ": NCHAN is " + std::to_string(nchan) +
+        "; the file holds one curve, read as its one channel (as NHTSA's reader does).");
   const std::string fileform = ReadString(header, file_header::kFileform);
   if (fileform != "Y")
     throw InputError(file + ": FILEFORM is " + Quoted(fileform) +
@@ -462,13 +466,18 @@ std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUds
 
 engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
                                 const engine::ArrayGeometry& array, const ChannelMap* map,
-                                const std::string& test_name) {
+                                const std::string& test_name, std::vector<std::string>* warnings) {
   std::vector<std::filesystem::path> sorted = files;
   std::sort(sorted.begin(), sorted.end(),
             [](const auto& a, const auto& b) { return a.filename().string() < b.filename().string(); });
   std::vector<RawChannel> channels;
   channels.reserve(sorted.size());
-  for (const std::filesystem::path& file : sorted) channels.push_back(ToRawChannel(ReadUds1992(file), file));
+  for (const std::filesystem::path& file : sorted) {
+    const UdsChannel channel = ReadUds1992(file);
+    if (warnings != nullptr)
+      warnings->insert(warnings->end(), channel.warnings.begin(), channel.warnings.end());
+    channels.push_back(ToRawChannel(channel, file));
+  }
 
   // Report section 2.2: LC_COMP reads nine files in Table 2-1 order; other
   // groups without a map go through the default map, as ISO-MME folders do.

@@ -45,17 +45,20 @@ struct UdsChannel {
   std::string yunits = "G'S";
   std::string xtyp = "TIME";
   std::string xunits = "SECONDS";
-  std::string curve_description;  // CURDSC
-  int nfp = 0;                    // index of the first sample (sample i is at i * del)
-  double del_s = 1e-4;            // sampling interval (stored as REAL*4)
-  double initial_velocity = 0.0;  // INIVEL
-  std::vector<double> values;     // NLP - NFP + 1 samples (REAL*4 precision)
+  std::string curve_description;      // CURDSC
+  int nfp = 0;                        // index of the first sample (sample i is at i * del)
+  double del_s = 1e-4;                // sampling interval (stored as REAL*4)
+  double initial_velocity = 0.0;      // INIVEL
+  std::vector<double> values;         // NLP - NFP + 1 samples (REAL*4 precision)
+  std::vector<std::string> warnings;  // what the reader noticed but read anyway (NCHAN above 1)
 
   int nlp() const { return nfp + static_cast<int>(values.size()) - 1; }
 };
 
 // Reads one file. Throws InputError with one sentence naming the file and the
 // problem (truncated record, wrong FILEVER, unknown NUMFORM, NLP < NFP, ...).
+// NCHAN above 1 (the test's channel count, as NHTSA's files often carry) is
+// read as NHTSA's own reader does: the file's one curve, with a warning.
 UdsChannel ReadUds1992(const std::filesystem::path& path);
 
 // Writes one file in `channel.number_form` (atomically). Throws InputError
@@ -102,8 +105,9 @@ std::vector<std::pair<std::string, std::vector<std::filesystem::path>>> GroupUds
 // array of Table 2-1 slots are assigned in name order to the report's Table
 // 2-1 slots (cg_x, cg_y, cg_z, yarm_z, yarm_x, xarm_z, xarm_y, zarm_x,
 // zarm_y), and any other group is matched through the "default" map.
+// The files' warnings are appended to `warnings` when given.
 engine::TestSignals ReadUdsTest(const std::vector<std::filesystem::path>& files,
                                 const engine::ArrayGeometry& array, const ChannelMap* map,
-                                const std::string& test_name);
+                                const std::string& test_name, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace napkin::formats

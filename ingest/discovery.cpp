@@ -88,6 +88,14 @@ ImportInput IsoMmeInput(const fs::path& folder, const std::string& name) {
   return input;
 }
 
+ImportInput ZipInput(const fs::path& archive) {
+  ImportInput input;
+  input.format = InputFormat::kZipArchive;
+  input.name = archive.stem().string();
+  input.source = archive;
+  return input;
+}
+
 // Every test inside `folder` (not itself an ISO-MME test), in name order.
 // `visited` holds the canonical folders seen, so a symbolic link back up the
 // tree is not followed forever.
@@ -112,6 +120,8 @@ void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std
       found.push_back(CsvInput(entry));
     } else if (IsUdsFile(entry)) {
       uds.Add(entry, found);
+    } else if (HasExtension(entry, ".zip")) {
+      found.push_back(ZipInput(entry));
     }
   }
 }
@@ -126,6 +136,8 @@ const char* InputFormatName(InputFormat format) {
       return "iso-mme";
     case InputFormat::kUds1992:
       return "uds-1992";
+    case InputFormat::kZipArchive:
+      return "zip";
   }
   return "?";
 }
@@ -152,8 +164,9 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
         continue;
       }
       if (discovery.inputs.size() == before)
-        discovery.errors.push_back("folder '" + text +
-                                   "' holds no test (no CSV file, ISO-MME test folder or UDS-1992 file).");
+        discovery.errors.push_back(
+            "folder '" + text +
+            "' holds no test (no CSV file, ISO-MME test folder, UDS-1992 file or zip archive).");
     } else if (HasExtension(path, ".csv")) {
       discovery.inputs.push_back(CsvInput(path));
     } else if (HasExtension(path, ".mme")) {
@@ -161,11 +174,13 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
           IsoMmeInput(path.has_parent_path() ? path.parent_path() : fs::path("."), path.stem().string()));
     } else if (IsUdsFile(path)) {
       uds.Add(path, discovery.inputs);
+    } else if (HasExtension(path, ".zip")) {
+      discovery.inputs.push_back(ZipInput(path));
     } else {
       discovery.errors.push_back(
           "'" + text +
           "' is not a test: expected a CSV file (.csv), an ISO-MME test folder or .mme "
-          "file, a UDS-1992 channel file (.001 ...) or a folder of tests.");
+          "file, a UDS-1992 channel file (.001 ...), a zip archive of one test (.zip) or a folder of tests.");
     }
   }
   UdsGroups::SortMembers(discovery.inputs);

@@ -7,8 +7,9 @@
 
 namespace napkin::ingest {
 
-enum class InputFormat { kCsv, kIsoMme, kUds1992 };
-const char* InputFormatName(InputFormat format);  // "csv", "iso-mme", "uds-1992"
+// kZipArchive: one test in a zip archive (ingest/zip_input.h).
+enum class InputFormat { kCsv, kIsoMme, kUds1992, kZipArchive };
+const char* InputFormatName(InputFormat format);  // "csv", "iso-mme", "uds-1992", "zip"
 
 // One test found in the import paths.
 struct ImportInput {
@@ -32,9 +33,11 @@ struct Discovery {
 // - a file *.csv: one CSV test; *.mme: the ISO-MME test folder around it;
 //   a file whose extension is three digits (.001): a UDS-1992 channel file,
 //   grouped with the other given UDS-1992 files of its folder and stem;
+//   *.zip: one test inside a zip archive (its name without .zip is the test id);
 // - a folder holding a *.mme file: one ISO-MME test;
 // - any other folder: every test inside it, searched recursively (CSV files,
-//   ISO-MME test folders, UDS-1992 stem groups; other files are ignored).
+//   ISO-MME test folders, UDS-1992 stem groups, zip archives; other files are
+//   ignored).
 // A path that does not exist, an unrecognised file or a folder without any
 // test is reported in `errors`.
 Discovery DiscoverInputs(const std::vector<std::string>& paths);

@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "formats/isomme.h"
 #include "formats/uds1992.h"
+#include "ingest/zip_input.h"
 
 namespace napkin::ingest {
 namespace {
@@ -104,6 +105,21 @@ std::optional<Eigen::Vector3d> InitialVelocityBody(const std::vector<formats::Ra
 InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options,
                           const std::string& test_name) {
   const engine::ArrayGeometry& array = *options.array;
+  if (input.format == InputFormat::kZipArchive) {
+    const ArchiveTest archive(input.source);  // its temporary folder is removed on leaving
+    InputHeads inside;
+    try {
+      inside = ReadInputHeads(archive.input(), options, test_name);
+    } catch (const InputError& error) {
+      throw InputError(archive.InArchiveTerms(error.what()));
+    }
+    for (std::string& warning : inside.warnings) warning = archive.InArchiveTerms(warning);
+    for (HeadSignals& head : inside.heads) {
+      head.archived_format = archive.input().format;
+      for (std::string& note : head.notes) note = archive.InArchiveTerms(note);
+    }
+    return inside;
+  }
   InputHeads result;
   if (input.format == InputFormat::kCsv) {
     formats::CsvSignals csv = formats::ReadSignalsCsv(input.source, &array, options.csv_columns);
@@ -130,6 +146,7 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
   } else {
     for (const std::filesystem::path& file : input.files) {
       const formats::UdsChannel channel = formats::ReadUds1992(file);
+      result.warnings.insert(result.warnings.end(), channel.warnings.begin(), channel.warnings.end());
       info_of_channel.push_back(formats::UdsTestInfo(channel));
       channels.push_back(formats::ToRawChannel(channel, file));
     }
@@ -144,7 +161,7 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     try {
       DummyHeadSearch search = FindDummyHeads(channels, array, *map, name);
       heads = std::move(search.heads);
-      result.warnings = std::move(search.warnings);
+      result.warnings.insert(result.warnings.end(), search.warnings.begin(), search.warnings.end());
     } catch (const InputError& error) {
       if (input.format != InputFormat::kUds1992 || options.channel_map != nullptr) throw;
       throw formats::DefaultMapError(error, channels.size(), name);

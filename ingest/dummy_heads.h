@@ -55,6 +55,7 @@ struct HeadSignals {
   std::optional<Eigen::Vector3d> initial_velocity_body_mps;
   std::string channel_map;         // map used; "" for CSV and Table 2-1 order
   std::vector<std::string> notes;  // recorded with the test (e.g. cropped spans)
+  std::optional<InputFormat> archived_format;  // the format inside a zip archive
 };
 
 struct InputHeads {
@@ -74,7 +75,8 @@ struct HeadReadOptions {
   bool one_test_expected = false;                    // --test-id names one test
 };
 
-// Reads `input` into its dummy heads. Throws InputError (one sentence) for
+// Reads `input` into its dummy heads; a zip archive is read through
+// ArchiveTest, its messages naming "<archive>:<member>". Throws InputError (one sentence) for
 // a file problem, for --position naming a position the input lacks, and
 // when several heads are found where one test is expected (--test-id
 // without --position).

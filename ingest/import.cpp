@@ -16,6 +16,7 @@
 #include "ingest/content_hash.h"
 #include "ingest/dummy_heads.h"
 #include "ingest/store.h"
+#include "ingest/zip_input.h"
 #include "records/array_record.h"
 
 namespace napkin::ingest {
@@ -92,7 +93,8 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
                      "'); import it with another --test-id.");
   }
   nlohmann::json metadata = nlohmann::json::object();
-  metadata["format"] = InputFormatName(input.format);
+  metadata["format"] = InputFormatName(head.archived_format.value_or(input.format));
+  if (head.archived_format) metadata["archive"] = InputFormatName(input.format);
   if (!head.channel_map.empty()) metadata["channel_map"] = head.channel_map;
   if (input.format == InputFormat::kUds1992) {
     nlohmann::json files = nlohmann::json::array();

@@ -67,14 +67,14 @@ TEST_F(CliExport, IsoMmeExportReadsBackAsTheStoredKinematics) {
 
   const double g = engine::kStandardGravity;
   const std::vector<std::pair<std::string, std::function<double(Eigen::Index)>>> expected = {
-      {"11HEADCG00FXVEX0", [&](Eigen::Index i) { return k.vel_fixed(i, 0); }},
-      {"11HEADCG00FXVEZ0", [&](Eigen::Index i) { return k.vel_fixed(i, 2); }},
-      {"11HEADCG00FXDSY0", [&](Eigen::Index i) { return k.pos_fixed(i, 1); }},
-      {"11HEADCG0000AVY0", [&](Eigen::Index i) { return k.omega_body(i, 1); }},
-      {"11HEADCG00FXAAZ0", [&](Eigen::Index i) { return k.alpha_fixed(i, 2); }},
-      {"11HEADCG0000ACX0", [&](Eigen::Index i) { return k.acc_body(i, 0) / g; }},
-      {"11HEADCG00FXQUW0", [&](Eigen::Index i) { return k.quat_fixed_from_body(i, 0); }},
-      {"11HEADCG00FXANZ0", [&](Eigen::Index i) { return k.roll_pitch_yaw_rad(i, 2) * engine::kDegPerRad; }},
+      {"11HEAD00GL00VEXA", [&](Eigen::Index i) { return k.vel_fixed(i, 0); }},
+      {"11HEAD00GL00VEZA", [&](Eigen::Index i) { return k.vel_fixed(i, 2); }},
+      {"11HEAD00GL00DSYA", [&](Eigen::Index i) { return k.pos_fixed(i, 1); }},
+      {"11HEAD000000AVYA", [&](Eigen::Index i) { return k.omega_body(i, 1); }},
+      {"11HEAD00GL00AAZA", [&](Eigen::Index i) { return k.alpha_fixed(i, 2); }},
+      {"11HEAD000000ACXA", [&](Eigen::Index i) { return k.acc_body(i, 0) / g; }},
+      {"11HEAD00GL00QUWA", [&](Eigen::Index i) { return k.quat_fixed_from_body(i, 0); }},
+      {"11HEAD00GL00ANZA", [&](Eigen::Index i) { return k.roll_pitch_yaw_rad(i, 2) * engine::kDegPerRad; }},
   };
   for (const auto& [code, value] : expected) {
     ASSERT_TRUE(by_code.count(code)) << code;
@@ -98,9 +98,9 @@ TEST_F(CliExport, IsoMmeExportReimportsAsA6aOmegaTestWithTheStoredChannels) {
   // The exported body-axis CG acceleration and angular velocity are the
   // channels of a 6a-omega array at the CG.
   WriteText(dir_ / "body.json", R"({"name": "body", "slots": {
-      "cg_x": {"code": "11HEADCG0000ACX?"}, "cg_y": {"code": "11HEADCG0000ACY?"}, "cg_z": {"code": "11HEADCG0000ACZ?"},
-      "ars_x": {"code": "11HEADCG0000AVX?"}, "ars_y": {"code": "11HEADCG0000AVY?"},
-      "ars_z": {"code": "11HEADCG0000AVZ?"}}})");
+      "cg_x": {"code": "11HEAD000000ACX?"}, "cg_y": {"code": "11HEAD000000ACY?"}, "cg_z": {"code": "11HEAD000000ACZ?"},
+      "ars_x": {"code": "11HEAD000000AVX?"}, "ars_y": {"code": "11HEAD000000AVY?"},
+      "ars_z": {"code": "11HEAD000000AVZ?"}}})");
   const RunResult import =
       RunNapkin(dir_.path(), {"import", "--array", "6aw-cg", "--channel-map", "body.json", "derived"});
   ASSERT_EQ(import.exit_code, 0) << import.err;

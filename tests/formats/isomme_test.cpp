@@ -398,10 +398,10 @@ TEST(IsoMmeTest, DerivedExportReadsBack) {
       if (channel.code == code) return channel;
     throw std::runtime_error("no channel " + code);
   };
-  EXPECT_NEAR(find("11HEADCG00FXACY0").values[7], 14.0 / engine::kStandardGravity, 1e-12);
-  EXPECT_EQ(find("11HEADCG00FXACY0").unit, "g");
-  EXPECT_NEAR(find("11HEADCG0000AVZ0").values[5], 15.0, 1e-12);
-  EXPECT_NEAR(find("11HEADCG00FXANX0").values[2], 2.0 * engine::kDegPerRad, 1e-9);
+  EXPECT_NEAR(find("11HEAD00GL00ACY0").values[7], 14.0 / engine::kStandardGravity, 1e-12);
+  EXPECT_EQ(find("11HEAD00GL00ACY0").unit, "g");
+  EXPECT_NEAR(find("11HEAD000000AVZ0").values[5], 15.0, 1e-12);
+  EXPECT_NEAR(find("11HEAD00GL00ANX0").values[2], 2.0 * engine::kDegPerRad, 1e-9);
 }
 
 }  // namespace
