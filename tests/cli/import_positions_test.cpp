@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/cli/cli_test_util.h"
+#include "tests/support/test_support.h"
 #include "tests/support/isomme_generator.h"
 
 namespace napkin::cli {
@@ -84,10 +85,11 @@ TEST_F(CliImportPositions, AnAmbiguousPositionIsOneSentenceAndChangesNothing) {
 }
 
 TEST_F(CliImportPositions, ColumnOptionsNameTheCsvColumnsOnImportAndTransform) {
-  napkin::test_support::WriteText(
-      dir_ / "lab.csv",
-      "Time,AX,AY,AZ,RX,RY,RZ\n0,0,0,0,0,0,0\n0.001,1,0,0,0,0,0\n0.002,2,0,0,0,0,0\n"
-      "0.003,2,0,0,0,0,0\n0.004,1,0,0,0,0,0\n0.005,0,0,0,0,0,0\n");
+  // 100 samples at 10 kHz under the lab's own column names.
+  std::string lab_csv = "Time,AX,AY,AZ,RX,RY,RZ\n";
+  for (int i = 0; i < 100; ++i)
+    lab_csv += std::to_string(i * 1e-4) + "," + std::to_string(i % 7) + ",0,0,0,0,0\n";
+  napkin::test_support::WriteText(dir_ / "lab.csv", lab_csv);
   const std::vector<std::string> columns = {"--column", "time_s=Time", "--column", "cg_x=AX",  "--column",
                                             "cg_y=AY",  "--column",    "cg_z=AZ",  "--column", "ars_x=RX",
                                             "--column", "ars_y=RY",    "--column", "ars_z=RZ"};
@@ -101,7 +103,8 @@ TEST_F(CliImportPositions, ColumnOptionsNameTheCsvColumnsOnImportAndTransform) {
   transform.insert(transform.end(), columns.begin(), columns.end());
   const RunResult transformed = RunNapkin(dir_.path(), transform);
   ASSERT_EQ(transformed.exit_code, 0) << transformed.err;
-  EXPECT_TRUE(std::filesystem::exists(dir_ / "lab_out.csv"));
+  // One derived row per input sample: the columns were found by their mapped names.
+  EXPECT_EQ(Lines(napkin::test_support::ReadText(dir_ / "lab_out.csv")).size(), 101U);
 
   const RunResult without =
       RunNapkin(dir_.path(), {"transform", "--array", "6aw-cg", "lab.csv", "--out", "x.csv"});
