@@ -68,8 +68,9 @@ class ExportCommand : public Command {
 
     // docs/formats.md "Derived channels": an acceleration-only test exports as csv only.
     if (format_ != "csv" && !engine::HasRotation(*kinematics))
-      throw InputError("test '" + test_id_ + "' has no rotation (its array cannot determine it), which --format " +
-                       format_ + " needs; --format csv gives its CG acceleration.");
+      throw InputError("test '" + test_id_ +
+                       "' has no rotation (its array cannot determine it), which --format " + format_ +
+                       " needs; --format csv gives its CG acceleration.");
     if (format_ == "csv") {
       formats::WriteDerivedCsv(*kinematics, out_);
     } else if (format_ == "lsdyna") {

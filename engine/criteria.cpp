@@ -412,8 +412,9 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   // An acceleration-only array's CG acceleration is known in body axes only
   // (docs/algorithms.md "Acceleration-only arrays"): its resultant is the same.
   const bool rotation = HasRotation(kinematics);
-  const Eigen::VectorXd acc_g = rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / kStandardGravity)
-                                         : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / kStandardGravity);
+  const Eigen::VectorXd acc_g =
+      rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / kStandardGravity)
+               : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / kStandardGravity);
 
   HicOptions options;
   options.from_time_zero = config.hic.from_time_zero;

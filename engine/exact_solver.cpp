@@ -221,8 +221,9 @@ void SolveAccelerationOnly(const ArrayGeometry& array, const TestSignals& signal
   const MatrixXd acc_from_measured = PseudoInverse(SenseAxisRows(array, cg));  // 3 x C
   out.acc_body = (acc_from_measured * MeasurementsBySample(array, cg, signals)).transpose();
   constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
-  for (Series3* series : {&out.omega_body, &out.alpha_body, &out.omega_fixed, &out.alpha_fixed, &out.acc_fixed,
-                          &out.vel_fixed, &out.pos_fixed, &out.roll_pitch_yaw_rad, &out.dcos_rad})
+  for (Series3* series :
+       {&out.omega_body, &out.alpha_body, &out.omega_fixed, &out.alpha_fixed, &out.acc_fixed, &out.vel_fixed,
+        &out.pos_fixed, &out.roll_pitch_yaw_rad, &out.dcos_rad})
     series->setConstant(kUndetermined);
   out.quat_fixed_from_body.setConstant(kUndetermined);
   out.residual.setConstant(kUndetermined);

@@ -493,11 +493,11 @@ ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series
   // An acceleration-only test (engine::HasRotation) has its CG acceleration
   // in body axes (the same resultant) and no rotation charts.
   const bool rotation = engine::HasRotation(kinematics);
-  ReportChart acc = MakeChart(
-      "acc", "Resultant CG acceleration", "acceleration (g)", {"resultant"}, t,
-      rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / engine::kStandardGravity)
-               : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / engine::kStandardGravity),
-      max_points);
+  ReportChart acc =
+      MakeChart("acc", "Resultant CG acceleration", "acceleration (g)", {"resultant"}, t,
+                rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / engine::kStandardGravity)
+                         : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / engine::kStandardGravity),
+                max_points);
   const std::pair<const char*, const engine::HicWindow*> hic_windows[] = {{"HIC15", &test.summary.hic15},
                                                                           {"HIC36", &test.summary.hic36}};
   for (const auto& [name, window] : hic_windows) {

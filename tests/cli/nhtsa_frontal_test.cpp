@@ -6,12 +6,12 @@
 // HIC36 and unlimited HIC with their windows, peak resultant and a3ms equal
 // NHTSA's own programs (the folder README's reference table).
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -52,7 +52,7 @@ constexpr NhtsaReference kReference[] = {
 fs::path DataDir() {
   const char* override_dir = std::getenv("NAPKIN_NHTSA_FRONTAL_DIR");
   return override_dir != nullptr && *override_dir != '\0' ? fs::path(override_dir)
-                                                           : fs::path(NAPKIN_NHTSA_FRONTAL_DIR);
+                                                          : fs::path(NAPKIN_NHTSA_FRONTAL_DIR);
 }
 
 // One recording: the text lines of its samples (time_s,ax_g,ay_g,az_g) and the

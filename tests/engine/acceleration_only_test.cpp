@@ -51,10 +51,10 @@ TEST(AccelerationOnly, CgAccelerationAndCriteriaEqualTheTruthAndRotationIsNaN) {
   EXPECT_FALSE(HasRotation(kin));
   const double peak_mps2 = test.truth.acc_body.cwiseAbs().maxCoeff();
   EXPECT_LE((kin.acc_body - test.truth.acc_body).cwiseAbs().maxCoeff(), 1e-12 * peak_mps2);
-  EXPECT_TRUE((kin.time_s - test.truth.time_s).isZero(0.0));
-  for (const Series3* series : {&kin.omega_body, &kin.alpha_body, &kin.omega_fixed, &kin.alpha_fixed,
-                                &kin.acc_fixed, &kin.vel_fixed, &kin.pos_fixed, &kin.roll_pitch_yaw_rad,
-                                &kin.dcos_rad})
+  EXPECT_LE((kin.time_s - test.truth.time_s).cwiseAbs().maxCoeff(), 1e-12);
+  for (const Series3* series :
+       {&kin.omega_body, &kin.alpha_body, &kin.omega_fixed, &kin.alpha_fixed, &kin.acc_fixed, &kin.vel_fixed,
+        &kin.pos_fixed, &kin.roll_pitch_yaw_rad, &kin.dcos_rad})
     EXPECT_TRUE(series->array().isNaN().all());
   EXPECT_TRUE(kin.quat_fixed_from_body.array().isNaN().all());
 
@@ -62,8 +62,9 @@ TEST(AccelerationOnly, CgAccelerationAndCriteriaEqualTheTruthAndRotationIsNaN) {
   const double dt = test.signals.dt_s;
   const Eigen::VectorXd truth_g = test.truth.acc_body.rowwise().norm() / kStandardGravity;
   const TestSummary& summary = processed.summary;
-  for (const auto& [window, hic] : {std::pair{kHic15Window, summary.hic15}, std::pair{kHic36Window, summary.hic36},
-                                    std::pair{kUnlimitedHicWindow, summary.hic}}) {
+  for (const auto& [window, hic] :
+       {std::pair{kHic15Window, summary.hic15}, std::pair{kHic36Window, summary.hic36},
+        std::pair{kUnlimitedHicWindow, summary.hic}}) {
     HicOptions options;
     options.window_s = window;
     const HicWindow expected = HicExhaustive(truth_g, dt, test.signals.t0_s, options);
@@ -105,7 +106,7 @@ TEST(AccelerationOnly, ScreeningStillSeesWhatThreeChannelsShow) {
   SyntheticTest test = RandomMotionAtCg(9);
   Eigen::MatrixXd& samples = test.signals.samples;
   const Eigen::Index n = samples.rows();
-  samples(n / 3, 0) += 80.0;                          // spike on cg_x
+  samples(n / 3, 0) += 80.0;                           // spike on cg_x
   const double top = samples.col(1).maxCoeff() + 1.0;  // cg_y clipped for 8 samples
   samples.col(1).segment(n / 2, 8).setConstant(top);
   samples.col(2).array() += 3.0;  // cg_z offset (no pre-impact data: start level)

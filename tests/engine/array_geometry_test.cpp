@@ -45,13 +45,13 @@ TEST_P(ReferenceArrayTest, IsValidAndClassified) {
 
 INSTANTIATE_TEST_SUITE_P(
     Reference, ReferenceArrayTest,
-    ::testing::Values(ClassifiedArrayCase{"ideal_3222", &test_support::Ideal3222, ExactPath::kLinear},
-                      ClassifiedArrayCase{"volpe_table4_2", &test_support::VolpeTable42, ExactPath::kLinear},
-                      ClassifiedArrayCase{"denton_3222", &test_support::Denton3222, ExactPath::kLinear},
-                      ClassifiedArrayCase{"six_a_omega_cg", &test_support::SixAOmegaCg,
-                                          ExactPath::kSixAOmega},
-                      ClassifiedArrayCase{"nap_ars12", &test_support::NapArs12, ExactPath::kFused},
-                      ClassifiedArrayCase{"three_a_cg", &test_support::ThreeACg, ExactPath::kAccelerationOnly}),
+    ::testing::Values(
+        ClassifiedArrayCase{"ideal_3222", &test_support::Ideal3222, ExactPath::kLinear},
+        ClassifiedArrayCase{"volpe_table4_2", &test_support::VolpeTable42, ExactPath::kLinear},
+        ClassifiedArrayCase{"denton_3222", &test_support::Denton3222, ExactPath::kLinear},
+        ClassifiedArrayCase{"six_a_omega_cg", &test_support::SixAOmegaCg, ExactPath::kSixAOmega},
+        ClassifiedArrayCase{"nap_ars12", &test_support::NapArs12, ExactPath::kFused},
+        ClassifiedArrayCase{"three_a_cg", &test_support::ThreeACg, ExactPath::kAccelerationOnly}),
     test_support::CaseName());
 
 TEST(ArrayGeometry, SlotLookupAndKinds) {
@@ -157,9 +157,10 @@ TEST(ArrayGeometry, RejectsUnsolvableGeometries) {
   at_one_point.name = "foo";
   for (Sensor& sensor : at_one_point.sensors) sensor.position_body_m = Eigen::Vector3d(0.05, 0.0, 0.0);
   const std::string message = RejectionMessage(at_one_point);
-  EXPECT_THAT(message, HasSubstr("array 'foo': the linear sensors do not determine the six rigid-body "
-                                 "accelerations (rank 3 of 6), and the linear sensors at the CG span only 0 "
-                                 "of 3 directions, so neither rotation nor the CG acceleration is determined"));
+  EXPECT_THAT(message,
+              HasSubstr("array 'foo': the linear sensors do not determine the six rigid-body "
+                        "accelerations (rank 3 of 6), and the linear sensors at the CG span only 0 "
+                        "of 3 directions, so neither rotation nor the CG acceleration is determined"));
   EXPECT_THAT(message, HasSubstr("add sensors off the CG, angular-rate sensors, or a triaxial accelerometer "
                                  "at the CG."));
 
@@ -223,7 +224,8 @@ TEST(ArrayGeometry, AcceptsAccelerationOnlyArrays) {
     EXPECT_EQ(ClassifyArray(array), ExactPath::kAccelerationOnly);
   }
   // Arrays that determine rotation say so.
-  for (ArrayGeometry array : {test_support::Ideal3222(), test_support::SixAOmegaCg(), test_support::NapArs12()}) {
+  for (ArrayGeometry array :
+       {test_support::Ideal3222(), test_support::SixAOmegaCg(), test_support::NapArs12()}) {
     ValidateArray(array);
     EXPECT_TRUE(DeterminesRotation(array)) << array.name;
   }
