@@ -62,7 +62,9 @@ TEST_F(CliAccelerationOnly, QueryShowsHicAndNullRotation) {
   ASSERT_EQ(json.exit_code, 0) << json.err;
   for (const nlohmann::json& row : nlohmann::json::parse(json.out))
     for (const auto& [key, value] : row.items())
-      if (key != "test_id" && key != "series" && key != "variant") EXPECT_TRUE(value.is_null()) << key;
+      if (key != "test_id" && key != "series" && key != "variant") {
+        EXPECT_TRUE(value.is_null()) << key;
+      }
 
   // csv: every rotation field empty; table: blank cells, no "nan".
   const RunResult csv = Napkin({"query", "rotation", "--format", "csv"});
@@ -122,8 +124,20 @@ TEST_F(CliAccelerationOnly, ReportHasTheAccelerationChartOnly) {
     for (const char* rotation_chart : {"omega", "angles", "velocity"})
       EXPECT_EQ(html.find(prefix + rotation_chart), std::string::npos) << prefix << rotation_chart;
   }
-  EXPECT_EQ(html.find("NaN"), std::string::npos);
-  EXPECT_EQ(html.find("Infinity"), std::string::npos);
+  // The plot data are valid JSON (a NaN would not parse) with finite traces only.
+  const std::string marker = "<script type=\"application/json\" id=\"napkin-data\">";
+  const std::size_t begin = html.find(marker);
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = html.find("</script>", begin);
+  const std::string data_text = html.substr(begin + marker.size(), end - begin - marker.size());
+  EXPECT_EQ(data_text.find("NaN"), std::string::npos);
+  const nlohmann::json data = nlohmann::json::parse(data_text);
+  ASSERT_EQ(data.at("charts").size(), 4u);
+  for (const nlohmann::json& chart : data.at("charts"))
+    for (const nlohmann::json& trace : chart.at("y"))
+      for (const nlohmann::json& value : trace) EXPECT_TRUE(value.is_number()) << chart.at("id");
+  // The tables show the rotation fields as "—".
+  EXPECT_NE(html.find("<td class=\"num\">—</td>"), std::string::npos);
 }
 
 TEST_F(CliAccelerationOnly, ExportGivesTheAccelerationAndRefusesRotationFormats) {

@@ -211,7 +211,9 @@ TEST(NhtsaFrontal, AccelerationOnlyImportsInEveryFormatMatchNhtsasPrograms) {
   ASSERT_EQ(rotation_rows.size(), 9u);
   for (const nlohmann::json& row : rotation_rows)
     for (const auto& [key, value] : row.items())
-      if (key != "test_id" && key != "series" && key != "variant") EXPECT_TRUE(value.is_null()) << key;
+      if (key != "test_id" && key != "series" && key != "variant") {
+        EXPECT_TRUE(value.is_null()) << key;
+      }
   const RunResult quality = RunNapkin(dir.path(), {"query", "quality", "--format", "json"});
   ASSERT_EQ(quality.exit_code, 0) << quality.err;
   std::map<std::string, int> rotation_findings;
