@@ -75,6 +75,11 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
       "two-sided p-value.");
   std::set<std::string> small_groups;
   for (const MetricComparison& metric : comparison.metrics) {
+    // A metric no test has (the rotation of acceleration-only tests): its
+    // table rows say n = 0, and there is nothing to plot.
+    if (std::all_of(metric.groups.begin(), metric.groups.end(),
+                    [](const GroupValues& values) { return values.values.empty(); }))
+      continue;
     formats::ReportDistribution& distribution = report.distributions.emplace_back();
     distribution.metric = metric.metric;
     for (std::size_t g = 0; g < metric.groups.size(); ++g) {

@@ -13,6 +13,7 @@
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
 #include "common/error.h"
+#include "engine/kinematics.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
@@ -79,6 +80,11 @@ class ExportCommand : public Command {
           "test '" + test_id_ +
           "' has a result without stored derived channels; run `napkin run --force` to recompute it.");
 
+    // docs/formats.md "Derived channels": an acceleration-only test exports as csv only.
+    if (format_ != "csv" && !engine::HasRotation(*kinematics))
+      throw InputError("test '" + test_id_ +
+                       "' has no rotation (its array cannot determine it), which --format " + format_ +
+                       " needs; --format csv gives its CG acceleration.");
     if (format_ == "csv") {
       formats::WriteDerivedCsv(*kinematics, out_);
     } else if (format_ == "lsdyna") {

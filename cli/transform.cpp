@@ -66,6 +66,10 @@ TransformReport RunTransform(const TransformOptions& options) {
     throw InputError(options.input + ": " + error.what());
   }
 
+  if (!options.lsdyna.empty() && !engine::HasRotation(report.kinematics))
+    throw InputError(options.input + ": array '" + array.name +
+                     "' cannot determine rotation, which --lsdyna needs; --out gives the CG acceleration.");
+
   const std::string test_id = fs::path(options.input).stem().string();
   const std::string summary_text = formats::SummaryToJson(report.summary, test_id, "", "").dump(2) + "\n";
   // Each writer is atomic; if a later one fails, the earlier outputs of this

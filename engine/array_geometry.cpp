@@ -24,6 +24,19 @@ std::vector<std::size_t> ArrayGeometry::LinearIndices() const {
   return indices;
 }
 
+std::vector<std::size_t> ArrayGeometry::CgLinearIndices() const {
+  std::vector<std::size_t> indices;
+  for (std::size_t i = 0; i < sensors.size(); ++i)
+    if (sensors[i].kind == SensorKind::kLinear && sensors[i].position_body_m.norm() <= kAtCgToleranceM)
+      indices.push_back(i);
+  return indices;
+}
+
+bool DeterminesRotation(const ArrayGeometry& validated_array) {
+  return LinearRigidBodyRank(validated_array, validated_array.LinearIndices()) == 6 ||
+         NumericalRank(SenseAxisRows(validated_array, validated_array.RateIndices())) == 3;
+}
+
 std::vector<std::size_t> ArrayGeometry::RateIndices() const {
   std::vector<std::size_t> indices;
   for (std::size_t i = 0; i < sensors.size(); ++i)
@@ -106,7 +119,9 @@ void ValidateArray(ArrayGeometry& array) {
 
   // Solvability (docs/algorithms.md "Solvers"): either the linear sensors alone
   // determine (a, alpha), or angular-rate sensors give omega on three
-  // independent axes and the linear sense axes span R^3 (6a-omega).
+  // independent axes and the linear sense axes span R^3 (6a-omega), or
+  // neither determines rotation and linear sensors at the CG span R^3
+  // (acceleration only, docs/algorithms.md "Acceleration-only arrays").
   const std::vector<std::size_t> linear = array.LinearIndices();
   const std::vector<std::size_t> rates = array.RateIndices();
   const int linear_rank = LinearRigidBodyRank(array, linear);
@@ -114,6 +129,8 @@ void ValidateArray(ArrayGeometry& array) {
   const int rate_rank = NumericalRank(SenseAxisRows(array, rates));
   const int linear_axis_rank = NumericalRank(SenseAxisRows(array, linear));
   if (rate_rank == 3 && linear_axis_rank == 3) return;
+  const int cg_axis_rank = NumericalRank(SenseAxisRows(array, array.CgLinearIndices()));
+  if (rate_rank < 3 && cg_axis_rank == 3) return;
 
   std::ostringstream message;
   if (rate_rank == 3) {
@@ -124,7 +141,9 @@ void ValidateArray(ArrayGeometry& array) {
     message << label << ": the linear sensors do not determine the six rigid-body accelerations (rank "
             << linear_rank << " of 6)";
     if (!rates.empty()) message << " and the angular-rate sensors span only " << rate_rank << " of 3 axes";
-    message << "; add sensors off the CG or angular-rate sensors.";
+    message << ", and the linear sensors at the CG span only " << cg_axis_rank
+            << " of 3 directions, so neither rotation nor the CG acceleration is determined; add sensors off "
+               "the CG, angular-rate sensors, or a triaxial accelerometer at the CG.";
   }
   throw InvalidArrayError(message.str());
 }

@@ -44,7 +44,13 @@ struct ArrayGeometry {
   std::optional<std::size_t> FindSlot(std::string_view slot) const;
   std::vector<std::size_t> LinearIndices() const;
   std::vector<std::size_t> RateIndices() const;
+  // The linear sensors at the CG (within kAtCgToleranceM of it).
+  std::vector<std::size_t> CgLinearIndices() const;
 };
+
+// A linear sensor this close to the CG (m) is "at the CG": it reads the CG
+// acceleration whatever the rotation (its lever-arm terms are negligible).
+inline constexpr double kAtCgToleranceM = 1e-6;
 
 // The 3-2-2-2 slot names in the report's Table 2-1 order.
 inline constexpr const char* kNapSlots[9] = {"cg_x",   "cg_y",   "cg_z",   "yarm_z", "yarm_x",
@@ -52,9 +58,20 @@ inline constexpr const char* kNapSlots[9] = {"cg_x",   "cg_y",   "cg_z",   "yarm
 
 // Throws InvalidArrayError (one sentence naming the problem) when the array
 // cannot be solved: no sensors, duplicate slot, zero or non-finite axis or
-// position, unknown unit, fewer than 6 linear sensors whose rigid-body system
-// has rank 6 and fewer than 3 independent angular-rate axes, ...
+// position, unknown unit, or neither rotation nor the CG acceleration
+// determined (linear rigid-body rank below 6, fewer than 3 independent
+// angular-rate axes, and linear sensors at the CG spanning fewer than 3
+// directions), ... An array that cannot determine rotation but has a
+// triaxial accelerometer at the CG is valid: acceleration only
+// (DeterminesRotation, docs/algorithms.md "Acceleration-only arrays").
 // Normalises axes in place.
 void ValidateArray(ArrayGeometry& array);
+
+// Whether a validated array determines the head's rotation: its linear
+// sensors' rigid-body rows have rank 6, or its angular-rate sensors span 3
+// axes. False for an acceleration-only array such as 3a-cg (three linear
+// accelerometers at the CG), whose results hold the CG acceleration and the
+// criteria computed from it, and no rotation.
+bool DeterminesRotation(const ArrayGeometry& validated_array);
 
 }  // namespace napkin::engine

@@ -409,7 +409,12 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   const double t0 = kinematics.time_s[0];
   const double dt = kinematics.time_s[1] - kinematics.time_s[0];
   CheckInterval(dt, "injury criteria");
-  const Eigen::VectorXd acc_g = kinematics.acc_fixed.rowwise().norm() / kStandardGravity;
+  // An acceleration-only array's CG acceleration is known in body axes only
+  // (docs/algorithms.md "Acceleration-only arrays"): its resultant is the same.
+  const bool rotation = HasRotation(kinematics);
+  const Eigen::VectorXd acc_g =
+      rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / kStandardGravity)
+               : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / kStandardGravity);
 
   HicOptions options;
   options.from_time_zero = config.hic.from_time_zero;
@@ -421,8 +426,9 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   options.window_s = kUnlimitedHicWindow;
   summary.hic = Hic(acc_g, dt, t0, options);
   summary.a3ms_g = A3ms(acc_g, dt);
-  summary.bric = Bric(kinematics.omega_body, config.bric.critical_radps);
-  summary.damage = Damage(kinematics.alpha_body, dt);
+  constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
+  summary.bric = rotation ? Bric(kinematics.omega_body, config.bric.critical_radps) : kUndetermined;
+  summary.damage = rotation ? Damage(kinematics.alpha_body, dt) : kUndetermined;
 }
 
 }  // namespace napkin::engine

@@ -1,8 +1,10 @@
 #include "engine/exact_solver.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
+#include "common/error.h"
 #include "engine/array_analysis.h"
 #include "engine/integration.h"
 #include "engine/rotation.h"
@@ -209,13 +211,31 @@ void SolveFused(const ArrayGeometry& array, const TestSignals& signals, Kinemati
   }
 }
 
+// kAccelerationOnly: the sensors at the CG read n.a (no lever arm), so a is
+// their least-squares solution over their (spanning) sense axes; the other
+// sensors are not used. Nothing determines omega: every series that needs
+// the rotation is NaN, and so is the residual (the rigid-body consistency
+// cannot be judged without omega).
+void SolveAccelerationOnly(const ArrayGeometry& array, const TestSignals& signals, Kinematics& out) {
+  const std::vector<std::size_t> cg = array.CgLinearIndices();
+  const MatrixXd acc_from_measured = PseudoInverse(SenseAxisRows(array, cg));  // 3 x C
+  out.acc_body = (acc_from_measured * MeasurementsBySample(array, cg, signals)).transpose();
+  constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
+  for (Series3* series :
+       {&out.omega_body, &out.alpha_body, &out.omega_fixed, &out.alpha_fixed, &out.acc_fixed, &out.vel_fixed,
+        &out.pos_fixed, &out.roll_pitch_yaw_rad, &out.dcos_rad})
+    series->setConstant(kUndetermined);
+  out.quat_fixed_from_body.setConstant(kUndetermined);
+  out.residual.setConstant(kUndetermined);
+}
+
 }  // namespace
 
 ExactPath ClassifyArray(const ArrayGeometry& array) {
   const bool linear_complete = LinearRigidBodyRank(array, array.LinearIndices()) == 6;
   const bool rates_complete = NumericalRank(SenseAxisRows(array, array.RateIndices())) == 3;
   if (rates_complete) return linear_complete ? ExactPath::kFused : ExactPath::kSixAOmega;
-  return ExactPath::kLinear;
+  return linear_complete ? ExactPath::kLinear : ExactPath::kAccelerationOnly;
 }
 
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
@@ -257,6 +277,13 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
     case ExactPath::kFused:
       SolveFused(array, signals, kin);
       break;
+    case ExactPath::kAccelerationOnly:
+      if (options.gravity.compensate)
+        throw InputError("array '" + array.name +
+                         "' cannot determine rotation, so gravity compensation (which needs the head's "
+                         "orientation) is impossible; set gravity.compensate to false.");
+      SolveAccelerationOnly(array, signals, kin);
+      return kin;
   }
   CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin);
   return kin;

@@ -22,6 +22,12 @@ enum class ExactPath {
   // omega from the rate sensors; (a, alpha) by weighted least squares of the
   // linear sensors and the differentiated rates.
   kFused,
+  // Linear rank < 6 and fewer than 3 independent rate axes, but linear
+  // sensors at the CG along 3 independent axes (e.g. 3a-cg): rotation is
+  // undetermined; a by least squares over the CG sensors' sense axes, every
+  // rotation-dependent series NaN (engine/kinematics.h HasRotation;
+  // docs/algorithms.md "Acceleration-only arrays").
+  kAccelerationOnly,
 };
 
 ExactPath ClassifyArray(const ArrayGeometry& validated_array);

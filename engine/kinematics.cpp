@@ -11,4 +11,8 @@ void Kinematics::Resize(Eigen::Index n) {
   residual.setZero(n);
 }
 
+bool HasRotation(const Kinematics& kinematics) {
+  return kinematics.size() == 0 || kinematics.quat_fixed_from_body.row(0).allFinite();
+}
+
 }  // namespace napkin::engine

@@ -28,4 +28,13 @@ struct Kinematics {
   void Resize(Eigen::Index n);
 };
 
+// Whether the kinematics hold a rotation. The kinematics of an
+// acceleration-only array (engine/array_geometry.h DeterminesRotation; docs/
+// algorithms.md "Acceleration-only arrays") have time_s, acc_body and
+// residual, and NaN in every series that needs the head's rotation (omega,
+// alpha, acc_fixed, vel_fixed, pos_fixed, quaternion, angles); solved
+// kinematics are otherwise finite throughout. Empty kinematics count as
+// having one.
+bool HasRotation(const Kinematics& kinematics);
+
 }  // namespace napkin::engine

@@ -12,13 +12,28 @@ namespace napkin::engine {
 namespace {
 
 // First sample whose solved kinematics are not finite, or -1.
+// Acceleration-only kinematics are NaN by design wherever they need the
+// rotation (engine/kinematics.h HasRotation): only acc_body is checked there.
 Eigen::Index FirstNonFinite(const Kinematics& kinematics) {
+  const bool rotation = HasRotation(kinematics);
   for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
-    if (!kinematics.omega_body.row(k).allFinite() || !kinematics.acc_fixed.row(k).allFinite() ||
-        !kinematics.alpha_body.row(k).allFinite() || !kinematics.pos_fixed.row(k).allFinite())
+    if (!kinematics.acc_body.row(k).allFinite()) return k;
+    if (rotation && (!kinematics.omega_body.row(k).allFinite() || !kinematics.acc_fixed.row(k).allFinite() ||
+                     !kinematics.alpha_body.row(k).allFinite() || !kinematics.pos_fixed.row(k).allFinite()))
       return k;
   }
   return -1;
+}
+
+// The info finding of a test whose array cannot determine rotation.
+Finding RotationUndetermined(const ArrayGeometry& array) {
+  return Finding{"rotation", std::nullopt, Severity::kInfo,
+                 "array " + array.name +
+                     " cannot determine rotation from its sensors (neither six independent linear "
+                     "rigid-body equations nor angular-rate sensors on three axes): the results hold the CG "
+                     "acceleration and HIC, peak and a3ms from it; angular velocity and acceleration, BrIC, "
+                     "DAMAGE, orientation, velocity and position are null, and the rigid-body consistency "
+                     "checks are skipped."};
 }
 
 // The first error-severity finding, or nullptr: the verdict's rule.
@@ -47,8 +62,13 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   processed.kinematics = Solve(array, signals, options);
 
   // Rigid-body consistency is judged by the exact solver's residual, also
-  // when the result comes from the seed solver.
-  if (options.solver == SolverKind::kExact) {
+  // when the result comes from the seed solver. Without rotation there is
+  // nothing to judge it by (docs/algorithms.md "Acceleration-only arrays").
+  ArrayGeometry validated = array;
+  ValidateArray(validated);
+  if (!DeterminesRotation(validated)) {
+    findings.push_back(RotationUndetermined(validated));
+  } else if (options.solver == SolverKind::kExact) {
     AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening),
                    findings);
   } else {

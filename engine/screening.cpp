@@ -517,6 +517,8 @@ int ResidualRedundancy(const ArrayGeometry& array) {
       return linear - 3;  // L equations, unknown a (omega, alpha from the rates)
     case ExactPath::kFused:
       return linear + 3 - 6;  // L + 3 differentiated-rate equations, unknowns a and alpha
+    case ExactPath::kAccelerationOnly:
+      return 0;  // without omega no rigid-body equation can be checked
   }
   return 0;
 }

@@ -1,6 +1,7 @@
 #include "engine/summary.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "engine/integration.h"
 #include "engine/rotation.h"
@@ -11,6 +12,21 @@ namespace napkin::engine {
 void SummarizeKinematics(const Kinematics& kin, TestSummary& summary) {
   const Eigen::Index n = kin.size();
   if (n == 0) return;
+  if (!HasRotation(kin)) {
+    // Acceleration only (docs/algorithms.md "Acceleration-only arrays"): the
+    // resultant CG acceleration, and NaN (null in the catalogue, the JSON and
+    // `napkin query`) for every field that needs the rotation.
+    constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
+    summary.peak_omega_body_radps.setConstant(kUndetermined);
+    summary.peak_omega_radps = summary.peak_alpha_radps2 = kUndetermined;
+    summary.peak_acc_g = kin.acc_body.rowwise().norm().maxCoeff() / kStandardGravity;
+    summary.final_quat_wxyz.setConstant(kUndetermined);
+    summary.final_roll_pitch_yaw_deg.setConstant(kUndetermined);
+    summary.final_pos_fixed_m.setConstant(kUndetermined);
+    summary.max_rotation_deg = kUndetermined;
+    summary.max_residual_mps2 = kUndetermined;
+    return;
+  }
   summary.peak_omega_body_radps = kin.omega_body.cwiseAbs().colwise().maxCoeff().transpose();
   summary.peak_omega_radps = kin.omega_body.rowwise().norm().maxCoeff();
   summary.peak_alpha_radps2 = kin.alpha_body.rowwise().norm().maxCoeff();

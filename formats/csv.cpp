@@ -275,11 +275,15 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
     }
     line += '\n';
     file.Write(line);
+    // An acceleration-only test's rotation-dependent series are NaN
+    // (engine::HasRotation): their cells are empty (docs/formats.md
+    // "Derived channels").
+    auto append = [&](double value) {
+      line += ',';
+      if (std::isfinite(value)) AppendNumber(line, value, kDigits);
+    };
     auto append3 = [&](const engine::Series3& series, Eigen::Index k, double scale) {
-      for (int c = 0; c < 3; ++c) {
-        line += ',';
-        AppendNumber(line, series(k, c) * scale, kDigits);
-      }
+      for (int c = 0; c < 3; ++c) append(series(k, c) * scale);
     };
     const double g_per_si = 1.0 / engine::kStandardGravity;
     for (Eigen::Index k = 0; k < n; ++k) {
@@ -293,10 +297,7 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
       append3(kinematics.acc_fixed, k, g_per_si);
       append3(kinematics.vel_fixed, k, 1.0);
       append3(kinematics.pos_fixed, k, 1.0);
-      for (int c = 0; c < 4; ++c) {
-        line += ',';
-        AppendNumber(line, kinematics.quat_fixed_from_body(k, c), kDigits);
-      }
+      for (int c = 0; c < 4; ++c) append(kinematics.quat_fixed_from_body(k, c));
       append3(kinematics.roll_pitch_yaw_rad, k, engine::kDegPerRad);
       append3(kinematics.dcos_rad, k, engine::kDegPerRad);
       line += '\n';

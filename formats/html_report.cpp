@@ -490,8 +490,14 @@ ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series
                   std::move(config_name), std::move(summary), {}};
   const Eigen::VectorXd& t = kinematics.time_s;
 
-  ReportChart acc = MakeChart("acc", "Resultant CG acceleration", "acceleration (g)", {"resultant"}, t,
-                              kinematics.acc_fixed.rowwise().norm() / engine::kStandardGravity, max_points);
+  // An acceleration-only test (engine::HasRotation) has its CG acceleration
+  // in body axes (the same resultant) and no rotation charts.
+  const bool rotation = engine::HasRotation(kinematics);
+  ReportChart acc =
+      MakeChart("acc", "Resultant CG acceleration", "acceleration (g)", {"resultant"}, t,
+                rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / engine::kStandardGravity)
+                         : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / engine::kStandardGravity),
+                max_points);
   const std::pair<const char*, const engine::HicWindow*> hic_windows[] = {{"HIC15", &test.summary.hic15},
                                                                           {"HIC36", &test.summary.hic36}};
   for (const auto& [name, window] : hic_windows) {
@@ -500,6 +506,7 @@ ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series
         {std::string(name) + " = " + Fixed(window->value, 0), window->t1_s * 1000.0, window->t2_s * 1000.0});
   }
   test.charts.push_back(std::move(acc));
+  if (!rotation) return test;
   test.charts.push_back(MakeChart("omega", "Angular velocity, head axes", "angular velocity (rad/s)",
                                   {"x", "y", "z", "resultant"}, t, WithResultant(kinematics.omega_body),
                                   max_points));

@@ -71,7 +71,9 @@ struct ReportTest {
 // in g with the HIC15 and HIC36 windows; body angular velocity x, y, z and
 // resultant; roll, pitch, yaw in degrees; CG velocity in the fixed frame),
 // each reduced to at most `max_points` points by
-// engine::PeakPreservingSamples, time in ms.
+// engine::PeakPreservingSamples, time in ms. A test without rotation
+// (engine::HasRotation: an acceleration-only array) has the acceleration
+// chart only.
 ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series,
                           std::optional<std::string> variant, std::string config_name,
                           engine::TestSummary summary, const engine::Kinematics& kinematics,

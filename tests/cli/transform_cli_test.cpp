@@ -189,14 +189,16 @@ TEST_F(TransformCliTest, UnknownArrayIsRefused) {
 }
 
 TEST_F(TransformCliTest, RankDeficientArrayIsRefused) {
-  // Nine accelerometers, all at the CG: angular acceleration is unobservable.
+  // Nine accelerometers, all at one point off the CG: angular acceleration is
+  // unobservable, and no sensor reads the CG acceleration (nine at the CG
+  // would be an acceleration-only array, docs/algorithms.md).
   std::string sensors;
   const char* slots[9] = {"cg_x", "cg_y", "cg_z", "yarm_z", "yarm_x", "xarm_z", "xarm_y", "zarm_x", "zarm_y"};
   const char* axes[9] = {"[1,0,0]", "[0,1,0]", "[0,0,1]", "[0,0,1]", "[1,0,0]",
                          "[0,0,1]", "[0,1,0]", "[1,0,0]", "[0,1,0]"};
   for (int i = 0; i < 9; ++i)
     sensors += std::string(i ? "," : "") + R"({"slot": ")" + slots[i] +
-               R"(", "type": "linear", "position": [0,0,0], "axis": )" + axes[i] + R"(, "unit": "g"})";
+               R"(", "type": "linear", "position": [1,0,0], "axis": )" + axes[i] + R"(, "unit": "g"})";
   WriteText(dir_ / "flat.json", R"({"name": "flat", "length_unit": "in", "sensors": [)" + sensors + "]}");
   ExpectRefused(Transform(input_, (dir_ / "flat.json").string()), "rank");
 }

@@ -58,7 +58,9 @@ TEST(ArrayJsonTest, PresetsEqualTheReportGeometries) {
   ExpectSameArray(test_support::Denton3222(), ReadArrayJson(dir / "denton-3222.json"));
   ExpectSameArray(test_support::SixAOmegaCg(), ReadArrayJson(dir / "6aw-cg.json"));
   ExpectSameArray(test_support::NapArs12(), ReadArrayJson(dir / "nap-ars-12.json"));
-  for (const char* name : {"ideal-3222", "volpe-table4-2", "denton-3222", "6aw-cg", "nap-ars-12"})
+  ExpectSameArray(test_support::ThreeACg(), ReadArrayJson(dir / "3a-cg.json"));
+  EXPECT_FALSE(engine::DeterminesRotation(ReadArrayJson(dir / "3a-cg.json")));  // acceleration only
+  for (const char* name : {"ideal-3222", "volpe-table4-2", "denton-3222", "6aw-cg", "nap-ars-12", "3a-cg"})
     EXPECT_EQ(ReadArrayJson(dir / (std::string(name) + ".json")).name, name);
 }
 

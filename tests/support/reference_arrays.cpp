@@ -99,6 +99,13 @@ ArrayGeometry SixAOmegaCg() {
   return array;
 }
 
+ArrayGeometry ThreeACg() {
+  ArrayGeometry array = Ideal3222();
+  array.name = "3a-cg";
+  array.sensors.resize(3);  // cg_x, cg_y, cg_z at the CG
+  return array;
+}
+
 ArrayGeometry NapArs12() {
   ArrayGeometry array = Denton3222();
   array.name = "nap-ars-12";

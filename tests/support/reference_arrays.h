@@ -14,6 +14,8 @@ engine::ArrayGeometry VolpeTable42();
 engine::ArrayGeometry Denton3222();
 // Three accelerometers at the CG plus three angular-rate sensors.
 engine::ArrayGeometry SixAOmegaCg();
+// Three accelerometers at the CG along x, y, z: acceleration only (3a-cg).
+engine::ArrayGeometry ThreeACg();
 // Denton NAP plus three angular-rate sensors (12 channels).
 engine::ArrayGeometry NapArs12();
 
