@@ -42,6 +42,13 @@ struct UdsChannel {
   int nfp = 0;                    // index of the first sample (sample i is at i * del)
   double del_s = 1e-4;            // sampling interval (stored as REAL*4)
   double initial_velocity = 0.0;  // INIVEL
+  // PREF: cut-off (Hz) of the recorder's analog anti-aliasing prefilter; 0 = not stated.
+  // Informative only: it does not make the channel CFC-filtered.
+  double prefilter_hz = 0.0;
+  // FCUT: the channel's digital filter class (Hz; the SAE J211 CFC is the
+  // passband frequency in Hz), 0 = unfiltered. A positive FCUT is the
+  // channel's prefiltered_cfc (docs/formats.md "UDS-1992 input").
+  double filter_cutoff_hz = 0.0;
   std::vector<double> values;     // NLP - NFP + 1 samples (REAL*4 precision)
 
   int nlp() const { return nfp + static_cast<int>(values.size()) - 1; }
@@ -55,7 +62,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path);
 // when a value cannot be represented (e.g. beyond the VAX F-float range).
 void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path);
 
-// The channel as a RawChannel (unit from YUNITS, t0 = NFP * DEL).
+// The channel as a RawChannel (unit from YUNITS, t0 = NFP * DEL,
+// prefiltered_cfc = FCUT when positive).
 RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& path);
 
 // VAX F_floating <-> value. The four bytes are as stored: two little-endian
