@@ -65,8 +65,9 @@ struct TimeConfig {
 };
 
 // a3ms (docs/algorithms.md "Injury criteria"): the level exceeded for a
-// cumulative 3 ms (the regulatory definition: FMVSS 208 S6.2, ECE R94 / R137
-// "3 ms cumulative"), or for 3 ms without interruption.
+// cumulative 3 ms (the regulatory definition: FMVSS No. 208 "intervals whose
+// cumulative duration is not more than 3 milliseconds", ECE R94 "3 ms
+// cumulative"), or for 3 ms without interruption.
 enum class A3msDefinition {
   kCumulative,  // the level the resultant is at or above for 3 ms in total
   kContinuous,  // the level the resultant stays at or above for one unbroken 3 ms
