@@ -16,12 +16,10 @@ namespace napkin::cli {
 namespace {
 
 const std::map<std::string, db::QueryKind>& Kinds() {
-  static const std::map<std::string, db::QueryKind> kinds = {{"tests", db::QueryKind::kTests},
-                                                             {"hic", db::QueryKind::kHic},
-                                                             {"rotation", db::QueryKind::kRotation},
-                                                             {"criteria", db::QueryKind::kCriteria},
-                                                             {"quality", db::QueryKind::kQuality},
-                                                             {"conditioning", db::QueryKind::kConditioning}};
+  static const std::map<std::string, db::QueryKind> kinds = {
+      {"tests", db::QueryKind::kTests},       {"hic", db::QueryKind::kHic},
+      {"rotation", db::QueryKind::kRotation}, {"criteria", db::QueryKind::kCriteria},
+      {"quality", db::QueryKind::kQuality},   {"conditioning", db::QueryKind::kConditioning}};
   return kinds;
 }
 

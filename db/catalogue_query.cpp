@@ -204,8 +204,8 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
   if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
   if (kind == QueryKind::kConditioning) {
     add_text({"channel", "unit", "filter"});
-    for (const char* name : {"filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s",
-                             "time_shift_s"})
+    for (const char* name :
+         {"filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s"})
       fields.push_back({name, true});
   }
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});

@@ -152,7 +152,8 @@ void Catalogue::WriteConditioning(TestId test, ConfigId config,
                                   std::span<const engine::ChannelConditioning> conditioning) {
   Transaction transaction(connection_);
   {
-    auto remove = connection_.Prepare("DELETE FROM result_conditioning WHERE test_id = ?1 AND config_id = ?2");
+    auto remove =
+        connection_.Prepare("DELETE FROM result_conditioning WHERE test_id = ?1 AND config_id = ?2");
     remove->BindAll(test, config);
     remove->Execute();
   }

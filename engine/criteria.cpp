@@ -353,7 +353,8 @@ double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_
 }
 
 double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
-  const auto rank = static_cast<std::ptrdiff_t>(A3msSamples(acc_g, dt_s, duration_s)) - 1;  // 0-based, descending
+  const auto rank =
+      static_cast<std::ptrdiff_t>(A3msSamples(acc_g, dt_s, duration_s)) - 1;  // 0-based, descending
   std::vector<double> values(acc_g.data(), acc_g.data() + acc_g.size());
   std::nth_element(values.begin(), values.begin() + rank, values.end(), std::greater<>());
   return values[static_cast<std::size_t>(rank)];
@@ -446,8 +447,8 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   summary.hic_d = HicD(summary.hic36.value);
   options.window_s = kUnlimitedHicWindow;
   summary.hic = Hic(acc_g, dt, t0, options);
-  summary.a3ms_g = config.a3ms.definition == A3msDefinition::kContinuous ? A3msContinuous(acc_g, dt)
-                                                                          : A3ms(acc_g, dt);
+  summary.a3ms_g =
+      config.a3ms.definition == A3msDefinition::kContinuous ? A3msContinuous(acc_g, dt) : A3ms(acc_g, dt);
   summary.bric = Bric(kinematics.omega_body, config.bric.critical_radps);
   summary.damage = Damage(kinematics.alpha_body, dt);
 }

@@ -74,8 +74,7 @@ double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double 
 // unbroken 3 ms, i.e. the largest minimum over N consecutive samples (N as
 // above). Never above A3ms(); equal to it for a pulse with one peak. Throws
 // InputError as A3ms() does.
-double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s,
-                      double duration_s = 0.003);
+double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = 0.003);
 
 // ---------------------------------------------------------------------------
 // BrIC (Takhounts et al. 2013) = sqrt(sum_i (max_t |omega_i| / omega_iC)^2),

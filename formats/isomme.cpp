@@ -161,7 +161,7 @@ struct OutputChannel {
   std::string code;
   std::string name;
   std::string unit;
-  std::string reference_system;  // "local" (body axes) or "global" (fixed axes)
+  std::string reference_system;           // "local" (body axes) or "global" (fixed axes)
   std::optional<double> frequency_class;  // "Channel frequency class" line when set
   std::vector<double> values;
 };

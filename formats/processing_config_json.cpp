@@ -149,10 +149,9 @@ json FilterClassJson(const std::optional<double>& value) { return value ? json(*
 
 engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const std::string& source) {
   engine::ProcessingConfig config;
-  const ObjectReader top(
-      json, "", source,
-      {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "a3ms", "bric",
-       "screening"});
+  const ObjectReader top(json, "", source,
+                         {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "a3ms",
+                          "bric", "screening"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
   top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);

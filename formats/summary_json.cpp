@@ -26,8 +26,8 @@ nlohmann::ordered_json ConditioningToJson(const engine::ChannelConditioning& rec
   json["prefiltered_cfc"] = OptionalNumber(record.prefiltered_cfc);
   json["bias_removed"] = Number(record.bias_removed);
   json["bias_window_s"] = record.bias_window_start_s && record.bias_window_end_s
-                              ? nlohmann::ordered_json::array({Number(*record.bias_window_start_s),
-                                                               Number(*record.bias_window_end_s)})
+                              ? nlohmann::ordered_json::array(
+                                    {Number(*record.bias_window_start_s), Number(*record.bias_window_end_s)})
                               : nlohmann::ordered_json(nullptr);
   json["time_shift_s"] = Number(record.time_shift_s);
   return json;

@@ -267,8 +267,9 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   double inivel = 0.0;
   if (ReadReal(curve, curve_header::kInivel, form, inivel) && std::isfinite(inivel))
     channel.initial_velocity = inivel;
-  for (const auto& [offset, field] : {std::pair<std::size_t, double*>{curve_header::kPref, &channel.prefilter_hz},
-                                      {curve_header::kFcut, &channel.filter_cutoff_hz}}) {
+  for (const auto& [offset, field] :
+       {std::pair<std::size_t, double*>{curve_header::kPref, &channel.prefilter_hz},
+        {curve_header::kFcut, &channel.filter_cutoff_hz}}) {
     double hz = 0.0;
     if (ReadReal(curve, offset, form, hz) && std::isfinite(hz) && hz > 0.0) *field = IntendedDecimal(hz);
   }
@@ -361,7 +362,8 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
       !WriteReal(curve, curve_header::kInivel, channel.initial_velocity, form) ||
       !WriteReal(curve, curve_header::kPref, channel.prefilter_hz, form) ||
       !WriteReal(curve, curve_header::kFcut, channel.filter_cutoff_hz, form))
-    throw InputError(file + ": DEL, INIVEL, PREF or FCUT cannot be stored as a " + UdsNumberFormName(form) + " real.");
+    throw InputError(file + ": DEL, INIVEL, PREF or FCUT cannot be stored as a " + UdsNumberFormName(form) +
+                     " real.");
 
   for (std::size_t r = 0; r < records; ++r) {
     std::uint8_t* record = bytes.data() + (2 + r) * kUdsRecordBytes;

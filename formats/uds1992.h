@@ -49,7 +49,7 @@ struct UdsChannel {
   // passband frequency in Hz), 0 = unfiltered. A positive FCUT is the
   // channel's prefiltered_cfc (docs/formats.md "UDS-1992 input").
   double filter_cutoff_hz = 0.0;
-  std::vector<double> values;     // NLP - NFP + 1 samples (REAL*4 precision)
+  std::vector<double> values;  // NLP - NFP + 1 samples (REAL*4 precision)
 
   int nlp() const { return nfp + static_cast<int>(values.size()) - 1; }
 };

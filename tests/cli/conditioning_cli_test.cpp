@@ -41,7 +41,8 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
   unfiltered.filter.linear_cfc.reset();
   engine::TestSignals plain = catalogue.ReadTestSignals(marked_id);
   plain.prefiltered_cfc.clear();
-  const engine::ProcessedTest expected = engine::ProcessTest(synth.array, plain, record.initial_state, unfiltered);
+  const engine::ProcessedTest expected =
+      engine::ProcessTest(synth.array, plain, record.initial_state, unfiltered);
   const db::ConfigId config = *catalogue.ReadLatestResultConfig(marked_id);
   const engine::TestSummary stored = *catalogue.ReadSummary(marked_id, config);
   EXPECT_EQ(stored.hic15.value, expected.summary.hic15.value);

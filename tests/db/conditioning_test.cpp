@@ -87,9 +87,9 @@ TEST(ConditioningCatalogue, ResultStoresConditioningAndQueryShowsIt) {
     QueryRequest request;
     request.config = which;
     const Table table = catalogue.Query(QueryKind::kConditioning, request);
-    const std::vector<std::string> columns = {"test_id",      "series",          "variant",      "channel",
-                                              "unit",         "filter",          "filter_cfc",   "prefiltered_cfc",
-                                              "bias_removed", "bias_t1_s",       "bias_t2_s",    "time_shift_s"};
+    const std::vector<std::string> columns = {"test_id",      "series",    "variant",    "channel",
+                                              "unit",         "filter",    "filter_cfc", "prefiltered_cfc",
+                                              "bias_removed", "bias_t1_s", "bias_t2_s",  "time_shift_s"};
     EXPECT_EQ(table.columns, columns);
     ASSERT_EQ(table.rows.size(), 2u);  // in column order
     EXPECT_EQ(std::get<std::string>(table.rows[0][3]), "cg_x");

@@ -145,7 +145,8 @@ TEST(HonestConditioning, RecordsBiasValueWindowAndShift) {
   window.bias.window_end_s = -0.001;
   TestSignals windowed = NoisySignals();
   const double expected_window_bias = windowed.samples.col(0).segment(40, 11).mean();  // -2 ... -1 ms
-  const std::vector<ChannelConditioning> window_record = ApplyConditioning(OneLinearOneRate(), windowed, window);
+  const std::vector<ChannelConditioning> window_record =
+      ApplyConditioning(OneLinearOneRate(), windowed, window);
   EXPECT_DOUBLE_EQ(window_record[0].bias_removed, expected_window_bias);
   EXPECT_NEAR(*window_record[0].bias_window_start_s, -0.002, 1e-12);
   EXPECT_NEAR(*window_record[0].bias_window_end_s, -0.001, 1e-12);
@@ -203,7 +204,8 @@ TEST(A3msDefinitions, HalfSineAnalytic) {
   const double amplitude = 100.0, duration = 0.010, dt = 1e-6;
   const auto n = static_cast<Eigen::Index>(std::llround(duration / dt)) + 1;
   Eigen::VectorXd acc(n);
-  for (Eigen::Index k = 0; k < n; ++k) acc[k] = amplitude * std::sin(kPi * static_cast<double>(k) * dt / duration);
+  for (Eigen::Index k = 0; k < n; ++k)
+    acc[k] = amplitude * std::sin(kPi * static_cast<double>(k) * dt / duration);
   const double analytic = amplitude * std::cos(kPi * 0.003 / (2.0 * duration));  // 89.1007 g
   // Sampling error: the slope at the level times one sample.
   const double tolerance = amplitude * kPi / duration * dt;

@@ -139,9 +139,10 @@ TEST(ConditioningJson, SummaryListsWhatWasDoneToEachChannel) {
   summary.conditioning = {skipped, filtered};
   const nlohmann::ordered_json json = SummaryToJson(summary, "T", "", "");
   ASSERT_EQ(json["conditioning"].size(), 2u);
-  EXPECT_EQ(json["conditioning"][0].dump(),
-            R"({"channel":"cg_x","filter":"none, prefiltered at CFC 1000","filter_cfc":null,)"
-            R"("prefiltered_cfc":1000.0,"bias_removed":0.25,"bias_window_s":[-0.05,-0.0001],"time_shift_s":0.0})");
+  EXPECT_EQ(
+      json["conditioning"][0].dump(),
+      R"({"channel":"cg_x","filter":"none, prefiltered at CFC 1000","filter_cfc":null,)"
+      R"("prefiltered_cfc":1000.0,"bias_removed":0.25,"bias_window_s":[-0.05,-0.0001],"time_shift_s":0.0})");
   EXPECT_EQ(json["conditioning"][1].dump(),
             R"({"channel":"ars_x","filter":"CFC 60","filter_cfc":60.0,"prefiltered_cfc":null,)"
             R"("bias_removed":0.0,"bias_window_s":null,"time_shift_s":0.002})");
