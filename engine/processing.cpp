@@ -286,11 +286,11 @@ std::vector<Finding> ConditioningFindings(const std::vector<ChannelConditioning>
     detail << "channel " << record.channel << " is recorded in the file as filtered at CFC "
            << *record.prefiltered_cfc;
     if (record.filter_skipped_prefiltered)
-      detail << ", so napkin did not filter it again (its samples are used as recorded).";
+      detail << ", so napkin did not filter it again.";
     else if (record.filter_cfc)
       detail << "; napkin filtered it at the narrower CFC " << *record.filter_cfc << " as configured.";
     else
-      detail << "; napkin applied no filter to it (none is configured for its sensor kind).";
+      detail << "; napkin applied no filter to it.";
     findings.push_back({"prefiltered", record.channel, Severity::kInfo, detail.str()});
   }
   return findings;
