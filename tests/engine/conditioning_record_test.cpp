@@ -8,6 +8,7 @@
 #include <cstring>
 #include <random>
 
+#include "common/error.h"
 #include "engine/cfc_filter.h"
 #include "engine/criteria.h"
 #include "engine/pipeline.h"
