@@ -33,7 +33,9 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
 
   db::Catalogue catalogue = OpenForReading(dir / "napkin.db");
   // The stored result of the marked test is the unfiltered computation of the same samples.
-  const db::TestId marked_id = *catalogue.FindTestByExternalId("MARKED");
+  const std::optional<db::TestId> found = catalogue.FindTestByExternalId("marked");
+  ASSERT_TRUE(found.has_value());
+  const db::TestId marked_id = *found;
   const db::TestRecord record = catalogue.ReadTest(marked_id);
   EXPECT_EQ(catalogue.ReadTestSignals(marked_id).prefiltered_cfc,
             std::vector<std::optional<double>>(9, engine::kCfc1000));
@@ -50,7 +52,7 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
   EXPECT_EQ(stored.peak_omega_radps, expected.summary.peak_omega_radps);
 
   db::QueryRequest marked_rows;
-  marked_rows.external_ids = {"MARKED"};
+  marked_rows.external_ids = {"marked"};
   const db::Table conditioning = catalogue.Query(db::QueryKind::kConditioning, marked_rows);
   ASSERT_EQ(conditioning.rows.size(), 9u);
   for (const auto& row : conditioning.rows) {
@@ -58,7 +60,7 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
     EXPECT_EQ(std::get<double>(row[7]), 1000.0);
   }
   db::QueryRequest raw_rows;
-  raw_rows.external_ids = {"RAW"};
+  raw_rows.external_ids = {"raw"};
   const db::Table raw = catalogue.Query(db::QueryKind::kConditioning, raw_rows);
   ASSERT_EQ(raw.rows.size(), 9u);
   for (const auto& row : raw.rows) {
@@ -70,13 +72,13 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
                                                    "check=prefiltered", "--format", "csv"});
   ASSERT_EQ(quality.exit_code, 0) << quality.err;
   const std::vector<std::string> lines = Lines(quality.out);
-  ASSERT_EQ(lines.size(), 10u) << quality.out;  // header + one per channel of MARKED
+  ASSERT_EQ(lines.size(), 10u) << quality.out;  // header + one per channel of marked
   for (std::size_t i = 1; i < lines.size(); ++i) {
-    EXPECT_EQ(lines[i].rfind("MARKED,", 0), 0u) << lines[i];
+    EXPECT_EQ(lines[i].rfind("marked,", 0), 0u) << lines[i];
     EXPECT_NE(lines[i].find("did not filter it again"), std::string::npos) << lines[i];
   }
   const RunResult query = RunNapkin(dir.path(), {"--db", "napkin.db", "query", "conditioning", "--where",
-                                                 "test_id=MARKED and channel=cg_x", "--format", "csv"});
+                                                 "test_id=marked and channel=cg_x", "--format", "csv"});
   ASSERT_EQ(query.exit_code, 0) << query.err;
   EXPECT_EQ(Lines(query.out).at(0),
             "test_id,series,variant,channel,unit,filter,filter_cfc,prefiltered_cfc,bias_removed,bias_t1_s,"
