@@ -10,6 +10,7 @@
 
 #include "engine/cfc_filter.h"
 #include "formats/channel_map.h"
+#include "formats/html_report.h"
 #include "formats/isomme.h"
 #include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
@@ -146,6 +147,28 @@ TEST(ConditioningJson, SummaryListsWhatWasDoneToEachChannel) {
   EXPECT_EQ(json["conditioning"][1].dump(),
             R"({"channel":"ars_x","filter":"CFC 60","filter_cfc":60.0,"prefiltered_cfc":null,)"
             R"("bias_removed":0.0,"bias_window_s":null,"time_shift_s":0.002})");
+}
+
+TEST(ConditioningReport, EachTestShowsItsConditioningTable) {
+  engine::Kinematics kinematics;
+  kinematics.Resize(100);
+  kinematics.time_s.setLinSpaced(100, 0.0, 0.0099);
+  engine::TestSummary summary;
+  engine::ChannelConditioning skipped;
+  skipped.channel = "cg_x";
+  skipped.prefiltered_cfc = 1000.0;
+  skipped.filter_skipped_prefiltered = true;
+  skipped.bias_removed = 0.5;
+  skipped.bias_window_start_s = -0.002;
+  skipped.bias_window_end_s = -0.0001;
+  summary.conditioning = {skipped};
+  std::vector<ReportTest> tests;
+  tests.push_back(MakeReportTest("v1", "s", "a", "default", summary, kinematics));
+  const std::string html = RenderHtmlReport(ReportHeader{}, {}, tests);
+  EXPECT_NE(html.find("<h3>Conditioning</h3>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><td>cg_x</td><td>none, prefiltered at CFC 1000</td><td>0.5000</td>"
+                      "<td>-2.000 to -0.1000</td><td>0</td></tr>"),
+            std::string::npos);
 }
 
 }  // namespace
