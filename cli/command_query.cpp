@@ -1,4 +1,4 @@
-// `napkin query {tests,hic,rotation,criteria,quality}`: summaries across
+// `napkin query {tests,hic,rotation,criteria,quality,conditioning}`: summaries across
 // tests from the catalogue's query views (each test's latest result, or the
 // results of --config), filtered by --series, --variant and --where, ordered
 // by --sort, cut by --limit (docs/formats.md "Query filters"), as an aligned
@@ -16,11 +16,10 @@ namespace napkin::cli {
 namespace {
 
 const std::map<std::string, db::QueryKind>& Kinds() {
-  static const std::map<std::string, db::QueryKind> kinds = {{"tests", db::QueryKind::kTests},
-                                                             {"hic", db::QueryKind::kHic},
-                                                             {"rotation", db::QueryKind::kRotation},
-                                                             {"criteria", db::QueryKind::kCriteria},
-                                                             {"quality", db::QueryKind::kQuality}};
+  static const std::map<std::string, db::QueryKind> kinds = {
+      {"tests", db::QueryKind::kTests},       {"hic", db::QueryKind::kHic},
+      {"rotation", db::QueryKind::kRotation}, {"criteria", db::QueryKind::kCriteria},
+      {"quality", db::QueryKind::kQuality},   {"conditioning", db::QueryKind::kConditioning}};
   return kinds;
 }
 
@@ -29,9 +28,9 @@ class QueryCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    sub->add_option("what", what_, "tests, hic, rotation, criteria or quality")
+    sub->add_option("what", what_, "tests, hic, rotation, criteria, quality or conditioning")
         ->required()
-        ->check(CLI::IsMember({"tests", "hic", "rotation", "criteria", "quality"}));
+        ->check(CLI::IsMember({"tests", "hic", "rotation", "criteria", "quality", "conditioning"}));
     filters_.Register(*sub);
     sub->add_option("--format", format_, "table, csv or json")
         ->check(CLI::IsMember({"table", "csv", "json"}))

@@ -311,15 +311,22 @@ void Catalogue::WriteRawChannels(TestId test, const engine::TestSignals& signals
     remove->Bind(1, test);
     remove->Execute();
   }
+  // prefiltered_cfc (schema version 5) only for signals that carry it: a
+  // plain test's statement is the same as before that version.
+  const bool prefiltered = !signals.prefiltered_cfc.empty();
   auto insert = connection_.Prepare(
-      "INSERT INTO raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
-      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
+      prefiltered
+          ? "INSERT INTO raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples, "
+            "prefiltered_cfc) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)"
+          : "INSERT INTO raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
+            "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
   std::vector<std::byte> scratch;
   for (std::size_t c = 0; c < channels; ++c) {
     const auto column = std::span<const double>(signals.samples.col(static_cast<Eigen::Index>(c)).data(),
                                                 static_cast<std::size_t>(signals.samples.rows()));
     insert->BindAll(test, c, signals.slots[c], units[c], signals.dt_s, signals.t0_s, signals.samples.rows(),
                     Float64LittleEndianBytes(column, scratch));
+    if (prefiltered) insert->Bind(9, signals.PrefilteredCfc(static_cast<Eigen::Index>(c)));
     insert->Execute();
     insert->Reset();
   }
@@ -355,11 +362,15 @@ engine::TestSignals Catalogue::ReadTestSignals(TestId test) {
   signals.samples.resize(static_cast<Eigen::Index>(first.sample_count),
                          static_cast<Eigen::Index>(channels.size()));
 
-  auto select =
-      connection_.Prepare("SELECT slot, samples FROM raw_channels WHERE test_id = ?1 ORDER BY position");
+  auto select = connection_.Prepare(
+      "SELECT slot, samples, prefiltered_cfc FROM raw_channels WHERE test_id = ?1 ORDER BY position");
   select->Bind(1, test);
   for (Eigen::Index c = 0; select->Step(); ++c) {
     signals.slots.push_back(select->ColumnText(0));
+    if (!select->ColumnIsNull(2)) {  // only tests with a recorded prefilter carry the vector
+      signals.prefiltered_cfc.resize(channels.size());
+      signals.prefiltered_cfc[static_cast<std::size_t>(c)] = select->ColumnDouble(2);
+    }
     DecodeFloat64LittleEndian(
         select->ColumnBlob(1),
         std::span<double>(signals.samples.col(c).data(), static_cast<std::size_t>(signals.samples.rows())));

@@ -84,7 +84,8 @@ struct RawChannelInfo {
 
 // `napkin query` tables, read from the views v_tests, v_hic, v_rotation,
 // v_criteria and v_quality; column names are the query contract.
-enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality };
+// v_conditioning (kConditioning: what conditioning did to each channel).
+enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning };
 using Cell = std::variant<std::monostate, std::int64_t, double, std::string>;  // monostate: NULL
 struct Table {
   std::vector<std::string> columns;
@@ -195,9 +196,11 @@ class Catalogue {
 
   // ---- raw channels
   // Stores (replacing) the test's channels: one row per slot, samples as
-  // little-endian float64 BLOBs. `units[i]` is the unit of column i.
+  // little-endian float64 BLOBs, with signals.prefiltered_cfc. `units[i]` is
+  // the unit of column i.
   void WriteRawChannels(TestId test, const engine::TestSignals& signals, std::span<const std::string> units);
-  // The test's channels in their original column order, bit-exact.
+  // The test's channels in their original column order, bit-exact, with their
+  // prefiltered_cfc (empty when no channel has one).
   engine::TestSignals ReadTestSignals(TestId test);
   std::vector<RawChannelInfo> ReadRawChannelInfo(TestId test);
 
@@ -210,7 +213,8 @@ class Catalogue {
   std::vector<ConfigRecord> ReadAllConfigs();
 
   // ---- results
-  // Stores (replacing) the test's summary and findings for `config`, and its
+  // Stores (replacing) the test's summary, findings and conditioning record
+  // (table result_conditioning) for `config`, and its
   // kinematics as derived channels when given (otherwise earlier derived
   // channels of this test and config are removed: they belong to an older
   // computation). One transaction.
@@ -218,9 +222,13 @@ class Catalogue {
                    const std::string& solver, const engine::Kinematics* kinematics = nullptr);
   // Stores (replacing) findings alone, e.g. for a test that failed.
   void WriteFindings(TestId test, ConfigId config, std::span<const engine::Finding> findings);
+  // Stores (replacing) the conditioning record of the test under `config`
+  // (one row per channel, docs/formats.md "Conditioning record").
+  void WriteConditioning(TestId test, ConfigId config,
+                         std::span<const engine::ChannelConditioning> conditioning);
   // Stores (replacing) the kinematics as named derived channels.
   void WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics);
-  // The summary (with findings) of the test under `config`, if computed.
+  // The summary (with findings and conditioning record) of the test under `config`, if computed.
   std::optional<engine::TestSummary> ReadSummary(TestId test, ConfigId config);
   // The kinematics written by WriteKinematics, bit-exact, if any.
   std::optional<engine::Kinematics> ReadKinematics(TestId test, ConfigId config);

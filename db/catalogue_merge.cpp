@@ -101,8 +101,9 @@ std::int64_t MergeTests(Connection& connection) {
   const std::int64_t added = connection.Changes();
   MapKeys(connection, "tests", "content_hash");
   connection.Execute(
-      "INSERT INTO main.raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples) "
-      "SELECT tk.main_id, rc.position, rc.slot, rc.unit, rc.dt_s, rc.t0_s, rc.sample_count, rc.samples "
+      "INSERT INTO main.raw_channels (test_id, position, slot, unit, dt_s, t0_s, sample_count, samples, "
+      "prefiltered_cfc) SELECT tk.main_id, rc.position, rc.slot, rc.unit, rc.dt_s, rc.t0_s, rc.sample_count, "
+      "rc.samples, rc.prefiltered_cfc "
       "FROM shard.raw_channels AS rc JOIN temp.merge_tests_key AS tk ON tk.shard_id = rc.test_id "
       "WHERE NOT EXISTS (SELECT 1 FROM main.raw_channels AS x WHERE x.test_id = tk.main_id) ORDER BY rc.id");
   return added;
@@ -142,10 +143,10 @@ void SelectResultsToTake(Connection& connection) {
       "WHERE mr.id IS NULL OR mr.computed_at < r.computed_at ORDER BY r.id");
 }
 
-// The taken results replace this catalogue's results, findings and derived
-// channels of their (test, config). Returns the number of results merged.
+// The taken results replace this catalogue's results, findings, conditioning
+// records and derived channels of their (test, config). Returns the number of results merged.
 std::int64_t MergeResults(Connection& connection) {
-  for (const char* table : {"results", "findings", "derived_channels"})
+  for (const char* table : {"results", "findings", "result_conditioning", "derived_channels"})
     connection.Execute(std::string("DELETE FROM main.") + table +
                        " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
   // In the shard's order, so the most recent shard result stays the latest here.
@@ -163,6 +164,16 @@ void MergeFindings(Connection& connection) {
       "SELECT m.test_id, m.config_id, f.position, f.check_name, f.channel, f.severity, f.detail "
       "FROM temp.merge_take AS m JOIN shard.findings AS f "
       "ON f.test_id = m.shard_test AND f.config_id = m.shard_config");
+}
+
+void MergeConditioning(Connection& connection) {
+  connection.Execute(
+      "INSERT INTO main.result_conditioning (test_id, config_id, position, channel, filter, filter_cfc, "
+      "prefiltered_cfc, bias_removed, bias_t1_s, bias_t2_s, time_shift_s) "
+      "SELECT m.test_id, m.config_id, c.position, c.channel, c.filter, c.filter_cfc, c.prefiltered_cfc, "
+      "c.bias_removed, c.bias_t1_s, c.bias_t2_s, c.time_shift_s "
+      "FROM temp.merge_take AS m JOIN shard.result_conditioning AS c "
+      "ON c.test_id = m.shard_test AND c.config_id = m.shard_config");
 }
 
 void MergeDerivedChannels(Connection& connection) {
@@ -234,6 +245,7 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
   SelectResultsToTake(connection_);
   report.results_merged = MergeResults(connection_);
   MergeFindings(connection_);
+  MergeConditioning(connection_);
   MergeDerivedChannels(connection_);
   report.failures_merged = MergeJobState(connection_, clock_());
   connection_.Execute("DROP TABLE temp.merge_take");

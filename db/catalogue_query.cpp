@@ -29,6 +29,8 @@ const char* KindName(QueryKind kind) {
       return "criteria";
     case QueryKind::kQuality:
       return "quality";
+    case QueryKind::kConditioning:
+      return "conditioning";
   }
   return "?";
 }
@@ -140,6 +142,8 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
         return "v_criteria";
       case QueryKind::kQuality:
         return "v_quality";
+      case QueryKind::kConditioning:
+        return "v_conditioning";
     }
   }
   const std::string config_parameter = parameters.Add(static_cast<std::int64_t>(*config));
@@ -153,6 +157,14 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
              " f.check_name AS \"check\", f.channel AS channel, f.severity AS severity, f.detail AS detail"
              " FROM findings AS f JOIN tests AS t ON t.id = f.test_id"
              " LEFT JOIN series AS s ON s.id = t.series_id WHERE f.config_id = " +
+             config_parameter + ")";
+    case QueryKind::kConditioning:
+      return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, c.channel,"
+             " rc.unit AS unit, c.filter, c.filter_cfc, c.prefiltered_cfc, c.bias_removed, c.bias_t1_s,"
+             " c.bias_t2_s, c.time_shift_s, c.position FROM result_conditioning AS c"
+             " JOIN tests AS t ON t.id = c.test_id LEFT JOIN series AS s ON s.id = t.series_id"
+             " LEFT JOIN raw_channels AS rc ON rc.test_id = c.test_id AND rc.slot = c.channel"
+             " WHERE c.config_id = " +
              config_parameter + ")";
     default:
       return ResultsOfConfigSql(config_parameter);
@@ -192,6 +204,12 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
     add_text({"array", "source_path", "content_hash", "imported_at", "position", "test_number", "title",
               "vehicle", "dummy", "test_date", "laboratory"});
   if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
+  if (kind == QueryKind::kConditioning) {
+    add_text({"channel", "unit", "filter"});
+    for (const char* name :
+         {"filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s"})
+      fields.push_back({name, true});
+  }
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
   return fields;
 }
@@ -222,6 +240,7 @@ Table Catalogue::Query(QueryKind kind, const QueryRequest& request) {
            (key.descending ? " DESC" : " ASC") + " NULLS LAST, ";
   sql += "test_id";
   if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";
+  if (kind == QueryKind::kConditioning) sql += ", position";
   if (request.limit) {
     if (*request.limit < 0)
       throw UsageError("--limit must be a whole number of rows, 0 or more; it is " +

@@ -120,6 +120,7 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
     insert->Execute();
   }
   WriteFindings(test, config, summary.findings);
+  WriteConditioning(test, config, summary.conditioning);
   if (kinematics != nullptr)
     WriteKinematics(test, config, *kinematics);
   else
@@ -141,6 +142,30 @@ void Catalogue::WriteFindings(TestId test, ConfigId config, std::span<const engi
     const engine::Finding& finding = findings[i];
     insert->BindAll(test, config, i, finding.check, finding.channel, engine::SeverityName(finding.severity),
                     finding.detail);
+    insert->Execute();
+    insert->Reset();
+  }
+  transaction.Commit();
+}
+
+void Catalogue::WriteConditioning(TestId test, ConfigId config,
+                                  std::span<const engine::ChannelConditioning> conditioning) {
+  Transaction transaction(connection_);
+  {
+    auto remove =
+        connection_.Prepare("DELETE FROM result_conditioning WHERE test_id = ?1 AND config_id = ?2");
+    remove->BindAll(test, config);
+    remove->Execute();
+  }
+  auto insert = connection_.Prepare(
+      "INSERT INTO result_conditioning (test_id, config_id, position, channel, filter, filter_cfc, "
+      "prefiltered_cfc, bias_removed, bias_t1_s, bias_t2_s, time_shift_s) "
+      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
+  for (std::size_t i = 0; i < conditioning.size(); ++i) {
+    const engine::ChannelConditioning& record = conditioning[i];
+    insert->BindAll(test, config, i, record.channel, engine::FilterDescription(record), record.filter_cfc,
+                    record.prefiltered_cfc, record.bias_removed, record.bias_window_start_s,
+                    record.bias_window_end_s, record.time_shift_s);
     insert->Execute();
     insert->Reset();
   }
@@ -196,6 +221,26 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
   while (findings->Step())
     summary.findings.push_back({findings->ColumnText(0), findings->ColumnOptionalText(1),
                                 ParseSeverity(findings->ColumnText(2)), findings->ColumnText(3)});
+  auto conditioning = connection_.Prepare(
+      "SELECT channel, filter, filter_cfc, prefiltered_cfc, bias_removed, bias_t1_s, bias_t2_s, time_shift_s "
+      "FROM result_conditioning WHERE test_id = ?1 AND config_id = ?2 ORDER BY position");
+  conditioning->BindAll(test, config);
+  const auto optional = [&conditioning](int column) {
+    return conditioning->ColumnIsNull(column) ? std::nullopt
+                                              : std::optional<double>(conditioning->ColumnDouble(column));
+  };
+  while (conditioning->Step()) {
+    engine::ChannelConditioning& record = summary.conditioning.emplace_back();
+    record.channel = conditioning->ColumnText(0);
+    record.filter_cfc = optional(2);
+    record.prefiltered_cfc = optional(3);
+    // FilterDescription's words for a filter left out because of the prefilter.
+    record.filter_skipped_prefiltered = conditioning->ColumnText(1).rfind("none, prefiltered", 0) == 0;
+    record.bias_removed = conditioning->ColumnDouble(4);
+    record.bias_window_start_s = optional(5);
+    record.bias_window_end_s = optional(6);
+    record.time_shift_s = conditioning->ColumnDouble(7);
+  }
   return summary;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <vector>
@@ -312,7 +313,11 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
 
 // ---------------------------------------------------------------------------
 
-double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
+namespace {
+
+// The number of samples that stand for `duration_s` (each stands for dt),
+// after the checks both a3ms definitions share.
+Eigen::Index A3msSamples(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
   CheckInterval(dt_s, "a3ms");
   if (!(std::isfinite(duration_s) && duration_s > 0.0)) {
     std::ostringstream message;
@@ -327,7 +332,29 @@ double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double 
             << duration_s << " s.";
     throw InputError(message.str());
   }
-  const auto rank = static_cast<std::ptrdiff_t>(needed) - 1;  // 0-based, descending order
+  return static_cast<Eigen::Index>(needed);
+}
+
+}  // namespace
+
+double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
+  const Eigen::Index window = A3msSamples(acc_g, dt_s, duration_s);
+  // Sliding-window minimum (a deque of indices of increasing values), O(n).
+  std::vector<Eigen::Index> candidates(static_cast<std::size_t>(acc_g.size()));
+  std::size_t head = 0, tail = 0;  // candidates[head, tail)
+  double best = -std::numeric_limits<double>::infinity();
+  for (Eigen::Index k = 0; k < acc_g.size(); ++k) {
+    while (tail > head && acc_g[candidates[tail - 1]] >= acc_g[k]) --tail;
+    candidates[tail++] = k;
+    if (candidates[head] <= k - window) ++head;
+    if (k + 1 >= window) best = std::max(best, acc_g[candidates[head]]);
+  }
+  return best;
+}
+
+double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
+  const auto rank =
+      static_cast<std::ptrdiff_t>(A3msSamples(acc_g, dt_s, duration_s)) - 1;  // 0-based, descending
   std::vector<double> values(acc_g.data(), acc_g.data() + acc_g.size());
   std::nth_element(values.begin(), values.begin() + rank, values.end(), std::greater<>());
   return values[static_cast<std::size_t>(rank)];
@@ -425,7 +452,8 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   summary.hic_d = HicD(summary.hic36.value);
   options.window_s = kUnlimitedHicWindow;
   summary.hic = Hic(acc_g, dt, t0, options);
-  summary.a3ms_g = A3ms(acc_g, dt);
+  summary.a3ms_g =
+      config.a3ms.definition == A3msDefinition::kContinuous ? A3msContinuous(acc_g, dt) : A3ms(acc_g, dt);
   constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
   summary.bric = rotation ? Bric(kinematics.omega_body, config.bric.critical_radps) : kUndetermined;
   summary.damage = rotation ? Damage(kinematics.alpha_body, dt) : kUndetermined;

@@ -69,6 +69,13 @@ inline double HicD(double hic36) { return kHicDSlope * hic36 + kHicDOffset; }
 // Throws InputError when the record has fewer than N samples.
 double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = 0.003);
 
+// a3ms, continuous definition (processing config "a3ms": {"definition":
+// "continuous"}): the highest level the signal stays at or above for an
+// unbroken 3 ms, i.e. the largest minimum over N consecutive samples (N as
+// above). Never above A3ms(); equal to it for a pulse with one peak. Throws
+// InputError as A3ms() does.
+double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = 0.003);
+
 // ---------------------------------------------------------------------------
 // BrIC (Takhounts et al. 2013) = sqrt(sum_i (max_t |omega_i| / omega_iC)^2),
 // omega in body axes (rad/s). Throws InputError on non-positive critical values.
@@ -104,7 +111,7 @@ Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, d
 double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model = {});
 
 // ---------------------------------------------------------------------------
-// Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), hic_d, a3ms_g,
+// Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), hic_d, a3ms_g (config.a3ms),
 // bric (omega_body, config.bric) and damage (alpha_body) of `summary`. The
 // time base must be uniform (dt from the first two samples); throws
 // InputError when there are fewer than 2 samples.

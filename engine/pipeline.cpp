@@ -56,8 +56,9 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   if (fatal != findings.end()) throw InputError(fatal->detail);
 
   TestSignals signals = raw_signals;
-  ApplyConditioning(array, signals, config);
   ProcessedTest processed;
+  processed.summary.conditioning = ApplyConditioning(array, signals, config);
+  AppendFindings(ConditioningFindings(processed.summary.conditioning), findings);
   const SolveOptions options = MakeSolveOptions(config, initial);
   processed.kinematics = Solve(array, signals, options);
 

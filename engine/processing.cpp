@@ -185,8 +185,11 @@ BiasSamples FindBiasSamples(const TestSignals& signals, const BiasConfig& bias) 
   return {};
 }
 
-// CFC filtering per sensor kind; columns of no sensor of `array` stay as they are.
-void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const FilterConfig& config) {
+// CFC filtering per sensor kind; columns of no sensor of `array` stay as they
+// are, and so do columns the file records as filtered at the requested class
+// or a narrower one. Records the class applied in `conditioning`.
+void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const FilterConfig& config,
+                    std::vector<ChannelConditioning>& conditioning) {
   std::optional<CfcFilter> linear_filter, rate_filter;
   if (config.linear_cfc)
     linear_filter.emplace(*config.linear_cfc, signals.dt_s, config.variant, config.padding_s);
@@ -197,8 +200,17 @@ void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const Filt
     const auto sensor = std::find_if(array.sensors.begin(), array.sensors.end(),
                                      [&](const Sensor& candidate) { return candidate.slot == slot; });
     if (sensor == array.sensors.end()) continue;
-    std::optional<CfcFilter>& filter = sensor->kind == SensorKind::kLinear ? linear_filter : rate_filter;
-    if (filter) filter->ApplyInPlace(signals.samples.col(c));
+    const bool linear = sensor->kind == SensorKind::kLinear;
+    std::optional<CfcFilter>& filter = linear ? linear_filter : rate_filter;
+    const std::optional<double>& requested = linear ? config.linear_cfc : config.angular_rate_cfc;
+    if (!filter || !requested) continue;
+    ChannelConditioning& record = conditioning[static_cast<std::size_t>(c)];
+    if (record.prefiltered_cfc && PrefilterCovers(*record.prefiltered_cfc, *requested)) {
+      record.filter_skipped_prefiltered = true;
+      continue;
+    }
+    filter->ApplyInPlace(signals.samples.col(c));
+    record.filter_cfc = *requested;
   }
 }
 
@@ -226,9 +238,21 @@ void Crop(TestSignals& signals, const TimeConfig& time) {
 
 }  // namespace
 
-void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const ProcessingConfig& config) {
+bool PrefilterCovers(double prefiltered_cfc, double requested_cfc) {
+  return prefiltered_cfc <= requested_cfc * (1.0 + 1e-9);
+}
+
+std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
+                                                   const ProcessingConfig& config) {
   config.Check();
   CheckConditionable(signals);
+  std::vector<ChannelConditioning> conditioning(static_cast<std::size_t>(signals.samples.cols()));
+  for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
+    ChannelConditioning& record = conditioning[static_cast<std::size_t>(c)];
+    record.channel = signals.slots[static_cast<std::size_t>(c)];
+    record.time_shift_s = config.time.shift_s;
+    record.prefiltered_cfc = signals.PrefilteredCfc(c);
+  }
 
   // 1. Time shift (report section 3.4).
   signals.t0_s -= config.time.shift_s;
@@ -239,14 +263,37 @@ void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const P
     for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
       const double mean = signals.samples.col(c).segment(bias.first, bias.count).mean();
       signals.samples.col(c).array() -= mean;
+      ChannelConditioning& record = conditioning[static_cast<std::size_t>(c)];
+      record.bias_removed = mean;
+      record.bias_window_start_s = signals.TimeAt(bias.first);
+      record.bias_window_end_s = signals.TimeAt(bias.first + bias.count - 1);
     }
   }
 
   // 3. CFC filtering per sensor kind.
-  FilterChannels(array, signals, config.filter);
+  FilterChannels(array, signals, config.filter, conditioning);
 
   // 4. Crop.
   Crop(signals, config.time);
+  return conditioning;
+}
+
+std::vector<Finding> ConditioningFindings(const std::vector<ChannelConditioning>& conditioning) {
+  std::vector<Finding> findings;
+  for (const ChannelConditioning& record : conditioning) {
+    if (!record.prefiltered_cfc) continue;
+    std::ostringstream detail;
+    detail << "channel " << record.channel << " is recorded in the file as filtered at CFC "
+           << *record.prefiltered_cfc;
+    if (record.filter_skipped_prefiltered)
+      detail << ", so napkin did not filter it again.";
+    else if (record.filter_cfc)
+      detail << "; napkin filtered it at the narrower CFC " << *record.filter_cfc << " as configured.";
+    else
+      detail << "; napkin applied no filter to it.";
+    findings.push_back({"prefiltered", record.channel, Severity::kInfo, detail.str()});
+  }
+  return findings;
 }
 
 }  // namespace napkin::engine

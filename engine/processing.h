@@ -11,8 +11,10 @@
 
 #include "engine/array_geometry.h"
 #include "engine/cfc_filter.h"
+#include "engine/conditioning_record.h"
 #include "engine/signals.h"
 #include "engine/solver.h"
+#include "engine/summary.h"
 #include "engine/vocabulary.h"
 
 namespace napkin::engine {
@@ -26,7 +28,10 @@ struct FilterConfig {
 };
 
 enum class BiasMode {
-  kAuto,    // subtract the mean of the samples with t < 0 when there are >= auto_min_pre_impact_s of them
+  // Subtract the mean of ALL samples with t < 0 (after the shift) when they
+  // span >= auto_min_pre_impact_s; otherwise remove nothing. window_s is not
+  // read (NHTSA's RmBias convention; docs/algorithms.md "Signal conditioning").
+  kAuto,
   kWindow,  // subtract the mean over [window_start_s, window_end_s] (error if the window holds no sample)
   kNone,    // keep the recorded offsets
 };
@@ -59,6 +64,32 @@ struct TimeConfig {
   std::optional<double> end_s;  // keep samples with t <= end_s (after the shift); nullopt = to the last
 };
 
+// a3ms (docs/algorithms.md "Injury criteria"): the level exceeded for a
+// cumulative 3 ms (the regulatory definition: FMVSS No. 208 "intervals whose
+// cumulative duration is not more than 3 milliseconds", ECE R94 "3 ms
+// cumulative"), or for 3 ms without interruption.
+enum class A3msDefinition {
+  kCumulative,  // the level the resultant is at or above for 3 ms in total
+  kContinuous,  // the level the resultant stays at or above for one unbroken 3 ms
+};
+
+inline constexpr std::array<NamedValue<A3msDefinition>, 2> kA3msDefinitionNames{
+    {{A3msDefinition::kCumulative, "cumulative"}, {A3msDefinition::kContinuous, "continuous"}}};
+inline constexpr std::array<A3msDefinition, 2> kA3msDefinitions = ValuesOf(kA3msDefinitionNames);
+
+// The one spelling of each definition in processing configs ("cumulative",
+// "continuous"), and its inverse (nullopt for an unknown name).
+inline const char* A3msDefinitionName(A3msDefinition definition) {
+  return NameIn(kA3msDefinitionNames, definition);
+}
+inline std::optional<A3msDefinition> ParseA3msDefinitionName(std::string_view name) {
+  return ValueNamed(kA3msDefinitionNames, name);
+}
+
+struct A3msConfig {
+  A3msDefinition definition = A3msDefinition::kCumulative;
+};
+
 struct HicConfig {
   bool from_time_zero = false;  // NHTSA program: integrate |a| and ignore samples before t = 0
 };
@@ -86,6 +117,7 @@ struct ProcessingConfig {
   TimeConfig time;                         // shift and crop
   GravityOptions gravity;                  // gravity compensation (off: report compatibility)
   HicConfig hic;                           // HIC options
+  A3msConfig a3ms;                         // a3ms definition (cumulative by default)
   BricConfig bric;                         // BrIC critical values
   ScreeningConfig screening;               // screening thresholds
 
@@ -101,11 +133,25 @@ SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState
 //  1. time shift (t0 -= time.shift_s);
 //  2. bias removal on every channel (bias.mode), using the shifted times;
 //  3. CFC filtering per sensor kind of `array` (columns whose slot is not in
-//     the array are left unfiltered: the solvers do not read them);
+//     the array are left unfiltered: the solvers do not read them). A column
+//     whose signals.prefiltered_cfc is at or below the requested class is not
+//     filtered again (its samples pass bit for bit); a narrower requested
+//     class is applied;
 //  4. crop to [time.start_s, time.end_s] (after filtering, so the filter
 //     sees real data rather than padding at the crop edges).
-// Throws InputError naming the slot and sample on a non-finite value, and on
-// an empty bias window or a crop that leaves fewer than 2 samples.
-void ApplyConditioning(const ArrayGeometry& array, TestSignals& signals, const ProcessingConfig& config);
+// Returns what it did to each column, in column order. Throws InputError
+// naming the slot and sample on a non-finite value, and on an empty bias
+// window or a crop that leaves fewer than 2 samples.
+std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
+                                                   const ProcessingConfig& config);
+
+// Whether a channel already filtered at `prefiltered_cfc` needs no filter of
+// class `requested_cfc`: the same or a narrower class was applied (1e-9
+// relative tolerance).
+bool PrefilterCovers(double prefiltered_cfc, double requested_cfc);
+
+// One info finding (check "prefiltered") per channel the file records as
+// filtered: the filter napkin left out, or the narrower class it applied.
+std::vector<Finding> ConditioningFindings(const std::vector<ChannelConditioning>& conditioning);
 
 }  // namespace napkin::engine

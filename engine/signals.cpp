@@ -8,4 +8,9 @@ int TestSignals::FindSlot(const std::string& slot) const {
   return -1;
 }
 
+std::optional<double> TestSignals::PrefilteredCfc(Eigen::Index column) const {
+  const auto index = static_cast<std::size_t>(column);
+  return column >= 0 && index < prefiltered_cfc.size() ? prefiltered_cfc[index] : std::nullopt;
+}
+
 }  // namespace napkin::engine

@@ -1,6 +1,7 @@
 #pragma once
 // Raw signals of one test: uniformly sampled channels, one column per slot.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,15 @@ struct TestSignals {
   // rows = samples, cols = channels; column-major so each channel is
   // contiguous. Values in the unit the array gives the slot (g, rad/s, ...).
   Eigen::MatrixXd samples;
+  // Per column, the CFC class the file records the channel as already
+  // filtered at (docs/formats.md: ISO-MME filter letter / "Channel frequency
+  // class", UDS-1992 FCUT); nullopt = raw or not recorded. Empty (the usual
+  // case, e.g. CSV) = no channel recorded as filtered.
+  std::vector<std::optional<double>> prefiltered_cfc;
 
   Eigen::Index size() const { return samples.rows(); }
+  // prefiltered_cfc of column `column`, nullopt when not recorded.
+  std::optional<double> PrefilteredCfc(Eigen::Index column) const;
   double TimeAt(Eigen::Index k) const { return t0_s + static_cast<double>(k) * dt_s; }
   // Column index of `slot`, or -1.
   int FindSlot(const std::string& slot) const;

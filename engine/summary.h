@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/conditioning_record.h"
 #include "engine/kinematics.h"
 #include "engine/vocabulary.h"
 
@@ -60,6 +61,8 @@ struct TestSummary {
   // quality
   double max_residual_mps2 = 0.0;
   std::vector<Finding> findings;
+  // What conditioning did to each channel, in column order (not a summary field).
+  std::vector<ChannelConditioning> conditioning;
 };
 
 // Fills the kinematic fields (peaks, final pose, max rotation, residual) of a

@@ -244,6 +244,10 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
       signals.samples(k, static_cast<Eigen::Index>(s)) =
           channel.values[static_cast<std::size_t>(first_index + k)] * scale;
     signals.slots.push_back(sensor.slot);
+    if (channel.prefiltered_cfc) {
+      signals.prefiltered_cfc.resize(array.sensors.size());
+      signals.prefiltered_cfc[s] = channel.prefiltered_cfc;
+    }
   }
   return signals;
 }

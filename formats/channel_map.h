@@ -31,6 +31,10 @@ struct RawChannel {
   std::string unit;   // as written ("g", "m/s**2", "G'S", "DEG/SEC", ...; "" if none)
   double dt_s = 0.0;  // sampling interval
   double t0_s = 0.0;  // time of the first sample
+  // The CFC class the file records the channel as already filtered at
+  // (ISO-MME "Channel frequency class" / filter letter, UDS-1992 FCUT); nullopt
+  // = raw or not recorded. Becomes engine::TestSignals::prefiltered_cfc.
+  std::optional<double> prefiltered_cfc;
   std::vector<double> values;
 
   // How messages name the channel: its code, else its file.
@@ -92,8 +96,9 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
 // Channels must share the sampling interval (error naming both channels) and
 // lie on one time grid that they share for at least two samples; the result
 // covers the common time span, each value converted into the unit the array
-// gives the slot. When the channels' spans differ, one sentence saying what
-// was cropped is added to `notes` (if given).
+// gives the slot, with each channel's prefiltered_cfc. When the channels'
+// spans differ, one sentence saying what was cropped is added to `notes` (if
+// given).
 engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
                                     const std::vector<std::size_t>& channel_of_sensor,
                                     const engine::ArrayGeometry& array, const std::string& test_name,

@@ -450,6 +450,22 @@ void AppendTest(std::string& html, json& charts, const ReportTest& test, std::si
     }
     html += "</table>\n";
   }
+  if (!s.conditioning.empty()) {
+    // What conditioning did to each channel (docs/formats.md "Conditioning record").
+    html +=
+        "<h3>Conditioning</h3>\n<table class=\"conditioning\">\n<tr><th>channel</th><th>filter</th>"
+        "<th>bias removed</th><th>bias window (ms)</th><th>time shift (ms)</th></tr>\n";
+    for (const engine::ChannelConditioning& record : s.conditioning) {
+      const std::string window = record.bias_window_start_s && record.bias_window_end_s
+                                     ? Display(*record.bias_window_start_s * 1000.0) + " to " +
+                                           Display(*record.bias_window_end_s * 1000.0)
+                                     : std::string("none");
+      html += "<tr><td>" + EscapeHtml(record.channel) + "</td><td>" +
+              EscapeHtml(engine::FilterDescription(record)) + "</td><td>" + Display(record.bias_removed) +
+              "</td><td>" + window + "</td><td>" + Display(record.time_shift_s * 1000.0) + "</td></tr>\n";
+    }
+    html += "</table>\n";
+  }
   html += "</section>\n";
 }
 

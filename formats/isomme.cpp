@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/error.h"
+#include "engine/cfc_filter.h"
 #include "engine/units.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"
@@ -103,6 +104,13 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   if (Trim(channel.code).size() == 16) channel.position = std::string(Trim(channel.code).substr(0, 2));
   if (const auto name = Lookup(header, "Name of the channel")) channel.name = *name;
   if (const auto unit = Lookup(header, "Unit")) channel.unit = *unit;
+  // Already filtered? The header's class, else the code's filter letter (ISO/TS 13499).
+  if (const auto frequency_class = Lookup(header, "Channel frequency class")) {
+    const std::optional<double> number = ParseDouble(*frequency_class);
+    if (number && std::isfinite(*number) && *number > 0.0) channel.prefiltered_cfc = *number;
+  }
+  if (!channel.prefiltered_cfc && channel.code.size() == 16)
+    channel.prefiltered_cfc = IsoMmeFilterClassOfLetter(channel.code[15]);
   channel.dt_s = require_number("Sampling interval");
   if (!(channel.dt_s > 0.0))
     throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) + " is not positive.");
@@ -229,13 +237,36 @@ std::string IsoUnit(const std::string& unit) {
 
 }  // namespace
 
+std::optional<double> IsoMmeFilterClassOfLetter(char letter) {
+  switch (letter) {
+    case 'A':
+    case 'a':
+      return engine::kCfc1000;
+    case 'B':
+    case 'b':
+      return engine::kCfc600;
+    case 'C':
+    case 'c':
+      return engine::kCfc180;
+    case 'D':
+    case 'd':
+      return engine::kCfc60;
+    default:
+      return std::nullopt;
+  }
+}
+
+std::optional<char> IsoMmeFilterLetter(double cfc) {
+  for (const char letter : {'A', 'B', 'C', 'D'}) {
+    const double standard = *IsoMmeFilterClassOfLetter(letter);
+    if (std::abs(cfc - standard) <= 1e-9 * standard) return letter;
+  }
+  return std::nullopt;
+}
+
 char FilterClassLetter(std::optional<double> cfc) {
   if (!cfc) return '0';
-  if (*cfc == 1000.0) return 'A';
-  if (*cfc == 600.0) return 'B';
-  if (*cfc == 180.0) return 'C';
-  if (*cfc == 60.0) return 'D';
-  return 'X';
+  return IsoMmeFilterLetter(*cfc).value_or('X');
 }
 
 std::string IsoMmeTest::TestNumber() const {
@@ -351,6 +382,10 @@ void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry
     if (const auto [it, inserted] = slot_of_code.emplace(channel.code, slot); !inserted)
       throw InputError(map.source + ": slots " + Quoted(it->second) + " and " + Quoted(slot) +
                        " would both be written as channel " + channel.code + ".");
+    if (const std::optional<double> prefiltered = signals.PrefilteredCfc(c)) {
+      channel.cfc = *prefiltered;
+      if (const std::optional<char> letter = IsoMmeFilterLetter(*prefiltered)) channel.code[15] = *letter;
+    }
     channel.name = "Head " + slot;
     channel.unit = "g";
     for (const engine::Sensor& sensor : array.sensors)

@@ -30,8 +30,17 @@ struct IsoMmeTest {
   std::string TestNumber() const;
 };
 
+// The CFC class of an ISO/TS 13499 filter-class letter (the code's 16th
+// character): A = CFC 1000, B = CFC 600, C = CFC 180, D = CFC 60; nullopt for
+// '0' (unfiltered) and any other letter (class not stated). Case-insensitive.
+std::optional<double> IsoMmeFilterClassOfLetter(char letter);
+// The inverse for the four standard classes (1e-9 relative tolerance); nullopt otherwise.
+std::optional<char> IsoMmeFilterLetter(double cfc);
+
 // Reads a test folder (or its .mme file). Accepts LF and CRLF, UTF-8 and
-// ISO-8859-1. Throws InputError naming the file and the problem (missing
+// ISO-8859-1. A channel's prefiltered_cfc is its "Channel frequency class"
+// header when that is a positive number, else the class of its code's
+// filter letter. Throws InputError naming the file and the problem (missing
 // header key, NOVALUE or non-numeric sample, fewer or more samples than
 // declared, ...).
 IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme);
@@ -51,7 +60,9 @@ std::string CodeForSlot(const ChannelMap& map, const std::string& slot);
 
 // Writes raw signals as an ISO-MME folder `folder` (atomically), channel codes
 // from `map`, so that ReadIsoMmeSignals(folder, array, map) gives the same
-// samples back. `test_number` names the .mme/.chn files.
+// samples back (and each column's prefiltered_cfc, as "Channel frequency
+// class" and, for a standard class, the code's filter letter). `test_number`
+// names the .mme/.chn files.
 void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry& array,
                  const ChannelMap& map, const std::filesystem::path& folder, const std::string& test_number);
 

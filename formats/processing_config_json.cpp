@@ -149,9 +149,9 @@ json FilterClassJson(const std::optional<double>& value) { return value ? json(*
 
 engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const std::string& source) {
   engine::ProcessingConfig config;
-  const ObjectReader top(
-      json, "", source,
-      {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "bric", "screening"});
+  const ObjectReader top(json, "", source,
+                         {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "a3ms",
+                          "bric", "screening"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
   top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);
@@ -192,6 +192,11 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   if (const auto* object = top.Object("hic")) {
     const ObjectReader hic(*object, "hic", source, {"from_time_zero"});
     hic.Bool("from_time_zero", config.hic.from_time_zero);
+  }
+  if (const auto* object = top.Object("a3ms")) {
+    const ObjectReader a3ms(*object, "a3ms", source, {"definition"});
+    a3ms.Choice("definition", config.a3ms.definition, engine::ParseA3msDefinitionName,
+                engine::A3msDefinitionName, engine::kA3msDefinitions);
   }
   if (const auto* object = top.Object("bric")) {
     const ObjectReader bric(*object, "bric", source, {"critical_radps"});
@@ -237,6 +242,10 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
   out["gravity"] = {{"compensate", config.gravity.compensate},
                     {"g_fixed", Vector3Json(config.gravity.g_fixed_mps2)}};
   out["hic"] = {{"from_time_zero", config.hic.from_time_zero}};
+  // Added after results were first stored: present only when not the default
+  // (cumulative), so every earlier configuration keeps its canonical form and hash.
+  if (config.a3ms.definition != engine::ProcessingConfig{}.a3ms.definition)
+    out["a3ms"] = {{"definition", engine::A3msDefinitionName(config.a3ms.definition)}};
   out["bric"] = {{"critical_radps", Vector3Json(config.bric.critical_radps)}};
   out["screening"] = {{"residual_limit_g", config.screening.residual_limit_g},
                       {"spike_size_g", config.screening.spike_size_g},

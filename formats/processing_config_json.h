@@ -8,6 +8,7 @@
 //     "time": {"shift_s": 0.0, "start_s": null, "end_s": null},
 //     "gravity": {"compensate": false, "g_fixed": [0, 0, 9.80665]},
 //     "hic": {"from_time_zero": false},
+//     "a3ms": {"definition": "cumulative"},    // or "continuous"
 //     "bric": {"critical_radps": [66.25, 56.45, 42.87]},
 //     "screening": {"residual_limit_g": 5, "spike_size_g": 50, "spike_size_radps": 20,
 //                   "saturation_run_samples": 5, "bias_limit_g": 1.5, "bias_limit_radps": 0.5}
@@ -22,7 +23,8 @@
 //
 // The canonical form (ProcessingConfigToJson) has every field, keys sorted
 // and numbers as doubles (except the integer saturation_run_samples), so its
-// dump identifies the configuration of stored results.
+// dump identifies the configuration of stored results; "a3ms" (added later)
+// only when it is not the default, so earlier configurations keep their hash.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>

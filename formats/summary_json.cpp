@@ -12,7 +12,26 @@ nlohmann::ordered_json Number(double value) {
   return value;
 }
 
+nlohmann::ordered_json OptionalNumber(const std::optional<double>& value) {
+  return value ? Number(*value) : nlohmann::ordered_json(nullptr);
+}
+
 }  // namespace
+
+nlohmann::ordered_json ConditioningToJson(const engine::ChannelConditioning& record) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  json["channel"] = record.channel;
+  json["filter"] = engine::FilterDescription(record);
+  json["filter_cfc"] = OptionalNumber(record.filter_cfc);
+  json["prefiltered_cfc"] = OptionalNumber(record.prefiltered_cfc);
+  json["bias_removed"] = Number(record.bias_removed);
+  json["bias_window_s"] = record.bias_window_start_s && record.bias_window_end_s
+                              ? nlohmann::ordered_json::array(
+                                    {Number(*record.bias_window_start_s), Number(*record.bias_window_end_s)})
+                              : nlohmann::ordered_json(nullptr);
+  json["time_shift_s"] = Number(record.time_shift_s);
+  return json;
+}
 
 nlohmann::ordered_json FindingToJson(const engine::Finding& finding) {
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
@@ -36,6 +55,12 @@ nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const s
   nlohmann::ordered_json quality = nlohmann::ordered_json::array();
   for (const engine::Finding& finding : summary.findings) quality.push_back(FindingToJson(finding));
   json["quality"] = std::move(quality);
+  if (!summary.conditioning.empty()) {
+    nlohmann::ordered_json conditioning = nlohmann::ordered_json::array();
+    for (const engine::ChannelConditioning& record : summary.conditioning)
+      conditioning.push_back(ConditioningToJson(record));
+    json["conditioning"] = std::move(conditioning);
+  }
   return json;
 }
 

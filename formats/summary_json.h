@@ -11,9 +11,14 @@ namespace napkin::formats {
 // {check, channel (slot or null), severity, detail}, in that order.
 nlohmann::ordered_json FindingToJson(const engine::Finding& finding);
 
+// {channel, filter, filter_cfc, prefiltered_cfc, bias_removed, bias_window_s,
+// time_shift_s} (docs/formats.md "Conditioning record"); absent values are null.
+nlohmann::ordered_json ConditioningToJson(const engine::ChannelConditioning& record);
+
 // test_id, series, variant, every field of `query hic` and `query rotation`
-// (engine/summary_fields.h), in contract order, then the array `quality`.
-// Non-finite numbers become null.
+// (engine/summary_fields.h), in contract order, then the array `quality`,
+// then (when the summary has one: every processed test) the array
+// `conditioning`. Non-finite numbers become null.
 nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const std::string& test_id,
                                      const std::string& series, const std::string& variant);
 

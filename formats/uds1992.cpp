@@ -64,6 +64,8 @@ constexpr std::size_t kNfp = 278;
 constexpr std::size_t kNlp = 282;
 constexpr std::size_t kDel = 286;
 constexpr std::size_t kInivel = 290;
+constexpr std::size_t kPref = 294;  // then FCUT, FCOR, FSTP, SCLFAC, ID1-5, RD1-5
+constexpr std::size_t kFcut = 298;
 // CD1*20, CD2*70, CURV_RESV*68.
 constexpr Field kOtherStrings[] = {{354, 20}, {374, 70}, {444, 68}};
 }  // namespace curve_header
@@ -278,6 +280,12 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   double inivel = 0.0;
   if (ReadReal(curve, curve_header::kInivel, form, inivel) && std::isfinite(inivel))
     channel.initial_velocity = inivel;
+  for (const auto& [offset, field] :
+       {std::pair<std::size_t, double*>{curve_header::kPref, &channel.prefilter_hz},
+        {curve_header::kFcut, &channel.filter_cutoff_hz}}) {
+    double hz = 0.0;
+    if (ReadReal(curve, offset, form, hz) && std::isfinite(hz) && hz > 0.0) *field = IntendedDecimal(hz);
+  }
 
   const std::size_t count = static_cast<std::size_t>(static_cast<std::int64_t>(nlp) - nfp + 1);
   const std::size_t records = (count + kUdsValuesPerRecord - 1) / kUdsValuesPerRecord;
@@ -369,8 +377,11 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
   WriteWord(curve, curve_header::kNfp, static_cast<std::uint32_t>(channel.nfp), form);
   WriteWord(curve, curve_header::kNlp, static_cast<std::uint32_t>(channel.nlp()), form);
   if (!WriteReal(curve, curve_header::kDel, channel.del_s, form) ||
-      !WriteReal(curve, curve_header::kInivel, channel.initial_velocity, form))
-    throw InputError(file + ": DEL or INIVEL cannot be stored as a " + UdsNumberFormName(form) + " real.");
+      !WriteReal(curve, curve_header::kInivel, channel.initial_velocity, form) ||
+      !WriteReal(curve, curve_header::kPref, channel.prefilter_hz, form) ||
+      !WriteReal(curve, curve_header::kFcut, channel.filter_cutoff_hz, form))
+    throw InputError(file + ": DEL, INIVEL, PREF or FCUT cannot be stored as a " + UdsNumberFormName(form) +
+                     " real.");
 
   for (std::size_t r = 0; r < records; ++r) {
     std::uint8_t* record = bytes.data() + (2 + r) * kUdsRecordBytes;
@@ -397,6 +408,7 @@ RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& 
   raw.unit = channel.yunits;
   raw.dt_s = channel.del_s;
   raw.t0_s = static_cast<double>(channel.nfp) * channel.del_s;
+  if (channel.filter_cutoff_hz > 0.0) raw.prefiltered_cfc = channel.filter_cutoff_hz;
   raw.values = channel.values;
   raw.position = channel.senloc;
   // INIVEL is in the velocity unit of DIMSYS (docs/formats.md "UDS-1992 input").

@@ -49,6 +49,13 @@ struct UdsChannel {
   int nfp = 0;                        // index of the first sample (sample i is at i * del)
   double del_s = 1e-4;                // sampling interval (stored as REAL*4)
   double initial_velocity = 0.0;      // INIVEL
+  // PREF: cut-off (Hz) of the recorder's analog anti-aliasing prefilter; 0 = not stated.
+  // Informative only: it does not make the channel CFC-filtered.
+  double prefilter_hz = 0.0;
+  // FCUT: the channel's digital filter class (Hz; the SAE J211 CFC is the
+  // passband frequency in Hz), 0 = unfiltered. A positive FCUT is the
+  // channel's prefiltered_cfc (docs/formats.md "UDS-1992 input").
+  double filter_cutoff_hz = 0.0;
   std::vector<double> values;         // NLP - NFP + 1 samples (REAL*4 precision)
   std::vector<std::string> warnings;  // what the reader noticed but read anyway (NCHAN above 1)
 
@@ -67,7 +74,7 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path);
 
 // The channel as a RawChannel (unit from YUNITS, t0 = NFP * DEL, position
 // from SENLOC, INIVEL converted to m/s: km/h for DIMSYS MET, m/s for SI,
-// mph for ENG).
+// mph for ENG, prefiltered_cfc = FCUT when positive).
 RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& path);
 
 // The test-level information of a UDS-1992 file header.
