@@ -14,6 +14,7 @@
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
+#include "formats/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -77,7 +78,9 @@ class ExportCommand : public Command {
     } else if (format_ == "lcfile") {
       formats::WriteLcFile(*kinematics, out_);
     } else {
-      formats::WriteDerivedIsoMme(*kinematics, out_, test_id_);
+      // The test id names the files: made safe (no separator, control
+      // character, "." or ".."; docs/formats.md "Names, limits and escaping").
+      formats::WriteDerivedIsoMme(*kinematics, out_, formats::FileNameComponent(test_id_));
     }
     return kExitOk;
   }

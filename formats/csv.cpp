@@ -15,6 +15,10 @@ namespace {
 
 // Relative tolerance on the sampling interval (docs/formats.md).
 constexpr double kMaxRelativeJitter = 1e-6;
+// Longest line (header or row) and the number of ignored columns named one
+// by one in the warning (docs/formats.md "Names, limits and escaping").
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+constexpr std::size_t kIgnoredColumnsNamed = 5;
 
 // Splits `line` at commas into `fields` (views into `line`).
 void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
@@ -38,12 +42,13 @@ std::string_view Unquote(std::string_view text) {
   return text;
 }
 
-std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+// Input quoted in a message: escaped and cut (formats/text.h Abbreviated).
+std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text) + "\""; }
 
 }  // namespace
 
 CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array) {
-  const std::string file = path.string();
+  const std::string file = EscapeControl(path.string());
   std::string text = ReadWholeFile(path);
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
 
@@ -65,6 +70,9 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
     position = end + 1;
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.size() > kMaxLineBytes)
+      throw InputError(file + ": line " + std::to_string(line_number) + " is " + std::to_string(line.size()) +
+                       " bytes long, more than the 1 MiB napkin accepts for one line (header or row).");
     const std::string_view trimmed = Trim(line);
     if (trimmed.empty() || trimmed.front() == '#') continue;
     SplitFields(line, fields);
@@ -95,11 +103,25 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
           wanted_field.push_back(it->second);
           result.signals.slots.push_back(sensor.slot);
         }
+        // One warning for all ignored columns, naming the first few (a file
+        // with a million extra columns must not print a million lines).
+        std::vector<std::string_view> ignored;
         for (const std::string& name : header)
           if (name != "time_s" && std::none_of(array->sensors.begin(), array->sensors.end(),
                                                [&](const engine::Sensor& s) { return s.slot == name; }))
-            result.warnings.push_back(file + ": column " + Quoted(name) + " is not a slot of array " +
-                                      Quoted(array->name) + " and is ignored.");
+            ignored.push_back(name);
+        if (ignored.size() == 1) {
+          result.warnings.push_back(file + ": column " + Quoted(ignored.front()) +
+                                    " is not a slot of array " + Quoted(array->name) + " and is ignored.");
+        } else if (!ignored.empty()) {
+          std::string names;
+          for (std::size_t i = 0; i < ignored.size() && i < kIgnoredColumnsNamed; ++i)
+            names += (i > 0 ? ", " : "") + Quoted(ignored[i]);
+          if (ignored.size() > kIgnoredColumnsNamed)
+            names += " and " + std::to_string(ignored.size() - kIgnoredColumnsNamed) + " more";
+          result.warnings.push_back(file + ": " + std::to_string(ignored.size()) + " columns (" + names +
+                                    ") are not slots of array " + Quoted(array->name) + " and are ignored.");
+        }
       } else {
         for (std::size_t i = 0; i < header.size(); ++i) {
           if (static_cast<int>(i) == time_field) continue;

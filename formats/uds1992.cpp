@@ -132,7 +132,8 @@ double IntendedDecimal(double stored) {
   return value;
 }
 
-std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
+std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
 
 }  // namespace
 

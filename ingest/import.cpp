@@ -12,6 +12,7 @@
 #include "formats/channel_map.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
+#include "formats/text.h"
 #include "formats/uds1992.h"
 #include "ingest/content_hash.h"
 #include "ingest/store.h"
@@ -89,6 +90,9 @@ ImportResult ImportOne(db::Catalogue& catalogue, const ImportInput& input, const
     return result;
   };
   try {
+    // Ids are printable and of sane length: they reach terminals, tables and
+    // export file names (docs/formats.md "Names, limits and escaping").
+    formats::CheckName("test id", test_id);
     const std::string content_hash = InputContentHash(input);
     if (catalogue.ExistsTestByHash(content_hash)) return skipped();
     if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
@@ -164,6 +168,17 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   prepared.initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
   prepared.initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
   if (options.test_id && options.test_id->empty()) throw UsageError("--test-id must not be empty.");
+  auto check_option = [](const char* option, const std::optional<std::string>& value) {
+    if (!value) return;
+    try {
+      formats::CheckName(option, *value);
+    } catch (const InputError& error) {
+      throw UsageError(error.what());
+    }
+  };
+  check_option("--test-id", options.test_id);
+  check_option("--series", options.series);
+  check_option("--variant", options.variant);
 
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)
