@@ -168,6 +168,10 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
       throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": time_s " + FormatNumber(time[k]) +
                        " does not increase over the previous row's " + FormatNumber(time[k - 1]) + ".");
   const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+  if (!(std::isfinite(dt) && dt > 0.0))
+    throw InputError(file + ": time_s runs from " + FormatNumber(time.front()) + " s to " +
+                     FormatNumber(time.back()) + " s, so the sampling interval " + FormatNumber(dt) +
+                     " s is not a finite positive number; check the time column.");
   for (std::size_t k = 1; k < time.size(); ++k) {
     const double step = time[k] - time[k - 1];
     if (std::abs(step - dt) > kMaxRelativeJitter * dt)

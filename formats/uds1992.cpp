@@ -257,7 +257,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
                      ".");
   double del = 0.0;
   if (!ReadReal(curve, curve_header::kDel, form, del) || !std::isfinite(del) || !(del > 0.0))
-    throw InputError(file + ": DEL (the sampling interval) is not a positive number.");
+    throw InputError(file + ": DEL (the sampling interval) is not a finite positive number.");
   del = IntendedDecimal(del);
   const std::string xunits = ToUpper(channel.xunits);
   if (xunits.find("MILLI") != std::string::npos || xunits == "MSEC" || xunits == "MS") del *= 1e-3;

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <string>
@@ -48,9 +49,9 @@ std::string GoodRows() { return "0,1,2,3,4,5,6\n0.001,1,2,3,4,5,6\n0.002,1,2,3,4
 class FifoWriter {
  public:
   FifoWriter(const fs::path& path, std::string content)
-      : thread_([path, content = std::move(content)] {
+      : thread_([this, path, content = std::move(content)] {
           const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
-          while (std::chrono::steady_clock::now() < deadline) {
+          while (!stop_ && std::chrono::steady_clock::now() < deadline) {
             const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK);
             if (fd >= 0) {
               const ssize_t written = ::write(fd, content.data(), content.size());
@@ -61,9 +62,13 @@ class FifoWriter {
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
           }
         }) {}
-  ~FifoWriter() { thread_.join(); }
+  ~FifoWriter() {
+    stop_ = true;
+    thread_.join();
+  }
 
  private:
+  std::atomic<bool> stop_{false};
   std::thread thread_;
 };
 
@@ -182,7 +187,7 @@ TEST(CsvLimits, AMillionExtraColumnsGiveOneLineNotAMillion) {
     ADD_FAILURE() << "a 7.9 MB header line must be refused";
   } catch (const InputError& error) {
     const std::string message = error.what();
-    EXPECT_THAT(message, HasSubstr("line 1 is 7888928 bytes long, more than the 1 MiB"));
+    EXPECT_THAT(message, HasSubstr("line 1 is 7888929 bytes long, more than the 1 MiB"));
     EXPECT_LT(message.size(), 300u);
   }
 }
@@ -215,6 +220,15 @@ TEST(CsvLimits, ControlCharactersInACellAreEscapedInTheMessage) {
     EXPECT_FALSE(HasControlCharacter(message)) << message;
     EXPECT_THAT(message, HasSubstr("\"\\x1b]0;pwned\\x07\" is not a number"));
   }
+}
+
+// Issue 11, item 10: "sampling interval inf s is not positive".
+TEST(CsvLimits, AnOverflowingTimeSpanIsNotAFinitePositiveInterval) {
+  TempDir dir;
+  const engine::ArrayGeometry array = test_support::SixAOmegaCg();
+  WriteBytes(dir / "span.csv", kHeader + "\n-1.7e308,1,2,3,4,5,6\n1.7e308,1,2,3,4,5,6\n");
+  ExpectInputError([&] { ReadSignalsCsv(dir / "span.csv", &array); },
+                   {"span.csv", "sampling interval inf s is not a finite positive number"});
 }
 
 TEST(NameLimits, ArrayNameOfAMegabyteIsRefused) {
