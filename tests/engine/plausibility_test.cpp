@@ -13,6 +13,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "engine/criteria.h"
 #include "engine/pipeline.h"
 #include "engine/screening.h"
 #include "engine/synth.h"
@@ -156,11 +157,16 @@ TEST(TimeBaseAndInitialState, AbsurdValuesAreRefusedUpFrontNamingThem) {
 // difference of two absolute times. Windows and values must not depend on
 // where the clock starts.
 TEST(HicWindows, DoNotDependOnTheRecordsStartTime) {
+  // A long, low pulse, so the HIC15 window is limited by its 15 ms (150
+  // samples): with dt from the difference of two absolute times near 2.1e5 s
+  // it shrank to 149 samples.
   HeadImpact impact;
   impact.contact_point_body_m = NominalContactPoint(impact.trajectory_deg);
+  impact.pulse_s = 0.05;
   const SyntheticTest test = SynthHeadImpact(test_support::Denton3222(), impact);
   const ProcessedTest at_zero = ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});
-  ASSERT_GT(at_zero.summary.hic15.value, 100.0);
+  ASSERT_GT(at_zero.summary.hic15.value, 10.0);
+  ASSERT_NEAR(at_zero.summary.hic15.t2_s - at_zero.summary.hic15.t1_s, kHic15Window, 1e-12);
   for (const double nfp : {2.1e9, 2'147'483'000.0, 123456789.0}) {
     SyntheticTest shifted = test;
     shifted.signals.t0_s = test.signals.t0_s + nfp * test.signals.dt_s;
