@@ -20,6 +20,7 @@
 #include "formats/processing_config_json.h"
 #include "formats/uds_export.h"
 #include "records/array_record.h"
+#include "formats/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -100,9 +101,12 @@ class ExportCommand : public Command {
       const formats::UdsNumberForm form = numform_ == "vax"   ? formats::UdsNumberForm::kVax
                                           : numform_ == "sun" ? formats::UdsNumberForm::kSun
                                                               : formats::UdsNumberForm::kIeee;
-      formats::WriteDerivedUds(*kinematics, out_, test_id_, form);
+      formats::WriteDerivedUds(*kinematics, out_, formats::FileNameComponent(test_id_), form);
     } else {
-      formats::WriteDerivedIsoMme(*kinematics, out_, test_id_, IsoMmeOptions(catalogue, *test, *config));
+      // The test id names the files: made safe (no separator, control
+      // character, "." or ".."; docs/formats.md "Names, limits and escaping").
+      formats::WriteDerivedIsoMme(*kinematics, out_, formats::FileNameComponent(test_id_),
+                                  IsoMmeOptions(catalogue, *test, *config));
     }
     return kExitOk;
   }

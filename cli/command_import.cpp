@@ -15,6 +15,7 @@
 #include "cli/command.h"
 #include "cli/progress.h"
 #include "cli/triple_option.h"
+#include "formats/text.h"
 #include "ingest/import.h"
 
 namespace napkin::cli {
@@ -63,7 +64,7 @@ class ImportCommand : public Command {
       if (result.outcome == ingest::ImportOutcome::kFailed) {
         spdlog::error("{}", result.message);
       } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
-        std::cout << result.message << "\n" << std::flush;
+        std::cout << formats::EscapeControl(result.message) << "\n" << std::flush;
       }
       if (progress_bar) progress_bar->Update(done, result.test_id);
     };

@@ -12,6 +12,7 @@
 #include "cli/command.h"
 #include "common/error.h"
 #include "db/sqlite.h"
+#include "formats/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -25,7 +26,11 @@ class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
 
  protected:
   void sink_it_(const spdlog::details::log_msg& message) override {
-    const std::string_view text(message.payload.data(), message.payload.size());
+    // The one gate to stderr: control characters from file names, ids or
+    // file contents are shown escaped, never sent to the terminal.
+    const std::string escaped =
+        formats::EscapeControl(std::string_view(message.payload.data(), message.payload.size()));
+    const std::string_view text(escaped);
     switch (message.level) {
       case spdlog::level::err:
       case spdlog::level::critical:
@@ -35,8 +40,10 @@ class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
         std::fprintf(stderr, "napkin: warning: %.*s\n", static_cast<int>(text.size()), text.data());
         break;
       default: {
+        spdlog::details::log_msg escaped_message = message;
+        escaped_message.payload = text;
         spdlog::memory_buf_t line;
-        info_formatter_.format(message, line);
+        info_formatter_.format(escaped_message, line);
         std::fwrite(line.data(), 1, line.size(), stderr);
       }
     }

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "formats/text.h"
+
 namespace napkin::cli {
 namespace {
 constexpr std::size_t kBarWidth = 30;
@@ -29,8 +31,9 @@ ProgressBar::~ProgressBar() { Clear(); }
 
 bool ProgressBar::WantedOnStderr(bool quiet) { return !quiet && StderrIsTerminal(); }
 
-void ProgressBar::Update(std::size_t done, const std::string& label) {
+void ProgressBar::Update(std::size_t done, const std::string& raw_label) {
   if (!enabled_) return;
+  const std::string label = formats::EscapeControl(raw_label);
   done = std::min(done, total_);
   const std::size_t filled = done * kBarWidth / total_;
   std::string line = "\r[";

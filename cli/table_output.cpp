@@ -29,7 +29,7 @@ std::string HumanText(const db::Cell& cell) {
         } else if constexpr (std::is_same_v<T, double>) {
           return fmt::format("{:.6g}", value);
         } else {
-          return value;
+          return formats::EscapeControl(value);  // no terminal escape sequence reaches the screen
         }
       },
       cell);
@@ -56,7 +56,7 @@ std::string CsvText(const db::Cell& cell) {
         } else if constexpr (std::is_same_v<T, double>) {
           return std::isfinite(value) ? formats::FormatNumber(value) : "";
         } else {
-          return CsvField(value);
+          return CsvField(formats::EscapeControl(value));
         }
       },
       cell);

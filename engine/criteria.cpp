@@ -19,7 +19,7 @@ namespace {
 void CheckInterval(double dt_s, const char* what) {
   if (!(std::isfinite(dt_s) && dt_s > 0.0)) {
     std::ostringstream message;
-    message << what << ": the sampling interval " << dt_s << " s is not positive.";
+    message << what << ": the sampling interval " << dt_s << " s is not a finite positive number.";
     throw InputError(message.str());
   }
 }
@@ -433,8 +433,12 @@ double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, c
 void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary) {
   const Eigen::Index n = kinematics.size();
   if (n < 2) throw InputError("injury criteria need at least 2 samples of kinematics.");
+  // Windows are found on sample indices and their length is steps x dt, so
+  // dt must not come from differences of absolute times: a record starting
+  // at t0 ~ 2e5 s would lose digits (and a 15 ms window a step).
   const double t0 = kinematics.time_s[0];
-  const double dt = kinematics.time_s[1] - kinematics.time_s[0];
+  const double dt =
+      kinematics.dt_s > 0.0 ? kinematics.dt_s : (kinematics.time_s[n - 1] - t0) / static_cast<double>(n - 1);
   CheckInterval(dt, "injury criteria");
   // An acceleration-only array's CG acceleration is known in body axes only
   // (docs/algorithms.md "Acceleration-only arrays"): its resultant is the same.

@@ -267,6 +267,7 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
   Kinematics kin;
   kin.Resize(signals.size());
   for (Index k = 0; k < signals.size(); ++k) kin.time_s(k) = signals.TimeAt(k);
+  kin.dt_s = signals.dt_s;
   switch (ClassifyArray(array)) {
     case ExactPath::kLinear:
       SolveLinear(array, signals, options, kin);

@@ -11,6 +11,10 @@ using Series4 = Eigen::Matrix<double, Eigen::Dynamic, 4>;
 
 struct Kinematics {
   Eigen::VectorXd time_s;
+  // Sampling interval of time_s as given (the solvers copy the signals'
+  // dt_s); 0 = unknown, derived from time_s. Differences of time_s lose
+  // digits when the record starts far from t = 0.
+  double dt_s = 0.0;
   Series3 omega_body;            // angular velocity, body axes
   Series3 alpha_body;            // angular acceleration, body axes
   Series3 omega_fixed;           // = R * omega_body

@@ -1,6 +1,7 @@
 #include "engine/pipeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "common/error.h"
@@ -43,11 +44,49 @@ const Finding* FirstError(const std::vector<Finding>& findings) {
   return error == findings.end() ? nullptr : &*error;
 }
 
+// Sampling interval beyond which a time base is taken as corrupt (1 ns:
+// 1 GHz, far above any crash-test recorder; docs/algorithms.md "Physical
+// plausibility").
+constexpr double kMinSamplingIntervalS = 1e-9;
+
+// Refuses, before any numerics, a time base or initial state that no real
+// test has, with a sentence saying which value is wrong (rather than letting
+// the solver blame the channels).
+void CheckTimeBaseAndInitialState(const TestSignals& signals, const InitialState& initial,
+                                  const ProcessingConfig& config) {
+  std::ostringstream message;
+  if (!(std::isfinite(signals.dt_s) && signals.dt_s > 0.0)) {
+    message << "the sampling interval " << signals.dt_s << " s is not a finite positive number.";
+  } else if (signals.dt_s < kMinSamplingIntervalS) {
+    message << "the sampling interval " << signals.dt_s << " s is below " << kMinSamplingIntervalS
+            << " s (a sampling rate above 1 GHz): the time base is corrupt; check the time column or "
+            << "the file's sampling interval.";
+  } else if (!std::isfinite(signals.t0_s)) {
+    message << "the time of the first sample is not a finite number.";
+  } else if (!initial.velocity_fixed_mps.allFinite() ||
+             initial.velocity_fixed_mps.norm() > config.plausibility.max_initial_speed_mps) {
+    message << "the initial velocity (" << initial.velocity_fixed_mps.transpose() << ") m/s is beyond the "
+            << "plausibility limit of " << config.plausibility.max_initial_speed_mps
+            << " m/s; check --initial-velocity (m/s).";
+  } else if (!initial.omega_body_radps.allFinite() ||
+             initial.omega_body_radps.norm() > config.plausibility.max_angular_velocity_radps) {
+    message << "the initial angular velocity (" << initial.omega_body_radps.transpose()
+            << ") rad/s is beyond the plausibility limit of "
+            << config.plausibility.max_angular_velocity_radps << " rad/s.";
+  } else if (!initial.orientation_rad.allFinite()) {
+    message << "the initial orientation is not finite; check --orientation (rad).";
+  } else {
+    return;
+  }
+  throw InputError(message.str());
+}
+
 }  // namespace
 
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
                           const InitialState& initial, const ProcessingConfig& config) {
   config.Check();
+  CheckTimeBaseAndInitialState(raw_signals, initial, config);
   // Screening runs on the raw signals first (report section 2.2: check the
   // data before using them). A missing channel or a non-finite sample makes
   // the test unusable: stop with the finding's sentence (slot, sample, time).
@@ -65,6 +104,7 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   // Rigid-body consistency is judged by the exact solver's residual, also
   // when the result comes from the seed solver. Without rotation there is
   // nothing to judge it by (docs/algorithms.md "Acceleration-only arrays").
+  Eigen::VectorXd exact_residual;
   ArrayGeometry validated = array;
   ValidateArray(validated);
   if (!DeterminesRotation(validated)) {
@@ -72,12 +112,13 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   } else if (options.solver == SolverKind::kExact) {
     AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening),
                    findings);
+    exact_residual = processed.kinematics.residual;
   } else {
     SolveOptions exact_options = options;
     exact_options.solver = SolverKind::kExact;
-    AppendFindings(ScreenConsistency(array, signals, Solve(array, signals, exact_options), exact_options,
-                                     config.screening),
-                   findings);
+    const Kinematics exact = Solve(array, signals, exact_options);
+    AppendFindings(ScreenConsistency(array, signals, exact, exact_options, config.screening), findings);
+    exact_residual = exact.residual;
   }
 
   // Signals far from a rigid body (a flipped or swapped channel of a
@@ -98,6 +139,11 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
     message << ".";
     throw InputError(message.str());
   }
+
+  // A finite but physically absurd result is no result (README "What it
+  // computes": screening): it fails the test like any error finding.
+  if (!exact_residual.allFinite()) exact_residual.resize(0);
+  AppendFindings(ScreenPlausibility(processed.kinematics, exact_residual, config), findings);
 
   SummarizeKinematics(processed.kinematics, processed.summary);
   FillCriteria(processed.kinematics, config, processed.summary);

@@ -70,6 +70,10 @@ void ProcessingConfig::Check() const {
                   screening.saturation_run_samples);
   CheckPositive("screening.bias_limit_g", screening.bias_limit_g);
   CheckPositive("screening.bias_limit_radps", screening.bias_limit_radps);
+  CheckPositive("plausibility.max_acceleration_g", plausibility.max_acceleration_g);
+  CheckPositive("plausibility.max_angular_velocity_radps", plausibility.max_angular_velocity_radps);
+  CheckPositive("plausibility.max_residual_factor", plausibility.max_residual_factor);
+  CheckPositive("plausibility.max_initial_speed_mps", plausibility.max_initial_speed_mps);
 
   // Combinations in which a setting would be silently ignored. Only a value
   // other than the default can tell that a setting was asked for.
@@ -129,7 +133,7 @@ Eigen::Index FirstSampleAfter(const TestSignals& signals, double t_s) {
 void CheckConditionable(const TestSignals& signals) {
   if (!(std::isfinite(signals.dt_s) && signals.dt_s > 0.0)) {
     std::ostringstream message;
-    message << "the sampling interval " << signals.dt_s << " s is not positive.";
+    message << "the sampling interval " << signals.dt_s << " s is not a finite positive number.";
     throw InputError(message.str());
   }
   if (!std::isfinite(signals.t0_s)) throw InputError("the time of the first sample is not finite.");

@@ -110,6 +110,18 @@ struct ScreeningConfig {
   double bias_limit_radps = 0.5;   // pre-impact mean of an angular-rate channel beyond which bias is reported
 };
 
+// Physical plausibility (docs/algorithms.md "Physical plausibility"): limits
+// far beyond any real head impact. A raw channel, the solved head motion or
+// the rigid-body residual beyond them fails the test with an `implausible`
+// error finding naming the channel, time and value (a corrupt sample or a
+// wrong unit, not a severe impact).
+struct PlausibilityConfig {
+  double max_acceleration_g = 2000.0;         // |a| of a linear channel and of the solved CG acceleration
+  double max_angular_velocity_radps = 500.0;  // |w| of a rate channel, the solved and the initial velocity
+  double max_residual_factor = 100.0;         // rigid-body residual beyond this multiple of residual_limit_g
+  double max_initial_speed_mps = 1000.0;      // |v| of the initial velocity
+};
+
 struct ProcessingConfig {
   SolverKind solver = SolverKind::kExact;  // "exact" (default) or "seed" (LC_COMP compatibility)
   FilterConfig filter;                     // channel filtering
@@ -120,6 +132,7 @@ struct ProcessingConfig {
   A3msConfig a3ms;                         // a3ms definition (cumulative by default)
   BricConfig bric;                         // BrIC critical values
   ScreeningConfig screening;               // screening thresholds
+  PlausibilityConfig plausibility;         // limits of physical plausibility (errors)
 
   // Throws InputError naming the offending field (JSON key path, e.g.
   // "filter.linear_cfc") when a value is out of range.

@@ -117,6 +117,28 @@ std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& s
   return MakeFinding("non_finite", sensor.slot, Severity::kError, detail.str());
 }
 
+// Physical plausibility of a raw channel (ProcessingConfig::plausibility):
+// the largest |value| beyond the limit of its kind, in g or rad/s.
+std::optional<Finding> CheckPlausible(const Sensor& sensor, const TestSignals& signals,
+                                      const Eigen::Ref<const Eigen::VectorXd>& x,
+                                      const PlausibilityConfig& limits) {
+  if (x.size() == 0) return std::nullopt;
+  Index worst = 0;
+  x.cwiseAbs().maxCoeff(&worst);
+  const bool linear = sensor.kind == SensorKind::kLinear;
+  const double value_si = x(worst) * sensor.si_per_unit;
+  const double value = linear ? value_si / kStandardGravity : value_si;
+  const double limit = linear ? limits.max_acceleration_g : limits.max_angular_velocity_radps;
+  if (!(std::abs(value) > limit)) return std::nullopt;
+  const char* unit = linear ? " g" : " rad/s";
+  return MakeFinding("implausible", sensor.slot, Severity::kError,
+                     "channel " + sensor.slot + " reads " + Number(value, 6) + unit + " at sample " +
+                         std::to_string(worst) + " (t = " + Number(signals.TimeAt(worst), 6) +
+                         " s), beyond the plausibility limit of " + Number(limit, 6) + unit +
+                         ": a corrupt sample or a wrong unit; correct the data (or raise "
+                         "plausibility limits in the processing config).");
+}
+
 std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& signals,
                                        const Eigen::Ref<const Eigen::VectorXd>& x, int run_samples) {
   const double top = x.maxCoeff(), bottom = x.minCoeff();
@@ -550,6 +572,8 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
       continue;
     }
     if (x.size() == 0) continue;
+    if (std::optional<Finding> finding = CheckPlausible(sensor, raw_signals, x, config.plausibility))
+      findings.push_back(std::move(*finding));
     if (x.maxCoeff() == x.minCoeff()) {
       findings.push_back(MakeFinding("flat", sensor.slot, Severity::kInfo,
                                      "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " +
@@ -620,6 +644,34 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   }
   if (over_limit)
     findings.push_back(ResidualFinding(residual, exact_kinematics, culprit, config.residual_limit_g));
+  return findings;
+}
+
+std::vector<Finding> ScreenPlausibility(const Kinematics& kinematics, const Eigen::VectorXd& exact_residual,
+                                        const ProcessingConfig& config) {
+  std::vector<Finding> findings;
+  const PlausibilityConfig& limits = config.plausibility;
+  auto peak = [&](const Eigen::VectorXd& norm, double scale, double limit, const char* channel,
+                  const char* what, const char* unit) {
+    if (norm.size() == 0) return;
+    Index worst = 0;
+    const double value = norm.maxCoeff(&worst) * scale;
+    if (!(value > limit)) return;
+    findings.push_back(MakeFinding("implausible", std::string(channel), Severity::kError,
+                                   "the solved " + std::string(what) + " reaches " + Number(value, 6) + unit +
+                                       " at sample " + std::to_string(worst) +
+                                       " (t = " + Number(kinematics.time_s(worst), 6) +
+                                       " s), beyond the plausibility limit of " + Number(limit, 6) + unit +
+                                       ": check the channels (corrupt samples, units, initial state)."));
+  };
+  peak(kinematics.acc_body.rowwise().norm(), 1.0 / kStandardGravity, limits.max_acceleration_g, "acc_cg",
+       "head CG acceleration", " g");
+  peak(kinematics.omega_body.rowwise().norm(), 1.0, limits.max_angular_velocity_radps, "omega",
+       "angular velocity", " rad/s");
+  if (exact_residual.size() == kinematics.size())
+    peak(exact_residual, 1.0 / kStandardGravity,
+         limits.max_residual_factor * config.screening.residual_limit_g, "residual", "rigid-body residual",
+         " g");
   return findings;
 }
 

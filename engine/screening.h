@@ -27,6 +27,10 @@
 //                         removes most of it
 //   consistency  info     the array has no redundant channel, so polarity,
 //                         labels and the residual cannot be checked
+//   implausible  error    a raw channel, the solved CG acceleration or angular
+//                         velocity, or the rigid-body residual beyond the
+//                         processing config's plausibility limits (a corrupt
+//                         sample or a wrong unit, not a real impact)
 //
 // ProcessTest (engine/pipeline.h) runs ScreenSignals on the raw signals
 // first; a `missing` or `non_finite` finding stops processing with an
@@ -73,6 +77,14 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
 std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSignals& conditioned_signals,
                                        const Kinematics& exact_kinematics, const SolveOptions& exact_options,
                                        const ScreeningConfig& config);
+
+// Physical plausibility of the solved motion (ProcessingConfig::plausibility):
+// the peak |CG acceleration|, |angular velocity| and the exact solver's
+// rigid-body residual (m/s^2) beyond max_residual_factor x residual_limit_g;
+// one `implausible` error finding each, naming the quantity, sample, time
+// and value. The kinematics must be finite.
+std::vector<Finding> ScreenPlausibility(const Kinematics& kinematics, const Eigen::VectorXd& exact_residual,
+                                        const ProcessingConfig& config);
 
 // True for the findings after which the data cannot be processed at all
 // (missing or non-finite samples).

@@ -385,6 +385,7 @@ Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, con
   Kinematics kin;
   kin.Resize(n);
   for (Eigen::Index k = 0; k < n; ++k) kin.time_s[k] = signals.TimeAt(k);
+  kin.dt_s = signals.dt_s;
   kin.omega_body = trace.bomeg.cast<double>();
   kin.alpha_body = trace.bomegd.cast<double>();
   kin.omega_fixed = trace.fomeg.cast<double>();

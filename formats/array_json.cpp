@@ -10,6 +10,7 @@
 #include "engine/units.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"
+#include "formats/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -57,13 +58,27 @@ Eigen::Vector3d RequireVector3(const json& value, const char* key, const std::st
   return vector;
 }
 
+// Names are printable and of sane length (formats::CheckName).
+void CheckJsonName(const std::string& source, const std::string& what, const std::string& name) {
+  try {
+    CheckName(what, name);
+  } catch (const InputError& error) {
+    std::string problem = error.what();
+    problem.pop_back();  // Fail adds the full stop
+    Fail(source, problem);
+  }
+}
+
 }  // namespace
 
 engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source) {
   if (!root.is_object())
     Fail(source, std::string("an array definition must be a JSON object, not ") + JsonTypeName(root));
   engine::ArrayGeometry array;
-  if (root.contains("name")) array.name = RequireString(root, "name", source, "the array");
+  if (root.contains("name")) {
+    array.name = RequireString(root, "name", source, "the array");
+    CheckJsonName(source, "the array's \"name\"", array.name);
+  }
   if (root.contains("description"))
     array.description = RequireString(root, "description", source, "the array");
 
@@ -85,6 +100,7 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
     engine::Sensor sensor;
     sensor.slot = RequireString(entry, "slot", source, SensorName(i, ""));
     if (sensor.slot.empty()) Fail(source, SensorName(i, "") + " has an empty slot name");
+    CheckJsonName(source, SensorName(i, "") + " slot", sensor.slot);
     const std::string where = SensorName(i, sensor.slot);
     if (!slots.insert(sensor.slot).second) Fail(source, where + " duplicates an earlier slot");
 

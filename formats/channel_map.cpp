@@ -12,7 +12,8 @@
 namespace napkin::formats {
 namespace {
 
-std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
+std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
 
 }  // namespace
 
@@ -52,6 +53,13 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
   if (const auto name = json.find("name"); name != json.end()) {
     if (!name->is_string()) fail("\"name\" must be a string");
     map.name = name->get<std::string>();
+    try {
+      CheckName("the channel map's \"name\"", map.name);
+    } catch (const InputError& error) {
+      std::string problem = error.what();
+      problem.pop_back();  // fail adds the full stop
+      fail(problem);
+    }
   }
   const auto slots = json.find("slots");
   if (slots == json.end()) fail("the channel map has no \"slots\"");
@@ -182,7 +190,7 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
     const RawChannel& channel = channels.at(c);
     if (!(channel.dt_s > 0.0) || !std::isfinite(channel.dt_s))
       throw InputError(channel.Label() + ": the sampling interval " + FormatNumber(channel.dt_s) +
-                       " s is not positive.");
+                       " s is not a finite positive number.");
     if (std::abs(channel.dt_s - dt) > 1e-6 * dt)
       throw InputError("test " + test_name + ": " + first.Label() + " is sampled every " +
                        FormatNumber(dt, 9) + " s but " + channel.Label() + " every " +

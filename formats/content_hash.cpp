@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <vector>
 
 #include "common/error.h"
+#include "formats/json_file.h"
 
 namespace napkin::formats {
 namespace {
@@ -105,14 +105,9 @@ std::string Sha256Hex(std::string_view bytes) {
 namespace {
 
 void HashFileInto(const std::filesystem::path& path, Sha256& hash) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot read '" + path.string() + "'.");
-  std::vector<char> chunk(1 << 16);
-  while (in) {
-    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
-    hash.Update(std::string_view(chunk.data(), static_cast<std::size_t>(in.gcount())));
-  }
-  if (in.bad()) throw InputError("cannot read '" + path.string() + "'.");
+  // Only regular files of at most the data ceiling (a FIFO or /dev/zero
+  // behind a link would block or never end).
+  ReadFileInChunks(path, kMaxDataFileBytes, [&](std::string_view chunk) { hash.Update(chunk); });
 }
 
 }  // namespace
@@ -133,7 +128,6 @@ std::string HashPath(const std::filesystem::path& path) {
       HashFileInto(file, hash);
     }
   } else {
-    if (!std::filesystem::exists(path, error)) throw InputError("'" + path.string() + "' does not exist.");
     HashFileInto(path, hash);
   }
   return hash.HexDigest();

@@ -15,6 +15,10 @@ namespace {
 
 // Relative tolerance on the sampling interval (docs/formats.md).
 constexpr double kMaxRelativeJitter = 1e-6;
+// Longest line (header or row) and the number of ignored columns named one
+// by one in the warning (docs/formats.md "Names, limits and escaping").
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+constexpr std::size_t kIgnoredColumnsNamed = 5;
 
 // Splits `line` at commas into `fields` (views into `line`).
 void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
@@ -38,7 +42,8 @@ std::string_view Unquote(std::string_view text) {
   return text;
 }
 
-std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+// Input quoted in a message: escaped and cut (formats/text.h Abbreviated).
+std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text) + "\""; }
 
 // The column `slot` is read from: its mapping in `columns`, else its own name.
 const std::string& ColumnOf(const std::string& slot, const CsvColumnMap& columns) {
@@ -74,7 +79,7 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
 
 CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array,
                           const CsvColumnMap& column_map) {
-  const std::string file = path.string();
+  const std::string file = EscapeControl(path.string());
   std::string text = ReadWholeFile(path);
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
 
@@ -96,6 +101,9 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
     position = end + 1;
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.size() > kMaxLineBytes)
+      throw InputError(file + ": line " + std::to_string(line_number) + " is " + std::to_string(line.size()) +
+                       " bytes long, more than the 1 MiB napkin accepts for one line (header or row).");
     const std::string_view trimmed = Trim(line);
     if (trimmed.empty() || trimmed.front() == '#') continue;
     SplitFields(line, fields);
@@ -133,11 +141,25 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
           wanted_field.push_back(it->second);
           result.signals.slots.push_back(sensor.slot);
         }
+        // One warning for all ignored columns, naming the first few (a file
+        // with a million extra columns must not print a million lines).
+        std::vector<std::string_view> ignored;
         for (std::size_t i = 0; i < header.size(); ++i)
           if (static_cast<int>(i) != time_field &&
               std::find(wanted_field.begin(), wanted_field.end(), static_cast<int>(i)) == wanted_field.end())
-            result.warnings.push_back(file + ": column " + Quoted(header[i]) + " is not a slot of array " +
-                                      Quoted(array->name) + " and is ignored.");
+            ignored.push_back(header[i]);
+        if (ignored.size() == 1) {
+          result.warnings.push_back(file + ": column " + Quoted(ignored.front()) +
+                                    " is not a slot of array " + Quoted(array->name) + " and is ignored.");
+        } else if (!ignored.empty()) {
+          std::string names;
+          for (std::size_t i = 0; i < ignored.size() && i < kIgnoredColumnsNamed; ++i)
+            names += (i > 0 ? ", " : "") + Quoted(ignored[i]);
+          if (ignored.size() > kIgnoredColumnsNamed)
+            names += " and " + std::to_string(ignored.size() - kIgnoredColumnsNamed) + " more";
+          result.warnings.push_back(file + ": " + std::to_string(ignored.size()) + " columns (" + names +
+                                    ") are not slots of array " + Quoted(array->name) + " and are ignored.");
+        }
       } else {
         for (std::size_t i = 0; i < header.size(); ++i) {
           if (static_cast<int>(i) == time_field) continue;
@@ -184,6 +206,10 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
       throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": time_s " + FormatNumber(time[k]) +
                        " does not increase over the previous row's " + FormatNumber(time[k - 1]) + ".");
   const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+  if (!(std::isfinite(dt) && dt > 0.0))
+    throw InputError(file + ": time_s runs from " + FormatNumber(time.front()) + " s to " +
+                     FormatNumber(time.back()) + " s, so the sampling interval " + FormatNumber(dt) +
+                     " s is not a finite positive number; check the time column.");
   for (std::size_t k = 1; k < time.size(); ++k) {
     const double step = time[k] - time[k - 1];
     if (std::abs(step - dt) > kMaxRelativeJitter * dt)

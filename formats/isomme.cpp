@@ -17,7 +17,8 @@
 namespace napkin::formats {
 namespace {
 
-std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
+std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
 
 // Lines of a text file (LF or CRLF), with their 1-based numbers; blank lines skipped.
 struct Line {
@@ -113,7 +114,8 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
     channel.prefiltered_cfc = IsoMmeFilterClassOfLetter(channel.code[15]);
   channel.dt_s = require_number("Sampling interval");
   if (!(channel.dt_s > 0.0))
-    throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) + " is not positive.");
+    throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) +
+                     " is not a finite positive number.");
   channel.t0_s = require_number("Time of first sample");
   const std::string declared_text = require("Number of samples");
   const std::optional<long long> declared = ParseInteger(declared_text);
@@ -183,8 +185,11 @@ double IntendedDecimal(double value) { return *ParseDouble(FormatNumber(value, 1
 
 void WriteTestFolder(const std::filesystem::path& folder, const std::string& test_number, double dt,
                      double t0, const std::vector<OutputChannel>& channels, int precision) {
-  if (test_number.empty() || test_number.find_first_of("/\\") != std::string::npos)
-    throw InputError(folder.string() + ": " + Quoted(test_number) + " cannot name ISO-MME files.");
+  // No separator, control character (a newline), ".", ".." or hidden name
+  // may reach a file name (docs/formats.md "Names, limits and escaping").
+  if (test_number.empty() || test_number != FileNameComponent(test_number))
+    throw InputError(folder.string() + ": " + Quoted(test_number) + " cannot name ISO-MME files (use " +
+                     Quoted(FileNameComponent(test_number)) + ").");
   WriteDirectoryAtomically(folder, [&](const std::filesystem::path& directory) {
     std::string mme;
     AppendHeaderLine(mme, "Data format", "ISO-MME");
@@ -357,7 +362,17 @@ engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme
                                       const engine::ArrayGeometry& array, const ChannelMap& map) {
   const IsoMmeTest test = ReadIsoMme(folder_or_mme);
   const std::string test_name = test.TestNumber();
-  return AssembleSignals(test.channels, AssignSlots(test.channels, array, map, test_name), array, test_name);
+  const std::vector<std::size_t> channel_of_sensor = AssignSlots(test.channels, array, map, test_name);
+  // A channel feeding a slot must say its unit: a missing or NOVALUE "Unit"
+  // is an error, never silently the slot's unit (docs/formats.md).
+  for (std::size_t s = 0; s < channel_of_sensor.size(); ++s) {
+    const RawChannel& channel = test.channels[channel_of_sensor[s]];
+    if (!ParseSignalUnit(channel.unit, channel.Label()))
+      throw InputError(channel.source + ": the header has no \"Unit\" for channel " + channel.code +
+                       ", which feeds slot " + Quoted(array.sensors[s].slot) +
+                       "; add the unit (e.g. g, m/s**2, deg/s, rad/s).");
+  }
+  return AssembleSignals(test.channels, channel_of_sensor, array, test_name);
 }
 
 std::string CodeForSlot(const ChannelMap& map, const std::string& slot) {

@@ -1,29 +1,101 @@
 #include "formats/json_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 
 #include "common/error.h"
+#include "formats/text.h"
 
 namespace napkin::formats {
+namespace {
 
-std::string ReadWholeFile(const std::filesystem::path& path) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr)
-    throw InputError(path.string() + ": cannot open the file (" + std::strerror(errno) + ").");
-  std::string content;
+std::string Named(const std::filesystem::path& path) { return EscapeControl(path.string()); }
+
+std::string SizeText(std::uintmax_t bytes) {
+  if (bytes >= (std::uintmax_t{1} << 20) && bytes % (std::uintmax_t{1} << 20) == 0)
+    return std::to_string(bytes >> 20) + " MiB";
+  return std::to_string(bytes) + " bytes";
+}
+
+const char* FileTypeName(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+[[noreturn]] void ThrowCannotOpen(const std::filesystem::path& path, int error) {
+  if (error == ELOOP)
+    throw InputError(Named(path) + ": is a loop of symbolic links; point the link at a real file.");
+  throw InputError(Named(path) + ": cannot open the file (" + std::strerror(error) + ").");
+}
+
+void CheckStat(const std::filesystem::path& path, const struct stat& status, std::uintmax_t max_bytes) {
+  if (!S_ISREG(status.st_mode))
+    throw InputError(Named(path) + ": is " + FileTypeName(status.st_mode) +
+                     ", not a regular file; napkin reads only regular files.");
+  if (static_cast<std::uintmax_t>(status.st_size) > max_bytes)
+    throw InputError(Named(path) + ": is " + std::to_string(status.st_size) + " bytes, more than the " +
+                     SizeText(max_bytes) + " napkin reads from one file.");
+}
+
+// Closes the descriptor on every path out.
+struct Descriptor {
+  int fd = -1;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+}  // namespace
+
+void CheckRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) ThrowCannotOpen(path, errno);
+  CheckStat(path, status, max_bytes);
+}
+
+void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,
+                      const std::function<void(std::string_view chunk)>& consume) {
+  // O_NONBLOCK: opening a FIFO for reading must not wait for a writer; the
+  // type is checked on the open descriptor before anything is read.
+  Descriptor file;
+  file.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (file.fd < 0) ThrowCannotOpen(path, errno);
+  struct stat status {};
+  if (::fstat(file.fd, &status) != 0) ThrowCannotOpen(path, errno);
+  CheckStat(path, status, max_bytes);
   char buffer[1 << 16];
-  std::size_t count = 0;
-  while ((count = std::fread(buffer, 1, sizeof(buffer), file)) > 0) content.append(buffer, count);
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  if (failed) throw InputError(path.string() + ": read error.");
+  std::uintmax_t total = 0;
+  for (;;) {
+    const ssize_t count = ::read(file.fd, buffer, sizeof(buffer));
+    if (count < 0) {
+      if (errno == EINTR) continue;
+      throw InputError(Named(path) + ": read error (" + std::strerror(errno) + ").");
+    }
+    if (count == 0) break;
+    total += static_cast<std::uintmax_t>(count);
+    if (total > max_bytes)  // the file grew while being read
+      throw InputError(Named(path) + ": grew beyond the " + SizeText(max_bytes) +
+                       " napkin reads from one file while being read.");
+    consume(std::string_view(buffer, static_cast<std::size_t>(count)));
+  }
+}
+
+std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+  std::string content;
+  ReadFileInChunks(path, max_bytes, [&](std::string_view chunk) { content.append(chunk); });
   return content;
 }
 
 nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
-  const std::string text = ReadWholeFile(path);
+  const std::string text = ReadWholeFile(path, kMaxJsonFileBytes);
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& error) {
@@ -32,7 +104,8 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
     const std::size_t start = what.find("parse error");
     if (start != std::string::npos) what = what.substr(start);
     if (!what.empty() && what.back() != '.') what += '.';
-    throw InputError(path.string() + ": not valid JSON (" + what.substr(0, what.size() - 1) + ").");
+    throw InputError(Named(path) + ": not valid JSON (" + Abbreviated(what.substr(0, what.size() - 1), 200) +
+                     ").");
   }
 }
 

@@ -1,16 +1,37 @@
 #pragma once
-// Reading JSON files with one-sentence errors naming the file.
+// Reading files with one-sentence errors naming the file: only regular files
+// (never a FIFO, device or socket, also behind a symbolic link), of at most a
+// size ceiling (docs/formats.md "Names, limits and escaping"), and JSON on top.
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 namespace napkin::formats {
 
-// Parses `path` as JSON. Throws InputError "<path>: ..." when it cannot be
-// read or is not valid JSON (with the parser's line/column).
+// Size ceilings: test data files (CSV, ISO-MME channel files, UDS-1992
+// files) and the small JSON definitions (arrays, configs, channel maps).
+inline constexpr std::uintmax_t kMaxDataFileBytes = std::uintmax_t{1} << 30;   // 1 GiB
+inline constexpr std::uintmax_t kMaxJsonFileBytes = std::uintmax_t{16} << 20;  // 16 MiB
+
+// Parses `path` as JSON (at most kMaxJsonFileBytes). Throws InputError
+// "<path>: ..." when it cannot be read or is not valid JSON (with the
+// parser's line/column).
 nlohmann::json ReadJsonFile(const std::filesystem::path& path);
 
-// Reads a whole file into memory. Throws InputError naming the file.
-std::string ReadWholeFile(const std::filesystem::path& path);
+// Reads a whole regular file of at most `max_bytes` into memory. Throws
+// InputError naming the file when it does not exist, is a symbolic-link
+// loop, is not a regular file, is larger than `max_bytes` or cannot be read.
+std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_bytes = kMaxDataFileBytes);
+
+// Like ReadWholeFile, but hands the content to `consume` in chunks.
+void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,
+                      const std::function<void(std::string_view chunk)>& consume);
+
+// Throws InputError (the sentences of ReadWholeFile) unless `path` is a
+// regular file of at most `max_bytes`; opens nothing.
+void CheckRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes = kMaxDataFileBytes);
 
 }  // namespace napkin::formats

@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <fstream>
 #include <initializer_list>
 #include <sstream>
 #include <string_view>
 
 #include "common/error.h"
+#include "formats/json_file.h"
+#include "formats/text.h"
 
 namespace napkin::formats {
 
@@ -151,9 +152,10 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   engine::ProcessingConfig config;
   const ObjectReader top(json, "", source,
                          {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "a3ms",
-                          "bric", "screening"});
+                          "bric", "screening", "plausibility"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
+  if (const auto* name = top.Find("name")) CheckName(source + ": \"name\"", name->get<std::string>());
   top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);
 
   if (const auto* object = top.Object("filter")) {
@@ -213,6 +215,15 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
     screening.Number("bias_limit_g", config.screening.bias_limit_g);
     screening.Number("bias_limit_radps", config.screening.bias_limit_radps);
   }
+  if (const auto* object = top.Object("plausibility")) {
+    const ObjectReader plausibility(
+        *object, "plausibility", source,
+        {"max_acceleration_g", "max_angular_velocity_radps", "max_residual_factor", "max_initial_speed_mps"});
+    plausibility.Number("max_acceleration_g", config.plausibility.max_acceleration_g);
+    plausibility.Number("max_angular_velocity_radps", config.plausibility.max_angular_velocity_radps);
+    plausibility.Number("max_residual_factor", config.plausibility.max_residual_factor);
+    plausibility.Number("max_initial_speed_mps", config.plausibility.max_initial_speed_mps);
+  }
 
   try {
     config.Check();
@@ -253,6 +264,10 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
                       {"saturation_run_samples", config.screening.saturation_run_samples},
                       {"bias_limit_g", config.screening.bias_limit_g},
                       {"bias_limit_radps", config.screening.bias_limit_radps}};
+  out["plausibility"] = {{"max_acceleration_g", config.plausibility.max_acceleration_g},
+                         {"max_angular_velocity_radps", config.plausibility.max_angular_velocity_radps},
+                         {"max_residual_factor", config.plausibility.max_residual_factor},
+                         {"max_initial_speed_mps", config.plausibility.max_initial_speed_mps}};
   return out;
 }
 
@@ -262,11 +277,10 @@ std::string CanonicalProcessingConfig(const engine::ProcessingConfig& config) {
 
 engine::ProcessingConfig ReadProcessingConfig(const std::filesystem::path& path) {
   const std::string source = "processing config file " + path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open " + source + ".");
+  const std::string text = ReadWholeFile(path, kMaxJsonFileBytes);
   json parsed;
   try {
-    parsed = json::parse(in);
+    parsed = json::parse(text);
   } catch (const json::parse_error& error) {
     throw InputError(source + " is not valid JSON (" + error.what() + ").");
   }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "common/error.h"
+
 namespace napkin::formats {
 
 void AppendNumber(std::string& out, double value, int precision) {
@@ -115,6 +117,100 @@ std::string ToUtf8(std::string text) {
     }
   }
   return converted;
+}
+
+}  // namespace napkin::formats
+
+namespace napkin::formats {
+namespace {
+
+// Length of the C1 control character (U+0080..U+009F, UTF-8 "\xC2\x80".."\xC2\x9F") at `i`, else 0.
+std::size_t C1ControlAt(std::string_view text, std::size_t i) {
+  if (i + 1 < text.size() && static_cast<unsigned char>(text[i]) == 0xC2) {
+    const auto next = static_cast<unsigned char>(text[i + 1]);
+    if (next >= 0x80 && next <= 0x9F) return 2;
+  }
+  return 0;
+}
+
+bool IsC0OrDelete(char c) {
+  const auto u = static_cast<unsigned char>(c);
+  return u < 0x20 || u == 0x7F;
+}
+
+}  // namespace
+
+bool HasControlCharacter(std::string_view text) {
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (IsC0OrDelete(text[i]) || C1ControlAt(text, i) > 0) return true;
+  return false;
+}
+
+std::string EscapeControl(std::string_view text) {
+  if (!HasControlCharacter(text)) return std::string(text);
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string escaped;
+  escaped.reserve(text.size() + 8);
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (C1ControlAt(text, i) > 0) {
+      const auto code = static_cast<unsigned char>(text[i + 1]);
+      escaped += "\\u00";
+      escaped += kHex[code >> 4];
+      escaped += kHex[code & 0xF];
+      ++i;
+    } else if (c == '\n') {
+      escaped += "\\n";
+    } else if (c == '\r') {
+      escaped += "\\r";
+    } else if (c == '\t') {
+      escaped += "\\t";
+    } else if (IsC0OrDelete(c)) {
+      const auto code = static_cast<unsigned char>(c);
+      escaped += "\\x";
+      escaped += kHex[code >> 4];
+      escaped += kHex[code & 0xF];
+    } else {
+      escaped += c;
+    }
+  }
+  return escaped;
+}
+
+std::string Abbreviated(std::string_view text, std::size_t max_chars) {
+  if (text.size() <= max_chars) return EscapeControl(text);
+  std::size_t cut = max_chars;
+  // Do not cut a UTF-8 sequence in two.
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return EscapeControl(text.substr(0, cut)) + "…(" + std::to_string(text.size() - cut) + " more bytes)";
+}
+
+void CheckName(std::string_view what, std::string_view name) {
+  if (name.empty()) throw InputError(std::string(what) + " must not be empty.");
+  if (name.size() > kMaxNameBytes)
+    throw InputError(std::string(what) + " '" + Abbreviated(name) + "' is " + std::to_string(name.size()) +
+                     " bytes long; names are limited to " + std::to_string(kMaxNameBytes) + " bytes.");
+  if (HasControlCharacter(name))
+    throw InputError(std::string(what) + " '" + Abbreviated(name) +
+                     "' contains a control character (shown escaped); names must be printable text.");
+}
+
+std::string FileNameComponent(std::string_view name) {
+  std::string safe;
+  safe.reserve(name.size());
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (C1ControlAt(name, i) > 0) {
+      safe += '_';
+      ++i;
+    } else if (IsC0OrDelete(c) || c == '/' || c == '\\' || c == ':') {
+      safe += '_';
+    } else {
+      safe += c;
+    }
+  }
+  if (safe.empty() || safe.front() == '.') safe.insert(safe.begin(), '_');
+  return safe;
 }
 
 }  // namespace napkin::formats

@@ -138,7 +138,8 @@ double IntendedDecimal(double stored) {
   return value;
 }
 
-std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
+std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
 
 }  // namespace
 
@@ -271,7 +272,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
                      ".");
   double del = 0.0;
   if (!ReadReal(curve, curve_header::kDel, form, del) || !std::isfinite(del) || !(del > 0.0))
-    throw InputError(file + ": DEL (the sampling interval) is not a positive number.");
+    throw InputError(file + ": DEL (the sampling interval) is not a finite positive number.");
   del = IntendedDecimal(del);
   const std::string xunits = ToUpper(channel.xunits);
   if (xunits.find("MILLI") != std::string::npos || xunits == "MSEC" || xunits == "MS") del *= 1e-3;

@@ -1,6 +1,7 @@
 #include "ingest/discovery.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <map>
 #include <set>
 #include <utility>
@@ -96,10 +97,26 @@ ImportInput ZipInput(const fs::path& archive) {
   return input;
 }
 
+// Why `path` (a file napkin would read) cannot be a test, or "" when it is a
+// regular file: a FIFO named *.csv would block, a link to /dev/zero never end.
+std::string NotARegularFile(const fs::path& path) {
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error && error.value() == ELOOP)
+    return "'" + path.string() + "' is a loop of symbolic links; point the link at a real file.";
+  if (error) return "'" + path.string() + "' cannot be read (" + error.message() + ").";
+  if (!fs::is_regular_file(status))
+    return "'" + path.string() + "' is not a regular file (a FIFO, device or socket); napkin reads only " +
+           "regular files.";
+  return "";
+}
+
 // Every test inside `folder` (not itself an ISO-MME test), in name order.
 // `visited` holds the canonical folders seen, so a symbolic link back up the
-// tree is not followed forever.
-void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std::set<fs::path>& visited) {
+// tree is not followed forever. Entries that look like tests but are not
+// regular files (or are broken or looping links) are reported in `errors`.
+void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std::set<fs::path>& visited,
+                    std::vector<std::string>& errors) {
   std::error_code error;
   const fs::path canonical = fs::canonical(folder, error);
   if (!error && !visited.insert(canonical).second) return;
@@ -114,14 +131,18 @@ void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std
       if (HoldsMmeFile(entry)) {
         found.push_back(IsoMmeInput(entry, entry.filename().string()));
       } else {
-        DiscoverFolder(entry, found, visited);
+        DiscoverFolder(entry, found, visited, errors);
       }
-    } else if (HasExtension(entry, ".csv")) {
-      found.push_back(CsvInput(entry));
-    } else if (IsUdsFile(entry)) {
-      uds.Add(entry, found);
-    } else if (HasExtension(entry, ".zip")) {
-      found.push_back(ZipInput(entry));
+    } else if (HasExtension(entry, ".csv") || IsUdsFile(entry) || HasExtension(entry, ".zip")) {
+      if (const std::string problem = NotARegularFile(entry); !problem.empty()) {
+        errors.push_back(problem);
+      } else if (HasExtension(entry, ".csv")) {
+        found.push_back(CsvInput(entry));
+      } else if (HasExtension(entry, ".zip")) {
+        found.push_back(ZipInput(entry));
+      } else {
+        uds.Add(entry, found);
+      }
     }
   }
 }
@@ -148,7 +169,11 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
   for (const std::string& text : paths) {
     const fs::path path = WithoutTrailingSeparator(text);
     std::error_code error;
-    if (!fs::exists(path, error)) {
+    const bool exists = fs::exists(path, error);
+    if (error && error.value() == ELOOP) {
+      discovery.errors.push_back("'" + text +
+                                 "' is a loop of symbolic links; point the link at a real file.");
+    } else if (!exists) {
       discovery.errors.push_back("'" + text + "' does not exist.");
     } else if (fs::is_directory(path, error)) {
       if (HoldsMmeFile(path)) {
@@ -156,17 +181,21 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
         continue;
       }
       const std::size_t before = discovery.inputs.size();
+      const std::size_t errors_before = discovery.errors.size();
       try {
         std::set<fs::path> visited;
-        DiscoverFolder(path, discovery.inputs, visited);
+        DiscoverFolder(path, discovery.inputs, visited, discovery.errors);
       } catch (const InputError& list_error) {
         discovery.errors.push_back(list_error.what());
         continue;
       }
-      if (discovery.inputs.size() == before)
+      if (discovery.inputs.size() == before && errors_before == discovery.errors.size())
         discovery.errors.push_back(
             "folder '" + text +
             "' holds no test (no CSV file, ISO-MME test folder, UDS-1992 file or zip archive).");
+    } else if (const std::string problem = NotARegularFile(path);
+               !problem.empty() && (HasExtension(path, ".csv") || IsUdsFile(path) || HasExtension(path, ".zip"))) {
+      discovery.errors.push_back(problem);
     } else if (HasExtension(path, ".csv")) {
       discovery.inputs.push_back(CsvInput(path));
     } else if (HasExtension(path, ".mme")) {

@@ -13,6 +13,7 @@
 #include "formats/channel_map.h"
 #include "formats/content_hash.h"
 #include "formats/csv.h"
+#include "formats/text.h"
 #include "ingest/content_hash.h"
 #include "ingest/dummy_heads.h"
 #include "ingest/store.h"
@@ -135,6 +136,9 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
                                     const PreparedImport& prepared, const ImportOptions& options) {
   const std::string test_id = options.test_id.value_or(input.name);
   try {
+    // Ids are printable and of sane length: they reach terminals, tables and
+    // export file names (docs/formats.md "Names, limits and escaping").
+    formats::CheckName("test id", test_id);
     const std::string input_hash = InputContentHash(input);
     // An input of one dummy keeps its content hash; nothing more to read when it is stored.
     if (!options.position && catalogue.ExistsTestByHash(input_hash)) {
@@ -218,6 +222,17 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   prepared.velocity_given = !options.initial_velocity_mps.empty();
   if (options.test_id && options.test_id->empty()) throw UsageError("--test-id must not be empty.");
   if (options.position && options.position->empty()) throw UsageError("--position must not be empty.");
+  auto check_option = [](const char* option, const std::optional<std::string>& value) {
+    if (!value) return;
+    try {
+      formats::CheckName(option, *value);
+    } catch (const InputError& error) {
+      throw UsageError(error.what());
+    }
+  };
+  check_option("--test-id", options.test_id);
+  check_option("--series", options.series);
+  check_option("--variant", options.variant);
 
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)

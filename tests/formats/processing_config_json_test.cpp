@@ -78,14 +78,17 @@ void ExpectSortedKeysEverywhere(const json& value) {
 TEST(ProcessingConfigJson, CanonicalFormHasEveryFieldSorted) {
   const json canonical = ProcessingConfigToJson(engine::ProcessingConfig{});
   ExpectSortedKeysEverywhere(canonical);
-  EXPECT_EQ(canonical.size(), 8u);
-  for (const char* key : {"solver", "filter", "bias", "time", "gravity", "hic", "bric", "screening"})
+  EXPECT_EQ(canonical.size(), 9u);
+  for (const char* key :
+       {"solver", "filter", "bias", "time", "gravity", "hic", "bric", "screening", "plausibility"})
     EXPECT_TRUE(canonical.contains(key)) << key;
   EXPECT_EQ(canonical["filter"].size(), 4u);
   EXPECT_EQ(canonical["bias"].size(), 3u);
   EXPECT_EQ(canonical["time"].size(), 3u);
   EXPECT_TRUE(canonical["time"]["start_s"].is_null());
   EXPECT_EQ(canonical["screening"].size(), 6u);
+  EXPECT_EQ(canonical["plausibility"].size(), 4u);
+  EXPECT_EQ(canonical["plausibility"]["max_acceleration_g"], 2000.0);
   EXPECT_EQ(canonical["filter"]["linear_cfc"], 1000.0);
   EXPECT_EQ(canonical["gravity"]["g_fixed"], json::array({0.0, 0.0, 9.80665}));
   // Compact dump starts with the first sorted key.
