@@ -10,6 +10,8 @@
 
 namespace napkin::cli {
 
+// Opens --db; for writing (read_only false) after SQLite's quick_check, so a
+// damaged catalogue is refused before anything is written into it.
 db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false);
 
 // A stored processing config named by a `--config NAME|HASH-PREFIX` selector

@@ -2,11 +2,8 @@
 // (processed on other machines) into the --db catalogue.
 #include <fmt/core.h>
 
-#include <filesystem>
-
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
-#include "common/error.h"
 
 namespace napkin::cli {
 namespace {
@@ -21,12 +18,7 @@ class MergeCommand : public Command {
   }
 
   int Run() override {
-    namespace fs = std::filesystem;
-    for (const std::string& shard : shards_) {
-      std::error_code error;
-      if (fs::exists(global_->db_path) && fs::equivalent(shard, global_->db_path, error))
-        throw InputError("shard '" + shard + "' is the catalogue itself; merge other files into --db.");
-    }
+    // Catalogue::MergeShard refuses the catalogue's own file by any name.
     db::Catalogue catalogue = OpenCatalogue(*global_);
     // Each shard is merged in one transaction; a refused shard (conflict)
     // leaves the catalogue as the previous shards made it.

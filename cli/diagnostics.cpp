@@ -78,6 +78,21 @@ int ReportFailure(const std::exception_ptr& error, const std::string& db_path) {
           "allows; "
           "run the command again when that process has finished ({}).",
           db_path, database.what());
+    } else if (database.full()) {
+      spdlog::error(
+          "catalogue '{}' could not be written: the disk holding it is full; free space there (or move the "
+          "catalogue to a larger disk) and run the command again, the work committed before is kept.",
+          db_path);
+    } else if (database.corrupt()) {
+      spdlog::error(
+          "catalogue '{}' is damaged (SQLite finds a malformed page); restore it from a backup, or save "
+          "what is readable with `sqlite3 {} .recover | sqlite3 recovered.db`.",
+          db_path, db_path);
+    } else if (database.read_only()) {
+      spdlog::error(
+          "catalogue '{}' cannot be written: the file or its directory is read-only; make both writable, "
+          "or copy the catalogue to a writable directory.",
+          db_path);
     } else {
       spdlog::error("catalogue '{}': {}", db_path, database.what());
     }

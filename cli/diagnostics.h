@@ -7,6 +7,8 @@
 //   UsageError                      2    napkin: <sentence>
 //   InputError (bad data, files)    1    napkin: <sentence>
 //   db::DatabaseError, busy         1    napkin: catalogue 'F' is busy: ... (hint: wait, retry)
+//   db::DatabaseError, disk full,   1    napkin: catalogue 'F' could not be written: the disk ... is
+//     damaged, read-only                 full / is damaged / cannot be written ... (hint, no SQLite text)
 //   db::DatabaseError, other        1    napkin: catalogue 'F': <SQLite text>
 //   std::bad_alloc                  1    napkin: out of memory ... (hint)
 //   anything else (logic_error,     1    napkin: internal error: <what>; this is a bug in napkin,

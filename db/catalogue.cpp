@@ -113,6 +113,16 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
     throw InputError("catalogue '" + path + "' has schema version " + std::to_string(version) +
                      ", newer than this napkin knows (" + std::to_string(latest) + ").");
 
+  if (options.check_integrity) {
+    // quick_check: every page and record well-formed (not the index
+    // contents), one read of the file. Its first line is "ok" or a problem.
+    auto check = connection.Prepare("PRAGMA quick_check(1)");
+    if (!check->Step() || check->ColumnText(0) != "ok")
+      throw InputError("catalogue '" + path +
+                       "' is damaged (SQLite's integrity check fails) and was left as it was; restore it "
+                       "from a backup, or save what is readable with `sqlite3 " +
+                       path + " .recover | sqlite3 recovered.db`.");
+  }
   if (options.read_only) {
     if (version < latest)
       throw InputError("catalogue '" + path + "' has schema version " + std::to_string(version) +

@@ -149,7 +149,11 @@ struct MergeReport {
 };
 
 struct CatalogueOptions {
-  bool read_only = false;       // queries only: never migrates, never writes
+  bool read_only = false;  // queries only: never migrates, never writes
+  // Run SQLite's quick_check before anything is written (init, import and
+  // the other writing commands): a damaged file is refused with an
+  // InputError naming it, instead of being written into.
+  bool check_integrity = false;
   bool durable = true;          // synchronous=FULL (else NORMAL: may lose the last commits on power loss)
   int busy_timeout_ms = 30000;  // wait for another writer this long before failing
   // Migrations to apply; empty = the embedded schema/ migrations. Tests pass
@@ -164,7 +168,8 @@ class Catalogue {
   // Opens (creating if needed) and migrates the catalogue at `path`
   // (":memory:" for a private in-memory one). Throws InputError, one sentence
   // naming the file, when it is not an SQLite database, not a napkin
-  // catalogue, read-only, or newer than this build.
+  // catalogue, read-only (the file, or for writing its directory), newer
+  // than this build, or (with check_integrity) damaged.
   static Catalogue Open(const std::string& path, const CatalogueOptions& options = {});
 
   int schema_version() const { return schema_version_; }
@@ -259,7 +264,9 @@ class Catalogue {
   // differs from this catalogue's test of that id, or holds a result whose
   // values (summary fields or solver) differ from this catalogue's result for
   // the same test and config (a conflict: the same input and config must give
-  // the same answer, so one of the two was computed differently).
+  // the same answer, so one of the two was computed differently), and at
+  // once when the shard is this catalogue's own file under any name (path,
+  // symbolic or hard link, "file:" URI: the device and inode are compared).
   MergeReport MergeShard(const std::string& shard_path);
 
  private:

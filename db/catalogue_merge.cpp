@@ -230,6 +230,13 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
     CatalogueOptions options;
     options.read_only = true;
     const Catalogue shard = Catalogue::Open(shard_path, options);
+    // The file SQLite opened for each, compared by device and inode, so no
+    // spelling of the name (relative, "./", links, a "file:" URI) gets the
+    // catalogue attached to itself, where the merge would wait on its own lock.
+    const std::optional<FileIdentity> shard_file = shard.connection_.FileIdentityOf();
+    if (shard_file && shard_file == connection_.FileIdentityOf())
+      throw InputError("shard '" + shard_path + "' is the catalogue '" + connection_.path() +
+                       "' itself; merge other catalogues into it.");
     if (shard.schema_version() != schema_version_)
       throw InputError("shard '" + shard_path + "' has schema version " +
                        std::to_string(shard.schema_version()) + ", the catalogue " +

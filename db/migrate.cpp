@@ -24,8 +24,13 @@ int ApplyMigrations(Connection& connection, std::span<const schema::Migration> m
   // verifies the result before each commit.
   connection.Execute("PRAGMA foreign_keys = OFF");
   try {
-    for (const schema::Migration& migration : migrations.subspan(static_cast<std::size_t>(version))) {
+    for (;;) {
       Transaction transaction(connection);
+      // Read again under the write lock: another process opening the same
+      // new catalogue at the same moment may have applied it meanwhile.
+      version = static_cast<int>(connection.PragmaInt("user_version"));
+      if (version >= static_cast<int>(migrations.size())) break;
+      const schema::Migration& migration = migrations[static_cast<std::size_t>(version)];
       connection.Execute(migration.sql);
       {
         auto violations = connection.Prepare("PRAGMA foreign_key_check");

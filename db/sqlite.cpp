@@ -1,6 +1,10 @@
 #include "db/sqlite.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <utility>
@@ -19,14 +23,15 @@ void ThrowSqliteError(sqlite3* db, int code, const char* call, std::string_view 
   text += message;
   text += "' (" + std::to_string(extended) + ") in " + call;
   if (!context.empty()) {
+    // One line: the first line of the SQL (or the file name), shortened.
+    std::string_view shown = context.substr(0, context.find('\n'));
+    const bool cut = shown.size() < context.size() || shown.size() > 100;
     text += " while running '";
-    text += context;
-    text += "'";
+    text += shown.substr(0, 100);
+    text += cut ? "...'" : "'";
   }
-  text += " at ";
-  text += file;
-  text += ":" + std::to_string(line) + ".";
-  throw DatabaseError(text, extended != 0 ? extended : code);
+  text += ".";
+  throw DatabaseError(text, extended != 0 ? extended : code, std::string(file) + ":" + std::to_string(line));
 }
 
 }  // namespace internal
@@ -141,15 +146,65 @@ bool IsWriteProtected(const std::string& path) {
          perms::none;
 }
 
+// The directory that holds the file `path` names.
+std::filesystem::path DirectoryOf(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  return parent.empty() ? std::filesystem::path(".") : parent;
+}
+
+// Whether this process may create files in `directory`: access(2) applies
+// the effective user's permissions and refuses a read-only file system.
+bool MayCreateFilesIn(const std::filesystem::path& directory) {
+  return ::access(directory.c_str(), W_OK) == 0;
+}
+
+// The URI that opens `path` as an immutable database (SQLite "URI
+// Filenames": no locks and no -shm file), '%', '?' and '#' percent-encoded.
+std::string ImmutableUri(const std::string& path) {
+  std::string uri = "file:";
+  for (const char c : path) {
+    if (c == '%' || c == '?' || c == '#') {
+      char escaped[4];
+      std::snprintf(escaped, sizeof escaped, "%%%02X", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      uri += escaped;
+    } else {
+      uri += c;
+    }
+  }
+  return uri + "?immutable=1";
+}
+
 }  // namespace
 
 Connection Connection::Open(const std::string& path, const ConnectionOptions& options) {
   Connection connection;
   connection.path_ = path;
   connection.read_only_ = options.read_only;
-  const int flags = (options.read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) |
-                    SQLITE_OPEN_NOMUTEX;
-  const int opened = sqlite3_open_v2(path.c_str(), &connection.db_, flags, nullptr);
+  int flags = (options.read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) |
+              SQLITE_OPEN_NOMUTEX;
+  std::string file_name = path;
+  // SQLite keeps its journal (the -wal and -shm files of a WAL catalogue)
+  // beside the catalogue, so writing needs a writable directory. Reading a
+  // WAL catalogue needs one too, to create the -shm file, unless the file
+  // is opened immutable: right when the directory is read-only and there is
+  // no -wal file, since then no process can be writing it (SQLite "WAL
+  // mode", read-only databases).
+  const bool plain_file = !connection.in_memory() && path.rfind("file:", 0) != 0;
+  const std::filesystem::path directory = DirectoryOf(path);
+  std::error_code error;
+  const bool directory_read_only =
+      plain_file && std::filesystem::is_directory(directory, error) && !MayCreateFilesIn(directory);
+  if (directory_read_only && !options.read_only)
+    throw InputError("cannot write catalogue '" + path + "': its directory '" + directory.string() +
+                     "' is read-only and SQLite keeps its journal beside the catalogue; make the directory "
+                     "writable or copy the catalogue to a writable directory.");
+  const std::string wal_path = path + "-wal";
+  const bool wal_present = std::filesystem::exists(wal_path, error);
+  if (directory_read_only && !wal_present && std::filesystem::is_regular_file(path, error)) {
+    file_name = ImmutableUri(path);
+    flags |= SQLITE_OPEN_URI;
+  }
+  const int opened = sqlite3_open_v2(file_name.c_str(), &connection.db_, flags, nullptr);
   if (opened != SQLITE_OK) {
     const std::string reason =
         connection.db_ != nullptr ? sqlite3_errmsg(connection.db_) : sqlite3_errstr(opened);
@@ -164,6 +219,10 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
       sqlite3_exec(connection.db_, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
   if ((probe & 0xff) == SQLITE_NOTADB)
     throw InputError("'" + path + "' is not a napkin catalogue (not an SQLite database).");
+  if (probe != SQLITE_OK && directory_read_only && wal_present)
+    throw InputError("cannot read catalogue '" + path + "': its directory '" + directory.string() +
+                     "' is read-only and holds its unfinished write-ahead log '" + wal_path +
+                     "'; make the directory writable and run the command again.");
   NAPKIN_SQLITE_CHECK(connection.db_, probe, path);
 
   if (!options.read_only && !connection.in_memory() &&
@@ -172,6 +231,14 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
 
   connection.Execute("PRAGMA foreign_keys = ON");
   return connection;
+}
+
+std::optional<FileIdentity> Connection::FileIdentityOf() const {
+  // The absolute name SQLite resolved (URI parameters stripped); "" in memory.
+  const char* file = sqlite3_db_filename(db_, "main");
+  struct stat status {};
+  if (file == nullptr || *file == '\0' || ::stat(file, &status) != 0) return std::nullopt;
+  return FileIdentity{static_cast<std::uint64_t>(status.st_dev), static_cast<std::uint64_t>(status.st_ino)};
 }
 
 void Connection::Close() noexcept {

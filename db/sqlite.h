@@ -17,22 +17,35 @@
 #include <string_view>
 #include <type_traits>
 #include <unordered_map>
+#include <utility>
 
 namespace napkin::db {
 
 // A failed SQLite call. The message names the SQLite error, the call and its
 // context (the SQL text or the file), e.g. "SQLite error 'UNIQUE constraint
 // failed: tests.external_id' (2067) in sqlite3_step while running 'INSERT ...'".
+// The source location of the failed call is kept apart (location()), out of
+// the message users see (README: errors never show a source path).
 class DatabaseError : public std::runtime_error {
  public:
-  DatabaseError(const std::string& message, int code) : std::runtime_error(message), code_(code) {}
+  DatabaseError(const std::string& message, int code, std::string location = {})
+      : std::runtime_error(message), code_(code), location_(std::move(location)) {}
   // Extended SQLite result code.
   int code() const { return code_; }
+  // "file:line" of the failed call (empty when not thrown by NAPKIN_SQLITE_CHECK), for debugging.
+  const std::string& location() const { return location_; }
   // True for lock contention (SQLITE_BUSY / SQLITE_LOCKED): the operation may be retried.
   bool busy() const { return (code_ & 0xff) == SQLITE_BUSY || (code_ & 0xff) == SQLITE_LOCKED; }
+  // True when the disk (or the file-size limit) is full: SQLITE_FULL.
+  bool full() const { return (code_ & 0xff) == SQLITE_FULL; }
+  // True when the file is damaged or not a database: SQLITE_CORRUPT / SQLITE_NOTADB.
+  bool corrupt() const { return (code_ & 0xff) == SQLITE_CORRUPT || (code_ & 0xff) == SQLITE_NOTADB; }
+  // True when the file or its directory cannot be written: SQLITE_READONLY.
+  bool read_only() const { return (code_ & 0xff) == SQLITE_READONLY; }
 
  private:
   int code_;
+  std::string location_;
 };
 
 namespace internal {
@@ -47,7 +60,7 @@ inline int CheckSqlite(sqlite3* db, int code, const char* call, std::string_view
 }  // namespace internal
 
 // Checks the result code of one sqlite3_* call; throws DatabaseError with the
-// connection's error message, the call text, `context` and file:line.
+// connection's error message, the call text and `context` (file:line as its location()).
 // Returns the code (SQLITE_OK, SQLITE_ROW or SQLITE_DONE).
 #define NAPKIN_SQLITE_CHECK(sqlite_handle, call, context) \
   ::napkin::db::internal::CheckSqlite((sqlite_handle), (call), #call, (context), __FILE__, __LINE__)
@@ -146,6 +159,13 @@ struct ConnectionOptions {
   int busy_timeout_ms = 30000;  // wait this long for another writer's lock
 };
 
+// Which file a name leads to, after links and URI parsing.
+struct FileIdentity {
+  std::uint64_t device = 0;
+  std::uint64_t inode = 0;
+  bool operator==(const FileIdentity&) const = default;
+};
+
 // An open SQLite database. ":memory:" opens a private in-memory database.
 // Not thread-safe: use one connection per thread (WAL lets several
 // connections, threads or processes, share one file).
@@ -165,6 +185,9 @@ class Connection {
   const std::string& path() const { return path_; }
   bool in_memory() const { return path_ == ":memory:" || path_.empty(); }
   bool read_only() const { return read_only_; }
+  // Device and inode of the main database file SQLite opened; nullopt for
+  // an in-memory database.
+  std::optional<FileIdentity> FileIdentityOf() const;
 
   // Runs SQL without parameters (one or more statements: DDL, PRAGMA).
   void Execute(std::string_view sql);

@@ -89,6 +89,9 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
   if (catalogue.ExistsTestByHash(content_hash)) return skipped();
   if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
     const db::TestRecord record = catalogue.ReadTest(*existing);
+    // Another import of the same input (a concurrent process) stored it
+    // between the two look-ups: present, not failed.
+    if (record.content_hash == content_hash) return skipped();
     throw InputError("test '" + test_id + "' from '" + input.source.string() +
                      "' differs from the catalogue's test of that id (imported from '" + record.source_path +
                      "'); import it with another --test-id.");
