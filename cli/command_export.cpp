@@ -18,9 +18,9 @@
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
 #include "formats/processing_config_json.h"
+#include "formats/text.h"
 #include "formats/uds_export.h"
 #include "records/array_record.h"
-#include "formats/text.h"
 
 namespace napkin::cli {
 namespace {

@@ -45,10 +45,10 @@ struct UdsChannel {
   std::string yunits = "G'S";
   std::string xtyp = "TIME";
   std::string xunits = "SECONDS";
-  std::string curve_description;      // CURDSC
-  int nfp = 0;                        // index of the first sample (sample i is at i * del)
-  double del_s = 1e-4;                // sampling interval (stored as REAL*4)
-  double initial_velocity = 0.0;      // INIVEL
+  std::string curve_description;  // CURDSC
+  int nfp = 0;                    // index of the first sample (sample i is at i * del)
+  double del_s = 1e-4;            // sampling interval (stored as REAL*4)
+  double initial_velocity = 0.0;  // INIVEL
   // PREF: cut-off (Hz) of the recorder's analog anti-aliasing prefilter; 0 = not stated.
   // Informative only: it does not make the channel CFC-filtered.
   double prefilter_hz = 0.0;

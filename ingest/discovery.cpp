@@ -194,7 +194,8 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
             "folder '" + text +
             "' holds no test (no CSV file, ISO-MME test folder, UDS-1992 file or zip archive).");
     } else if (const std::string problem = NotARegularFile(path);
-               !problem.empty() && (HasExtension(path, ".csv") || IsUdsFile(path) || HasExtension(path, ".zip"))) {
+               !problem.empty() &&
+               (HasExtension(path, ".csv") || IsUdsFile(path) || HasExtension(path, ".zip"))) {
       discovery.errors.push_back(problem);
     } else if (HasExtension(path, ".csv")) {
       discovery.inputs.push_back(CsvInput(path));

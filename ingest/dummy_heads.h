@@ -53,8 +53,8 @@ struct HeadSignals {
   engine::TestSignals signals;
   formats::TestInfo info;
   std::optional<Eigen::Vector3d> initial_velocity_body_mps;
-  std::string channel_map;         // map used; "" for CSV and Table 2-1 order
-  std::vector<std::string> notes;  // recorded with the test (e.g. cropped spans)
+  std::string channel_map;                     // map used; "" for CSV and Table 2-1 order
+  std::vector<std::string> notes;              // recorded with the test (e.g. cropped spans)
   std::optional<InputFormat> archived_format;  // the format inside a zip archive
 };
 

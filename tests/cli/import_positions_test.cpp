@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/cli/cli_test_util.h"
-#include "tests/support/test_support.h"
 #include "tests/support/isomme_generator.h"
+#include "tests/support/test_support.h"
 
 namespace napkin::cli {
 namespace {
