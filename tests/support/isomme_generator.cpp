@@ -194,7 +194,7 @@ GeneratedIsoMme WriteMultiDummyIsoMme(const fs::path& folder, const MultiDummyIs
     AppendLine(text, "Time of first sample", Exact(spec.t0_s));
     AppendLine(text, "Number of samples", std::to_string(channel.values.size()));
     for (const double value : channel.values) text += Exact(value) + "\r\n";
-    char suffix[16];
+    char suffix[32];
     std::snprintf(suffix, sizeof(suffix), ".%03zu", i + 1);
     WriteBytes(folder / "Channel" / (spec.test_number + suffix), text);
     generated.codes.push_back(channel.code);
