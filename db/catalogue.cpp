@@ -282,13 +282,23 @@ std::optional<TestId> Catalogue::FindTestByExternalId(const std::string& externa
   return TestId{select->ColumnInt64(0)};
 }
 
+// How messages name a test: its id as the user gave it, never the internal
+// row number (README "Errors"), or a sentence saying the row is gone.
+std::string NameOfTest(Connection& connection, TestId id) {
+  auto select = connection.Prepare("SELECT external_id FROM tests WHERE id = ?1");
+  select->Bind(1, id);
+  if (select->Step()) return "test '" + select->ColumnText(0) + "'";
+  return "a test removed from the catalogue meanwhile";
+}
+
 TestRecord Catalogue::ReadTest(TestId id) {
   auto select =
       connection_.Prepare(std::string("SELECT ") + kTestColumns +
                           " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE t.id = ?1");
   select->Bind(1, id);
   if (!select->Step())
-    throw InputError("test #" + std::to_string(static_cast<std::int64_t>(id)) + " is not in the catalogue.");
+    throw InputError(
+        "a test was removed from the catalogue while napkin was using it; run the command again.");
   return ReadTestRow(*select);
 }
 
@@ -312,7 +322,7 @@ void Catalogue::WriteRawChannels(TestId test, const engine::TestSignals& signals
                                 std::to_string(signals.slots.size()) + " slots and " +
                                 std::to_string(units.size()) + " units");
   if (!(signals.dt_s > 0.0) || !std::isfinite(signals.dt_s) || !std::isfinite(signals.t0_s))
-    throw InputError("signals of test #" + std::to_string(static_cast<std::int64_t>(test)) +
+    throw InputError("the signals of " + NameOfTest(connection_, test) +
                      " have an invalid sampling interval or start time.");
 
   Transaction transaction(connection_);

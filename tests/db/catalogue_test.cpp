@@ -225,6 +225,31 @@ TEST_F(CatalogueTest, RewritingSignalsReplacesTheChannels) {
   EXPECT_EQ(read.samples.rows(), 0);
 }
 
+// Messages name a test by the id the user gave it, never by its internal row
+// number (issue 11 item 10: "test #7").
+TEST_F(CatalogueTest, MessagesNameTestsByTheirIdNotTheirRowNumber) {
+  test_support::AddTest(catalogue_, array_, "first");
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0042");
+  engine::TestSignals signals;
+  signals.slots = {"a"};
+  signals.samples = Eigen::MatrixXd::Ones(10, 1);
+  signals.dt_s = std::numeric_limits<double>::infinity();
+  try {
+    catalogue_.WriteRawChannels(test, signals, std::vector<std::string>(1, "g"));
+    FAIL() << "an infinite sampling interval was stored";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("test 'v0042'"), std::string::npos) << message;
+    EXPECT_EQ(message.find('#'), std::string::npos) << message;
+  }
+  try {
+    catalogue_.ReadTest(TestId{static_cast<std::int64_t>(test) + 1000});
+    FAIL() << "a missing test was read";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).find('#'), std::string::npos) << error.what();
+  }
+}
+
 // -------------------------------------------------------------- kinematics
 
 engine::Kinematics RandomKinematics(Eigen::Index n, std::uint64_t seed) {
