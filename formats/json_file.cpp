@@ -98,11 +98,14 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
   const std::string text = ReadWholeFile(path, kMaxJsonFileBytes);
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& error) {
-    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line L, column C: ...".
+  } catch (const nlohmann::json::exception& error) {
+    // A syntax error (parse_error) or a number beyond double's range
+    // (out_of_range 406, found by fuzz/). nlohmann's message starts with
+    // "[json.exception.parse_error.101] parse error at line L, column C: ..."
+    // or "[json.exception.out_of_range.406] number overflow parsing ...".
     std::string what = error.what();
-    const std::size_t start = what.find("parse error");
-    if (start != std::string::npos) what = what.substr(start);
+    const std::size_t start = what.find("] ");
+    if (what.rfind("[json.exception.", 0) == 0 && start != std::string::npos) what = what.substr(start + 2);
     if (!what.empty() && what.back() != '.') what += '.';
     throw InputError(Named(path) + ": not valid JSON (" + Abbreviated(what.substr(0, what.size() - 1), 200) +
                      ").");

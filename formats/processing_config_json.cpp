@@ -281,8 +281,8 @@ engine::ProcessingConfig ReadProcessingConfig(const std::filesystem::path& path)
   json parsed;
   try {
     parsed = json::parse(text);
-  } catch (const json::parse_error& error) {
-    throw InputError(source + " is not valid JSON (" + error.what() + ").");
+  } catch (const json::exception& error) {  // syntax, or a number beyond double's range (fuzz/)
+    throw InputError(source + " is not valid JSON (" + Abbreviated(error.what(), 200) + ").");
   }
   return ParseProcessingConfig(parsed, source);
 }
