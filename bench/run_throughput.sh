@@ -1,19 +1,29 @@
 #!/usr/bin/env bash
-# End-to-end throughput of `napkin run` (issue: batch scheduler).
+# End-to-end throughput of `napkin run` against the SQLite-only floor, for
+# each derived-channel storage choice (issue 12 "I/O at the limit").
 #
-#   bench/run_throughput.sh [TESTS] [SAMPLES] [THREADS] [WORKDIR]
+#   bench/run_throughput.sh [TESTS] [SAMPLES] [THREADS] [WORKDIR] [STORAGE...]
+#
+# STORAGE: any of float64 float32 none (default: all three).
 #
 # Builds napkin in Release (build/bench), creates TESTS synthetic tests of
-# 9 channels x SAMPLES samples (napkin synth --scenario random), runs
-# `napkin run --threads THREADS` and reports tests/s and samples/s; then
-# measures what SQLite alone needs to read the same inputs and write the same
-# outputs (napkin_catalogue_io io-baseline on a copy of the input catalogue)
-# and the ratio of the two wall times; finally checks 20 random tests bit for
-# bit against the transform core (napkin_catalogue_io verify).
+# 9 channels x SAMPLES samples once (napkin synth --scenario random), then for
+# each storage choice:
+#   - runs `napkin run --threads THREADS --config WORKDIR/config-STORAGE.json`
+#     (the default preset with storage.derived_channels = STORAGE) on a fresh
+#     copy of the input catalogue, and checks 20 random tests against the
+#     transform core (napkin_catalogue_io verify: bit for bit for float64,
+#     the stored float32 values for float32, the summaries for none);
+#   - runs napkin_catalogue_io io-baseline --storage STORAGE on another fresh
+#     copy: the same reads and the same bytes written, without computing;
+#     that is the SQLite-only floor;
+# and prints one table: run s, floor s, ratio, tests/s, catalogue bytes per
+# test, and the float32/float64 tests/s ratio. The load average is printed
+# with it: the machine may be shared.
 #
-# Disk: each test's derived channels are 36 x 8 x SAMPLES bytes (5.8 MB at
-# 20,000 samples) and its raw channels 9 x 8 x SAMPLES; the run and the
-# baseline each write the derived channels once.
+# Disk: the input catalogue holds 9 x 8 x SAMPLES bytes per test, and one
+# copy at a time exists with its results (at most 36 x 8 x SAMPLES bytes of
+# derived channels per test, float64); copies are deleted after use.
 set -euo pipefail
 
 TESTS=${1:-1000}
@@ -21,9 +31,21 @@ SAMPLES=${2:-20000}
 THREADS=${3:-2}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=${4:-$ROOT/build/bench-throughput}
+shift $(( $# < 4 ? $# : 4 ))
+STORAGES=("$@")
+(( ${#STORAGES[@]} > 0 )) || STORAGES=(float64 float32 none)
+for storage in "${STORAGES[@]}"; do
+  case $storage in
+    float64 | float32 | none) ;;
+    *) echo "unknown storage '$storage' (float64, float32 or none)" >&2; exit 2 ;;
+  esac
+done
 BUILD=$ROOT/build/bench
 
-need_mb=$(( TESTS * SAMPLES * 8 * (9 * 3 + 36 * 2) / 1000000 + 100 ))
+derived_bytes=8
+for storage in "${STORAGES[@]}"; do [[ $storage == float64 ]] && derived_bytes=8 && break; derived_bytes=4; done
+# input + one copy of it + the largest results + 10% WAL and slack
+need_mb=$(( TESTS * SAMPLES * (9 * 8 * 2 + 36 * derived_bytes) * 11 / 10 / 1000000 + 200 ))
 mkdir -p "$WORK"
 avail_mb=$(df -Pm "$WORK" | awk 'NR == 2 {print $4}')
 echo "disk: need about ${need_mb} MB in $WORK, ${avail_mb} MB available"
@@ -37,37 +59,62 @@ cmake --build "$BUILD" -j"$(nproc)" --target napkin napkin_catalogue_io > /dev/n
 NAPKIN=$BUILD/cli/napkin
 IO=$BUILD/bench/napkin_catalogue_io
 
-rm -f "$WORK"/*.db "$WORK"/*.db-wal "$WORK"/*.db-shm
+remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
+remove_db "$WORK/input.db"
 now() { date +%s.%N; }
 
 t0=$(now)
 "$NAPKIN" --db "$WORK/input.db" synth --scenario random --count "$TESTS" --samples "$SAMPLES"
 t1=$(now)
 echo "synth: $(echo "$t1 - $t0" | bc) s"
-cp "$WORK/input.db" "$WORK/run.db"
-cp "$WORK/input.db" "$WORK/io.db"
-sync
 
-t0=$(now)
-"$NAPKIN" --db "$WORK/run.db" run --threads "$THREADS"
-t1=$(now)
-run_s=$(echo "$t1 - $t0" | bc -l)
-sync
+declare -A run_s floor_s bytes_per_test
+for storage in "${STORAGES[@]}"; do
+  config=$WORK/config-$storage.json
+  # The default preset with this storage choice and a name of its own.
+  sed -e 's/"name": "default"/"name": "bench-'"$storage"'"/' \
+    -e 's/"derived_channels": "[a-z0-9]*"/"derived_channels": "'"$storage"'"/' \
+    "$ROOT/config/processing/default.json" > "$config"
+  grep -q '"derived_channels": "'"$storage"'"' "$config" || {
+    echo "config/processing/default.json has no storage.derived_channels key" >&2
+    exit 1
+  }
 
-t0=$(now)
-"$IO" io-baseline "$WORK/io.db" --batch 16
-t1=$(now)
-io_s=$(echo "$t1 - $t0" | bc -l)
+  echo
+  echo "== storage $storage: napkin run"
+  remove_db "$WORK/run.db"
+  cp "$WORK/input.db" "$WORK/run.db"
+  sync
+  t0=$(now)
+  "$NAPKIN" --db "$WORK/run.db" run --threads "$THREADS" --config "$config"
+  t1=$(now)
+  run_s[$storage]=$(echo "$t1 - $t0" | bc -l)
+  sync
+  "$IO" verify "$WORK/run.db" --sample 20 --seed 7 --config "$config"
+  bytes_per_test[$storage]=$(( ($(stat -c %s "$WORK/run.db") - $(stat -c %s "$WORK/input.db")) / TESTS ))
+  remove_db "$WORK/run.db"
 
-"$NAPKIN" --db "$WORK/run.db" status
-"$IO" verify "$WORK/run.db" --sample 20 --seed 7
+  echo "== storage $storage: SQLite-only floor"
+  remove_db "$WORK/io.db"
+  cp "$WORK/input.db" "$WORK/io.db"
+  sync
+  t0=$(now)
+  "$IO" io-baseline "$WORK/io.db" --batch 16 --storage "$storage"
+  t1=$(now)
+  floor_s[$storage]=$(echo "$t1 - $t0" | bc -l)
+  remove_db "$WORK/io.db"
+done
+remove_db "$WORK/input.db"
 
-samples_total=$(( TESTS * SAMPLES * 9 ))
 echo
-echo "== napkin run: ${TESTS} tests x 9 channels x ${SAMPLES} samples, --threads ${THREADS}"
-printf "run wall time            %8.2f s\n" "$run_s"
-printf "throughput               %8.2f tests/s, %.3g samples/s\n" "$(echo "$TESTS / $run_s" | bc -l)" \
-  "$(echo "$samples_total / $run_s" | bc -l)"
-printf "SQLite-only I/O time     %8.2f s\n" "$io_s"
-printf "run / SQLite-only ratio  %8.2f\n" "$(echo "$run_s / $io_s" | bc -l)"
-ls -l "$WORK"/input.db "$WORK"/run.db | awk '{printf "%-40s %8.0f MB\n", $9, $5 / 1e6}'
+echo "== napkin run: ${TESTS} tests x 9 channels x ${SAMPLES} samples, --threads ${THREADS}," \
+  "$(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+printf "%-8s %9s %9s %7s %9s %16s\n" storage "run s" "floor s" ratio "tests/s" "bytes per test"
+for storage in "${STORAGES[@]}"; do
+  printf "%-8s %9.2f %9.2f %7.2f %9.2f %16d\n" "$storage" "${run_s[$storage]}" "${floor_s[$storage]}" \
+    "$(echo "${run_s[$storage]} / ${floor_s[$storage]}" | bc -l)" "$(echo "$TESTS / ${run_s[$storage]}" | bc -l)" \
+    "${bytes_per_test[$storage]}"
+done
+if [[ -n ${run_s[float32]:-} && -n ${run_s[float64]:-} ]]; then
+  printf "float32 / float64 tests/s: %.2f\n" "$(echo "${run_s[float64]} / ${run_s[float32]}" | bc -l)"
+fi

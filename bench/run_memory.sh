@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Peak memory of `napkin run` does not grow with the number of tests
+# (issue 12): the scheduler holds a bounded number of tests in memory.
+#
+#   bench/run_memory.sh [SMALL] [LARGE] [SAMPLES] [THREADS] [WORKDIR] [CONFIG]
+#
+# Creates SMALL synthetic tests (default 1,000) of 9 channels x SAMPLES
+# samples (default 20,000), runs `napkin run` under /usr/bin/time -v, adds
+# LARGE - SMALL more tests to the same catalogue and runs `napkin run --force`
+# on all LARGE (default 5,000) of them, again under /usr/bin/time -v, and
+# prints "Maximum resident set size" of both runs. CONFIG: the processing
+# config (default: the default preset). The catalogue is deleted at the end.
+#
+# Disk: LARGE x SAMPLES x (9 + 36) x 8 bytes at most (float64 derived
+# channels); about 22 GB for 5,000 x 20,000 with the default float32.
+set -euo pipefail
+
+SMALL=${1:-1000}
+LARGE=${2:-5000}
+SAMPLES=${3:-20000}
+THREADS=${4:-2}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+WORK=${5:-$ROOT/build/bench-memory}
+CONFIG=${6:-default}
+BUILD=$ROOT/build/bench
+
+if [[ ! -x /usr/bin/time ]]; then
+  echo "/usr/bin/time is missing: install the Debian package 'time' (make deps)" >&2
+  exit 1
+fi
+if (( LARGE <= SMALL )); then
+  echo "LARGE ($LARGE) must exceed SMALL ($SMALL)" >&2
+  exit 2
+fi
+need_mb=$(( LARGE * SAMPLES * 8 * (9 + 36) * 11 / 10 / 1000000 + 200 ))
+mkdir -p "$WORK"
+avail_mb=$(df -Pm "$WORK" | awk 'NR == 2 {print $4}')
+echo "disk: need about ${need_mb} MB in $WORK, ${avail_mb} MB available"
+if (( avail_mb < need_mb )); then
+  echo "not enough disk space for ${LARGE} tests x ${SAMPLES} samples" >&2
+  exit 1
+fi
+
+cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON > /dev/null
+cmake --build "$BUILD" -j"$(nproc)" --target napkin > /dev/null
+NAPKIN=$BUILD/cli/napkin
+DB=$WORK/memory.db
+remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
+remove_db "$DB"
+trap 'remove_db "$DB"' EXIT
+
+# Prints the peak resident set size (kB) of `napkin run` with the given options.
+peak_kb() {
+  /usr/bin/time -v "$NAPKIN" --quiet --db "$DB" run --threads "$THREADS" --config "$CONFIG" "$@" \
+    2> "$WORK/time.txt" || { cat "$WORK/time.txt" >&2; return 1; }
+  awk -F': ' '/Maximum resident set size/ {print $2}' "$WORK/time.txt"
+}
+
+"$NAPKIN" --db "$DB" synth --scenario random --count "$SMALL" --samples "$SAMPLES" --test-id small
+small_kb=$(peak_kb)
+"$NAPKIN" --db "$DB" synth --scenario random --count $(( LARGE - SMALL )) --samples "$SAMPLES" \
+  --seed 1000003 --test-id large
+large_kb=$(peak_kb --force)
+
+echo
+echo "== peak memory of napkin run, 9 channels x ${SAMPLES} samples, --threads ${THREADS}, config ${CONFIG}"
+printf "%6d tests: Maximum resident set size %8d kB\n" "$SMALL" "$small_kb"
+printf "%6d tests: Maximum resident set size %8d kB\n" "$LARGE" "$large_kb"
+printf "ratio %.3f\n" "$(echo "$large_kb / $small_kb" | bc -l)"
