@@ -3,6 +3,7 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_pipeline.h>
+#include <oneapi/tbb/task_arena.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <exception>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -170,24 +172,103 @@ class Heartbeat {
   std::thread thread_;  // last: started after every other member is ready
 };
 
-// Shared counters of the stages.
-struct RunState {
-  std::atomic<int> in_memory{0};
-  std::atomic<int> peak_in_memory{0};
+// Shared state of the stages: the tokens that bound the tests in memory, the
+// counters, and the abort flag a failing stage raises.
+class RunState {
+ public:
+  explicit RunState(int tokens) : free_tokens_(tokens) {}
+
+  // Takes a token for a test about to be read; waits at most `wait` while
+  // every token is taken. False if none was free (or the run is aborting).
+  bool AcquireToken(std::chrono::milliseconds wait) {
+    std::unique_lock lock(mutex_);
+    if (!token_freed_.wait_for(lock, wait, [this] { return free_tokens_ > 0 || aborted_; }) || aborted_)
+      return false;
+    --free_tokens_;
+    return true;
+  }
+  void ReleaseTokens(int count) {
+    {
+      std::lock_guard lock(mutex_);
+      free_tokens_ += count;
+    }
+    token_freed_.notify_all();
+  }
+  // A stage failed: the reader stops, the other stages drain.
+  void Abort() {
+    {
+      std::lock_guard lock(mutex_);
+      aborted_ = true;
+    }
+    token_freed_.notify_all();
+  }
+  bool aborted() const {
+    std::lock_guard lock(mutex_);
+    return aborted_;
+  }
+
   void Read() {
-    const int now = ++in_memory;
-    int peak = peak_in_memory.load();
-    while (now > peak && !peak_in_memory.compare_exchange_weak(peak, now)) {
+    const int now = ++in_memory_;
+    int peak = peak_in_memory_.load();
+    while (now > peak && !peak_in_memory_.compare_exchange_weak(peak, now)) {
     }
   }
+  void Committed(int count) { in_memory_ -= count; }
+  int peak_in_memory() const { return peak_in_memory_.load(); }
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable token_freed_;
+  int free_tokens_;
+  bool aborted_ = false;
+  std::atomic<int> in_memory_{0};
+  std::atomic<int> peak_in_memory_{0};
 };
 
-// The output stage: commits results in batches, one transaction per batch,
-// each test's rows inside it all-or-nothing (a savepoint).
+// Tests read and waiting for a compute thread: from the reader thread to the
+// pipeline's input filter. Unbounded itself: every test in it holds a token.
+class ReadyQueue {
+ public:
+  void Push(ItemPtr item) {
+    {
+      std::lock_guard lock(mutex_);
+      items_.push_back(std::move(item));
+    }
+    changed_.notify_one();
+  }
+  // No more tests will come.
+  void Close() {
+    {
+      std::lock_guard lock(mutex_);
+      closed_ = true;
+    }
+    changed_.notify_all();
+  }
+  // The next test; waits for one; nullptr once closed and empty.
+  ItemPtr Pop() {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return !items_.empty() || closed_; });
+    if (items_.empty()) return nullptr;
+    ItemPtr item = std::move(items_.front());
+    items_.pop_front();
+    return item;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<ItemPtr> items_;
+  bool closed_ = false;
+};
+
+// The writer thread: takes computed tests from a queue and commits them in
+// batches on its own connection, one transaction per batch, each test's rows
+// inside it all-or-nothing (a savepoint). The compute threads only append to
+// the queue, so they go on computing while a batch commits.
 class ResultWriter {
  public:
   ResultWriter(db::Catalogue& catalogue, db::ConfigId config, std::string solver, std::string owner,
-               const RunOptions& options, LeaseBook& book, RunState& state, RunReport& report,
+               const RunOptions& options, int tokens, LeaseBook& book, RunState& state, RunReport& report,
                const ProgressCallback& progress, SteadyClock::time_point start)
       : catalogue_(catalogue),
         queue_(catalogue),
@@ -195,37 +276,105 @@ class ResultWriter {
         solver_(std::move(solver)),
         owner_(std::move(owner)),
         options_(options),
+        // Commit once the queue holds this many tests: waiting for more would
+        // leave fewer than two tokens per thread for reading and computing.
+        commit_target_(static_cast<std::size_t>(
+            std::clamp(tokens - 2 * report.threads, 1, std::max(1, options.commit_batch)))),
         book_(book),
         state_(state),
         report_(report),
         progress_(progress),
-        start_(start) {}
+        start_(start),
+        thread_([this] { Loop(); }) {}
+  ~ResultWriter() { Join(); }
+  ResultWriter(const ResultWriter&) = delete;
+  ResultWriter& operator=(const ResultWriter&) = delete;
 
-  void Accept(ItemPtr item) {
-    std::lock_guard lock(mutex_);
-    if (pending_.empty()) oldest_ = SteadyClock::now();
-    pending_.push_back(std::move(item));
-    if (static_cast<int>(pending_.size()) >= options_.commit_batch ||
-        SecondsSince(oldest_) >= options_.commit_interval_s)
-      FlushLocked();
+  // A computed test (the pipeline's output filter). Never blocks for long:
+  // the tokens bound the queue.
+  void Push(ItemPtr item) {
+    {
+      std::lock_guard lock(mutex_);
+      queue_items_.push_back(Queued{std::move(item), SteadyClock::now()});
+    }
+    changed_.notify_one();
   }
-
-  void Flush() {
-    std::lock_guard lock(mutex_);
-    FlushLocked();
+  // Commit what is queued now rather than wait for a full batch.
+  void RequestFlush() {
+    {
+      std::lock_guard lock(mutex_);
+      flush_requested_ = true;
+    }
+    changed_.notify_one();
+  }
+  // No more tests: commits the rest and ends the thread; returns the error
+  // that stopped the commits, if any.
+  std::exception_ptr Join() {
+    {
+      std::lock_guard lock(mutex_);
+      closed_ = true;
+    }
+    changed_.notify_one();
+    if (thread_.joinable()) thread_.join();
+    return error_;
   }
 
  private:
   enum class Outcome { kDone, kFailed, kLost };
+  struct Queued {
+    ItemPtr item;
+    SteadyClock::time_point arrived;
+  };
 
-  void FlushLocked() {
-    if (pending_.empty()) return;
+  void Loop() {
+    for (;;) {
+      std::vector<ItemPtr> batch;
+      {
+        std::unique_lock lock(mutex_);
+        for (;;) {
+          if (queue_items_.empty()) {
+            if (closed_) return;
+            flush_requested_ = false;
+            changed_.wait(lock);
+            continue;
+          }
+          if (closed_ || flush_requested_ || queue_items_.size() >= commit_target_) break;
+          const auto due =
+              queue_items_.front().arrived + std::chrono::duration_cast<SteadyClock::duration>(
+                                                 std::chrono::duration<double>(options_.commit_interval_s));
+          if (SteadyClock::now() >= due) break;
+          changed_.wait_until(lock, due);
+        }
+        flush_requested_ = false;
+        const std::size_t count =
+            std::min(queue_items_.size(), static_cast<std::size_t>(options_.commit_batch));
+        for (std::size_t i = 0; i < count; ++i) {
+          batch.push_back(std::move(queue_items_.front().item));
+          queue_items_.pop_front();
+        }
+      }
+      // The batch leaves the tokens' count: the reader may read the next tests.
+      state_.ReleaseTokens(static_cast<int>(batch.size()));
+      if (!error_) {
+        try {
+          Commit(batch);
+        } catch (...) {
+          // The run ends; the tests that reach the queue from now on are dropped.
+          error_ = std::current_exception();
+          state_.Abort();
+        }
+      }
+      if (error_) state_.Committed(static_cast<int>(batch.size()));
+    }
+  }
+
+  void Commit(const std::vector<ItemPtr>& batch) {
     const auto write_start = SteadyClock::now();
     std::vector<Outcome> outcomes;
-    outcomes.reserve(pending_.size());
+    outcomes.reserve(batch.size());
     {
-      db::Transaction batch = catalogue_.BeginTransaction();
-      for (const ItemPtr& item : pending_) {
+      db::Transaction transaction = catalogue_.BeginTransaction();
+      for (const ItemPtr& item : batch) {
         db::Transaction test = catalogue_.BeginTransaction();  // a savepoint: this test's rows or none
         bool held = false;
         if (item->error) {
@@ -241,11 +390,11 @@ class ResultWriter {
         if (held) test.Commit();
         outcomes.push_back(!held ? Outcome::kLost : item->error ? Outcome::kFailed : Outcome::kDone);
       }
-      batch.Commit();
+      transaction.Commit();
     }
     // Counted only once durable.
-    for (std::size_t i = 0; i < pending_.size(); ++i) {
-      const WorkItem& item = *pending_[i];
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const WorkItem& item = *batch[i];
       book_.Remove(item.job.id);
       switch (outcomes[i]) {
         case Outcome::kDone:
@@ -264,8 +413,7 @@ class ResultWriter {
           break;
       }
     }
-    state_.in_memory -= static_cast<int>(pending_.size());
-    pending_.clear();
+    state_.Committed(static_cast<int>(batch.size()));
     report_.write_s += SecondsSince(write_start);
     if (progress_) progress_(RunProgress{report_.total, report_.done, report_.failed, SecondsSince(start_)});
   }
@@ -276,21 +424,27 @@ class ResultWriter {
   std::string solver_;
   std::string owner_;
   const RunOptions& options_;
+  std::size_t commit_target_;
   LeaseBook& book_;
   RunState& state_;
-  RunReport& report_;
+  RunReport& report_;  // done, failed, lost, samples, write_s: this thread's alone until Join
   const ProgressCallback& progress_;
   SteadyClock::time_point start_;
+  std::exception_ptr error_;
   std::mutex mutex_;
-  std::vector<ItemPtr> pending_;
-  SteadyClock::time_point oldest_;
+  std::condition_variable changed_;
+  std::deque<Queued> queue_items_;
+  bool flush_requested_ = false;
+  bool closed_ = false;
+  std::thread thread_;  // last: started after every other member is ready
 };
 
-// The input stage: claims jobs a few at a time and reads their tests.
+// The reader thread: claims jobs a few at a time on its own connection and
+// reads their tests ahead of the compute threads, one token per test.
 class JobReader {
  public:
   JobReader(db::Catalogue& catalogue, db::ConfigId config, std::string owner, const RunOptions& options,
-            LeaseBook& book, RunState& state, ResultWriter& writer, RunReport& report,
+            LeaseBook& book, RunState& state, ReadyQueue& ready, ResultWriter& writer, RunReport& report,
             const std::atomic<bool>* stop)
       : catalogue_(catalogue),
         queue_(catalogue),
@@ -299,15 +453,42 @@ class JobReader {
         options_(options),
         book_(book),
         state_(state),
+        ready_(ready),
         writer_(writer),
         report_(report),
-        stop_(stop) {}
+        stop_(stop),
+        thread_([this] { Loop(); }) {}
+  ~JobReader() { Join(); }
+  JobReader(const JobReader&) = delete;
+  JobReader& operator=(const JobReader&) = delete;
 
-  ItemPtr Next(tbb::flow_control& control) {
-    if (Stopping() || (claimed_.empty() && !Claim())) {
-      control.stop();
-      return nullptr;
+  // Waits for the thread (it ends when nothing is left to claim, on a stop
+  // request or when the run aborts); returns its error, if any.
+  std::exception_ptr Join() {
+    if (thread_.joinable()) thread_.join();
+    return error_;
+  }
+  bool stopped() const { return stopped_; }
+
+ private:
+  void Loop() {
+    try {
+      while (!Stopping()) {
+        if (!state_.AcquireToken(std::chrono::milliseconds(50))) continue;
+        if (claimed_.empty() && !Claim()) {
+          state_.ReleaseTokens(1);
+          break;
+        }
+        ready_.Push(ReadNext());
+      }
+    } catch (...) {
+      error_ = std::current_exception();
+      state_.Abort();
     }
+    ready_.Close();
+  }
+
+  ItemPtr ReadNext() {
     const auto read_start = SteadyClock::now();
     auto item = std::make_unique<WorkItem>();
     item->job = claimed_.front();
@@ -327,12 +508,10 @@ class JobReader {
     return item;
   }
 
-  bool stopped() const { return stopped_; }
-
- private:
+  // True once a stop is requested (or a stage failed): no more claims.
   bool Stopping() {
     if (stop_ != nullptr && stop_->load()) stopped_ = true;
-    return stopped_;
+    return stopped_ || state_.aborted();
   }
 
   // Claims the next jobs; while none is claimable but other workers still
@@ -366,7 +545,7 @@ class JobReader {
       if (!others_working) return false;
       // Nothing to compute here for a while: make our finished results
       // durable rather than keep them waiting for the next batch.
-      writer_.Flush();
+      writer_.RequestFlush();
       const auto wait_start = SteadyClock::now();
       while (!Stopping() && SecondsSince(wait_start) < options_.poll_interval_s)
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -402,12 +581,15 @@ class JobReader {
   const RunOptions& options_;
   LeaseBook& book_;
   RunState& state_;
+  ReadyQueue& ready_;
   ResultWriter& writer_;
-  RunReport& report_;
+  RunReport& report_;  // read_s, reclaimed: this thread's alone until Join
   const std::atomic<bool>* stop_;
   std::deque<db::Job> claimed_;
   std::map<db::ArrayId, CachedArray> arrays_;
-  bool stopped_ = false;
+  std::atomic<bool> stopped_{false};
+  std::exception_ptr error_;
+  std::thread thread_;  // last: started after every other member is ready
 };
 
 // The compute stage: the transform core, failures turned into records.
@@ -500,39 +682,64 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
 
   db::Catalogue writer_catalogue = db::Catalogue::Open(db_path, catalogue_options);
   LeaseBook book;
-  RunState state;
+  RunState state(report.max_tests_in_flight);
+  ReadyQueue ready;
   std::atomic<double> compute_s{0.0};
-  ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
-                      report.owner, options, book, state, report, progress, start);
-  JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, writer, report, stop);
-  try {
+  std::exception_ptr error;
+  {
+    // Declared first, so it renews the leases until the writer has committed the last batch.
     Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
-    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
-                                    static_cast<std::size_t>(report.threads));
-    tbb::parallel_pipeline(
-        static_cast<std::size_t>(report.max_tests_in_flight),
-        tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& control) {
-          return reader.Next(control);
-        }) & tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel, [&](ItemPtr item) {
-          Compute(*item, processing.config, compute_s);
-          return item;
-        }) & tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_in_order, [&](ItemPtr item) {
-          writer.Accept(std::move(item));
-        }));
-    writer.Flush();
-  } catch (...) {
+    ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
+                        report.owner, options, report.max_tests_in_flight, book, state, report, progress,
+                        start);
+    JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, ready, writer,
+                     report, stop);
+    try {
+      // The compute threads: an arena of exactly `threads`; reading and
+      // writing happen on the two threads above, never on these.
+      tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(report.threads));
+      tbb::task_arena arena(report.threads);
+      arena.execute([&] {
+        tbb::parallel_pipeline(
+            static_cast<std::size_t>(report.max_tests_in_flight),
+            tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order,
+                                            [&](tbb::flow_control& control) {
+                                              ItemPtr item = ready.Pop();
+                                              if (!item) control.stop();
+                                              return item;
+                                            }) &
+                tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel,
+                                                   [&](ItemPtr item) {
+                                                     Compute(*item, processing.config, compute_s);
+                                                     return item;
+                                                   }) &
+                tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_out_of_order,
+                                                [&](ItemPtr item) { writer.Push(std::move(item)); }));
+      });
+    } catch (...) {
+      error = std::current_exception();
+      state.Abort();
+    }
+    // The reader ends once the pipeline has (or on the abort); then the
+    // writer commits what the pipeline handed it.
+    const std::exception_ptr read_error = reader.Join();
+    const std::exception_ptr write_error = writer.Join();
+    if (!error) error = read_error ? read_error : write_error;
+    report.stopped = reader.stopped();
+  }
+  if (error) {
     // Give our jobs back so another run need not wait for the leases.
     try {
       reader_queue.ReleaseLeases(report.config, report.owner);
-    } catch (const std::exception& error) {
-      spdlog::error("could not release the leases of {}: {}", report.owner, error.what());
+    } catch (const std::exception& release_error) {
+      spdlog::error("could not release the leases of {}: {}", report.owner, release_error.what());
     }
-    throw;
+    std::rethrow_exception(error);
   }
   // Jobs claimed but never started (a stop) go back to the queue.
   report.released = reader_queue.ReleaseLeases(report.config, report.owner);
-  report.stopped = reader.stopped();
-  report.peak_tests_in_memory = state.peak_in_memory.load();
+  report.peak_tests_in_memory = state.peak_in_memory();
   report.compute_s = compute_s.load();
   report.wall_s = SecondsSince(start);
   spdlog::info("run {}: {} done, {} failed, {} lost, {} released in {:.1f} s", report.owner, report.done,

@@ -5,23 +5,34 @@
 // results back, so that an interrupted or crashed run can simply be started
 // again.
 //
-// Shape: a tbb::parallel_pipeline with a bounded number of tests in flight,
-//   serial input   — its own catalogue connection: claims a few jobs at a
-//                    time under a lease, reads each test's signals, array and
-//                    initial state;
-//   parallel       — engine::ProcessTest; an InputError (bad data) or a
-//                    screening error becomes the test's failure record;
-//   serial output  — its own connection: commits results in batches (ONE
+// Shape (docs/architecture.md "The batch scheduler"): reading and writing
+// never take a compute thread,
+//   reader thread  — its own catalogue connection: claims a few jobs at a
+//                    time under a lease and reads each test's signals, array
+//                    and initial state ahead of the compute threads;
+//   compute        — a tbb::task_arena of exactly `threads` threads running a
+//                    tbb::parallel_pipeline of engine::ProcessTest; an
+//                    InputError (bad data) or a screening error becomes the
+//                    test's failure record; finished tests go to the writer's
+//                    queue;
+//   writer thread  — its own connection: commits results in batches (ONE
 //                    transaction per batch; each test's result row, findings,
-//                    derived channels and job state together or not at all).
-// A heartbeat thread (third connection) renews the leases of claimed jobs.
+//                    derived channels and job state together or not at all)
+//                    while the compute threads go on computing.
+// A test holds one of `threads x tests_in_flight_per_thread` tokens from its
+// read until the writer takes it into a batch, so at most that many tests
+// plus one batch being committed are in memory, however many tests the run
+// has. A heartbeat thread (its own connection) renews the leases of claimed
+// jobs.
 //
-// Guarantees: SIGKILL at any moment loses at most the uncommitted batch (the
+// Guarantees: SIGKILL at any moment loses at most the uncommitted tests (the
 // leases of the dead process expire, or are released at once by the next run
 // on the same host, which sees the process is gone); a job is completed only
-// by the lease holder, so concurrent runs on one file never store a test
-// twice; a stop request ends claiming, drains the tests in flight, commits
-// them and returns the leases of jobs claimed but not started.
+// by the lease holder (a result whose lease passed to another worker is
+// dropped), so concurrent runs on one file never store a test twice; a stop
+// request ends claiming, drains the tests read, computes and commits them
+// and returns the leases of jobs claimed but not read; a failing catalogue
+// stops the reader, drains the pipeline, releases the leases and throws.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -37,10 +48,11 @@ struct RunOptions {
   db::JobScope scope;                  // tests to process (--series, --test, --shard); empty: all
   bool force = false;                  // --force: recompute tests whose results are up to date
   int threads = 0;                     // --threads: worker threads; 0 = all cores
-  int tests_in_flight_per_thread = 2;  // pipeline tokens per thread: bounds memory
+  int tests_in_flight_per_thread = 4;  // tokens per thread (read, not yet being committed): bounds memory
   int claim_batch = 4;                 // jobs claimed per claim transaction
-  int commit_batch = 16;               // tests per result transaction
-  double commit_interval_s = 1.0;      // ... or fewer when the oldest uncommitted result is this old
+  int commit_batch = 16;               // tests per result transaction, at most; the writer commits
+                                       // sooner when waiting would leave < 2 tokens per thread
+  double commit_interval_s = 1.0;      // ... or when the oldest uncommitted result is this old
   double lease_s = 120.0;              // job lease; renewed every lease_s / 4 while the job is in flight
   double poll_interval_s = 0.5;        // wait between claims while other workers hold the remaining jobs
   bool store_kinematics = true;        // store derived channels (the exports need them)
@@ -62,7 +74,7 @@ struct RunProgress {
   std::int64_t failed = 0;  // recorded as failed by this run so far
   double elapsed_s = 0.0;
 };
-// Called after every committed batch, from a scheduler thread.
+// Called after every committed batch, from the writer thread.
 using ProgressCallback = std::function<void(const RunProgress&)>;
 
 struct RunReport {
@@ -77,13 +89,13 @@ struct RunReport {
   std::int64_t reclaimed = 0;  // jobs of dead local workers returned to the queue
   std::int64_t samples = 0;    // input samples (rows x channels) of the processed tests
   int threads = 0;
-  int max_tests_in_flight = 0;   // pipeline tokens
-  int peak_tests_in_memory = 0;  // tests read and not yet committed, at most
+  int max_tests_in_flight = 0;   // tokens: threads x tests_in_flight_per_thread
+  int peak_tests_in_memory = 0;  // tests read and not yet committed, at most (<= tokens + a batch)
   bool stopped = false;          // ended by the stop flag
   double wall_s = 0.0;
-  double read_s = 0.0;     // reading inputs (input filter)
+  double read_s = 0.0;     // reading inputs (reader thread, overlaps computing)
   double compute_s = 0.0;  // ProcessTest, summed over threads
-  double write_s = 0.0;    // result transactions
+  double write_s = 0.0;    // result transactions (writer thread, overlaps computing)
 };
 
 // Processes every test in `options.scope` whose result for `processing` is
