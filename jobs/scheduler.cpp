@@ -186,13 +186,15 @@ struct RunState {
 // each test's rows inside it all-or-nothing (a savepoint).
 class ResultWriter {
  public:
-  ResultWriter(db::Catalogue& catalogue, db::ConfigId config, std::string solver, std::string owner,
-               const RunOptions& options, LeaseBook& book, RunState& state, RunReport& report,
-               const ProgressCallback& progress, SteadyClock::time_point start)
+  ResultWriter(db::Catalogue& catalogue, db::ConfigId config, std::string solver,
+               engine::DerivedStorage storage, std::string owner, const RunOptions& options, LeaseBook& book,
+               RunState& state, RunReport& report, const ProgressCallback& progress,
+               SteadyClock::time_point start)
       : catalogue_(catalogue),
         queue_(catalogue),
         config_(config),
         solver_(std::move(solver)),
+        storage_(storage),
         owner_(std::move(owner)),
         options_(options),
         book_(book),
@@ -234,7 +236,8 @@ class ResultWriter {
           held = queue_.FailJob(item->job.id, owner_, *item->error);
         } else {
           catalogue_.WriteResult(item->job.test_id, config_, item->processed.summary, solver_,
-                                 options_.store_kinematics ? &item->processed.kinematics : nullptr);
+                                 &item->processed.kinematics,
+                                 options_.store_kinematics ? storage_ : engine::DerivedStorage::kNone);
           held = queue_.CompleteJob(item->job.id, owner_);
         }
         // Without the lease another worker owns the job now: drop our rows.
@@ -274,6 +277,7 @@ class ResultWriter {
   db::JobQueue queue_;  // on catalogue_: job states commit with the results
   db::ConfigId config_;
   std::string solver_;
+  engine::DerivedStorage storage_;  // processing config storage.derived_channels
   std::string owner_;
   const RunOptions& options_;
   LeaseBook& book_;
@@ -503,7 +507,8 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   RunState state;
   std::atomic<double> compute_s{0.0};
   ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
-                      report.owner, options, book, state, report, progress, start);
+                      processing.config.storage.derived_channels, report.owner, options, book, state, report,
+                      progress, start);
   JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, writer, report, stop);
   try {
     Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
