@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <iterator>
+#include <nlohmann/json.hpp>
+#include <utility>
 
 #include "common/error.h"
+#include "engine/pipeline.h"
+#include "formats/processing_config_json.h"
+#include "records/array_record.h"
 
 namespace napkin::cli {
 namespace {
@@ -31,6 +36,18 @@ db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only) {
   // Never write into a damaged catalogue (init, import, synth, run, merge).
   options.check_integrity = !read_only;
   return db::Catalogue::Open(global.db_path, options);
+}
+
+engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
+  if (std::optional<engine::Kinematics> stored = catalogue.ReadKinematics(test, config))
+    return std::move(*stored);
+  // The inputs the batch scheduler (jobs/scheduler.cpp) hands engine::ProcessTest.
+  const db::TestRecord record = catalogue.ReadTest(test);
+  const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(record.array_id));
+  const engine::ProcessingConfig processing = formats::ParseProcessingConfig(
+      nlohmann::json::parse(catalogue.ReadConfig(config).config_json), "the result's config");
+  return engine::ProcessTest(array, catalogue.ReadTestSignals(test), record.initial_state, processing)
+      .kinematics;
 }
 
 db::ConfigRecord ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector) {

@@ -1,11 +1,12 @@
 #pragma once
-// What the catalogue commands share: opening the --db catalogue and
+// What the catalogue commands share: opening the --db catalogue,
 // resolving the --config processing configuration to its catalogue record
-// (records::ResolveConfig).
+// (records::ResolveConfig), and reading a result's kinematics.
 #include <string>
 
 #include "cli/command.h"
 #include "db/catalogue.h"
+#include "engine/kinematics.h"
 #include "records/config_record.h"
 
 namespace napkin::cli {
@@ -20,6 +21,17 @@ db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false)
 // Throws UsageError listing the catalogue's configs (name and hash) when none
 // or several match.
 db::ConfigRecord ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector);
+
+// The kinematics of the test's result under `config` (the caller knows the
+// result exists), for every reader of derived channels (export, report,
+// demo): the stored derived channels when the result has them (float64:
+// bit-exact; float32: each value widened exactly), else (processing config
+// storage.derived_channels "none") recomputed by engine::ProcessTest from the
+// test's raw channels, initial state and array and the config parsed back from
+// its canonical JSON -- the inputs `napkin run` computed the result from, so
+// the recomputation equals a float64-stored result bit for bit
+// (docs/formats.md "Derived-channel storage").
+engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config);
 
 // `run`/`export --config` value (preset name or JSON path; empty: the default preset).
 using records::ResolveConfig;

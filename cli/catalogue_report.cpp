@@ -18,6 +18,7 @@
 #include <tuple>
 #include <vector>
 
+#include "cli/catalogue_access.h"
 #include "cli/comparison.h"
 #include "cli/where_expression.h"
 #include "common/error.h"
@@ -180,7 +181,7 @@ WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelec
     std::optional<engine::TestSummary> summary;
     std::optional<engine::Kinematics> kinematics;
     if (config_id) summary = catalogue.ReadSummary(record.id, *config_id);
-    if (summary) kinematics = catalogue.ReadKinematics(record.id, *config_id);
+    if (summary) kinematics = ReadResultKinematics(catalogue, record.id, *config_id);
     if (!kinematics) {
       without_results.push_back(record.external_id);
       continue;

@@ -150,7 +150,7 @@ void PrintValidationTable(db::Catalogue& catalogue, db::ConfigId config) {
   for (int g = 0; g < 3; ++g) {
     const db::TestId test = catalogue.FindTestByExternalId(ValidationTestId(kGeometries[g])).value();
     numbers[g] =
-        Measure(catalogue.ReadKinematics(test, config).value(), catalogue.ReadSummary(test, config).value());
+        Measure(ReadResultKinematics(catalogue, test, config), catalogue.ReadSummary(test, config).value());
   }
   fmt::print(
       "report section 4.5: rotation about an axis parallel to fixed Y, 10 in from the CG, head initially at\n"

@@ -1,7 +1,7 @@
-// `napkin export`: one test's stored derived channels (the kinematics its
-// latest result, or the result under --config, wrote) as the derived-channel
-// CSV, LS-DYNA keyword load curves, the legacy LC_FILE.DAT, or an ISO-MME
-// folder, or the report's UDS-1992 output files. Reads the catalogue only; the
+// `napkin export`: one test's derived channels (the kinematics its latest
+// result, or the result under --config, stored, or recomputed for storage
+// "none") as the derived-channel CSV, LS-DYNA keyword load curves, the legacy
+// LC_FILE.DAT, or an ISO-MME folder, or the report's UDS-1992 output files. Reads the catalogue only; the
 // output is written atomically.
 #include <fmt/core.h>
 
@@ -75,11 +75,8 @@ class ExportCommand : public Command {
         throw InputError("test '" + test_id_ + "' has no results for config '" + config_ +
                          "' yet; run `napkin run --config " + config_ + "` first.");
     }
-    const std::optional<engine::Kinematics> kinematics = catalogue.ReadKinematics(*test, *config);
-    if (!kinematics)
-      throw InputError(
-          "test '" + test_id_ +
-          "' has a result without stored derived channels; run `napkin run --force` to recompute it.");
+    // Stored, or recomputed (storage "none"; docs/formats.md "Derived-channel storage").
+    const std::optional<engine::Kinematics> kinematics = ReadResultKinematics(catalogue, *test, *config);
 
     // docs/formats.md "Derived channels": an acceleration-only test exports as csv only.
     if (format_ != "csv" && !engine::HasRotation(*kinematics))

@@ -18,6 +18,7 @@
 #include "db/sqlite.h"
 #include "db/where_expression.h"
 #include "engine/kinematics.h"
+#include "engine/processing.h"
 #include "engine/signals.h"
 #include "engine/summary.h"
 #include "schema/migrations.h"
@@ -220,22 +221,27 @@ class Catalogue {
   // ---- results
   // Stores (replacing) the test's summary, findings and conditioning record
   // (table result_conditioning) for `config`, and its
-  // kinematics as derived channels when given (otherwise earlier derived
-  // channels of this test and config are removed: they belong to an older
-  // computation). One transaction.
+  // kinematics as derived channels encoded as `storage` says when given and
+  // storage is not kNone (otherwise earlier derived channels of this test and
+  // config are removed: they belong to an older computation). One transaction.
   void WriteResult(TestId test, ConfigId config, const engine::TestSummary& summary,
-                   const std::string& solver, const engine::Kinematics* kinematics = nullptr);
+                   const std::string& solver, const engine::Kinematics* kinematics = nullptr,
+                   engine::DerivedStorage storage = engine::DerivedStorage::kFloat64);
   // Stores (replacing) findings alone, e.g. for a test that failed.
   void WriteFindings(TestId test, ConfigId config, std::span<const engine::Finding> findings);
   // Stores (replacing) the conditioning record of the test under `config`
   // (one row per channel, docs/formats.md "Conditioning record").
   void WriteConditioning(TestId test, ConfigId config,
                          std::span<const engine::ChannelConditioning> conditioning);
-  // Stores (replacing) the kinematics as named derived channels.
-  void WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics);
+  // Stores (replacing) the kinematics as named derived channels, encoded as
+  // `storage` says (docs/formats.md "Derived-channel storage"); kNone only
+  // removes the earlier ones.
+  void WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics,
+                       engine::DerivedStorage storage = engine::DerivedStorage::kFloat64);
   // The summary (with findings and conditioning record) of the test under `config`, if computed.
   std::optional<engine::TestSummary> ReadSummary(TestId test, ConfigId config);
-  // The kinematics written by WriteKinematics, bit-exact, if any.
+  // The kinematics written by WriteKinematics, if any: bit-exact when stored
+  // as float64, each float32 value widened to double exactly otherwise.
   std::optional<engine::Kinematics> ReadKinematics(TestId test, ConfigId config);
   // The config of the test's most recently written result, if any.
   std::optional<ConfigId> ReadLatestResultConfig(TestId test);

@@ -178,8 +178,8 @@ void MergeConditioning(Connection& connection) {
 
 void MergeDerivedChannels(Connection& connection) {
   connection.Execute(
-      "INSERT INTO main.derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, samples) "
-      "SELECT m.test_id, m.config_id, d.name, d.dt_s, d.t0_s, d.sample_count, d.samples "
+      "INSERT INTO main.derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, encoding, "
+      "samples) SELECT m.test_id, m.config_id, d.name, d.dt_s, d.t0_s, d.sample_count, d.encoding, d.samples "
       "FROM temp.merge_take AS m JOIN shard.derived_channels AS d "
       "ON d.test_id = m.shard_test AND d.config_id = m.shard_config");
 }

@@ -96,7 +96,8 @@ std::string internal::SummaryColumnList(const std::string& prefix) {
 // ------------------------------------------------------------------ results
 
 void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSummary& summary,
-                            const std::string& solver, const engine::Kinematics* kinematics) {
+                            const std::string& solver, const engine::Kinematics* kinematics,
+                            engine::DerivedStorage storage) {
   Transaction transaction(connection_);
   {
     // Delete + insert (not upsert): the new row gets the largest id, which is
@@ -121,8 +122,8 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
   }
   WriteFindings(test, config, summary.findings);
   WriteConditioning(test, config, summary.conditioning);
-  if (kinematics != nullptr)
-    WriteKinematics(test, config, *kinematics);
+  if (kinematics != nullptr && storage != engine::DerivedStorage::kNone)
+    WriteKinematics(test, config, *kinematics, storage);
   else
     DeleteDerivedChannels(test, config);
   transaction.Commit();
@@ -178,8 +179,14 @@ void Catalogue::DeleteDerivedChannels(TestId test, ConfigId config) {
   remove->Execute();
 }
 
-void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics) {
+void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics,
+                                engine::DerivedStorage storage) {
   CheckKinematicsShape(kinematics);
+  if (storage == engine::DerivedStorage::kNone) {
+    DeleteDerivedChannels(test, config);
+    return;
+  }
+  const bool float32 = storage == engine::DerivedStorage::kFloat32;
   const Eigen::Index n = kinematics.size();
   // Informative only (readers of plain sqlite3); time_s itself is stored
   // bit-exact. NaN binds as NULL: no t0 without samples, no dt below two.
@@ -191,13 +198,16 @@ void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kine
   Transaction transaction(connection_);
   DeleteDerivedChannels(test, config);
   auto insert = connection_.Prepare(
-      "INSERT INTO derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, samples) "
-      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+      "INSERT INTO derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, encoding, samples) "
+      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
   std::vector<std::byte> scratch;
+  const std::string encoding = engine::DerivedStorageName(storage);
   // The accessors only read the columns here.
   for (const auto& [name, column] : KinematicsChannels(const_cast<engine::Kinematics&>(kinematics))) {
     const std::span<const double> values(column, static_cast<std::size_t>(n));
-    insert->BindAll(test, config, name, dt_s, t0_s, n, Float64LittleEndianBytes(values, scratch));
+    insert->BindAll(
+        test, config, name, dt_s, t0_s, n, encoding,
+        float32 ? Float32LittleEndianBytes(values, scratch) : Float64LittleEndianBytes(values, scratch));
     insert->Execute();
     insert->Reset();
   }
@@ -260,7 +270,8 @@ std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigI
   for (const auto& [name, column] : KinematicsChannels(kinematics)) destinations.emplace(name, column);
 
   auto select = connection_.Prepare(
-      "SELECT name, sample_count, samples FROM derived_channels WHERE test_id = ?1 AND config_id = ?2");
+      "SELECT name, sample_count, samples, encoding FROM derived_channels WHERE test_id = ?1 AND "
+      "config_id = ?2");
   select->BindAll(test, config);
   std::size_t found = 0;
   while (select->Step()) {
@@ -270,8 +281,15 @@ std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigI
       throw InputError("derived channel '" + destination->first + "' of test '" + ReadTest(test).external_id +
                        "' has " + std::to_string(select->ColumnInt64(1)) + " samples, time_s has " +
                        std::to_string(n) + ".");
-    DecodeFloat64LittleEndian(select->ColumnBlob(2),
-                              std::span<double>(destination->second, static_cast<std::size_t>(n)));
+    const std::span<double> values(destination->second, static_cast<std::size_t>(n));
+    const std::string encoding = select->ColumnText(3);
+    if (encoding == engine::DerivedStorageName(engine::DerivedStorage::kFloat32))
+      DecodeFloat32LittleEndian(select->ColumnBlob(2), values);
+    else if (encoding == engine::DerivedStorageName(engine::DerivedStorage::kFloat64))
+      DecodeFloat64LittleEndian(select->ColumnBlob(2), values);
+    else  // the schema's CHECK allows no other
+      throw InputError("derived channel '" + destination->first + "' of test '" + ReadTest(test).external_id +
+                       "' has encoding '" + encoding + "', neither float64 nor float32.");
     destination->second = nullptr;  // mark as read
     ++found;
   }

@@ -122,6 +122,35 @@ struct PlausibilityConfig {
   double max_initial_speed_mps = 1000.0;      // |v| of the initial velocity
 };
 
+// How `napkin run` stores a result's derived channels (the kinematics time
+// histories; docs/formats.md "Derived-channel storage"). Summaries, HIC
+// windows, findings and the conditioning record are always stored.
+enum class DerivedStorage {
+  kFloat64,  // IEEE-754 binary64: exports are bit-exact
+  kFloat32,  // binary32 (round to nearest): 7 significant digits, half the bytes
+  kNone,     // nothing stored: export and report recompute from the raw channels
+};
+
+inline constexpr std::array<NamedValue<DerivedStorage>, 3> kDerivedStorageNames{
+    {{DerivedStorage::kFloat64, "float64"},
+     {DerivedStorage::kFloat32, "float32"},
+     {DerivedStorage::kNone, "none"}}};
+inline constexpr std::array<DerivedStorage, 3> kDerivedStorages = ValuesOf(kDerivedStorageNames);
+
+// The one spelling of each choice in processing configs ("float64",
+// "float32", "none") and in the catalogue's encoding column, and its
+// inverse (nullopt for an unknown name).
+inline const char* DerivedStorageName(DerivedStorage storage) {
+  return NameIn(kDerivedStorageNames, storage);
+}
+inline std::optional<DerivedStorage> ParseDerivedStorageName(std::string_view name) {
+  return ValueNamed(kDerivedStorageNames, name);
+}
+
+struct StorageConfig {
+  DerivedStorage derived_channels = DerivedStorage::kFloat32;  // "float32" by default
+};
+
 struct ProcessingConfig {
   SolverKind solver = SolverKind::kExact;  // "exact" (default) or "seed" (LC_COMP compatibility)
   FilterConfig filter;                     // channel filtering
@@ -133,6 +162,7 @@ struct ProcessingConfig {
   BricConfig bric;                         // BrIC critical values
   ScreeningConfig screening;               // screening thresholds
   PlausibilityConfig plausibility;         // limits of physical plausibility (errors)
+  StorageConfig storage;                   // how results' derived channels are stored
 
   // Throws InputError naming the offending field (JSON key path, e.g.
   // "filter.linear_cfc") when a value is out of range.

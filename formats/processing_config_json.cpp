@@ -152,7 +152,7 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   engine::ProcessingConfig config;
   const ObjectReader top(json, "", source,
                          {"name", "description", "solver", "filter", "bias", "time", "gravity", "hic", "a3ms",
-                          "bric", "screening", "plausibility"});
+                          "bric", "screening", "plausibility", "storage"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
   if (const auto* name = top.Find("name")) CheckName(source + ": \"name\"", name->get<std::string>());
@@ -224,6 +224,11 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
     plausibility.Number("max_residual_factor", config.plausibility.max_residual_factor);
     plausibility.Number("max_initial_speed_mps", config.plausibility.max_initial_speed_mps);
   }
+  if (const auto* object = top.Object("storage")) {
+    const ObjectReader storage(*object, "storage", source, {"derived_channels"});
+    storage.Choice("derived_channels", config.storage.derived_channels, engine::ParseDerivedStorageName,
+                   engine::DerivedStorageName, engine::kDerivedStorages);
+  }
 
   try {
     config.Check();
@@ -268,6 +273,11 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
                          {"max_angular_velocity_radps", config.plausibility.max_angular_velocity_radps},
                          {"max_residual_factor", config.plausibility.max_residual_factor},
                          {"max_initial_speed_mps", config.plausibility.max_initial_speed_mps}};
+  // Added after results were first stored: present only when not the default
+  // (float32), as "a3ms" above. Each stored derived channel records its own
+  // encoding (docs/formats.md "Derived-channel storage").
+  if (config.storage.derived_channels != engine::ProcessingConfig{}.storage.derived_channels)
+    out["storage"] = {{"derived_channels", engine::DerivedStorageName(config.storage.derived_channels)}};
   return out;
 }
 

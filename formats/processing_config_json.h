@@ -11,7 +11,8 @@
 //     "a3ms": {"definition": "cumulative"},    // or "continuous"
 //     "bric": {"critical_radps": [66.25, 56.45, 42.87]},
 //     "screening": {"residual_limit_g": 5, "spike_size_g": 50, "spike_size_radps": 20,
-//                   "saturation_run_samples": 5, "bias_limit_g": 1.5, "bias_limit_radps": 0.5}
+//                   "saturation_run_samples": 5, "bias_limit_g": 1.5, "bias_limit_radps": 0.5},
+//     "storage": {"derived_channels": "float32"}  // or "float64" (bit-exact) or "none" (recompute)
 //   }
 //
 // Every key is optional (missing keys keep the defaults of
@@ -23,8 +24,9 @@
 //
 // The canonical form (ProcessingConfigToJson) has every field, keys sorted
 // and numbers as doubles (except the integer saturation_run_samples), so its
-// dump identifies the configuration of stored results; "a3ms" (added later)
-// only when it is not the default, so earlier configurations keep their hash.
+// dump identifies the configuration of stored results; "a3ms" and "storage"
+// (both added later) only when they are not the default, so earlier
+// configurations keep their hash.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>

@@ -106,8 +106,10 @@ int main(int argc, char** argv) {
     for (const auto& entry : fs::directory_iterator(config / subdir))
       if (entry.path().extension() == ".json")
         Write(out / target / entry.path().filename(), formats::ReadWholeFile(entry.path()));
+  engine::ProcessingConfig every_key;  // a non-default storage choice is written too
+  every_key.storage.derived_channels = engine::DerivedStorage::kFloat64;
   Write(out / "processing_config_json" / "canonical.json",
-        formats::ProcessingConfigToJson(engine::ProcessingConfig{}).dump(2) + "\n");
+        formats::ProcessingConfigToJson(every_key).dump(2) + "\n");
 
   fs::remove_all(scratch);
   return 0;

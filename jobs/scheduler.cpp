@@ -267,13 +267,15 @@ class ReadyQueue {
 // the queue, so they go on computing while a batch commits.
 class ResultWriter {
  public:
-  ResultWriter(db::Catalogue& catalogue, db::ConfigId config, std::string solver, std::string owner,
-               const RunOptions& options, int tokens, LeaseBook& book, RunState& state, RunReport& report,
-               const ProgressCallback& progress, SteadyClock::time_point start)
+  ResultWriter(db::Catalogue& catalogue, db::ConfigId config, std::string solver,
+               engine::DerivedStorage storage, std::string owner, const RunOptions& options, int tokens,
+               LeaseBook& book, RunState& state, RunReport& report, const ProgressCallback& progress,
+               SteadyClock::time_point start)
       : catalogue_(catalogue),
         queue_(catalogue),
         config_(config),
         solver_(std::move(solver)),
+        storage_(storage),
         owner_(std::move(owner)),
         options_(options),
         // Commit once the queue holds this many tests: waiting for more would
@@ -383,7 +385,8 @@ class ResultWriter {
           held = queue_.FailJob(item->job.id, owner_, *item->error);
         } else {
           catalogue_.WriteResult(item->job.test_id, config_, item->processed.summary, solver_,
-                                 options_.store_kinematics ? &item->processed.kinematics : nullptr);
+                                 &item->processed.kinematics,
+                                 options_.store_kinematics ? storage_ : engine::DerivedStorage::kNone);
           held = queue_.CompleteJob(item->job.id, owner_);
         }
         // Without the lease another worker owns the job now: drop our rows.
@@ -422,6 +425,7 @@ class ResultWriter {
   db::JobQueue queue_;  // on catalogue_: job states commit with the results
   db::ConfigId config_;
   std::string solver_;
+  engine::DerivedStorage storage_;  // processing config storage.derived_channels
   std::string owner_;
   const RunOptions& options_;
   std::size_t commit_target_;
@@ -690,8 +694,8 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
     // Declared first, so it renews the leases until the writer has committed the last batch.
     Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
     ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
-                        report.owner, options, report.max_tests_in_flight, book, state, report, progress,
-                        start);
+                        processing.config.storage.derived_channels, report.owner, options,
+                        report.max_tests_in_flight, book, state, report, progress, start);
     JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, ready, writer,
                      report, stop);
     try {

@@ -55,7 +55,7 @@ struct RunOptions {
   double commit_interval_s = 1.0;      // ... or when the oldest uncommitted result is this old
   double lease_s = 120.0;              // job lease; renewed every lease_s / 4 while the job is in flight
   double poll_interval_s = 0.5;        // wait between claims while other workers hold the remaining jobs
-  bool store_kinematics = true;        // store derived channels (the exports need them)
+  bool store_kinematics = true;        // false: store no derived channels whatever config.storage says
   bool durable = true;                 // synchronous=FULL commits
 
   // Throws std::invalid_argument naming the field out of range.

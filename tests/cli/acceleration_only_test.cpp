@@ -180,7 +180,13 @@ TEST_F(CliAccelerationOnly, TransformGivesNullRotationAndRefusesLsDyna) {
   const RunResult transform =
       Napkin({"transform", "--array", "3a-cg", "a/a1.csv", "--out", "t.csv", "--summary", "t.json"});
   ASSERT_EQ(transform.exit_code, 0) << transform.err;
-  ASSERT_EQ(Napkin({"export", "--test", "a1", "--format", "csv", "--out", "e.csv"}).exit_code, 0);
+  // Stored bit-exact: the default float32 storage rounds (docs/formats.md "Derived-channel storage").
+  WriteText(dir_ / "float64.json", R"({"storage": {"derived_channels": "float64"}})");
+  ASSERT_EQ(Napkin({"run", "--config", "float64.json"}).exit_code, 0);
+  ASSERT_EQ(
+      Napkin({"export", "--test", "a1", "--config", "float64.json", "--format", "csv", "--out", "e.csv"})
+          .exit_code,
+      0);
   std::ifstream t(dir_ / "t.csv"), e(dir_ / "e.csv");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(t), {}),
             std::string(std::istreambuf_iterator<char>(e), {}));

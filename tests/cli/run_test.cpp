@@ -224,7 +224,10 @@ TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
   const std::string db = dir_ / "transform.db";
   Synth(db, 3, 1500);
   ASSERT_EQ(Napkin({"synth", "--scenario", "seed-fixed-axis", "--array", "denton-3222"}, db).exit_code, 0);
-  ASSERT_EQ(Napkin({"run"}, db).exit_code, 0);
+  // Stored bit-exact: the default float32 storage rounds (docs/formats.md "Derived-channel storage").
+  const fs::path float64 = dir_ / "float64.json";
+  test_support::WriteText(float64, R"({"storage": {"derived_channels": "float64"}})");
+  ASSERT_EQ(Napkin({"run", "--config", float64.string()}, db).exit_code, 0);
   db::Catalogue catalogue = db::Catalogue::Open(db);
   for (const db::TestRecord& test : catalogue.ReadAllTests()) {
     const fs::path input = dir_ / (test.external_id + ".csv");

@@ -362,6 +362,98 @@ TEST_F(CatalogueTest, ResultWithoutKinematicsDropsOlderDerivedChannels) {
   EXPECT_FALSE(catalogue_.ReadKinematics(test, config_).has_value());
 }
 
+// Storage "float32" (docs/formats.md "Derived-channel storage"): 4 bytes a
+// sample, encoding 'float32', and each value read back is exactly the float64
+// one rounded to the nearest float.
+TEST_F(CatalogueTest, Float32DerivedChannelsHoldEachValueRoundedToFloat) {
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
+  const engine::Kinematics kinematics = RandomKinematics(301, 12);
+  catalogue_.WriteResult(test, config_, RandomSummary(5), "exact", &kinematics,
+                         engine::DerivedStorage::kFloat32);
+  const auto read = catalogue_.ReadKinematics(test, config_);
+  ASSERT_TRUE(read.has_value());
+  ASSERT_EQ(read->size(), kinematics.size());
+  // The random bits include NaNs (read back as NaN) and values beyond
+  // float's range (read back as infinities, as IEEE-754 rounding gives).
+  const auto expect_rounded = [](const auto& stored, const auto& exact, const char* member) {
+    ASSERT_EQ(stored.size(), exact.size()) << member;
+    for (Eigen::Index i = 0; i < exact.size(); ++i) {
+      const double rounded = static_cast<double>(static_cast<float>(exact.data()[i]));
+      if (std::isnan(rounded))
+        ASSERT_TRUE(std::isnan(stored.data()[i])) << member << " element " << i;
+      else
+        ASSERT_EQ(stored.data()[i], rounded) << member << " element " << i;
+    }
+  };
+  expect_rounded(read->time_s, kinematics.time_s, "time_s");
+  expect_rounded(read->omega_body, kinematics.omega_body, "omega_body");
+  expect_rounded(read->alpha_fixed, kinematics.alpha_fixed, "alpha_fixed");
+  expect_rounded(read->acc_fixed, kinematics.acc_fixed, "acc_fixed");
+  expect_rounded(read->pos_fixed, kinematics.pos_fixed, "pos_fixed");
+  expect_rounded(read->quat_fixed_from_body, kinematics.quat_fixed_from_body, "quat_fixed_from_body");
+  expect_rounded(read->dcos_rad, kinematics.dcos_rad, "dcos_rad");
+  expect_rounded(read->residual, kinematics.residual, "residual");
+  // Rounding did happen (0.001 + k 1e-4 is not a float).
+  EXPECT_NE(read->time_s[7], kinematics.time_s[7]);
+
+  auto rows = inspector_.connection().Prepare(
+      "SELECT count(*), sum(encoding = 'float32'), sum(length(samples) = 4 * 301) FROM derived_channels "
+      "WHERE test_id = ?1");
+  rows->Bind(1, test);
+  ASSERT_TRUE(rows->Step());
+  EXPECT_EQ(rows->ColumnInt64(0), 36);
+  EXPECT_EQ(rows->ColumnInt64(1), 36);
+  EXPECT_EQ(rows->ColumnInt64(2), 36);
+
+  // Rewritten as float64: bit-exact again, 8 bytes a sample.
+  catalogue_.WriteResult(test, config_, RandomSummary(6), "exact", &kinematics,
+                         engine::DerivedStorage::kFloat64);
+  ExpectSameKinematics(*catalogue_.ReadKinematics(test, config_), kinematics);
+  auto encodings = inspector_.connection().Prepare(
+      "SELECT sum(encoding = 'float64'), sum(length(samples) = 8 * 301) FROM derived_channels WHERE test_id "
+      "= ?1");
+  encodings->Bind(1, test);
+  ASSERT_TRUE(encodings->Step());
+  EXPECT_EQ(encodings->ColumnInt64(0), 36);
+  EXPECT_EQ(encodings->ColumnInt64(1), 36);
+}
+
+TEST_F(CatalogueTest, StorageNoneKeepsTheSummaryAndDropsOlderDerivedChannels) {
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
+  const engine::Kinematics kinematics = RandomKinematics(20, 13);
+  catalogue_.WriteResult(test, config_, RandomSummary(7), "exact", &kinematics,
+                         engine::DerivedStorage::kFloat32);
+  ASSERT_TRUE(catalogue_.ReadKinematics(test, config_).has_value());
+  const engine::TestSummary summary = RandomSummary(8);
+  catalogue_.WriteResult(test, config_, summary, "exact", &kinematics, engine::DerivedStorage::kNone);
+  EXPECT_FALSE(catalogue_.ReadKinematics(test, config_).has_value());
+  EXPECT_EQ(inspector_.CountRows("derived_channels"), 0);
+  const auto read = catalogue_.ReadSummary(test, config_);
+  ASSERT_TRUE(read.has_value());
+  EXPECT_THAT(engine::DifferingSummaryFields(*read, summary), IsEmpty());
+  // WriteKinematics with kNone only removes.
+  catalogue_.WriteKinematics(test, config_, kinematics);
+  catalogue_.WriteKinematics(test, config_, kinematics, engine::DerivedStorage::kNone);
+  EXPECT_FALSE(catalogue_.ReadKinematics(test, config_).has_value());
+}
+
+TEST_F(CatalogueTest, SchemaRefusesABlobLengthThatContradictsItsEncoding) {
+  const TestId test = test_support::AddTest(catalogue_, array_, "v0001");
+  const auto insert = [&](const char* encoding, int bytes_per_sample) {
+    auto statement = inspector_.connection().Prepare(
+        "INSERT INTO derived_channels (test_id, config_id, name, sample_count, encoding, samples) "
+        "VALUES (?1, ?2, ?3, 2, ?4, zeroblob(?5))");
+    statement->BindAll(test, config_, std::string("x_") + encoding + std::to_string(bytes_per_sample),
+                       std::string(encoding), 2 * bytes_per_sample);
+    statement->Execute();
+  };
+  EXPECT_NO_THROW(insert("float32", 4));
+  EXPECT_NO_THROW(insert("float64", 8));
+  EXPECT_THROW(insert("float32", 8), DatabaseError);
+  EXPECT_THROW(insert("float64", 4), DatabaseError);
+  EXPECT_THROW(insert("float16", 2), DatabaseError);
+}
+
 // ----------------------------------------------------------------- queries
 
 TEST_F(CatalogueTest, QueryViewsCarryTheContractColumns) {
@@ -515,6 +607,24 @@ TEST(Float64Blob, EncodesLittleEndianIeee754) {
   EXPECT_EQ(decoded[1], -2.0);
   EXPECT_THROW(DecodeFloat64LittleEndian(std::span(bytes).first(15), std::span(decoded, 2)),
                std::invalid_argument);
+}
+
+TEST(Float32Blob, EncodesLittleEndianIeee754RoundedToNearest) {
+  // 1.0f = 0x3F800000, -2.5f = 0xC0200000; 0.1 rounds to 0x3DCCCCCD.
+  const double values[] = {1.0, -2.5, 0.1};
+  const auto bytes = EncodeFloat32LittleEndian(values);
+  ASSERT_EQ(bytes.size(), 12u);
+  const unsigned char expected[] = {0, 0, 0x80, 0x3F, 0, 0, 0x20, 0xC0, 0xCD, 0xCC, 0xCC, 0x3D};
+  for (std::size_t i = 0; i < 12; ++i) EXPECT_EQ(static_cast<unsigned>(bytes[i]), expected[i]) << i;
+  double decoded[3];
+  DecodeFloat32LittleEndian(bytes, decoded);
+  EXPECT_EQ(decoded[0], 1.0);
+  EXPECT_EQ(decoded[1], -2.5);
+  EXPECT_EQ(decoded[2], static_cast<double>(0.1f));
+  EXPECT_NE(decoded[2], 0.1);
+  EXPECT_THROW(DecodeFloat32LittleEndian(std::span(bytes).first(11), std::span(decoded, 3)),
+               std::invalid_argument);
+  static_assert(ByteSwap32(0x01020304u) == 0x04030201u);
 }
 
 TEST(Float64Blob, ByteSwapReversesBytes) {

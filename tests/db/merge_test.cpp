@@ -219,5 +219,35 @@ TEST_F(MergeTest, ADifferentResultForTheSameTestAndConfigIsRefused) {
   EXPECT_EQ(CatalogueInspector(main).Dump(), before);
 }
 
+// Derived channels keep their encoding through a merge (schema 6): a result
+// stored as float32 in the shard reads back the same rounded values here.
+TEST_F(MergeTest, MergedDerivedChannelsKeepTheirEncoding) {
+  const std::string shard0 = ProcessShard(0, 2);
+  {
+    Catalogue shard = Catalogue::Open(shard0);
+    const ConfigId config = *shard.FindConfigByHash(test_support::DefaultConfig().config_hash);
+    const TestId t1 = *shard.FindTestByExternalId("t1");
+    const engine::Kinematics kinematics = RampKinematics(16, ShardSummary("t1").hic15.value);
+    shard.WriteResult(t1, config, ShardSummary("t1"), "exact", &kinematics, engine::DerivedStorage::kFloat32);
+  }
+  Catalogue main = Catalogue::Open(main_path_);
+  main.MergeShard(shard0);
+  const ConfigId config = *main.FindConfigByHash(test_support::DefaultConfig().config_hash);
+  const engine::Kinematics exact = RampKinematics(16, ShardSummary("t1").hic15.value);
+  const engine::Kinematics t1 = *main.ReadKinematics(*main.FindTestByExternalId("t1"), config);
+  EXPECT_EQ(t1.time_s,
+            exact.time_s.unaryExpr([](double t) { return static_cast<double>(static_cast<float>(t)); }));
+  EXPECT_NE(t1.time_s, exact.time_s);
+  EXPECT_EQ(t1.residual,
+            exact.residual.unaryExpr([](double r) { return static_cast<double>(static_cast<float>(r)); }));
+  const engine::Kinematics t5 = *main.ReadKinematics(*main.FindTestByExternalId("t5"), config);
+  EXPECT_EQ(t5.time_s, RampKinematics(16, ShardSummary("t5").hic15.value).time_s);  // float64: bit-exact
+  auto encodings = CatalogueInspector(main).connection().Prepare(
+      "SELECT sum(encoding = 'float32'), sum(encoding = 'float64') FROM derived_channels");
+  ASSERT_TRUE(encodings->Step());
+  EXPECT_EQ(encodings->ColumnInt64(0), 36);
+  EXPECT_EQ(encodings->ColumnInt64(1), 36);
+}
+
 }  // namespace
 }  // namespace napkin::db

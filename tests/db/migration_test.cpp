@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "db/catalogue.h"
+#include "db/float64_blob.h"
 #include "db/migrate.h"
 #include "engine/criteria.h"
 #include "tests/db/db_test_helpers.h"
@@ -150,6 +151,42 @@ TEST(Migrations, UpgradeFromVersion2LeavesResultsWithoutHic36Null) {
   EXPECT_EQ(std::get<std::string>(hic.rows[0][0]), "with");
   EXPECT_EQ(std::get<double>(hic.rows[0].back()), 0.75446 * 1234.5 + 166.4);
   EXPECT_TRUE(std::holds_alternative<std::monostate>(hic.rows[1].back()));
+}
+
+// Schema 6 rebuilds derived_channels with an encoding column: rows written
+// before it are float64 and read back bit for bit.
+TEST(Migrations, UpgradeFromVersion5MarksDerivedChannelsFloat64) {
+  napkin::test_support::TempDir dir;
+  const std::string path = dir / "v5.db";
+  const double values[] = {0.1, -2.0 / 3.0};
+  TestId test{};
+  ConfigId config{};
+  {
+    CatalogueOptions first_five;
+    first_five.migrations = schema::Migrations().first(5);
+    Catalogue catalogue = Catalogue::Open(path, first_five);
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    config = catalogue.WriteConfig(test_support::DefaultConfig());
+    test = test_support::AddTest(catalogue, array, "old", "sled");
+    const std::vector<std::byte> samples = EncodeFloat64LittleEndian(values);
+    auto insert = CatalogueInspector(catalogue).connection().Prepare(
+        "INSERT INTO derived_channels (test_id, config_id, name, sample_count, samples) "
+        "VALUES (?1, ?2, 'omega_body_x_radps', 2, ?3)");
+    insert->BindAll(test, config, std::span<const std::byte>(samples));
+    insert->Execute();
+  }
+  Catalogue catalogue = Catalogue::Open(path);
+  EXPECT_GE(catalogue.schema_version(), 6);
+  auto select = CatalogueInspector(catalogue).connection().Prepare(
+      "SELECT encoding, samples FROM derived_channels WHERE test_id = ?1 AND config_id = ?2");
+  select->BindAll(test, config);
+  ASSERT_TRUE(select->Step());
+  EXPECT_EQ(select->ColumnText(0), "float64");
+  double decoded[2];
+  DecodeFloat64LittleEndian(select->ColumnBlob(1), decoded);
+  EXPECT_EQ(decoded[0], values[0]);
+  EXPECT_EQ(decoded[1], values[1]);
+  EXPECT_FALSE(select->Step());
 }
 
 TEST(Migrations, FailedMigrationLeavesThePreviousVersionIntact) {

@@ -41,6 +41,7 @@ void ExpectRoundTrip(const std::array<Enum, N>& all, const char* (*name)(Enum),
 TEST(Vocabulary, EveryNameParsesBackToItsValue) {
   ExpectRoundTrip(kSolverKinds, SolverName, ParseSolverName);
   ExpectRoundTrip(kBiasModes, BiasModeName, ParseBiasModeName);
+  ExpectRoundTrip(kDerivedStorages, DerivedStorageName, ParseDerivedStorageName);
   ExpectRoundTrip(kCfcVariants, CfcVariantName, ParseCfcVariantName);
   ExpectRoundTrip(kSeverities, SeverityName, ParseSeverityName);
   ExpectRoundTrip(kSensorKinds, SensorKindName, ParseSensorKindName);
@@ -54,6 +55,9 @@ TEST(Vocabulary, NamesAreTheDocumentedSpellings) {
   EXPECT_STREQ(BiasModeName(BiasMode::kAuto), "auto");
   EXPECT_STREQ(BiasModeName(BiasMode::kWindow), "window");
   EXPECT_STREQ(BiasModeName(BiasMode::kNone), "none");
+  EXPECT_STREQ(DerivedStorageName(DerivedStorage::kFloat64), "float64");
+  EXPECT_STREQ(DerivedStorageName(DerivedStorage::kFloat32), "float32");
+  EXPECT_STREQ(DerivedStorageName(DerivedStorage::kNone), "none");
   EXPECT_STREQ(CfcVariantName(CfcVariant::kSaeJ211), "sae");
   EXPECT_STREQ(CfcVariantName(CfcVariant::kIso6487), "iso");
   EXPECT_STREQ(SeverityName(Severity::kInfo), "info");

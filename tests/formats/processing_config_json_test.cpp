@@ -50,6 +50,7 @@ engine::ProcessingConfig NonDefaultConfig() {
   config.screening.saturation_run_samples = 9;
   config.screening.bias_limit_g = 0.75;
   config.screening.bias_limit_radps = 0.125;
+  config.storage.derived_channels = engine::DerivedStorage::kNone;
   return config;
 }
 
@@ -173,6 +174,11 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigErrorCase{"text_for_time", R"({"time": {"start_s": "0"}})", {"time.start_s"}},
         ConfigErrorCase{"array_for_section", R"({"gravity": []})", {"gravity", "object"}},
         ConfigErrorCase{"unknown_solver", R"({"solver": "fast"})", {"solver", "\"exact\""}},
+        ConfigErrorCase{"unknown_derived_storage",
+                        R"({"storage": {"derived_channels": "float16"}})",
+                        {"test.json: ", "storage.derived_channels", "\"float64\", \"float32\", \"none\""}},
+        ConfigErrorCase{
+            "unknown_storage_key", R"({"storage": {"kinematics": "none"}})", {"storage.kinematics"}},
         ConfigErrorCase{"array_for_document", R"([1, 2])", {"test.json", "object"}},
         // Settings another one would silently ignore are refused (issue 8).
         ConfigErrorCase{"seed_solver_with_gravity_compensation",
@@ -209,6 +215,39 @@ TEST(ProcessingConfigJson, FileErrorsNameTheFile) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("bias.windows"), std::string::npos) << error.what();
   }
+}
+
+// storage.derived_channels (docs/formats.md "Derived-channel storage"): each
+// name reads back, the default float32 leaves the canonical form (and hash)
+// of earlier configurations alone, and each choice has its own canonical dump.
+TEST(ProcessingConfigJson, DerivedStorageChoicesAreDistinctAndTheDefaultIsFloat32) {
+  EXPECT_EQ(engine::ProcessingConfig{}.storage.derived_channels, engine::DerivedStorage::kFloat32);
+  const std::string default_dump = CanonicalProcessingConfig(engine::ProcessingConfig{});
+  EXPECT_EQ(default_dump.find("storage"), std::string::npos);
+  std::vector<std::string> dumps;
+  for (const engine::DerivedStorage storage : engine::kDerivedStorages) {
+    const std::string name = engine::DerivedStorageName(storage);
+    EXPECT_EQ(engine::ParseDerivedStorageName(name), storage) << name;
+    const engine::ProcessingConfig parsed =
+        ParseProcessingConfig(json{{"storage", {{"derived_channels", name}}}}, "storage");
+    EXPECT_EQ(parsed.storage.derived_channels, storage) << name;
+    const json canonical = ProcessingConfigToJson(parsed);
+    if (storage == engine::DerivedStorage::kFloat32) {
+      EXPECT_FALSE(canonical.contains("storage"));
+      EXPECT_EQ(CanonicalProcessingConfig(parsed), default_dump);
+    } else {
+      EXPECT_EQ(canonical.at("storage"), (json{{"derived_channels", name}}));
+      engine::ProcessingConfig expected;
+      expected.storage.derived_channels = storage;
+      EXPECT_EQ(CanonicalProcessingConfig(ParseProcessingConfig(canonical, "round trip")),
+                CanonicalProcessingConfig(expected));
+    }
+    dumps.push_back(CanonicalProcessingConfig(parsed));
+  }
+  EXPECT_NE(dumps[0], dumps[1]);
+  EXPECT_NE(dumps[0], dumps[2]);
+  EXPECT_NE(dumps[1], dumps[2]);
+  EXPECT_FALSE(engine::ParseDerivedStorageName("Float32").has_value());
 }
 
 }  // namespace

@@ -58,7 +58,10 @@ class SchedulerTest : public ::testing::Test {
 
 TEST_F(SchedulerTest, ParallelResultsEqualTheTransformCoreBitForBit) {
   AddRandomTests(path_, 12, 1500);
-  const RunProcessing processing = Processing();
+  // Stored bit-exact (the default float32 storage rounds; docs/formats.md "Derived-channel storage").
+  engine::ProcessingConfig config;
+  config.storage.derived_channels = engine::DerivedStorage::kFloat64;
+  const RunProcessing processing = Processing(config);
   std::vector<RunProgress> progress;
   const RunReport report =
       RunScheduler(path_, processing, Options(2), [&](const RunProgress& p) { progress.push_back(p); });
