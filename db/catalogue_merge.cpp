@@ -189,7 +189,7 @@ void MergeDerivedChannels(Connection& connection) {
 
 // Job state: the taken results' jobs are done; failures of tests still
 // without a result here are failed (a result wins). Returns the number of
-// failures merged.
+// failures merged (a failure under another napkin version is merged too).
 std::int64_t MergeJobState(Connection& connection, double now) {
   {
     auto done = connection.Prepare(
@@ -220,7 +220,8 @@ std::int64_t MergeJobState(Connection& connection, double now) {
       "last_error = excluded.last_error, lease_owner = NULL, lease_expires_at = NULL, "
       "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
       "excluded.duration_s, napkin_version = excluded.napkin_version "
-      "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error");
+      "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error "
+      "OR jobs.napkin_version IS NOT excluded.napkin_version");
   return connection.Changes();
 }
 
