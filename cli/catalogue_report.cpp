@@ -22,13 +22,10 @@
 #include "cli/comparison.h"
 #include "cli/where_expression.h"
 #include "common/error.h"
+#include "common/version.h"
 #include "engine/statistics.h"
 #include "formats/html_report.h"
 #include "formats/text.h"
-
-#ifndef NAPKIN_VERSION
-#error "NAPKIN_VERSION (CMake PROJECT_VERSION) is defined by cli/CMakeLists.txt"
-#endif
 
 namespace napkin::cli {
 namespace {
@@ -171,7 +168,7 @@ WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelec
 
   formats::ReportHeader header;
   header.catalogue = db_path;
-  header.napkin_version = NAPKIN_VERSION;
+  header.napkin_version = napkin::Version();  // common/version.h: "0.1.0+g1a2b3c4"
   header.selection = Selection(selection);
   std::map<db::ConfigId, db::ConfigRecord> configs;
   std::vector<formats::ReportTest> tests;

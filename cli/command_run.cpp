@@ -61,6 +61,8 @@ class RunCommand : public Command {
     sub->add_option("--threads", options_.threads, "worker threads (default: all cores)")
         ->check(CLI::PositiveNumber);
     sub->add_flag("--force", options_.force, "recompute tests whose results are up to date");
+    sub->add_flag("--outdated", options_.outdated,
+                  "also recompute results computed by another napkin version (see `napkin --version`)");
     sub->add_option("--shard", shard_, "process shard I of N (0 <= I < N) of the tests: I/N")
         ->check([](const std::string& text) {
           return ParseShard(text) ? std::string()

@@ -1,15 +1,44 @@
 // `napkin status`: counts of the tests in the catalogue by state for a
-// processing config, and the failures with their reasons.
+// processing config, the results by napkin version and config, and the
+// failures with their reasons.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "common/version.h"
 #include "db/job_queue.h"
 
 namespace napkin::cli {
 namespace {
+
+// Results and failures by the napkin version that computed them, for every config
+// (docs/formats.md "Version string"): what `run --outdated` would recompute.
+void PrintVersionCounts(const std::vector<db::VersionCount>& counts) {
+  if (counts.empty()) return;
+  const std::string this_version = napkin::Version();
+  std::vector<std::pair<std::string, std::string>> labels;  // version, config
+  std::size_t version_width = 14;
+  std::size_t config_width = 6;
+  for (const db::VersionCount& count : counts) {
+    std::string version = count.napkin_version.value_or("unknown (before version tracking)");
+    if (count.napkin_version == this_version) version += " (this binary)";
+    std::string config = count.config_name + " (" + count.config_hash.substr(0, 12) + ")";
+    version_width = std::max(version_width, version.size());
+    config_width = std::max(config_width, config.size());
+    labels.emplace_back(std::move(version), std::move(config));
+  }
+  fmt::print("\n{:<{}}  {:<{}}  {:>8}  {:>8}\n", "napkin version", version_width, "config", config_width,
+             "results", "failed");
+  for (std::size_t i = 0; i < counts.size(); ++i)
+    fmt::print("{:<{}}  {:<{}}  {:>8}  {:>8}\n", labels[i].first, version_width, labels[i].second,
+               config_width, counts[i].results, counts[i].failed);
+}
 
 class StatusCommand : public Command {
  public:
@@ -49,6 +78,7 @@ class StatusCommand : public Command {
     fmt::print("{:<8} {:>8}\n", "failed", counts.failed);
     fmt::print("{:<8} {:>8}\n", "pending", counts.pending);
     fmt::print("{:<8} {:>8}\n", "running", counts.running);
+    PrintVersionCounts(db::JobQueue(catalogue).ReadVersionCounts());
     if (!counts.failures.empty()) {
       std::size_t width = 7;
       for (const db::JobFailure& failure : counts.failures) width = std::max(width, failure.test_id.size());

@@ -5,6 +5,7 @@
 
 #include "cli/command.h"
 #include "cli/diagnostics.h"
+#include "common/version.h"
 
 int main(int argc, char** argv) {
   using namespace napkin::cli;
@@ -14,6 +15,8 @@ int main(int argc, char** argv) {
   GlobalOptions global;
   app.add_option("--db", global.db_path, "catalogue file (SQLite)")->capture_default_str();
   app.add_flag("-q,--quiet", global.quiet, "no progress output");
+  // "napkin 0.1.0+g1a2b3c4" (docs/formats.md "Version string").
+  app.set_version_flag("--version", "napkin " + napkin::Version());
   SetUpLogging();
 
   auto commands = MakeCommands();

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "common/error.h"
+#include "common/version.h"
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
 #include "db/migrate.h"
@@ -137,7 +138,8 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
     connection.Execute(options.durable ? "PRAGMA synchronous = FULL" : "PRAGMA synchronous = NORMAL");
   }
 
-  Catalogue catalogue(std::move(connection), options.clock ? options.clock : SystemClockSeconds);
+  Catalogue catalogue(std::move(connection), options.clock ? options.clock : SystemClockSeconds,
+                      options.napkin_version.empty() ? napkin::Version() : options.napkin_version);
   catalogue.schema_version_ =
       options.read_only ? static_cast<int>(version) : ApplyMigrations(catalogue.connection_, migrations);
   return catalogue;

@@ -162,6 +162,11 @@ struct CatalogueOptions {
   std::span<const schema::Migration> migrations;
   // Seconds since the Unix epoch, for job leases and timestamps; empty = system clock.
   std::function<double()> clock;
+  // The napkin version recorded with every result and finished job written through this
+  // catalogue, and the one `run --outdated` compares with (docs/formats.md "Version
+  // string"); empty = this build's, napkin::Version(). Tests set another to stand for an
+  // older napkin.
+  std::string napkin_version;
 };
 
 class Catalogue {
@@ -174,6 +179,8 @@ class Catalogue {
   static Catalogue Open(const std::string& path, const CatalogueOptions& options = {});
 
   int schema_version() const { return schema_version_; }
+  // The napkin version this catalogue records with what it writes (CatalogueOptions).
+  const std::string& napkin_version() const { return napkin_version_; }
   // A write transaction over several calls; rolls back unless committed.
   Transaction BeginTransaction() { return Transaction(connection_); }
 
@@ -279,13 +286,16 @@ class Catalogue {
   friend class JobQueue;            // the job queue shares the connection and clock
   friend class CatalogueInspector;  // test-only access (tests/support/db/catalogue_inspector.h)
 
-  Catalogue(Connection connection, std::function<double()> clock)
-      : connection_(std::move(connection)), clock_(std::move(clock)) {}
+  Catalogue(Connection connection, std::function<double()> clock, std::string napkin_version)
+      : connection_(std::move(connection)),
+        clock_(std::move(clock)),
+        napkin_version_(std::move(napkin_version)) {}
 
   void DeleteDerivedChannels(TestId test, ConfigId config);
 
   Connection connection_;
   std::function<double()> clock_;
+  std::string napkin_version_;
   int schema_version_ = 0;
 };
 

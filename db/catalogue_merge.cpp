@@ -111,7 +111,8 @@ std::int64_t MergeTests(Connection& connection) {
 
 // A result of the same test and config with other values is a conflict (a
 // deterministic computation on the same input and config cannot disagree
-// with itself): refuse rather than let the newer one win.
+// with itself): refuse rather than let the newer one win. The napkin version
+// is provenance, not a value: equal values computed by two versions agree.
 void RefuseConflictingResults(Connection& connection, const std::string& shard_path) {
   const std::string shard_values = "(r.solver, " + internal::SummaryColumnList("r.") + ")";
   const std::string main_values = "(mr.solver, " + internal::SummaryColumnList("mr.") + ")";
@@ -151,10 +152,12 @@ std::int64_t MergeResults(Connection& connection) {
                        " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
   // In the shard's order, so the most recent shard result stays the latest here.
   const std::string columns = internal::SummaryColumnList();
-  connection.Execute(
-      "INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
-      ") SELECT m.test_id, m.config_id, r.solver, r.computed_at, " + internal::SummaryColumnList("r.") +
-      " FROM temp.merge_take AS m JOIN shard.results AS r ON r.id = m.shard_result ORDER BY r.id");
+  // The napkin version that computed each result comes with it (schema/006_provenance.sql).
+  connection.Execute("INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
+                     ", napkin_version) SELECT m.test_id, m.config_id, r.solver, r.computed_at, " +
+                     internal::SummaryColumnList("r.") +
+                     ", r.napkin_version FROM temp.merge_take AS m "
+                     "JOIN shard.results AS r ON r.id = m.shard_result ORDER BY r.id");
   return connection.Changes();
 }
 
@@ -186,28 +189,28 @@ void MergeDerivedChannels(Connection& connection) {
 
 // Job state: the taken results' jobs are done; failures of tests still
 // without a result here are failed (a result wins). Returns the number of
-// failures merged.
+// failures merged (a failure under another napkin version is merged too).
 std::int64_t MergeJobState(Connection& connection, double now) {
   {
     auto done = connection.Prepare(
         "INSERT INTO main.jobs (test_id, config_id, state, attempts, lease_owner, enqueued_at, started_at, "
-        "finished_at, duration_s) "
+        "finished_at, duration_s, napkin_version) "
         "SELECT m.test_id, m.config_id, 'done', coalesce(j.attempts, 0), j.lease_owner, "
         "coalesce(j.enqueued_at, ?1), "
-        "j.started_at, j.finished_at, j.duration_s FROM temp.merge_take AS m LEFT JOIN shard.jobs AS j "
-        "ON j.test_id = m.shard_test AND j.config_id = m.shard_config WHERE true "
+        "j.started_at, j.finished_at, j.duration_s, j.napkin_version FROM temp.merge_take AS m "
+        "LEFT JOIN shard.jobs AS j ON j.test_id = m.shard_test AND j.config_id = m.shard_config WHERE true "
         "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'done', attempts = excluded.attempts, "
         "lease_owner = excluded.lease_owner, lease_expires_at = NULL, last_error = NULL, "
         "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
-        "excluded.duration_s");
+        "excluded.duration_s, napkin_version = excluded.napkin_version");
     done->Bind(1, now);
     done->Execute();
   }
   connection.Execute(
       "INSERT INTO main.jobs (test_id, config_id, state, attempts, last_error, enqueued_at, started_at, "
-      "finished_at, duration_s) "
+      "finished_at, duration_s, napkin_version) "
       "SELECT tk.main_id, ck.main_id, 'failed', j.attempts, j.last_error, j.enqueued_at, j.started_at, "
-      "j.finished_at, j.duration_s FROM shard.jobs AS j "
+      "j.finished_at, j.duration_s, j.napkin_version FROM shard.jobs AS j "
       "JOIN temp.merge_tests_key AS tk ON tk.shard_id = j.test_id "
       "JOIN temp.merge_configs_key AS ck ON ck.shard_id = j.config_id "
       "WHERE j.state = 'failed' AND NOT EXISTS "
@@ -216,8 +219,9 @@ std::int64_t MergeJobState(Connection& connection, double now) {
       "ON CONFLICT (test_id, config_id) DO UPDATE SET state = 'failed', attempts = excluded.attempts, "
       "last_error = excluded.last_error, lease_owner = NULL, lease_expires_at = NULL, "
       "started_at = excluded.started_at, finished_at = excluded.finished_at, duration_s = "
-      "excluded.duration_s "
-      "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error");
+      "excluded.duration_s, napkin_version = excluded.napkin_version "
+      "WHERE jobs.state <> 'failed' OR jobs.last_error IS NOT excluded.last_error "
+      "OR jobs.napkin_version IS NOT excluded.napkin_version");
   return connection.Changes();
 }
 

@@ -107,10 +107,13 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
     remove->Execute();
   }
   {
+    // The napkin version that computed it (schema/006_provenance.sql) is the last parameter.
     static const std::string kInsert = [] {
       std::string sql = "INSERT INTO results (test_id, config_id, solver, computed_at, " +
-                        SummaryColumnList() + ") VALUES (?1, ?2, ?3, " + IsoTimestampSql("?4");
-      for (std::size_t i = 0; i < engine::SummaryFields().size(); ++i) sql += ", ?" + std::to_string(5 + i);
+                        SummaryColumnList() + ", napkin_version) VALUES (?1, ?2, ?3, " +
+                        IsoTimestampSql("?4");
+      const std::size_t fields = engine::SummaryFields().size();
+      for (std::size_t i = 0; i <= fields; ++i) sql += ", ?" + std::to_string(5 + i);
       return sql + ")";
     }();
     auto insert = connection_.Prepare(kInsert);
@@ -118,6 +121,7 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
     int parameter = 5;
     for (const engine::SummaryField& field : engine::SummaryFields())
       insert->Bind(parameter++, field.Get(summary));
+    insert->Bind(parameter, napkin_version_);
     insert->Execute();
   }
   WriteFindings(test, config, summary.findings);

@@ -31,6 +31,14 @@ std::string ScopeCte() {
          internal::kTestFilterTerms + " AND " + kShardTerms + ")";
 }
 
+// A result of the test `test_column` under config ?10 that needs no recomputation:
+// any result, or with run --outdated (?13 = this napkin version, else NULL) one
+// computed by this version.
+std::string UpToDateResult(const std::string& test_column) {
+  return "SELECT 1 FROM results AS r WHERE r.test_id = " + test_column +
+         " AND r.config_id = ?10 AND (?13 IS NULL OR r.napkin_version IS ?13)";
+}
+
 void BindJobScope(Statement& statement, const JobScope& scope) {
   internal::BindTestFilter(statement, scope.tests);
   if (scope.shard) {
@@ -44,9 +52,12 @@ void BindJobScope(Statement& statement, const JobScope& scope) {
 
 }  // namespace
 
-JobQueue::JobQueue(Catalogue& catalogue) : connection_(catalogue.connection_), clock_(catalogue.clock_) {}
+JobQueue::JobQueue(Catalogue& catalogue)
+    : connection_(catalogue.connection_),
+      clock_(catalogue.clock_),
+      napkin_version_(catalogue.napkin_version_) {}
 
-std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bool force) {
+std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bool force, bool outdated) {
   Transaction transaction(connection_);
   std::int64_t queued = 0;
   {
@@ -57,13 +68,14 @@ std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bo
         " INSERT INTO jobs (test_id, config_id, state, enqueued_at) "
         "SELECT scope.test_id, ?10, 'queued', ?11 FROM scope "
         "WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE j.test_id = scope.test_id AND j.config_id = ?10) "
-        "AND (?12 OR NOT EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = scope.test_id AND r.config_id "
-        "= ?10))";
+        "AND (?12 OR NOT EXISTS (" +
+        UpToDateResult("scope.test_id") + "))";
     auto insert = connection_.Prepare(kInsert);
     BindJobScope(*insert, scope);
     insert->Bind(10, config);
     insert->Bind(11, clock_());
     insert->Bind(12, force);
+    if (outdated) insert->Bind(13, napkin_version_);
     insert->Execute();
     queued += connection_.Changes();
   }
@@ -76,13 +88,14 @@ std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bo
         " UPDATE jobs SET state = 'queued', enqueued_at = ?11, lease_owner = NULL, lease_expires_at = NULL, "
         "started_at = NULL, finished_at = NULL, duration_s = NULL "
         "WHERE config_id = ?10 AND test_id IN (SELECT test_id FROM scope) AND ("
-        "state = 'failed' OR (state = 'done' AND (?12 OR NOT EXISTS ("
-        "SELECT 1 FROM results AS r WHERE r.test_id = jobs.test_id AND r.config_id = ?10))))";
+        "state = 'failed' OR (state = 'done' AND (?12 OR NOT EXISTS (" +
+        UpToDateResult("jobs.test_id") + "))))";
     auto requeue = connection_.Prepare(kRequeue);
     BindJobScope(*requeue, scope);
     requeue->Bind(10, config);
     requeue->Bind(11, clock_());
     requeue->Bind(12, force);
+    if (outdated) requeue->Bind(13, napkin_version_);
     requeue->Execute();
     queued += connection_.Changes();
   }
@@ -161,8 +174,8 @@ bool JobQueue::CompleteJob(JobId job, const std::string& owner) {
   auto complete = connection_.Prepare(
       "UPDATE jobs SET state = 'done', finished_at = ?3, duration_s = ?3 - started_at, lease_expires_at = "
       "NULL, "
-      "last_error = NULL WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
-  complete->BindAll(job, owner, clock_());
+      "last_error = NULL, napkin_version = ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
+  complete->BindAll(job, owner, clock_(), napkin_version_);
   complete->Execute();
   const bool held = connection_.Changes() == 1;
   transaction.Commit();
@@ -173,8 +186,9 @@ bool JobQueue::FailJob(JobId job, const std::string& owner, const std::string& e
   Transaction transaction(connection_);
   auto fail = connection_.Prepare(
       "UPDATE jobs SET state = 'failed', last_error = ?4, finished_at = ?3, duration_s = ?3 - started_at, "
-      "lease_expires_at = NULL WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
-  fail->BindAll(job, owner, clock_(), error);
+      "lease_expires_at = NULL, napkin_version = ?5 WHERE id = ?1 AND state = 'running' AND lease_owner = "
+      "?2");
+  fail->BindAll(job, owner, clock_(), error, napkin_version_);
   fail->Execute();
   const bool held = connection_.Changes() == 1;
   transaction.Commit();
@@ -220,6 +234,34 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
     while (select->Step()) counts.failures.push_back({select->ColumnText(0), select->ColumnText(1)});
   }
   transaction.Commit();
+  return counts;
+}
+
+std::vector<VersionCount> JobQueue::ReadVersionCounts(const JobScope& scope) {
+  static const std::string kCounts =
+      "WITH " + ScopeCte() +
+      ", computed AS ("
+      "SELECT r.config_id, r.napkin_version, 1 AS result, 0 AS failure FROM results AS r "
+      "WHERE r.test_id IN (SELECT test_id FROM scope) "
+      "UNION ALL SELECT j.config_id, j.napkin_version, 0, 1 FROM jobs AS j "
+      "WHERE j.state = 'failed' AND j.test_id IN (SELECT test_id FROM scope)) "
+      "SELECT c.id, c.name, c.config_hash, computed.napkin_version, sum(computed.result), "
+      "sum(computed.failure) FROM computed JOIN configs AS c ON c.id = computed.config_id "
+      "GROUP BY c.id, computed.napkin_version "
+      "ORDER BY c.id, computed.napkin_version IS NOT NULL, computed.napkin_version";
+  auto select = connection_.Prepare(kCounts);
+  BindJobScope(*select, scope);
+  std::vector<VersionCount> counts;
+  while (select->Step()) {
+    VersionCount count;
+    count.config_id = ConfigId{select->ColumnInt64(0)};
+    count.config_name = select->ColumnText(1);
+    count.config_hash = select->ColumnText(2);
+    count.napkin_version = select->ColumnOptionalText(3);
+    count.results = select->ColumnInt64(4);
+    count.failed = select->ColumnInt64(5);
+    counts.push_back(std::move(count));
+  }
   return counts;
 }
 

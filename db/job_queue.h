@@ -56,6 +56,17 @@ struct StatusCounts {
   std::vector<JobFailure> failures;  // ordered by test id
 };
 
+// `napkin status`: how many results (and failures) one napkin version computed
+// under one config (docs/formats.md "Version string").
+struct VersionCount {
+  ConfigId config_id{};
+  std::string config_name;
+  std::string config_hash;
+  std::optional<std::string> napkin_version;  // empty: computed before version tracking
+  std::int64_t results = 0;                   // result rows
+  std::int64_t failed = 0;                    // jobs whose last attempt failed under this version
+};
+
 class JobQueue {
  public:
   explicit JobQueue(Catalogue& catalogue);
@@ -63,11 +74,15 @@ class JobQueue {
 
   // Queues a job for every test in scope whose result for `config` is
   // missing (never computed, or its job is done but the result is gone) or
-  // whose job failed; with `force`, also tests already done. A config whose
+  // whose job failed; with `force`, also tests already done; with `outdated`
+  // (run --outdated), also tests whose result was computed by another napkin
+  // version than the catalogue's (Catalogue::napkin_version(); a result from
+  // before version tracking, NULL, is another version). A config whose
   // JSON changed has a new hash, hence a new key: its tests are all missing
   // and earlier results under the old config stay. Returns the number of
   // jobs queued.
-  std::int64_t EnqueueMissing(ConfigId config, const JobScope& scope = {}, bool force = false);
+  std::int64_t EnqueueMissing(ConfigId config, const JobScope& scope = {}, bool force = false,
+                              bool outdated = false);
   // Atomically (BEGIN IMMEDIATE) claims up to `max_jobs` jobs of `config`
   // (of the tests in `scope`) that are queued or whose lease has expired,
   // leasing them to `owner` for `lease_seconds`. Two workers never get the
@@ -89,10 +104,15 @@ class JobQueue {
   // Marks a running job failed with `error`; false when `owner` no longer holds it.
   bool FailJob(JobId job, const std::string& owner, const std::string& error);
   StatusCounts ReadStatusCounts(ConfigId config, const JobScope& scope = {});
+  // `napkin status`: the results and failed jobs of the tests in scope, counted by
+  // config and by the napkin version that computed them; ordered by config key, then
+  // version (NULL, before version tracking, first).
+  std::vector<VersionCount> ReadVersionCounts(const JobScope& scope = {});
 
  private:
   Connection& connection_;                // the catalogue's
   const std::function<double()>& clock_;  // the catalogue's: epoch seconds
+  const std::string& napkin_version_;     // the catalogue's: recorded with finished jobs
 };
 
 }  // namespace napkin::db

@@ -34,7 +34,7 @@ struct ReportConfig {
 
 struct ReportHeader {
   std::string catalogue;       // the catalogue's path as given
-  std::string napkin_version;  // CMake PROJECT_VERSION
+  std::string napkin_version;  // napkin::Version() (common/version.h), e.g. "0.1.0+g1a2b3c4"
   std::string selection;       // what was asked for, e.g. "series sled" ("" = every test)
   std::vector<ReportConfig> configs;
 };

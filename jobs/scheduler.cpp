@@ -674,7 +674,7 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   db::Catalogue reader_catalogue = db::Catalogue::Open(db_path, catalogue_options);
   db::JobQueue reader_queue(reader_catalogue);
   report.config = reader_catalogue.WriteConfig(processing.record);
-  reader_queue.EnqueueMissing(report.config, options.scope, options.force);
+  reader_queue.EnqueueMissing(report.config, options.scope, options.force, options.outdated);
   {
     const db::StatusCounts counts = reader_queue.ReadStatusCounts(report.config, options.scope);
     report.total = counts.pending + counts.running;

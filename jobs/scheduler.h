@@ -47,6 +47,7 @@ namespace napkin::jobs {
 struct RunOptions {
   db::JobScope scope;                  // tests to process (--series, --test, --shard); empty: all
   bool force = false;                  // --force: recompute tests whose results are up to date
+  bool outdated = false;               // --outdated: also recompute results of another napkin version
   int threads = 0;                     // --threads: worker threads; 0 = all cores
   int tests_in_flight_per_thread = 4;  // tokens per thread (read, not yet being committed): bounds memory
   int claim_batch = 4;                 // jobs claimed per claim transaction
@@ -99,7 +100,8 @@ struct RunReport {
 };
 
 // Processes every test in `options.scope` whose result for `processing` is
-// missing, failed or (with force) present; see the file comment. `stop` (set
+// missing, failed, (with outdated) computed by another napkin version or
+// (with force) present (db::JobQueue::EnqueueMissing); see the file comment. `stop` (set
 // by a signal handler) ends the run after the tests in flight. Throws
 // InputError for a catalogue that cannot be opened, db::DatabaseError when
 // the catalogue fails during the run (its leases are released first).

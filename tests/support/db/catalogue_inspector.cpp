@@ -1,6 +1,7 @@
 #include "tests/support/db/catalogue_inspector.h"
 
 #include <cstdio>
+#include <stdexcept>
 #include <utility>
 
 namespace napkin::db {
@@ -154,6 +155,32 @@ std::vector<std::int64_t> CatalogueInspector::ReadJobAttempts(ConfigId config) {
   std::vector<std::int64_t> attempts;
   while (select->Step()) attempts.push_back(select->ColumnInt64(0));
   return attempts;
+}
+
+std::optional<std::string> CatalogueInspector::ReadResultVersion(TestId test, ConfigId config) {
+  auto select = catalogue_.connection_.Prepare(
+      "SELECT napkin_version FROM results WHERE test_id = ?1 AND config_id = ?2");
+  select->BindAll(test, config);
+  if (!select->Step()) throw std::logic_error("ReadResultVersion: no result for this test and config");
+  return select->ColumnOptionalText(0);
+}
+
+std::optional<std::string> CatalogueInspector::ReadJobVersion(TestId test, ConfigId config) {
+  auto select =
+      catalogue_.connection_.Prepare("SELECT napkin_version FROM jobs WHERE test_id = ?1 AND config_id = ?2");
+  select->BindAll(test, config);
+  if (!select->Step()) throw std::logic_error("ReadJobVersion: no job for this test and config");
+  return select->ColumnOptionalText(0);
+}
+
+void CatalogueInspector::SetResultVersion(TestId test, ConfigId config,
+                                          const std::optional<std::string>& version) {
+  auto update = catalogue_.connection_.Prepare(
+      "UPDATE results SET napkin_version = ?3 WHERE test_id = ?1 AND config_id = ?2");
+  update->BindAll(test, config, version);
+  update->Execute();
+  if (catalogue_.connection_.Changes() != 1)
+    throw std::logic_error("SetResultVersion: no result for this test and config");
 }
 
 }  // namespace napkin::db

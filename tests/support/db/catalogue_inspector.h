@@ -63,6 +63,18 @@ class CatalogueInspector {
   // `attempts` of every job of `config`, in test key order.
   std::vector<std::int64_t> ReadJobAttempts(ConfigId config);
 
+  // ---- provenance (schema/006_provenance.sql)
+  // The napkin version recorded with the test's result under `config` (nullopt: NULL,
+  // before version tracking). Throws std::logic_error when there is no such result.
+  std::optional<std::string> ReadResultVersion(TestId test, ConfigId config);
+  // The napkin version recorded with the test's job under `config` (nullopt: NULL).
+  // Throws std::logic_error when there is no such job.
+  std::optional<std::string> ReadJobVersion(TestId test, ConfigId config);
+  // Marks the test's result under `config` as computed by `version` (nullopt: before
+  // version tracking): stands for a result an older napkin wrote. Throws
+  // std::logic_error when there is no such result.
+  void SetResultVersion(TestId test, ConfigId config, const std::optional<std::string>& version);
+
  private:
   std::int64_t Scalar(const std::string& sql);
 
