@@ -152,7 +152,7 @@ std::int64_t MergeResults(Connection& connection) {
                        " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
   // In the shard's order, so the most recent shard result stays the latest here.
   const std::string columns = internal::SummaryColumnList();
-  // The napkin version that computed each result comes with it (schema/006_provenance.sql).
+  // The napkin version that computed each result comes with it (schema/007_provenance.sql).
   connection.Execute("INSERT INTO main.results (test_id, config_id, solver, computed_at, " + columns +
                      ", napkin_version) SELECT m.test_id, m.config_id, r.solver, r.computed_at, " +
                      internal::SummaryColumnList("r.") +

@@ -107,7 +107,7 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
     remove->Execute();
   }
   {
-    // The napkin version that computed it (schema/006_provenance.sql) is the last parameter.
+    // The napkin version that computed it (schema/007_provenance.sql) is the last parameter.
     static const std::string kInsert = [] {
       std::string sql = "INSERT INTO results (test_id, config_id, solver, computed_at, " +
                         SummaryColumnList() + ", napkin_version) VALUES (?1, ?2, ?3, " +

@@ -1,4 +1,4 @@
--- napkin catalogue, schema version 6: provenance for reprocessing (docs/formats.md
+-- napkin catalogue, schema version 7: provenance for reprocessing (docs/formats.md
 -- "Version string", README "Batch runs").
 --
 -- results.napkin_version: the napkin version that computed the result

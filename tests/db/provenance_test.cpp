@@ -1,4 +1,4 @@
-// Provenance (schema/006_provenance.sql, docs/formats.md "Version string"): results and
+// Provenance (schema/007_provenance.sql, docs/formats.md "Version string"): results and
 // finished jobs record the napkin version, `run --outdated` queues the results of other
 // versions only, `status` counts results by version, merge carries the version.
 #include <gmock/gmock.h>

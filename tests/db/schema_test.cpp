@@ -48,7 +48,7 @@ class SchemaTest : public ::testing::Test {
 TEST_F(SchemaTest, ResultsColumnsAreTheSummaryFieldsInOrder) {
   std::vector<std::string> names;
   for (const engine::SummaryField& field : engine::SummaryFields()) names.emplace_back(field.name);
-  // napkin_version (schema/006_provenance.sql) was appended after the summary fields.
+  // napkin_version (schema/007_provenance.sql) was appended after the summary fields.
   EXPECT_EQ(
       Columns(*connection_, "results"),
       Concatenated({"id", "test_id", "config_id", "solver", "computed_at"}, {names, {"napkin_version"}}));

@@ -63,7 +63,7 @@ class CatalogueInspector {
   // `attempts` of every job of `config`, in test key order.
   std::vector<std::int64_t> ReadJobAttempts(ConfigId config);
 
-  // ---- provenance (schema/006_provenance.sql)
+  // ---- provenance (schema/007_provenance.sql)
   // The napkin version recorded with the test's result under `config` (nullopt: NULL,
   // before version tracking). Throws std::logic_error when there is no such result.
   std::optional<std::string> ReadResultVersion(TestId test, ConfigId config);
