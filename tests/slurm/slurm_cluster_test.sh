@@ -196,11 +196,89 @@ node_idle() {
   [ "$(sinfo -h -N -n "$host" -o %t 2>/dev/null)" = "idle" ]; }
 wait_until "$kStartTimeout" "node '$host' to be idle (sinfo)" node_idle
 echo "cluster up in $(seconds_since "$started_at") s (node $host, $cpus CPUs, ports $ctld_port and $slurmd_port)"
-cd "$tmp/work"
-id=$(sbatch --parsable --output="$tmp/work/hello.out" --wrap='echo hello from $SLURM_JOB_ID on $(hostname)')
-job_ids+=("$id")
-echo "job $id"
-jobs_gone() { [ -z "$(squeue -h -o %i 2>/dev/null)" ]; }
-wait_until 60 "jobs" jobs_gone
-cat hello.out
-scontrol show job "$id" | grep -E 'JobState|ExitCode'
+
+# ---- the catalogue: 40 small synthetic tests, two copies.
+work="$tmp/work"
+cd "$work"
+"$napkin" --db archive.db synth --scenario random --count "$kTests" --samples "$kSamples"
+cp archive.db sharded.db
+cp archive.db unsharded.db
+cp "$source_dir/config/processing/default.json" processing.json  # a relative --config path
+
+# The reference: one unsharded run on one machine.
+"$napkin" --db unsharded.db run --config processing.json --threads 2 >run.out
+
+# ---- round 1: task 2 fails (napkin-wrapper refuses shard 2/4 while fail-task-2 exists).
+cat >napkin-wrapper <<WRAPPER
+#!/usr/bin/env bash
+if [ -f "$work/fail-task-2" ] && [[ " \$* " == *" --shard 2/$kTasks "* ]]; then
+  echo "napkin-wrapper: injected failure of shard 2/$kTasks" >&2
+  exit 1
+fi
+exec "$napkin" "\$@"
+WRAPPER
+chmod +x napkin-wrapper
+touch fail-task-2
+
+# submit ROUND: reprocess.sh on sharded.db; sets array_job and merge_job from its output.
+submit() {
+  local out line
+  out=$("$reprocess" sharded.db --tasks "$kTasks" --config processing.json --napkin napkin-wrapper \
+    --results-dir results --time=10)
+  while IFS= read -r line; do echo "round $1: $line"; done <<<"$out"
+  array_job=$(awk '$1 == "array" && $2 == "job" { sub(":", "", $3); print $3 }' <<<"$out")
+  merge_job=$(awk '$1 == "merge" && $2 == "job" { sub(":", "", $3); print $3 }' <<<"$out")
+  { [ -n "$array_job" ] && [ -n "$merge_job" ]; } || { echo "reprocess.sh printed no job ids" >&2; return 1; }
+  job_ids+=("$array_job" "$merge_job")
+}
+queue_empty() { [ -z "$(squeue -h -o %i)" ]; }
+# job_states JOB: one "STATE EXITCODE" line per job record (each task of an array).
+job_states() {
+  scontrol -o show job "$1" | awk '{
+    state = ""; code = ""
+    for (i = 1; i <= NF; i++) {
+      if ($i ~ /^JobState=/) state = substr($i, 10)
+      if ($i ~ /^ExitCode=/) code = substr($i, 10)
+    }
+    print state, code }'
+}
+expect_states() {  # expect_states JOB EXPECTED_LINES
+  local actual
+  actual=$(job_states "$1" | sort | uniq -c | awk '{ $1 = $1; print }')
+  if [ "$actual" != "$2" ]; then
+    echo "job $1: expected states '$2', found:" >&2
+    scontrol show job "$1" >&2
+    return 1
+  fi
+}
+
+round_started=$(date +%s.%N)
+submit 1
+wait_until "$kJobsTimeout" "round 1's jobs to leave the queue" queue_empty
+echo "round 1 done in $(seconds_since "$round_started") s"
+expect_states "$array_job" $'3 COMPLETED 0:0\n1 FAILED 1:0'
+# afterok holds the merge and --kill-on-invalid-dep removes it from the queue.
+expect_states "$merge_job" "1 CANCELLED 0:0"
+# The shards read the catalogue read-only: its file is byte for byte what it was.
+cmp sharded.db archive.db
+[ -f results/shard-0.db ] && [ -f results/shard-3.db ]
+
+# ---- round 2: the same command again; the tasks resume from their results files.
+rm fail-task-2
+round_started=$(date +%s.%N)
+submit 2
+wait_until "$kJobsTimeout" "round 2's jobs to leave the queue" queue_empty
+echo "round 2 done in $(seconds_since "$round_started") s"
+expect_states "$array_job" "$kTasks COMPLETED 0:0"
+expect_states "$merge_job" "1 COMPLETED 0:0"
+scontrol -o show job "$merge_job" | grep -q 'TimeLimit=00:10:00' ||
+  { echo "the extra sbatch option --time=10 did not reach the merge job" >&2; exit 1; }
+grep -q "napkin-merge: done" "results/napkin-merge-$merge_job.out"
+for ((task = 0; task < kTasks; task++)); do
+  [ ! -e "results/shard-$task.db" ] || { echo "results/shard-$task.db was not removed after the merge" >&2; exit 1; }
+done
+
+# ---- the merged catalogue holds what the unsharded run wrote, bit for bit.
+"$compare_tool" sharded.db unsharded.db
+echo "sharded (4 array tasks + merge) and unsharded catalogues are identical: $kTests tests"
+echo "slurm test wall time: $(seconds_since "$started_at") s"
