@@ -12,6 +12,7 @@
 # The daemons are stopped by their recorded PIDs (never by name) and the
 # temporary directory removed on every exit, failure included.
 # Without root or without the Slurm/munge programs the test is skipped (exit 77).
+# NAPKIN_SLURM_TEST_KEEP=1 keeps the temporary directory (logs, catalogues) for a look.
 set -euo pipefail
 
 readonly kSkip=77
@@ -86,7 +87,11 @@ cleanup() {
     kill -KILL "$pid" 2>/dev/null || true
     wait "$pid" 2>/dev/null || true
   done
-  rm -rf "$tmp"
+  if [ -n "${NAPKIN_SLURM_TEST_KEEP:-}" ]; then
+    echo "kept $tmp (NAPKIN_SLURM_TEST_KEEP)"
+  else
+    rm -rf "$tmp"
+  fi
   exit "$status"
 }
 trap cleanup EXIT
@@ -173,6 +178,7 @@ TaskPlugin=task/none
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 SchedulerType=sched/builtin
+SchedulerParameters=batch_sched_delay=0
 AccountingStorageType=accounting_storage/none
 JobAcctGatherType=jobacct_gather/none
 JobCompType=jobcomp/none
@@ -220,11 +226,12 @@ WRAPPER
 chmod +x napkin-wrapper
 touch fail-task-2
 
-# submit ROUND: reprocess.sh on sharded.db; sets array_job and merge_job from its output.
+# submit ROUND: reprocess.sh on sharded.db, with two extra sbatch options: a time limit and
+# one CPU per task (two tasks read the catalogue at once); sets array_job and merge_job.
 submit() {
   local out line
   out=$("$reprocess" sharded.db --tasks "$kTasks" --config processing.json --napkin napkin-wrapper \
-    --results-dir results --time=10)
+    --results-dir results --time=10 --cpus-per-task=1)
   while IFS= read -r line; do echo "round $1: $line"; done <<<"$out"
   array_job=$(awk '$1 == "array" && $2 == "job" { sub(":", "", $3); print $3 }' <<<"$out")
   merge_job=$(awk '$1 == "merge" && $2 == "job" { sub(":", "", $3); print $3 }' <<<"$out")
