@@ -55,6 +55,11 @@ print_logs() {
     echo "----- $log (last 40 lines)"
     tail -n 40 "$log"
   done
+  for log in "$tmp"/log/*.stderr; do
+    [ -f "$log" ] || continue
+    echo "----- $log (last 5 lines)"
+    tail -n 5 "$log"
+  done
 }
 
 cleanup() {
@@ -139,7 +144,7 @@ chmod 0400 "$tmp/key/munge.key"
 munge_socket="$tmp/munge/munge.socket"
 munged --foreground --socket="$munge_socket" --key-file="$tmp/key/munge.key" \
   --pid-file="$tmp/key/munged.pid" --seed-file="$tmp/key/munged.seed" \
-  --log-file="$tmp/log/munged.log" >>"$tmp/log/munged.log" 2>&1 &
+  --log-file="$tmp/log/munged.log" >"$tmp/log/munged.stderr" 2>&1 &
 pids+=($!)
 munge_up() {
   kill -0 "${pids[0]}" 2>/dev/null || { echo "munged exited" >&2; exit 1; }
@@ -192,9 +197,11 @@ PartitionName=napkin Nodes=${host} Default=YES MaxTime=INFINITE State=UP
 EOF
 export SLURM_CONF="$conf"
 
-slurmctld -D -f "$conf" >>"$tmp/log/slurmctld.log" 2>&1 &
+# In the foreground (-D) they log to their log files and to stderr, which keeps what comes
+# before a log file is open (a refused slurm.conf).
+slurmctld -D -f "$conf" >"$tmp/log/slurmctld.stderr" 2>&1 &
 pids+=($!)
-slurmd -D -f "$conf" >>"$tmp/log/slurmd.log" 2>&1 &
+slurmd -D -f "$conf" >"$tmp/log/slurmd.stderr" 2>&1 &
 pids+=($!)
 node_idle() {
   kill -0 "${pids[1]}" 2>/dev/null || { echo "slurmctld exited" >&2; exit 1; }
