@@ -150,6 +150,10 @@ struct MergeReport {
 
 struct CatalogueOptions {
   bool read_only = false;  // queries only: never migrates, never writes
+  // With read_only: open the file immutable (ConnectionOptions::immutable):
+  // no lock taken, no file created beside it; refused while a non-empty -wal
+  // is beside it. For a catalogue shared by many readers (`run --results`).
+  bool immutable = false;
   // Run SQLite's quick_check before anything is written (init, import and
   // the other writing commands): a damaged file is refused with an
   // InputError naming it, instead of being written into.
@@ -271,6 +275,7 @@ class Catalogue {
 
  private:
   friend class JobQueue;            // the job queue shares the connection and clock
+  friend class ResultsFile;         // copies test rows between catalogues (db/results_file.h)
   friend class CatalogueInspector;  // test-only access (tests/support/db/catalogue_inspector.h)
 
   Catalogue(Connection connection, std::function<double()> clock)
