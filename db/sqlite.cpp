@@ -201,8 +201,10 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
   const std::string wal_path = path + "-wal";
   const bool wal_present = std::filesystem::exists(wal_path, error);
   if (options.immutable) {
-    if (!options.read_only || !plain_file)
-      throw std::invalid_argument("Connection::Open: immutable needs read_only and a file name");
+    if (!options.read_only) throw std::invalid_argument("Connection::Open: immutable needs read_only");
+    if (!plain_file)
+      throw InputError("catalogue '" + path +
+                       "' must be named by its file name (not a URI) to be read shared.");
     if (!std::filesystem::is_regular_file(path, error))
       throw InputError("catalogue '" + path + "' does not exist.");
     // An immutable reader sees only the main file: changes still in a
