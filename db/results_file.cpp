@@ -39,7 +39,9 @@ std::int64_t CopyRows(Statement& select, Connection& target, const std::string& 
   std::int64_t inserted = 0;
   while (select.Step()) {
     auto conflict = [&] {
-      return InputError(conflict_prefix + " (" + table + ": '" + select.ColumnText(name_index) + "').");
+      const std::string what = table == "tests" ? "test" : table == "arrays" ? "array" : "series";
+      return InputError(conflict_prefix + " (its " + what + " '" + select.ColumnText(name_index) +
+                        "' differs).");
     };
     {
       auto existing = target.Prepare(existing_sql);

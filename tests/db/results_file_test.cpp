@@ -125,7 +125,7 @@ TEST_F(ResultsFileTest, TestsAreCopiedWithTheirKeysAndWithoutRawChannels) {
   Catalogue other = ResultsFile::Open(other_path, shared);
   EXPECT_THAT([&] { ResultsFile::CopyTests(shared, other, scope); },
               ThrowsMessage<InputError>(AllOf(HasSubstr("other.db"), HasSubstr("another catalogue"),
-                                              HasSubstr("main.db"), HasSubstr("'x1'"))));
+                                              HasSubstr("main.db"), HasSubstr("its test 't1' differs"))));
 }
 
 TEST_F(ResultsFileTest, TheCatalogueItselfOrADirectoryIsNotAResultsFile) {
