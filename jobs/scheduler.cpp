@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "db/results_file.h"
 #include "engine/pipeline.h"
 #include "records/array_record.h"
 
@@ -286,14 +287,16 @@ class ResultWriter {
   SteadyClock::time_point oldest_;
 };
 
-// The input stage: claims jobs a few at a time and reads their tests.
+// The input stage: claims jobs a few at a time (in `queue_catalogue`) and
+// reads their tests (from `catalogue`, the same one or the read-only
+// catalogue of a results-file run).
 class JobReader {
  public:
-  JobReader(db::Catalogue& catalogue, db::ConfigId config, std::string owner, const RunOptions& options,
-            LeaseBook& book, RunState& state, ResultWriter& writer, RunReport& report,
-            const std::atomic<bool>* stop)
+  JobReader(db::Catalogue& catalogue, db::Catalogue& queue_catalogue, db::ConfigId config, std::string owner,
+            const RunOptions& options, LeaseBook& book, RunState& state, ResultWriter& writer,
+            RunReport& report, const std::atomic<bool>* stop)
       : catalogue_(catalogue),
-        queue_(catalogue),
+        queue_(queue_catalogue),
         config_(config),
         owner_(std::move(owner)),
         options_(options),
@@ -395,8 +398,8 @@ class JobReader {
     std::string error;  // the array's decoding error, if any
   };
 
-  db::Catalogue& catalogue_;
-  db::JobQueue queue_;  // on catalogue_
+  db::Catalogue& catalogue_;  // inputs
+  db::JobQueue queue_;        // on the catalogue the results go to
   db::ConfigId config_;
   std::string owner_;
   const RunOptions& options_;
@@ -485,7 +488,15 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
 
   db::CatalogueOptions catalogue_options;
   catalogue_options.durable = options.durable;
-  db::Catalogue reader_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  // Jobs and results live in `work_path`: the catalogue, or a results file
+  // beside the shared read-only catalogue (`inputs`).
+  const bool results_file = !options.results_path.empty();
+  const std::string& work_path = results_file ? options.results_path : db_path;
+  std::optional<db::Catalogue> inputs;
+  if (results_file) inputs.emplace(db::ResultsFile::OpenSharedCatalogue(db_path));
+  db::Catalogue reader_catalogue = results_file ? db::ResultsFile::Open(work_path, *inputs, catalogue_options)
+                                                : db::Catalogue::Open(db_path, catalogue_options);
+  if (results_file) db::ResultsFile::CopyTests(*inputs, reader_catalogue, options.scope);
   db::JobQueue reader_queue(reader_catalogue);
   report.config = reader_catalogue.WriteConfig(processing.record);
   reader_queue.EnqueueMissing(report.config, options.scope, options.force);
@@ -498,15 +509,16 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
                processing.record.name, processing.record.config_hash.substr(0, 12), report.total,
                report.skipped, report.threads);
 
-  db::Catalogue writer_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  db::Catalogue writer_catalogue = db::Catalogue::Open(work_path, catalogue_options);
   LeaseBook book;
   RunState state;
   std::atomic<double> compute_s{0.0};
   ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
                       report.owner, options, book, state, report, progress, start);
-  JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, writer, report, stop);
+  JobReader reader(inputs ? *inputs : reader_catalogue, reader_catalogue, report.config, report.owner,
+                   options, book, state, writer, report, stop);
   try {
-    Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
+    Heartbeat heartbeat(work_path, catalogue_options, book, report.owner, options.lease_s);
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                     static_cast<std::size_t>(report.threads));
     tbb::parallel_pipeline(
