@@ -62,6 +62,11 @@ case "$tasks" in
 esac
 [ "${#tasks}" -le 6 ] || fail "--tasks $tasks is more tasks than any cluster runs at once; use at most a few thousand." 2
 [ -f "$catalogue" ] || fail "catalogue '$catalogue' does not exist; create it with napkin init and napkin import."
+# The tasks open the catalogue immutable: changes still in its -wal would be missing (and
+# napkin refuses it in every task); say so before anything is submitted.
+for log in "$catalogue-wal" "$catalogue-journal"; do
+  [ ! -s "$log" ] || fail "catalogue '$catalogue' has changes not yet written into it (in '$log'); let the process writing it finish, or run \`sqlite3 '$catalogue' 'PRAGMA wal_checkpoint(TRUNCATE)'\`, then submit again."
+done
 command -v sbatch >/dev/null ||
   fail "sbatch not found; run $program on a Slurm submit host (Debian package slurm-client)."
 
