@@ -216,7 +216,11 @@ cd "$work"
 "$napkin" --db archive.db synth --scenario random --count "$kTests" --samples "$kSamples"
 cp archive.db sharded.db
 cp archive.db unsharded.db
-cp "$source_dir/config/processing/default.json" processing.json  # a relative --config path
+# A relative --config path; a residual limit low enough that about half the tests get a
+# screening warning, so that findings are compared too.
+sed 's/"residual_limit_g": 5.0,/"residual_limit_g": 0.0001,/' "$source_dir/config/processing/default.json" \
+  >processing.json
+grep -q '"residual_limit_g": 0.0001,' processing.json
 
 # The reference: one unsharded run on one machine.
 "$napkin" --db unsharded.db run --config processing.json --threads 2 >run.out
@@ -284,6 +288,11 @@ submit 2
 wait_until "$kJobsTimeout" "round 2's jobs to leave the queue" queue_empty
 echo "round 2 done in $(seconds_since "$round_started") s"
 expect_states "$array_job" "$kTasks COMPLETED 0:0"
+# The tasks that had succeeded in round 1 resumed from their results files: nothing left to do.
+for task in 0 1 3; do
+  grep -q ' 0 tests to process' "results/napkin-shard-${array_job}_$task.out" ||
+    { echo "round 2: task $task did not resume from results/shard-$task.db" >&2; exit 1; }
+done
 expect_states "$merge_job" "1 COMPLETED 0:0"
 scontrol -o show job "$merge_job" | grep -q 'TimeLimit=00:10:00' ||
   { echo "the extra sbatch option --time=10 did not reach the merge job" >&2; exit 1; }
@@ -296,11 +305,15 @@ done
 "$dump_tool" sharded.db >sharded.dump
 "$dump_tool" unsharded.db >unsharded.dump
 results=$(grep -c '^results|' unsharded.dump || true)
+findings=$(grep -c '^findings|' unsharded.dump || true)
+derived=$(grep -c '^derived_channels|' unsharded.dump || true)
 [ "$results" -eq "$kTests" ] || { echo "the unsharded run wrote $results results, not $kTests" >&2; exit 1; }
+[ "$findings" -gt 0 ] || { echo "the unsharded run wrote no findings to compare" >&2; exit 1; }
 if ! cmp -s sharded.dump unsharded.dump; then
   echo "the merged catalogue differs from the unsharded run's (napkin_results_dump, first lines of diff):" >&2
   diff sharded.dump unsharded.dump | head -n 20 >&2
   exit 1
 fi
-echo "sharded (4 array tasks + merge) and unsharded catalogues are identical: $kTests tests"
+echo "merged and unsharded catalogues are identical: $results results, $findings findings," \
+  "$derived derived channels"
 echo "slurm test wall time: $(seconds_since "$started_at") s"
