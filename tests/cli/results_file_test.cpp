@@ -79,7 +79,7 @@ class ResultsFileTest : public ::testing::Test {
   void TearDown() override {
     // Let the temporary folder be removed whoever runs the tests.
     for (const fs::path& locked : locked_)
-      if (fs::exists(locked)) fs::permissions(locked, fs::perms::owner_all, fs::perms_options::add);
+      if (fs::exists(locked)) fs::permissions(locked, fs::perms::owner_all, fs::perm_options::add);
   }
 
   CommandResult Napkin(const std::vector<std::string>& args) {
