@@ -111,13 +111,17 @@ port_in_use() {
   cat /proc/net/tcp /proc/net/tcp6 2>/dev/null | awk -v port=":$hex" '
     NR > 1 && substr($2, length($2) - 4) == port { found = 1 } END { exit !found }'
 }
+# Below the kernel's ephemeral range, so that no outgoing connection takes it before the
+# daemon binds it.
 free_port() {
-  local port avoid=${1:-0}
+  local port avoid=${1:-0} ephemeral_low
+  ephemeral_low=$(awk '{ print $1 }' /proc/sys/net/ipv4/ip_local_port_range 2>/dev/null || echo 32768)
+  [ "$ephemeral_low" -gt 11000 ] || ephemeral_low=32768
   for _ in $(seq 1 200); do
-    port=$((20000 + RANDOM % 40000))
+    port=$((10000 + RANDOM % (ephemeral_low - 10000)))
     [ "$port" != "$avoid" ] && ! port_in_use "$port" && { echo "$port"; return 0; }
   done
-  echo "no free TCP port found in 20000-59999" >&2
+  echo "no free TCP port found in 10000-$((ephemeral_low - 1))" >&2
   return 1
 }
 
