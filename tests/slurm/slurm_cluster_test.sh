@@ -44,7 +44,10 @@ for program in munged slurmctld slurmd sbatch squeue sinfo scontrol scancel; do
     skip "'$program' is not installed (Debian packages slurm-wlm and munge; make deps installs them)."
 done
 
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/napkin-slurm.XXXXXX")
+# Under /tmp when TMPDIR is too long for munged's socket path (108 bytes with the NUL).
+tmp_parent=${TMPDIR:-/tmp}
+[ "${#tmp_parent}" -le 60 ] || tmp_parent=/tmp
+tmp=$(mktemp -d "$tmp_parent/napkin-slurm.XXXXXX")
 chmod 0755 "$tmp"  # munged requires its socket's directories to be searchable by all
 pids=()     # munged, slurmctld, slurmd: what cleanup stops
 job_ids=()  # what cleanup cancels when the test stops early
