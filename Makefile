@@ -9,11 +9,12 @@ BUILD_FUZZ ?= build/fuzz
 # What the program needs (make demo): Boost.Math for compare's t distribution,
 # dygraphs embedded into the binary for report's charts. What the tests and
 # benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
-# gives bench/run_memory.sh the peak memory of `napkin run`.
+# gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
+# the reprocess test on a private single-node cluster (tests/slurm).
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
-  chromium time
+  chromium time slurm-wlm munge
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 

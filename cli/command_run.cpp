@@ -12,6 +12,7 @@
 #include "cli/command.h"
 #include "cli/progress.h"
 #include "common/error.h"
+#include "db/results_file.h"
 #include "jobs/scheduler.h"
 
 namespace napkin::cli {
@@ -68,6 +69,9 @@ class RunCommand : public Command {
           return ParseShard(text) ? std::string()
                                   : std::string("--shard takes I/N with 0 <= I < N, e.g. 0/3");
         });
+    sub->add_option("--results", options_.results_path,
+                    "read --db only (shared, immutable) and write the results to this file (created if "
+                    "missing; `napkin merge` takes it back)");
     return sub;
   }
 
@@ -115,7 +119,10 @@ class RunCommand : public Command {
     if (!std::filesystem::exists(global_->db_path))
       throw InputError("catalogue '" + global_->db_path +
                        "' does not exist; create it with `napkin init`, `napkin import` or `napkin synth`.");
-    db::Catalogue catalogue = OpenCatalogue(*global_);
+    // With --results the catalogue is never written (db/results_file.h).
+    db::Catalogue catalogue = options_.results_path.empty()
+                                  ? OpenCatalogue(*global_)
+                                  : db::ResultsFile::OpenSharedCatalogue(global_->db_path);
     if (!series_.empty() && !catalogue.ReadSeries(series_))
       throw InputError("series '" + series_ + "' is not in catalogue '" + global_->db_path + "'.");
     for (const std::string& id : test_ids_)

@@ -96,8 +96,12 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
   CheckMigrationList(migrations);
   const auto latest = static_cast<std::int64_t>(migrations.size());
 
-  Connection connection =
-      Connection::Open(path, ConnectionOptions{options.read_only, options.durable, options.busy_timeout_ms});
+  ConnectionOptions connection_options;
+  connection_options.read_only = options.read_only;
+  connection_options.immutable = options.immutable;
+  connection_options.durable = options.durable;
+  connection_options.busy_timeout_ms = options.busy_timeout_ms;
+  Connection connection = Connection::Open(path, connection_options);
 
   // Identify the file before changing anything in it.
   const std::int64_t version = connection.PragmaInt("user_version");

@@ -151,6 +151,10 @@ struct MergeReport {
 
 struct CatalogueOptions {
   bool read_only = false;  // queries only: never migrates, never writes
+  // With read_only: open the file immutable (ConnectionOptions::immutable):
+  // no lock taken, no file created beside it; refused while a non-empty -wal
+  // is beside it. For a catalogue shared by many readers (`run --results`).
+  bool immutable = false;
   // Run SQLite's quick_check before anything is written (init, import and
   // the other writing commands): a damaged file is refused with an
   // InputError naming it, instead of being written into.
@@ -271,19 +275,24 @@ class Catalogue {
   // not by key: tests by content hash, arrays and configs by hash, series by
   // name. A shard result replaces this catalogue's result for the same test
   // and config only when it was computed later; its findings, derived
-  // channels and job state come with it. Merging the same shard twice
+  // channels and job state come with it (and a failed job's findings, for a
+  // test without a result here). A results file of `run --results`
+  // (db/results_file.h) merges the same way. Merging the same shard twice
   // changes nothing. Throws InputError naming the shard when it is not a
   // napkin catalogue of this schema version, holds a test id whose content
-  // differs from this catalogue's test of that id, or holds a result whose
-  // values (summary fields or solver) differ from this catalogue's result for
-  // the same test and config (a conflict: the same input and config must give
-  // the same answer, so one of the two was computed differently), and at
+  // differs from this catalogue's test of that id, or a test this catalogue
+  // lacks without its raw channels (a results file cannot add tests), or a
+  // result whose values (summary fields or solver) differ from this
+  // catalogue's result for the same test and config (a conflict: the same
+  // input and config must give the same answer, so one of the two was
+  // computed differently), and at
   // once when the shard is this catalogue's own file under any name (path,
   // symbolic or hard link, "file:" URI: the device and inode are compared).
   MergeReport MergeShard(const std::string& shard_path);
 
  private:
   friend class JobQueue;            // the job queue shares the connection and clock
+  friend class ResultsFile;         // copies test rows between catalogues (db/results_file.h)
   friend class CatalogueInspector;  // test-only access (tests/support/db/catalogue_inspector.h)
 
   Catalogue(Connection connection, std::function<double()> clock, std::string napkin_version)

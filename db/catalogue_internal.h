@@ -6,6 +6,10 @@
 
 #include "db/catalogue.h"
 
+namespace napkin::db {
+struct JobScope;
+}  // namespace napkin::db
+
 namespace napkin::db::internal {
 
 // WHERE terms selecting the tests (alias t, series alias s) of a TestFilter,
@@ -33,5 +37,12 @@ std::optional<std::string> JsonStringArray(const std::vector<std::string>& value
 std::string SummaryColumnList(const std::string& prefix = "");
 
 void BindTestFilter(Statement& statement, const TestFilter& filter);
+
+// The common table expression "scope AS (SELECT t.id AS test_id ...)" of
+// the tests of a JobScope (db/job_queue.h), bound by BindJobScope to
+// parameters ?1..?5; other parameters of such statements start at ?10.
+std::string JobScopeCte();
+// Throws InputError for a shard other than I/N with 0 <= I < N.
+void BindJobScope(Statement& statement, const JobScope& scope);
 
 }  // namespace napkin::db::internal

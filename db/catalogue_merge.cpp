@@ -83,6 +83,22 @@ void MergeDefinitions(Connection& connection) {
   MapKeys(connection, "configs", "config_hash");
 }
 
+// A shard test this catalogue lacks must come with its raw channels: a
+// results file (`run --results`, db/results_file.h) holds test rows without
+// them, so it can only bring results of tests already here.
+void RefuseTestsWithoutChannels(Connection& connection, const std::string& shard_path,
+                                const std::string& catalogue_path) {
+  auto missing = connection.Prepare(
+      "SELECT st.external_id FROM shard.tests AS st WHERE st.content_hash NOT IN (SELECT content_hash FROM "
+      "main.tests) AND NOT EXISTS (SELECT 1 FROM shard.raw_channels AS rc WHERE rc.test_id = st.id) "
+      "ORDER BY st.external_id LIMIT 1");
+  if (missing->Step())
+    throw InputError("test '" + missing->ColumnText(0) + "' of '" + shard_path +
+                     "' is not in the catalogue '" + catalogue_path +
+                     "', and a results file carries no raw channels, so it cannot add tests: merge it into "
+                     "the catalogue it was computed from.");
+}
+
 // Tests this catalogue lacks, with their raw channels, then the tests' key
 // map. Returns the number of tests added.
 std::int64_t MergeTests(Connection& connection) {
@@ -187,6 +203,39 @@ void MergeDerivedChannels(Connection& connection) {
       "ON d.test_id = m.shard_test AND d.config_id = m.shard_config");
 }
 
+// The findings of the shard's failed jobs of tests still without a result
+// here replace this catalogue's findings of that test and config (when they
+// differ, so merging a shard twice changes nothing), as the
+// scheduler's WriteFindings does for a failure with findings (a screening
+// failure, jobs/scheduler.h).
+void MergeFailureFindings(Connection& connection) {
+  connection.Execute("DROP TABLE IF EXISTS temp.merge_failed");
+  connection.Execute(
+      "CREATE TEMP TABLE merge_failed AS SELECT j.test_id AS shard_test, j.config_id AS shard_config, "
+      "tk.main_id AS test_id, ck.main_id AS config_id FROM shard.jobs AS j "
+      "JOIN temp.merge_tests_key AS tk ON tk.shard_id = j.test_id "
+      "JOIN temp.merge_configs_key AS ck ON ck.shard_id = j.config_id "
+      "WHERE j.state = 'failed' AND NOT EXISTS "
+      "(SELECT 1 FROM main.results AS r WHERE r.test_id = tk.main_id AND r.config_id = ck.main_id) "
+      "AND EXISTS (SELECT 1 FROM shard.findings AS f WHERE f.test_id = j.test_id AND f.config_id = "
+      "j.config_id) AND ("
+      "EXISTS (SELECT position, check_name, channel, severity, detail FROM shard.findings "
+      "WHERE test_id = j.test_id AND config_id = j.config_id EXCEPT SELECT position, check_name, channel, "
+      "severity, detail FROM main.findings WHERE test_id = tk.main_id AND config_id = ck.main_id) OR "
+      "EXISTS (SELECT position, check_name, channel, severity, detail FROM main.findings "
+      "WHERE test_id = tk.main_id AND config_id = ck.main_id EXCEPT SELECT position, check_name, channel, "
+      "severity, detail FROM shard.findings WHERE test_id = j.test_id AND config_id = j.config_id))");
+  connection.Execute(
+      "DELETE FROM main.findings WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM "
+      "temp.merge_failed)");
+  connection.Execute(
+      "INSERT INTO main.findings (test_id, config_id, position, check_name, channel, severity, detail) "
+      "SELECT m.test_id, m.config_id, f.position, f.check_name, f.channel, f.severity, f.detail "
+      "FROM temp.merge_failed AS m JOIN shard.findings AS f "
+      "ON f.test_id = m.shard_test AND f.config_id = m.shard_config ORDER BY f.id");
+  connection.Execute("DROP TABLE temp.merge_failed");
+}
+
 // Job state: the taken results' jobs are done; failures of tests still
 // without a result here are failed (a result wins). Returns the number of
 // failures merged (a failure under another napkin version is merged too).
@@ -250,6 +299,7 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
   MergeReport report;
   Transaction transaction(connection_);
   RefuseConflictingTests(connection_, shard_path);
+  RefuseTestsWithoutChannels(connection_, shard_path, connection_.path());
   MergeDefinitions(connection_);
   report.tests_added = MergeTests(connection_);
   RefuseConflictingResults(connection_, shard_path);
@@ -258,6 +308,7 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
   MergeFindings(connection_);
   MergeConditioning(connection_);
   MergeDerivedChannels(connection_);
+  MergeFailureFindings(connection_);
   report.failures_merged = MergeJobState(connection_, clock_());
   connection_.Execute("DROP TABLE temp.merge_take");
   DropKeyMaps(connection_);

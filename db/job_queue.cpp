@@ -23,8 +23,12 @@ namespace {
 // (count) and ?5 (index).
 constexpr const char* kShardTerms = "(?4 IS NULL OR t.id % ?4 = ?5)";
 
+}  // namespace
+
+namespace internal {
+
 // The tests of a JobScope: parameters ?1..?5.
-std::string ScopeCte() {
+std::string JobScopeCte() {
   return std::string(
              "scope AS (SELECT t.id AS test_id FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id "
              "WHERE ") +
@@ -49,6 +53,14 @@ void BindJobScope(Statement& statement, const JobScope& scope) {
     statement.Bind(5, scope.shard->index);
   }
 }
+
+}  // namespace internal
+
+namespace {
+
+using internal::BindJobScope;
+
+std::string ScopeCte() { return internal::JobScopeCte(); }
 
 }  // namespace
 

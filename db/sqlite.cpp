@@ -200,7 +200,24 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
                      "writable or copy the catalogue to a writable directory.");
   const std::string wal_path = path + "-wal";
   const bool wal_present = std::filesystem::exists(wal_path, error);
-  if (directory_read_only && !wal_present && std::filesystem::is_regular_file(path, error)) {
+  if (options.immutable) {
+    if (!options.read_only) throw std::invalid_argument("Connection::Open: immutable needs read_only");
+    if (!plain_file)
+      throw InputError("catalogue '" + path +
+                       "' must be named by its file name (not a URI) to be read shared.");
+    if (!std::filesystem::is_regular_file(path, error))
+      throw InputError("catalogue '" + path + "' does not exist.");
+    // An immutable reader sees only the main file: changes still in a
+    // write-ahead log (or a hot rollback journal) would be silently missing.
+    for (const std::string& log : {wal_path, path + "-journal"})
+      if (std::filesystem::exists(log, error) && std::filesystem::file_size(log, error) > 0)
+        throw InputError("catalogue '" + path + "' has changes not yet written into it (in '" + log +
+                         "'); let the process writing it finish, or run `sqlite3 '" + path +
+                         "' 'PRAGMA wal_checkpoint(TRUNCATE)'` where it is writable, then run the command "
+                         "again.");
+  }
+  if ((options.immutable || (directory_read_only && !wal_present)) &&
+      std::filesystem::is_regular_file(path, error)) {
     file_name = ImmutableUri(path);
     flags |= SQLITE_OPEN_URI;
   }

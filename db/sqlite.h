@@ -157,6 +157,12 @@ struct ConnectionOptions {
   bool read_only = false;       // open without write access (queries only)
   bool durable = true;          // synchronous=FULL: a committed write survives power loss
   int busy_timeout_ms = 30000;  // wait this long for another writer's lock
+  // With read_only: open the file immutable (SQLite URI "immutable=1": no
+  // locks, no -wal, -shm or journal file created beside it), for a catalogue
+  // many processes read at once on a shared file system (`run --results`).
+  // Refused (InputError) when a non-empty -wal or -journal file is beside it:
+  // an immutable reader would not see those changes.
+  bool immutable = false;
 };
 
 // Which file a name leads to, after links and URI parsing.

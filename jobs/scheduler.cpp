@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "db/results_file.h"
 #include "engine/pipeline.h"
 #include "records/array_record.h"
 
@@ -443,15 +444,17 @@ class ResultWriter {
   std::thread thread_;  // last: started after every other member is ready
 };
 
-// The reader thread: claims jobs a few at a time on its own connection and
-// reads their tests ahead of the compute threads, one token per test.
+// The reader thread: claims jobs a few at a time (in `queue_catalogue`, on
+// its own connection) and reads their tests (from `catalogue`: the same one,
+// or the read-only catalogue of a results-file run) ahead of the compute
+// threads, one token per test.
 class JobReader {
  public:
-  JobReader(db::Catalogue& catalogue, db::ConfigId config, std::string owner, const RunOptions& options,
-            LeaseBook& book, RunState& state, ReadyQueue& ready, ResultWriter& writer, RunReport& report,
-            const std::atomic<bool>* stop)
+  JobReader(db::Catalogue& catalogue, db::Catalogue& queue_catalogue, db::ConfigId config, std::string owner,
+            const RunOptions& options, LeaseBook& book, RunState& state, ReadyQueue& ready,
+            ResultWriter& writer, RunReport& report, const std::atomic<bool>* stop)
       : catalogue_(catalogue),
-        queue_(catalogue),
+        queue_(queue_catalogue),
         config_(config),
         owner_(std::move(owner)),
         options_(options),
@@ -578,8 +581,8 @@ class JobReader {
     std::string error;  // the array's decoding error, if any
   };
 
-  db::Catalogue& catalogue_;
-  db::JobQueue queue_;  // on catalogue_
+  db::Catalogue& catalogue_;  // inputs
+  db::JobQueue queue_;        // on the catalogue the results go to
   db::ConfigId config_;
   std::string owner_;
   const RunOptions& options_;
@@ -671,7 +674,15 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
 
   db::CatalogueOptions catalogue_options;
   catalogue_options.durable = options.durable;
-  db::Catalogue reader_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  // Jobs and results live in `work_path`: the catalogue, or a results file
+  // beside the shared read-only catalogue (`inputs`).
+  const bool results_file = !options.results_path.empty();
+  const std::string& work_path = results_file ? options.results_path : db_path;
+  std::optional<db::Catalogue> inputs;
+  if (results_file) inputs.emplace(db::ResultsFile::OpenSharedCatalogue(db_path));
+  db::Catalogue reader_catalogue = results_file ? db::ResultsFile::Open(work_path, *inputs, catalogue_options)
+                                                : db::Catalogue::Open(db_path, catalogue_options);
+  if (results_file) db::ResultsFile::CopyTests(*inputs, reader_catalogue, options.scope);
   db::JobQueue reader_queue(reader_catalogue);
   report.config = reader_catalogue.WriteConfig(processing.record);
   reader_queue.EnqueueMissing(report.config, options.scope, options.force, options.outdated);
@@ -684,7 +695,7 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
                processing.record.name, processing.record.config_hash.substr(0, 12), report.total,
                report.skipped, report.threads);
 
-  db::Catalogue writer_catalogue = db::Catalogue::Open(db_path, catalogue_options);
+  db::Catalogue writer_catalogue = db::Catalogue::Open(work_path, catalogue_options);
   LeaseBook book;
   RunState state(report.max_tests_in_flight);
   ReadyQueue ready;
@@ -692,12 +703,12 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
   std::exception_ptr error;
   {
     // Declared first, so it renews the leases until the writer has committed the last batch.
-    Heartbeat heartbeat(db_path, catalogue_options, book, report.owner, options.lease_s);
+    Heartbeat heartbeat(work_path, catalogue_options, book, report.owner, options.lease_s);
     ResultWriter writer(writer_catalogue, report.config, engine::SolverName(processing.config.solver),
                         processing.config.storage.derived_channels, report.owner, options,
                         report.max_tests_in_flight, book, state, report, progress, start);
-    JobReader reader(reader_catalogue, report.config, report.owner, options, book, state, ready, writer,
-                     report, stop);
+    JobReader reader(inputs ? *inputs : reader_catalogue, reader_catalogue, report.config, report.owner,
+                     options, book, state, ready, writer, report, stop);
     try {
       // The compute threads: an arena of exactly `threads`; reading and
       // writing happen on the two threads above, never on these.

@@ -58,6 +58,10 @@ struct RunOptions {
   double poll_interval_s = 0.5;        // wait between claims while other workers hold the remaining jobs
   bool store_kinematics = true;        // false: store no derived channels whatever config.storage says
   bool durable = true;                 // synchronous=FULL commits
+  // --results: when set, the catalogue is only read (opened immutable, so
+  // many nodes may share it) and the jobs and results go to this results
+  // file (db/results_file.h), created if missing; empty: both in the catalogue.
+  std::string results_path;
 
   // Throws std::invalid_argument naming the field out of range.
   void Check() const;
@@ -101,7 +105,10 @@ struct RunReport {
 
 // Processes every test in `options.scope` whose result for `processing` is
 // missing, failed, (with outdated) computed by another napkin version or
-// (with force) present (db::JobQueue::EnqueueMissing); see the file comment. `stop` (set
+// (with force) present (db::JobQueue::EnqueueMissing); see the file comment.
+// With options.results_path the inputs come from the catalogue at `db_path`
+// opened read-only and immutable, and everything written (config, jobs,
+// results) goes to the results file. `stop` (set
 // by a signal handler) ends the run after the tests in flight. Throws
 // InputError for a catalogue that cannot be opened, db::DatabaseError when
 // the catalogue fails during the run (its leases are released first).
