@@ -11,6 +11,7 @@
 #include "common/version.h"
 #include "engine/summary_fields.h"
 #include "tests/cli/cli_test_util.h"
+#include "tests/support/test_support.h"
 
 namespace napkin {
 namespace {
