@@ -245,8 +245,8 @@ class Catalogue {
   void WriteConditioning(TestId test, ConfigId config,
                          std::span<const engine::ChannelConditioning> conditioning);
   // Stores (replacing) the kinematics as named derived channels, encoded as
-  // `storage` says (docs/formats.md "Derived-channel storage"); kNone only
-  // removes the earlier ones.
+  // `storage` says (docs/formats.md "Derived-channel storage"; time_s is
+  // always float64); kNone only removes the earlier ones.
   void WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics,
                        engine::DerivedStorage storage = engine::DerivedStorage::kFloat64);
   // The summary (with findings and conditioning record) of the test under `config`, if computed.

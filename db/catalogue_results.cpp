@@ -190,7 +190,9 @@ void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kine
     DeleteDerivedChannels(test, config);
     return;
   }
-  const bool float32 = storage == engine::DerivedStorage::kFloat32;
+  // time_s, the time base, stays float64 whatever the storage: exports' sampling
+  // interval and first-sample time stay exact (docs/formats.md "Derived-channel storage").
+  const std::string time_channel = "time_s";
   const Eigen::Index n = kinematics.size();
   // Informative only (readers of plain sqlite3); time_s itself is stored
   // bit-exact. NaN binds as NULL: no t0 without samples, no dt below two.
@@ -205,10 +207,11 @@ void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kine
       "INSERT INTO derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, encoding, samples) "
       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
   std::vector<std::byte> scratch;
-  const std::string encoding = engine::DerivedStorageName(storage);
   // The accessors only read the columns here.
   for (const auto& [name, column] : KinematicsChannels(const_cast<engine::Kinematics&>(kinematics))) {
     const std::span<const double> values(column, static_cast<std::size_t>(n));
+    const bool float32 = storage == engine::DerivedStorage::kFloat32 && name != time_channel;
+    const char* encoding = engine::DerivedStorageName(float32 ? storage : engine::DerivedStorage::kFloat64);
     insert->BindAll(
         test, config, name, dt_s, t0_s, n, encoding,
         float32 ? Float32LittleEndianBytes(values, scratch) : Float64LittleEndianBytes(values, scratch));
