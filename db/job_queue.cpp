@@ -81,7 +81,7 @@ std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bo
         "SELECT scope.test_id, ?10, 'queued', ?11 FROM scope "
         "WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE j.test_id = scope.test_id AND j.config_id = ?10) "
         "AND (?12 OR NOT EXISTS (" +
-        UpToDateResult("scope.test_id") + "))";
+        internal::UpToDateResult("scope.test_id") + "))";
     auto insert = connection_.Prepare(kInsert);
     BindJobScope(*insert, scope);
     insert->Bind(10, config);
@@ -101,7 +101,7 @@ std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bo
         "started_at = NULL, finished_at = NULL, duration_s = NULL "
         "WHERE config_id = ?10 AND test_id IN (SELECT test_id FROM scope) AND ("
         "state = 'failed' OR (state = 'done' AND (?12 OR NOT EXISTS (" +
-        UpToDateResult("jobs.test_id") + "))))";
+        internal::UpToDateResult("jobs.test_id") + "))))";
     auto requeue = connection_.Prepare(kRequeue);
     BindJobScope(*requeue, scope);
     requeue->Bind(10, config);
