@@ -1,5 +1,6 @@
 #include "engine/exact_solver.h"
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -18,6 +19,10 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+// Arrays with up to this many linear sensors are solved with fixed-capacity
+// (stack) storage; larger ones with heap storage allocated once per test.
+constexpr int kMaxFixedSizeSensors = 16;
 
 // Per-sensor constants of the centripetal term of the linear sensors,
 //   c_i(omega) = n_i . (omega x (omega x r_i)) = (n_i.omega)(r_i.omega) - (n_i.r_i)|omega|^2,
@@ -80,6 +85,154 @@ MatrixXd MeasurementsBySample(const ArrayGeometry& array, const std::vector<std:
   return by_sample;
 }
 
+// CompleteKinematics one sample at a time, so that a solver can complete
+// each sample while it is in cache: Step(k) once rows k of omega_body,
+// alpha_body and acc_body are final (k = 0, 1, ... in order), then Finish().
+// The arithmetic is IntegrateOrientation's, DifferentiateSecondOrder's and
+// IntegrateHermite's (engine/integration.h), operation for operation.
+class KinematicsCompleter {
+ public:
+  KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
+                      Kinematics& kin)
+      : kin_(kin),
+        gravity_(gravity),
+        initial_(initial),
+        fixed_from_body_0_(InitialFixedFromBody(initial.orientation_rad)),
+        gravity_body_0_(fixed_from_body_0_.transpose() * gravity.g_fixed_mps2),
+        dt_(dt_s),
+        half_dt_(0.5 * dt_s),
+        dt2_12_(dt_s * dt_s / 12.0) {}
+
+  // Orientation (q[k] = q[k-1] Exp(theta_k), IntegrateOrientation), the
+  // gravity term, the fixed-frame series and the angles of sample k.
+  void Step(Index k) {
+    if (k == 0) {
+      fixed_from_body_ = Eigen::Quaterniond(fixed_from_body_0_).normalized();
+    } else {
+      const Vector3d w0 = kin_.omega_body.row(k - 1).transpose(), w1 = kin_.omega_body.row(k).transpose();
+      const Vector3d a0 = kin_.alpha_body.row(k - 1).transpose(), a1 = kin_.alpha_body.row(k).transpose();
+      const Vector3d step_rotation = half_dt_ * (w0 + w1) + dt2_12_ * (a0 - a1) + dt2_12_ * w0.cross(w1);
+      // Body-frame increment multiplies on the right: dR/dt = R [omega_body]x.
+      fixed_from_body_ = (fixed_from_body_ * QuaternionExp(step_rotation)).normalized();
+    }
+    const Eigen::Quaterniond& q = fixed_from_body_;
+    kin_.quat_fixed_from_body.row(k) << q.w(), q.x(), q.y(), q.z();
+    const Eigen::Matrix3d fixed_from_body = q.toRotationMatrix();
+    // docs/algorithms.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
+    // add the term back with the integrated orientation.
+    if (gravity_.compensate)
+      kin_.acc_body.row(k) +=
+          (fixed_from_body.transpose() * gravity_.g_fixed_mps2 - gravity_body_0_).transpose();
+    kin_.omega_fixed.row(k) = (fixed_from_body * kin_.omega_body.row(k).transpose()).transpose();
+    kin_.alpha_fixed.row(k) = (fixed_from_body * kin_.alpha_body.row(k).transpose()).transpose();
+    kin_.acc_fixed.row(k) = (fixed_from_body * kin_.acc_body.row(k).transpose()).transpose();
+    kin_.roll_pitch_yaw_rad.row(k) = RollPitchYaw(fixed_from_body).transpose();
+    kin_.dcos_rad.row(k) = DirectionCosineAngles(fixed_from_body).transpose();
+  }
+
+  // Velocity (from the initial velocity) and position (from 0) by the
+  // Hermite rule, the slope of acc_fixed taken on the fly, in one pass.
+  void Finish() {
+    const Index n = kin_.size();
+    if (n == 0) return;
+    const Series3& acc = kin_.acc_fixed;
+    const double inv_2dt = 0.5 / dt_;
+    auto acc_rate = [&](Index k) -> Eigen::RowVector3d {
+      if (n == 2) return (acc.row(1) - acc.row(0)) / dt_;
+      if (k == 0) return (-3.0 * acc.row(0) + 4.0 * acc.row(1) - acc.row(2)) * inv_2dt;
+      if (k == n - 1) return (3.0 * acc.row(n - 1) - 4.0 * acc.row(n - 2) + acc.row(n - 3)) * inv_2dt;
+      return (acc.row(k + 1) - acc.row(k - 1)) * inv_2dt;
+    };
+    kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
+    kin_.pos_fixed.row(0).setZero();
+    if (n == 1) return;
+    Eigen::RowVector3d rate_prev = acc_rate(0);
+    for (Index k = 1; k < n; ++k) {
+      const Eigen::RowVector3d rate = acc_rate(k);
+      kin_.vel_fixed.row(k) =
+          kin_.vel_fixed.row(k - 1) + half_dt_ * (acc.row(k - 1) + acc.row(k)) + dt2_12_ * (rate_prev - rate);
+      kin_.pos_fixed.row(k) = kin_.pos_fixed.row(k - 1) +
+                              half_dt_ * (kin_.vel_fixed.row(k - 1) + kin_.vel_fixed.row(k)) +
+                              dt2_12_ * (acc.row(k - 1) - acc.row(k));
+      rate_prev = rate;
+    }
+  }
+
+ private:
+  Kinematics& kin_;
+  const GravityOptions& gravity_;
+  const InitialState& initial_;
+  const Eigen::Matrix3d fixed_from_body_0_;
+  const Vector3d gravity_body_0_;
+  const double dt_, half_dt_, dt2_12_;
+  Eigen::Quaterniond fixed_from_body_;
+};
+
+// The centripetal term of linear sensor i is a quadratic form in omega,
+//   c_i(omega) = (n_i.omega)(r_i.omega) - (n_i.r_i)|omega|^2 = C_i . Quadratic(omega),
+// with the monomials Quadratic(w) = (wx^2, wy^2, wz^2, wx wy, wx wz, wy wz), and so is its rate
+//   dc_i/dt = (n_i.alpha)(r_i.omega) + (n_i.omega)(r_i.alpha) - 2 (n_i.r_i)(omega.alpha)
+//           = C_i . QuadraticRate(omega, alpha).
+// Every linear map of the centripetal terms (the least-squares solution,
+// the residual) is thus a fixed 6-column matrix times six monomials.
+Vector6d Quadratic(const Vector3d& w) {
+  Vector6d monomials;
+  monomials << w.x() * w.x(), w.y() * w.y(), w.z() * w.z(), w.x() * w.y(), w.x() * w.z(), w.y() * w.z();
+  return monomials;
+}
+
+Vector6d QuadraticRate(const Vector3d& w, const Vector3d& a) {
+  Vector6d rates;
+  rates << 2.0 * w.x() * a.x(), 2.0 * w.y() * a.y(), 2.0 * w.z() * a.z(), w.x() * a.y() + w.y() * a.x(),
+      w.x() * a.z() + w.z() * a.x(), w.y() * a.z() + w.z() * a.y();
+  return rates;
+}
+
+// Rows C_i (L x 6) of the sensors `indices`.
+MatrixXd CentripetalCoefficients(const ArrayGeometry& array, const std::vector<std::size_t>& indices) {
+  MatrixXd coefficients(static_cast<Index>(indices.size()), 6);
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    const Sensor& sensor = array.sensors[indices[i]];
+    const Vector3d& n = sensor.axis_body;
+    const Vector3d& r = sensor.position_body_m;
+    const double n_dot_r = n.dot(r);
+    coefficients.row(static_cast<Index>(i)) << n.x() * r.x() - n_dot_r, n.y() * r.y() - n_dot_r,
+        n.z() * r.z() - n_dot_r, n.x() * r.y() + n.y() * r.x(), n.x() * r.z() + n.z() * r.x(),
+        n.y() * r.z() + n.z() * r.y();
+  }
+  return coefficients;
+}
+
+// The recorded channels of the sensors `indices` (column pointers into
+// signals.samples) and their unit factors.
+struct SensorColumns {
+  std::vector<const double*> columns;
+  VectorXd si_per_unit;
+
+  SensorColumns(const ArrayGeometry& array, const std::vector<std::size_t>& indices,
+                const TestSignals& signals)
+      : si_per_unit(static_cast<Index>(indices.size())) {
+    for (std::size_t i = 0; i < indices.size(); ++i) {
+      const Sensor& sensor = array.sensors[indices[i]];
+      columns.push_back(signals.samples.col(signals.FindSlot(sensor.slot)).data());
+      si_per_unit(static_cast<Index>(i)) = sensor.si_per_unit;
+    }
+  }
+};
+
+// Orthonormal basis (rows) of the complement of the column space of `rows`
+// (L x 6) as PseudoInverse sees it (singular values above its tolerance):
+// the least-squares residual of rhs is |complement * rhs|, since
+// I - rows * PseudoInverse(rows) = complement^T complement.
+MatrixXd ResidualComplement(const MatrixXd& rows) {
+  const Eigen::JacobiSVD<MatrixXd> svd(rows, Eigen::ComputeFullU);
+  const VectorXd& sv = svd.singularValues();
+  Index rank = 0;
+  for (Index i = 0; i < sv.size(); ++i)
+    if (sv(i) > kRankRelativeTolerance * sv(0)) ++rank;
+  return svd.matrixU().rightCols(rows.rows() - rank).transpose();
+}
+
 // kLinear: at each sample the linear sensors give
 //   n.a + (r x n).alpha = m - c(omega)            (docs/algorithms.md "Solvers")
 // solved by the pseudo-inverse P of the L x 6 rows (factored once; least
@@ -90,56 +243,122 @@ MatrixXd MeasurementsBySample(const ArrayGeometry& array, const std::vector<std:
 // order; its correction telescopes, so errors in m' at kinks stay local.
 // omega[k] is predicted by a Taylor step and corrected by fixed-point
 // passes (contraction ~ dt |omega|, so 2-3 passes reach round-off).
+//
+// The solve is linear in m, so P m, P_alpha m' (the central difference of
+// P_alpha m) and the residual's projection of m are formed once per sample;
+// each pass only evaluates the 6 x 6 centripetal map P C of the monomials.
+// MaxSensors bounds the number of linear sensors (fixed-capacity storage,
+// nothing allocated per sample); Eigen::Dynamic for any number. The
+// orientation and fixed-frame series of each sample are completed in the
+// same loop (KinematicsCompleter).
+template <int MaxSensors>
 void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
                  Kinematics& out) {
-  LinearSensors sensors(array, array.LinearIndices());
-  const Index count = sensors.size(), n = signals.size();
+  using SixBySensors = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, MaxSensors>;
+  using ComplementBySensors =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxSensors, MaxSensors>;
+  using ComplementBySix = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxSensors, 6>;
+  using ComplementVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxSensors, 1>;
+
+  const std::vector<std::size_t> linear = array.LinearIndices();
+  const SensorColumns channels(array, linear, signals);
+  const auto count = static_cast<Index>(linear.size());
+  const Index n = signals.size();
   const double dt = signals.dt_s;
-  const MatrixXd solve_rows = PseudoInverse(sensors.rows);  // 6 x L
-  const Eigen::Matrix<double, 3, Eigen::Dynamic> alpha_rows = solve_rows.bottomRows<3>();
-  const MatrixXd measured = MeasurementsBySample(array, array.LinearIndices(), signals);
-  const MatrixXd measured_rate = DifferentiateSecondOrder(measured.transpose(), dt).transpose();
+  const MatrixXd rows = LinearRigidBodyRows(array, linear);             // L x 6
+  const MatrixXd solve_rows = PseudoInverse(rows);                      // 6 x L
+  const MatrixXd centripetal = CentripetalCoefficients(array, linear);  // L x 6
+  const MatrixXd complement = ResidualComplement(rows);                 // (L - rank) x L
+  // Per recorded unit: P diag(si) and complement diag(si).
+  const SixBySensors solve_recorded = solve_rows * channels.si_per_unit.asDiagonal();
+  const ComplementBySensors complement_recorded = complement * channels.si_per_unit.asDiagonal();
+  const Eigen::Matrix<double, 6, 6> solve_centripetal = solve_rows * centripetal;
+  const Eigen::Matrix<double, 3, 6> alpha_centripetal = solve_centripetal.bottomRows<3>();
+  const ComplementBySix complement_centripetal = complement * centripetal;
 
-  VectorXd centripetal(count), rhs(count), fitted(count), rate_rhs(count), centripetal_rate(count);
-  Vector6d solution;
-
-  // Solves sample k for (a, alpha) given omega; returns alpha' too.
-  auto solve_sample = [&](Index k, const Vector3d& omega, Vector3d& acc, Vector3d& alpha,
-                          Vector3d& alpha_rate) {
-    sensors.Centripetal(omega, centripetal);
-    rhs = measured.col(k) - centripetal;
-    solution.noalias() = solve_rows * rhs;
-    acc = solution.head<3>();
-    alpha = solution.tail<3>();
-    sensors.CentripetalRate(omega, alpha, centripetal_rate);
-    rate_rhs = measured_rate.col(k) - centripetal_rate;
-    alpha_rate.noalias() = alpha_rows * rate_rhs;
+  // P m of sample k, one fixed-size column per sensor.
+  auto projected_at = [&](Index k) -> Vector6d {
+    Vector6d projected = Vector6d::Zero();
+    for (Index i = 0; i < count; ++i)
+      projected += solve_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
+    return projected;
+  };
+  // The least-squares residual norm of sample k given omega.
+  ComplementVector residual(complement.rows());
+  auto residual_at = [&](Index k, const Vector3d& omega_k) -> double {
+    const Vector6d monomials = Quadratic(omega_k);
+    residual.setZero();
+    for (Index i = 0; i < count; ++i)
+      residual += complement_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
+    for (Index j = 0; j < 6; ++j) residual -= complement_centripetal.col(j) * monomials(j);
+    return residual.norm();
   };
 
+  KinematicsCompleter completer(options.initial, options.gravity, dt, out);
+  const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0, inv_2dt = 0.5 / dt;
   const int passes = options.corrector_passes;
-  const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0;
+  // P m of samples k - 2 .. k + 1 (k + 1 while it exists), and P_alpha m' at k.
+  Vector6d projected_km2 = Vector6d::Zero(), projected_km1 = Vector6d::Zero();
+  Vector6d projected_k = projected_at(0), projected_kp1 = n > 1 ? projected_at(1) : projected_k;
+  Vector3d alpha_measured_rate;
   Vector3d omega = options.initial.omega_body_radps, acc, alpha, alpha_rate;
-  solve_sample(0, omega, acc, alpha, alpha_rate);
+  Vector6d solution;
+  // (a, alpha) and alpha' of sample k given omega.
+  auto solve_sample = [&](const Vector3d& omega_k) {
+    solution.noalias() = projected_k - solve_centripetal * Quadratic(omega_k);
+    acc = solution.head<3>();
+    alpha = solution.tail<3>();
+    alpha_rate.noalias() = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega_k, alpha);
+  };
   for (Index k = 0; k < n; ++k) {
     if (k > 0) {
+      projected_km2 = projected_km1;
+      projected_km1 = projected_k;
+      projected_k = projected_kp1;
+      if (k + 1 < n) projected_kp1 = projected_at(k + 1);
+    }
+    // Second-order differences as DifferentiateSecondOrder takes them.
+    if (n < 2) {
+      alpha_measured_rate.setZero();
+    } else if (n == 2) {
+      alpha_measured_rate =
+          (k == 0 ? projected_kp1 - projected_k : projected_k - projected_km1).tail<3>() / dt;
+    } else if (k == 0) {
+      const Vector6d projected_2 = projected_at(2);
+      alpha_measured_rate =
+          (-3.0 * projected_k.tail<3>() + 4.0 * projected_kp1.tail<3>() - projected_2.tail<3>()) * inv_2dt;
+    } else if (k == n - 1) {
+      alpha_measured_rate =
+          (3.0 * projected_k.tail<3>() - 4.0 * projected_km1.tail<3>() + projected_km2.tail<3>()) * inv_2dt;
+    } else {
+      alpha_measured_rate = (projected_kp1.tail<3>() - projected_km1.tail<3>()) * inv_2dt;
+    }
+
+    if (k == 0) {
+      solve_sample(omega);
+    } else {
       const Vector3d omega_prev = omega, alpha_prev = alpha, alpha_rate_prev = alpha_rate;
       omega = omega_prev + dt * alpha_prev + 0.5 * dt * dt * alpha_rate_prev;  // Taylor predictor
       for (int pass = 0; pass < passes; ++pass) {
-        solve_sample(k, omega, acc, alpha, alpha_rate);
+        // alpha and alpha' only: the acceleration waits for the final omega.
+        const Vector3d alpha_pass = projected_k.tail<3>() - alpha_centripetal * Quadratic(omega);
+        const Vector3d alpha_rate_pass =
+            alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha_pass);
         const Vector3d corrected =
-            omega_prev + half_dt * (alpha_prev + alpha) + dt2_12 * (alpha_rate_prev - alpha_rate);
+            omega_prev + half_dt * (alpha_prev + alpha_pass) + dt2_12 * (alpha_rate_prev - alpha_rate_pass);
         const double change = (corrected - omega).norm();
         omega = corrected;
         if (change <= 1e-15 * (1.0 + omega.norm())) break;
       }
-      solve_sample(k, omega, acc, alpha, alpha_rate);  // (a, alpha) consistent with the final omega
+      solve_sample(omega);  // (a, alpha) consistent with the final omega
     }
-    fitted.noalias() = sensors.rows * solution;
-    out.residual(k) = (fitted - rhs).norm();
+    out.residual(k) = residual_at(k, omega);
     out.omega_body.row(k) = omega.transpose();
     out.alpha_body.row(k) = alpha.transpose();
     out.acc_body.row(k) = acc.transpose();
+    completer.Step(k);
   }
+  completer.Finish();
 }
 
 // omega from the angular-rate sensors (least squares over their axes) and
@@ -240,27 +459,9 @@ ExactPath ClassifyArray(const ArrayGeometry& array) {
 
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
                         Kinematics& kin) {
-  const Index n = kin.size();
-  const Eigen::Matrix3d fixed_from_body_0 = InitialFixedFromBody(initial.orientation_rad);
-  IntegrateOrientation(dt_s, kin.omega_body, kin.alpha_body, Eigen::Quaterniond(fixed_from_body_0),
-                       kin.quat_fixed_from_body);
-  // docs/algorithms.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
-  // add the term back with the integrated orientation.
-  const Vector3d gravity_body_0 = fixed_from_body_0.transpose() * gravity.g_fixed_mps2;
-  for (Index k = 0; k < n; ++k) {
-    const Eigen::Matrix3d fixed_from_body = QuatAt(kin.quat_fixed_from_body, k).toRotationMatrix();
-    if (gravity.compensate)
-      kin.acc_body.row(k) +=
-          (fixed_from_body.transpose() * gravity.g_fixed_mps2 - gravity_body_0).transpose();
-    kin.omega_fixed.row(k) = (fixed_from_body * kin.omega_body.row(k).transpose()).transpose();
-    kin.alpha_fixed.row(k) = (fixed_from_body * kin.alpha_body.row(k).transpose()).transpose();
-    kin.acc_fixed.row(k) = (fixed_from_body * kin.acc_body.row(k).transpose()).transpose();
-    kin.roll_pitch_yaw_rad.row(k) = RollPitchYaw(fixed_from_body).transpose();
-    kin.dcos_rad.row(k) = DirectionCosineAngles(fixed_from_body).transpose();
-  }
-  const Series3 acc_fixed_rate = DifferentiateSecondOrder(kin.acc_fixed, dt_s);
-  IntegrateHermite(dt_s, kin.acc_fixed, acc_fixed_rate, initial.velocity_fixed_mps, kin.vel_fixed);
-  IntegrateHermite(dt_s, kin.vel_fixed, kin.acc_fixed, Vector3d::Zero(), kin.pos_fixed);
+  KinematicsCompleter completer(initial, gravity, dt_s, kin);
+  for (Index k = 0; k < kin.size(); ++k) completer.Step(k);
+  completer.Finish();
 }
 
 Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
@@ -270,8 +471,12 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
   kin.dt_s = signals.dt_s;
   switch (ClassifyArray(array)) {
     case ExactPath::kLinear:
-      SolveLinear(array, signals, options, kin);
-      break;
+      // Completes the kinematics sample by sample.
+      if (array.LinearIndices().size() <= static_cast<std::size_t>(kMaxFixedSizeSensors))
+        SolveLinear<kMaxFixedSizeSensors>(array, signals, options, kin);
+      else
+        SolveLinear<Eigen::Dynamic>(array, signals, options, kin);
+      return kin;
     case ExactPath::kSixAOmega:
       SolveSixAOmega(array, signals, kin);
       break;
