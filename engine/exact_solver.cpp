@@ -24,6 +24,9 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 // (stack) storage; larger ones with heap storage allocated once per test.
 constexpr int kMaxFixedSizeSensors = 16;
 
+// How far ahead (samples) the exact solver prefetches the recorded channels.
+constexpr Index kPrefetchSamples = 64;
+
 // Per-sensor constants of the centripetal term of the linear sensors,
 //   c_i(omega) = n_i . (omega x (omega x r_i)) = (n_i.omega)(r_i.omega) - (n_i.r_i)|omega|^2,
 // and of its time derivative given alpha:
@@ -254,11 +257,16 @@ MatrixXd ResidualComplement(const MatrixXd& rows) {
 template <int MaxSensors>
 void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
                  Kinematics& out) {
+  // The residual's complement has at most MaxSensors - 6 rows; with a fixed
+  // MaxSensors it is stored with exactly that many, zero-padded (zero rows
+  // add exact zeros to the residual norm), so the per-sample sums stay in
+  // registers.
+  constexpr int kComplementRows = MaxSensors == Eigen::Dynamic ? Eigen::Dynamic : MaxSensors - 6;
   using SixBySensors = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, MaxSensors>;
   using ComplementBySensors =
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxSensors, MaxSensors>;
-  using ComplementBySix = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxSensors, 6>;
-  using ComplementVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxSensors, 1>;
+      Eigen::Matrix<double, kComplementRows, Eigen::Dynamic, 0, kComplementRows, MaxSensors>;
+  using ComplementBySix = Eigen::Matrix<double, kComplementRows, 6>;
+  using ComplementVector = Eigen::Matrix<double, kComplementRows, 1>;
 
   const std::vector<std::size_t> linear = array.LinearIndices();
   const SensorColumns channels(array, linear, signals);
@@ -269,12 +277,19 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   const MatrixXd solve_rows = PseudoInverse(rows);                      // 6 x L
   const MatrixXd centripetal = CentripetalCoefficients(array, linear);  // L x 6
   const MatrixXd complement = ResidualComplement(rows);                 // (L - rank) x L
+  if constexpr (kComplementRows != Eigen::Dynamic) {
+    // Rows whose unscaled rank is below 6 leave a larger complement.
+    if (complement.rows() > kComplementRows) return SolveLinear<Eigen::Dynamic>(array, signals, options, out);
+  }
+  const Index complement_rows = kComplementRows == Eigen::Dynamic ? complement.rows() : kComplementRows;
   // Per recorded unit: P diag(si) and complement diag(si).
   const SixBySensors solve_recorded = solve_rows * channels.si_per_unit.asDiagonal();
-  const ComplementBySensors complement_recorded = complement * channels.si_per_unit.asDiagonal();
+  ComplementBySensors complement_recorded = ComplementBySensors::Zero(complement_rows, count);
+  complement_recorded.topRows(complement.rows()) = complement * channels.si_per_unit.asDiagonal();
   const Eigen::Matrix<double, 6, 6> solve_centripetal = solve_rows * centripetal;
   const Eigen::Matrix<double, 3, 6> alpha_centripetal = solve_centripetal.bottomRows<3>();
-  const ComplementBySix complement_centripetal = complement * centripetal;
+  ComplementBySix complement_centripetal = ComplementBySix::Zero(complement_rows, 6);
+  complement_centripetal.topRows(complement.rows()) = complement * centripetal;
 
   // P m of sample k, one fixed-size column per sensor.
   auto projected_at = [&](Index k) -> Vector6d {
@@ -284,10 +299,9 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
     return projected;
   };
   // The least-squares residual norm of sample k given omega.
-  ComplementVector residual(complement.rows());
   auto residual_at = [&](Index k, const Vector3d& omega_k) -> double {
     const Vector6d monomials = Quadratic(omega_k);
-    residual.setZero();
+    ComplementVector residual = ComplementVector::Zero(complement_rows);
     for (Index i = 0; i < count; ++i)
       residual += complement_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
     for (Index j = 0; j < 6; ++j) residual -= complement_centripetal.col(j) * monomials(j);
@@ -316,6 +330,12 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       projected_km1 = projected_k;
       projected_k = projected_kp1;
       if (k + 1 < n) projected_kp1 = projected_at(k + 1);
+#if defined(__GNUC__)
+      // The channels are read across L columns at once; ask for each
+      // column's data a few cache lines ahead of the hardware prefetcher.
+      if ((k & 7) == 0 && k + kPrefetchSamples < n)
+        for (const double* column : channels.columns) __builtin_prefetch(column + k + kPrefetchSamples);
+#endif
     }
     // Second-order differences as DifferentiateSecondOrder takes them.
     if (n < 2) {
@@ -470,13 +490,18 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
   for (Index k = 0; k < signals.size(); ++k) kin.time_s(k) = signals.TimeAt(k);
   kin.dt_s = signals.dt_s;
   switch (ClassifyArray(array)) {
-    case ExactPath::kLinear:
-      // Completes the kinematics sample by sample.
-      if (array.LinearIndices().size() <= static_cast<std::size_t>(kMaxFixedSizeSensors))
+    case ExactPath::kLinear: {
+      // Completes the kinematics sample by sample. Fixed-capacity storage
+      // for up to 9 (NAP) and 16 linear sensors, heap storage beyond.
+      const std::size_t linear_count = array.LinearIndices().size();
+      if (linear_count <= 9)
+        SolveLinear<9>(array, signals, options, kin);
+      else if (linear_count <= static_cast<std::size_t>(kMaxFixedSizeSensors))
         SolveLinear<kMaxFixedSizeSensors>(array, signals, options, kin);
       else
         SolveLinear<Eigen::Dynamic>(array, signals, options, kin);
       return kin;
+    }
     case ExactPath::kSixAOmega:
       SolveSixAOmega(array, signals, kin);
       break;
