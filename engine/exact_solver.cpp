@@ -109,15 +109,21 @@ class KinematicsCompleter {
   // Orientation (q[k] = q[k-1] Exp(theta_k), IntegrateOrientation), the
   // gravity term, the fixed-frame series and the angles of sample k.
   void Step(Index k) {
+    // Row k one coefficient at a time (the previous row is kept), so that no
+    // packet load spans the solver's scalar stores of rows k - 1 and k.
+    const Vector3d w1(kin_.omega_body(k, 0), kin_.omega_body(k, 1), kin_.omega_body(k, 2));
+    const Vector3d a1(kin_.alpha_body(k, 0), kin_.alpha_body(k, 1), kin_.alpha_body(k, 2));
     if (k == 0) {
       fixed_from_body_ = Eigen::Quaterniond(fixed_from_body_0_).normalized();
     } else {
-      const Vector3d w0 = kin_.omega_body.row(k - 1).transpose(), w1 = kin_.omega_body.row(k).transpose();
-      const Vector3d a0 = kin_.alpha_body.row(k - 1).transpose(), a1 = kin_.alpha_body.row(k).transpose();
+      const Vector3d& w0 = omega_body_prev_;
+      const Vector3d& a0 = alpha_body_prev_;
       const Vector3d step_rotation = half_dt_ * (w0 + w1) + dt2_12_ * (a0 - a1) + dt2_12_ * w0.cross(w1);
       // Body-frame increment multiplies on the right: dR/dt = R [omega_body]x.
       fixed_from_body_ = (fixed_from_body_ * QuaternionExp(step_rotation)).normalized();
     }
+    omega_body_prev_ = w1;
+    alpha_body_prev_ = a1;
     const Eigen::Quaterniond& q = fixed_from_body_;
     kin_.quat_fixed_from_body.row(k) << q.w(), q.x(), q.y(), q.z();
     const Eigen::Matrix3d fixed_from_body = q.toRotationMatrix();
@@ -126,11 +132,19 @@ class KinematicsCompleter {
     if (gravity_.compensate)
       kin_.acc_body.row(k) +=
           (fixed_from_body.transpose() * gravity_.g_fixed_mps2 - gravity_body_0_).transpose();
-    kin_.omega_fixed.row(k) = (fixed_from_body * kin_.omega_body.row(k).transpose()).transpose();
-    kin_.alpha_fixed.row(k) = (fixed_from_body * kin_.alpha_body.row(k).transpose()).transpose();
-    kin_.acc_fixed.row(k) = (fixed_from_body * kin_.acc_body.row(k).transpose()).transpose();
+    RotateRow(fixed_from_body, kin_.omega_body, k, kin_.omega_fixed);
+    RotateRow(fixed_from_body, kin_.alpha_body, k, kin_.alpha_fixed);
+    RotateRow(fixed_from_body, kin_.acc_body, k, kin_.acc_fixed);
     kin_.roll_pitch_yaw_rad.row(k) = RollPitchYaw(fixed_from_body).transpose();
     kin_.dcos_rad.row(k) = DirectionCosineAngles(fixed_from_body).transpose();
+  }
+
+  // Row k of `fixed` = R * row k of `body`, in scalars: Eigen's packet
+  // loads of a 3 x 3 matrix's (unaligned) columns right after its scalar
+  // stores stall on store forwarding.
+  static void RotateRow(const Eigen::Matrix3d& r, const Series3& body, Index k, Series3& fixed) {
+    const double x = body(k, 0), y = body(k, 1), z = body(k, 2);
+    for (Index i = 0; i < 3; ++i) fixed(k, i) = r(i, 0) * x + r(i, 1) * y + r(i, 2) * z;
   }
 
   // Velocity (from the initial velocity) and position (from 0) by the
@@ -169,6 +183,7 @@ class KinematicsCompleter {
   const Vector3d gravity_body_0_;
   const double dt_, half_dt_, dt2_12_;
   Eigen::Quaterniond fixed_from_body_;
+  Vector3d omega_body_prev_, alpha_body_prev_;  // row k - 1
 };
 
 // The centripetal term of linear sensor i is a quadratic form in omega,
