@@ -120,7 +120,7 @@ class KinematicsCompleter {
       const Vector3d& a0 = alpha_body_prev_;
       const Vector3d step_rotation = half_dt_ * (w0 + w1) + dt2_12_ * (a0 - a1) + dt2_12_ * w0.cross(w1);
       // Body-frame increment multiplies on the right: dR/dt = R [omega_body]x.
-      fixed_from_body_ = (fixed_from_body_ * QuaternionExp(step_rotation)).normalized();
+      fixed_from_body_ = NormalizedProduct(fixed_from_body_, QuaternionExp(step_rotation));
     }
     omega_body_prev_ = w1;
     alpha_body_prev_ = a1;
@@ -137,6 +137,18 @@ class KinematicsCompleter {
     RotateRow(fixed_from_body, kin_.acc_body, k, kin_.acc_fixed);
     kin_.roll_pitch_yaw_rad.row(k) = RollPitchYaw(fixed_from_body).transpose();
     kin_.dcos_rad.row(k) = DirectionCosineAngles(fixed_from_body).transpose();
+  }
+
+  // (a b).normalized() for unit quaternions a and b. |a b|^2 = 1 + e with e
+  // a few ulp, and 1/sqrt(1 + e) = 1 - e/2 + 3e^2/8 - ..., so (a b) (3 - |a b|^2) / 2
+  // is the normalized product to round-off, without a square root and a
+  // division on the sample-to-sample dependency chain; a product further
+  // from unit length is normalized exactly.
+  static Eigen::Quaterniond NormalizedProduct(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+    const Eigen::Quaterniond product = a * b;
+    const double norm_sq = product.squaredNorm();
+    if (std::abs(norm_sq - 1.0) > 1e-9) return product.normalized();
+    return Eigen::Quaterniond(product.coeffs() * (1.5 - 0.5 * norm_sq));
   }
 
   // Row k of `fixed` = R * row k of `body`, in scalars: Eigen's packet
