@@ -343,14 +343,6 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   Vector6d projected_k = projected_at(0), projected_kp1 = n > 1 ? projected_at(1) : projected_k;
   Vector3d alpha_measured_rate;
   Vector3d omega = options.initial.omega_body_radps, acc, alpha, alpha_rate;
-  Vector6d solution;
-  // (a, alpha) and alpha' of sample k given omega.
-  auto solve_sample = [&](const Vector3d& omega_k) {
-    solution.noalias() = projected_k - solve_centripetal * Quadratic(omega_k);
-    acc = solution.head<3>();
-    alpha = solution.tail<3>();
-    alpha_rate.noalias() = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega_k, alpha);
-  };
   for (Index k = 0; k < n; ++k) {
     if (k > 0) {
       projected_km2 = projected_km1;
@@ -381,9 +373,7 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       alpha_measured_rate = (projected_kp1.tail<3>() - projected_km1.tail<3>()) * inv_2dt;
     }
 
-    if (k == 0) {
-      solve_sample(omega);
-    } else {
+    if (k > 0) {
       const Vector3d omega_prev = omega, alpha_prev = alpha, alpha_rate_prev = alpha_rate;
       omega = omega_prev + dt * alpha_prev + 0.5 * dt * dt * alpha_rate_prev;  // Taylor predictor
       for (int pass = 0; pass < passes; ++pass) {
@@ -393,12 +383,18 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
             alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha_pass);
         const Vector3d corrected =
             omega_prev + half_dt * (alpha_prev + alpha_pass) + dt2_12 * (alpha_rate_prev - alpha_rate_pass);
-        const double change = (corrected - omega).norm();
+        // Converged when |change| <= 1e-15 sqrt(1 + |omega|^2) (<= 1e-15 (1 + |omega|)),
+        // compared squared: no square root on the sample-to-sample chain.
+        const double change_sq = (corrected - omega).squaredNorm();
         omega = corrected;
-        if (change <= 1e-15 * (1.0 + omega.norm())) break;
+        if (change_sq <= 1e-30 * (1.0 + omega.squaredNorm())) break;
       }
-      solve_sample(omega);  // (a, alpha) consistent with the final omega
     }
+    // (a, alpha) and alpha' of sample k, consistent with the final omega.
+    const Vector6d solution = projected_k - solve_centripetal * Quadratic(omega);
+    acc = solution.head<3>();
+    alpha = solution.tail<3>();
+    alpha_rate = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha);
     out.residual(k) = residual_at(k, omega);
     out.omega_body.row(k) = omega.transpose();
     out.alpha_body.row(k) = alpha.transpose();
