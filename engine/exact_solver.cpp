@@ -124,39 +124,62 @@ class KinematicsCompleter {
     }
     omega_body_prev_ = w1;
     alpha_body_prev_ = a1;
-    const Eigen::Quaterniond& q = fixed_from_body_;
-    kin_.quat_fixed_from_body.row(k) << q.w(), q.x(), q.y(), q.z();
-    const Eigen::Matrix3d fixed_from_body = q.toRotationMatrix();
+    const double qw = fixed_from_body_.w(), qx = fixed_from_body_.x(), qy = fixed_from_body_.y(),
+                 qz = fixed_from_body_.z();
+    kin_.quat_fixed_from_body(k, 0) = qw;
+    kin_.quat_fixed_from_body(k, 1) = qx;
+    kin_.quat_fixed_from_body(k, 2) = qy;
+    kin_.quat_fixed_from_body(k, 3) = qz;
+    // R = q.toRotationMatrix(), term for term, in scalars (no 3 x 3 matrix in
+    // memory for packet loads to stall on).
+    const double tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
+    const double twx = tx * qw, twy = ty * qw, twz = tz * qw;
+    const double txx = tx * qx, txy = ty * qx, txz = tz * qx;
+    const double tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
+    const double r00 = 1.0 - (tyy + tzz), r01 = txy - twz, r02 = txz + twy;
+    const double r10 = txy + twz, r11 = 1.0 - (txx + tzz), r12 = tyz - twx;
+    const double r20 = txz - twy, r21 = tyz + twx, r22 = 1.0 - (txx + tyy);
     // docs/algorithms.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
     // add the term back with the integrated orientation.
-    if (gravity_.compensate)
-      kin_.acc_body.row(k) +=
-          (fixed_from_body.transpose() * gravity_.g_fixed_mps2 - gravity_body_0_).transpose();
-    RotateRow(fixed_from_body, kin_.omega_body, k, kin_.omega_fixed);
-    RotateRow(fixed_from_body, kin_.alpha_body, k, kin_.alpha_fixed);
-    RotateRow(fixed_from_body, kin_.acc_body, k, kin_.acc_fixed);
-    kin_.roll_pitch_yaw_rad.row(k) = RollPitchYaw(fixed_from_body).transpose();
-    kin_.dcos_rad.row(k) = DirectionCosineAngles(fixed_from_body).transpose();
+    if (gravity_.compensate) {
+      const double gx = gravity_.g_fixed_mps2.x(), gy = gravity_.g_fixed_mps2.y(),
+                   gz = gravity_.g_fixed_mps2.z();
+      kin_.acc_body(k, 0) += r00 * gx + r10 * gy + r20 * gz - gravity_body_0_.x();
+      kin_.acc_body(k, 1) += r01 * gx + r11 * gy + r21 * gz - gravity_body_0_.y();
+      kin_.acc_body(k, 2) += r02 * gx + r12 * gy + r22 * gz - gravity_body_0_.z();
+    }
+    auto rotate_row = [&](const Series3& body, Series3& fixed) {
+      const double x = body(k, 0), y = body(k, 1), z = body(k, 2);
+      fixed(k, 0) = r00 * x + r01 * y + r02 * z;
+      fixed(k, 1) = r10 * x + r11 * y + r12 * z;
+      fixed(k, 2) = r20 * x + r21 * y + r22 * z;
+    };
+    rotate_row(kin_.omega_body, kin_.omega_fixed);
+    rotate_row(kin_.alpha_body, kin_.alpha_fixed);
+    rotate_row(kin_.acc_body, kin_.acc_fixed);
+    Eigen::Matrix3d fixed_from_body;
+    fixed_from_body << r00, r01, r02, r10, r11, r12, r20, r21, r22;
+    const Vector3d roll_pitch_yaw = RollPitchYaw(fixed_from_body);
+    const Vector3d dcos = DirectionCosineAngles(fixed_from_body);
+    for (Index i = 0; i < 3; ++i) {
+      kin_.roll_pitch_yaw_rad(k, i) = roll_pitch_yaw(i);
+      kin_.dcos_rad(k, i) = dcos(i);
+    }
   }
 
-  // (a b).normalized() for unit quaternions a and b. |a b|^2 = 1 + e with e
-  // a few ulp, and 1/sqrt(1 + e) = 1 - e/2 + 3e^2/8 - ..., so (a b) (3 - |a b|^2) / 2
-  // is the normalized product to round-off, without a square root and a
-  // division on the sample-to-sample dependency chain; a product further
-  // from unit length is normalized exactly.
+  // (a b).normalized() for unit quaternions a and b, in scalars. |a b|^2 = 1 + e
+  // with e a few ulp, and 1/sqrt(1 + e) = 1 - e/2 + 3e^2/8 - ..., so
+  // (a b) (3 - |a b|^2) / 2 is the normalized product to round-off, without a
+  // square root and a division on the sample-to-sample dependency chain; a
+  // product further from unit length is normalized exactly.
   static Eigen::Quaterniond NormalizedProduct(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-    const Eigen::Quaterniond product = a * b;
-    const double norm_sq = product.squaredNorm();
-    if (std::abs(norm_sq - 1.0) > 1e-9) return product.normalized();
-    return Eigen::Quaterniond(product.coeffs() * (1.5 - 0.5 * norm_sq));
-  }
-
-  // Row k of `fixed` = R * row k of `body`, in scalars: Eigen's packet
-  // loads of a 3 x 3 matrix's (unaligned) columns right after its scalar
-  // stores stall on store forwarding.
-  static void RotateRow(const Eigen::Matrix3d& r, const Series3& body, Index k, Series3& fixed) {
-    const double x = body(k, 0), y = body(k, 1), z = body(k, 2);
-    for (Index i = 0; i < 3; ++i) fixed(k, i) = r(i, 0) * x + r(i, 1) * y + r(i, 2) * z;
+    const double w = a.w() * b.w() - a.x() * b.x() - a.y() * b.y() - a.z() * b.z();
+    const double x = a.w() * b.x() + a.x() * b.w() + a.y() * b.z() - a.z() * b.y();
+    const double y = a.w() * b.y() + a.y() * b.w() + a.z() * b.x() - a.x() * b.z();
+    const double z = a.w() * b.z() + a.z() * b.w() + a.x() * b.y() - a.y() * b.x();
+    const double norm_sq = w * w + x * x + y * y + z * z;
+    const double scale = std::abs(norm_sq - 1.0) > 1e-9 ? 1.0 / std::sqrt(norm_sq) : 1.5 - 0.5 * norm_sq;
+    return Eigen::Quaterniond(w * scale, x * scale, y * scale, z * scale);
   }
 
   // Velocity (from the initial velocity) and position (from 0) by the
