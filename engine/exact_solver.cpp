@@ -107,7 +107,7 @@ class KinematicsCompleter {
         dt2_12_(dt_s * dt_s / 12.0) {}
 
   // Orientation (q[k] = q[k-1] Exp(theta_k), IntegrateOrientation), the
-  // gravity term, the fixed-frame series and the angles of sample k.
+  // gravity term, and the fixed-frame series of sample k (the angles: Finish).
   void Step(Index k) {
     // Row k one coefficient at a time (the previous row is kept), so that no
     // packet load spans the solver's scalar stores of rows k - 1 and k.
@@ -130,15 +130,10 @@ class KinematicsCompleter {
     kin_.quat_fixed_from_body(k, 1) = qx;
     kin_.quat_fixed_from_body(k, 2) = qy;
     kin_.quat_fixed_from_body(k, 3) = qz;
-    // R = q.toRotationMatrix(), term for term, in scalars (no 3 x 3 matrix in
-    // memory for packet loads to stall on).
-    const double tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
-    const double twx = tx * qw, twy = ty * qw, twz = tz * qw;
-    const double txx = tx * qx, txy = ty * qx, txz = tz * qx;
-    const double tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
-    const double r00 = 1.0 - (tyy + tzz), r01 = txy - twz, r02 = txz + twy;
-    const double r10 = txy + twz, r11 = 1.0 - (txx + tzz), r12 = tyz - twx;
-    const double r20 = txz - twy, r21 = tyz + twx, r22 = 1.0 - (txx + tyy);
+    const Eigen::Matrix3d r = RotationMatrix(qw, qx, qy, qz);
+    const double r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2);
+    const double r10 = r(1, 0), r11 = r(1, 1), r12 = r(1, 2);
+    const double r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
     // docs/algorithms.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
     // add the term back with the integrated orientation.
     if (gravity_.compensate) {
@@ -157,13 +152,33 @@ class KinematicsCompleter {
     rotate_row(kin_.omega_body, kin_.omega_fixed);
     rotate_row(kin_.alpha_body, kin_.alpha_fixed);
     rotate_row(kin_.acc_body, kin_.acc_fixed);
-    Eigen::Matrix3d fixed_from_body;
-    fixed_from_body << r00, r01, r02, r10, r11, r12, r20, r21, r22;
-    const Vector3d roll_pitch_yaw = RollPitchYaw(fixed_from_body);
-    const Vector3d dcos = DirectionCosineAngles(fixed_from_body);
-    for (Index i = 0; i < 3; ++i) {
-      kin_.roll_pitch_yaw_rad(k, i) = roll_pitch_yaw(i);
-      kin_.dcos_rad(k, i) = dcos(i);
+  }
+
+  // q.toRotationMatrix(), term for term, from scalars (no 3 x 3 matrix in
+  // memory for packet loads to stall on).
+  static Eigen::Matrix3d RotationMatrix(double qw, double qx, double qy, double qz) {
+    const double tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
+    const double twx = tx * qw, twy = ty * qw, twz = tz * qw;
+    const double txx = tx * qx, txy = ty * qx, txz = tz * qx;
+    const double tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
+    Eigen::Matrix3d r;
+    r << 1.0 - (tyy + tzz), txy - twz, txz + twy, txy + twz, 1.0 - (txx + tzz), tyz - twx, txz - twy,
+        tyz + twx, 1.0 - (txx + tyy);
+    return r;
+  }
+
+  // Roll, pitch, yaw and direction-cosine angles of every sample, in a loop
+  // of their own after the solve (the libm calls pipeline with each other).
+  void Angles() {
+    const auto& quat = kin_.quat_fixed_from_body;
+    for (Index k = 0; k < kin_.size(); ++k) {
+      const Eigen::Matrix3d r = RotationMatrix(quat(k, 0), quat(k, 1), quat(k, 2), quat(k, 3));
+      const Vector3d roll_pitch_yaw = RollPitchYaw(r);
+      const Vector3d dcos = DirectionCosineAngles(r);
+      for (Index i = 0; i < 3; ++i) {
+        kin_.roll_pitch_yaw_rad(k, i) = roll_pitch_yaw(i);
+        kin_.dcos_rad(k, i) = dcos(i);
+      }
     }
   }
 
@@ -185,6 +200,7 @@ class KinematicsCompleter {
   // Velocity (from the initial velocity) and position (from 0) by the
   // Hermite rule, the slope of acc_fixed taken on the fly, in one pass.
   void Finish() {
+    Angles();
     const Index n = kin_.size();
     if (n == 0) return;
     const Series3& acc = kin_.acc_fixed;
