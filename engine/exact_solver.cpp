@@ -357,19 +357,24 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   ComplementBySix complement_centripetal = ComplementBySix::Zero(complement_rows, 6);
   complement_centripetal.topRows(complement.rows()) = complement * centripetal;
 
-  // P m of sample k, one fixed-size column per sensor.
-  auto projected_at = [&](Index k) -> Vector6d {
-    Vector6d projected = Vector6d::Zero();
+  // P m and complement m of sample k in one sweep over the channels, one
+  // fixed-size column per sensor: P m in the first 6 rows.
+  constexpr int kStackedRows = MaxSensors;  // 6 + kComplementRows, or Eigen::Dynamic
+  using StackedBySensors = Eigen::Matrix<double, kStackedRows, Eigen::Dynamic, 0, kStackedRows, MaxSensors>;
+  using StackedVector = Eigen::Matrix<double, kStackedRows, 1>;
+  StackedBySensors stacked_recorded(6 + complement_rows, count);
+  stacked_recorded.topRows(6) = solve_recorded;
+  stacked_recorded.bottomRows(complement_rows) = complement_recorded;
+  auto stacked_at = [&](Index k) -> StackedVector {
+    StackedVector stacked = StackedVector::Zero(6 + complement_rows);
     for (Index i = 0; i < count; ++i)
-      projected += solve_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
-    return projected;
+      stacked += stacked_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
+    return stacked;
   };
-  // The least-squares residual norm of sample k given omega.
-  auto residual_at = [&](Index k, const Vector3d& omega_k) -> double {
+  // The least-squares residual norm given omega and complement m.
+  auto residual_norm = [&](const ComplementVector& complement_measured, const Vector3d& omega_k) -> double {
     const Vector6d monomials = Quadratic(omega_k);
-    ComplementVector residual = ComplementVector::Zero(complement_rows);
-    for (Index i = 0; i < count; ++i)
-      residual += complement_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
+    ComplementVector residual = complement_measured;
     for (Index j = 0; j < 6; ++j) residual -= complement_centripetal.col(j) * monomials(j);
     return residual.norm();
   };
@@ -379,7 +384,11 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   const int passes = options.corrector_passes;
   // P m of samples k - 2 .. k + 1 (k + 1 while it exists), and P_alpha m' at k.
   Vector6d projected_km2 = Vector6d::Zero(), projected_km1 = Vector6d::Zero();
-  Vector6d projected_k = projected_at(0), projected_kp1 = n > 1 ? projected_at(1) : projected_k;
+  // complement m of samples k and k + 1.
+  const StackedVector stacked_0 = stacked_at(0), stacked_1 = n > 1 ? stacked_at(1) : stacked_0;
+  Vector6d projected_k = stacked_0.template head<6>(), projected_kp1 = stacked_1.template head<6>();
+  ComplementVector complement_k = stacked_0.tail(complement_rows),
+                   complement_kp1 = stacked_1.tail(complement_rows);
   Vector3d alpha_measured_rate;
   Vector3d omega = options.initial.omega_body_radps, acc, alpha, alpha_rate;
   for (Index k = 0; k < n; ++k) {
@@ -387,7 +396,12 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       projected_km2 = projected_km1;
       projected_km1 = projected_k;
       projected_k = projected_kp1;
-      if (k + 1 < n) projected_kp1 = projected_at(k + 1);
+      complement_k = complement_kp1;
+      if (k + 1 < n) {
+        const StackedVector stacked = stacked_at(k + 1);
+        projected_kp1 = stacked.template head<6>();
+        complement_kp1 = stacked.tail(complement_rows);
+      }
 #if defined(__GNUC__)
       // The channels are read across L columns at once; ask for each
       // column's data a few cache lines ahead of the hardware prefetcher.
@@ -402,7 +416,7 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       alpha_measured_rate =
           (k == 0 ? projected_kp1 - projected_k : projected_k - projected_km1).tail<3>() / dt;
     } else if (k == 0) {
-      const Vector6d projected_2 = projected_at(2);
+      const Vector6d projected_2 = stacked_at(2).template head<6>();
       alpha_measured_rate =
           (-3.0 * projected_k.tail<3>() + 4.0 * projected_kp1.tail<3>() - projected_2.tail<3>()) * inv_2dt;
     } else if (k == n - 1) {
@@ -434,7 +448,7 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
     acc = solution.head<3>();
     alpha = solution.tail<3>();
     alpha_rate = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha);
-    out.residual(k) = residual_at(k, omega);
+    out.residual(k) = residual_norm(complement_k, omega);
     out.omega_body.row(k) = omega.transpose();
     out.alpha_body.row(k) = alpha.transpose();
     out.acc_body.row(k) = acc.transpose();
