@@ -353,17 +353,20 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   ComplementBySensors complement_recorded = ComplementBySensors::Zero(complement_rows, count);
   complement_recorded.topRows(complement.rows()) = complement * channels.si_per_unit.asDiagonal();
   const Eigen::Matrix<double, 6, 6> solve_centripetal = solve_rows * centripetal;
+  const Eigen::Matrix<double, 3, 6> acc_centripetal = solve_centripetal.topRows<3>();
   const Eigen::Matrix<double, 3, 6> alpha_centripetal = solve_centripetal.bottomRows<3>();
   ComplementBySix complement_centripetal = ComplementBySix::Zero(complement_rows, 6);
   complement_centripetal.topRows(complement.rows()) = complement * centripetal;
 
   // P m and complement m of sample k in one sweep over the channels, one
-  // fixed-size column per sensor: P m in the first 6 rows.
+  // fixed-size column per sensor: the alpha rows of P m first (so that they
+  // start a packet), then its acceleration rows, then complement m.
   constexpr int kStackedRows = MaxSensors;  // 6 + kComplementRows, or Eigen::Dynamic
   using StackedBySensors = Eigen::Matrix<double, kStackedRows, Eigen::Dynamic, 0, kStackedRows, MaxSensors>;
   using StackedVector = Eigen::Matrix<double, kStackedRows, 1>;
   StackedBySensors stacked_recorded(6 + complement_rows, count);
-  stacked_recorded.topRows(6) = solve_recorded;
+  stacked_recorded.topRows(3) = solve_recorded.bottomRows(3);
+  stacked_recorded.middleRows(3, 3) = solve_recorded.topRows(3);
   stacked_recorded.bottomRows(complement_rows) = complement_recorded;
   auto stacked_at = [&](Index k) -> StackedVector {
     StackedVector stacked = StackedVector::Zero(6 + complement_rows);
@@ -383,23 +386,28 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0, inv_2dt = 0.5 / dt;
   const int passes = options.corrector_passes;
   // P m of samples k - 2 .. k + 1 (k + 1 while it exists), and P_alpha m' at k.
-  Vector6d projected_km2 = Vector6d::Zero(), projected_km1 = Vector6d::Zero();
+  Vector3d alpha_projected_km2 = Vector3d::Zero(), alpha_projected_km1 = Vector3d::Zero();
   // complement m of samples k and k + 1.
   const StackedVector stacked_0 = stacked_at(0), stacked_1 = n > 1 ? stacked_at(1) : stacked_0;
-  Vector6d projected_k = stacked_0.template head<6>(), projected_kp1 = stacked_1.template head<6>();
+  Vector3d alpha_projected_k = stacked_0.template head<3>(),
+           alpha_projected_kp1 = stacked_1.template head<3>();
+  Vector3d acc_projected_k = stacked_0.template segment<3>(3),
+           acc_projected_kp1 = stacked_1.template segment<3>(3);
   ComplementVector complement_k = stacked_0.tail(complement_rows),
                    complement_kp1 = stacked_1.tail(complement_rows);
   Vector3d alpha_measured_rate;
   Vector3d omega = options.initial.omega_body_radps, acc, alpha, alpha_rate;
   for (Index k = 0; k < n; ++k) {
     if (k > 0) {
-      projected_km2 = projected_km1;
-      projected_km1 = projected_k;
-      projected_k = projected_kp1;
+      alpha_projected_km2 = alpha_projected_km1;
+      alpha_projected_km1 = alpha_projected_k;
+      alpha_projected_k = alpha_projected_kp1;
+      acc_projected_k = acc_projected_kp1;
       complement_k = complement_kp1;
       if (k + 1 < n) {
         const StackedVector stacked = stacked_at(k + 1);
-        projected_kp1 = stacked.template head<6>();
+        alpha_projected_kp1 = stacked.template head<3>();
+        acc_projected_kp1 = stacked.template segment<3>(3);
         complement_kp1 = stacked.tail(complement_rows);
       }
 #if defined(__GNUC__)
@@ -414,16 +422,16 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       alpha_measured_rate.setZero();
     } else if (n == 2) {
       alpha_measured_rate =
-          (k == 0 ? projected_kp1 - projected_k : projected_k - projected_km1).tail<3>() / dt;
+          (k == 0 ? alpha_projected_kp1 - alpha_projected_k : alpha_projected_k - alpha_projected_km1) / dt;
     } else if (k == 0) {
-      const Vector6d projected_2 = stacked_at(2).template head<6>();
+      const Vector3d alpha_projected_2 = stacked_at(2).template head<3>();
       alpha_measured_rate =
-          (-3.0 * projected_k.tail<3>() + 4.0 * projected_kp1.tail<3>() - projected_2.tail<3>()) * inv_2dt;
+          (-3.0 * alpha_projected_k + 4.0 * alpha_projected_kp1 - alpha_projected_2) * inv_2dt;
     } else if (k == n - 1) {
       alpha_measured_rate =
-          (3.0 * projected_k.tail<3>() - 4.0 * projected_km1.tail<3>() + projected_km2.tail<3>()) * inv_2dt;
+          (3.0 * alpha_projected_k - 4.0 * alpha_projected_km1 + alpha_projected_km2) * inv_2dt;
     } else {
-      alpha_measured_rate = (projected_kp1.tail<3>() - projected_km1.tail<3>()) * inv_2dt;
+      alpha_measured_rate = (alpha_projected_kp1 - alpha_projected_km1) * inv_2dt;
     }
 
     if (k > 0) {
@@ -431,7 +439,7 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       omega = omega_prev + dt * alpha_prev + 0.5 * dt * dt * alpha_rate_prev;  // Taylor predictor
       for (int pass = 0; pass < passes; ++pass) {
         // alpha and alpha' only: the acceleration waits for the final omega.
-        const Vector3d alpha_pass = projected_k.tail<3>() - alpha_centripetal * Quadratic(omega);
+        const Vector3d alpha_pass = alpha_projected_k - alpha_centripetal * Quadratic(omega);
         const Vector3d alpha_rate_pass =
             alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha_pass);
         const Vector3d corrected =
@@ -444,9 +452,9 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       }
     }
     // (a, alpha) and alpha' of sample k, consistent with the final omega.
-    const Vector6d solution = projected_k - solve_centripetal * Quadratic(omega);
-    acc = solution.head<3>();
-    alpha = solution.tail<3>();
+    const Vector6d monomials = Quadratic(omega);
+    acc = acc_projected_k - acc_centripetal * monomials;
+    alpha = alpha_projected_k - alpha_centripetal * monomials;
     alpha_rate = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha);
     out.residual(k) = residual_norm(complement_k, omega);
     out.omega_body.row(k) = omega.transpose();
