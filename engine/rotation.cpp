@@ -37,22 +37,6 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   return s;
 }
 
-Eigen::Quaterniond QuaternionExp(const Eigen::Vector3d& rotation_vector) {
-  // q = (cos(theta/2), sin(theta/2)/theta * v); below theta ~ 1e-4 the
-  // Taylor series of sin(x/2)/x to fourth order is exact in double.
-  const double theta_sq = rotation_vector.squaredNorm();
-  const double theta = std::sqrt(theta_sq);
-  double w, k;
-  if (theta < 1e-4) {
-    w = 1.0 - theta_sq / 8.0 + theta_sq * theta_sq / 384.0;
-    k = 0.5 - theta_sq / 48.0 + theta_sq * theta_sq / 3840.0;
-  } else {
-    w = std::cos(0.5 * theta);
-    k = std::sin(0.5 * theta) / theta;
-  }
-  return Eigen::Quaterniond(w, k * rotation_vector.x(), k * rotation_vector.y(), k * rotation_vector.z());
-}
-
 Eigen::Vector3d QuaternionLog(const Eigen::Quaterniond& q_in) {
   // Choose the hemisphere with w >= 0 so the angle lies in [0, pi].
   const Eigen::Quaterniond q = q_in.w() < 0 ? Eigen::Quaterniond(-q_in.coeffs()) : q_in;
@@ -68,28 +52,6 @@ Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
   const Eigen::Matrix3d v = svd.matrixV();
   if ((u * v.transpose()).determinant() < 0) u.col(2) *= -1.0;
   return u * v.transpose();
-}
-
-Eigen::Vector3d RollPitchYaw(const Eigen::Matrix3d& r) {
-  // R = Rz(yaw) Ry(pitch) Rx(roll): R(2,0) = -sin(pitch),
-  // R(2,1) = cos(pitch) sin(roll), R(2,2) = cos(pitch) cos(roll),
-  // R(1,0) = cos(pitch) sin(yaw), R(0,0) = cos(pitch) cos(yaw).
-  const double pitch = std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)));
-  const double cos_pitch = std::hypot(r(2, 1), r(2, 2));
-  if (cos_pitch < 1e-12) {
-    // Gimbal lock: only yaw -/+ roll is defined; put it all in yaw.
-    const double yaw = std::atan2(-r(0, 1), r(1, 1));
-    return {0.0, pitch, yaw};
-  }
-  const double roll = std::atan2(r(2, 1), r(2, 2));
-  const double yaw = std::atan2(r(1, 0), r(0, 0));
-  return {roll, pitch, yaw};
-}
-
-Eigen::Vector3d DirectionCosineAngles(const Eigen::Matrix3d& r) {
-  Eigen::Vector3d angles;
-  for (int i = 0; i < 3; ++i) angles[i] = std::acos(std::clamp(r(i, i), -1.0, 1.0));
-  return angles;
 }
 
 double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <ostream>
@@ -111,6 +112,48 @@ TEST_P(ExactSolverOnNapTest, RandomMotionsWithDisplacedSensorsMeetAccuracyTarget
 
 INSTANTIATE_TEST_SUITE_P(NapGeometries, ExactSolverOnNapTest, ::testing::ValuesIn(kNapGeometries),
                          test_support::CaseName());
+
+// The exact solver keeps the per-sample solve of up to 16 linear sensors in
+// fixed-capacity storage and larger arrays in heap storage. Every NAP sensor
+// duplicated (same position and axis, another slot: 18 sensors) must give
+// the 9-sensor least-squares solution (each duplicated row pair is solved
+// by its mean, here the same value twice), and each residual component
+// appears twice.
+TEST(ExactSolver, ArrayBeyondSixteenSensorsGivesTheSameSolutionAsItsNineDistinctSensors) {
+  const ArrayGeometry nap = DisplaceSensors(test_support::Denton3222(), 0.25 * kMetresPerInch, 7);
+  RandomMotionOptions motion;
+  motion.seed = 7;
+  const SyntheticTest test = SynthRandomMotion(nap, motion);
+  ArrayGeometry doubled = test.array;
+  TestSignals doubled_signals = test.signals;
+  doubled_signals.samples.conservativeResize(Eigen::NoChange, 2 * test.signals.samples.cols());
+  for (const Sensor& sensor : test.array.sensors) {
+    Sensor copy = sensor;
+    copy.slot = sensor.slot + "_copy";
+    doubled.sensors.push_back(copy);
+    doubled_signals.slots.push_back(copy.slot);
+    doubled_signals.samples.col(static_cast<Eigen::Index>(doubled_signals.slots.size()) - 1) =
+        test.signals.samples.col(test.signals.FindSlot(sensor.slot));
+  }
+  ASSERT_EQ(doubled.sensors.size(), 18u);
+  const Kinematics nine = Solve(test.array, test.signals, OptionsFor(test));
+  const Kinematics eighteen = Solve(doubled, doubled_signals, OptionsFor(test));
+  auto relative = [](const Series3& a, const Series3& b) {
+    return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+  };
+  EXPECT_LE(relative(eighteen.omega_body, nine.omega_body), 1e-10);
+  EXPECT_LE(relative(eighteen.alpha_body, nine.alpha_body), 1e-10);
+  EXPECT_LE(relative(eighteen.acc_fixed, nine.acc_fixed), 1e-10);
+  EXPECT_LE(relative(eighteen.vel_fixed, nine.vel_fixed), 1e-10);
+  EXPECT_LE(relative(eighteen.roll_pitch_yaw_rad, nine.roll_pitch_yaw_rad), 1e-10);
+  const KinematicsErrors e = CompareKinematics(eighteen, test.truth);
+  EXPECT_LE(e.omega_rel, 0.05e-2);
+  EXPECT_LE(e.orientation_deg, 0.02);
+  EXPECT_LE(e.vel_rel, 0.05e-2);
+  // Each residual component appears twice: sqrt(2) times the 9-sensor residual.
+  const double nine_residual = nine.residual.maxCoeff();
+  EXPECT_NEAR(eighteen.residual.maxCoeff(), std::sqrt(2.0) * nine_residual, 1e-9 + 1e-6 * nine_residual);
+}
 
 }  // namespace
 }  // namespace napkin::engine
