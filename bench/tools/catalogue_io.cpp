@@ -215,8 +215,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "napkin_catalogue_io: {}\n", error.what());
     return 1;
   }
-  fmt::print(stderr,
-             "usage: napkin_catalogue_io io-baseline DB [--batch N] [--storage float64|float32|none] | verify DB "
-             "[--sample N] [--seed S] [--config NAME]\n");
+  fmt::print(
+      stderr,
+      "usage: napkin_catalogue_io io-baseline DB [--batch N] [--storage float64|float32|none] | verify DB "
+      "[--sample N] [--seed S] [--config NAME]\n");
   return 2;
 }
