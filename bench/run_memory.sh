@@ -4,12 +4,12 @@
 #
 #   bench/run_memory.sh [SMALL] [LARGE] [SAMPLES] [THREADS] [WORKDIR] [CONFIG]
 #
-# Creates SMALL synthetic tests (default 1,000) of 9 channels x SAMPLES
-# samples (default 20,000), runs `napkin run` under /usr/bin/time -v, adds
-# LARGE - SMALL more tests to the same catalogue and runs `napkin run --force`
-# on all LARGE (default 5,000) of them, again under /usr/bin/time -v, and
-# prints "Maximum resident set size" of both runs. CONFIG: the processing
-# config (default: the default preset). The catalogue is deleted at the end.
+# Creates a catalogue of SMALL synthetic tests (default 1,000) of 9 channels x
+# SAMPLES samples (default 20,000) and runs `napkin run` on it under
+# /usr/bin/time -v; then the same with a new catalogue of LARGE tests
+# (default 5,000; one catalogue at a time on disk); prints "Maximum resident
+# set size" of both runs. CONFIG: the processing config (default: the
+# default preset). The catalogues are deleted after use.
 #
 # Disk: LARGE x SAMPLES x (9 + 36) x 8 bytes at most (float64 derived
 # channels); about 22 GB for 5,000 x 20,000 with the default float32.
@@ -49,18 +49,18 @@ remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
 remove_db "$DB"
 trap 'remove_db "$DB"' EXIT
 
-# Prints the peak resident set size (kB) of `napkin run` with the given options.
+# Prints the peak resident set size (kB) of `napkin run` on a new catalogue of $1 tests.
 peak_kb() {
-  /usr/bin/time -v "$NAPKIN" --quiet --db "$DB" run --threads "$THREADS" --config "$CONFIG" "$@" \
+  remove_db "$DB"
+  "$NAPKIN" --db "$DB" synth --scenario random --count "$1" --samples "$SAMPLES" > /dev/null
+  /usr/bin/time -v "$NAPKIN" --quiet --db "$DB" run --threads "$THREADS" --config "$CONFIG" \
     2> "$WORK/time.txt" || { cat "$WORK/time.txt" >&2; return 1; }
+  remove_db "$DB"
   awk -F': ' '/Maximum resident set size/ {print $2}' "$WORK/time.txt"
 }
 
-"$NAPKIN" --db "$DB" synth --scenario random --count "$SMALL" --samples "$SAMPLES" --test-id small
-small_kb=$(peak_kb)
-"$NAPKIN" --db "$DB" synth --scenario random --count $(( LARGE - SMALL )) --samples "$SAMPLES" \
-  --seed 1000003 --test-id large
-large_kb=$(peak_kb --force)
+small_kb=$(peak_kb "$SMALL")
+large_kb=$(peak_kb "$LARGE")
 
 echo
 echo "== peak memory of napkin run, 9 channels x ${SAMPLES} samples, --threads ${THREADS}, config ${CONFIG}"

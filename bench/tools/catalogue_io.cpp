@@ -1,19 +1,24 @@
 // napkin_catalogue_io: the two measurements bench/run_throughput.sh needs
 // besides `napkin run` itself.
 //
-//   napkin_catalogue_io io-baseline DB [--batch N]
+//   napkin_catalogue_io io-baseline DB [--batch N] [--storage float64|float32|none]
 //     Does everything `napkin run` does to the catalogue except computing:
 //     enqueue, claim under a lease, read each test's record, array and raw
-//     channels, write a result row and 36 derived channels of the test's
-//     length (the values are the raw samples repeated: SQLite does not care),
-//     complete the job, N tests per transaction. Prints the wall time: what
-//     SQLite alone needs for the run's inputs and outputs.
+//     channels, write a result row with the findings and conditioning record
+//     of a real result (the first test's, computed once before the clock
+//     starts) and the 36 derived channels of the test's length encoded as
+//     `storage` says (none: no derived channels; the values are the raw
+//     samples repeated: SQLite does not care), complete the job, N tests per
+//     transaction. Prints the wall time: what SQLite alone needs for the
+//     run's inputs and outputs.
 //
 //   napkin_catalogue_io verify DB [--sample N] [--seed S] [--config NAME]
 //     Recomputes N random tests (all with N = 0) with the transform core on
-//     the stored inputs and compares the stored kinematics and summary (every
-//     field and finding, engine/summary_fields.h) with it bit for bit, naming
-//     what differs. Exit 1 on any difference.
+//     the stored inputs and compares the stored summary (every field and
+//     finding, engine/summary_fields.h) with it bit for bit, and the stored
+//     kinematics as the config's storage.derived_channels says: bit for bit
+//     (float64), each value the computed one rounded to float32 (float32), or
+//     none stored (none), naming what differs. Exit 1 on any difference.
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
@@ -41,12 +46,24 @@ double Seconds(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
 }
 
-int IoBaseline(const std::string& path, int batch) {
-  const auto start = SteadyClock::now();
+int IoBaseline(const std::string& path, int batch, engine::DerivedStorage storage) {
   db::Catalogue catalogue = db::Catalogue::Open(path);
   // A config of its own, so the catalogue's real results are not touched.
   engine::ProcessingConfig config;
   config.filter.padding_s = 0.0123456;
+  config.storage.derived_channels = storage;
+  // A real summary (findings, conditioning record of every channel), so the
+  // result rows are as large as the run's; computed once, outside the clock.
+  engine::TestSummary real_summary;
+  {
+    const std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+    if (tests.empty()) throw InputError("catalogue '" + path + "' has no tests.");
+    const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(tests[0].array_id));
+    real_summary = engine::ProcessTest(array, catalogue.ReadTestSignals(tests[0].id), tests[0].initial_state,
+                                       engine::ProcessingConfig{})
+                       .summary;
+  }
+  const auto start = SteadyClock::now();
   const db::ConfigId config_id = catalogue.WriteConfig(records::MakeConfigRecord(config, "io-baseline"));
   db::JobQueue queue(catalogue);
   queue.EnqueueMissing(config_id);
@@ -79,17 +96,18 @@ int IoBaseline(const std::string& path, int batch) {
         *series = signals.samples.leftCols(3);
       output.kinematics.quat_fixed_from_body = signals.samples.leftCols(4);
       output.kinematics.residual = signals.samples.col(0);
-      bytes_written += 36 * 8 * n;
+      if (storage != engine::DerivedStorage::kNone)
+        bytes_written += 36 * (storage == engine::DerivedStorage::kFloat32 ? 4 : 8) * n;
       outputs.push_back(std::move(output));
     }
     read_s += Seconds(read_start);
     const auto write_start = SteadyClock::now();
     db::Transaction transaction = catalogue.BeginTransaction();
     for (const Output& output : outputs) {
-      engine::TestSummary summary;
+      engine::TestSummary summary = real_summary;
       summary.hic15.value = static_cast<double>(output.job.test_id);
       catalogue.WriteResult(output.job.test_id, config_id, summary, engine::SolverName(config.solver),
-                            &output.kinematics);
+                            &output.kinematics, storage);
       queue.CompleteJob(output.job.id, owner);
     }
     transaction.Commit();
@@ -97,11 +115,25 @@ int IoBaseline(const std::string& path, int batch) {
     tests += static_cast<std::int64_t>(jobs.size());
   }
   const double wall = Seconds(start);
-  fmt::print("io-baseline: {} tests, {} input samples read, {:.0f} MB of derived channels written\n", tests,
-             samples, bytes_written / 1e6);
+  fmt::print("io-baseline: {} tests, {} input samples read, {:.0f} MB of derived channels written ({})\n",
+             tests, samples, bytes_written / 1e6, engine::DerivedStorageName(storage));
   fmt::print("io-baseline: wall {:.2f} s (read {:.2f} s, write+commit {:.2f} s)\n", wall, read_s, write_s);
   fmt::print("io_baseline_wall_s={:.3f}\n", wall);
   return 0;
+}
+
+// The kinematics as float32 storage returns them: each value rounded to the
+// nearest float and widened back (exactly).
+engine::Kinematics RoundedToFloat32(engine::Kinematics kinematics) {
+  for (auto* matrix :
+       {&kinematics.omega_body, &kinematics.alpha_body, &kinematics.omega_fixed, &kinematics.alpha_fixed,
+        &kinematics.acc_body, &kinematics.acc_fixed, &kinematics.vel_fixed, &kinematics.pos_fixed,
+        &kinematics.roll_pitch_yaw_rad, &kinematics.dcos_rad})
+    *matrix = matrix->cast<float>().cast<double>();
+  kinematics.quat_fixed_from_body = kinematics.quat_fixed_from_body.cast<float>().cast<double>();
+  kinematics.time_s = kinematics.time_s.cast<float>().cast<double>();
+  kinematics.residual = kinematics.residual.cast<float>().cast<double>();
+  return kinematics;
 }
 
 bool Same(const engine::Kinematics& a, const engine::Kinematics& b) {
@@ -134,11 +166,20 @@ int Verify(const std::string& path, std::size_t sample, std::uint64_t seed, cons
     const auto kinematics = catalogue.ReadKinematics(test.id, *config_id);
     const auto summary = catalogue.ReadSummary(test.id, *config_id);
     std::vector<std::string> differing;
-    if (!kinematics || !summary) {
+    const engine::DerivedStorage storage = config.storage.derived_channels;
+    if (!summary) {
       differing.emplace_back("no result");
     } else {
       differing = engine::DifferingSummaryFields(*summary, expected.summary);
-      if (!Same(*kinematics, expected.kinematics)) differing.emplace_back("kinematics");
+      if (storage == engine::DerivedStorage::kNone) {
+        if (kinematics) differing.emplace_back("kinematics stored although storage is none");
+      } else if (!kinematics) {
+        differing.emplace_back("no kinematics");
+      } else if (!Same(*kinematics, storage == engine::DerivedStorage::kFloat32
+                                        ? RoundedToFloat32(expected.kinematics)
+                                        : expected.kinematics)) {
+        differing.emplace_back("kinematics");
+      }
     }
     if (differing.empty()) {
       ++equal;
@@ -161,8 +202,12 @@ int main(int argc, char** argv) {
     return found != args.end() && found + 1 != args.end() ? *(found + 1) : fallback;
   };
   try {
-    if (args.size() >= 2 && args[0] == "io-baseline")
-      return IoBaseline(args[1], std::stoi(option("--batch", "16")));
+    if (args.size() >= 2 && args[0] == "io-baseline") {
+      const std::string storage_name = option("--storage", "float64");
+      const auto storage = engine::ParseDerivedStorageName(storage_name);
+      if (!storage) throw InputError("--storage takes float64, float32 or none, not '" + storage_name + "'.");
+      return IoBaseline(args[1], std::stoi(option("--batch", "16")), *storage);
+    }
     if (args.size() >= 2 && args[0] == "verify")
       return Verify(args[1], std::stoul(option("--sample", "20")), std::stoull(option("--seed", "1")),
                     option("--config", "default"));
@@ -170,7 +215,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "napkin_catalogue_io: {}\n", error.what());
     return 1;
   }
-  fmt::print(stderr,
-             "usage: napkin_catalogue_io io-baseline DB [--batch N] | verify DB [--sample N] [--seed S]\n");
+  fmt::print(
+      stderr,
+      "usage: napkin_catalogue_io io-baseline DB [--batch N] [--storage float64|float32|none] | verify DB "
+      "[--sample N] [--seed S] [--config NAME]\n");
   return 2;
 }
