@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <thread>
 
 #include "common/error.h"
 #include "common/version.h"
@@ -90,6 +91,27 @@ TestRecord ReadTestRow(const Statement& row) {
 
 // --------------------------------------------------------------------- open
 
+namespace {
+
+// Switching a file to WAL needs an exclusive lock, and SQLite answers
+// SQLITE_BUSY at once, without calling the busy handler, while another
+// process holds a lock on the file (two imports creating the same
+// catalogue): retry until the busy timeout, as every other lock waits.
+void SwitchToWal(Connection& connection, int busy_timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(busy_timeout_ms);
+  for (;;) {
+    try {
+      connection.Execute("PRAGMA journal_mode = WAL");
+      return;
+    } catch (const DatabaseError& error) {
+      if (!error.busy() || std::chrono::steady_clock::now() >= deadline) throw;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+}  // namespace
+
 Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& options) {
   const std::span<const schema::Migration> migrations =
       options.migrations.empty() ? schema::Migrations() : options.migrations;
@@ -135,7 +157,7 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
   } else {
     // WAL: readers never block the writer (workers query while others write).
     if (!connection.in_memory()) {
-      connection.Execute("PRAGMA journal_mode = WAL");
+      SwitchToWal(connection, options.busy_timeout_ms);
       // Truncate the WAL after checkpoints: derived channels make it grow large.
       connection.Execute("PRAGMA journal_size_limit = 67108864");
     }

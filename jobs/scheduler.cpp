@@ -748,7 +748,10 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
     try {
       reader_queue.ReleaseLeases(report.config, report.owner);
     } catch (const std::exception& release_error) {
-      spdlog::error("could not release the leases of {}: {}", report.owner, release_error.what());
+      // Not a second error line: the error rethrown below is what the user
+      // acts on (a full disk fails this write too), and the leases expire
+      // after lease_s anyway (or at once for the next run on this host).
+      spdlog::debug("could not release the leases of {}: {}", report.owner, release_error.what());
     }
     std::rethrow_exception(error);
   }
