@@ -46,8 +46,15 @@ engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId tes
   const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(record.array_id));
   const engine::ProcessingConfig processing = formats::ParseProcessingConfig(
       nlohmann::json::parse(catalogue.ReadConfig(config).config_json), "the result's config");
-  return engine::ProcessTest(array, catalogue.ReadTestSignals(test), record.initial_state, processing)
-      .kinematics;
+  engine::TestSignals signals = catalogue.ReadTestSignals(test);
+  // A results file of `run --results` carries no raw channels (docs/formats.md
+  // "Results files"): nothing to recompute from.
+  if (signals.samples.cols() == 0)
+    throw InputError("test '" + record.external_id +
+                     "' has no stored derived channels (its config stores none) and no raw channels to "
+                     "recompute them from (a results file of `run --results` holds none); export it from the "
+                     "catalogue the results were merged into.");
+  return engine::ProcessTest(array, signals, record.initial_state, processing).kinematics;
 }
 
 db::ConfigRecord ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector) {

@@ -207,3 +207,26 @@ TEST_F(StorageCliTest, ReportRecomputesTheKinematicsOfANoneResult) {
 
 }  // namespace
 }  // namespace napkin
+
+namespace napkin {
+namespace {
+
+// A results file (run --results) holds no raw channels: a "none" result in it
+// cannot be recomputed, and export says so in one sentence naming the test.
+TEST_F(StorageCliTest, NoneResultInAResultsFileCannotBeRecomputedAndExportSaysWhy) {
+  const CliResult run =
+      RunNapkin(dir_.path(), {"run", "--config", "none.json", "--force", "--results", "r.db"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string id = TestIds().front();
+  const CliResult exported = RunNapkin(dir_.path(), {"--db", "r.db", "export", "--test", id, "--config",
+                                                     "none.json", "--format", "csv", "--out", "x.csv"});
+  EXPECT_EQ(exported.exit_code, 1);
+  EXPECT_EQ(exported.err, "napkin: test '" + id +
+                              "' has no stored derived channels (its config stores none) and no raw channels "
+                              "to recompute them from (a results file of `run --results` holds none); export "
+                              "it from the catalogue the results were merged into.\n");
+  EXPECT_FALSE(fs::exists(dir_ / "x.csv"));
+}
+
+}  // namespace
+}  // namespace napkin
