@@ -604,7 +604,7 @@ class JobReader {
 
 // The compute stage: the transform core, failures turned into records.
 // The compute threads run one step of niceness below the reader and writer
-// threads (docs/architecture.md "Batch runs"): with as many compute threads
+// threads (jobs/README.md "Priorities"): with as many compute threads
 // as cores, the writer would otherwise get only its share of a core, and a
 // run that stores derived channels is bound by the writer. Lowered, the
 // compute threads take every cycle the writer leaves idle and none it needs.
