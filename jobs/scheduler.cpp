@@ -4,7 +4,6 @@
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_pipeline.h>
 #include <oneapi/tbb/task_arena.h>
-#include <oneapi/tbb/task_scheduler_observer.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
@@ -603,42 +602,29 @@ class JobReader {
 };
 
 // The compute stage: the transform core, failures turned into records.
-// The compute threads run one step of niceness below the reader and writer
-// threads (jobs/README.md "Priorities"): with as many compute threads
-// as cores, the writer would otherwise get only its share of a core, and a
-// run that stores derived channels is bound by the writer. Lowered, the
-// compute threads take every cycle the writer leaves idle and none it needs.
-// Linux applies setpriority(PRIO_PROCESS, thread id) to that one thread; a
-// thread is lowered once, on its first entry into the arena. Raising a
-// priority back needs privileges, so the threads stay lowered: the arena's
-// workers only ever compute, and the calling thread only waits for the
-// reader and writer (created before, at normal priority) and reports.
-class ComputeThreadPriority : public tbb::task_scheduler_observer {
- public:
-  static constexpr int kNicenessStep = 5;
-
-  explicit ComputeThreadPriority(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) {
-    observe(true);
-  }
-  ~ComputeThreadPriority() override { observe(false); }
-
-  void on_scheduler_entry(bool /*is_worker*/) override {
-    thread_local bool lowered = false;
-    if (lowered) return;
-    lowered = true;
-    Lower();
-  }
-
-  // Lowers the calling thread by kNicenessStep (a failure leaves it as it was).
-  static void Lower() {
-    const auto thread = static_cast<id_t>(syscall(SYS_gettid));
-    errno = 0;
-    const int niceness = getpriority(PRIO_PROCESS, thread);
-    if (errno == 0) setpriority(PRIO_PROCESS, thread, std::min(niceness + kNicenessStep, 19));
-  }
-};
+// The compute threads run a few steps of niceness below the reader and writer
+// threads (jobs/README.md "Priorities"): with as many compute threads as
+// cores, the writer would otherwise get only its share of a core, and a run
+// that stores derived channels is bound by the writer. Lowered, the compute
+// threads take every cycle the writer leaves idle and none it needs. Linux
+// applies setpriority(PRIO_PROCESS, thread id) to that one thread. Raising a
+// priority back needs privileges, so a thread stays lowered: the arena's
+// workers only ever compute, and the calling thread, once it has computed,
+// only waits for the reader and writer (started before, at normal priority)
+// and reports. A failure leaves the thread as it was.
+void LowerComputeThreadPriority() {
+  constexpr int kNicenessStep = 5;
+  thread_local bool lowered = false;
+  if (lowered) return;
+  lowered = true;
+  const auto thread = static_cast<id_t>(syscall(SYS_gettid));
+  errno = 0;
+  const int niceness = getpriority(PRIO_PROCESS, thread);
+  if (errno == 0) setpriority(PRIO_PROCESS, thread, std::min(niceness + kNicenessStep, 19));
+}
 
 void Compute(WorkItem& item, const engine::ProcessingConfig& config, std::atomic<double>& compute_s) {
+  LowerComputeThreadPriority();
   if (item.error) return;  // failed while reading
   const auto start = SteadyClock::now();
   try {
@@ -753,8 +739,6 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
       tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                       static_cast<std::size_t>(report.threads));
       tbb::task_arena arena(report.threads);
-      arena.initialize();
-      ComputeThreadPriority compute_priority(arena);
       arena.execute([&] {
         tbb::parallel_pipeline(
             static_cast<std::size_t>(report.max_tests_in_flight),
