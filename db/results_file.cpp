@@ -123,21 +123,21 @@ std::int64_t ResultsFile::CopyTests(Catalogue& catalogue, Catalogue& results, co
                                       "' was written for another catalogue than '" +
                                       catalogue.connection_.path() + "'; give this one a new results file";
   Transaction transaction(results.connection_);
-  {
-    auto arrays = catalogue.connection_.Prepare(
-        "WITH " + internal::JobScopeCte() +
-        " SELECT * FROM arrays WHERE id IN (SELECT t.array_id FROM tests AS t JOIN scope ON scope.test_id = "
-        "t.id) ORDER BY id");
-    internal::BindJobScope(*arrays, scope);
-    CopyRows(*arrays, results.connection_, "arrays", "definition_hash", "name", conflict_prefix);
-  }
-  {
-    auto series = catalogue.connection_.Prepare(
-        "WITH " + internal::JobScopeCte() +
-        " SELECT * FROM series WHERE id IN (SELECT t.series_id FROM tests AS t JOIN scope ON scope.test_id "
-        "= t.id) ORDER BY id");
-    internal::BindJobScope(*series, scope);
-    CopyRows(*series, results.connection_, "series", "name", "name", conflict_prefix);
+  // The arrays and series the scope's tests name, keyed as in the catalogue.
+  struct Named {
+    const char* table;
+    const char* test_column;
+    const char* unique_column;
+    const char* label_column;
+  };
+  for (const Named& named : {Named{"arrays", "array_id", "definition_hash", "name"},
+                             Named{"series", "series_id", "name", "name"}}) {
+    auto rows = catalogue.connection_.Prepare(
+        "WITH " + internal::JobScopeCte() + " SELECT * FROM " + named.table + " WHERE id IN (SELECT t." +
+        named.test_column + " FROM tests AS t JOIN scope ON scope.test_id = t.id) ORDER BY id");
+    internal::BindJobScope(*rows, scope);
+    CopyRows(*rows, results.connection_, named.table, named.unique_column, named.label_column,
+             conflict_prefix);
   }
   std::int64_t copied = 0;
   {
