@@ -122,37 +122,45 @@ HicWindow MakeHicWindow(const HicProblem& problem, const HicBest& best, double d
   return window;
 }
 
-// Segment tree over t2 indices: node h covers [lo, hi]; max_integral =
-// max V, max_step = max (V_{k+1} - V_k) over the steps inside [lo, hi].
+// Segment tree over sample indices, leaves padded to a power of two: node h
+// (root 1, children 2h and 2h + 1) covers samples [lo, hi]; max_integral and
+// min_integral = max and min of V over them, max_step = max of the steps
+// V_{k+1} - V_k with both k and k + 1 inside (-inf for a single sample).
 struct HicSegmentTree {
   Eigen::Index leaves = 0;
   std::vector<double> max_integral;
+  std::vector<double> min_integral;
   std::vector<double> max_step;
 };
 
 HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count) {
-  const double minus_inf = -std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   HicSegmentTree tree;
   const auto leaves = static_cast<Eigen::Index>(std::bit_ceil(static_cast<std::size_t>(count)));
   tree.leaves = leaves;
-  tree.max_integral.assign(static_cast<std::size_t>(2 * leaves), minus_inf);
-  tree.max_step.assign(static_cast<std::size_t>(2 * leaves), minus_inf);
-  std::vector<double>& max_integral = tree.max_integral;
-  std::vector<double>& max_step = tree.max_step;
-  for (Eigen::Index k = 0; k < count; ++k) max_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
+  tree.max_integral.assign(static_cast<std::size_t>(2 * leaves), -kInf);
+  tree.min_integral.assign(static_cast<std::size_t>(2 * leaves), kInf);
+  tree.max_step.assign(static_cast<std::size_t>(2 * leaves), -kInf);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    tree.max_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
+    tree.min_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
+  }
   for (Eigen::Index width = 2, first_node = leaves / 2; first_node >= 1; width *= 2, first_node /= 2) {
     for (Eigen::Index h = first_node; h < 2 * first_node; ++h) {
-      const auto left = static_cast<std::size_t>(2 * h), right = left + 1;
-      const Eigen::Index boundary =
-          (h - first_node) * width + width / 2 - 1;  // step boundary -> boundary + 1
-      const double boundary_step =
-          boundary + 1 < count ? integral[boundary + 1] - integral[boundary] : minus_inf;
-      max_integral[static_cast<std::size_t>(h)] = std::max(max_integral[left], max_integral[right]);
-      max_step[static_cast<std::size_t>(h)] = std::max({max_step[left], max_step[right], boundary_step});
+      const auto node = static_cast<std::size_t>(h), left = 2 * node, right = left + 1;
+      // The step across the children's boundary: sample `boundary` to boundary + 1.
+      const Eigen::Index boundary = (h - first_node) * width + width / 2 - 1;
+      const double boundary_step = boundary + 1 < count ? integral[boundary + 1] - integral[boundary] : -kInf;
+      tree.max_integral[node] = std::max(tree.max_integral[left], tree.max_integral[right]);
+      tree.min_integral[node] = std::min(tree.min_integral[left], tree.min_integral[right]);
+      tree.max_step[node] = std::max({tree.max_step[left], tree.max_step[right], boundary_step});
     }
   }
   return tree;
 }
+
+// Relative rounding slack on sums of steps of V (a few ulp, generously).
+constexpr double kHicRoundingSlack = 8.0 * std::numeric_limits<double>::epsilon();
 
 // Largest |V_{k+1} - V_k|: the scale of the rounding slack on integrals.
 double MaxAbsStep(const double* integral, Eigen::Index count) {
@@ -162,39 +170,45 @@ double MaxAbsStep(const double* integral, Eigen::Index count) {
   return max_abs_step;
 }
 
-// (d dt)^0.6 for every window length d = 0 .. max_steps.
-std::vector<double> DurationPowers(Eigen::Index max_steps, double dt_s) {
-  std::vector<double> duration_pow(static_cast<std::size_t>(max_steps + 1));
-  for (Eigen::Index d = 0; d <= max_steps; ++d)
-    duration_pow[static_cast<std::size_t>(d)] = std::pow(static_cast<double>(d) * dt_s, 0.6);
-  return duration_pow;
-}
+// "Could a window of duration d (steps) and integral `area` beat, or tie,
+// the best so far?" HIC = d dt (I / (d dt))^2.5 > best  <=>
+// I > best^0.4 (d dt)^0.6  <=>  I^5 > best^2 (d dt)^3 (I > 0): no power
+// function on the search's path. A 1e-9 relative margin covers the
+// rounding of both sides (a few ulp), so a window that ties is never
+// rejected; the exact value decides (HicValue).
+class HicThreshold {
+ public:
+  explicit HicThreshold(double dt_s) : dt_s_(dt_s) {}
 
-// The largest step of V in [i, i + block) for every i, from running maxima
-// over blocks of `block` steps (van Herk / Gil-Werman): the larger of
-// suffix[i] and prefix[i + block - 1].
-struct StepBlockMaxima {
-  std::vector<double> prefix;
-  std::vector<double> suffix;
+  void SetBest(double best_value) {
+    best_value_ = best_value;
+    const double dt3 = dt_s_ * dt_s_ * dt_s_;
+    scale_ = best_value * best_value * dt3 * kMarginFifth;
+    // best^2 dt^3 can underflow (or overflow) for extreme units: compare
+    // with the power functions then.
+    exact_powers_ = best_value > 0.0 &&
+                    !(scale_ > std::numeric_limits<double>::min() && std::isfinite(scale_) && scale_ < 1e200);
+  }
+
+  bool MayBeat(double area, Eigen::Index steps) const {
+    if (!(area > 0.0)) return false;
+    if (best_value_ <= 0.0) return true;
+    const auto d = static_cast<double>(steps);
+    if (!exact_powers_) {
+      const double area5 = area * area * area * area * area;
+      if (area5 > std::numeric_limits<double>::min() && area5 < 1e300) return area5 > scale_ * (d * d * d);
+    }
+    return area > std::pow(best_value_, 0.4) * kMargin * std::pow(d * dt_s_, 0.6);
+  }
+
+ private:
+  static constexpr double kMargin = 1.0 - 1e-9;
+  static constexpr double kMarginFifth = 1.0 - 5e-9;
+  double dt_s_;
+  double best_value_ = 0.0;
+  double scale_ = 0.0;
+  bool exact_powers_ = false;
 };
-
-StepBlockMaxima BlockStepMaxima(const double* integral, Eigen::Index step_count, Eigen::Index block) {
-  StepBlockMaxima maxima;
-  maxima.prefix.resize(static_cast<std::size_t>(step_count));
-  maxima.suffix.resize(static_cast<std::size_t>(step_count));
-  for (Eigen::Index k = 0; k < step_count; ++k) {
-    const double step = integral[k + 1] - integral[k];
-    const auto uk = static_cast<std::size_t>(k);
-    maxima.prefix[uk] = (k % block == 0) ? step : std::max(maxima.prefix[uk - 1], step);
-  }
-  for (Eigen::Index k = step_count - 1; k >= 0; --k) {
-    const double step = integral[k + 1] - integral[k];
-    const auto uk = static_cast<std::size_t>(k);
-    maxima.suffix[uk] =
-        (k == step_count - 1 || (k + 1) % block == 0) ? step : std::max(maxima.suffix[uk + 1], step);
-  }
-  return maxima;
-}
 
 }  // namespace
 
@@ -214,21 +228,27 @@ HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double d
   return MakeHicWindow(problem, best, dt_s, t0_s);
 }
 
-// Branch and bound. For a fixed t1 (index i) and a block of t2 indices
-// [lo, hi] (s = j - lo steps into the block, d0 = lo - i), two upper bounds
-// of the integral I(j) = V_j - V_i hold for every j in the block:
-//   (A) I(j) <= I(lo) + s * max_step,  max_step = max over the block's steps
-//       of V_{k+1} - V_k;  the bound g(s) = (I(lo) + s max_step)^2.5 /
-//       (d0 + s)^1.5 has d/ds log g = 2.5 m / (I + s m) - 1.5 / (d0 + s),
-//       whose sign changes at most once, from - to +, so g is largest at
-//       s = 0 or s = hi - lo: testing both ends bounds the whole block;
-//   (B) I(j) <= max V over the block - V_i, with the shortest duration d0.
-// HIC > best  <=>  I > best^0.4 (d dt)^0.6, so both tests are products with
-// a precomputed table of (d dt)^0.6. Bounds carry a 1e-9 relative margin and
-// an absolute rounding slack on the integral, so no window that could beat
-// (or tie) the best is ever pruned. Windows are visited in the exhaustive
-// order (t1, then t2, ascending) and compared with the same tie rule, so the
-// result is the exhaustive one, bit for bit.
+// Branch and bound over pairs of blocks (docs/algorithms.md "Injury
+// criteria"). A pair (P, Q) of tree nodes of one level holds the windows
+// with t1 in P and t2 in Q (t1 < t2). When P lies before Q, with b the last
+// sample of P and c the first of Q, every window of the pair has duration
+// d in [c - b, last of Q - first of P] and an integral I = V_j - V_i with
+//   (M) I <= max V over Q - min V over P, and
+//   (L) I <= (V_c - V_b) + (d - (c - b)) m, m = the largest step of V inside
+//       P or Q (V_j - V_c <= (j - c) m and V_b - V_i <= (b - i) m).
+// (When P = Q, I <= d m and (M) hold with d >= 1.) The bound
+// B(d) = min(L(d), M) gives HIC <= B(d)^2.5 / (d dt)^1.5, which is largest
+// at the shortest d or where L reaches M: on the linear part
+// d/dd log(L^2.5 / d^1.5) = 2.5 m / L - 1.5 / d changes sign at most once,
+// from - to +, and beyond it the bound decreases. Testing those two
+// durations (HicThreshold) bounds every window of the pair; the linear
+// bound carries an absolute rounding slack. Pairs that may hold a better
+// window are split into their four (three when P = Q) child pairs, the most
+// promising first (largest (M)^5 / (shortest d)^3), so a good window is
+// found early and prunes the rest. Windows of single samples are valued by
+// HicValue, as the exhaustive search does, and compared with its tie rule
+// (a total order), so the result is the exhaustive one, bit for bit, in
+// whatever order the windows are visited.
 HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
               const HicOptions& options) {
   const HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options);
@@ -236,77 +256,104 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
   HicBest best;
   if (count < 2) return MakeHicWindow(problem, best, dt_s, t0_s);
   const double* integral = problem.integral.data();
-
   const HicSegmentTree tree = BuildHicSegmentTree(integral, count);
-  const double max_abs_step = MaxAbsStep(integral, count);
-  const std::vector<double> duration_pow = DurationPowers(problem.max_steps, dt_s);
+  const double slack_per_step = kHicRoundingSlack * MaxAbsStep(integral, count);
+  const Eigen::Index max_steps = problem.max_steps;
+  HicThreshold threshold(dt_s);
 
-  constexpr double kRelativeMargin = 1.0 - 1e-9;
-  constexpr double kRoundingSlack = 8.0 * std::numeric_limits<double>::epsilon();
-  double threshold_scale = 0.0;  // best^0.4 * margin
-  const auto update_threshold = [&]() { threshold_scale = std::pow(best.value, 0.4) * kRelativeMargin; };
-
-  // Bounded windows: a t1 whose whole window range cannot beat the best is
-  // skipped in O(1): I(j) <= (j - i) max_step and (s A)^2.5 / (s dt)^1.5
-  // grows with s.
-  const bool bounded = problem.max_steps < count - 1;
-  const StepBlockMaxima block_max =
-      bounded ? BlockStepMaxima(integral, count - 1, problem.max_steps) : StepBlockMaxima{};
-
-  struct NodeRange {
-    Eigen::Index node, lo, hi;
+  // A pair of nodes p <= q of one level, `width` samples each, first
+  // samples p_lo and q_lo.
+  struct BlockPair {
+    Eigen::Index p, q, p_lo, q_lo, width;
   };
-  std::array<NodeRange, 2 * 64 + 2> stack{};
+  // May some window of the pair beat the best? (Its durations clipped to
+  // the window limit and the record.)
+  const auto may_beat = [&](const BlockPair& pair) -> bool {
+    const auto p = static_cast<std::size_t>(pair.p), q = static_cast<std::size_t>(pair.q);
+    const Eigen::Index p_hi = std::min(pair.p_lo + pair.width - 1, count - 1);
+    const Eigen::Index q_hi = std::min(pair.q_lo + pair.width - 1, count - 1);
+    const double largest = tree.max_integral[q] - tree.min_integral[p];  // (M)
+    if (!(largest > 0.0)) return false;
+    Eigen::Index shortest, longest;
+    double linear_at_shortest, slope;
+    if (pair.p == pair.q) {
+      shortest = 1;
+      longest = q_hi - pair.p_lo;
+      slope = tree.max_step[p];
+      linear_at_shortest = slope;
+    } else {
+      shortest = pair.q_lo - p_hi;
+      longest = q_hi - pair.p_lo;
+      slope = std::max(tree.max_step[p], tree.max_step[q]);
+      linear_at_shortest = integral[pair.q_lo] - integral[p_hi];
+    }
+    if (shortest > max_steps) return false;
+    longest = std::min(longest, max_steps);
+    const auto span = static_cast<double>(longest - shortest);
+    const double slack =
+        kHicRoundingSlack * std::abs(linear_at_shortest) + slack_per_step * static_cast<double>(longest);
+    if (threshold.MayBeat(std::min(linear_at_shortest + slack, largest), shortest)) return true;
+    if (!(slope > 0.0) || linear_at_shortest + slack >= largest || span == 0.0) return false;
+    // Where L meets M (or the longest duration): the threshold grows with d,
+    // so rounding the duration down keeps the test conservative.
+    const double meet = (largest - linear_at_shortest - slack) / slope;
+    if (meet >= span)
+      return threshold.MayBeat(std::min(linear_at_shortest + span * slope + slack, largest), longest);
+    return threshold.MayBeat(largest, shortest + static_cast<Eigen::Index>(meet));
+  };
+  // Ordering heuristic only (no bound): (M)^5 / (shortest d)^3.
+  const auto promise = [&](const BlockPair& pair) -> double {
+    const double largest = tree.max_integral[static_cast<std::size_t>(pair.q)] -
+                           tree.min_integral[static_cast<std::size_t>(pair.p)];
+    if (!(largest > 0.0)) return -1.0;
+    const auto shortest =
+        static_cast<double>(pair.p == pair.q ? 1 : pair.q_lo - (pair.p_lo + pair.width - 1));
+    const double largest_sq = largest * largest;
+    return largest_sq * largest_sq * largest / (shortest * shortest * shortest);
+  };
 
-  for (Eigen::Index i = 0; i + 1 < count; ++i) {
-    const Eigen::Index j_first = i + 1;
-    const Eigen::Index j_last = std::min(count - 1, i + problem.max_steps);
-    const double integral_i = integral[i];
-    if (bounded) {
-      const Eigen::Index span = j_last - i;
-      const double largest_step = std::max(block_max.suffix[static_cast<std::size_t>(i)],
-                                           block_max.prefix[static_cast<std::size_t>(j_last - 1)]);
-      const double bound = static_cast<double>(span) * largest_step +
-                           kRoundingSlack * static_cast<double>(span) * max_abs_step;
-      if (!(bound > threshold_scale * duration_pow[static_cast<std::size_t>(span)])) continue;
-    }
-    std::size_t top = 0;
-    stack[top++] = {1, 0, tree.leaves - 1};
-    while (top > 0) {
-      const NodeRange range = stack[--top];
-      if (range.hi < j_first || range.lo > j_last) continue;
-      const auto h = static_cast<std::size_t>(range.node);
-      if (range.lo >= j_first && range.hi <= j_last) {
-        const Eigen::Index d0 = range.lo - i;
-        const double threshold_d0 = threshold_scale * duration_pow[static_cast<std::size_t>(d0)];
-        if (range.lo == range.hi) {
-          const double area = integral[range.lo] - integral_i;
-          if (area > 0.0 && area > threshold_d0) {
-            const double value = HicValue(integral, i, range.lo, dt_s);
-            if (best.IsBeatenBy(value, i, range.lo)) {
-              best = {value, i, range.lo};
-              update_threshold();
-            }
-          }
-          continue;
-        }
-        // (B) the largest integral anywhere in the block, shortest duration.
-        if (!(tree.max_integral[h] - integral_i > threshold_d0)) continue;
-        // (A) linear growth from the block start, tested at both ends.
-        const Eigen::Index span = range.hi - range.lo;
-        const double area_lo = integral[range.lo] - integral_i;
-        const double slack = kRoundingSlack * (std::abs(area_lo) + static_cast<double>(span) * max_abs_step);
-        const double bound_lo = area_lo + slack;
-        const double bound_hi = area_lo + static_cast<double>(span) * tree.max_step[h] + slack;
-        if (!(bound_lo > threshold_d0 ||
-              bound_hi > threshold_scale * duration_pow[static_cast<std::size_t>(d0 + span)]))
-          continue;
+  std::vector<BlockPair> stack;
+  stack.reserve(256);
+  stack.push_back({1, 1, 0, 0, tree.leaves});
+  while (!stack.empty()) {
+    const BlockPair pair = stack.back();
+    stack.pop_back();
+    if (pair.q_lo >= count) continue;
+    if (pair.width == 1) {  // the window (p_lo, q_lo), p_lo < q_lo
+      const Eigen::Index i = pair.p_lo, j = pair.q_lo;
+      if (j - i > max_steps) continue;
+      const double area = integral[j] - integral[i];
+      if (!threshold.MayBeat(area, j - i)) continue;
+      const double value = HicValue(integral, i, j, dt_s);
+      if (best.IsBeatenBy(value, i, j)) {
+        best = {value, i, j};
+        threshold.SetBest(value);
       }
-      // Descend: push the right child first so t2 is visited in ascending order.
-      const Eigen::Index mid = range.lo + (range.hi - range.lo) / 2;
-      stack[top++] = {2 * range.node + 1, mid + 1, range.hi};
-      stack[top++] = {2 * range.node, range.lo, mid};
+      continue;
     }
+    if (!may_beat(pair)) continue;
+    const Eigen::Index half = pair.width / 2;
+    std::array<BlockPair, 4> children;
+    std::size_t child_count = 0;
+    const Eigen::Index pl = 2 * pair.p, pr = pl + 1, ql = 2 * pair.q, qr = ql + 1;
+    if (pair.p == pair.q) {
+      children[child_count++] = {pl, pl, pair.p_lo, pair.p_lo, half};
+      children[child_count++] = {pl, qr, pair.p_lo, pair.q_lo + half, half};
+      children[child_count++] = {pr, qr, pair.p_lo + half, pair.q_lo + half, half};
+    } else {
+      children[child_count++] = {pl, ql, pair.p_lo, pair.q_lo, half};
+      children[child_count++] = {pl, qr, pair.p_lo, pair.q_lo + half, half};
+      children[child_count++] = {pr, ql, pair.p_lo + half, pair.q_lo, half};
+      children[child_count++] = {pr, qr, pair.p_lo + half, pair.q_lo + half, half};
+    }
+    std::array<double, 4> scores{};
+    for (std::size_t c = 0; c < child_count; ++c) scores[c] = promise(children[c]);
+    // Push in increasing promise, so the most promising pair is popped first.
+    std::array<std::size_t, 4> order{0, 1, 2, 3};
+    std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(child_count),
+              [&](std::size_t a, std::size_t b) { return scores[a] < scores[b]; });
+    for (std::size_t c = 0; c < child_count; ++c)
+      if (scores[order[c]] > 0.0) stack.push_back(children[order[c]]);
   }
   return MakeHicWindow(problem, best, dt_s, t0_s);
 }

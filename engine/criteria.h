@@ -41,9 +41,9 @@ struct HicOptions {
   bool from_time_zero = false;            // integrate |a|, ignore samples before t = 0
 };
 
-// Fast HIC: branch and bound over t2 for each t1 in order, with a segment
-// tree of max V and max per-step increment of V; returns exactly (value,
-// t1, t2) of HicExhaustive.
+// Fast HIC: branch and bound over pairs of blocks of t1 and t2, with a
+// segment tree of max V, min V and max per-step increment of V; returns
+// exactly (value, t1, t2) of HicExhaustive.
 HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
               const HicOptions& options = {});
 

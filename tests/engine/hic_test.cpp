@@ -216,6 +216,35 @@ TEST(Hic, FastEqualsExhaustiveOnRandomSignals) {
   EXPECT_EQ(compared, 240 * 8);
 }
 
+// Long records of several overlapping smooth pulses (the resultant of a
+// random head motion): the optimal windows are long and many windows come
+// within a fraction of a percent of the best, so deep levels of the block
+// search are exercised; n spans several powers of two.
+TEST(Hic, FastEqualsExhaustiveOnLongMultiPulseSignals) {
+  std::mt19937_64 rng(1612);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double dt = 1e-4;
+  for (const Eigen::Index n : {1500, 2048, 2049, 2600}) {
+    Eigen::VectorXd a = Eigen::VectorXd::Zero(n);
+    for (int pulse = 0; pulse < 6; ++pulse) {
+      const double start = uniform(rng) * static_cast<double>(n), length = 50.0 + uniform(rng) * 600.0;
+      const double height = 10.0 + uniform(rng) * 70.0;
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const double s = (static_cast<double>(k) - start) / length;
+        if (s >= 0.0 && s <= 1.0) a[k] += height * 0.5 * (1.0 - std::cos(2.0 * kPi * s));
+      }
+    }
+    for (const double window : {kHic15Window, kHic36Window, kUnlimitedHicWindow}) {
+      const HicWindow fast = Hic(a, dt, -0.01, Window(window));
+      const HicWindow exhaustive = HicExhaustive(a, dt, -0.01, Window(window));
+      EXPECT_GT(exhaustive.value, 0.0);
+      EXPECT_EQ(fast.value, exhaustive.value) << "n " << n << " window " << window;
+      EXPECT_EQ(fast.t1_s, exhaustive.t1_s) << "n " << n << " window " << window;
+      EXPECT_EQ(fast.t2_s, exhaustive.t2_s) << "n " << n << " window " << window;
+    }
+  }
+}
+
 TEST(Hic, TiesGoToTheEarliestWindow) {
   // A constant with exact arithmetic: every window of the full 15 ms length
   // has the same value; the earliest is reported.
