@@ -1,6 +1,7 @@
 #include "engine/cfc_filter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -50,6 +51,32 @@ void RunPass(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward) 
     x1 = x;
     y2 = y1;
     y1 = y;
+  }
+}
+
+// RunPass on kLanes channels stored interleaved (w[k * kLanes + lane]),
+// each with RunPass's operations in RunPass's order.
+constexpr Eigen::Index kLanes = 4;
+
+void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward) {
+  Eigen::Index k = forward ? 0 : n - 1;
+  const Eigen::Index step = forward ? 1 : -1;
+  std::array<double, kLanes> x1, x2, y1, y2;
+  for (Eigen::Index lane = 0; lane < kLanes; ++lane) {
+    const double first = w[k * kLanes + lane];
+    x1[lane] = x2[lane] = y1[lane] = y2[lane] = first;
+  }
+  for (Eigen::Index count = 0; count < n; ++count, k += step) {
+    double* row = w + k * kLanes;
+    for (Eigen::Index lane = 0; lane < kLanes; ++lane) {
+      const double x = row[lane];
+      const double y = c.a0 * x + c.a1 * x1[lane] + c.a2 * x2[lane] + c.b1 * y1[lane] + c.b2 * y2[lane];
+      row[lane] = y;
+      x2[lane] = x1[lane];
+      x1[lane] = x;
+      y2[lane] = y1[lane];
+      y1[lane] = y;
+    }
   }
 }
 
@@ -129,6 +156,39 @@ void CfcFilter::Apply(const Eigen::Ref<const Eigen::VectorXd>& input, Eigen::Ref
   RunPass(coefficients_, w, total, /*forward=*/true);
   RunPass(coefficients_, w, total, /*forward=*/false);
   for (Eigen::Index k = 0; k < n; ++k) output[k] = w[pad + k];
+}
+
+void CfcFilter::ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples,
+                                      const std::vector<Eigen::Index>& columns) {
+  const Eigen::Index n = samples.rows();
+  if (n < 2) return;  // fewer than 2 samples stay as they are
+  const Eigen::Index pad = PaddingSamples(n);
+  const Eigen::Index total = n + 2 * pad;
+  if (work_.size() < total * kLanes) work_.resize(total * kLanes);
+  double* w = work_.data();
+  for (std::size_t group = 0; group < columns.size(); group += kLanes) {
+    const std::size_t lanes = std::min<std::size_t>(kLanes, columns.size() - group);
+    // Unused lanes filter zeros (no NaN, no denormal, nothing stored).
+    if (lanes < static_cast<std::size_t>(kLanes)) std::fill(w, w + total * kLanes, 0.0);
+    for (std::size_t lane = 0; lane < lanes; ++lane) {
+      const auto input = samples.col(columns[group + lane]);
+      const double first = input[0];
+      const double last = input[n - 1];
+      // Apply's point reflection about the end samples.
+      for (Eigen::Index k = 1; k <= pad; ++k) {
+        w[(pad - k) * kLanes + static_cast<Eigen::Index>(lane)] = 2.0 * first - input[k];
+        w[(pad + n - 1 + k) * kLanes + static_cast<Eigen::Index>(lane)] = 2.0 * last - input[n - 1 - k];
+      }
+      for (Eigen::Index k = 0; k < n; ++k) w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)] = input[k];
+    }
+    RunPassInterleaved(coefficients_, w, total, /*forward=*/true);
+    RunPassInterleaved(coefficients_, w, total, /*forward=*/false);
+    for (std::size_t lane = 0; lane < lanes; ++lane) {
+      auto output = samples.col(columns[group + lane]);
+      for (Eigen::Index k = 0; k < n; ++k)
+        output[k] = w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)];
+    }
+  }
 }
 
 void CfcFilterInPlace(Eigen::Ref<Eigen::VectorXd> signal, double dt_s, double cfc_hz, CfcVariant variant) {

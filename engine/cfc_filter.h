@@ -21,6 +21,7 @@
 #include <array>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "engine/vocabulary.h"
 
@@ -86,6 +87,13 @@ class CfcFilter {
   // Signals of fewer than 2 samples are copied unchanged.
   void Apply(const Eigen::Ref<const Eigen::VectorXd>& input, Eigen::Ref<Eigen::VectorXd> output);
   void ApplyInPlace(Eigen::Ref<Eigen::VectorXd> signal) { Apply(signal, signal); }
+
+  // ApplyInPlace on each of `columns` of `samples` (one channel per column),
+  // with exactly its arithmetic, so the results are bit-identical. The
+  // recursions of different channels are independent, so they run four
+  // abreast: each output waits on the channel's previous output (a chain of
+  // multiply-adds), and interleaving channels fills the pipeline meanwhile.
+  void ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples, const std::vector<Eigen::Index>& columns);
 
  private:
   double cfc_hz_;

@@ -199,6 +199,7 @@ void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const Filt
     linear_filter.emplace(*config.linear_cfc, signals.dt_s, config.variant, config.padding_s);
   if (config.angular_rate_cfc)
     rate_filter.emplace(*config.angular_rate_cfc, signals.dt_s, config.variant, config.padding_s);
+  std::vector<Eigen::Index> linear_columns, rate_columns;
   for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
     const std::string& slot = signals.slots[static_cast<std::size_t>(c)];
     const auto sensor = std::find_if(array.sensors.begin(), array.sensors.end(),
@@ -213,9 +214,12 @@ void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const Filt
       record.filter_skipped_prefiltered = true;
       continue;
     }
-    filter->ApplyInPlace(signals.samples.col(c));
+    (linear ? linear_columns : rate_columns).push_back(c);
     record.filter_cfc = *requested;
   }
+  // Several channels at once (CfcFilter::ApplyInPlaceToColumns).
+  if (!linear_columns.empty()) linear_filter->ApplyInPlaceToColumns(signals.samples, linear_columns);
+  if (!rate_columns.empty()) rate_filter->ApplyInPlaceToColumns(signals.samples, rate_columns);
 }
 
 // Keeps the samples within [start_s, end_s] (either end optional).

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <random>
+#include <vector>
 
 #include "common/error.h"
 #include "engine/units.h"
@@ -164,6 +165,30 @@ TEST(CfcFilter, InPlaceAndOutputBufferAgreeAndBuffersAreReused) {
   EXPECT_EQ(shorter, expected);
   // Noise power drops.
   EXPECT_LT(out.col(0).squaredNorm(), 0.5 * channels.col(0).squaredNorm());
+}
+
+// Several channels at once equal one channel at a time, bit for bit: any
+// number of columns (a partial group of four too), any subset and order,
+// lengths shorter than the padding, and untouched columns left alone.
+TEST(CfcFilter, ColumnsFilteredTogetherEqualOneAtATimeBitForBit) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 20.0);
+  for (const Eigen::Index n : {2, 3, 40, 1000, 2501}) {
+    Eigen::MatrixXd channels(n, 10);
+    for (Eigen::Index k = 0; k < channels.size(); ++k) channels.data()[k] = noise(rng);
+    for (const std::vector<Eigen::Index>& columns :
+         {std::vector<Eigen::Index>{0}, {3, 1}, {0, 1, 2, 3}, {9, 2, 5, 7, 0}, {0, 1, 2, 3, 4, 5, 6, 7, 8}}) {
+      CfcFilter filter(kCfc1000, 1e-4);
+      Eigen::MatrixXd expected = channels;
+      for (const Eigen::Index c : columns) filter.ApplyInPlace(expected.col(c));
+      Eigen::MatrixXd together = channels;
+      filter.ApplyInPlaceToColumns(together, columns);
+      ASSERT_EQ(together, expected) << "n " << n << ", " << columns.size() << " columns";
+      if (n > 3) {
+        EXPECT_NE(together.col(columns.front()), channels.col(columns.front()));
+      }
+    }
+  }
 }
 
 TEST(CfcFilter, PaddingIsAtLeastTenMillisecondsAndOneClassPeriod) {
