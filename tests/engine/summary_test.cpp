@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
+#include "engine/integration.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
 #include "engine/synth.h"
@@ -52,6 +54,41 @@ TEST(Summary, PeaksFinalPoseAndResidualOfAHandMadeRecord) {
   EXPECT_LE((summary.final_quat_wxyz - Eigen::Vector4d(q2.w(), q2.x(), q2.y(), q2.z())).norm(), 1e-15);
   EXPECT_LE((summary.final_roll_pitch_yaw_deg - Eigen::Vector3d(0.4 * kDegPerRad, 0, 0)).norm(), 1e-12);
   EXPECT_DOUBLE_EQ(summary.max_residual_mps2, 0.5);
+}
+
+// The largest rotation from the initial orientation is the largest
+// AngleBetween over the samples, bit for bit: random tumbling through more
+// than a half turn (the angle then falls again), a plateau of near-ties,
+// and tiny rotations.
+TEST(Summary, MaxRotationIsTheLargestAngleFromTheInitialOrientation) {
+  std::mt19937_64 rng(42);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (const double step_rad : {1e-10, 1e-3, 0.02}) {
+    Kinematics kin;
+    kin.Resize(5000);
+    kin.omega_body.setZero();
+    kin.alpha_body.setZero();
+    kin.acc_fixed.setZero();
+    kin.pos_fixed.setZero();
+    kin.residual.setZero();
+    Eigen::Quaterniond q(Eigen::AngleAxisd(normal(rng), Eigen::Vector3d(normal(rng), 1.0, 0.5).normalized()));
+    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    for (Eigen::Index k = 0; k < kin.size(); ++k) {
+      kin.quat_fixed_from_body.row(k) << q.w(), q.x(), q.y(), q.z();
+      // Mostly about one axis with a random wobble; held still in the middle.
+      const Eigen::Vector3d wobble(normal(rng), normal(rng), normal(rng));
+      if (k < 2000 || k > 2500)
+        q = q * Eigen::Quaterniond(Eigen::AngleAxisd(step_rad, (axis + 0.3 * wobble).normalized()));
+    }
+    double expected = 0.0;
+    for (Eigen::Index k = 0; k < kin.size(); ++k)
+      expected = std::max(
+          expected, AngleBetween(QuatAt(kin.quat_fixed_from_body, 0), QuatAt(kin.quat_fixed_from_body, k)));
+    TestSummary summary;
+    SummarizeKinematics(kin, summary);
+    EXPECT_EQ(summary.max_rotation_deg, expected * kDegPerRad) << "step " << step_rad;
+    EXPECT_GT(expected, 0.0);
+  }
 }
 
 // Report section 4.5 truth: the summary carries the known answers.
