@@ -92,8 +92,9 @@ class CfcFilter {
   // with exactly its arithmetic, so the results are bit-identical. The
   // recursions of different channels are independent, so they run four
   // abreast: each output waits on the channel's previous output (a chain of
-  // multiply-adds), and interleaving channels fills the pipeline meanwhile (twice the speed of one
-  // at a time on nine channels: napkin_bench --benchmark_filter=NineChannels).
+  // multiply-adds), and interleaving channels fills the pipeline meanwhile
+  // (twice the speed of one at a time on nine channels:
+  // napkin_bench --benchmark_filter=NineChannels).
   void ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples, const std::vector<Eigen::Index>& columns);
 
  private:
