@@ -145,23 +145,33 @@ std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& 
   const double range = top - bottom;
   if (!(range > 0.0)) return std::nullopt;
   const double magnitude = std::max(std::abs(top), std::abs(bottom));
+  // Longest run of samples equal to each extreme (a clipped ADC returns one
+  // code; allow round-off of a unit conversion). Runs come first: an
+  // unclipped channel has no run of run_samples, and then the median (a
+  // copy and a selection of the whole channel) is not needed.
+  const double tolerance = 1e-12 * magnitude;
+  struct Run {
+    Index length = 0, end = 0;
+  };
+  const auto longest_run_at = [&](double extreme) {
+    Run longest;
+    Index run = 0;
+    for (Index k = 0; k < x.size(); ++k) {
+      run = std::abs(x(k) - extreme) <= tolerance ? run + 1 : 0;
+      if (run > longest.length) longest = {run, k};
+    }
+    return longest;
+  };
+  const Run top_run = longest_run_at(top), bottom_run = longest_run_at(bottom);
+  if (top_run.length < run_samples && bottom_run.length < run_samples) return std::nullopt;
   const double median = Median(std::vector<double>(x.data(), x.data() + x.size()));
   std::optional<Finding> worst;
   Index worst_run = 0;
   for (const double extreme : {top, bottom}) {
     if (std::abs(extreme) < kSaturationMagnitudeFraction * magnitude) continue;
     if (std::abs(extreme - median) < kSaturationRangeFraction * range) continue;
-    // Longest run of samples equal to the extreme (a clipped ADC returns one
-    // code; allow round-off of a unit conversion).
-    const double tolerance = 1e-12 * magnitude;
-    Index run = 0, best_run = 0, best_end = 0;
-    for (Index k = 0; k < x.size(); ++k) {
-      run = std::abs(x(k) - extreme) <= tolerance ? run + 1 : 0;
-      if (run > best_run) {
-        best_run = run;
-        best_end = k;
-      }
-    }
+    const Index best_run = (extreme == top ? top_run : bottom_run).length;
+    const Index best_end = (extreme == top ? top_run : bottom_run).end;
     if (best_run < run_samples || best_run <= worst_run) continue;
     worst_run = best_run;
     const Index start = best_end - best_run + 1;
