@@ -47,15 +47,28 @@ struct HicProblem {
   Eigen::VectorXd integral;    // V_k, k = 0..count-1 (g s)
 };
 
+void CheckHicWindow(double window_s) {
+  if (std::isnan(window_s) || !(window_s > 0.0)) {
+    std::ostringstream message;
+    message << "HIC: the window " << window_s << " s is not positive.";
+    throw InputError(message.str());
+  }
+}
+
+// The longest window, in sampling intervals, of `count` samples.
+Eigen::Index HicMaxSteps(double window_s, double dt_s, Eigen::Index count) {
+  const Eigen::Index longest = std::max<Eigen::Index>(count - 1, 0);
+  if (std::isinf(window_s)) return longest;
+  // Windows of exactly W are included; W / dt is rarely an exact double.
+  const double steps = std::floor(window_s / dt_s * (1.0 + 1e-9));
+  return steps >= static_cast<double>(longest) ? longest : static_cast<Eigen::Index>(steps);
+}
+
 HicProblem PrepareHic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
                       const HicOptions& options) {
   CheckInterval(dt_s, "HIC");
   if (!std::isfinite(t0_s)) throw InputError("HIC: the time of the first sample is not finite.");
-  if (std::isnan(options.window_s) || !(options.window_s > 0.0)) {
-    std::ostringstream message;
-    message << "HIC: the window " << options.window_s << " s is not positive.";
-    throw InputError(message.str());
-  }
+  CheckHicWindow(options.window_s);
   CheckFiniteSamples(acc_g, dt_s, t0_s, "HIC");
   HicProblem problem;
   const Eigen::Index n = acc_g.size();
@@ -74,14 +87,7 @@ HicProblem PrepareHic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_
   problem.integral[0] = 0.0;
   for (Eigen::Index k = 1; k < problem.count; ++k)
     problem.integral[k] = problem.integral[k - 1] + 0.5 * dt_s * (value(k - 1) + value(k));
-  const Eigen::Index longest = problem.count - 1;
-  if (std::isinf(options.window_s)) {
-    problem.max_steps = longest;
-  } else {
-    // Windows of exactly W are included; W / dt is rarely an exact double.
-    const double steps = std::floor(options.window_s / dt_s * (1.0 + 1e-9));
-    problem.max_steps = steps >= static_cast<double>(longest) ? longest : static_cast<Eigen::Index>(steps);
-  }
+  problem.max_steps = HicMaxSteps(options.window_s, dt_s, problem.count);
   return problem;
 }
 
@@ -249,17 +255,22 @@ HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double d
 // HicValue, as the exhaustive search does, and compared with its tie rule
 // (a total order), so the result is the exhaustive one, bit for bit, in
 // whatever order the windows are visited.
-HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
-              const HicOptions& options) {
-  const HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options);
+namespace {
+
+// The search itself, over windows of up to `max_steps` intervals, from
+// `seed`: a window of that length or shorter (its value from HicValue), or
+// none (HicBest{}). A seed only raises the first threshold: the best
+// window is the same, since every window that could beat or tie it is still
+// visited.
+HicBest SearchHic(const HicProblem& problem, const HicSegmentTree& tree, double max_abs_step,
+                  Eigen::Index max_steps, double dt_s, const HicBest& seed) {
   const Eigen::Index count = problem.count;
-  HicBest best;
-  if (count < 2) return MakeHicWindow(problem, best, dt_s, t0_s);
+  HicBest best = seed;
+  if (count < 2) return best;
   const double* integral = problem.integral.data();
-  const HicSegmentTree tree = BuildHicSegmentTree(integral, count);
-  const double slack_per_step = kHicRoundingSlack * MaxAbsStep(integral, count);
-  const Eigen::Index max_steps = problem.max_steps;
+  const double slack_per_step = kHicRoundingSlack * max_abs_step;
   HicThreshold threshold(dt_s);
+  if (best.i >= 0) threshold.SetBest(best.value);
 
   // A pair of nodes p <= q of one level, `width` samples each, first
   // samples p_lo and q_lo.
@@ -355,7 +366,49 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
     for (std::size_t c = 0; c < child_count; ++c)
       if (scores[order[c]] > 0.0) stack.push_back(children[order[c]]);
   }
+  return best;
+}
+
+}  // namespace
+
+HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+              const HicOptions& options) {
+  const HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options);
+  if (problem.count < 2) return MakeHicWindow(problem, HicBest{}, dt_s, t0_s);
+  const double* integral = problem.integral.data();
+  const HicSegmentTree tree = BuildHicSegmentTree(integral, problem.count);
+  const HicBest best =
+      SearchHic(problem, tree, MaxAbsStep(integral, problem.count), problem.max_steps, dt_s, HicBest{});
   return MakeHicWindow(problem, best, dt_s, t0_s);
+}
+
+std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+                                     const std::vector<double>& windows_s, bool from_time_zero) {
+  for (const double window_s : windows_s) CheckHicWindow(window_s);
+  HicOptions options;
+  options.from_time_zero = from_time_zero;
+  const HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options);
+  std::vector<HicWindow> windows(windows_s.size());
+  if (problem.count < 2) {
+    for (HicWindow& window : windows) window = MakeHicWindow(problem, HicBest{}, dt_s, t0_s);
+    return windows;
+  }
+  const double* integral = problem.integral.data();
+  const HicSegmentTree tree = BuildHicSegmentTree(integral, problem.count);
+  const double max_abs_step = MaxAbsStep(integral, problem.count);
+  // Shortest limit first: its best window is a window of every longer limit.
+  std::vector<std::size_t> order(windows_s.size());
+  for (std::size_t w = 0; w < order.size(); ++w) order[w] = w;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return windows_s[a] < windows_s[b]; });
+  HicBest seed;
+  for (const std::size_t w : order) {
+    const Eigen::Index max_steps = HicMaxSteps(windows_s[w], dt_s, problem.count);
+    if (seed.i >= 0 && seed.j - seed.i > max_steps) seed = HicBest{};
+    seed = SearchHic(problem, tree, max_abs_step, max_steps, dt_s, seed);
+    windows[w] = MakeHicWindow(problem, seed, dt_s, t0_s);
+  }
+  return windows;
 }
 
 // ---------------------------------------------------------------------------
@@ -494,15 +547,12 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
       rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / kStandardGravity)
                : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / kStandardGravity);
 
-  HicOptions options;
-  options.from_time_zero = config.hic.from_time_zero;
-  options.window_s = kHic15Window;
-  summary.hic15 = Hic(acc_g, dt, t0, options);
-  options.window_s = kHic36Window;
-  summary.hic36 = Hic(acc_g, dt, t0, options);
+  const std::vector<HicWindow> hic = HicForWindows(
+      acc_g, dt, t0, {kHic15Window, kHic36Window, kUnlimitedHicWindow}, config.hic.from_time_zero);
+  summary.hic15 = hic[0];
+  summary.hic36 = hic[1];
   summary.hic_d = HicD(summary.hic36.value);
-  options.window_s = kUnlimitedHicWindow;
-  summary.hic = Hic(acc_g, dt, t0, options);
+  summary.hic = hic[2];
   summary.a3ms_g =
       config.a3ms.definition == A3msDefinition::kContinuous ? A3msContinuous(acc_g, dt) : A3ms(acc_g, dt);
   constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();

@@ -3,6 +3,7 @@
 // window), a3ms, BrIC and DAMAGE.
 #include <Eigen/Core>
 #include <limits>
+#include <vector>
 
 #include "engine/kinematics.h"
 #include "engine/processing.h"
@@ -46,6 +47,13 @@ struct HicOptions {
 // exactly (value, t1, t2) of HicExhaustive.
 HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
               const HicOptions& options = {});
+
+// Hic for several window limits of one signal, in the order given: the
+// integral and the search tree are built once, and each limit's search
+// starts from the best window of the next shorter limit (a window of every
+// longer limit), so the answers are Hic's, bit for bit.
+std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+                                     const std::vector<double>& windows_s, bool from_time_zero = false);
 
 // The reference: every window, O(n * W / dt).
 HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "common/error.h"
 #include "engine/criteria.h"
@@ -243,6 +244,30 @@ TEST(Hic, FastEqualsExhaustiveOnLongMultiPulseSignals) {
       EXPECT_EQ(fast.t2_s, exhaustive.t2_s) << "n " << n << " window " << window;
     }
   }
+}
+
+// Several limits at once (each search seeded by a shorter limit's window)
+// give Hic's answer for each, in the order asked, ties included.
+TEST(Hic, SeveralWindowsAtOnceEqualOneAtATime) {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const std::vector<double> windows{kUnlimitedHicWindow, kHic15Window, 0.0013, kHic36Window, kHic15Window};
+  for (int trial = 0; trial < 80; ++trial) {
+    const double dt = (trial % 2 == 0) ? std::ldexp(1.0, -13) : 1e-4;
+    const Eigen::Index n = 2 + static_cast<Eigen::Index>(uniform(rng) * 900);
+    const Eigen::VectorXd a = RandomSignal(rng, trial, n, dt);
+    for (const bool from_zero : {false, true}) {
+      const std::vector<HicWindow> together = HicForWindows(a, dt, -0.005, windows, from_zero);
+      ASSERT_EQ(together.size(), windows.size());
+      for (std::size_t w = 0; w < windows.size(); ++w) {
+        const HicWindow alone = Hic(a, dt, -0.005, Window(windows[w], from_zero));
+        EXPECT_EQ(together[w].value, alone.value) << "trial " << trial << " window " << windows[w];
+        EXPECT_EQ(together[w].t1_s, alone.t1_s) << "trial " << trial << " window " << windows[w];
+        EXPECT_EQ(together[w].t2_s, alone.t2_s) << "trial " << trial << " window " << windows[w];
+      }
+    }
+  }
+  EXPECT_THROW(HicForWindows(Eigen::VectorXd::Ones(10), 1e-4, 0.0, {kHic15Window, -1.0}), InputError);
 }
 
 TEST(Hic, TiesGoToTheEarliestWindow) {
