@@ -153,16 +153,15 @@ std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& 
   struct Run {
     Index length = 0, end = 0;
   };
-  const auto longest_run_at = [&](double extreme) {
-    Run longest;
-    Index run = 0;
-    for (Index k = 0; k < x.size(); ++k) {
-      run = std::abs(x(k) - extreme) <= tolerance ? run + 1 : 0;
-      if (run > longest.length) longest = {run, k};
-    }
-    return longest;
-  };
-  const Run top_run = longest_run_at(top), bottom_run = longest_run_at(bottom);
+  // Both extremes in one pass over the channel.
+  Run top_run, bottom_run;
+  Index top_count = 0, bottom_count = 0;
+  for (Index k = 0; k < x.size(); ++k) {
+    top_count = std::abs(x(k) - top) <= tolerance ? top_count + 1 : 0;
+    bottom_count = std::abs(x(k) - bottom) <= tolerance ? bottom_count + 1 : 0;
+    if (top_count > top_run.length) top_run = {top_count, k};
+    if (bottom_count > bottom_run.length) bottom_run = {bottom_count, k};
+  }
   if (top_run.length < run_samples && bottom_run.length < run_samples) return std::nullopt;
   const double median = Median(std::vector<double>(x.data(), x.data() + x.size()));
   std::optional<Finding> worst;
