@@ -626,7 +626,8 @@ void LowerComputeThreadPriority() {
   if (errno == 0) setpriority(PRIO_PROCESS, thread, std::min(niceness + kNicenessStep, 19));
 }
 
-void Compute(WorkItem& item, const engine::ProcessingConfig& config, std::atomic<double>& compute_s) {
+void Compute(WorkItem& item, const engine::ProcessingConfig& config, bool store_kinematics,
+             std::atomic<double>& compute_s) {
   LowerComputeThreadPriority();
   if (item.error) return;  // failed while reading
   const auto start = SteadyClock::now();
@@ -642,6 +643,10 @@ void Compute(WorkItem& item, const engine::ProcessingConfig& config, std::atomic
     item.error = std::string("processing failed: ") + error.what();
   }
   item.signals = {};  // the raw samples are not needed any more: free them before the write
+  // Without derived channels to store, the writer needs only the summary:
+  // free the series too, so a test waiting in the writer's batch holds a few
+  // kilobytes instead of its whole kinematics.
+  if (!store_kinematics) item.processed.kinematics = {};
   double seconds = SecondsSince(start);
   double total = compute_s.load();
   while (!compute_s.compare_exchange_weak(total, total + seconds)) {
@@ -757,6 +762,8 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
                         report.max_tests_in_flight, book, state, report, progress, start);
     JobReader reader(inputs ? *inputs : reader_catalogue, reader_catalogue, report.config, report.owner,
                      options, book, state, ready, writer, report, stop);
+    const bool store_kinematics = options.store_kinematics &&
+                                  processing.config.storage.derived_channels != engine::DerivedStorage::kNone;
     try {
       // The compute threads: an arena of exactly `threads`; reading and
       // writing happen on the two threads above, never on these.
@@ -766,19 +773,17 @@ RunReport RunScheduler(const std::string& db_path, const RunProcessing& processi
       arena.execute([&] {
         tbb::parallel_pipeline(
             static_cast<std::size_t>(report.max_tests_in_flight),
-            tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order,
-                                            [&](tbb::flow_control& control) {
-                                              ItemPtr item = ready.Pop();
-                                              if (!item) control.stop();
-                                              return item;
-                                            }) &
-                tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel,
-                                                   [&](ItemPtr item) {
-                                                     Compute(*item, processing.config, compute_s);
-                                                     return item;
-                                                   }) &
-                tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_out_of_order,
-                                                [&](ItemPtr item) { writer.Push(std::move(item)); }));
+            tbb::make_filter<void, ItemPtr>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control&
+                                                                                       control) {
+              ItemPtr item = ready.Pop();
+              if (!item) control.stop();
+              return item;
+            }) & tbb::make_filter<ItemPtr, ItemPtr>(tbb::filter_mode::parallel, [&](ItemPtr item) {
+              Compute(*item, processing.config, store_kinematics, compute_s);
+              return item;
+            }) & tbb::make_filter<ItemPtr, void>(tbb::filter_mode::serial_out_of_order, [&](ItemPtr item) {
+              writer.Push(std::move(item));
+            }));
       });
     } catch (...) {
       error = std::current_exception();
