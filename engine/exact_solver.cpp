@@ -9,6 +9,7 @@
 #include "engine/array_analysis.h"
 #include "engine/integration.h"
 #include "engine/rotation.h"
+#include "engine/rotation_angles.h"
 
 namespace napkin::engine {
 namespace {
@@ -130,7 +131,7 @@ class KinematicsCompleter {
     kin_.quat_fixed_from_body(k, 1) = qx;
     kin_.quat_fixed_from_body(k, 2) = qy;
     kin_.quat_fixed_from_body(k, 3) = qz;
-    const Eigen::Matrix3d r = RotationMatrix(qw, qx, qy, qz);
+    const Eigen::Matrix3d r = RotationMatrixOfUnitQuaternion(qw, qx, qy, qz);
     const double r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2);
     const double r10 = r(1, 0), r11 = r(1, 1), r12 = r(1, 2);
     const double r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
@@ -154,34 +155,6 @@ class KinematicsCompleter {
     rotate_row(kin_.acc_body, kin_.acc_fixed);
   }
 
-  // q.toRotationMatrix(), term for term, from scalars (no 3 x 3 matrix in
-  // memory for packet loads to stall on).
-  static Eigen::Matrix3d RotationMatrix(double qw, double qx, double qy, double qz) {
-    const double tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
-    const double twx = tx * qw, twy = ty * qw, twz = tz * qw;
-    const double txx = tx * qx, txy = ty * qx, txz = tz * qx;
-    const double tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
-    Eigen::Matrix3d r;
-    r << 1.0 - (tyy + tzz), txy - twz, txz + twy, txy + twz, 1.0 - (txx + tzz), tyz - twx, txz - twy,
-        tyz + twx, 1.0 - (txx + tyy);
-    return r;
-  }
-
-  // Roll, pitch, yaw and direction-cosine angles of every sample, in a loop
-  // of their own after the solve (the libm calls pipeline with each other).
-  void Angles() {
-    const auto& quat = kin_.quat_fixed_from_body;
-    for (Index k = 0; k < kin_.size(); ++k) {
-      const Eigen::Matrix3d r = RotationMatrix(quat(k, 0), quat(k, 1), quat(k, 2), quat(k, 3));
-      const Vector3d roll_pitch_yaw = RollPitchYaw(r);
-      const Vector3d dcos = DirectionCosineAngles(r);
-      for (Index i = 0; i < 3; ++i) {
-        kin_.roll_pitch_yaw_rad(k, i) = roll_pitch_yaw(i);
-        kin_.dcos_rad(k, i) = dcos(i);
-      }
-    }
-  }
-
   // (a b).normalized() for unit quaternions a and b, in scalars. |a b|^2 = 1 + e
   // with e a few ulp, and 1/sqrt(1 + e) = 1 - e/2 + 3e^2/8 - ..., so
   // (a b) (3 - |a b|^2) / 2 is the normalized product to round-off, without a
@@ -199,8 +172,9 @@ class KinematicsCompleter {
 
   // Velocity (from the initial velocity) and position (from 0) by the
   // Hermite rule, the slope of acc_fixed taken on the fly, in one pass.
+  // The angles follow in a loop of their own (engine/rotation_angles.h).
   void Finish() {
-    Angles();
+    OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad);
     const Index n = kin_.size();
     if (n == 0) return;
     const Series3& acc = kin_.acc_fixed;
