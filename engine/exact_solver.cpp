@@ -185,19 +185,42 @@ class KinematicsCompleter {
       if (k == n - 1) return (3.0 * acc.row(n - 1) - 4.0 * acc.row(n - 2) + acc.row(n - 3)) * inv_2dt;
       return (acc.row(k + 1) - acc.row(k - 1)) * inv_2dt;
     };
-    kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
-    kin_.pos_fixed.row(0).setZero();
-    if (n == 1) return;
-    Eigen::RowVector3d rate_prev = acc_rate(0);
-    for (Index k = 1; k < n; ++k) {
-      const Eigen::RowVector3d rate = acc_rate(k);
-      kin_.vel_fixed.row(k) =
-          kin_.vel_fixed.row(k - 1) + half_dt_ * (acc.row(k - 1) + acc.row(k)) + dt2_12_ * (rate_prev - rate);
-      kin_.pos_fixed.row(k) = kin_.pos_fixed.row(k - 1) +
-                              half_dt_ * (kin_.vel_fixed.row(k - 1) + kin_.vel_fixed.row(k)) +
-                              dt2_12_ * (acc.row(k - 1) - acc.row(k));
-      rate_prev = rate;
+    if (n == 1) {
+      kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
+      kin_.pos_fixed.row(0).setZero();
+      return;
     }
+    // The three components side by side in scalars (their chains overlap),
+    // the previous row kept in registers, the interior without branches.
+    const double* acc_col[3] = {acc.col(0).data(), acc.col(1).data(), acc.col(2).data()};
+    double* vel_col[3] = {kin_.vel_fixed.col(0).data(), kin_.vel_fixed.col(1).data(),
+                          kin_.vel_fixed.col(2).data()};
+    double* pos_col[3] = {kin_.pos_fixed.col(0).data(), kin_.pos_fixed.col(1).data(),
+                          kin_.pos_fixed.col(2).data()};
+    double vel_prev[3], pos_prev[3], rate_prev[3], rate[3];
+    const Eigen::RowVector3d rate_0 = acc_rate(0);
+    for (int c = 0; c < 3; ++c) {
+      vel_prev[c] = vel_col[c][0] = initial_.velocity_fixed_mps(c);
+      pos_prev[c] = pos_col[c][0] = 0.0;
+      rate_prev[c] = rate_0(c);
+    }
+    auto advance = [&](Index k) {
+      for (int c = 0; c < 3; ++c) {
+        const double acc_0 = acc_col[c][k - 1], acc_1 = acc_col[c][k];
+        const double vel = vel_prev[c] + half_dt_ * (acc_0 + acc_1) + dt2_12_ * (rate_prev[c] - rate[c]);
+        const double pos = pos_prev[c] + half_dt_ * (vel_prev[c] + vel) + dt2_12_ * (acc_0 - acc_1);
+        vel_col[c][k] = vel_prev[c] = vel;
+        pos_col[c][k] = pos_prev[c] = pos;
+        rate_prev[c] = rate[c];
+      }
+    };
+    for (Index k = 1; k + 1 < n; ++k) {
+      for (int c = 0; c < 3; ++c) rate[c] = (acc_col[c][k + 1] - acc_col[c][k - 1]) * inv_2dt;
+      advance(k);
+    }
+    const Eigen::RowVector3d rate_last = acc_rate(n - 1);
+    for (int c = 0; c < 3; ++c) rate[c] = rate_last(c);
+    advance(n - 1);
   }
 
  private:
@@ -348,12 +371,14 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       stacked += stacked_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
     return stacked;
   };
-  // The least-squares residual norm given omega and complement m.
-  auto residual_norm = [&](const ComplementVector& complement_measured, const Vector3d& omega_k) -> double {
+  // The square of the least-squares residual norm given omega and complement m
+  // (the square roots are taken after the loop, off the per-sample path).
+  auto residual_norm_sq = [&](const ComplementVector& complement_measured,
+                              const Vector3d& omega_k) -> double {
     const Vector6d monomials = Quadratic(omega_k);
     ComplementVector residual = complement_measured;
     for (Index j = 0; j < 6; ++j) residual -= complement_centripetal.col(j) * monomials(j);
-    return residual.norm();
+    return residual.squaredNorm();
   };
 
   KinematicsCompleter completer(options.initial, options.gravity, dt, out);
@@ -363,10 +388,14 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   Vector3d alpha_projected_km2 = Vector3d::Zero(), alpha_projected_km1 = Vector3d::Zero();
   // complement m of samples k and k + 1.
   const StackedVector stacked_0 = stacked_at(0), stacked_1 = n > 1 ? stacked_at(1) : stacked_0;
-  Vector3d alpha_projected_k = stacked_0.template head<3>(),
-           alpha_projected_kp1 = stacked_1.template head<3>();
-  Vector3d acc_projected_k = stacked_0.template segment<3>(3),
-           acc_projected_kp1 = stacked_1.template segment<3>(3);
+  // Three-vectors from the stacked sums one coefficient at a time: a packet
+  // load of rows 3 and 4 would span two packet stores of the sums (a
+  // store-forwarding stall, perf).
+  auto rows_3 = [](const StackedVector& stacked, Index first) {
+    return Vector3d(stacked(first), stacked(first + 1), stacked(first + 2));
+  };
+  Vector3d alpha_projected_k = rows_3(stacked_0, 0), alpha_projected_kp1 = rows_3(stacked_1, 0);
+  Vector3d acc_projected_k = rows_3(stacked_0, 3), acc_projected_kp1 = rows_3(stacked_1, 3);
   ComplementVector complement_k = stacked_0.tail(complement_rows),
                    complement_kp1 = stacked_1.tail(complement_rows);
   Vector3d alpha_measured_rate;
@@ -380,8 +409,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       complement_k = complement_kp1;
       if (k + 1 < n) {
         const StackedVector stacked = stacked_at(k + 1);
-        alpha_projected_kp1 = stacked.template head<3>();
-        acc_projected_kp1 = stacked.template segment<3>(3);
+        alpha_projected_kp1 = rows_3(stacked, 0);
+        acc_projected_kp1 = rows_3(stacked, 3);
         complement_kp1 = stacked.tail(complement_rows);
       }
 #if defined(__GNUC__)
@@ -430,12 +459,15 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
     acc = acc_projected_k - acc_centripetal * monomials;
     alpha = alpha_projected_k - alpha_centripetal * monomials;
     alpha_rate = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha);
-    out.residual(k) = residual_norm(complement_k, omega);
+    out.residual(k) = residual_norm_sq(complement_k, omega);
     out.omega_body.row(k) = omega.transpose();
     out.alpha_body.row(k) = alpha.transpose();
     out.acc_body.row(k) = acc.transpose();
     completer.Step(k);
   }
+  // |residual| = sqrt(squaredNorm), as Eigen's norm() takes it: the same bits,
+  // a packet of square roots at a time.
+  out.residual = out.residual.cwiseSqrt();
   completer.Finish();
 }
 
