@@ -27,6 +27,7 @@ inline Eigen::Matrix3d RotationMatrixOfUnitQuaternion(double qw, double qx, doub
 enum class AnglesImplementation {
   kScalar,  // RollPitchYaw and DirectionCosineAngles (engine/rotation.h) sample by sample
   kAvx2,    // x86-64 with AVX2 and FMA: glibc's libmvec atan2/acos, four samples at a time
+  kAvx512,  // x86-64 with AVX-512 F and DQ: the same, eight samples at a time
 };
 
 // The fastest implementation this processor and build support.
@@ -38,7 +39,8 @@ AnglesImplementation BestAnglesImplementation();
 // rows. The vectorized implementation's atan2 and acos are accurate to a few
 // ulp (libm's to one): the angles equal the scalar ones within round-off,
 // with the same gimbal-lock branch, clamping and NaN propagation. An
-// implementation this processor or build lacks falls back to kScalar.
+// implementation this processor or build lacks falls back to the best one
+// below it that it has (kAvx512 -> kAvx2 -> kScalar).
 void OrientationAngles(const Series4& quat_fixed_from_body, Series3& roll_pitch_yaw_rad, Series3& dcos_rad,
                        AnglesImplementation implementation = BestAnglesImplementation());
 

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "engine/rotation.h"
@@ -73,6 +74,16 @@ Series4 TestQuaternions(Eigen::Index n) {
   return quat;
 }
 
+// kScalar and every vectorized implementation this processor and build have.
+std::vector<AnglesImplementation> SupportedImplementations() {
+  std::vector<AnglesImplementation> supported;
+  for (AnglesImplementation implementation :
+       {AnglesImplementation::kScalar, AnglesImplementation::kAvx2, AnglesImplementation::kAvx512})
+    if (static_cast<int>(implementation) <= static_cast<int>(BestAnglesImplementation()))
+      supported.push_back(implementation);
+  return supported;
+}
+
 // Max ulp distance of the angles from the scalar functions, row by row.
 std::uint64_t MaxUlpFromScalarFunctions(const Series4& quat, AnglesImplementation implementation) {
   Series3 roll_pitch_yaw, dcos;
@@ -104,7 +115,8 @@ TEST(RotationAngles, AwkwardRotationsHaveTheExpectedScalarAngles) {
   quat.row(1) << 1e-17, 1.0 + 1e-15, 0.0, 0.0;  // |q| > 1: R(1,1) = R(2,2) = -1 - 4e-15
   quat.row(2).setConstant(std::numeric_limits<double>::quiet_NaN());
   quat.row(3) << 0.0, 0.0, 0.0, 1.0;
-  for (AnglesImplementation implementation : {AnglesImplementation::kScalar, BestAnglesImplementation()}) {
+  for (AnglesImplementation implementation : SupportedImplementations()) {
+    SCOPED_TRACE(static_cast<int>(implementation));
     Series3 roll_pitch_yaw, dcos;
     OrientationAngles(quat, roll_pitch_yaw, dcos, implementation);
     EXPECT_EQ(roll_pitch_yaw(0, 0), 0.0);
@@ -128,23 +140,28 @@ TEST(RotationAngles, ScalarImplementationIsRollPitchYawAndDirectionCosineAnglesE
   EXPECT_EQ(MaxUlpFromScalarFunctions(quat, AnglesImplementation::kScalar), 0u);
 }
 
-TEST(RotationAngles, BestImplementationEqualsScalarFunctionsWithinFourUlp) {
+TEST(RotationAngles, VectorizedImplementationsEqualScalarFunctionsWithinFourUlp) {
   if (BestAnglesImplementation() == AnglesImplementation::kScalar)
     GTEST_SKIP() << "no vectorized implementation on this processor or build (scalar only)";
   // 10,003 rows: many random rotations, the awkward ones in every lane, and
   // a tail shorter than the vector width.
   const Series4 quat = TestQuaternions(10003);
-  const std::uint64_t max_ulp = MaxUlpFromScalarFunctions(quat, BestAnglesImplementation());
-  RecordProperty("max_ulp", static_cast<int>(max_ulp));
-  EXPECT_LE(max_ulp, 4u);
+  for (AnglesImplementation implementation : SupportedImplementations()) {
+    if (implementation == AnglesImplementation::kScalar) continue;
+    SCOPED_TRACE(static_cast<int>(implementation));
+    const std::uint64_t max_ulp = MaxUlpFromScalarFunctions(quat, implementation);
+    RecordProperty("max_ulp_" + std::to_string(static_cast<int>(implementation)), static_cast<int>(max_ulp));
+    EXPECT_LE(max_ulp, 4u);
+  }
 }
 
 TEST(RotationAngles, EveryLengthIncludingTailsShorterThanAVector) {
-  for (Eigen::Index n = 0; n <= 13; ++n) {
+  for (Eigen::Index n = 0; n <= 19; ++n) {
     SCOPED_TRACE(n);
     const Series4 quat = TestQuaternions(n);
     EXPECT_EQ(MaxUlpFromScalarFunctions(quat, AnglesImplementation::kScalar), 0u);
-    EXPECT_LE(MaxUlpFromScalarFunctions(quat, BestAnglesImplementation()), 4u);
+    for (AnglesImplementation implementation : SupportedImplementations())
+      EXPECT_LE(MaxUlpFromScalarFunctions(quat, implementation), 4u);
   }
 }
 
