@@ -9,6 +9,7 @@
 #include "engine/array_analysis.h"
 #include "engine/integration.h"
 #include "engine/rotation.h"
+#include "engine/rotation_angles.h"
 
 namespace napkin::engine {
 namespace {
@@ -130,7 +131,7 @@ class KinematicsCompleter {
     kin_.quat_fixed_from_body(k, 1) = qx;
     kin_.quat_fixed_from_body(k, 2) = qy;
     kin_.quat_fixed_from_body(k, 3) = qz;
-    const Eigen::Matrix3d r = RotationMatrix(qw, qx, qy, qz);
+    const Eigen::Matrix3d r = RotationMatrixOfUnitQuaternion(qw, qx, qy, qz);
     const double r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2);
     const double r10 = r(1, 0), r11 = r(1, 1), r12 = r(1, 2);
     const double r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
@@ -154,34 +155,6 @@ class KinematicsCompleter {
     rotate_row(kin_.acc_body, kin_.acc_fixed);
   }
 
-  // q.toRotationMatrix(), term for term, from scalars (no 3 x 3 matrix in
-  // memory for packet loads to stall on).
-  static Eigen::Matrix3d RotationMatrix(double qw, double qx, double qy, double qz) {
-    const double tx = 2.0 * qx, ty = 2.0 * qy, tz = 2.0 * qz;
-    const double twx = tx * qw, twy = ty * qw, twz = tz * qw;
-    const double txx = tx * qx, txy = ty * qx, txz = tz * qx;
-    const double tyy = ty * qy, tyz = tz * qy, tzz = tz * qz;
-    Eigen::Matrix3d r;
-    r << 1.0 - (tyy + tzz), txy - twz, txz + twy, txy + twz, 1.0 - (txx + tzz), tyz - twx, txz - twy,
-        tyz + twx, 1.0 - (txx + tyy);
-    return r;
-  }
-
-  // Roll, pitch, yaw and direction-cosine angles of every sample, in a loop
-  // of their own after the solve (the libm calls pipeline with each other).
-  void Angles() {
-    const auto& quat = kin_.quat_fixed_from_body;
-    for (Index k = 0; k < kin_.size(); ++k) {
-      const Eigen::Matrix3d r = RotationMatrix(quat(k, 0), quat(k, 1), quat(k, 2), quat(k, 3));
-      const Vector3d roll_pitch_yaw = RollPitchYaw(r);
-      const Vector3d dcos = DirectionCosineAngles(r);
-      for (Index i = 0; i < 3; ++i) {
-        kin_.roll_pitch_yaw_rad(k, i) = roll_pitch_yaw(i);
-        kin_.dcos_rad(k, i) = dcos(i);
-      }
-    }
-  }
-
   // (a b).normalized() for unit quaternions a and b, in scalars. |a b|^2 = 1 + e
   // with e a few ulp, and 1/sqrt(1 + e) = 1 - e/2 + 3e^2/8 - ..., so
   // (a b) (3 - |a b|^2) / 2 is the normalized product to round-off, without a
@@ -199,8 +172,9 @@ class KinematicsCompleter {
 
   // Velocity (from the initial velocity) and position (from 0) by the
   // Hermite rule, the slope of acc_fixed taken on the fly, in one pass.
+  // The angles follow in a loop of their own (engine/rotation_angles.h).
   void Finish() {
-    Angles();
+    OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad);
     const Index n = kin_.size();
     if (n == 0) return;
     const Series3& acc = kin_.acc_fixed;
@@ -211,19 +185,42 @@ class KinematicsCompleter {
       if (k == n - 1) return (3.0 * acc.row(n - 1) - 4.0 * acc.row(n - 2) + acc.row(n - 3)) * inv_2dt;
       return (acc.row(k + 1) - acc.row(k - 1)) * inv_2dt;
     };
-    kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
-    kin_.pos_fixed.row(0).setZero();
-    if (n == 1) return;
-    Eigen::RowVector3d rate_prev = acc_rate(0);
-    for (Index k = 1; k < n; ++k) {
-      const Eigen::RowVector3d rate = acc_rate(k);
-      kin_.vel_fixed.row(k) =
-          kin_.vel_fixed.row(k - 1) + half_dt_ * (acc.row(k - 1) + acc.row(k)) + dt2_12_ * (rate_prev - rate);
-      kin_.pos_fixed.row(k) = kin_.pos_fixed.row(k - 1) +
-                              half_dt_ * (kin_.vel_fixed.row(k - 1) + kin_.vel_fixed.row(k)) +
-                              dt2_12_ * (acc.row(k - 1) - acc.row(k));
-      rate_prev = rate;
+    if (n == 1) {
+      kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
+      kin_.pos_fixed.row(0).setZero();
+      return;
     }
+    // The three components side by side in scalars (their chains overlap),
+    // the previous row kept in registers, the interior without branches.
+    const double* acc_col[3] = {acc.col(0).data(), acc.col(1).data(), acc.col(2).data()};
+    double* vel_col[3] = {kin_.vel_fixed.col(0).data(), kin_.vel_fixed.col(1).data(),
+                          kin_.vel_fixed.col(2).data()};
+    double* pos_col[3] = {kin_.pos_fixed.col(0).data(), kin_.pos_fixed.col(1).data(),
+                          kin_.pos_fixed.col(2).data()};
+    double vel_prev[3], pos_prev[3], rate_prev[3], rate[3];
+    const Eigen::RowVector3d rate_0 = acc_rate(0);
+    for (int c = 0; c < 3; ++c) {
+      vel_prev[c] = vel_col[c][0] = initial_.velocity_fixed_mps(c);
+      pos_prev[c] = pos_col[c][0] = 0.0;
+      rate_prev[c] = rate_0(c);
+    }
+    auto advance = [&](Index k) {
+      for (int c = 0; c < 3; ++c) {
+        const double acc_0 = acc_col[c][k - 1], acc_1 = acc_col[c][k];
+        const double vel = vel_prev[c] + half_dt_ * (acc_0 + acc_1) + dt2_12_ * (rate_prev[c] - rate[c]);
+        const double pos = pos_prev[c] + half_dt_ * (vel_prev[c] + vel) + dt2_12_ * (acc_0 - acc_1);
+        vel_col[c][k] = vel_prev[c] = vel;
+        pos_col[c][k] = pos_prev[c] = pos;
+        rate_prev[c] = rate[c];
+      }
+    };
+    for (Index k = 1; k + 1 < n; ++k) {
+      for (int c = 0; c < 3; ++c) rate[c] = (acc_col[c][k + 1] - acc_col[c][k - 1]) * inv_2dt;
+      advance(k);
+    }
+    const Eigen::RowVector3d rate_last = acc_rate(n - 1);
+    for (int c = 0; c < 3; ++c) rate[c] = rate_last(c);
+    advance(n - 1);
   }
 
  private:
@@ -374,12 +371,14 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       stacked += stacked_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
     return stacked;
   };
-  // The least-squares residual norm given omega and complement m.
-  auto residual_norm = [&](const ComplementVector& complement_measured, const Vector3d& omega_k) -> double {
+  // The square of the least-squares residual norm given omega and complement m
+  // (the square roots are taken after the loop, off the per-sample path).
+  auto residual_norm_sq = [&](const ComplementVector& complement_measured,
+                              const Vector3d& omega_k) -> double {
     const Vector6d monomials = Quadratic(omega_k);
     ComplementVector residual = complement_measured;
     for (Index j = 0; j < 6; ++j) residual -= complement_centripetal.col(j) * monomials(j);
-    return residual.norm();
+    return residual.squaredNorm();
   };
 
   KinematicsCompleter completer(options.initial, options.gravity, dt, out);
@@ -389,10 +388,14 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   Vector3d alpha_projected_km2 = Vector3d::Zero(), alpha_projected_km1 = Vector3d::Zero();
   // complement m of samples k and k + 1.
   const StackedVector stacked_0 = stacked_at(0), stacked_1 = n > 1 ? stacked_at(1) : stacked_0;
-  Vector3d alpha_projected_k = stacked_0.template head<3>(),
-           alpha_projected_kp1 = stacked_1.template head<3>();
-  Vector3d acc_projected_k = stacked_0.template segment<3>(3),
-           acc_projected_kp1 = stacked_1.template segment<3>(3);
+  // Three-vectors from the stacked sums one coefficient at a time: a packet
+  // load of rows 3 and 4 would span two packet stores of the sums (a
+  // store-forwarding stall, perf).
+  auto rows_3 = [](const StackedVector& stacked, Index first) {
+    return Vector3d(stacked(first), stacked(first + 1), stacked(first + 2));
+  };
+  Vector3d alpha_projected_k = rows_3(stacked_0, 0), alpha_projected_kp1 = rows_3(stacked_1, 0);
+  Vector3d acc_projected_k = rows_3(stacked_0, 3), acc_projected_kp1 = rows_3(stacked_1, 3);
   ComplementVector complement_k = stacked_0.tail(complement_rows),
                    complement_kp1 = stacked_1.tail(complement_rows);
   Vector3d alpha_measured_rate;
@@ -406,8 +409,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       complement_k = complement_kp1;
       if (k + 1 < n) {
         const StackedVector stacked = stacked_at(k + 1);
-        alpha_projected_kp1 = stacked.template head<3>();
-        acc_projected_kp1 = stacked.template segment<3>(3);
+        alpha_projected_kp1 = rows_3(stacked, 0);
+        acc_projected_kp1 = rows_3(stacked, 3);
         complement_kp1 = stacked.tail(complement_rows);
       }
 #if defined(__GNUC__)
@@ -456,12 +459,15 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
     acc = acc_projected_k - acc_centripetal * monomials;
     alpha = alpha_projected_k - alpha_centripetal * monomials;
     alpha_rate = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha);
-    out.residual(k) = residual_norm(complement_k, omega);
+    out.residual(k) = residual_norm_sq(complement_k, omega);
     out.omega_body.row(k) = omega.transpose();
     out.alpha_body.row(k) = alpha.transpose();
     out.acc_body.row(k) = acc.transpose();
     completer.Step(k);
   }
+  // |residual| = sqrt(squaredNorm), as Eigen's norm() takes it: the same bits,
+  // a packet of square roots at a time.
+  out.residual = out.residual.cwiseSqrt();
   completer.Finish();
 }
 
