@@ -1,6 +1,8 @@
 // Catalogue: opening, series, arrays, tests, raw channels, configs.
 #include "db/catalogue.h"
 
+#include <sqlite3.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -111,6 +113,20 @@ void SwitchToWal(Connection& connection, int busy_timeout_ms) {
 }
 
 }  // namespace
+
+bool Catalogue::RestartWalIfLonger(std::int64_t max_log_bytes) {
+  if (connection_.in_memory() || connection_.read_only() || connection_.InTransaction()) return false;
+  int log_frames = 0, checkpointed_frames = 0;
+  // PASSIVE: the automatic checkpoint's work, reporting the log's length.
+  if (sqlite3_wal_checkpoint_v2(connection_.handle(), "main", SQLITE_CHECKPOINT_PASSIVE, &log_frames,
+                                &checkpointed_frames) != SQLITE_OK ||
+      log_frames <= 0)
+    return false;
+  if (static_cast<std::int64_t>(log_frames) * connection_.PragmaInt("page_size") <= max_log_bytes)
+    return false;
+  return sqlite3_wal_checkpoint_v2(connection_.handle(), "main", SQLITE_CHECKPOINT_RESTART, &log_frames,
+                                   &checkpointed_frames) == SQLITE_OK;
+}
 
 Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& options) {
   const std::span<const schema::Migration> migrations =

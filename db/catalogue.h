@@ -188,6 +188,18 @@ class Catalogue {
   // A write transaction over several calls; rolls back unless committed.
   Transaction BeginTransaction() { return Transaction(connection_); }
 
+  // Keeps the write-ahead log short while other connections read without
+  // pause (napkin run's reader). SQLite's automatic checkpoint copies the
+  // log into the file but can start the log again from its beginning only
+  // when no reader is using it; with reads always in progress the log grows
+  // by everything written (gigabytes of derived channels) and is copied at
+  // the end. Once the log holds more than `max_log_bytes`, this checkpoints
+  // with SQLITE_CHECKPOINT_RESTART, which waits (busy timeout) until the
+  // readers have moved to the file and then restarts the log. Call outside
+  // a transaction, after a commit. Returns whether the log was restarted
+  // (false: short enough, not WAL, or readers kept it busy).
+  bool RestartWalIfLonger(std::int64_t max_log_bytes);
+
   // ---- series
   // Returns the series' key, creating it if new (an existing description is kept).
   SeriesId WriteSeries(const std::string& name, const std::string& description = "");

@@ -267,6 +267,10 @@ class ReadyQueue {
   bool closed_ = false;
 };
 
+// The write-ahead log is restarted once longer than this (64 MiB, SQLite's
+// journal_size_limit of the catalogue: the file is cut back to it).
+constexpr std::int64_t kMaxWalBytes = 64 << 20;
+
 // The writer thread: takes computed tests from a queue and commits them in
 // batches on its own connection, one transaction per batch, each test's rows
 // inside it all-or-nothing (a savepoint). The compute threads only append to
@@ -401,6 +405,9 @@ class ResultWriter {
       }
       transaction.Commit();
     }
+    // The reader never pauses, so the log would otherwise grow by every
+    // byte written (db::Catalogue::RestartWalIfLonger).
+    catalogue_.RestartWalIfLonger(kMaxWalBytes);
     // Counted only once durable.
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const WorkItem& item = *batch[i];

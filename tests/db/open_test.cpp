@@ -1,10 +1,13 @@
 // Opening catalogues: what is and is not a napkin catalogue, read-only files.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "common/error.h"
 #include "db/catalogue.h"
@@ -140,6 +143,50 @@ TEST(CatalogueOpen, MissingFileInReadOnlyModeIsReported) {
               ThrowsMessage<InputError>(
                   StrEq("cannot open catalogue '" + path + "' (unable to open database file).")));
   EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+// While another connection reads, the automatic checkpoint cannot start the
+// write-ahead log again from its beginning, so it grows by what is written;
+// RestartWalIfLonger restarts it once the reader has moved on (the next
+// write then starts at the beginning: the log is short again).
+TEST(CatalogueWal, ALongLogIsRestartedOnceTheReaderHasMovedOn) {
+  test_support::TempDir dir;
+  const std::string path = dir / "wal.db";
+  Catalogue catalogue = Catalogue::Open(path);
+  const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+  EXPECT_FALSE(catalogue.RestartWalIfLonger(1 << 20));  // short
+  sqlite3* reader = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path.c_str(), &reader, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(reader, "BEGIN; SELECT count(*) FROM tests;", nullptr, nullptr, nullptr), SQLITE_OK);
+  engine::TestSignals signals;
+  signals.dt_s = 1e-4;
+  signals.slots = {"cg_x", "cg_y"};
+  signals.samples = Eigen::MatrixXd::Random(100000, 2);  // 1.6 MB
+  for (int t = 0; t < 3; ++t) {
+    const TestId test = test_support::AddTest(catalogue, array, "t" + std::to_string(t));
+    catalogue.WriteRawChannels(test, signals, std::vector<std::string>{"g", "g"});
+  }
+  // The reader's next transaction starts on a snapshot inside the log (as
+  // run's reader always is) and ends a little later, on another thread.
+  ASSERT_EQ(sqlite3_exec(reader, "COMMIT; BEGIN; SELECT count(*) FROM tests;", nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  {
+    Transaction transaction = catalogue.BeginTransaction();
+    EXPECT_FALSE(catalogue.RestartWalIfLonger(1 << 20));  // never inside a transaction
+  }
+  std::thread finish_reading([reader] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    sqlite3_exec(reader, "COMMIT", nullptr, nullptr, nullptr);
+  });
+  EXPECT_TRUE(catalogue.RestartWalIfLonger(1 << 20));  // waits for the reader
+  catalogue.WriteSeries("after");
+  EXPECT_FALSE(catalogue.RestartWalIfLonger(1 << 20));
+  finish_reading.join();
+  sqlite3_close(reader);
+  EXPECT_EQ(catalogue.ReadAllTests().size(), 3u);
+  EXPECT_EQ(catalogue.ReadTestSignals(catalogue.ReadAllTests()[2].id).samples, signals.samples);
+  Catalogue in_memory = Catalogue::Open(":memory:");
+  EXPECT_FALSE(in_memory.RestartWalIfLonger(0));
 }
 
 }  // namespace
