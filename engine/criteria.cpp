@@ -192,15 +192,15 @@ class HicThreshold {
     scale_ = best_value * best_value * dt3 * kMarginFifth;
     // best^2 dt^3 can underflow (or overflow) for extreme units: compare
     // with the power functions then.
-    exact_powers_ = best_value > 0.0 &&
-                    !(scale_ > std::numeric_limits<double>::min() && std::isfinite(scale_) && scale_ < 1e200);
+    use_power_functions_ = best_value > 0.0 && !(scale_ > std::numeric_limits<double>::min() &&
+                                                 std::isfinite(scale_) && scale_ < 1e200);
   }
 
   bool MayBeat(double area, Eigen::Index steps) const {
     if (!(area > 0.0)) return false;
     if (best_value_ <= 0.0) return true;
     const auto d = static_cast<double>(steps);
-    if (!exact_powers_) {
+    if (!use_power_functions_) {
       const double area5 = area * area * area * area * area;
       if (area5 > std::numeric_limits<double>::min() && area5 < 1e300) return area5 > scale_ * (d * d * d);
     }
@@ -213,7 +213,7 @@ class HicThreshold {
   double dt_s_;
   double best_value_ = 0.0;
   double scale_ = 0.0;
-  bool exact_powers_ = false;
+  bool use_power_functions_ = false;
 };
 
 }  // namespace
