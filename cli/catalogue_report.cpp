@@ -25,6 +25,7 @@
 #include "common/version.h"
 #include "engine/statistics.h"
 #include "formats/html_report.h"
+#include "formats/output_destination.h"
 #include "formats/text.h"
 
 namespace napkin::cli {
@@ -206,14 +207,19 @@ WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelec
   WrittenReport written;
   written.path = out;
   written.tests = tests.size();
-  written.bytes = std::filesystem::file_size(out);
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(out, size_error);  // a regular file's only
+  if (out != formats::kStandardOutputName && !size_error) written.bytes = size;
   written.without_results = std::move(without_results);
   return written;
 }
 
 std::string WrittenReportText(const WrittenReport& written) {
-  std::string text =
-      fmt::format("wrote {}: {}, {} bytes.\n", written.path, Tests(written.tests), written.bytes);
+  std::string text = written.path == formats::kStandardOutputName
+                         ? fmt::format("wrote the report to standard output: {}.\n", Tests(written.tests))
+                     : written.bytes ? fmt::format("wrote {}: {}, {} bytes.\n", written.path,
+                                                   Tests(written.tests), *written.bytes)
+                                     : fmt::format("wrote {}: {}.\n", written.path, Tests(written.tests));
   if (!written.without_results.empty())
     text += fmt::format("left out {} without results ({}); run `napkin run` first.\n",
                         Tests(written.without_results.size()), Joined(written.without_results));

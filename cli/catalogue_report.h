@@ -2,6 +2,7 @@
 // The HTML report of a catalogue's tests (docs/formats.md "HTML report"), as
 // `napkin report` and `napkin demo` write it.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,8 +20,8 @@ struct ReportSelection {
 
 struct WrittenReport {
   std::string path;
-  std::size_t tests = 0;  // tests shown
-  std::uintmax_t bytes = 0;
+  std::size_t tests = 0;                     // tests shown
+  std::optional<std::uintmax_t> bytes;       // none for a FIFO, device or standard output
   std::vector<std::string> without_results;  // selected tests left out: no results yet
 };
 
@@ -33,8 +34,8 @@ struct WrittenReport {
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
                                    const std::string& out);
 
-// "wrote FILE: N tests, B bytes." and, when some were left out, a second
-// line naming them; each line ends with a newline.
+// "wrote FILE: N tests, B bytes." (the size when FILE is a regular file) and, when some were left out, a
+// second line naming them; each line ends with a newline.
 std::string WrittenReportText(const WrittenReport& written);
 
 }  // namespace napkin::cli

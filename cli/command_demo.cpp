@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -26,6 +27,7 @@
 #include "engine/synth.h"
 #include "engine/units.h"
 #include "formats/array_json.h"
+#include "formats/atomic_file.h"
 #include "formats/csv.h"
 #include "ingest/synth.h"
 #include "jobs/scheduler.h"
@@ -76,20 +78,127 @@ ScenarioNumbers Measure(const engine::Kinematics& k, const engine::TestSummary& 
   return n;
 }
 
-// Removes the catalogue a previous demo built in the folder (with its SQLite
-// side files) and the report; true when there was one.
-bool RemovePreviousDemo(const fs::path& db_path, const fs::path& report_path) {
-  bool removed = false;
-  for (const std::string suffix : {"", "-wal", "-shm", "-journal"}) {
-    std::error_code error;
-    removed |= fs::remove(db_path.string() + suffix, error) && suffix.empty();
-    if (error)
-      throw InputError("cannot remove '" + db_path.string() + suffix +
-                       "' of a previous demo: " + error.message());
+// The demo's folder holds nothing but what the demo wrote: the stamp file
+// lists it, so a later demo knows which files it may replace
+// (docs/formats.md "Output destinations"). A user's file is never removed.
+constexpr const char* kStampName = ".napkin-demo";
+constexpr const char* kStampHeader =
+    "# napkin demo: the files below were written by `napkin demo`, which replaces them on its next run.";
+constexpr const char* kDemoDb = "napkin.db";
+constexpr const char* kDemoReport = "report.html";
+constexpr const char* kSeedInput = "seed-fixed-axis_volpe-table4-2.csv";
+// The SQLite side files of the demo catalogue.
+constexpr const char* kDbSideSuffixes[] = {"-wal", "-shm", "-journal"};
+
+std::string SeedOutput(const char* as) { return std::string("seed_as_") + as + ".csv"; }
+
+// DIR/csv/<variant>/<test>.csv of a padding test (relative to DIR).
+fs::path PaddingCsvPath(const engine::ScenarioTest& test) {
+  return fs::path("csv") / test.variant.value_or("none") / (test.external_id + ".csv");
+}
+
+ingest::SynthPlan PaddingPlan() {
+  ingest::SynthRequest padding;
+  padding.scenario = engine::SynthScenario::kPaddingSeries;
+  padding.array = kPaddingArray;
+  return ingest::PlanSynth(padding);
+}
+
+// Every file the demo writes, relative to its folder (the stamp aside).
+std::vector<fs::path> DemoFiles() {
+  std::vector<fs::path> files = {kDemoDb, kDemoReport, kSeedInput};
+  for (const char* as : {"ideal-3222", "volpe-table4-2"}) files.emplace_back(SeedOutput(as));
+  for (const engine::ScenarioTest& test : PaddingPlan().tests) files.push_back(PaddingCsvPath(test));
+  return files;
+}
+
+// The files a previous demo's stamp lists (empty without a stamp).
+std::vector<fs::path> StampedFiles(const fs::path& dir) {
+  std::vector<fs::path> files;
+  std::ifstream stamp(dir / kStampName);
+  for (std::string line; std::getline(stamp, line);)
+    if (!line.empty() && line.front() != '#') {
+      const fs::path file = fs::path(line).lexically_normal();
+      // Only names inside the folder ("../x" or "/x" in a tampered stamp is not the demo's).
+      if (file.is_relative() && !file.empty() && *file.begin() != "..") files.push_back(file);
+    }
+  return files;
+}
+
+// Whether `relative` is one of `files`, a SQLite side file of the demo
+// catalogue, or a temporary file napkin's atomic writer left for one of them
+// (formats/atomic_file.h: ".NAME.tmp-...", left only when killed).
+bool IsDemoFile(const fs::path& relative, const std::vector<fs::path>& files) {
+  for (const fs::path& file : files) {
+    if (relative == file) return true;
+    if (relative.parent_path() == file.parent_path() &&
+        relative.filename().string().rfind("." + file.filename().string() + ".tmp-", 0) == 0)
+      return true;
   }
+  for (const char* suffix : kDbSideSuffixes)
+    if (relative == fs::path(std::string(kDemoDb) + suffix)) return true;
+  return false;
+}
+
+bool IsFolderOfDemoFiles(const fs::path& relative, const std::vector<fs::path>& files) {
+  for (const fs::path& file : files)
+    for (fs::path folder = file.parent_path(); !folder.empty(); folder = folder.parent_path())
+      if (folder == relative) return true;
+  return false;
+}
+
+// Makes `dir` ready for the demo: created when missing; else it must be
+// empty or hold nothing but a previous demo's stamped files, which are
+// removed. Throws InputError naming the first other entry. Returns whether a
+// previous demo's catalogue was there.
+bool PrepareDemoFolder(const fs::path& dir) {
   std::error_code error;
-  fs::remove(report_path, error);
-  return removed;
+  const fs::file_status status = fs::symlink_status(dir, error);
+  if (!fs::exists(status)) {
+    fs::create_directories(dir, error);
+    if (error)
+      throw InputError("cannot create the demo folder '" + dir.string() + "': " + error.message() + ".");
+    return false;
+  }
+  if (!fs::is_directory(fs::status(dir, error)))
+    throw InputError("'" + dir.string() + "' is not a folder; name a new folder for the demo.");
+  const std::vector<fs::path> stamped = StampedFiles(dir);
+  const bool has_stamp = fs::is_regular_file(fs::symlink_status(dir / kStampName, error));
+  std::vector<fs::path> files, folders;  // the earlier demo's, all of the folder's entries
+  for (auto entry = fs::recursive_directory_iterator(dir, error);
+       !error && entry != fs::recursive_directory_iterator(); entry.increment(error)) {
+    const fs::path relative = entry->path().lexically_relative(dir);
+    const fs::file_status entry_status = entry->symlink_status(error);
+    bool ours = false;
+    if (fs::is_directory(entry_status)) {
+      ours = has_stamp && IsFolderOfDemoFiles(relative, stamped);
+      if (ours) folders.push_back(relative);
+    } else if (fs::is_regular_file(entry_status)) {
+      ours = has_stamp && (relative == kStampName || IsDemoFile(relative, stamped));
+      if (ours) files.push_back(relative);
+    }
+    if (!ours)
+      throw InputError("the demo folder '" + dir.string() + "' holds '" + entry->path().string() +
+                       "', which no earlier `napkin demo` wrote; the demo writes only into a new or empty "
+                       "folder or one with nothing but its own earlier output (name another --out).");
+  }
+  if (error) throw InputError("cannot list the demo folder '" + dir.string() + "': " + error.message() + ".");
+
+  const bool had_catalogue = fs::exists(dir / kDemoDb, error);
+  for (const fs::path& file : files) fs::remove(dir / file, error);
+  // Deepest first; a folder is removed only when empty.
+  std::sort(folders.rbegin(), folders.rend());
+  for (const fs::path& folder : folders) fs::remove(dir / folder, error);
+  return had_catalogue;
+}
+
+// Writes the stamp listing the files this demo writes, before it writes any
+// (so an interrupted demo's output is its own too).
+void WriteStamp(const fs::path& dir) {
+  formats::WriteFileAtomically(dir / kStampName, [&](formats::AtomicFile& file) {
+    file.Write(std::string(kStampHeader) + "\n");
+    for (const fs::path& path : DemoFiles()) file.Write(path.generic_string() + "\n");
+  });
 }
 
 // The padding series and the three validation tests, stored as `napkin
@@ -116,20 +225,13 @@ int StoreDemoTests(const std::string& db_path) {
 // file per test in a folder per padding (DIR/csv/<variant>/<test>.csv), for
 // the README's tour of `napkin import`. Returns the folder.
 fs::path WritePaddingCsvFiles(const fs::path& dir) {
-  ingest::SynthRequest padding;
-  padding.scenario = engine::SynthScenario::kPaddingSeries;
-  padding.array = kPaddingArray;
-  const ingest::SynthPlan plan = ingest::PlanSynth(padding);
-  const fs::path csv_dir = dir / "csv";
-  std::error_code error;
-  fs::remove_all(csv_dir, error);  // files of a previous demo
+  const ingest::SynthPlan plan = PaddingPlan();
   for (const engine::ScenarioTest& test : plan.tests) {
-    const fs::path folder = csv_dir / test.variant.value_or("none");
-    fs::create_directories(folder);
-    formats::WriteSignalsCsv(engine::SynthScenarioTest(plan.array, plan.scenario, test).signals,
-                             folder / (test.external_id + ".csv"));
+    const fs::path path = dir / PaddingCsvPath(test);
+    fs::create_directories(path.parent_path());
+    formats::WriteSignalsCsv(engine::SynthScenarioTest(plan.array, plan.scenario, test).signals, path);
   }
-  return csv_dir;
+  return dir / "csv";
 }
 
 // The padding series compared by variant against production trim, as
@@ -192,7 +294,7 @@ void PrintSeedSolverTable(const fs::path& dir) {
   fmt::print("\nseed solver (LC_COMP, Appendix B) on Table 4-2 data:\n");
   const engine::ArrayGeometry table42 = formats::LoadArray("volpe-table4-2");
   const engine::SyntheticTest test = engine::SynthSeedFixedAxis(table42, Eigen::Vector3d(0.5, 0.5, 0.5));
-  const std::string input = (dir / "seed-fixed-axis_volpe-table4-2.csv").string();
+  const std::string input = (dir / kSeedInput).string();
   formats::WriteSignalsCsv(test.signals, input);
   fmt::print("{:<40} {:>16} {:>16} {:>18}\n", "processed as", "peak |omega_X|", "peak |omega_Z|",
              "final orient. err");
@@ -202,7 +304,7 @@ void PrintSeedSolverTable(const fs::path& dir) {
     options.solver = "seed";
     options.orientation_rad = {0.5, 0.5, 0.5};
     options.input = input;
-    options.out = (dir / (std::string("seed_as_") + as + ".csv")).string();
+    options.out = (dir / SeedOutput(as)).string();
     const TransformReport report = RunTransform(options);
     const engine::Kinematics& k = report.kinematics;
     const Eigen::Index last = k.size() - 1;
@@ -228,7 +330,8 @@ class DemoCommand : public Command {
                                        "build a demo catalogue (padding series + the report's validation "
                                        "scenarios), run it, show the results");
     sub->add_option("--out,--dir", dir_,
-                    "folder of the demo: its catalogue napkin.db (rebuilt on every run), report and files")
+                    "folder of the demo, new or empty or an earlier demo's: its catalogue napkin.db (rebuilt "
+                    "on every run), report and files")
         ->capture_default_str();
     sub->add_option("--threads", threads_, "worker threads (default: all cores)")->check(CLI::PositiveNumber);
     return sub;
@@ -236,11 +339,11 @@ class DemoCommand : public Command {
 
   int Run() override {
     const fs::path dir(dir_);
-    fs::create_directories(dir);
-    const fs::path db_path = dir / "napkin.db";
-    const fs::path report_path = dir / "report.html";
+    const bool replaced = PrepareDemoFolder(dir);
+    WriteStamp(dir);
+    const fs::path db_path = dir / kDemoDb;
+    const fs::path report_path = dir / kDemoReport;
     const std::string db = db_path.string();
-    const bool replaced = RemovePreviousDemo(db_path, report_path);
 
     fmt::print("napkin demo: catalogue {}{}\n", db,
                replaced ? " (rebuilt from scratch: the previous demo's catalogue was replaced)" : "");

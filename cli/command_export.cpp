@@ -2,9 +2,11 @@
 // result, or the result under --config, stored, or recomputed for storage
 // "none") as the derived-channel CSV, LS-DYNA keyword load curves, the legacy
 // LC_FILE.DAT, or an ISO-MME folder, or the report's UDS-1992 output files. Reads the catalogue only; the
-// output is written atomically.
+// output is written atomically, a folder format's files beside what the folder
+// holds (docs/formats.md "Output destinations").
 #include <fmt/core.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -14,6 +16,7 @@
 #include "cli/command.h"
 #include "common/error.h"
 #include "engine/kinematics.h"
+#include "formats/atomic_file.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
@@ -47,6 +50,10 @@ class ExportCommand : public Command {
     sub->add_option(
         "--config", config_,
         "processing config preset or JSON file whose result to export (default: the latest result)");
+    // docs/formats.md "Output destinations": --out - is standard output (one
+    // file); a folder format writes beside what --out holds.
+    sub->add_flag("--force", force_,
+                  "isomme, uds: replace files of the same names in the --out folder (default: refuse)");
     std::vector<std::string> unit_systems;
     for (const formats::LsDynaUnits system : formats::kLsDynaUnits)
       unit_systems.emplace_back(formats::LsDynaUnitsName(system));
@@ -60,6 +67,11 @@ class ExportCommand : public Command {
   }
 
   int Run() override {
+    const bool folder_format = format_ == "isomme" || format_ == "uds";
+    if (folder_format && out_ == formats::kStandardOutputName)
+      throw UsageError("--format " + format_ +
+                       " writes a folder of files, which cannot go to standard output " +
+                       "(--out -); name a folder.");
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id_);
     if (!test) throw InputError("test '" + test_id_ + "' is not in catalogue '" + global_->db_path + "'.");
@@ -98,12 +110,24 @@ class ExportCommand : public Command {
       const formats::UdsNumberForm form = numform_ == "vax"   ? formats::UdsNumberForm::kVax
                                           : numform_ == "sun" ? formats::UdsNumberForm::kSun
                                                               : formats::UdsNumberForm::kIeee;
-      formats::WriteDerivedUds(*kinematics, out_, formats::FileNameComponent(test_id_), form);
+      // The files appear beside what --out holds, none replaced unless --force
+      // (formats/atomic_file.h WriteDirectoryAtomically).
+      formats::WriteDirectoryAtomically(
+          out_,
+          [&](const std::filesystem::path& staging) {
+            formats::WriteDerivedUds(*kinematics, staging, formats::FileNameComponent(test_id_), form);
+          },
+          force_);
     } else {
       // The test id names the files: made safe (no separator, control
       // character, "." or ".."; docs/formats.md "Names, limits and escaping").
-      formats::WriteDerivedIsoMme(*kinematics, out_, formats::FileNameComponent(test_id_),
-                                  IsoMmeOptions(catalogue, *test, *config));
+      const formats::IsoMmeExportOptions options = IsoMmeOptions(catalogue, *test, *config);
+      formats::WriteDirectoryAtomically(
+          out_,
+          [&](const std::filesystem::path& staging) {
+            formats::WriteDerivedIsoMme(*kinematics, staging, formats::FileNameComponent(test_id_), options);
+          },
+          force_);
     }
     return kExitOk;
   }
@@ -139,6 +163,7 @@ class ExportCommand : public Command {
   std::string test_id_;
   std::string format_;
   std::string out_;
+  bool force_ = false;
   std::string config_;
   std::string units_ = formats::LsDynaUnitsName(formats::LsDynaUnits::kSi);
   int part_ = 1;

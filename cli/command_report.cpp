@@ -6,6 +6,7 @@
 
 #include "cli/catalogue_report.h"
 #include "cli/command.h"
+#include "formats/output_destination.h"
 
 namespace napkin::cli {
 namespace {
@@ -22,12 +23,14 @@ class ReportCommand : public Command {
                     "only tests whose results satisfy EXPR, as in `napkin query criteria --where` "
                     "(repeatable: all of them)")
         ->allow_extra_args(false);
-    sub->add_option("--out", out_, "HTML file to write")->required();
+    sub->add_option("--out", out_, "HTML file to write (- for standard output)")->required();
     return sub;
   }
 
   int Run() override {
-    fmt::print("{}", WrittenReportText(WriteCatalogueReport(global_->db_path, selection_, out_)));
+    const std::string written = WrittenReportText(WriteCatalogueReport(global_->db_path, selection_, out_));
+    // With --out - the report is standard output; what was written goes to stderr.
+    fmt::print(out_ == formats::kStandardOutputName ? stderr : stdout, "{}", written);
     return kExitOk;
   }
 

@@ -13,6 +13,7 @@
 #include "cli/progress.h"
 #include "common/error.h"
 #include "db/results_file.h"
+#include "formats/output_destination.h"
 #include "jobs/scheduler.h"
 
 namespace napkin::cli {
@@ -79,6 +80,9 @@ class RunCommand : public Command {
     if (!series_.empty()) options_.scope.tests.series = series_;
     options_.scope.tests.external_ids = test_ids_;
     if (!shard_.empty()) options_.scope.shard = ParseShard(shard_);
+    // The results file is a catalogue of its own, never the --db one's side
+    // files (db::ResultsFile::Open refuses the catalogue itself).
+    if (!options_.results_path.empty()) formats::CheckNotProtected(options_.results_path);
     CheckScope();
 
     const ResolvedConfig resolved = ResolveConfig(config_);

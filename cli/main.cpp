@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 
+#include "cli/catalogue_protection.h"
 #include "cli/command.h"
 #include "cli/diagnostics.h"
 #include "common/version.h"
@@ -29,6 +30,8 @@ int main(int argc, char** argv) {
     return app.exit(error) == 0 ? kExitOk : kExitUsage;
   }
   try {
+    // No command writes its output over the catalogue (docs/formats.md "Output destinations").
+    ProtectCatalogueFromOutput(global.db_path);
     for (auto& [sub, command] : parsed)
       if (sub->parsed()) return command->Run();
   } catch (...) {

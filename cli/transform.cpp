@@ -13,6 +13,7 @@
 #include "formats/atomic_file.h"
 #include "formats/csv.h"
 #include "formats/lsdyna.h"
+#include "formats/output_destination.h"
 #include "formats/summary_json.h"
 
 namespace napkin::cli {
@@ -34,6 +35,12 @@ Eigen::Vector3d Vector3OrZero(const std::vector<double>& values) {
 }  // namespace
 
 TransformReport RunTransform(const TransformOptions& options) {
+  // One stream cannot carry two files (docs/formats.md "Output destinations").
+  int to_standard_output = 0;
+  for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
+    to_standard_output += *output == formats::kStandardOutputName;
+  if (to_standard_output > 1)
+    throw UsageError("only one of --out, --summary and --lsdyna can be standard output (-).");
   const engine::ArrayGeometry array = formats::LoadArray(options.array);
   if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
   formats::CsvSignals csv =
@@ -73,20 +80,30 @@ TransformReport RunTransform(const TransformOptions& options) {
   const std::string test_id = fs::path(options.input).stem().string();
   const std::string summary_text = formats::SummaryToJson(report.summary, test_id, "", "").dump(2) + "\n";
   // Each writer is atomic; if a later one fails, the earlier outputs of this
-  // run are removed too, so a failed transform leaves no output behind.
-  std::vector<fs::path> written;
+  // run that it created are removed too, so a failed transform leaves no new
+  // output behind. A name that was there before is never removed (it may be
+  // the user's FIFO, device or link; napkin removes only files it wrote).
+  for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
+    if (!output->empty()) formats::ResolveOutputDestination(*output);  // refused before anything is written
+  std::vector<fs::path> created;
+  auto is_new = [](const std::string& path) {
+    std::error_code error;
+    return path != formats::kStandardOutputName && !fs::exists(fs::symlink_status(path, error));
+  };
   try {
+    const bool out_new = is_new(options.out);
     formats::WriteDerivedCsv(report.kinematics, options.out);
-    written.emplace_back(options.out);
+    if (out_new) created.emplace_back(options.out);
     if (!options.summary.empty()) {
+      const bool summary_new = is_new(options.summary);
       formats::WriteFileAtomically(options.summary,
                                    [&](formats::AtomicFile& file) { file.Write(summary_text); });
-      written.emplace_back(options.summary);
+      if (summary_new) created.emplace_back(options.summary);
     }
     if (!options.lsdyna.empty()) formats::WriteLsDynaKeyword(report.kinematics, options.lsdyna);
   } catch (...) {
     std::error_code ignored;
-    for (const auto& path : written) fs::remove(path, ignored);
+    for (const auto& path : created) fs::remove(path, ignored);
     throw;
   }
   return report;

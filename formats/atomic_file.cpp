@@ -2,11 +2,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdarg>
 #include <cstring>
 #include <random>
 #include <system_error>
+#include <vector>
 
 #include "common/error.h"
 
@@ -28,9 +30,21 @@ std::filesystem::path TemporarySibling(const std::filesystem::path& destination)
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::filesystem::path destination) : destination_(std::move(destination)) {
-  temporary_ = TemporarySibling(destination_);
-  file_ = std::fopen(temporary_.c_str(), "wb");
+AtomicFile::AtomicFile(std::filesystem::path destination)
+    : destination_(std::move(destination)), target_(ResolveOutputDestination(destination_)) {
+  switch (target_.kind) {
+    case OutputDestination::Kind::kStandardOutput:
+      file_ = stdout;
+      return;
+    case OutputDestination::Kind::kStream:
+      // A FIFO or device: opened as it is (a FIFO waits for its reader here).
+      file_ = std::fopen(target_.path.c_str(), "wb");
+      break;
+    case OutputDestination::Kind::kFile:
+      temporary_ = TemporarySibling(target_.path);
+      file_ = std::fopen(temporary_.c_str(), "wb");
+      break;
+  }
   if (file_ == nullptr)
     throw InputError(destination_.string() + ": cannot create the output file (" + std::strerror(errno) +
                      ").");
@@ -39,8 +53,8 @@ AtomicFile::AtomicFile(std::filesystem::path destination) : destination_(std::mo
 }
 
 AtomicFile::~AtomicFile() {
-  if (file_ != nullptr) std::fclose(file_);
-  if (!committed_) {
+  if (file_ != nullptr && file_ != stdout) std::fclose(file_);
+  if (!committed_ && !temporary_.empty()) {
     std::error_code error;
     std::filesystem::remove(temporary_, error);
   }
@@ -60,13 +74,23 @@ void AtomicFile::Printf(const char* format, ...) {
 }
 
 void AtomicFile::Commit() {
+  if (target_.kind != OutputDestination::Kind::kFile) {
+    // Nothing to rename: the bytes went straight to the stream.
+    const bool flushed = std::fflush(file_) == 0;
+    const bool closed = file_ == stdout || std::fclose(file_) == 0;
+    file_ = nullptr;
+    if (!flushed || !closed)
+      throw InputError(destination_.string() + ": write failed (" + std::strerror(errno) + ").");
+    committed_ = true;
+    return;
+  }
   const bool flushed = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   if (!flushed || !closed)
     throw InputError(destination_.string() + ": write failed (" + std::strerror(errno) + ").");
   std::error_code error;
-  std::filesystem::rename(temporary_, destination_, error);
+  std::filesystem::rename(temporary_, target_.path, error);
   if (error)
     throw InputError(destination_.string() + ": cannot move the output file into place (" + error.message() +
                      ").");
@@ -80,39 +104,102 @@ void WriteFileAtomically(const std::filesystem::path& destination,
   file.Commit();
 }
 
-void WriteDirectoryAtomically(const std::filesystem::path& destination,
-                              const std::function<void(const std::filesystem::path& directory)>& fill) {
-  const std::filesystem::path temporary = TemporarySibling(destination);
+namespace {
+
+namespace fs = std::filesystem;
+
+// The staged files (paths relative to `staging`), in a stable order, and the
+// folders holding them.
+void ListStaged(const fs::path& staging, std::vector<fs::path>& files, std::vector<fs::path>& folders) {
+  for (auto entry = fs::recursive_directory_iterator(staging); entry != fs::recursive_directory_iterator();
+       ++entry) {
+    const fs::path relative = entry->path().lexically_relative(staging);
+    if (entry->is_directory())
+      folders.push_back(relative);
+    else
+      files.push_back(relative);
+  }
+  std::sort(files.begin(), files.end());
+  std::sort(folders.begin(), folders.end());
+}
+
+// Refuses (before anything moves) a staged name that would replace what the
+// folder holds: a folder where a file goes or the reverse always, a file
+// unless `replace_existing` allows replacing regular files.
+void CheckStagedNames(const fs::path& destination, const std::vector<fs::path>& files,
+                      const std::vector<fs::path>& folders, bool replace_existing) {
+  for (const fs::path& folder : folders) {
+    std::error_code error;
+    const fs::file_status status = fs::status(destination / folder, error);
+    if (fs::exists(status) && !fs::is_directory(status))
+      throw InputError("'" + (destination / folder).string() +
+                       "' exists and is not a folder; napkin does not replace it.");
+  }
+  for (const fs::path& file : files) {
+    const fs::path target = destination / file;
+    CheckNotProtected(target);
+    std::error_code error;
+    const fs::file_status status = fs::symlink_status(target, error);
+    if (!fs::exists(status)) continue;
+    if (!fs::is_regular_file(status))
+      throw InputError("'" + target.string() +
+                       "' exists and is not a regular file; napkin does not replace it.");
+    if (!replace_existing)
+      throw InputError("'" + target.string() +
+                       "' already exists; napkin does not replace it unless --force is given.");
+  }
+}
+
+// `message` with the staging folder's name replaced by the destination's:
+// the user named the destination, the staging folder is napkin's own.
+std::string NamingDestination(std::string message, const fs::path& staging, const fs::path& destination) {
+  const std::string from = staging.string();
+  const std::string to = destination.string();
+  for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+    message.replace(at, from.size(), to);
+  return message;
+}
+
+}  // namespace
+
+void WriteDirectoryAtomically(const fs::path& destination,
+                              const std::function<void(const fs::path& directory)>& fill,
+                              bool replace_existing) {
   std::error_code error;
-  std::filesystem::create_directories(temporary, error);
+  const bool created = fs::create_directories(destination, error);
+  if (error)
+    throw InputError(destination.string() + ": cannot create the output folder (" + error.message() + ").");
+  if (!fs::is_directory(destination))
+    throw InputError(destination.string() + ": exists and is not a folder.");
+  // Inside the destination: the same file system, so every move is a rename,
+  // and no other folder needs to be writable.
+  const fs::path staging = destination / (".napkin-staging-" + RandomSuffix());
+  fs::create_directory(staging, error);
   if (error)
     throw InputError(destination.string() + ": cannot create the output folder (" + error.message() + ").");
   try {
-    fill(temporary);
-    if (std::filesystem::exists(destination)) {
-      if (!std::filesystem::is_directory(destination))
-        throw InputError(destination.string() + ": exists and is not a folder.");
-      const std::filesystem::path old = TemporarySibling(destination);
-      std::filesystem::rename(destination, old, error);
+    fill(staging);
+    std::vector<fs::path> files, folders;
+    ListStaged(staging, files, folders);
+    CheckStagedNames(destination, files, folders, replace_existing);
+    for (const fs::path& folder : folders) fs::create_directories(destination / folder);
+    for (const fs::path& file : files) {
+      fs::rename(staging / file, destination / file, error);
       if (error)
-        throw InputError(destination.string() + ": cannot replace the existing folder (" + error.message() +
-                         ").");
-      std::filesystem::rename(temporary, destination, error);
-      if (error) {
-        std::filesystem::rename(old, destination);  // put the previous folder back
-        throw InputError(destination.string() + ": cannot move the output folder into place (" +
-                         error.message() + ").");
-      }
-      std::filesystem::remove_all(old, error);
-    } else {
-      std::filesystem::rename(temporary, destination, error);
-      if (error)
-        throw InputError(destination.string() + ": cannot move the output folder into place (" +
+        throw InputError((destination / file).string() + ": cannot move the output file into place (" +
                          error.message() + ").");
     }
+    fs::remove_all(staging, error);  // staging's own, now empty, folders
   } catch (...) {
-    std::filesystem::remove_all(temporary, error);
-    throw;
+    fs::remove_all(staging, error);
+    if (created) fs::remove(destination, error);  // only when empty: nothing else was there
+    try {
+      throw;
+    } catch (const UsageError& usage) {
+      throw UsageError(NamingDestination(usage.what(), staging, destination));
+    } catch (const InputError& input) {
+      throw InputError(NamingDestination(input.what(), staging, destination));
+    }
   }
 }
 

@@ -3,12 +3,17 @@
 // the destination's directory and renames it over the destination only when
 // everything was written and flushed, so a crash, a full disk or an exception
 // never leaves a partial output file behind (rename(2) is atomic within one
-// file system).
+// file system). The destination is resolved by formats/output_destination.h:
+// a symbolic link is written through (the rename happens in its target's
+// folder), a FIFO or character device is written straight into, "-" is
+// standard output, and a protected file (the catalogue) is refused.
 #include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <string_view>
+
+#include "formats/output_destination.h"
 
 namespace napkin::formats {
 
@@ -17,8 +22,9 @@ namespace napkin::formats {
 // was not reached (e.g. an exception unwound the writer).
 class AtomicFile {
  public:
-  // Throws InputError naming `destination` when the temporary file cannot be
-  // created (missing directory, no permission).
+  // Throws InputError naming `destination` when it is refused
+  // (ResolveOutputDestination) or the temporary file cannot be created
+  // (missing directory, no permission).
   explicit AtomicFile(std::filesystem::path destination);
   ~AtomicFile();
   AtomicFile(const AtomicFile&) = delete;
@@ -34,8 +40,9 @@ class AtomicFile {
   void Commit();
 
  private:
-  std::filesystem::path destination_;
-  std::filesystem::path temporary_;
+  std::filesystem::path destination_;  // as requested, for messages
+  OutputDestination target_;
+  std::filesystem::path temporary_;  // empty when writing straight into the target
   std::FILE* file_ = nullptr;
   bool committed_ = false;
 };
@@ -44,10 +51,16 @@ class AtomicFile {
 void WriteFileAtomically(const std::filesystem::path& destination,
                          const std::function<void(AtomicFile&)>& write);
 
-// A directory written atomically (ISO-MME test folders): `fill` populates a
-// temporary sibling directory, which then replaces `destination` (an existing
-// destination directory is replaced only after the new one is complete).
+// Files written into a folder all at once (ISO-MME and UDS exports): `fill`
+// writes them into a hidden staging folder inside `destination` (created when
+// missing); only when it has finished are they moved into place, beside
+// whatever the folder already holds. Nothing in `destination` is removed: a
+// staged file whose name is taken there is refused before any is moved,
+// unless `replace_existing` (then a regular file of that name is replaced;
+// a folder, link or device never is). On failure the staging folder, and
+// `destination` when this call created it, are removed.
 void WriteDirectoryAtomically(const std::filesystem::path& destination,
-                              const std::function<void(const std::filesystem::path& directory)>& fill);
+                              const std::function<void(const std::filesystem::path& directory)>& fill,
+                              bool replace_existing = false);
 
 }  // namespace napkin::formats

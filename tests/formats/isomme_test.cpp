@@ -145,15 +145,22 @@ INSTANTIATE_TEST_SUITE_P(
                       PresetCase{"six_a_omega_cg", &test_support::SixAOmegaCg, "default"}),
     test_support::CaseName());
 
-TEST(IsoMmeTest, WritingAgainReplacesTheFolderAsAWhole) {
+// Issue 19 item 1: a folder is written beside what it holds, never replaced
+// as a whole; a taken file name is refused before anything moves.
+TEST(IsoMmeTest, WritingAgainIsRefusedAndRemovesNothing) {
   TempDir dir;
   const ChannelMap standard = LoadChannelMap("default");
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
+  std::filesystem::create_directories(dir / "6aw-cg");
+  test_support::WriteBytes(dir / "6aw-cg" / "notes.txt", "the user's\n");
   WriteIsoMme(test_support::MakeSignals(array, 517, 1e-4, -0.005), array, standard, dir / "6aw-cg",
               "T6aw-cg");
   const engine::TestSignals shorter = test_support::MakeSignals(array, 10, 1e-3, 0.0);
-  WriteIsoMme(shorter, array, standard, dir / "6aw-cg", "T6aw-cg");
-  EXPECT_EQ(ReadIsoMmeSignals(dir / "6aw-cg", array, standard).size(), 10);
+  EXPECT_THROW(WriteIsoMme(shorter, array, standard, dir / "6aw-cg", "T6aw-cg"), InputError);
+  EXPECT_EQ(ReadIsoMmeSignals(dir / "6aw-cg", array, standard).size(), 517);
+  EXPECT_EQ(test_support::ReadBytes(dir / "6aw-cg" / "notes.txt"), "the user's\n");
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir / "6aw-cg"))
+    EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();  // no staging folder left
 }
 
 // Channel files as another program writes them: CRLF, ISO-8859-1 names, tab
