@@ -179,8 +179,9 @@ bool PrepareDemoFolder(const fs::path& dir) {
     }
     if (!ours)
       throw InputError("the demo folder '" + dir.string() + "' holds '" + entry->path().string() +
-                       "', which no earlier `napkin demo` wrote; the demo writes only into a new or empty "
-                       "folder or one with nothing but its own earlier output (name another --out).");
+                       "', which no earlier demo's stamp (" + kStampName +
+                       ") lists; the demo writes only into a new or empty folder or one with nothing but its "
+                       "own earlier output (name another --out).");
   }
   if (error) throw InputError("cannot list the demo folder '" + dir.string() + "': " + error.message() + ".");
 

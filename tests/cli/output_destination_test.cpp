@@ -163,7 +163,7 @@ TEST_F(OutputDestinations, DemoRefusesAFolderWithTheUsersFiles) {
   const std::map<std::string, std::string> before = Listing(folder);
   const RunResult demo = RunNapkin(folder, {"demo", "--out", "."});
   EXPECT_EQ(demo.exit_code, 1);
-  ExpectOneSentenceError(demo, {"which no earlier `napkin demo` wrote"});
+  ExpectOneSentenceError(demo, {"which no earlier demo's stamp (.napkin-demo) lists"});
   EXPECT_EQ(Listing(folder), before);
   EXPECT_EQ(DumpCatalogue(folder / "napkin.db"), dump);
 
@@ -177,7 +177,7 @@ TEST_F(OutputDestinations, DemoRefusesAFolderWithTheUsersFiles) {
   const std::map<std::string, std::string> stamped_before = Listing(dir_.path());
   const RunResult again = RunNapkin(dir_.path(), {"demo", "--out", "old-demo"});
   EXPECT_EQ(again.exit_code, 1);
-  ExpectOneSentenceError(again, {"notes.txt", "which no earlier `napkin demo` wrote"});
+  ExpectOneSentenceError(again, {"notes.txt", "which no earlier demo's stamp (.napkin-demo) lists"});
   EXPECT_EQ(Listing(dir_.path()), stamped_before);
 }
 
