@@ -21,7 +21,7 @@ void ThrowSqliteError(sqlite3* db, int code, const char* call, std::string_view 
   const char* message = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(code);
   std::string text = "SQLite error '";
   text += message;
-  text += "' (" + std::to_string(extended) + ") in " + call;
+  text += "' (" + std::to_string(extended) + ")";
   if (!context.empty()) {
     // One line: the first line of the SQL (or the file name), shortened.
     std::string_view shown = context.substr(0, context.find('\n'));
@@ -31,7 +31,10 @@ void ThrowSqliteError(sqlite3* db, int code, const char* call, std::string_view 
     text += cut ? "...'" : "'";
   }
   text += ".";
-  throw DatabaseError(text, extended != 0 ? extended : code, std::string(file) + ":" + std::to_string(line));
+  // The call as written in the source stays out of the message (README:
+  // errors never show source code): it is part of location(), for debugging.
+  throw DatabaseError(text, extended != 0 ? extended : code,
+                      std::string(file) + ":" + std::to_string(line) + ": " + call);
 }
 
 }  // namespace internal
