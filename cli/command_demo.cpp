@@ -18,6 +18,7 @@
 #include "cli/catalogue_report.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
+#include "cli/option_checks.h"
 #include "cli/table_output.h"
 #include "cli/transform.h"
 #include "common/error.h"
@@ -230,7 +231,8 @@ class DemoCommand : public Command {
     sub->add_option("--out,--dir", dir_,
                     "folder of the demo: its catalogue napkin.db (rebuilt on every run), report and files")
         ->capture_default_str();
-    sub->add_option("--threads", threads_, "worker threads (default: all cores)")->check(CLI::PositiveNumber);
+    sub->add_option("--threads", threads_, "worker threads (default: all cores)")
+        ->check(WholeNumberCheck("--threads", 1));
     return sub;
   }
 
