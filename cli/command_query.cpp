@@ -29,7 +29,7 @@ class QueryCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    sub->add_option("what", what_, "tests, hic, rotation, criteria, quality or conditioning")
+    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, quality or conditioning")
         ->required()
         ->check(OneOfCheck("the query KIND",
                            {"tests", "hic", "rotation", "criteria", "quality", "conditioning"}));

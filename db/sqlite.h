@@ -21,11 +21,12 @@
 
 namespace napkin::db {
 
-// A failed SQLite call. The message names the SQLite error and its context
-// (the SQL text or the file), e.g. "SQLite error 'UNIQUE constraint failed:
-// tests.external_id' (2067) while running 'INSERT ...'". The source location
-// and text of the failed call are kept apart (location()), out of the message
-// users see (README: errors never show a source path or source code).
+// A failed SQLite call. The message names the SQLite error, the function
+// called and its context (the SQL text or the file), e.g. "SQLite error
+// 'UNIQUE constraint failed: tests.external_id' (2067) in sqlite3_step while
+// running 'INSERT ...'". The source location and the text of the failed call
+// are kept apart (location()), out of the message users see (README: errors
+// never show a source path or source code).
 class DatabaseError : public std::runtime_error {
  public:
   DatabaseError(const std::string& message, int code, std::string location = {})

@@ -85,7 +85,6 @@ TEST_F(CliOptionErrors, StructuralErrorsAreOneSentenceToo) {
            {"query", "hic", "--bogus"},
            {"run", "--threads"},
            {"export", "--test", "t"},
-           {"synth", "--scenario", "random", "--seed", "-1"},
            {"synth", "--scenario", "random", "--samples", "5", "--duration", "1"}}) {
     std::string shown;
     for (const std::string& arg : args) shown += " " + arg;
@@ -95,6 +94,9 @@ TEST_F(CliOptionErrors, StructuralErrorsAreOneSentenceToo) {
     ExpectOneSentenceError(run, {"`napkin --help` lists the commands"});
     EXPECT_EQ(run.err.find("Run with --help"), std::string::npos) << run.err;
   }
+  ExpectRefused(
+      {"query"},
+      "KIND is required; `napkin --help` lists the commands, `napkin COMMAND --help` their options.");
   ExpectRefused({"run", "--threads"},
                 "--threads needs a value; `napkin --help` lists the commands, `napkin COMMAND --help` their "
                 "options.");

@@ -117,7 +117,9 @@ class WhereLimits : public ::testing::Test {
     for (const db::QueryKind kind : kKinds) {
       SCOPED_TRACE(shape + ", query " + std::to_string(static_cast<int>(kind)));
       const std::multiset<std::string> expected = Ids(catalogue, kind, {"test_id = q1 or test_id = q3"});
-      if (kind != db::QueryKind::kQuality) EXPECT_FALSE(expected.empty());  // findings may be none
+      if (kind != db::QueryKind::kQuality) {  // findings may be none
+        EXPECT_FALSE(expected.empty());
+      }
       try {
         EXPECT_EQ(Ids(catalogue, kind, where), expected);
       } catch (const std::exception& error) {
@@ -301,15 +303,18 @@ TEST_F(WhereLimits, AMalformedLongExpressionIsQuotedCut) {
 
 // ------------------------------------------------------- the wrapper's errors
 
-TEST(SqliteErrorText, NamesTheSqliteErrorAndTheSqlButNoSourceCode) {
+// Before: "... (1) in sqlite3_prepare_v3(db_, sql_.data(), static_cast<int>(sql_.size()), ...) while ...".
+TEST(SqliteErrorText, NamesTheSqliteErrorTheFunctionAndTheSqlButNoSourceCode) {
   db::Connection connection = db::Connection::Open(":memory:");
   try {
     connection.Prepare("SELECT * FROM no_such_table");
     ADD_FAILURE() << "no DatabaseError";
   } catch (const db::DatabaseError& error) {
     const std::string message = error.what();
-    EXPECT_EQ(message,
-              "SQLite error 'no such table: no_such_table' (1) while running 'SELECT * FROM no_such_table'.");
+    EXPECT_EQ(
+        message,
+        "SQLite error 'no such table: no_such_table' (1) in sqlite3_prepare_v3 while running 'SELECT * FROM "
+        "no_such_table'.");
     // The call as written in db/sqlite.cpp is kept for debugging only.
     EXPECT_NE(error.location().find("sqlite3_prepare_v3("), std::string::npos) << error.location();
   }
