@@ -7,6 +7,7 @@
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
+#include "cli/option_checks.h"
 
 namespace napkin::cli {
 namespace {
@@ -19,7 +20,7 @@ class CompareCommand : public Command {
         "compare", "compare the variants (or processing configs) of a series: means, differences, 95 % CIs");
     sub->add_option("--series", request_.series, "the series whose tests are compared")->required();
     sub->add_option("--by", by_, "variant (Welch's t) or config (paired t over the same tests)")
-        ->check(CLI::IsMember({"variant", "config"}))
+        ->check(OneOfCheck("--by", {"variant", "config"}))
         ->capture_default_str();
     sub->add_option("--baseline", baseline_,
                     "the group the others are compared with (default: first by name)");
@@ -30,7 +31,7 @@ class CompareCommand : public Command {
                     "stored config NAME or HASH-PREFIX: by variant, whose results (default: each test's "
                     "latest); by config, the configs compared (repeatable; default: all)");
     sub->add_option("--format", format_, "table, csv or json")
-        ->check(CLI::IsMember({"table", "csv", "json"}))
+        ->check(OneOfCheck("--format", {"table", "csv", "json"}))
         ->capture_default_str();
     return sub;
   }

@@ -19,6 +19,7 @@
 #include "cli/catalogue_report.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
+#include "cli/option_checks.h"
 #include "cli/table_output.h"
 #include "cli/transform.h"
 #include "common/error.h"
@@ -334,7 +335,8 @@ class DemoCommand : public Command {
                     "folder of the demo, new or empty or an earlier demo's: its catalogue napkin.db (rebuilt "
                     "on every run), report and files")
         ->capture_default_str();
-    sub->add_option("--threads", threads_, "worker threads (default: all cores)")->check(CLI::PositiveNumber);
+    sub->add_option("--threads", threads_, "worker threads (default: all cores)")
+        ->check(WholeNumberCheck("--threads", 1));
     return sub;
   }
 

@@ -14,6 +14,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "common/error.h"
 #include "engine/kinematics.h"
 #include "formats/atomic_file.h"
@@ -36,10 +37,10 @@ class ExportCommand : public Command {
     sub->add_option("--test", test_id_, "test id")->required();
     sub->add_option("--format", format_, "csv, lsdyna, lcfile, isomme or uds")
         ->required()
-        ->check(CLI::IsMember({"csv", "lsdyna", "lcfile", "isomme", "uds"}));
+        ->check(OneOfCheck("--format", {"csv", "lsdyna", "lcfile", "isomme", "uds"}));
     sub->add_option("--out", out_, "file to write (a folder for isomme and uds)")->required();
     sub->add_option("--numform", numform_, "uds number form: ieee, vax or sun")
-        ->check(CLI::IsMember({"ieee", "vax", "sun"}))
+        ->check(OneOfCheck("--numform", {"ieee", "vax", "sun"}))
         ->capture_default_str();
     sub->add_option("--position", position_,
                     "isomme: test object and seat position of the channel codes (default: the test's "
@@ -58,10 +59,10 @@ class ExportCommand : public Command {
     for (const formats::LsDynaUnits system : formats::kLsDynaUnits)
       unit_systems.emplace_back(formats::LsDynaUnitsName(system));
     sub->add_option("--units", units_, "lsdyna units: si (m, s) or english (in, s)")
-        ->check(CLI::IsMember(unit_systems))
+        ->check(OneOfCheck("--units", unit_systems))
         ->capture_default_str();
     sub->add_option("--part", part_, "lsdyna rigid part id")
-        ->check(CLI::PositiveNumber)
+        ->check(WholeNumberCheck("--part", 1))
         ->capture_default_str();
     return sub;
   }

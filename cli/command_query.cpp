@@ -9,6 +9,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "cli/query_filters.h"
 #include "cli/table_output.h"
 
@@ -28,12 +29,13 @@ class QueryCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    sub->add_option("what", what_, "tests, hic, rotation, criteria, quality or conditioning")
+    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, quality or conditioning")
         ->required()
-        ->check(CLI::IsMember({"tests", "hic", "rotation", "criteria", "quality", "conditioning"}));
+        ->check(OneOfCheck("the query KIND",
+                           {"tests", "hic", "rotation", "criteria", "quality", "conditioning"}));
     filters_.Register(*sub);
     sub->add_option("--format", format_, "table, csv or json")
-        ->check(CLI::IsMember({"table", "csv", "json"}))
+        ->check(OneOfCheck("--format", {"table", "csv", "json"}))
         ->capture_default_str();
     return sub;
   }

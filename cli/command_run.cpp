@@ -10,10 +10,12 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "cli/progress.h"
 #include "common/error.h"
 #include "db/results_file.h"
 #include "formats/output_destination.h"
+#include "formats/text.h"
 #include "jobs/scheduler.h"
 
 namespace napkin::cli {
@@ -61,14 +63,15 @@ class RunCommand : public Command {
     sub->add_option("--test", test_ids_, "only this test (repeatable)");
     sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
     sub->add_option("--threads", options_.threads, "worker threads (default: all cores)")
-        ->check(CLI::PositiveNumber);
+        ->check(WholeNumberCheck("--threads", 1));
     sub->add_flag("--force", options_.force, "recompute tests whose results are up to date");
     sub->add_flag("--outdated", options_.outdated,
                   "also recompute results computed by another napkin version (see `napkin --version`)");
     sub->add_option("--shard", shard_, "process shard I of N (0 <= I < N) of the tests: I/N")
         ->check([](const std::string& text) {
           return ParseShard(text) ? std::string()
-                                  : std::string("--shard takes I/N with 0 <= I < N, e.g. 0/3");
+                                  : "--shard takes I/N with 0 <= I < N, e.g. 0/3; it is '" +
+                                        formats::Abbreviated(text) + "'";
         });
     sub->add_option("--results", options_.results_path,
                     "read --db only (shared, immutable) and write the results to this file (created if "

@@ -11,6 +11,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "common/version.h"
 #include "db/job_queue.h"
 
@@ -47,7 +48,7 @@ class StatusCommand : public Command {
     CLI::App* sub = app.add_subcommand("status", "counts of tests by state for the config, and the failures");
     sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
     sub->add_option("--format", format_, "table or json")
-        ->check(CLI::IsMember({"table", "json"}))
+        ->check(OneOfCheck("--format", {"table", "json"}))
         ->capture_default_str();
     return sub;
   }

@@ -8,6 +8,7 @@
 
 #include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "engine/synth.h"
 #include "ingest/synth.h"
 
@@ -26,28 +27,28 @@ class SynthCommand : public Command {
     sub->add_option("--scenario", scenario_,
                     "seed-fixed-axis (report 4.5), seed-sequential (report 4.4), random, padding-series")
         ->required()
-        ->check(CLI::IsMember(scenarios));
+        ->check(OneOfCheck("--scenario", scenarios));
     sub->add_option("--count", request_.count,
                     "random: number of tests (default 1); padding-series: repeats per variant (default 5)")
-        ->check(CLI::PositiveNumber);
+        ->check(WholeNumberCheck("--count", 1));
     sub->add_option("--seed", request_.seed, "generator seed of the first test")->capture_default_str();
     sub->add_option("--array", request_.array, "array preset name or array JSON file")->capture_default_str();
     sub->add_option("--series", request_.series, "series label (default: the scenario name)");
     sub->add_option("--test-id", request_.test_id,
                     "test id, or prefix of numbered ids (default: the scenario name)");
     auto* samples = sub->add_option("--samples", request_.samples, "random: samples per channel")
-                        ->check(CLI::Range(2, 100000000));
+                        ->check(WholeNumberCheck("--samples", 2, 100000000));
     sub->add_option("--duration", request_.duration_s, "random: duration in s (default 0.2)")
-        ->check(CLI::PositiveNumber)
+        ->check(PositiveNumberCheck("--duration"))
         ->excludes(samples);
     sub->add_option("--rate", request_.rate_hz, "sampling rate in Hz")
-        ->check(CLI::PositiveNumber)
+        ->check(PositiveNumberCheck("--rate"))
         ->capture_default_str();
     return sub;
   }
 
   int Run() override {
-    request_.scenario = *engine::ParseSynthScenario(scenario_);  // checked by CLI::IsMember
+    request_.scenario = *engine::ParseSynthScenario(scenario_);  // checked by OneOfCheck
     const ingest::SynthPlan plan = ingest::PlanSynth(request_);
     db::Catalogue catalogue = OpenCatalogue(*global_);
     const ingest::SynthCounts counts = ingest::StoreSynthTests(catalogue, plan);

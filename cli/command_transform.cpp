@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "cli/transform.h"
 #include "cli/triple_option.h"
 #include "engine/solver.h"
@@ -26,7 +27,7 @@ class TransformCommand : public Command {
       solvers.emplace_back(engine::SolverName(kind));
     }
     sub->add_option("--solver", options_.solver, solver_help + " (default: the config's, exact)")
-        ->check(CLI::IsMember(solvers));
+        ->check(OneOfCheck("--solver", solvers));
     sub->add_option("--config", options_.config, "processing config preset or JSON file");
     sub->add_option("--column", options_.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")

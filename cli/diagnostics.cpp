@@ -4,6 +4,8 @@
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
+#include <cctype>
 #include <cstdio>
 #include <memory>
 #include <mutex>
@@ -55,6 +57,42 @@ class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
 };
 
 }  // namespace
+
+void SetQuietLogging() { spdlog::default_logger()->set_level(spdlog::level::warn); }
+
+int ReportOptionError(const CLI::ParseError& error) {
+  std::string text = error.what();
+  const std::string kind = error.get_name();
+  const auto ends_with = [&](std::string_view tail) { return text.ends_with(tail); };
+  if (kind == "ValidationError") {
+    // "<option>: <sentence>": napkin's checks and callbacks name the option in their sentence.
+    const std::size_t colon = text.find(": ");
+    if (colon != std::string::npos) text.erase(0, colon + 2);
+  } else if (kind == "ArgumentMismatch" && ends_with(" missing")) {
+    // "--threads: 1 required INT missing"
+    text = text.substr(0, text.find(':')) + " needs a value";
+  } else if (kind == "ConversionError" && text.starts_with("Could not convert: ")) {
+    // "Could not convert: --seed = -1"
+    text.erase(0, std::string_view("Could not convert: ").size());
+    const std::size_t equals = text.find(" = ");
+    if (equals != std::string::npos)
+      text = text.substr(0, equals) + " cannot be '" + formats::Abbreviated(text.substr(equals + 3)) + "'";
+  } else if (kind == "ExcludesError") {
+    // "--duration excludes --samples"
+    const std::size_t excludes = text.find(" excludes ");
+    if (excludes != std::string::npos)
+      text = text.substr(0, excludes) + " and " + text.substr(excludes + 10) + " cannot be given together";
+  }
+  if (!text.empty() && std::isupper(static_cast<unsigned char>(text.front())))
+    text.front() = static_cast<char>(std::tolower(static_cast<unsigned char>(text.front())));
+  while (!text.empty() && (text.back() == '.' || std::isspace(static_cast<unsigned char>(text.back()))))
+    text.pop_back();
+  if (kind == "ValidationError")
+    spdlog::error("{}.", text);
+  else
+    spdlog::error("{}; `napkin --help` lists the commands, `napkin COMMAND --help` their options.", text);
+  return kExitUsage;
+}
 
 void SetUpLogging() {
   auto logger = std::make_shared<spdlog::logger>("napkin", std::make_shared<StderrSink>());

@@ -4,6 +4,7 @@
 // has its status and, where the user can act, a hint).
 //
 //   exception                      exit  stderr (one line)
+//   CLI::ParseError (options)       2    napkin: <sentence> (ReportOptionError)
 //   UsageError                      2    napkin: <sentence>
 //   InputError (bad data, files)    1    napkin: <sentence>
 //   db::DatabaseError, busy         1    napkin: catalogue 'F' is busy: ... (hint: wait, retry)
@@ -16,14 +17,26 @@
 //
 // Every diagnostic goes through spdlog (SetUpLogging): errors print as
 // "napkin: <sentence>", warnings as "napkin: warning: <sentence>", progress
-// and run information as time-stamped "info" lines.
+// and run information as time-stamped "info" lines (none with --quiet).
 #include <exception>
 #include <string>
+
+namespace CLI {
+class ParseError;
+}  // namespace CLI
 
 namespace napkin::cli {
 
 // Installs the CLI's stderr logger as spdlog's default logger.
 void SetUpLogging();
+
+// --quiet: warnings and errors only, no information lines.
+void SetQuietLogging();
+
+// Logs a refused command line (CLI11's ParseError other than --help and
+// --version: an unknown or missing option, a value an option check of
+// cli/option_checks.h refused) as one sentence and returns kExitUsage.
+int ReportOptionError(const CLI::ParseError& error);
 
 // Logs `error` (the exception in flight) as described above and returns its
 // exit status. `db_path` names the catalogue in database errors.

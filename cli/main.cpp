@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
   app.fallthrough();  // global options (--db, --quiet) may also follow the subcommand
   GlobalOptions global;
   app.add_option("--db", global.db_path, "catalogue file (SQLite)")->capture_default_str();
-  app.add_flag("-q,--quiet", global.quiet, "no progress output");
+  app.add_flag("-q,--quiet", global.quiet,
+               "no progress output and no information lines: warnings and errors only");
   // "napkin 0.1.0+g1a2b3c4" (docs/formats.md "Version string").
   app.set_version_flag("--version", "napkin " + napkin::Version());
   SetUpLogging();
@@ -27,8 +28,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? kExitOk : kExitUsage;
+    // --help and --version are "errors" of status 0: CLI11 prints them.
+    if (error.get_exit_code() == 0) return app.exit(error) == 0 ? kExitOk : kExitUsage;
+    return ReportOptionError(error);
   }
+  if (global.quiet) SetQuietLogging();
   try {
     // No command writes its output over the catalogue (docs/formats.md "Output destinations").
     ProtectCatalogueFromOutput(global.db_path);

@@ -30,8 +30,8 @@ CLI::Option* AddTripleOption(CLI::App* command, const std::string& name, std::ve
           [&values, name](const std::string& text) {
             const std::optional<std::vector<double>> parsed = ParseTriple(text);
             if (!parsed)
-              throw CLI::ValidationError(name, "needs three comma-separated numbers, e.g. " + name +
-                                                   "=0.1,0,-0.2, not '" + text + "'");
+              throw CLI::ValidationError(name, name + " needs three comma-separated numbers, e.g. " + name +
+                                                   "=0.1,0,-0.2; it is '" + formats::Abbreviated(text) + "'");
             values = *parsed;
           },
           description)

@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "common/error.h"
+#include "formats/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -47,20 +48,26 @@ class Parser {
   }
 
  private:
+  // The expression is quoted cut to its first 60 bytes, as all quoted input
+  // (docs/formats.md "Names, limits and escaping"); the column finds the rest.
   [[noreturn]] void Fail(const std::string& problem) const {
     std::string shown(text_);
     std::replace_if(
         shown.begin(), shown.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
     std::string fields;
     for (const db::QueryField& field : fields_) fields += (fields.empty() ? "" : ", ") + field.name;
-    throw UsageError("--where \"" + shown + "\": " + problem + "; the fields are " + fields + ".");
+    throw UsageError("--where \"" + formats::Abbreviated(shown) + "\": " + problem + "; the fields are " +
+                     fields + ".");
   }
+
+  // A token's text as typed, cut like the expression.
+  static std::string Shown(const Token& token) { return formats::Abbreviated(token.text); }
 
   // "at column N, found 'X'" (or "found the end").
   static std::string Found(const Token& token) {
     if (token.kind == Token::Kind::kEnd)
       return "at column " + std::to_string(token.column) + ", found the end";
-    const std::string shown = token.kind == Token::Kind::kString ? token.text : "'" + token.text + "'";
+    const std::string shown = token.kind == Token::Kind::kString ? Shown(token) : "'" + Shown(token) + "'";
     return "at column " + std::to_string(token.column) + ", found " + shown;
   }
 
@@ -153,12 +160,17 @@ class Parser {
   db::WhereExpression Primary() {
     if (Peek().kind == Token::Kind::kLeftParenthesis) {
       const Token open = Take();
+      // The limit keeps the recursion bounded and the SQL within what SQLite parses.
+      if (++nesting_ > db::kMaxWhereNesting)
+        Fail("the '(' at column " + std::to_string(open.column) + " nests parentheses deeper than " +
+             std::to_string(db::kMaxWhereNesting) + " levels");
       db::WhereExpression inner = Disjunction();
       if (Peek().kind == Token::Kind::kEnd)
         Fail("the '(' at column " + std::to_string(open.column) +
              " is never closed (the expression ends at column " + std::to_string(Peek().column) + ")");
       if (Peek().kind != Token::Kind::kRightParenthesis) Fail("expected 'and', 'or' or ')' " + Found(Peek()));
       Take();
+      --nesting_;
       return inner;
     }
     return Comparison();
@@ -169,14 +181,17 @@ class Parser {
     if (field_token.kind != Token::Kind::kWord || IsKeyword(field_token, "and") ||
         IsKeyword(field_token, "or"))
       Fail("expected a field name " + Found(field_token));
+    if (++comparisons_ > db::kMaxWhereComparisons)
+      Fail("the comparison at column " + std::to_string(field_token.column) + " is one more than the " +
+           std::to_string(db::kMaxWhereComparisons) + " an expression may hold");
     const auto field = std::find_if(fields_.begin(), fields_.end(),
                                     [&](const db::QueryField& f) { return f.name == field_token.text; });
     if (field == fields_.end())
-      Fail("unknown field '" + field_token.text + "' at column " + std::to_string(field_token.column));
+      Fail("unknown field '" + Shown(field_token) + "' at column " + std::to_string(field_token.column));
 
     const Token op = Take();
     if (op.kind != Token::Kind::kOperator)
-      Fail("expected an operator (= != < <= > >=) after '" + field_token.text + "' " + Found(op));
+      Fail("expected an operator (= != < <= > >=) after '" + Shown(field_token) + "' " + Found(op));
     const Token value = Take();
     if (value.kind != Token::Kind::kWord && value.kind != Token::Kind::kString)
       Fail("expected a value after '" + op.text + "' " + Found(value));
@@ -187,7 +202,7 @@ class Parser {
           value.kind == Token::Kind::kWord ? Number(value.value) : std::nullopt;
       if (!number)
         Fail("field '" + field->name + "' holds numbers, but " +
-             (value.kind == Token::Kind::kString ? value.text : "'" + value.text + "'") + " at column " +
+             (value.kind == Token::Kind::kString ? Shown(value) : "'" + Shown(value) + "'") + " at column " +
              std::to_string(value.column) + " is not a number");
       comparison.value = *number;
     }
@@ -209,6 +224,8 @@ class Parser {
   const std::vector<db::QueryField>& fields_;
   std::vector<Token> tokens_;
   std::size_t next_ = 0;
+  int nesting_ = 0;              // parentheses open at the current token
+  std::size_t comparisons_ = 0;  // comparisons read so far
 };
 
 }  // namespace

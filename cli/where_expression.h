@@ -23,7 +23,10 @@ namespace napkin::cli {
 
 // Throws UsageError, one line naming the offending token (and its column)
 // and listing `fields`, when `text` is malformed, names a field not in
-// `fields`, or gives a numeric field a value that is not a number.
+// `fields`, gives a numeric field a value that is not a number, nests
+// parentheses deeper than db::kMaxWhereNesting or holds more than
+// db::kMaxWhereComparisons comparisons. The expression and its tokens are
+// quoted cut (formats::Abbreviated).
 db::WhereExpression ParseWhereExpression(std::string_view text, const std::vector<db::QueryField>& fields);
 
 }  // namespace napkin::cli

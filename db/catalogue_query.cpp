@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <initializer_list>
 #include <stdexcept>
+#include <utility>
 
 #include "common/error.h"
 #include "db/catalogue.h"
@@ -104,17 +105,54 @@ std::string ComparisonSql(QueryKind kind, const std::vector<QueryField>& fields,
   return Identifier(field.name) + " " + ComparisonOperatorText(comparison.op) + " " + value;
 }
 
+// The SQL of `expression`, written for SQLite's parser, whose stack (100
+// entries in 3.40) holds an entry for every parenthesis still open: one
+// opened first costs one entry, one opened after `x AND` three. So each
+// junction writes its most nested operand first (`and` and `or` give the
+// same answer in any order, NULLs included), and only an `or` inside an
+// `and` is put in parentheses (SQL's AND binds tighter than OR, as --where's
+// `and` does): `a and (b or (c and d))` is written `(c AND d OR b) AND a`.
+// With kMaxWhereNesting and kMaxWhereComparisons this keeps every accepted
+// filter parseable (tests/cli/where_limits_test.cpp).
 std::string WhereSql(QueryKind kind, const std::vector<QueryField>& fields, const WhereExpression& expression,
                      Parameters& parameters) {
   if (const auto* comparison = std::get_if<WhereComparison>(&expression.node))
     return ComparisonSql(kind, fields, *comparison, parameters);
   const auto& junction = std::get<WhereJunction>(expression.node);
   if (junction.operands.empty()) throw std::invalid_argument("WhereJunction without operands");
-  const char* keyword = junction.kind == WhereJunction::Kind::kAnd ? " AND " : " OR ";
-  std::string sql = "(";
-  for (std::size_t i = 0; i < junction.operands.size(); ++i)
-    sql += (i > 0 ? keyword : "") + WhereSql(kind, fields, junction.operands[i], parameters);
-  return sql + ")";
+  const bool is_and = junction.kind == WhereJunction::Kind::kAnd;
+  const auto parenthesized = [&](const WhereExpression& operand) {
+    const auto* inner = std::get_if<WhereJunction>(&operand.node);
+    return is_and && inner != nullptr && inner->kind == WhereJunction::Kind::kOr;
+  };
+  std::vector<std::pair<int, const WhereExpression*>> operands;  // (nesting, operand)
+  for (const WhereExpression& operand : junction.operands)
+    operands.emplace_back(WhereOrNesting(operand) + (parenthesized(operand) ? 1 : 0), &operand);
+  std::stable_sort(operands.begin(), operands.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string sql;
+  for (const auto& [nesting, operand] : operands) {
+    if (!sql.empty()) sql += is_and ? " AND " : " OR ";
+    const std::string operand_sql = WhereSql(kind, fields, *operand, parameters);
+    sql += parenthesized(*operand) ? "(" + operand_sql + ")" : operand_sql;
+  }
+  return sql;
+}
+
+// Throws UsageError when the --where expressions of one query exceed the
+// limits of db/where_expression.h (the parser keeps each expression within them).
+void CheckWhereLimits(const std::vector<WhereExpression>& where) {
+  std::size_t comparisons = 0;
+  for (const WhereExpression& expression : where) {
+    if (WhereOrNesting(expression) > kMaxWhereNesting)
+      throw UsageError("a --where expression nests 'or' inside 'and' deeper than " +
+                       std::to_string(kMaxWhereNesting) + " levels; write it with fewer parentheses.");
+    comparisons += CountWhereComparisons(expression);
+  }
+  if (comparisons > kMaxWhereComparisons)
+    throw UsageError("the --where expressions hold " + std::to_string(comparisons) +
+                     " comparisons together; a query takes at most " + std::to_string(kMaxWhereComparisons) +
+                     ".");
 }
 
 // Rows of the results of one config, with the labels of their tests: the
@@ -231,6 +269,7 @@ Table Catalogue::Query(QueryKind kind, const QueryRequest& request) {
   sql += AnyOfSql("series", request.series, parameters);
   sql += AnyOfSql("variant", request.variants, parameters);
   sql += AnyOfSql("test_id", request.external_ids, parameters);
+  CheckWhereLimits(request.where);
   for (const WhereExpression& expression : request.where)
     sql += " AND (" + WhereSql(kind, fields, expression, parameters) + ")";
 

@@ -21,7 +21,12 @@ void ThrowSqliteError(sqlite3* db, int code, const char* call, std::string_view 
   const char* message = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(code);
   std::string text = "SQLite error '";
   text += message;
-  text += "' (" + std::to_string(extended) + ") in " + call;
+  // The function called, without its arguments: the call as written in
+  // the source stays out of the message (README: errors never show source
+  // code); location() keeps it, for debugging.
+  const std::string_view call_text(call);
+  text += "' (" + std::to_string(extended) + ") in ";
+  text += call_text.substr(0, call_text.find('('));
   if (!context.empty()) {
     // One line: the first line of the SQL (or the file name), shortened.
     std::string_view shown = context.substr(0, context.find('\n'));
@@ -31,7 +36,8 @@ void ThrowSqliteError(sqlite3* db, int code, const char* call, std::string_view 
     text += cut ? "...'" : "'";
   }
   text += ".";
-  throw DatabaseError(text, extended != 0 ? extended : code, std::string(file) + ":" + std::to_string(line));
+  throw DatabaseError(text, extended != 0 ? extended : code,
+                      std::string(file) + ":" + std::to_string(line) + ": " + call);
 }
 
 }  // namespace internal

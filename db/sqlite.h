@@ -21,18 +21,19 @@
 
 namespace napkin::db {
 
-// A failed SQLite call. The message names the SQLite error, the call and its
-// context (the SQL text or the file), e.g. "SQLite error 'UNIQUE constraint
-// failed: tests.external_id' (2067) in sqlite3_step while running 'INSERT ...'".
-// The source location of the failed call is kept apart (location()), out of
-// the message users see (README: errors never show a source path).
+// A failed SQLite call. The message names the SQLite error, the function
+// called and its context (the SQL text or the file), e.g. "SQLite error
+// 'UNIQUE constraint failed: tests.external_id' (2067) in sqlite3_step while
+// running 'INSERT ...'". The source location and the text of the failed call
+// are kept apart (location()), out of the message users see (README: errors
+// never show a source path or source code).
 class DatabaseError : public std::runtime_error {
  public:
   DatabaseError(const std::string& message, int code, std::string location = {})
       : std::runtime_error(message), code_(code), location_(std::move(location)) {}
   // Extended SQLite result code.
   int code() const { return code_; }
-  // "file:line" of the failed call (empty when not thrown by NAPKIN_SQLITE_CHECK), for debugging.
+  // "file:line: call" of the failed call (empty when not thrown by NAPKIN_SQLITE_CHECK), for debugging.
   const std::string& location() const { return location_; }
   // True for lock contention (SQLITE_BUSY / SQLITE_LOCKED): the operation may be retried.
   bool busy() const { return (code_ & 0xff) == SQLITE_BUSY || (code_ & 0xff) == SQLITE_LOCKED; }
@@ -60,7 +61,7 @@ inline int CheckSqlite(sqlite3* db, int code, const char* call, std::string_view
 }  // namespace internal
 
 // Checks the result code of one sqlite3_* call; throws DatabaseError with the
-// connection's error message, the call text and `context` (file:line as its location()).
+// connection's error message and `context` ("file:line: call text" as its location()).
 // Returns the code (SQLITE_OK, SQLITE_ROW or SQLITE_DONE).
 #define NAPKIN_SQLITE_CHECK(sqlite_handle, call, context) \
   ::napkin::db::internal::CheckSqlite((sqlite_handle), (call), #call, (context), __FILE__, __LINE__)

@@ -1,5 +1,6 @@
 #include "db/where_expression.h"
 
+#include <algorithm>
 #include <charconv>
 #include <system_error>
 
@@ -39,6 +40,27 @@ const char* ComparisonOperatorText(ComparisonOperator op) {
       return ">=";
   }
   return "?";
+}
+
+std::size_t CountWhereComparisons(const WhereExpression& expression) {
+  const auto* junction = std::get_if<WhereJunction>(&expression.node);
+  if (junction == nullptr) return 1;
+  std::size_t count = 0;
+  for (const WhereExpression& operand : junction->operands) count += CountWhereComparisons(operand);
+  return count;
+}
+
+int WhereOrNesting(const WhereExpression& expression) {
+  const auto* junction = std::get_if<WhereJunction>(&expression.node);
+  if (junction == nullptr) return 0;
+  int deepest = 0;
+  for (const WhereExpression& operand : junction->operands) {
+    const auto* inner = std::get_if<WhereJunction>(&operand.node);
+    const bool parenthesized = junction->kind == WhereJunction::Kind::kAnd && inner != nullptr &&
+                               inner->kind == WhereJunction::Kind::kOr;
+    deepest = std::max(deepest, WhereOrNesting(operand) + (parenthesized ? 1 : 0));
+  }
+  return deepest;
 }
 
 std::string DescribeWhereExpression(const WhereExpression& expression) {

@@ -8,7 +8,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/where_expression.h"
 #include "common/error.h"
+#include "db/catalogue.h"
 #include "engine/array_geometry.h"
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
@@ -196,6 +198,27 @@ Outcome RunChannelMapJson(std::string_view input) {
   return Attempt([&] { formats::ReadChannelMap(path); });
 }
 
+// The input as `query KIND --where`, for every KIND: parsed, and when the
+// parser accepts it, run on an empty in-memory catalogue (every accepted
+// expression must also run: docs/formats.md "Query filters"). A UsageError
+// is the rejection; SQLite refusing the SQL (a DatabaseError) is a finding.
+Outcome RunWhere(std::string_view input) {
+  static db::Catalogue catalogue = db::Catalogue::Open(":memory:");
+  Outcome outcome = Outcome::kRejected;
+  for (const db::QueryKind kind :
+       {db::QueryKind::kTests, db::QueryKind::kHic, db::QueryKind::kRotation, db::QueryKind::kCriteria,
+        db::QueryKind::kQuality, db::QueryKind::kConditioning}) {
+    try {
+      db::QueryRequest request;
+      request.where.push_back(cli::ParseWhereExpression(input, db::QueryFields(kind)));
+      catalogue.Query(kind, request);
+      outcome = Outcome::kAccepted;
+    } catch (const UsageError&) {
+    }
+  }
+  return outcome;
+}
+
 }  // namespace
 
 const std::vector<FuzzTarget>& FuzzTargets() {
@@ -208,6 +231,7 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"array_json", "formats::ReadArrayJson", RunArrayJson},
       {"processing_config_json", "formats::ReadProcessingConfig", RunProcessingConfigJson},
       {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},
+      {"where", "cli::ParseWhereExpression and db::Catalogue::Query (query --where, every kind)", RunWhere},
   };
   return targets;
 }

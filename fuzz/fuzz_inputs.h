@@ -2,8 +2,9 @@
 // The fuzz targets of `make fuzz` (docs/architecture.md "Fuzzing"). Each
 // target writes one input as the file (or test folder) a napkin parser reads
 // and runs the parser through its public file entry point, as `import` and
-// `transform` do. An input is either accepted or rejected with an InputError
-// (the one-sentence error napkin prints); any other exception, a crash, a
+// `transform` do (target `where`: the text of `query --where`). An input is
+// either accepted or rejected with an InputError (`where`: a UsageError),
+// the one-sentence error napkin prints; any other exception, a crash, a
 // hang or a sanitizer report is a finding, and its input becomes a
 // regression case (fuzz/regressions/<target>/, run by tests/fuzz/).
 #include <string_view>

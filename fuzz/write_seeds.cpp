@@ -111,6 +111,13 @@ int main(int argc, char** argv) {
   Write(out / "processing_config_json" / "canonical.json",
         formats::ProcessingConfigToJson(every_key).dump(2) + "\n");
 
+  // --where: the examples of docs/formats.md "Query filters".
+  Write(out / "where" / "precedence", "hic15>700 and variant=foam-a or series=sled");
+  Write(out / "where" / "parentheses",
+        "(hic15 > 700 or (variant = \"foam-a\" and series != sled)) and hic36 <= 1e3");
+  Write(out / "where" / "quoted", "series=\"x'); DROP TABLE tests;--\" or test_id = \"a\\\"b\\\\\"");
+  Write(out / "where" / "numbers", "a3ms_g >= -1.5e2 AND hic15 != +0.5 Or test_id < 0012");
+
   fs::remove_all(scratch);
   return 0;
 }

@@ -1,12 +1,16 @@
 #include "ingest/zip_input.h"
 
-#include <stdlib.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <unistd.h>
 
-#include <fstream>
+#include <map>
 #include <system_error>
+#include <vector>
 
 #include "common/error.h"
 #include "formats/text.h"
+#include "ingest/temporary_folder.h"
 
 namespace napkin::ingest {
 namespace fs = std::filesystem;
@@ -26,58 +30,79 @@ bool IsTestMember(const formats::ZipMember& member) {
   return extension.size() == 4 && extension.find_first_not_of("0123456789", 1) == std::string::npos;
 }
 
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw InputError("cannot write the temporary file '" + path.string() + "'.");
+// `member` as docs/formats.md names it in messages: "ARCHIVE.zip:MEMBER".
+std::string MemberInArchive(const fs::path& archive, const std::string& member) {
+  return archive.string() + ":" + formats::Abbreviated(member, formats::kQuotedInputLongChars);
+}
+
+// Writes one member's bytes; throws InputError naming the member when the
+// file system refuses (a name too long for it, a file where a folder should be).
+void WriteMember(const fs::path& path, const std::string& bytes, const std::string& shown) {
+  const auto refuse = [&](int error) {
+    throw InputError(shown + " cannot be unpacked (" + std::generic_category().message(error) + ").");
+  };
+  std::error_code error;
+  fs::create_directories(path.parent_path(), error);
+  if (error) refuse(error.value());
+  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) refuse(errno);
+  std::size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int saved = n < 0 ? errno : EIO;
+      close(fd);
+      refuse(saved);
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (close(fd) != 0) refuse(errno);
 }
 
 }  // namespace
 
 ArchiveTest::ArchiveTest(const fs::path& archive, const formats::ZipLimits& limits) : archive_(archive) {
   formats::ZipArchive zip(archive, limits);  // checks every member name before anything is read
-  std::string pattern = (fs::temp_directory_path() / "napkin-zip-XXXXXX").string();
-  if (mkdtemp(pattern.data()) == nullptr)
-    throw InputError(archive.string() + ": cannot create a temporary folder to read the archive in.");
-  root_ = pattern;
-  try {
-    std::size_t extracted = 0;
-    for (const formats::ZipMember& member : zip.members()) {
-      if (!IsTestMember(member)) continue;
-      const fs::path target = (root_ / member.name).lexically_normal();
-      const fs::path relative = target.lexically_relative(root_);
-      if (relative.empty() || *relative.begin() == "..")  // UnsafeMemberName already refused these
-        throw InputError(archive.string() + ": member \"" + member.name + "\" leaves the archive.");
-      if (fs::exists(target))
-        throw InputError(archive.string() + ": member \"" + member.name + "\" is in the archive twice.");
-      const std::string bytes = zip.Read(member);
-      fs::create_directories(target.parent_path());
-      WriteBytes(target, bytes);
-      ++extracted;
-    }
-    if (extracted == 0)
-      throw InputError(archive.string() +
-                       ": the zip archive holds no test (no ISO-MME, UDS-1992 or CSV member).");
-    const Discovery inside = DiscoverInputs({root_.string()});
-    if (inside.inputs.size() != 1 || !inside.errors.empty())
-      throw InputError(archive.string() + ": the zip archive holds " + std::to_string(inside.inputs.size()) +
-                       " tests; napkin imports one test per archive.");
-    input_ = inside.inputs.front();
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove_all(root_, ignored);
-    throw;
+  // Where each test member goes, every clash found before anything is written.
+  std::map<std::string, const formats::ZipMember*> targets;  // relative path -> member
+  for (const formats::ZipMember& member : zip.members()) {
+    if (!IsTestMember(member)) continue;
+    const std::string relative = fs::path(member.name).lexically_normal().generic_string();
+    if (relative.empty() || relative == "." || relative == ".." || relative.starts_with("../"))
+      throw InputError(MemberInArchive(archive, member.name) + " leaves the archive.");  // UnsafeMemberName
+    if (!targets.emplace(relative, &member).second)
+      throw InputError(MemberInArchive(archive, member.name) + " is in the archive twice.");
   }
+  for (const auto& [relative, member] : targets) {
+    const auto inside = targets.lower_bound(relative + "/");
+    if (inside != targets.end() && inside->first.starts_with(relative + "/"))
+      throw InputError(MemberInArchive(archive, inside->second->name) + " cannot be unpacked: \"" +
+                       formats::Abbreviated(member->name, formats::kQuotedInputLongChars) +
+                       "\" is a file of the archive, not a folder.");
+  }
+  if (targets.empty())
+    throw InputError(archive.string() +
+                     ": the zip archive holds no test (no ISO-MME, UDS-1992 or CSV member).");
+
+  folder_ = std::make_unique<TemporaryFolder>("napkin-zip-", archive.string());
+  std::vector<std::string> files;
+  for (const auto& target : targets) files.push_back(target.first);
+  folder_->Plan(files);  // a signal from here on removes what was written
+  for (const auto& [relative, member] : targets)
+    WriteMember(folder_->path() / relative, zip.Read(*member), MemberInArchive(archive, member->name));
+
+  const Discovery inside = DiscoverInputs({folder_->path().string()});
+  if (inside.inputs.size() != 1 || !inside.errors.empty())
+    throw InputError(archive.string() + ": the zip archive holds " + std::to_string(inside.inputs.size()) +
+                     " tests; napkin imports one test per archive.");
+  input_ = inside.inputs.front();
 }
 
-ArchiveTest::~ArchiveTest() {
-  std::error_code ignored;
-  fs::remove_all(root_, ignored);
-}
+ArchiveTest::~ArchiveTest() = default;  // the TemporaryFolder removes itself
 
 std::string ArchiveTest::InArchiveTerms(const std::string& message) const {
-  const std::string root = root_.string() + "/";
+  const std::string root = folder_->path().string() + "/";
   const std::string replacement = archive_.string() + ":";
   std::string out;
   std::size_t position = 0;
@@ -86,7 +111,7 @@ std::string ArchiveTest::InArchiveTerms(const std::string& message) const {
     out.append(message, position, found - position).append(replacement);
   out.append(message, position, std::string::npos);
   // The temporary folder itself (e.g. a test folder at the archive's top).
-  const std::string bare = root_.string();
+  const std::string bare = folder_->path().string();
   for (std::size_t found; (found = out.find(bare)) != std::string::npos;)
     out.replace(found, bare.size(), archive_.string());
   return out;

@@ -3,20 +3,25 @@
 // archives"): its ISO-MME, UDS-1992 or CSV members are read in memory with
 // formats::ZipArchive (every name and size checked first) and written into a
 // private temporary folder (mode 0700) that the readers of formats/ read and
-// that is removed when the ArchiveTest goes out of scope, whatever happens.
+// that is removed when the ArchiveTest goes out of scope, whatever happens,
+// SIGINT and SIGTERM included (TemporaryFolder).
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "formats/zip_archive.h"
 #include "ingest/discovery.h"
+#include "ingest/temporary_folder.h"
 
 namespace napkin::ingest {
 
 class ArchiveTest {
  public:
   // Throws InputError (one sentence naming the archive, and the member at
-  // fault) on a bad or corrupt archive, an unsafe member name, a zip bomb, a
-  // member over a ceiling, or an archive that holds no test or several.
+  // fault as "ARCHIVE.zip:MEMBER") on a bad or corrupt archive, an unsafe
+  // member name, a zip bomb, a member over a ceiling, a member twice or as
+  // both a file and a folder, a member the file system cannot hold (a name
+  // too long), or an archive that holds no test or several.
   explicit ArchiveTest(const std::filesystem::path& archive, const formats::ZipLimits& limits = {});
   ~ArchiveTest();
   ArchiveTest(const ArchiveTest&) = delete;
@@ -32,7 +37,7 @@ class ArchiveTest {
 
  private:
   std::filesystem::path archive_;
-  std::filesystem::path root_;  // the private temporary folder
+  std::unique_ptr<TemporaryFolder> folder_;  // where the members are unpacked
   ImportInput input_;
 };
 

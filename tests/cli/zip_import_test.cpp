@@ -5,12 +5,18 @@
 // or corrupt archive, unsafe member name, zip bomb, several tests) one
 // sentence naming the archive that leaves the catalogue identical.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <stdlib.h>
+#include <sys/wait.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <thread>
 
 #include "formats/channel_map.h"
+#include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/uds1992.h"
 #include "tests/cli/cli_test_util.h"
@@ -246,6 +252,91 @@ TEST_F(CliZipRefusal, BadAndCorruptArchivesAndSeveralTests) {
   FirstChannel(novalue).bytes += "NOVALUE\n";
   WriteZip(dir_ / "novalue.zip", novalue);
   ExpectRefused("novalue.zip", {"novalue.zip:T83/Channel/T83.001", "NOVALUE"});
+}
+
+// Members that libzip and the names' checks accept but the file system
+// cannot hold: named "ARCHIVE.zip:MEMBER" in one sentence; before, raw
+// "filesystem error: ... /tmp/napkin-zip-..." text.
+TEST_F(CliZipRefusal, MembersTheFileSystemCannotHoldAreNamedInTheArchive) {
+  formats::WriteSignalsCsv(SynthNapTest(84).signals, dir_ / "one.csv");
+  const std::string bytes = ReadText(dir_ / "one.csv");
+
+  WriteZip(dir_ / "nested.zip", {{"a.csv", bytes}, {"a.csv/b.csv", bytes}});
+  ExpectRefused("nested.zip", {"nested.zip:a.csv/b.csv cannot be unpacked", "\"a.csv\" is a file"});
+
+  const std::string long_name(300, 'n');
+  WriteZip(dir_ / "long.zip", {{long_name + ".csv", bytes}});
+  ExpectRefused("long.zip", {"long.zip:nnnnnnnn", "more bytes) cannot be unpacked (File name too long)"});
+
+  std::string deep;
+  for (int level = 0; level < 3000; ++level) deep += "d/";
+  WriteZip(dir_ / "deep.zip", {{deep + "x.csv", bytes}});
+  ExpectRefused("deep.zip", {"deep.zip:d/d/d/", "cannot be unpacked (File name too long)"});
+
+  // One member under two spellings of its name.
+  WriteZip(dir_ / "spelled.zip", {{"t/a.csv", bytes}, {"t/./a.csv", bytes}});
+  ExpectRefused("spelled.zip", {"spelled.zip:t/./a.csv is in the archive twice"});
+  // The same name twice (written under a stand-in name, renamed in both headers): libzip refuses the archive.
+  WriteZip(dir_ / "twice.zip", {{"a.csv", bytes}, {"b.csv", bytes}});
+  std::string zip = ReadText(dir_ / "twice.zip");
+  for (std::size_t at = zip.find("b.csv"); at != std::string::npos; at = zip.find("b.csv", at + 1))
+    zip[at] = 'a';
+  WriteText(dir_ / "twice.zip", zip);
+  ExpectRefused("twice.zip", {"twice.zip: "});
+
+  for (const char* archive : {"nested.zip", "long.zip", "deep.zip", "spelled.zip", "twice.zip"}) {
+    const RunResult run = Import({archive});
+    EXPECT_EQ(run.err.find("napkin-zip-"), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("filesystem error"), std::string::npos) << run.err;
+  }
+}
+
+// docs/formats.md "Zip archives": the temporary folder is removed whatever
+// happens, SIGTERM and SIGINT during the import included (before: the
+// folder and the unpacked member were left in $TMPDIR). The process then
+// ends by the signal, and the catalogue is as before.
+TEST_F(CliZipImport, ASignalDuringTheImportRemovesTheTemporaryFolder) {
+  // SIGINT may be ignored by whoever started the tests (a background job); napkin keeps
+  // an ignored signal ignored, so give the child the default.
+  signal(SIGINT, SIG_DFL);
+  // A CSV test of 40 MB, stored: unpacking and reading it take long enough to be interrupted.
+  const engine::TestSignals signals = SynthNapTest(85).signals;
+  formats::WriteSignalsCsv(signals, dir_ / "small.csv");
+  const std::string small = ReadText(dir_ / "small.csv");
+  std::string csv = small.substr(0, small.find('\n') + 1);
+  const std::size_t columns = static_cast<std::size_t>(std::count(csv.begin(), csv.end(), ','));
+  std::string zeros;
+  for (std::size_t c = 0; c < columns; ++c) zeros += ",0.125";
+  for (int row = 0; csv.size() < (std::size_t{40} << 20); ++row)
+    csv += formats::FormatNumber(row * 1e-4) + zeros + "\n";
+  WriteZip(dir_ / "big.zip", {{"big.csv", csv}}, /*store=*/true);
+  const std::string before = DumpCatalogue(dir_ / "napkin.db");
+
+  for (const int signal_number : {SIGTERM, SIGINT}) {
+    SCOPED_TRACE(signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
+    const pid_t pid = StartNapkin({"--db", (dir_ / "napkin.db").string(), "import", "--array", "denton-3222",
+                                   (dir_ / "big.zip").string()},
+                                  dir_ / "out.txt", dir_ / "err.txt");
+    ASSERT_GT(pid, 0);
+    // Wait until the member is unpacked in full, then interrupt the import.
+    bool unpacked = false;
+    for (int wait = 0; wait < 60000 && !unpacked; ++wait) {
+      for (const auto& entry : fs::directory_iterator(dir_ / "tmp")) {
+        std::error_code error;
+        unpacked |= fs::file_size(entry.path() / "big.csv", error) == csv.size();
+      }
+      if (!unpacked) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(unpacked) << ReadText(dir_ / "err.txt");
+    ASSERT_EQ(kill(pid, signal_number), 0);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == signal_number)
+        << "status " << status << ", stderr: " << ReadText(dir_ / "err.txt");
+    EXPECT_TRUE(TemporaryFolderIsEmpty());
+    for (const auto& entry : fs::directory_iterator(dir_ / "tmp")) ADD_FAILURE() << "left: " << entry.path();
+    EXPECT_EQ(DumpCatalogue(dir_ / "napkin.db"), before);
+  }
 }
 
 }  // namespace

@@ -1,0 +1,68 @@
+#include "cli/option_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "formats/text.h"
+
+namespace napkin::cli {
+namespace {
+
+// The value as typed, quoted and cut like all quoted input (docs/formats.md
+// "Names, limits and escaping").
+std::string Quoted(const std::string& text) { return "'" + formats::Abbreviated(text) + "'"; }
+
+}  // namespace
+
+std::string ChoiceList(const std::vector<std::string>& choices) {
+  std::string list;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    if (i > 0) list += i + 1 == choices.size() ? " or " : ", ";
+    list += choices[i];
+  }
+  return list;
+}
+
+CLI::Validator WholeNumberCheck(const std::string& option, long long minimum, long long maximum) {
+  const bool int_maximum = maximum == std::numeric_limits<int>::max();
+  const std::string bounds = int_maximum
+                                 ? "at least " + std::to_string(minimum)
+                                 : "from " + std::to_string(minimum) + " to " + std::to_string(maximum);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        const std::optional<long long> number = formats::ParseInteger(text);
+        if (!number) return option + " must be a whole number " + bounds + "; it is " + Quoted(text);
+        if (*number < minimum || (!int_maximum && *number > maximum))
+          return option + " must be " + bounds + "; it is " + formats::Abbreviated(text);
+        if (*number > maximum)
+          return option + " must be at most " + std::to_string(maximum) + "; it is " +
+                 formats::Abbreviated(text);
+        return {};
+      },
+      "INT " + bounds);
+}
+
+CLI::Validator PositiveNumberCheck(const std::string& option) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        const std::optional<double> number = formats::ParseDouble(text);
+        if (!number || !std::isfinite(*number))
+          return option + " must be a number above 0; it is " + Quoted(text);
+        if (*number <= 0.0) return option + " must be above 0; it is " + formats::Abbreviated(text);
+        return {};
+      },
+      "NUMBER above 0");
+}
+
+CLI::Validator OneOfCheck(const std::string& option, const std::vector<std::string>& choices) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        if (std::find(choices.begin(), choices.end(), text) != choices.end()) return {};
+        return option + " must be " + ChoiceList(choices) + "; it is " + Quoted(text);
+      },
+      "one of " + ChoiceList(choices));
+}
+
+}  // namespace napkin::cli
