@@ -69,7 +69,8 @@ class StatusCommand : public Command {
       const nlohmann::ordered_json status = {{"tests", counts.tests},     {"done", counts.done},
                                              {"failed", counts.failed},   {"pending", counts.pending},
                                              {"running", counts.running}, {"failures", failures}};
-      fmt::print("{}\n", status.dump(2));
+      // Stored error text that is not UTF-8 (an older napkin's): U+FFFD, never a failure.
+      fmt::print("{}\n", status.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
       return kExitOk;
     }
     fmt::print("catalogue  {}\nconfig     {} ({})\n\n", global_->db_path, resolved.record.name,

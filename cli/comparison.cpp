@@ -7,15 +7,31 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <string_view>
 
 #include "cli/catalogue_access.h"
 #include "common/error.h"
 #include "engine/summary_fields.h"
+#include "formats/text.h"
+#include "ingest/import.h"
 
 namespace napkin::cli {
 namespace {
 
-constexpr const char* kNoVariant = "(none)";  // the group of tests without a variant
+// The group of the tests without a variant; import refuses it as a variant name.
+constexpr std::string_view kNoVariant = ingest::kNoVariantGroup;
+
+// The group of a variant: its name, except that names of the form (none),
+// "(none)", ""(none)"" ... get one more pair of double quotes, so no variant
+// is taken for (or pooled with) the tests without one, also in a catalogue
+// written before import refused the name (docs/formats.md "napkin compare").
+std::string VariantGroup(const std::optional<std::string>& variant) {
+  if (!variant) return std::string(kNoVariant);
+  std::string_view core = *variant;
+  while (core.size() >= 2 && core.front() == '"' && core.back() == '"')
+    core = core.substr(1, core.size() - 2);
+  return core == kNoVariant ? "\"" + *variant + "\"" : *variant;
+}
 
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string joined;
@@ -48,15 +64,9 @@ std::vector<const engine::SummaryField*> ResolveMetrics(const std::vector<std::s
 // prefix when two of the compared configs share the name).
 std::string GroupOf(const db::LabelledResult& result, CompareBy by,
                     const std::set<std::string>& shared_names) {
-  if (by == CompareBy::kVariant) return result.variant.value_or(kNoVariant);
+  if (by == CompareBy::kVariant) return VariantGroup(result.variant);
   if (shared_names.count(result.config_name) == 0) return result.config_name;
   return result.config_name + "@" + result.config_hash.substr(0, 8);
-}
-
-double MeanOf(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (const double value : values) sum += value;
-  return values.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(values.size());
 }
 
 // Paired t of `group` against `baseline` over the tests both have.
@@ -74,7 +84,7 @@ engine::MeanDifference PairedDifference(const GroupValues& group, const GroupVal
     baseline_values.push_back(found->second);
   }
   row.pairs = differences.size();
-  row.baseline_mean = MeanOf(baseline_values);
+  row.baseline_mean = engine::Describe(baseline_values).mean;
   return engine::PairedComparison(differences, row.baseline_mean);
 }
 
@@ -114,9 +124,11 @@ std::string DifferenceText(const ComparisonRow& row, CompareBy by) {
 
 std::string HumanComparison(const Comparison& comparison) {
   const bool by_variant = comparison.by == CompareBy::kVariant;
-  std::string out = fmt::format("series {}: {} compared with {} '{}'\n", comparison.series,
-                                by_variant ? "variants" : "processing configs",
-                                by_variant ? "variant" : "config", comparison.baseline);
+  // Stored names are shown escaped (control characters, bytes that are not UTF-8).
+  std::string out =
+      fmt::format("series {}: {} compared with {} '{}'\n", formats::EscapeControl(comparison.series),
+                  by_variant ? "variants" : "processing configs", by_variant ? "variant" : "config",
+                  formats::EscapeControl(comparison.baseline));
   out += by_variant ? "difference of means in % of the baseline mean, [95 % confidence interval] "
                       "(Welch's t), two-sided p\n"
                     : "mean of the per-test differences in % of the baseline's mean over the same tests, "
@@ -125,11 +137,11 @@ std::string HumanComparison(const Comparison& comparison) {
   for (const MetricComparison& metric : comparison.metrics) {
     std::vector<std::vector<std::string>> cells;
     cells.push_back({by_variant ? "variant" : "config", "n", "mean", "sd", "median", "min", "max",
-                     "vs " + comparison.baseline});
+                     "vs " + formats::EscapeControl(comparison.baseline)});
     for (const ComparisonRow& row : metric.rows) {
       const engine::Description& d = row.description;
-      cells.push_back({row.group, std::to_string(d.n), Number(d.mean), Number(d.sd), Number(d.median),
-                       Number(d.min), Number(d.max), DifferenceText(row, comparison.by)});
+      cells.push_back({formats::EscapeControl(row.group), std::to_string(d.n), Number(d.mean), Number(d.sd),
+                       Number(d.median), Number(d.min), Number(d.max), DifferenceText(row, comparison.by)});
       if (!row.is_baseline && !std::isfinite(row.difference.diff)) small_group = true;
     }
     std::vector<std::size_t> width(cells.front().size(), 0);

@@ -149,7 +149,9 @@ std::string FormatTable(const db::Table& table, TableFormat format) {
         for (std::size_t c = 0; c < row.size(); ++c) object[table.columns[c]] = JsonValue(row[c]);
         rows.push_back(std::move(object));
       }
-      return rows.dump(2) + "\n";
+      // Text an older napkin stored may not be UTF-8 (docs/formats.md "Text
+      // encoding"): its bad bytes become U+FFFD instead of failing the answer.
+      return rows.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
     }
   }
   return {};

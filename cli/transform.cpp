@@ -78,7 +78,11 @@ TransformReport RunTransform(const TransformOptions& options) {
                      "' cannot determine rotation, which --lsdyna needs; --out gives the CG acceleration.");
 
   const std::string test_id = fs::path(options.input).stem().string();
-  const std::string summary_text = formats::SummaryToJson(report.summary, test_id, "", "").dump(2) + "\n";
+  // The id is the input's file name, of unknown encoding: bytes that are not UTF-8 become U+FFFD.
+  const std::string summary_text =
+      formats::SummaryToJson(report.summary, test_id, "", "")
+          .dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) +
+      "\n";
   // Each writer is atomic; if a later one fails, the earlier outputs of this
   // run that it created are removed too, so a failed transform leaves no new
   // output behind. A name that was there before is never removed (it may be

@@ -19,6 +19,17 @@ namespace napkin::db {
 
 namespace internal {
 
+bool PassesQuickCheck(Connection& connection, const std::string& schema) {
+  try {
+    // Its first line is "ok" or a problem.
+    auto check = connection.Prepare("PRAGMA \"" + schema + "\".quick_check(1)");
+    return check->Step() && check->ColumnText(0) == "ok";
+  } catch (const DatabaseError& error) {
+    if (error.corrupt()) return false;
+    throw;
+  }
+}
+
 std::optional<std::string> JsonStringArray(const std::vector<std::string>& values) {
   if (values.empty()) return std::nullopt;
   std::string json = "[";
@@ -157,10 +168,7 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
                      ", newer than this napkin knows (" + std::to_string(latest) + ").");
 
   if (options.check_integrity) {
-    // quick_check: every page and record well-formed (not the index
-    // contents), one read of the file. Its first line is "ok" or a problem.
-    auto check = connection.Prepare("PRAGMA quick_check(1)");
-    if (!check->Step() || check->ColumnText(0) != "ok")
+    if (!internal::PassesQuickCheck(connection))
       throw InputError("catalogue '" + path +
                        "' is damaged (SQLite's integrity check fails) and was left as it was; restore it "
                        "from a backup, or save what is readable with `sqlite3 " +

@@ -38,6 +38,13 @@ std::string SummaryColumnList(const std::string& prefix = "");
 
 void BindTestFilter(Statement& statement, const TestFilter& filter);
 
+// Whether SQLite's quick_check (every page and record well-formed, one read
+// of the file; not the index contents) finds database `schema` of
+// `connection` ("main", or the name of an ATTACHed file) sound. A file so
+// damaged that the check itself fails (SQLITE_CORRUPT, SQLITE_NOTADB) is
+// not sound either; any other failure is thrown.
+bool PassesQuickCheck(Connection& connection, const std::string& schema = "main");
+
 // The common table expression "scope AS (SELECT t.id AS test_id ...)" of
 // the tests of a JobScope (db/job_queue.h), bound by BindJobScope to
 // parameters ?1..?5; other parameters of such statements start at ?10.

@@ -4,6 +4,8 @@
 // The shard is ATTACHed to this connection and copied with INSERT ... SELECT,
 // mapping keys through content: tests by content hash, arrays and configs by
 // hash, series by name (keys of a shard that imported new tests differ).
+#include <functional>
+
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
@@ -274,15 +276,49 @@ std::int64_t MergeJobState(Connection& connection, double now) {
   return connection.Changes();
 }
 
+// The merge of the shard ATTACHed as "shard", in one transaction.
+MergeReport MergeAttachedShard(Connection& connection, const std::string& shard_path,
+                               const std::function<double()>& clock) {
+  MergeReport report;
+  Transaction transaction(connection);
+  RefuseConflictingTests(connection, shard_path);
+  RefuseTestsWithoutChannels(connection, shard_path, connection.path());
+  MergeDefinitions(connection);
+  report.tests_added = MergeTests(connection);
+  RefuseConflictingResults(connection, shard_path);
+  SelectResultsToTake(connection);
+  report.results_merged = MergeResults(connection);
+  MergeFindings(connection);
+  MergeConditioning(connection);
+  MergeDerivedChannels(connection);
+  MergeFailureFindings(connection);
+  report.failures_merged = MergeJobState(connection, clock());
+  connection.Execute("DROP TABLE temp.merge_take");
+  DropKeyMaps(connection);
+  transaction.Commit();
+  return report;
+}
+
+// A shard (or results file) whose pages SQLite finds malformed. It names the
+// shard, never the catalogue, which is sound and must not be "restored".
+InputError DamagedShard(const std::string& shard_path, const std::string& catalogue_path) {
+  return InputError("shard '" + shard_path +
+                    "' is damaged (SQLite finds a malformed page), so nothing was merged from it into the "
+                    "catalogue '" +
+                    catalogue_path +
+                    "'; compute that shard again (`run --shard I/N --results FILE`) or copy it again from "
+                    "where it was computed, and merge the new file.");
+}
+
 }  // namespace
 
 MergeReport Catalogue::MergeShard(const std::string& shard_path) {
-  {
+  try {
     // Same checks and one-sentence errors as opening it; read-only also
     // refuses a shard of an older schema version.
     CatalogueOptions options;
     options.read_only = true;
-    const Catalogue shard = Catalogue::Open(shard_path, options);
+    Catalogue shard = Catalogue::Open(shard_path, options);
     // The file SQLite opened for each, compared by device and inode, so no
     // spelling of the name (relative, "./", links, a "file:" URI) gets the
     // catalogue attached to itself, where the merge would wait on its own lock.
@@ -294,26 +330,24 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
       throw InputError("shard '" + shard_path + "' has schema version " +
                        std::to_string(shard.schema_version()) + ", the catalogue " +
                        std::to_string(schema_version_) + ".");
+    // A truncated or overwritten shard (a copy cut short) is refused before
+    // anything is read from it: its damage is its own, not the catalogue's.
+    if (!internal::PassesQuickCheck(shard.connection_)) throw DamagedShard(shard_path, connection_.path());
+  } catch (const DatabaseError& error) {
+    if (error.corrupt()) throw DamagedShard(shard_path, connection_.path());
+    throw;
   }
   AttachedShard attached(connection_, shard_path);
-  MergeReport report;
-  Transaction transaction(connection_);
-  RefuseConflictingTests(connection_, shard_path);
-  RefuseTestsWithoutChannels(connection_, shard_path, connection_.path());
-  MergeDefinitions(connection_);
-  report.tests_added = MergeTests(connection_);
-  RefuseConflictingResults(connection_, shard_path);
-  SelectResultsToTake(connection_);
-  report.results_merged = MergeResults(connection_);
-  MergeFindings(connection_);
-  MergeConditioning(connection_);
-  MergeDerivedChannels(connection_);
-  MergeFailureFindings(connection_);
-  report.failures_merged = MergeJobState(connection_, clock_());
-  connection_.Execute("DROP TABLE temp.merge_take");
-  DropKeyMaps(connection_);
-  transaction.Commit();
-  return report;
+  try {
+    return MergeAttachedShard(connection_, shard_path, clock_);
+  } catch (const DatabaseError& error) {
+    // quick_check does not read the indexes' contents: a malformed page found
+    // during the merge is the shard's when its check fails now, else the
+    // catalogue's (reported as such by cli/diagnostics.cpp).
+    if (error.corrupt() && !internal::PassesQuickCheck(connection_, "shard"))
+      throw DamagedShard(shard_path, connection_.path());
+    throw;
+  }
 }
 
 }  // namespace napkin::db

@@ -110,6 +110,25 @@ Catalogue ResultsFile::Open(const std::string& results_path, const Catalogue& ca
           *catalogue_file)
     throw InputError("results file '" + results_path + "' is the catalogue '" + catalogue.connection_.path() +
                      "' itself; name a new file for the results.");
+  // A results file left by an earlier run (to be resumed) is checked before
+  // anything is written into it; its damage is its own, not the catalogue's.
+  if (fs::is_regular_file(results_path, error) && fs::file_size(results_path, error) > 0) {
+    const InputError damaged(
+        "results file '" + results_path +
+        "' is damaged (SQLite finds a malformed page) and was left as it was; it holds "
+        "only what `run --results` wrote, so move it aside and run the shard again into a "
+        "new results file (the catalogue '" +
+        catalogue.connection_.path() + "' is not affected).");
+    try {
+      ConnectionOptions probe_options;
+      probe_options.read_only = true;
+      Connection probe = Connection::Open(results_path, probe_options);
+      if (!internal::PassesQuickCheck(probe)) throw damaged;
+    } catch (const DatabaseError& failure) {
+      if (failure.corrupt()) throw damaged;
+      throw;
+    }
+  }
   Catalogue results = Catalogue::Open(results_path, options);
   if (results.schema_version() != catalogue.schema_version())
     throw InputError("results file '" + results_path + "' has schema version " +

@@ -19,17 +19,77 @@ void CheckFinite(std::span<const double> values, const char* what) {
       throw std::invalid_argument(std::string(what) + " value " + std::to_string(i) + " is not finite");
 }
 
-double Mean(std::span<const double> values) {
-  double sum = 0.0;
-  for (const double value : values) sum += value;
-  return sum / static_cast<double>(values.size());
+// Neumaier's compensated sum (Neumaier 1974, "Rundungsfehleranalyse einiger
+// Verfahren zur Summation endlicher Summen", ZAMM 54): the rounding error of
+// each addition is carried along and added back at the end, so the result
+// is the exact sum of the terms correctly rounded in all but pathological
+// cases (docs/algorithms.md "Comparing groups of tests").
+class CompensatedSum {
+ public:
+  void Add(double x) {
+    const double t = sum_ + x;
+    compensation_ += std::abs(sum_) >= std::abs(x) ? (sum_ - t) + x : (x - t) + sum_;
+    sum_ = t;
+  }
+  double Value() const { return sum_ + compensation_; }
+
+ private:
+  double sum_ = 0.0;
+  double compensation_ = 0.0;
+};
+
+// The mean: the compensated sum divided by n, then corrected by the
+// compensated mean of the exact deviations from it (each x - mean split by
+// Knuth's TwoSum into its rounded value and its rounding error), and kept
+// within [min, max]. Identical values give that value exactly: their
+// deviations from a first mean a few ulp off are exact, and so is the
+// correction. n >= 1.
+double MeanOf(std::span<const double> values) {
+  const double n = static_cast<double>(values.size());
+  CompensatedSum sum;
+  for (const double x : values) sum.Add(x);
+  double mean = sum.Value() / n;
+  if (!std::isfinite(mean)) {  // the sum overflowed: sum x / n instead
+    CompensatedSum scaled;
+    for (const double x : values) scaled.Add(x / n);
+    mean = scaled.Value();
+  }
+  CompensatedSum deviations;
+  for (const double x : values) {
+    // Knuth's TwoSum of x and -mean: d + error == x - mean exactly.
+    const double d = x - mean;
+    const double b_virtual = d - x;
+    const double a_virtual = d - b_virtual;
+    const double error = (x - a_virtual) + (-mean - b_virtual);
+    deviations.Add(d);
+    deviations.Add(error);
+  }
+  mean += deviations.Value() / n;
+  const auto [low, high] = std::minmax_element(values.begin(), values.end());
+  return std::clamp(mean, *low, *high);
 }
 
-// Sample variance (divisor n - 1), two passes; n >= 2.
-double Variance(std::span<const double> values, double mean) {
-  double sum = 0.0;
-  for (const double value : values) sum += (value - mean) * (value - mean);
-  return sum / static_cast<double>(values.size() - 1);
+// Sample standard deviation (divisor n - 1) about `mean`, two passes with
+// the deviations scaled by the largest of them, so squares neither underflow
+// (deviations of a few ulp of 1e-300) nor overflow. Exactly 0 when every
+// value equals the mean. n >= 2.
+double StandardDeviation(std::span<const double> values, double mean) {
+  double largest = 0.0;
+  for (const double value : values) largest = std::max(largest, std::abs(value - mean));
+  if (largest == 0.0) return 0.0;
+  CompensatedSum squares_sum;
+  for (const double x : values) {
+    const double scaled = (x - mean) / largest;
+    squares_sum.Add(scaled * scaled);
+  }
+  const double squares = squares_sum.Value();
+  return largest * std::sqrt(squares / static_cast<double>(values.size() - 1));
+}
+
+// Squared standard error of the mean: sd^2 / n. n >= 2.
+double SquaredStandardError(std::span<const double> values, double mean) {
+  const double sd = StandardDeviation(values, mean);
+  return sd * sd / static_cast<double>(values.size());
 }
 
 double Percent(double diff, double baseline_mean) {
@@ -67,9 +127,14 @@ Description Describe(std::span<const double> values) {
   std::vector<double> sorted(values.begin(), values.end());
   std::sort(sorted.begin(), sorted.end());
   const std::size_t n = sorted.size();
-  description.mean = Mean(values);
-  description.sd = n >= 2 ? std::sqrt(Variance(values, description.mean)) : kNaN;
-  description.median = n % 2 == 1 ? sorted[n / 2] : (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0;
+  description.mean = MeanOf(values);
+  description.sd = n >= 2 ? StandardDeviation(values, description.mean) : kNaN;
+  // The middle of the two middle values, written so that it neither
+  // overflows nor leaves [min, max].
+  description.median = n % 2 == 1
+                           ? sorted[n / 2]
+                           : std::clamp(sorted[n / 2 - 1] + (sorted[n / 2] / 2.0 - sorted[n / 2 - 1] / 2.0),
+                                        sorted[n / 2 - 1], sorted[n / 2]);
   description.min = sorted.front();
   description.max = sorted.back();
   return description;
@@ -81,11 +146,11 @@ MeanDifference WelchComparison(std::span<const double> sample, std::span<const d
   if (sample.size() < 2 || baseline.size() < 2) return Undefined();
   const double n_sample = static_cast<double>(sample.size());
   const double n_baseline = static_cast<double>(baseline.size());
-  const double mean_sample = Mean(sample);
-  const double mean_baseline = Mean(baseline);
+  const double mean_sample = MeanOf(sample);
+  const double mean_baseline = MeanOf(baseline);
   // Squared standard errors of the two means.
-  const double v_sample = Variance(sample, mean_sample) / n_sample;
-  const double v_baseline = Variance(baseline, mean_baseline) / n_baseline;
+  const double v_sample = SquaredStandardError(sample, mean_sample);
+  const double v_baseline = SquaredStandardError(baseline, mean_baseline);
 
   MeanDifference result;
   result.diff = mean_sample - mean_baseline;
@@ -103,9 +168,9 @@ MeanDifference PairedComparison(std::span<const double> differences, double base
   if (differences.size() < 2) return Undefined();
   const double n = static_cast<double>(differences.size());
   MeanDifference result;
-  result.diff = Mean(differences);
+  result.diff = MeanOf(differences);
   result.diff_pct = Percent(result.diff, baseline_mean);
-  result.se = std::sqrt(Variance(differences, result.diff) / n);
+  result.se = StandardDeviation(differences, result.diff) / std::sqrt(n);
   result.df = n - 1.0;
   FillInterval(result);
   return result;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "common/error.h"
+#include "formats/utf8.h"
 
 namespace napkin::formats {
 
@@ -74,49 +75,10 @@ bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
   return true;
 }
 
-namespace {
-
-bool IsValidUtf8(std::string_view text) {
-  std::size_t i = 0;
-  while (i < text.size()) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    int continuation = 0;
-    if (c < 0x80) {
-      continuation = 0;
-    } else if ((c & 0xE0) == 0xC0 && c >= 0xC2) {
-      continuation = 1;
-    } else if ((c & 0xF0) == 0xE0) {
-      continuation = 2;
-    } else if ((c & 0xF8) == 0xF0 && c <= 0xF4) {
-      continuation = 3;
-    } else {
-      return false;
-    }
-    if (i + continuation >= text.size() && continuation > 0) return false;
-    for (int k = 1; k <= continuation; ++k)
-      if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return false;
-    i += continuation + 1;
-  }
-  return true;
-}
-
-}  // namespace
-
 std::string ToUtf8(std::string text) {
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
   if (IsValidUtf8(text)) return text;
-  std::string converted;
-  converted.reserve(text.size() + text.size() / 8);
-  for (const char ch : text) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (c < 0x80) {
-      converted.push_back(ch);
-    } else {
-      converted.push_back(static_cast<char>(0xC0 | (c >> 6)));
-      converted.push_back(static_cast<char>(0x80 | (c & 0x3F)));
-    }
-  }
-  return converted;
+  return Latin1ToUtf8(text);
 }
 
 }  // namespace napkin::formats
@@ -147,7 +109,7 @@ bool HasControlCharacter(std::string_view text) {
 }
 
 std::string EscapeControl(std::string_view text) {
-  if (!HasControlCharacter(text)) return std::string(text);
+  if (!HasControlCharacter(text) && IsValidUtf8(text)) return std::string(text);
   static constexpr char kHex[] = "0123456789abcdef";
   std::string escaped;
   escaped.reserve(text.size() + 8);
@@ -165,13 +127,17 @@ std::string EscapeControl(std::string_view text) {
       escaped += "\\r";
     } else if (c == '\t') {
       escaped += "\\t";
-    } else if (IsC0OrDelete(c)) {
+    } else if (IsC0OrDelete(c) || Utf8SequenceLength(text, i) == 0) {
+      // A control character, or a byte of no valid UTF-8 sequence (text of
+      // another encoding, a sequence cut short).
       const auto code = static_cast<unsigned char>(c);
       escaped += "\\x";
       escaped += kHex[code >> 4];
       escaped += kHex[code & 0xF];
     } else {
-      escaped += c;
+      const std::size_t length = Utf8SequenceLength(text, i);
+      escaped.append(text.substr(i, length));
+      i += length - 1;
     }
   }
   return escaped;
@@ -187,6 +153,7 @@ std::string Abbreviated(std::string_view text, std::size_t max_chars) {
 
 void CheckName(std::string_view what, std::string_view name) {
   if (name.empty()) throw InputError(std::string(what) + " must not be empty.");
+  CheckUtf8(what, name);
   if (name.size() > kMaxNameBytes)
     throw InputError(std::string(what) + " '" + Abbreviated(name) + "' is " + std::to_string(name.size()) +
                      " bytes long; names are limited to " + std::to_string(kMaxNameBytes) + " bytes.");

@@ -25,13 +25,15 @@ std::string_view Trim(std::string_view text);
 std::string ToUpper(std::string_view text);
 bool EqualsIgnoreCase(std::string_view a, std::string_view b);
 
-// `text` unchanged when it is valid UTF-8 (a leading BOM removed), else
-// converted from ISO-8859-1 to UTF-8.
+// `text` unchanged when it is valid UTF-8 (formats/utf8.h; a leading BOM
+// removed), else converted from ISO-8859-1 to UTF-8: for text whose encoding
+// is known to be one of the two (ISO-MME files, UDS-1992 header fields).
 std::string ToUtf8(std::string text);
 
 // `text` with every control character (C0, DEL, and the C1 range U+0080 to
 // U+009F) written as a visible escape: \n, \r, \t, \\xHH (\\u00HH for
-// C1); a backslash stays a backslash. Everything napkin prints to a
+// C1); a backslash stays a backslash; a byte that is not part of valid
+// UTF-8 is written \\xHH too, so the result is UTF-8. Everything napkin prints to a
 // terminal, a table or a CSV cell goes through it, so input can never send
 // terminal escape sequences.
 std::string EscapeControl(std::string_view text);
@@ -48,7 +50,8 @@ std::string Abbreviated(std::string_view text, std::size_t max_chars = kQuotedIn
 inline constexpr std::size_t kMaxNameBytes = 256;
 
 // Throws InputError "<what> '<name>' ..." when `name` is empty, longer than
-// kMaxNameBytes or holds a control character (a newline included).
+// kMaxNameBytes, not valid UTF-8 (formats::CheckUtf8) or holds a control
+// character (a newline included).
 void CheckName(std::string_view what, std::string_view name);
 
 // `name` as one safe file-name component: '/', '\\', ':' and control

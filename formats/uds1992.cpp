@@ -74,9 +74,12 @@ constexpr std::size_t kDataOffset = 12;
 
 using Record = const std::uint8_t*;
 
+// A CHARACTER field, blanks trimmed, in UTF-8: UDS-1992 text is ASCII or,
+// in practice, ISO-8859-1 (docs/formats.md "Text encoding"); a field that is
+// already valid UTF-8 (napkin's own exports) is kept as it is.
 std::string ReadString(Record record, Field field) {
   std::string text(reinterpret_cast<const char*>(record + field.offset), field.length);
-  return std::string(Trim(text));
+  return ToUtf8(std::string(Trim(text)));
 }
 
 void WriteString(std::uint8_t* record, Field field, std::string_view text) {

@@ -14,6 +14,7 @@
 #include "formats/content_hash.h"
 #include "formats/csv.h"
 #include "formats/text.h"
+#include "formats/utf8.h"
 #include "ingest/content_hash.h"
 #include "ingest/dummy_heads.h"
 #include "ingest/store.h"
@@ -65,6 +66,22 @@ nlohmann::json TestInfoJson(const formats::TestInfo& info, const std::string& po
         {"laboratory", &info.laboratory}})
     if (!value->empty()) json[key] = *value;
   return json;
+}
+
+// Names of an unknown encoding are refused, never guessed (docs/formats.md
+// "Text encoding"): the path stored as the test's source and, for UDS-1992,
+// the file names stored in its metadata must be UTF-8.
+void CheckPathsAreUtf8(const ImportInput& input) {
+  std::error_code error;
+  const fs::path absolute = fs::absolute(input.source, error);
+  std::vector<fs::path> paths = {error ? input.source : absolute};
+  paths.insert(paths.end(), input.files.begin(), input.files.end());
+  for (const fs::path& path : paths)
+    if (!formats::IsValidUtf8(path.string()))
+      throw InputError("'" + formats::Abbreviated(path.string(), formats::kQuotedInputLongChars) +
+                       "': the path is not valid UTF-8 (the bytes that are not are shown as \\xHH), and "
+                       "napkin stores names in UTF-8 only; rename it, e.g. with `convmv -f latin1 -t utf8 "
+                       "--notest`, and import it again.");
 }
 
 ImportResult Failed(const std::string& test_id, std::string message) {
@@ -139,8 +156,10 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
                                     const PreparedImport& prepared, const ImportOptions& options) {
   const std::string test_id = options.test_id.value_or(input.name);
   try {
-    // Ids are printable and of sane length: they reach terminals, tables and
-    // export file names (docs/formats.md "Names, limits and escaping").
+    CheckPathsAreUtf8(input);
+    // Ids are UTF-8, printable and of sane length: they reach terminals,
+    // tables, JSON and export file names (docs/formats.md "Names, limits and
+    // escaping").
     formats::CheckName("test id", test_id);
     const std::string input_hash = InputContentHash(input);
     // An input of one dummy keeps its content hash; nothing more to read when it is stored.
@@ -236,6 +255,16 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   check_option("--test-id", options.test_id);
   check_option("--series", options.series);
   check_option("--variant", options.variant);
+  // `compare` and `report` call the group of tests without a variant
+  // "(none)": a variant of that name would be taken for it (docs/formats.md
+  // "napkin compare").
+  if (options.variant == kNoVariantGroup)
+    throw UsageError("--variant '" + std::string(kNoVariantGroup) +
+                     "' is the name compare and report give the tests without a variant; choose another "
+                     "name (or give no --variant).");
+  // Array and channel-map names taken from their file names are of unknown encoding.
+  check_option("the array name", prepared.array.name);
+  if (prepared.channel_map) check_option("the channel map name", prepared.channel_map->name);
 
   const Discovery discovery = DiscoverInputs(paths);
   if (options.test_id && discovery.inputs.size() + discovery.errors.size() > 1)

@@ -17,10 +17,15 @@
 
 namespace napkin::ingest {
 
+// The name `compare` and `report` give the group of tests without a variant;
+// import refuses it as a --variant, so the two are never pooled
+// (docs/formats.md "napkin compare").
+inline constexpr const char* kNoVariantGroup = "(none)";
+
 struct ImportOptions {
   std::string array;  // preset name or array JSON path (required)
   std::optional<std::string> series;
-  std::optional<std::string> variant;
+  std::optional<std::string> variant;   // never kNoVariantGroup
   std::optional<std::string> test_id;   // only when exactly one test is found
   std::vector<double> orientation_rad;  // phi, theta, psi (empty: 0, 0, 0)
   // vx, vy, vz fixed frame (empty: the UDS-1992 INIVEL of the CG channels

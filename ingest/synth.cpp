@@ -1,9 +1,11 @@
 #include "ingest/synth.h"
 
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "common/error.h"
 #include "formats/array_json.h"
+#include "formats/text.h"
 #include "ingest/content_hash.h"
 #include "ingest/store.h"
 #include "records/array_record.h"
@@ -11,6 +13,16 @@
 namespace napkin::ingest {
 
 SynthPlan PlanSynth(const SynthRequest& request) {
+  // Names are UTF-8, printable and of sane length, as import's (formats::CheckName).
+  for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--series", &request.series},
+                                      {"--test-id", &request.test_id}}) {
+    if (value->empty()) continue;
+    try {
+      formats::CheckName(option, *value);
+    } catch (const InputError& error) {
+      throw UsageError(error.what());
+    }
+  }
   SynthPlan plan;
   plan.array = formats::LoadArray(request.array);
   plan.array_record = records::MakeArrayRecord(plan.array);

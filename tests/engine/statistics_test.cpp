@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -161,6 +165,95 @@ TEST(PairedComparison, ClosedFormsAndUndefinedCases) {
   EXPECT_EQ(constant.df, 2.0);
   EXPECT_TRUE(std::isnan(constant.t) && std::isnan(constant.ci_low) && std::isnan(constant.ci_high) &&
               std::isnan(constant.p_value));
+}
+
+// Issue 19 item 14: three tests with bit-identical HIC15 473.5561725417905
+// gave sd 6.96e-14 and a mean below min = max (a plain sum rounds up 3x and
+// the division does not undo it), and then p < 0.0001 against another group
+// without scatter.
+TEST(Describe, IdenticalValuesOfTheIssueHaveTheirOwnMeanAndNoScatter) {
+  const std::vector<double> hic15(3, 473.5561725417905);
+  const Description d = Describe(hic15);
+  EXPECT_EQ(d.mean, 473.5561725417905);
+  EXPECT_EQ(d.sd, 0.0);
+  EXPECT_EQ(d.min, 473.5561725417905);
+  EXPECT_EQ(d.max, 473.5561725417905);
+  EXPECT_EQ(d.median, 473.5561725417905);
+  // Two groups without scatter: a difference, but no interval and no p.
+  const MeanDifference welch = WelchComparison(hic15, std::vector<double>(3, 473.0));
+  EXPECT_EQ(welch.diff, 473.5561725417905 - 473.0);
+  EXPECT_EQ(welch.se, 0.0);
+  EXPECT_TRUE(std::isnan(welch.ci_low) && std::isnan(welch.ci_high) && std::isnan(welch.p_value));
+}
+
+// Exact answers a plain left-to-right sum misses: the mean is the exact mean
+// of the binary values, correctly rounded (checked with rational arithmetic:
+// 0.1 + 0.2 + 0.3 summed in order is 0.6000000000000001, whose third is
+// 0.20000000000000004; 1e16 + 1 - 1e16 summed in order is 0).
+TEST(Describe, MeanIsTheCorrectlyRoundedExactMean) {
+  EXPECT_EQ(Describe(std::vector<double>{0.1, 0.2, 0.3}).mean, 0.2);
+  EXPECT_EQ(Describe(std::vector<double>{1e16, 1.0, -1e16}).mean, 1.0 / 3.0);
+  // sd of {0.1, 0.2, 0.3}: the exact value 0.0999999999999999916... rounds to
+  // the double below 0.1 (Python's statistics.stdev gives the same).
+  EXPECT_EQ(Describe(std::vector<double>{0.1, 0.2, 0.3}).sd, 0.09999999999999999);
+}
+
+// Property: n identical values of awkward magnitudes (n = 2..50) have that
+// value as mean, median, min and max, and sd exactly 0; a paired comparison
+// of identical differences has no interval.
+TEST(Describe, IdenticalValuesOfAnyMagnitudeHaveSdZeroAndTheirOwnMean) {
+  const std::vector<double> awkward = {473.5561725417905,
+                                       0.1,
+                                       1.0 / 3.0,
+                                       -2.0 / 3.0,
+                                       9007199254740993.0,  // 2^53 + 1 (rounds to 2^53)
+                                       123456789.98765432,
+                                       1e-300,
+                                       -1e300,
+                                       std::numeric_limits<double>::denorm_min(),
+                                       std::numeric_limits<double>::min(),
+                                       std::nextafter(1000.0, 2000.0),
+                                       0.0};
+  for (const double value : awkward) {
+    for (std::size_t n = 2; n <= 50; ++n) {
+      const std::vector<double> values(n, value);
+      const Description d = Describe(values);
+      EXPECT_EQ(d.mean, value) << "n = " << n << ", value " << value;
+      EXPECT_EQ(d.sd, 0.0) << "n = " << n << ", value " << value;
+      EXPECT_EQ(d.median, value);
+      EXPECT_EQ(d.min, value);
+      EXPECT_EQ(d.max, value);
+      const MeanDifference paired = PairedComparison(values, 1.0);
+      EXPECT_EQ(paired.diff, value) << "n = " << n << ", value " << value;
+      EXPECT_EQ(paired.se, 0.0) << "n = " << n << ", value " << value;
+      EXPECT_TRUE(std::isnan(paired.p_value) && std::isnan(paired.ci_low));
+    }
+  }
+}
+
+// Property: for samples of values that differ in the last bits (n = 2..50,
+// values within a few ulp of awkward magnitudes), min <= mean <= max and
+// min <= median <= max, and sd is 0 exactly when all values are equal.
+TEST(Describe, MeanAndMedianLieBetweenMinAndMaxForNearlyEqualValues) {
+  std::mt19937_64 random(19);
+  for (const double base : {473.5561725417905, 0.1, 1e-300, -7.77e250, 1e15 + 0.3}) {
+    for (std::size_t n = 2; n <= 50; ++n) {
+      std::vector<double> values;
+      for (std::size_t i = 0; i < n; ++i) {
+        double value = base;
+        for (std::uint64_t steps = random() % 4; steps > 0; --steps)
+          value = std::nextafter(value, random() % 2 == 0 ? INFINITY : -INFINITY);
+        values.push_back(value);
+      }
+      const Description d = Describe(values);
+      EXPECT_LE(d.min, d.mean) << "n = " << n << ", base " << base;
+      EXPECT_LE(d.mean, d.max) << "n = " << n << ", base " << base;
+      EXPECT_LE(d.min, d.median);
+      EXPECT_LE(d.median, d.max);
+      EXPECT_GE(d.sd, 0.0);
+      EXPECT_EQ(d.sd == 0.0, d.min == d.max) << "n = " << n << ", base " << base;
+    }
+  }
 }
 
 }  // namespace
