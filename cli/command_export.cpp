@@ -91,11 +91,11 @@ class ExportCommand : public Command {
     // Stored, or recomputed (storage "none"; docs/formats.md "Derived-channel storage").
     const std::optional<engine::Kinematics> kinematics = ReadResultKinematics(catalogue, *test, *config);
 
-    // docs/formats.md "Derived channels": an acceleration-only test exports as csv only.
-    if (format_ != "csv" && !engine::HasRotation(*kinematics))
+    // docs/formats.md "Derived channels": an acceleration-only test exports as csv or isomme only.
+    if (format_ != "csv" && format_ != "isomme" && !engine::HasRotation(*kinematics))
       throw InputError("test '" + test_id_ +
                        "' has no rotation (its array cannot determine it), which --format " + format_ +
-                       " needs; --format csv gives its CG acceleration.");
+                       " needs; --format csv or isomme gives its CG acceleration.");
     if (format_ == "csv") {
       formats::WriteDerivedCsv(*kinematics, out_);
     } else if (format_ == "lsdyna") {
@@ -111,12 +111,22 @@ class ExportCommand : public Command {
       const formats::UdsNumberForm form = numform_ == "vax"   ? formats::UdsNumberForm::kVax
                                           : numform_ == "sun" ? formats::UdsNumberForm::kSun
                                                               : formats::UdsNumberForm::kIeee;
+      // FCUT: the class the result's channels are filtered at (docs/formats.md "UDS-1992 export").
+      const db::TestRecord record = catalogue.ReadTest(*test);
+      const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(*test, *config);
+      const formats::UdsExportFilters filters = formats::UdsFiltersOfResult(
+          summary ? summary->conditioning : std::vector<engine::ChannelConditioning>{},
+          records::DecodeArrayRecord(catalogue.ReadArray(record.array_id)),
+          formats::ParseProcessingConfig(nlohmann::json::parse(catalogue.ReadConfig(*config).config_json),
+                                         "the result's config")
+              .filter);
       // The files appear beside what --out holds, none replaced unless --force
       // (formats/atomic_file.h WriteDirectoryAtomically).
       formats::WriteDirectoryAtomically(
           out_,
           [&](const std::filesystem::path& staging) {
-            formats::WriteDerivedUds(*kinematics, staging, formats::FileNameComponent(test_id_), form);
+            formats::WriteDerivedUds(*kinematics, staging, formats::FileNameComponent(test_id_), form,
+                                     filters);
           },
           force_);
     } else {

@@ -97,6 +97,27 @@ void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, boo
 
 }  // namespace
 
+namespace {
+struct ClassCutoff {
+  double cfc;
+  double cutoff_hz;
+};
+constexpr ClassCutoff kJ211Cutoffs[] = {
+    {kCfc60, 100.0}, {kCfc180, 300.0}, {kCfc600, 1000.0}, {kCfc1000, 1650.0}};
+}  // namespace
+
+std::optional<double> J211ClassOfCutoff(double cutoff_hz) {
+  for (const ClassCutoff& entry : kJ211Cutoffs)
+    if (std::abs(cutoff_hz - entry.cutoff_hz) <= kJ211CutoffTolerance * entry.cutoff_hz) return entry.cfc;
+  return std::nullopt;
+}
+
+double J211CutoffOfClass(double cfc) {
+  for (const ClassCutoff& entry : kJ211Cutoffs)
+    if (std::abs(cfc - entry.cfc) <= 1e-9 * entry.cfc) return entry.cutoff_hz;
+  return cfc * 5.0 / 3.0;
+}
+
 double CfcDesignFactor(CfcVariant variant) {
   switch (variant) {
     case CfcVariant::kSaeJ211:

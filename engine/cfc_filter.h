@@ -49,6 +49,22 @@ inline constexpr double kCfc180 = 180.0;
 inline constexpr double kCfc600 = 600.0;
 inline constexpr double kCfc1000 = 1000.0;
 
+// SAE J211/1 names each standard class by a number but states its cut-off
+// frequency F_H (the -3 dB point) in Hz: CFC 60 100 Hz, CFC 180 300 Hz,
+// CFC 600 1000 Hz, CFC 1000 1650 Hz. Files that record a filter as a
+// frequency (UDS-1992 FCUT, docs/formats.md "UDS-1992 input") give F_H.
+//
+// The standard class whose cut-off is within kJ211CutoffTolerance of
+// `cutoff_hz` (NHTSA's files carry 1662 Hz for CFC 1000; neighbouring
+// cut-offs are at least a factor 1.65 apart), nullopt for any other
+// frequency.
+inline constexpr double kJ211CutoffTolerance = 0.02;  // relative
+std::optional<double> J211ClassOfCutoff(double cutoff_hz);
+// The cut-off of class `cfc`: J211's F_H for the four standard classes (1e-9
+// relative tolerance), else 5/3 CFC (the ratio of the standard classes 60,
+// 180 and 600, and about where this filter's gain is -3 dB).
+double J211CutoffOfClass(double cfc);
+
 struct CfcCoefficients {
   double a0 = 0.0, a1 = 0.0, a2 = 0.0;  // feed-forward (on x[t], x[t-1], x[t-2])
   double b1 = 0.0, b2 = 0.0;            // feedback (on y[t-1], y[t-2]), J211 sign convention

@@ -6,6 +6,9 @@
 // computed from.
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "engine/array_geometry.h"
 
 namespace napkin::engine {
 
@@ -24,14 +27,29 @@ struct ChannelConditioning {
   std::optional<double> filter_cfc;
   // The class the file records the channel as already filtered at (ISO-MME
   // filter letter / "Channel frequency class", UDS-1992 FCUT); none = raw or
-  // not recorded.
+  // not recorded; kPrefilteredClassUnknown (0) = filtered at a class the file
+  // does not name.
   std::optional<double> prefiltered_cfc;
   // Whether the requested filter was left out because of prefiltered_cfc.
   bool filter_skipped_prefiltered = false;
 };
 
 // The filter a channel got, in words: "CFC 1000", "none" or "none,
-// prefiltered at CFC 1000" (docs/formats.md "Conditioning record").
+// prefiltered at CFC 1000", followed by " (prefiltered, class unknown)" for
+// a channel filtered at a class the file does not name (docs/formats.md
+// "Conditioning record").
 std::string FilterDescription(const ChannelConditioning& record);
+
+// The class a channel's samples are filtered at after conditioning: the
+// class napkin applied, else the (named) class the file records; nullopt
+// when the channel is unfiltered or its class unknown.
+std::optional<double> FilteredClass(const ChannelConditioning& record);
+
+// The class of the channels feeding the sensors of `kind` in `array` after
+// conditioning, for what is derived from them: their FilteredClass when all
+// have one (the widest when they differ); nullopt when one is unfiltered or
+// of unknown class, or when no record is of such a sensor.
+std::optional<double> FilteredClassOfKind(const std::vector<ChannelConditioning>& records,
+                                          const ArrayGeometry& array, SensorKind kind);
 
 }  // namespace napkin::engine

@@ -247,7 +247,8 @@ void Crop(TestSignals& signals, const TimeConfig& time) {
 }  // namespace
 
 bool PrefilterCovers(double prefiltered_cfc, double requested_cfc) {
-  return prefiltered_cfc <= requested_cfc * (1.0 + 1e-9);
+  // A filter of unknown class covers nothing: the requested class is applied.
+  return prefiltered_cfc != kPrefilteredClassUnknown && prefiltered_cfc <= requested_cfc * (1.0 + 1e-9);
 }
 
 std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
@@ -291,12 +292,17 @@ std::vector<Finding> ConditioningFindings(const std::vector<ChannelConditioning>
   for (const ChannelConditioning& record : conditioning) {
     if (!record.prefiltered_cfc) continue;
     std::ostringstream detail;
-    detail << "channel " << record.channel << " is recorded in the file as filtered at CFC "
-           << *record.prefiltered_cfc;
+    detail << "channel " << record.channel << " is recorded in the file as filtered";
+    if (*record.prefiltered_cfc == kPrefilteredClassUnknown)
+      detail << ", at a class it does not name";
+    else
+      detail << " at CFC " << *record.prefiltered_cfc;
     if (record.filter_skipped_prefiltered)
       detail << ", so napkin did not filter it again.";
     else if (record.filter_cfc)
-      detail << "; napkin filtered it at the narrower CFC " << *record.filter_cfc << " as configured.";
+      detail << "; napkin filtered it at "
+             << (*record.prefiltered_cfc == kPrefilteredClassUnknown ? "" : "the narrower ") << "CFC "
+             << *record.filter_cfc << " as configured.";
     else
       detail << "; napkin applied no filter to it.";
     findings.push_back({"prefiltered", record.channel, Severity::kInfo, detail.str()});

@@ -190,7 +190,8 @@ std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, T
 
 // Whether a channel already filtered at `prefiltered_cfc` needs no filter of
 // class `requested_cfc`: the same or a narrower class was applied (1e-9
-// relative tolerance).
+// relative tolerance). A filter of unknown class (kPrefilteredClassUnknown)
+// covers none.
 bool PrefilterCovers(double prefiltered_cfc, double requested_cfc);
 
 // One info finding (check "prefiltered") per channel the file records as

@@ -7,6 +7,10 @@
 
 namespace napkin::engine {
 
+// A prefiltered_cfc of 0 (no class is 0 Hz): the file records the channel
+// as filtered, at a class it does not name (docs/formats.md "UDS-1992 input").
+inline constexpr double kPrefilteredClassUnknown = 0.0;
+
 struct TestSignals {
   double dt_s = 1e-4;              // sampling interval
   double t0_s = 0.0;               // time of the first sample
@@ -16,8 +20,10 @@ struct TestSignals {
   Eigen::MatrixXd samples;
   // Per column, the CFC class the file records the channel as already
   // filtered at (docs/formats.md: ISO-MME filter letter / "Channel frequency
-  // class", UDS-1992 FCUT); nullopt = raw or not recorded. Empty (the usual
-  // case, e.g. CSV) = no channel recorded as filtered.
+  // class", UDS-1992 FCUT); nullopt = raw or not recorded,
+  // kPrefilteredClassUnknown = filtered at a class the file does not name
+  // (a UDS-1992 FCUT that is no SAE J211 cut-off). Empty (the usual case,
+  // e.g. CSV) = no channel recorded as filtered.
   std::vector<std::optional<double>> prefiltered_cfc;
 
   Eigen::Index size() const { return samples.rows(); }

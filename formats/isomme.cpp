@@ -398,8 +398,12 @@ void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry
       throw InputError(map.source + ": slots " + Quoted(it->second) + " and " + Quoted(slot) +
                        " would both be written as channel " + channel.code + ".");
     if (const std::optional<double> prefiltered = signals.PrefilteredCfc(c)) {
-      channel.cfc = *prefiltered;
-      if (const std::optional<char> letter = IsoMmeFilterLetter(*prefiltered)) channel.code[15] = *letter;
+      if (*prefiltered == engine::kPrefilteredClassUnknown) {
+        channel.code[15] = 'X';  // filtered, class not stated: no frequency class (NOVALUE)
+      } else {
+        channel.cfc = *prefiltered;
+        if (const std::optional<char> letter = IsoMmeFilterLetter(*prefiltered)) channel.code[15] = *letter;
+      }
     }
     channel.name = "Head " + slot;
     channel.unit = "g";
@@ -458,6 +462,22 @@ void WriteDerivedIsoMme(const engine::Kinematics& kinematics, const std::filesys
   };
   const double g_per_si = 1.0 / engine::kStandardGravity;
   add3(kinematics.acc_body, "0000", "AC", "g", "acceleration, body axes", g_per_si, linear_cfc);
+  if (!engine::HasRotation(kinematics)) {
+    // Acceleration only (docs/formats.md "ISO-MME export"): the CG acceleration
+    // and its resultant (direction R); everything else needs the rotation.
+    OutputChannel resultant;
+    resultant.code = code("0000", "AC", 'R', linear_cfc);
+    resultant.name = "Head CG acceleration, resultant";
+    resultant.unit = "g";
+    resultant.reference_system = "local";
+    resultant.cfc = linear_cfc;
+    resultant.values.resize(static_cast<std::size_t>(n));
+    for (Eigen::Index k = 0; k < n; ++k)
+      resultant.values[static_cast<std::size_t>(k)] = kinematics.acc_body.row(k).norm() * g_per_si;
+    channels.push_back(std::move(resultant));
+    WriteTestFolder(folder, test_number, dt, IntendedDecimal(kinematics.time_s[0]), channels, 0);
+    return;
+  }
   add3(kinematics.acc_fixed, "00GL", "AC", "g", "acceleration, fixed axes", g_per_si, linear_cfc);
   add3(kinematics.vel_fixed, "00GL", "VE", "m/s", "velocity, fixed axes", 1.0, linear_cfc);
   add3(kinematics.pos_fixed, "00GL", "DS", "m", "displacement, fixed axes", 1.0, linear_cfc);

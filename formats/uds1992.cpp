@@ -8,6 +8,7 @@
 #include <map>
 
 #include "common/error.h"
+#include "engine/cfc_filter.h"
 #include "formats/atomic_file.h"
 #include "formats/json_file.h"
 #include "formats/text.h"
@@ -290,6 +291,11 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
     double hz = 0.0;
     if (ReadReal(curve, offset, form, hz) && std::isfinite(hz) && hz > 0.0) *field = IntendedDecimal(hz);
   }
+  if (channel.filter_cutoff_hz > 0.0 && !engine::J211ClassOfCutoff(channel.filter_cutoff_hz))
+    channel.warnings.push_back(
+        file + ": FCUT " + FormatNumber(channel.filter_cutoff_hz) +
+        " Hz is no SAE J211 class cut-off (100, 300, 1000 or 1650 Hz), so the "
+        "channel is taken as filtered at an unknown class and filtered as configured.");
 
   const std::size_t count = static_cast<std::size_t>(static_cast<std::int64_t>(nlp) - nfp + 1);
   const std::size_t records = (count + kUdsValuesPerRecord - 1) / kUdsValuesPerRecord;
@@ -412,7 +418,10 @@ RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& 
   raw.unit = channel.yunits;
   raw.dt_s = channel.del_s;
   raw.t0_s = static_cast<double>(channel.nfp) * channel.del_s;
-  if (channel.filter_cutoff_hz > 0.0) raw.prefiltered_cfc = channel.filter_cutoff_hz;
+  // FCUT is a cut-off frequency in Hz, not a class number (NHTSA's UDS_Vars.txt; docs/formats.md).
+  if (channel.filter_cutoff_hz > 0.0)
+    raw.prefiltered_cfc =
+        engine::J211ClassOfCutoff(channel.filter_cutoff_hz).value_or(engine::kPrefilteredClassUnknown);
   raw.values = channel.values;
   raw.position = channel.senloc;
   // INIVEL is in the velocity unit of DIMSYS (docs/formats.md "UDS-1992 input").

@@ -52,12 +52,14 @@ struct UdsChannel {
   // PREF: cut-off (Hz) of the recorder's analog anti-aliasing prefilter; 0 = not stated.
   // Informative only: it does not make the channel CFC-filtered.
   double prefilter_hz = 0.0;
-  // FCUT: the channel's digital filter class (Hz; the SAE J211 CFC is the
-  // passband frequency in Hz), 0 = unfiltered. A positive FCUT is the
-  // channel's prefiltered_cfc (docs/formats.md "UDS-1992 input").
+  // FCUT: the cut-off frequency (Hz) of the last filter applied to the data
+  // (NHTSA-Tools doc/UDS_Vars.txt), 0 = unfiltered. A J211 cut-off (100, 300,
+  // 1000, 1650 Hz) is that class's channel: prefiltered_cfc CFC 60, 180, 600,
+  // 1000; any other positive FCUT is a filter of unknown class, with a
+  // warning (docs/formats.md "UDS-1992 input").
   double filter_cutoff_hz = 0.0;
   std::vector<double> values;         // NLP - NFP + 1 samples (REAL*4 precision)
-  std::vector<std::string> warnings;  // what the reader noticed but read anyway (NCHAN above 1)
+  std::vector<std::string> warnings;  // what the reader noticed but read anyway (NCHAN above 1, FCUT)
 
   int nlp() const { return nfp + static_cast<int>(values.size()) - 1; }
 };
@@ -74,7 +76,8 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path);
 
 // The channel as a RawChannel (unit from YUNITS, t0 = NFP * DEL, position
 // from SENLOC, INIVEL converted to m/s: km/h for DIMSYS MET, m/s for SI,
-// mph for ENG, prefiltered_cfc = FCUT when positive).
+// mph for ENG, prefiltered_cfc the SAE J211 class whose cut-off FCUT is,
+// engine::kPrefilteredClassUnknown for another positive FCUT).
 RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& path);
 
 // The test-level information of a UDS-1992 file header.

@@ -1,17 +1,39 @@
 #include "formats/uds_export.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
 #include "common/error.h"
+#include "engine/cfc_filter.h"
 #include "engine/units.h"
 #include "formats/text.h"
 
 namespace napkin::formats {
 
+UdsExportFilters UdsFiltersOfResult(const std::vector<engine::ChannelConditioning>& conditioning,
+                                    const engine::ArrayGeometry& array,
+                                    const engine::FilterConfig& configured) {
+  const bool rate_sensors =
+      std::any_of(array.sensors.begin(), array.sensors.end(),
+                  [](const engine::Sensor& s) { return s.kind == engine::SensorKind::kAngularRate; });
+  UdsExportFilters filters;
+  if (conditioning.empty()) {
+    filters.linear_cfc = configured.linear_cfc;
+    filters.angular_cfc = rate_sensors ? configured.angular_rate_cfc : configured.linear_cfc;
+    return filters;
+  }
+  filters.linear_cfc = engine::FilteredClassOfKind(conditioning, array, engine::SensorKind::kLinear);
+  filters.angular_cfc =
+      rate_sensors ? engine::FilteredClassOfKind(conditioning, array, engine::SensorKind::kAngularRate)
+                   : filters.linear_cfc;
+  return filters;
+}
+
 std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kinematics,
                                                    const std::filesystem::path& folder,
-                                                   const std::string& test_number, UdsNumberForm form) {
+                                                   const std::string& test_number, UdsNumberForm form,
+                                                   const UdsExportFilters& filters) {
   const Eigen::Index n = kinematics.size();
   if (n < 2) throw InputError(folder.string() + ": cannot export fewer than two samples.");
   if (test_number.empty() || test_number.find_first_of("/\\") != std::string::npos)
@@ -43,7 +65,7 @@ std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kin
   const char axes[3] = {'X', 'Y', 'Z'};
   auto write3 = [&](const engine::Series3& series, const std::string& prefix, const std::string& stem,
                     const char* ytyp, const char* yunits, const char* status, char frame, double scale,
-                    bool dcos = false) {
+                    std::optional<double> cfc, bool dcos = false) {
     for (int a = 0; a < 3; ++a) {
       UdsChannel channel = templ;
       // DCOS.011, .022, .033; otherwise .00X, .00Y, .00Z.
@@ -56,6 +78,8 @@ std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kin
       channel.ytyp = ytyp;
       channel.yunits = yunits;
       channel.curve_description = status;
+      // FCUT is the cut-off in Hz of the last filter applied, 0 unfiltered (NHTSA doc/UDS_Vars.txt).
+      channel.filter_cutoff_hz = cfc ? engine::J211CutoffOfClass(*cfc) : 0.0;
       channel.values.resize(static_cast<std::size_t>(n));
       for (Eigen::Index k = 0; k < n; ++k) channel.values[static_cast<std::size_t>(k)] = series(k, a) * scale;
       const std::filesystem::path path = folder / (prefix + test_number + stem + extension);
@@ -65,16 +89,21 @@ std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kin
   };
   const double g_per_si = 1.0 / engine::kStandardGravity;
   const double inch_per_metre = 1.0 / engine::kMetresPerInch;
-  write3(kinematics.acc_fixed, "F", "AM00", "ACCELERATION", "G'S", "FIXED COORDS", 'F', g_per_si);
-  write3(kinematics.omega_body, "B", "ROTV", "ANGULAR VELOCITY", "RADIANS/SEC", "BODY COORDS", 'B', 1.0);
+  const std::optional<double> linear = filters.linear_cfc;
+  const std::optional<double> angular = filters.angular_cfc;
+  write3(kinematics.acc_fixed, "F", "AM00", "ACCELERATION", "G'S", "FIXED COORDS", 'F', g_per_si, linear);
+  write3(kinematics.omega_body, "B", "ROTV", "ANGULAR VELOCITY", "RADIANS/SEC", "BODY COORDS", 'B', 1.0,
+         angular);
   write3(kinematics.alpha_fixed, "F", "ROTA", "ANGULAR ACCELERATION", "RADIANS/SEC**2", "FIXED COORDS", 'F',
-         1.0);
+         1.0, angular);
   write3(kinematics.dcos_rad, "F", "DCOS", "AXIS ORIENTATION", "DEGREES", "BODY TO FIXED", 'U',
-         engine::kDegPerRad, /*dcos=*/true);
+         engine::kDegPerRad, angular, /*dcos=*/true);
   write3(kinematics.roll_pitch_yaw_rad, "F", "ROTD", "ANGULAR DISPLACEMENT", "DEGREES", "FIXED COORDS", 'F',
-         engine::kDegPerRad);
-  write3(kinematics.omega_fixed, "F", "ROTV", "ANGULAR VELOCITY", "RADIANS/SEC", "FIXED COORDS", 'F', 1.0);
-  write3(kinematics.vel_fixed, "F", "VM00", "VELOCITY", "IN/SEC", "FIXED COORDS", 'F', inch_per_metre);
+         engine::kDegPerRad, angular);
+  write3(kinematics.omega_fixed, "F", "ROTV", "ANGULAR VELOCITY", "RADIANS/SEC", "FIXED COORDS", 'F', 1.0,
+         angular);
+  write3(kinematics.vel_fixed, "F", "VM00", "VELOCITY", "IN/SEC", "FIXED COORDS", 'F', inch_per_metre,
+         linear);
   return written;
 }
 

@@ -1,12 +1,15 @@
 #include "ingest/dummy_heads.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 #include <utility>
 
 #include "common/error.h"
 #include "formats/isomme.h"
+#include "formats/text.h"
 #include "formats/uds1992.h"
 #include "ingest/zip_input.h"
 
@@ -83,23 +86,67 @@ DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
   return search;
 }
 
-std::optional<Eigen::Vector3d> InitialVelocityBody(const std::vector<formats::RawChannel>& channels,
-                                                   const std::vector<std::size_t>& channel_of_sensor,
-                                                   const engine::ArrayGeometry& array) {
-  std::optional<Eigen::Vector3d> velocity_body;
+FileInitialVelocity InitialVelocityBody(const std::vector<formats::RawChannel>& channels,
+                                        const std::vector<std::size_t>& channel_of_sensor,
+                                        const engine::ArrayGeometry& array,
+                                        const Eigen::Vector3d& omega_body_radps) {
+  struct Candidate {
+    const formats::RawChannel* channel;
+    const engine::Sensor* sensor;
+    double cg_velocity_mps;  // the CG velocity along the body axis this sensor gives
+  };
+  std::array<std::vector<Candidate>, 3> by_axis;
+  FileInitialVelocity result;
+  auto described = [](const formats::RawChannel& channel, const engine::Sensor& sensor) {
+    return channel.Label() + " (slot " + sensor.slot + ", INIVEL " +
+           formats::FormatNumber(*channel.initial_velocity_mps) + " m/s)";
+  };
   for (std::size_t s = 0; s < array.sensors.size() && s < channel_of_sensor.size(); ++s) {
     const engine::Sensor& sensor = array.sensors[s];
-    if (sensor.kind != engine::SensorKind::kLinear || !sensor.position_body_m.isZero(0.0)) continue;
     const formats::RawChannel& channel = channels.at(channel_of_sensor[s]);
     if (!channel.initial_velocity_mps) continue;
-    // INIVEL is the speed along the channel's own sense axis (docs/formats.md "UDS-1992 input").
-    for (int axis = 0; axis < 3; ++axis) {
-      if (std::abs(std::abs(sensor.axis_body[axis]) - 1.0) > 1e-12) continue;
-      if (!velocity_body) velocity_body = Eigen::Vector3d::Zero();
-      (*velocity_body)[axis] = *channel.initial_velocity_mps * sensor.axis_body[axis];
+    if (sensor.kind != engine::SensorKind::kLinear) {
+      result.unused.push_back(described(channel, sensor) +
+                              ": INIVEL is not used, as it is a linear velocity and the channel feeds an "
+                              "angular-rate sensor.");
+      continue;
+    }
+    int axis = -1;
+    for (int a = 0; a < 3; ++a)
+      if (std::abs(std::abs(sensor.axis_body[a]) - 1.0) <= 1e-12) axis = a;
+    if (axis < 0) {
+      result.unused.push_back(described(channel, sensor) +
+                              ": INIVEL is not used, as the sensor senses along no body axis.");
+      continue;
+    }
+    // INIVEL = axis . (v_CG + omega x r): the CG's velocity along the axis is INIVEL - axis . (omega x r).
+    const double along_sense =
+        *channel.initial_velocity_mps - sensor.axis_body.dot(omega_body_radps.cross(sensor.position_body_m));
+    by_axis[static_cast<std::size_t>(axis)].push_back(
+        {&channel, &sensor, along_sense * sensor.axis_body[axis]});
+  }
+  const char* axis_names[3] = {"x", "y", "z"};
+  for (std::size_t a = 0; a < 3; ++a) {
+    std::vector<Candidate>& candidates = by_axis[a];
+    if (candidates.empty()) continue;
+    // The sensor nearest the CG (the first of equals, in the array's order).
+    std::stable_sort(candidates.begin(), candidates.end(), [](const Candidate& p, const Candidate& q) {
+      return p.sensor->position_body_m.norm() < q.sensor->position_body_m.norm();
+    });
+    const Candidate& used = candidates.front();
+    if (!result.velocity_body_mps) result.velocity_body_mps = Eigen::Vector3d::Zero();
+    (*result.velocity_body_mps)[static_cast<Eigen::Index>(a)] = used.cg_velocity_mps;
+    for (std::size_t c = 1; c < candidates.size(); ++c) {
+      // INIVEL is a REAL*4: channels that agree to its precision say the same.
+      const double difference = std::abs(candidates[c].cg_velocity_mps - used.cg_velocity_mps);
+      if (difference <= 1e-6 * std::max(1.0, std::abs(used.cg_velocity_mps))) continue;
+      result.unused.push_back(described(*candidates[c].channel, *candidates[c].sensor) +
+                              ": INIVEL is not used, as it differs from the " + axis_names[a] +
+                              " velocity taken from " + used.channel->Label() + " (slot " +
+                              used.sensor->slot + "), the sensor nearest the CG.");
     }
   }
-  return velocity_body;
+  return result;
 }
 
 InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options,
@@ -193,7 +240,10 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     const formats::RawChannel& first = channels.at(dummy.channel_of_sensor.front());
     head.info = isomme ? formats::IsoMmeTestInfo(*isomme, first)
                        : info_of_channel.at(dummy.channel_of_sensor.front());
-    head.initial_velocity_body_mps = InitialVelocityBody(channels, dummy.channel_of_sensor, array);
+    FileInitialVelocity inivel =
+        InitialVelocityBody(channels, dummy.channel_of_sensor, array, options.initial_omega_body_radps);
+    head.initial_velocity_body_mps = inivel.velocity_body_mps;
+    result.warnings.insert(result.warnings.end(), inivel.unused.begin(), inivel.unused.end());
     if (map != nullptr) head.channel_map = map->name;
     result.heads.push_back(std::move(head));
   }

@@ -39,13 +39,26 @@ DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
                                const engine::ArrayGeometry& array, const formats::ChannelMap& map,
                                const std::string& test_name);
 
-// The initial CG velocity in body axes from the channels feeding the CG
-// accelerometers (sensors at the origin sensing along a body axis) that
-// record one (UDS-1992 INIVEL, along the channel's own axis); nullopt when
-// none does.
-std::optional<Eigen::Vector3d> InitialVelocityBody(const std::vector<formats::RawChannel>& channels,
-                                                   const std::vector<std::size_t>& channel_of_sensor,
-                                                   const engine::ArrayGeometry& array);
+// The initial CG velocity of one head from the files (UDS-1992 INIVEL: the
+// velocity of the sensor along the channel's own axis).
+struct FileInitialVelocity {
+  // Body axes; nullopt when no channel feeding the head records one.
+  std::optional<Eigen::Vector3d> velocity_body_mps;
+  // One sentence per channel whose INIVEL is not used, naming it and why.
+  std::vector<std::string> unused;
+};
+
+// Every point of a rigid body without initial rotation has the same
+// velocity, so each linear accelerometer sensing along a body axis gives
+// that axis's CG velocity, wherever it sits; with an initial angular
+// velocity omega the sensor at r moves at v_CG + omega x r, which is taken
+// off (docs/formats.md "UDS-1992 input"). Per axis the sensor nearest the
+// CG is used; a channel whose INIVEL differs from it, an angular-rate
+// channel and a sensor along no body axis are reported in `unused`.
+FileInitialVelocity InitialVelocityBody(const std::vector<formats::RawChannel>& channels,
+                                        const std::vector<std::size_t>& channel_of_sensor,
+                                        const engine::ArrayGeometry& array,
+                                        const Eigen::Vector3d& omega_body_radps = Eigen::Vector3d::Zero());
 
 // One dummy head of an input, read and checked, ready to store.
 struct HeadSignals {
@@ -73,6 +86,8 @@ struct HeadReadOptions {
   formats::CsvColumnMap csv_columns;                 // --column and the map's "column" entries
   std::optional<std::string> position;               // --position: take this head only
   bool one_test_expected = false;                    // --test-id names one test
+  // The head's initial angular velocity (body axes), for INIVEL off the CG.
+  Eigen::Vector3d initial_omega_body_radps = Eigen::Vector3d::Zero();
 };
 
 // Reads `input` into its dummy heads; a zip archive is read through

@@ -137,6 +137,10 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
         engine::InitialFixedFromBody(prepared.initial.orientation_rad) * *head.initial_velocity_body_mps;
     metadata["initial_velocity"] = "inivel";
   }
+  if (prepared.velocity_given && head.initial_velocity_body_mps)
+    result.warnings.push_back(test_id +
+                              ": the INIVEL its files record is not used, as --initial-velocity "
+                              "gives the initial velocity.");
   record.metadata_json = metadata.dump();
   std::error_code error;
   const fs::path absolute = fs::absolute(input.source, error);
@@ -179,6 +183,7 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
     read_options.csv_columns = prepared.csv_columns;
     read_options.position = options.position;
     read_options.one_test_expected = options.test_id.has_value();
+    read_options.initial_omega_body_radps = prepared.initial.omega_body_radps;
     InputHeads read = ReadInputHeads(input, read_options, test_id);
 
     std::vector<ImportResult> results;

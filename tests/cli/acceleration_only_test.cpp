@@ -168,7 +168,7 @@ TEST_F(CliAccelerationOnly, ExportGivesTheAccelerationAndRefusesRotationFormats)
   }
   EXPECT_EQ(rows, 501);
 
-  for (const char* format : {"lsdyna", "lcfile", "isomme"}) {
+  for (const char* format : {"lsdyna", "lcfile", "uds"}) {
     const RunResult refused = Napkin({"export", "--test", "a1", "--format", format, "--out", "a1.out"});
     EXPECT_EQ(refused.exit_code, 1) << format;
     ExpectOneSentenceError(refused, {"test 'a1' has no rotation", std::string("--format ") + format});

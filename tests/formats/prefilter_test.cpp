@@ -98,7 +98,7 @@ TEST(UdsPrefilter, FcutIsThePrefilterPrefIsInformative) {
     const UdsChannel read = ReadUds1992(path);
     EXPECT_EQ(read.prefilter_hz, 3000.0);
     EXPECT_EQ(read.filter_cutoff_hz, 1000.0);
-    EXPECT_EQ(ToRawChannel(read, path).prefiltered_cfc, 1000.0);
+    EXPECT_EQ(ToRawChannel(read, path).prefiltered_cfc, 600.0);  // FCUT 1000 Hz: CFC 600's cut-off
 
     channel.filter_cutoff_hz = 0.0;  // only the anti-aliasing prefilter: raw
     WriteUds1992(channel, path);
