@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "formats/html_report.h"
+
 namespace napkin::cli {
 
 // Which tests the report shows; empty members do not filter. A test matches
@@ -32,6 +34,12 @@ struct WrittenReport {
 // with results.
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
                                    const std::string& out);
+
+// The same page written through `sink` (a destination the caller opened,
+// e.g. standard output), after the same checks; `path` of the answer is
+// empty. The page streams: one test is read and held at a time.
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const formats::HtmlSink& sink);
 
 // "wrote FILE: N tests, B bytes." and, when some were left out, a second
 // line naming them; each line ends with a newline.
