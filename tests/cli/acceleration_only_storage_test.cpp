@@ -133,7 +133,7 @@ TEST_F(AccelerationOnlyStorage, ReadersKeepTheDocumentedColumns) {
 
 TEST_F(AccelerationOnlyStorage, AResultsFileMergesBackWithItsFourChannels) {
   n_ = SampleCount();
-  const RunResult shard = Napkin({"run", "--config", "float64.json", "--shard", "1/1", "--results", "r.db"});
+  const RunResult shard = Napkin({"run", "--config", "float64.json", "--shard", "0/1", "--results", "r.db"});
   ASSERT_EQ(shard.exit_code, 0) << shard.err;
   EXPECT_EQ(Stored(dir_ / "r.db", "float64.json").first.size(), 4u);
   const RunResult merge = Napkin({"merge", "r.db"});
