@@ -132,8 +132,11 @@ window.addEventListener('error', function (e) {
 window.addEventListener('unhandledrejection', function (e) { window.napkinReportError(String(e.reason)); });
 )js";
 
-// Draws every chart of the embedded data with dygraphs. Every text handed to
-// dygraphs (it inserts labels as HTML) is escaped first.
+// Draws every chart of the embedded data with dygraphs. The axis labels,
+// tick labels and legend values dygraphs inserts as HTML are escaped first;
+// the series labels are handed over as text, since dygraphs escapes them
+// itself for its legend (dygraph.js "labelHTML"): escaped twice, `a&b`
+// would read `a&amp;b` there.
 constexpr const char* kDrawScript = R"js(
 (function () {
   'use strict';
@@ -161,7 +164,7 @@ constexpr const char* kDrawScript = R"js(
       rows[i] = row;
     }
     new Dygraph(element, rows, {
-      labels: ['time (ms)'].concat(chart.labels.map(esc)),
+      labels: ['time (ms)'].concat(chart.labels),
       xlabel: 'time (ms)',
       ylabel: esc(chart.ylabel),
       colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
@@ -213,7 +216,7 @@ constexpr const char* kDrawScript = R"js(
     });
     rows.sort(function (a, b) { return a[0] - b[0]; });
     new Dygraph(element, rows, {
-      labels: ['variant'].concat(groups.map(function (g) { return esc(g.name); })),
+      labels: ['variant'].concat(groups.map(function (g) { return g.name; })),
       ylabel: esc(chart.ylabel),
       colors: groups.map(function (g, k) { return groupColors[k % groupColors.length]; }),
       strokeWidth: 0,
