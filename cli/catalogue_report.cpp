@@ -2,8 +2,8 @@
 // report"): the comparison of each series' variants (cli/comparison.h, as
 // `napkin compare`), then each selected test's latest result: criteria, time
 // histories, screening findings and final pose. Reads the catalogue one test
-// at a time (the writer keeps only the reduced traces); formats/html_report.h
-// writes the page.
+// at a time and streams the page (formats/html_report.h HtmlReportWriter):
+// its memory does not grow with the number of tests.
 #include "cli/catalogue_report.h"
 
 #include <fmt/core.h>
@@ -15,6 +15,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
@@ -24,6 +25,7 @@
 #include "common/error.h"
 #include "common/version.h"
 #include "engine/statistics.h"
+#include "formats/atomic_file.h"
 #include "formats/html_report.h"
 #include "formats/output_destination.h"
 #include "formats/text.h"
@@ -145,73 +147,119 @@ std::string Described(const ReportSelection& selection) {
   return Selection(selection).empty() ? "the catalogue" : Selection(selection);
 }
 
+// The report of the selected tests, checked and planned from the catalogue
+// (which tests have results, their configs, the comparisons) before
+// anything is written; Write then reads one test at a time and streams the
+// page (formats::HtmlReportWriter), so its memory does not grow with the
+// number of tests.
+class CatalogueReport {
+ public:
+  CatalogueReport(const std::string& db_path, const ReportSelection& selection)
+      : catalogue_(Open(db_path, selection)) {
+    for (const std::string& id : selection.test_ids)
+      if (!catalogue_.ExistsTestByExternalId(id))
+        throw InputError("test '" + id + "' is not in catalogue '" + db_path + "'.");
+    selected_ = SelectedTests(catalogue_, selection, where_);
+    if (selected_.empty() && Selection(selection).empty())
+      throw InputError("catalogue '" + db_path +
+                       "' holds no tests; add some with `napkin import` or `napkin synth` first.");
+    if (selected_.empty())
+      throw InputError("no test in catalogue '" + db_path + "' matches " + Selection(selection) + ".");
+
+    header_.catalogue = db_path;
+    header_.napkin_version = napkin::Version();  // common/version.h: "0.1.0+g1a2b3c4"
+    header_.selection = Selection(selection);
+    std::map<db::ConfigId, db::ConfigRecord> configs;
+    std::map<std::string, std::set<std::string>> variants_by_series;
+    for (const db::TestRecord& record : selected_) {
+      const std::optional<db::ConfigId> config_id = catalogue_.ReadLatestResultConfig(record.id);
+      if (!config_id) {
+        without_results_.push_back(record.external_id);
+        continue;
+      }
+      auto config = configs.find(*config_id);
+      if (config == configs.end())
+        config = configs.emplace(*config_id, catalogue_.ReadConfig(*config_id)).first;
+      shown_.push_back({&record, *config_id, config->second.name});
+      test_ids_.push_back(record.external_id);
+      if (record.series && record.variant) variants_by_series[*record.series].insert(*record.variant);
+    }
+    if (shown_.empty())
+      throw InputError("no test of " + Described(selection) +
+                       " has results with derived channels yet; run `napkin run` first.");
+    for (const auto& [id, config] : configs)
+      header_.configs.push_back({config.name, config.config_hash, config.config_json});
+    // Each series of the report with more than one variant is compared.
+    for (const auto& [series, variants] : variants_by_series)
+      if (variants.size() > 1) comparisons_.push_back(SeriesComparison(catalogue_, series));
+  }
+
+  // Writes the page through `sink`; the tests shown and the bytes written.
+  WrittenReport Write(const formats::HtmlSink& sink) {
+    WrittenReport written;
+    const formats::HtmlSink counting = [&sink, &written](std::string_view text) {
+      sink(text);
+      written.bytes = written.bytes.value_or(0) + text.size();
+    };
+    formats::HtmlReportWriter writer(counting, header_, test_ids_, comparisons_);
+    for (const Shown& test : shown_) {
+      std::optional<engine::TestSummary> summary = catalogue_.ReadSummary(test.record->id, test.config);
+      if (!summary)
+        throw InputError("the result of test '" + test.record->external_id +
+                         "' disappeared while the report was written; write the report again.");
+      const engine::Kinematics kinematics = ReadResultKinematics(catalogue_, test.record->id, test.config);
+      writer.AddTest(formats::MakeReportTest(test.record->external_id, test.record->series,
+                                             test.record->variant, test.config_name, std::move(*summary),
+                                             kinematics));
+    }
+    writer.Finish();
+    written.tests = shown_.size();
+    written.without_results = without_results_;
+    return written;
+  }
+
+ private:
+  struct Shown {
+    const db::TestRecord* record;  // in selected_
+    db::ConfigId config;           // of its latest result
+    std::string config_name;
+  };
+
+  // A malformed --where is a usage error before the catalogue is opened.
+  db::Catalogue Open(const std::string& db_path, const ReportSelection& selection) {
+    for (const std::string& expression : selection.where)
+      where_.push_back(ParseWhereExpression(expression, db::QueryFields(db::QueryKind::kCriteria)));
+    db::CatalogueOptions read_only;
+    read_only.read_only = true;
+    return db::Catalogue::Open(db_path, read_only);
+  }
+
+  std::vector<db::WhereExpression> where_;  // before catalogue_: Open fills it
+  db::Catalogue catalogue_;
+  std::vector<db::TestRecord> selected_;
+  std::vector<Shown> shown_;
+  std::vector<std::string> test_ids_;  // of shown_
+  std::vector<std::string> without_results_;
+  formats::ReportHeader header_;
+  std::vector<formats::ReportComparison> comparisons_;
+};
+
 }  // namespace
 
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
                                    const std::string& out) {
-  // A malformed --where is a usage error before the catalogue is opened.
-  std::vector<db::WhereExpression> where;
-  for (const std::string& expression : selection.where)
-    where.push_back(ParseWhereExpression(expression, db::QueryFields(db::QueryKind::kCriteria)));
-  db::CatalogueOptions read_only;
-  read_only.read_only = true;
-  db::Catalogue catalogue = db::Catalogue::Open(db_path, read_only);
-  for (const std::string& id : selection.test_ids)
-    if (!catalogue.ExistsTestByExternalId(id))
-      throw InputError("test '" + id + "' is not in catalogue '" + db_path + "'.");
-
-  std::vector<db::TestRecord> selected = SelectedTests(catalogue, selection, where);
-  if (selected.empty() && Selection(selection).empty())
-    throw InputError("catalogue '" + db_path +
-                     "' holds no tests; add some with `napkin import` or `napkin synth` first.");
-  if (selected.empty())
-    throw InputError("no test in catalogue '" + db_path + "' matches " + Selection(selection) + ".");
-
-  formats::ReportHeader header;
-  header.catalogue = db_path;
-  header.napkin_version = napkin::Version();  // common/version.h: "0.1.0+g1a2b3c4"
-  header.selection = Selection(selection);
-  std::map<db::ConfigId, db::ConfigRecord> configs;
-  std::vector<formats::ReportTest> tests;
-  std::vector<std::string> without_results;
-  for (const db::TestRecord& record : selected) {
-    const std::optional<db::ConfigId> config_id = catalogue.ReadLatestResultConfig(record.id);
-    std::optional<engine::TestSummary> summary;
-    std::optional<engine::Kinematics> kinematics;
-    if (config_id) summary = catalogue.ReadSummary(record.id, *config_id);
-    if (summary) kinematics = ReadResultKinematics(catalogue, record.id, *config_id);
-    if (!kinematics) {
-      without_results.push_back(record.external_id);
-      continue;
-    }
-    auto config = configs.find(*config_id);
-    if (config == configs.end()) config = configs.emplace(*config_id, catalogue.ReadConfig(*config_id)).first;
-    tests.push_back(formats::MakeReportTest(record.external_id, record.series, record.variant,
-                                            config->second.name, std::move(*summary), *kinematics));
-  }
-  if (tests.empty())
-    throw InputError("no test of " + Described(selection) +
-                     " has results with derived channels yet; run `napkin run` first.");
-  for (const auto& [id, config] : configs)
-    header.configs.push_back({config.name, config.config_hash, config.config_json});
-
-  // Each series of the report with more than one variant is compared.
-  std::map<std::string, std::set<std::string>> variants_by_series;
-  for (const formats::ReportTest& test : tests)
-    if (test.series && test.variant) variants_by_series[*test.series].insert(*test.variant);
-  std::vector<formats::ReportComparison> comparisons;
-  for (const auto& [series, variants] : variants_by_series)
-    if (variants.size() > 1) comparisons.push_back(SeriesComparison(catalogue, series));
-
-  formats::WriteHtmlReport(header, comparisons, tests, out);
+  CatalogueReport report(db_path, selection);
   WrittenReport written;
+  formats::WriteFileAtomically(out, [&](formats::AtomicFile& file) {
+    written = report.Write([&file](std::string_view text) { file.Write(text); });
+  });
   written.path = out;
-  written.tests = tests.size();
-  std::error_code size_error;
-  const std::uintmax_t size = std::filesystem::file_size(out, size_error);  // a regular file's only
-  if (out != formats::kStandardOutputName && !size_error) written.bytes = size;
-  written.without_results = std::move(without_results);
   return written;
+}
+
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const formats::HtmlSink& sink) {
+  return CatalogueReport(db_path, selection).Write(sink);
 }
 
 std::string WrittenReportText(const WrittenReport& written) {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "formats/html_report.h"
+
 namespace napkin::cli {
 
 // Which tests the report shows; empty members do not filter. A test matches
@@ -21,7 +23,7 @@ struct ReportSelection {
 struct WrittenReport {
   std::string path;
   std::size_t tests = 0;                     // tests shown
-  std::optional<std::uintmax_t> bytes;       // none for a FIFO, device or standard output
+  std::optional<std::uintmax_t> bytes;       // bytes written (none when nothing was)
   std::vector<std::string> without_results;  // selected tests left out: no results yet
 };
 
@@ -34,8 +36,15 @@ struct WrittenReport {
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
                                    const std::string& out);
 
-// "wrote FILE: N tests, B bytes." (the size when FILE is a regular file) and, when some were left out, a
-// second line naming them; each line ends with a newline.
+// The same page written through `sink` (a destination the caller opened,
+// e.g. standard output), after the same checks; `path` of the answer is
+// empty. The page streams: one test is read and held at a time.
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const formats::HtmlSink& sink);
+
+// "wrote FILE: N tests, B bytes." (standard output: "wrote the report to
+// standard output: N tests.") and, when some were left out, a second line
+// naming them; each line ends with a newline.
 std::string WrittenReportText(const WrittenReport& written);
 
 }  // namespace napkin::cli

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <set>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -33,46 +34,66 @@ engine::Severity ParseSeverity(const std::string& text) {
   throw InputError("finding severity '" + text + "' in the catalogue is not info, warning or error.");
 }
 
-// The derived channels of a Kinematics: stable names (SI units in the name)
-// and the contiguous column each is stored from / read into.
-std::vector<std::pair<std::string, double*>> KinematicsChannels(engine::Kinematics& kinematics) {
-  std::vector<std::pair<std::string, double*>> channels;
-  channels.emplace_back("time_s", kinematics.time_s.data());
+// One derived channel of a Kinematics: its stable name (SI unit in the
+// name), the contiguous column it is stored from / read into, and whether it
+// needs the rotation (absent from acceleration-only kinematics).
+struct KinematicsChannel {
+  std::string name;
+  double* column;
+  bool needs_rotation;
+};
+
+// The derived channels of `kinematics`, in storage order. Acceleration-only
+// kinematics (engine::Kinematics::ResizeWithoutRotation) have data in the
+// channels that need no rotation (time_s, acc_body_*) only.
+std::vector<KinematicsChannel> KinematicsChannels(engine::Kinematics& kinematics) {
+  std::vector<KinematicsChannel> channels;
+  channels.push_back({"time_s", kinematics.time_s.data(), false});
   const auto add3 = [&channels](const std::string& prefix, engine::Series3& series, const std::string& unit,
-                                const std::array<const char*, 3>& components) {
+                                const std::array<const char*, 3>& components, bool needs_rotation = true) {
     for (int c = 0; c < 3; ++c)
-      channels.emplace_back(std::string(prefix).append(components[c]).append(unit), series.col(c).data());
+      channels.push_back(
+          {std::string(prefix).append(components[c]).append(unit), series.col(c).data(), needs_rotation});
   };
   constexpr std::array<const char*, 3> kXyz = {"x", "y", "z"};
   add3("omega_body_", kinematics.omega_body, "_radps", kXyz);
   add3("alpha_body_", kinematics.alpha_body, "_radps2", kXyz);
   add3("omega_fixed_", kinematics.omega_fixed, "_radps", kXyz);
   add3("alpha_fixed_", kinematics.alpha_fixed, "_radps2", kXyz);
-  add3("acc_body_", kinematics.acc_body, "_mps2", kXyz);
+  add3("acc_body_", kinematics.acc_body, "_mps2", kXyz, /*needs_rotation=*/false);
   add3("acc_fixed_", kinematics.acc_fixed, "_mps2", kXyz);
   add3("vel_fixed_", kinematics.vel_fixed, "_mps", kXyz);
   add3("pos_fixed_", kinematics.pos_fixed, "_m", kXyz);
   constexpr std::array<const char*, 4> kWxyz = {"w", "x", "y", "z"};
   for (int c = 0; c < 4; ++c)
-    channels.emplace_back(std::string("quat_") + kWxyz[c], kinematics.quat_fixed_from_body.col(c).data());
+    channels.push_back(
+        {std::string("quat_") + kWxyz[c], kinematics.quat_fixed_from_body.col(c).data(), true});
   add3("", kinematics.roll_pitch_yaw_rad, "_rad", {"roll", "pitch", "yaw"});
   add3("dcos_", kinematics.dcos_rad, "_rad", {"xx", "yy", "zz"});
-  channels.emplace_back("residual_mps2", kinematics.residual.data());
+  // The rigid-body residual cannot be judged without the rotation either.
+  channels.push_back({"residual_mps2", kinematics.residual.data(), true});
   return channels;
 }
 
-void CheckKinematicsShape(const engine::Kinematics& kinematics) {
+// Whether `kinematics` has the rotation-dependent series: true when every
+// series has time_s's rows, false for the shape of
+// engine::Kinematics::ResizeWithoutRotation (time_s and acc_body only).
+// Throws std::invalid_argument for any other shape.
+bool CheckKinematicsShape(const engine::Kinematics& kinematics) {
   const Eigen::Index n = kinematics.size();
-  const auto check = [n](Eigen::Index rows, const char* member) {
-    if (rows != n)
+  const bool rotation = kinematics.quat_fixed_from_body.rows() != 0 || n == 0;
+  const auto check = [n, rotation](Eigen::Index rows, const char* member, bool needs_rotation = true) {
+    const Eigen::Index expected = rotation || !needs_rotation ? n : 0;
+    if (rows != expected)
       throw std::invalid_argument(std::string("Kinematics::") + member + " has " + std::to_string(rows) +
-                                  " rows, time_s has " + std::to_string(n));
+                                  " rows, time_s has " + std::to_string(n) +
+                                  (rotation ? "" : " and the quaternion none"));
   };
   check(kinematics.omega_body.rows(), "omega_body");
   check(kinematics.alpha_body.rows(), "alpha_body");
   check(kinematics.omega_fixed.rows(), "omega_fixed");
   check(kinematics.alpha_fixed.rows(), "alpha_fixed");
-  check(kinematics.acc_body.rows(), "acc_body");
+  check(kinematics.acc_body.rows(), "acc_body", /*needs_rotation=*/false);
   check(kinematics.acc_fixed.rows(), "acc_fixed");
   check(kinematics.vel_fixed.rows(), "vel_fixed");
   check(kinematics.pos_fixed.rows(), "pos_fixed");
@@ -80,6 +101,7 @@ void CheckKinematicsShape(const engine::Kinematics& kinematics) {
   check(kinematics.roll_pitch_yaw_rad.rows(), "roll_pitch_yaw_rad");
   check(kinematics.dcos_rad.rows(), "dcos_rad");
   check(kinematics.residual.rows(), "residual");
+  return rotation;
 }
 
 }  // namespace
@@ -185,7 +207,7 @@ void Catalogue::DeleteDerivedChannels(TestId test, ConfigId config) {
 
 void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kinematics& kinematics,
                                 engine::DerivedStorage storage) {
-  CheckKinematicsShape(kinematics);
+  const bool rotation = CheckKinematicsShape(kinematics);
   if (storage == engine::DerivedStorage::kNone) {
     DeleteDerivedChannels(test, config);
     return;
@@ -207,8 +229,12 @@ void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kine
       "INSERT INTO derived_channels (test_id, config_id, name, dt_s, t0_s, sample_count, encoding, samples) "
       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
   std::vector<std::byte> scratch;
-  // The accessors only read the columns here.
-  for (const auto& [name, column] : KinematicsChannels(const_cast<engine::Kinematics&>(kinematics))) {
+  // The accessors only read the columns here. Only the channels with data
+  // are stored: acceleration-only kinematics have 4 (docs/formats.md
+  // "Derived-channel storage").
+  for (const auto& [name, column, needs_rotation] :
+       KinematicsChannels(const_cast<engine::Kinematics&>(kinematics))) {
+    if (needs_rotation && !rotation) continue;
     const std::span<const double> values(column, static_cast<std::size_t>(n));
     const bool float32 = storage == engine::DerivedStorage::kFloat32 && name != time_channel;
     const char* encoding = engine::DerivedStorageName(float32 ? storage : engine::DerivedStorage::kFloat64);
@@ -271,10 +297,29 @@ std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigI
     if (!count->Step()) return std::nullopt;
     n = count->ColumnInt64(0);
   }
+  // A result without any channel that needs the rotation is an
+  // acceleration-only one, stored without them (docs/formats.md
+  // "Derived-channel storage"): they stay absent (empty), not NaN-filled.
+  // Results stored before that hold them as NaN, and read back as stored.
+  bool rotation = false;
+  {
+    std::set<std::string> rotation_channels;
+    engine::Kinematics shapeless;
+    for (const KinematicsChannel& channel : KinematicsChannels(shapeless))
+      if (channel.needs_rotation) rotation_channels.insert(channel.name);
+    auto names =
+        connection_.Prepare("SELECT name FROM derived_channels WHERE test_id = ?1 AND config_id = ?2");
+    names->BindAll(test, config);
+    while (!rotation && names->Step()) rotation = rotation_channels.count(names->ColumnText(0)) > 0;
+  }
   engine::Kinematics kinematics;
-  kinematics.Resize(static_cast<Eigen::Index>(n));
+  if (rotation)
+    kinematics.Resize(static_cast<Eigen::Index>(n));
+  else
+    kinematics.ResizeWithoutRotation(static_cast<Eigen::Index>(n));
   std::unordered_map<std::string, double*> destinations;
-  for (const auto& [name, column] : KinematicsChannels(kinematics)) destinations.emplace(name, column);
+  for (const auto& [name, column, needs_rotation] : KinematicsChannels(kinematics))
+    if (rotation || !needs_rotation) destinations.emplace(name, column);
 
   auto select = connection_.Prepare(
       "SELECT name, sample_count, samples, encoding FROM derived_channels WHERE test_id = ?1 AND "

@@ -2,7 +2,6 @@
 
 #include <Eigen/SVD>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "common/error.h"
@@ -542,20 +541,14 @@ void SolveFused(const ArrayGeometry& array, const TestSignals& signals, Kinemati
 
 // kAccelerationOnly: the sensors at the CG read n.a (no lever arm), so a is
 // their least-squares solution over their (spanning) sense axes; the other
-// sensors are not used. Nothing determines omega: every series that needs
-// the rotation is NaN, and so is the residual (the rigid-body consistency
-// cannot be judged without omega).
+// sensors are not used. Nothing determines omega: `out` has the shape of
+// Kinematics::ResizeWithoutRotation, every series that needs the rotation
+// empty, and so is the residual (the rigid-body consistency cannot be judged
+// without omega).
 void SolveAccelerationOnly(const ArrayGeometry& array, const TestSignals& signals, Kinematics& out) {
   const std::vector<std::size_t> cg = array.CgLinearIndices();
   const MatrixXd acc_from_measured = PseudoInverse(SenseAxisRows(array, cg));  // 3 x C
   out.acc_body = (acc_from_measured * MeasurementsBySample(array, cg, signals)).transpose();
-  constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
-  for (Series3* series :
-       {&out.omega_body, &out.alpha_body, &out.omega_fixed, &out.alpha_fixed, &out.acc_fixed, &out.vel_fixed,
-        &out.pos_fixed, &out.roll_pitch_yaw_rad, &out.dcos_rad})
-    series->setConstant(kUndetermined);
-  out.quat_fixed_from_body.setConstant(kUndetermined);
-  out.residual.setConstant(kUndetermined);
 }
 
 }  // namespace
@@ -575,11 +568,18 @@ void CompleteKinematics(const InitialState& initial, const GravityOptions& gravi
 }
 
 Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+  const ExactPath path = ClassifyArray(array);
   Kinematics kin;
-  kin.Resize(signals.size());
+  // Acceleration-only kinematics hold no series that needs the rotation
+  // (engine/kinematics.h HasRotation): a long recording of a 3-channel head
+  // holds 4 series rather than 36 (docs/formats.md "Derived-channel storage").
+  if (path == ExactPath::kAccelerationOnly)
+    kin.ResizeWithoutRotation(signals.size());
+  else
+    kin.Resize(signals.size());
   for (Index k = 0; k < signals.size(); ++k) kin.time_s(k) = signals.TimeAt(k);
   kin.dt_s = signals.dt_s;
-  switch (ClassifyArray(array)) {
+  switch (path) {
     case ExactPath::kLinear: {
       // Completes the kinematics sample by sample. Fixed-capacity storage
       // for up to 9 (NAP) and 16 linear sensors, heap storage beyond.

@@ -25,7 +25,7 @@ enum class ExactPath {
   // Linear rank < 6 and fewer than 3 independent rate axes, but linear
   // sensors at the CG along 3 independent axes (e.g. 3a-cg): rotation is
   // undetermined; a by least squares over the CG sensors' sense axes, every
-  // rotation-dependent series NaN (engine/kinematics.h HasRotation;
+  // rotation-dependent series empty (engine/kinematics.h HasRotation;
   // docs/algorithms.md "Acceleration-only arrays").
   kAccelerationOnly,
 };

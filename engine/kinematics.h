@@ -29,16 +29,24 @@ struct Kinematics {
   Eigen::VectorXd residual;      // per-sample least-squares residual norm (m/s^2), 0 if none
 
   Eigen::Index size() const { return time_s.size(); }
+  // n rows in every series.
   void Resize(Eigen::Index n);
+  // n rows in time_s and acc_body; every other series (they need the
+  // rotation) and the residual empty: the shape of acceleration-only
+  // kinematics (HasRotation).
+  void ResizeWithoutRotation(Eigen::Index n);
 };
 
 // Whether the kinematics hold a rotation. The kinematics of an
 // acceleration-only array (engine/array_geometry.h DeterminesRotation; docs/
-// algorithms.md "Acceleration-only arrays") have time_s, acc_body and
-// residual, and NaN in every series that needs the head's rotation (omega,
-// alpha, acc_fixed, vel_fixed, pos_fixed, quaternion, angles); solved
-// kinematics are otherwise finite throughout. Empty kinematics count as
-// having one.
+// algorithms.md "Acceleration-only arrays") have time_s and acc_body only:
+// every series that needs the head's rotation (omega, alpha, acc_fixed,
+// vel_fixed, pos_fixed, quaternion, angles) and the residual are empty (0
+// rows; ResizeWithoutRotation), so a long recording holds, and the catalogue
+// stores, 4 of the 36 series (docs/formats.md "Derived-channel storage").
+// Kinematics whose quaternion is NaN (results stored before that change)
+// count as acceleration-only too. Solved kinematics are otherwise finite
+// throughout. Empty kinematics count as having one.
 bool HasRotation(const Kinematics& kinematics);
 
 }  // namespace napkin::engine

@@ -301,9 +301,10 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
     }
     line += '\n';
     file.Write(line);
-    // An acceleration-only test's rotation-dependent series are NaN
-    // (engine::HasRotation): their cells are empty (docs/formats.md
-    // "Derived channels").
+    // An acceleration-only test has no rotation-dependent series (empty, or
+    // NaN as stored before; engine::HasRotation): their cells are empty
+    // (docs/formats.md "Derived channels").
+    const bool rotation = engine::HasRotation(kinematics);
     auto append = [&](double value) {
       line += ',';
       if (std::isfinite(value)) AppendNumber(line, value, kDigits);
@@ -311,10 +312,20 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
     auto append3 = [&](const engine::Series3& series, Eigen::Index k, double scale) {
       for (int c = 0; c < 3; ++c) append(series(k, c) * scale);
     };
+    // The columns from acc_fixed_x_g to dcos_zz_deg (docs/formats.md).
+    const std::string cells_without_rotation(3 + 3 + 3 + 4 + 3 + 3, ',');
     const double g_per_si = 1.0 / engine::kStandardGravity;
     for (Eigen::Index k = 0; k < n; ++k) {
       line.clear();
       AppendNumber(line, kinematics.time_s[k], kDigits);
+      if (!rotation) {
+        line.append(4 * 3, ',');  // omega_body to alpha_fixed
+        append3(kinematics.acc_body, k, g_per_si);
+        line += cells_without_rotation;
+        line += '\n';
+        file.Write(line);
+        continue;
+      }
       append3(kinematics.omega_body, k, 1.0);
       append3(kinematics.alpha_body, k, 1.0);
       append3(kinematics.omega_fixed, k, 1.0);

@@ -1,11 +1,18 @@
 #include "formats/html_report.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <utility>
 
+#include "common/error.h"
 #include "engine/display_reduction.h"
 #include "engine/units.h"
 #include "formats/atomic_file.h"
@@ -125,8 +132,11 @@ window.addEventListener('error', function (e) {
 window.addEventListener('unhandledrejection', function (e) { window.napkinReportError(String(e.reason)); });
 )js";
 
-// Draws every chart of the embedded data with dygraphs. Every text handed to
-// dygraphs (it inserts labels as HTML) is escaped first.
+// Draws every chart of the embedded data with dygraphs. The axis labels,
+// tick labels and legend values dygraphs inserts as HTML are escaped first;
+// the series labels are handed over as text, since dygraphs escapes them
+// itself for its legend (dygraph.js "labelHTML"): escaped twice, `a&b`
+// would read `a&amp;b` there.
 constexpr const char* kDrawScript = R"js(
 (function () {
   'use strict';
@@ -154,7 +164,7 @@ constexpr const char* kDrawScript = R"js(
       rows[i] = row;
     }
     new Dygraph(element, rows, {
-      labels: ['time (ms)'].concat(chart.labels.map(esc)),
+      labels: ['time (ms)'].concat(chart.labels),
       xlabel: 'time (ms)',
       ylabel: esc(chart.ylabel),
       colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
@@ -206,7 +216,7 @@ constexpr const char* kDrawScript = R"js(
     });
     rows.sort(function (a, b) { return a[0] - b[0]; });
     new Dygraph(element, rows, {
-      labels: ['variant'].concat(groups.map(function (g) { return esc(g.name); })),
+      labels: ['variant'].concat(groups.map(function (g) { return g.name; })),
       ylabel: esc(chart.ylabel),
       colors: groups.map(function (g, k) { return groupColors[k % groupColors.length]; }),
       strokeWidth: 0,
@@ -309,14 +319,14 @@ std::string HicCell(const engine::HicWindow& hic) {
          Fixed(hic.t2_s * 1000.0, 2) + " ms)</span>";
 }
 
-void AppendHeader(std::string& html, const ReportHeader& header, std::span<const ReportTest> tests) {
+void AppendHeader(std::string& html, const ReportHeader& header, std::span<const std::string> test_ids) {
   html +=
       "<header class=\"report\">\n<h1><span class=\"product\">napkin</span> head-kinematics report</h1>\n";
   html += "<table class=\"meta\">\n";
   AppendRow(html, "catalogue", "<code>" + EscapeHtml(header.catalogue) + "</code>", false);
   AppendRow(html, "napkin version", EscapeHtml(header.napkin_version), false);
   AppendRow(html, "selection", header.selection.empty() ? "every test" : EscapeHtml(header.selection), false);
-  AppendRow(html, "tests", std::to_string(tests.size()), false);
+  AppendRow(html, "tests", std::to_string(test_ids.size()), false);
   for (const ReportConfig& config : header.configs) {
     std::string cell = "<strong>" + EscapeHtml(config.name) +
                        "</strong> <span class=\"note\">SHA-256 <code>" + EscapeHtml(config.hash) +
@@ -331,10 +341,10 @@ void AppendHeader(std::string& html, const ReportHeader& header, std::span<const
       std::to_string(kReportMaxPoints) +
       " points per plot keeping every bucket's minimum and maximum, so no peak is lost; the full-resolution "
       "data stays in the catalogue (<code>napkin export</code>).</p>\n";
-  if (!tests.empty()) {
+  if (!test_ids.empty()) {
     html += "<nav class=\"tests\"><strong>Tests:</strong>";
-    for (std::size_t i = 0; i < tests.size(); ++i) {
-      html += " <a href=\"#test-" + std::to_string(i + 1) + "\">" + EscapeHtml(tests[i].test_id) + "</a>";
+    for (std::size_t i = 0; i < test_ids.size(); ++i) {
+      html += " <a href=\"#test-" + std::to_string(i + 1) + "\">" + EscapeHtml(test_ids[i]) + "</a>";
     }
     html += "</nav>\n";
   }
@@ -534,40 +544,132 @@ ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series
   return test;
 }
 
-std::string RenderHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
-                             std::span<const ReportTest> tests) {
+// ---- the page, piece by piece
+
+HtmlReportWriter::HtmlReportWriter(HtmlSink sink, const ReportHeader& header,
+                                   std::span<const std::string> test_ids,
+                                   std::span<const ReportComparison> comparisons)
+    : sink_(std::move(sink)), test_count_(test_ids.size()) {
   std::string html;
   html +=
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<meta name=\"generator\" content=\"napkin " +
       EscapeHtml(header.napkin_version) + "\">\n<title>napkin report: " + EscapeHtml(header.catalogue) +
       "</title>\n<script>" + kErrorScript + "</script>\n<style>\n";
-  html += WithoutSourceMap(DygraphsStylesheet(), "/*# sourceMappingURL=");
-  html += "\n</style>\n<style>";
+  sink_(html);
+  sink_(WithoutSourceMap(DygraphsStylesheet(), "/*# sourceMappingURL="));
+  html = "\n</style>\n<style>";
   html += kPageStyle;
   html += "</style>\n</head>\n<body>\n<main>\n";
-  AppendHeader(html, header, tests);
+  AppendHeader(html, header, test_ids);
+  sink_(html);
+  json distributions = json::array();
+  for (std::size_t i = 0; i < comparisons.size(); ++i) {
+    html.clear();
+    AppendComparison(html, distributions, comparisons[i], i);
+    sink_(html);
+  }
+  distributions_json_ = JsonForScript(distributions);
+}
 
-  json data = {{"charts", json::array()}, {"distributions", json::array()}};
-  for (std::size_t i = 0; i < comparisons.size(); ++i)
-    AppendComparison(html, data["distributions"], comparisons[i], i);
-  for (std::size_t i = 0; i < tests.size(); ++i) AppendTest(html, data["charts"], tests[i], i);
-  if (tests.empty()) html += "<p>No test with results matches the selection.</p>\n";
+HtmlReportWriter::~HtmlReportWriter() {
+  if (chart_data_ != nullptr) std::fclose(chart_data_);
+}
 
+void HtmlReportWriter::AddTest(const ReportTest& test) {
+  if (finished_ || tests_added_ == test_count_)
+    throw std::logic_error("HtmlReportWriter: more tests added than the header names");
+  std::string html;
+  json charts = json::array();
+  AppendTest(html, charts, test, tests_added_);
+  sink_(html);
+  // The plot data go to the page's one data element after every section:
+  // kept in a temporary file until then (one test's charts in memory).
+  for (const json& chart : charts) {
+    SpoolChartData(charts_spooled_ == 0 ? "" : ",");
+    SpoolChartData(JsonForScript(chart));
+    ++charts_spooled_;
+  }
+  ++tests_added_;
+}
+
+void HtmlReportWriter::Finish() {
+  if (finished_ || tests_added_ != test_count_)
+    throw std::logic_error("HtmlReportWriter: Finish without every test the header names");
+  finished_ = true;
+  std::string html;
+  if (test_count_ == 0) html += "<p>No test with results matches the selection.</p>\n";
   html += "</main>\n<script>";
-  html += WithoutSourceMap(DygraphsScript(), "//# sourceMappingURL=");
-  html += "</script>\n<script type=\"application/json\" id=\"napkin-data\">";
-  html += JsonForScript(data);
-  html += "</script>\n<script>";
+  sink_(html);
+  sink_(WithoutSourceMap(DygraphsScript(), "//# sourceMappingURL="));
+  // JsonForScript of {"charts": [...], "distributions": [...]} (keys in
+  // nlohmann's order), one chart at a time.
+  sink_("</script>\n<script type=\"application/json\" id=\"napkin-data\">{\"charts\":[");
+  if (chart_data_ != nullptr) {
+    if (std::fflush(chart_data_) != 0 || std::fseek(chart_data_, 0, SEEK_SET) != 0)
+      throw InputError(
+          "cannot read back the report's temporary chart data: " + std::string(std::strerror(errno)) + ".");
+    std::vector<char> buffer(1 << 16);
+    for (;;) {
+      const std::size_t read = std::fread(buffer.data(), 1, buffer.size(), chart_data_);
+      if (read > 0) sink_(std::string_view(buffer.data(), read));
+      if (read < buffer.size()) break;
+    }
+    if (std::ferror(chart_data_))
+      throw InputError(
+          "cannot read back the report's temporary chart data: " + std::string(std::strerror(errno)) + ".");
+    std::fclose(chart_data_);
+    chart_data_ = nullptr;
+  }
+  html = "],\"distributions\":" + distributions_json_ + "}</script>\n<script>";
   html += kDrawScript;
   html += "</script>\n</body>\n</html>\n";
+  sink_(html);
+}
+
+void HtmlReportWriter::SpoolChartData(std::string_view text) {
+  if (chart_data_ == nullptr) {
+    // An unnamed file (unlinked at once): nothing is left behind, whatever happens.
+    const std::filesystem::path directory = std::filesystem::temp_directory_path();
+    std::string name = (directory / "napkin-report-XXXXXX").string();
+    const int descriptor = mkstemp(name.data());
+    if (descriptor < 0)
+      throw InputError("cannot create a temporary file for the report's chart data in '" +
+                       directory.string() + "': " + std::strerror(errno) + ".");
+    unlink(name.c_str());
+    chart_data_ = fdopen(descriptor, "w+b");
+    if (chart_data_ == nullptr) {
+      close(descriptor);
+      throw InputError("cannot open a temporary file for the report's chart data: " +
+                       std::string(std::strerror(errno)) + ".");
+    }
+  }
+  if (!text.empty() && std::fwrite(text.data(), 1, text.size(), chart_data_) != text.size())
+    throw InputError("cannot write the report's chart data to a temporary file in '" +
+                     std::filesystem::temp_directory_path().string() + "': " + std::strerror(errno) + ".");
+}
+
+std::string RenderHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
+                             std::span<const ReportTest> tests) {
+  std::string html;
+  WriteHtmlReport(header, comparisons, tests, [&html](std::string_view text) { html += text; });
   return html;
 }
 
 void WriteHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
+                     std::span<const ReportTest> tests, const HtmlSink& sink) {
+  std::vector<std::string> test_ids;
+  for (const ReportTest& test : tests) test_ids.push_back(test.test_id);
+  HtmlReportWriter writer(sink, header, test_ids, comparisons);
+  for (const ReportTest& test : tests) writer.AddTest(test);
+  writer.Finish();
+}
+
+void WriteHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
                      std::span<const ReportTest> tests, const std::filesystem::path& path) {
-  const std::string html = RenderHtmlReport(header, comparisons, tests);
-  WriteFileAtomically(path, [&](AtomicFile& file) { file.Write(html); });
+  WriteFileAtomically(path, [&](AtomicFile& file) {
+    WriteHtmlReport(header, comparisons, tests, [&file](std::string_view text) { file.Write(text); });
+  });
 }
 
 }  // namespace napkin::formats

@@ -6,15 +6,19 @@
 // Every user-supplied text (test ids, series and variant names, config names
 // and settings, finding details) is escaped against HTML and script injection.
 //
-// The writer takes plain data: the command (cli/command_report.cpp) reads the
-// catalogue and turns each test into a ReportTest with MakeReportTest, which
-// keeps only the reduced traces, so a report of hundreds of tests never holds
-// their full-resolution kinematics at once.
+// The writer takes plain data and streams the page: the command
+// (cli/catalogue_report.cpp) reads the catalogue one test at a time, turns it
+// into a ReportTest with MakeReportTest (which keeps only the reduced traces)
+// and hands it to an HtmlReportWriter, which writes its section through a
+// sink at once, so the memory of a report does not grow with its tests.
 #include <Eigen/Core>
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/kinematics.h"
@@ -102,11 +106,54 @@ struct ReportComparison {
   std::vector<ReportDistribution> distributions;
 };
 
-// The whole page.
+// Where the page goes, piece by piece, in order: an AtomicFile
+// (formats/atomic_file.h), standard output, a string.
+using HtmlSink = std::function<void(std::string_view)>;
+
+// Writes the page through a sink while it is made: the head, the header (the
+// test ids form its navigation) and the comparisons on construction, each
+// test's section on AddTest, the charting library and the plot data on
+// Finish. The plot data of every chart belong in one element after all
+// sections (docs/formats.md "HTML report"); until Finish they wait in an
+// unnamed temporary file (in TMPDIR, removed whatever happens), so the
+// writer holds one test's section at a time, whatever the number of tests.
+// The bytes are those of the page written at once. Throws InputError when
+// the temporary file cannot be written (a full disk), and what the sink
+// throws.
+class HtmlReportWriter {
+ public:
+  HtmlReportWriter(HtmlSink sink, const ReportHeader& header, std::span<const std::string> test_ids,
+                   std::span<const ReportComparison> comparisons);
+  ~HtmlReportWriter();
+  HtmlReportWriter(const HtmlReportWriter&) = delete;
+  HtmlReportWriter& operator=(const HtmlReportWriter&) = delete;
+
+  // The next test, in the order of `test_ids` (throws std::logic_error beyond them).
+  void AddTest(const ReportTest& test);
+  // Ends the page (throws std::logic_error unless every test was added).
+  void Finish();
+
+ private:
+  void SpoolChartData(std::string_view text);
+
+  HtmlSink sink_;
+  std::size_t test_count_ = 0;
+  std::size_t tests_added_ = 0;
+  std::size_t charts_spooled_ = 0;
+  std::string distributions_json_;
+  std::FILE* chart_data_ = nullptr;  // the spooled plot data, once there are any
+  bool finished_ = false;
+};
+
+// The whole page of `tests` through `sink` (HtmlReportWriter).
+void WriteHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
+                     std::span<const ReportTest> tests, const HtmlSink& sink);
+
+// The whole page as a string (small reports and tests).
 std::string RenderHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
                              std::span<const ReportTest> tests);
 
-// Writes RenderHtmlReport atomically (formats/atomic_file.h). Throws
+// Writes the page atomically (formats/atomic_file.h). Throws
 // InputError naming `path` when it cannot be written.
 void WriteHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
                      std::span<const ReportTest> tests, const std::filesystem::path& path);

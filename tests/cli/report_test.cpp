@@ -10,9 +10,11 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/comparison.h"
+#include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
@@ -266,6 +268,90 @@ TEST_F(ReportInChromium, ScreenshotIsNotBlank) {
   // Text, tables, axes and traces: a blank (white) page has neither ink nor colour.
   EXPECT_GT(std::stod(match[3]) / pixels, 0.02) << match[0];
   EXPECT_GT(std::stod(match[4]), 2000.0) << match[0];
+}
+
+// ---- names as a person sees them in the browser
+
+// The visible text of an HTML fragment: tags dropped, the character
+// references dygraphs and napkin write decoded.
+std::string VisibleText(const std::string& fragment) {
+  std::string text;
+  bool in_tag = false;
+  for (const char c : fragment) {
+    if (c == '<') in_tag = true;
+    if (!in_tag) text += c;
+    if (c == '>') in_tag = false;
+  }
+  std::string decoded;
+  for (std::size_t at = 0; at < text.size();) {
+    bool replaced = false;
+    for (const auto& [entity, character] :
+         std::vector<std::pair<std::string, std::string>>{{"&amp;", "&"},
+                                                          {"&lt;", "<"},
+                                                          {"&gt;", ">"},
+                                                          {"&quot;", "\""},
+                                                          {"&#39;", "'"},
+                                                          {"&#160;", " "},
+                                                          {"&nbsp;", " "}}) {
+      if (text.compare(at, entity.size(), entity) == 0) {
+        decoded += character;
+        at += entity.size();
+        replaced = true;
+        break;
+      }
+    }
+    if (!replaced) decoded += text[at++];
+  }
+  return decoded;
+}
+
+// A series whose variants' names hold HTML's special characters, compared
+// in the report: each name reads in the distribution plots' legends (drawn
+// by dygraphs) and on their axes exactly as the user typed it.
+TEST(ReportNamesInChromium, LegendsAndAxesShowVariantNamesAsTyped) {
+  if (ChromiumBinary().empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
+  test_support::TempDir dir;
+  const std::vector<std::string> variants = {"a&b", "c<d>"};
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    const fs::path folder = dir / ("v" + std::to_string(v));
+    fs::create_directories(folder);
+    for (int i = 0; i < 2; ++i)
+      formats::WriteSignalsCsv(
+          test_support::SynthNapTest(40 + 10 * v + static_cast<std::uint64_t>(i)).signals,
+          folder / ("t" + std::to_string(v) + std::to_string(i) + ".csv"));
+    const RunResult import =
+        test_support::RunNapkin(dir.path(), {"import", "--array", "denton-3222", "--series", "names",
+                                             "--variant", variants[v], folder.filename().string()});
+    ASSERT_EQ(import.exit_code, 0) << import.err;
+  }
+  ASSERT_EQ(test_support::RunNapkin(dir.path(), {"run"}).exit_code, 0);
+  const RunResult report = test_support::RunNapkin(dir.path(), {"report", "--out", "names.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+
+  test_support::TempDir browser;
+  const RunResult dump =
+      RunChromium(browser.path(), {"--dump-dom"}, "file://" + (dir / "names.html").string());
+  ASSERT_EQ(dump.exit_code, 0) << dump.err;
+  EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos);
+  // Each distribution plot (one per metric): its legend, drawn by dygraphs,
+  // and the whole figure (axis ticks included).
+  std::size_t plots = 0;
+  for (std::size_t at = dump.out.find("id=\"dist-1-"); at != std::string::npos;
+       at = dump.out.find("id=\"dist-1-", at + 1)) {
+    ++plots;
+    const std::size_t figure_end = dump.out.find("</figure>", at);
+    const std::size_t legend = dump.out.find("<div class=\"legend\"", at);
+    ASSERT_LT(legend, figure_end) << "plot " << plots;
+    const std::string legend_text = VisibleText(dump.out.substr(legend, figure_end - legend));
+    const std::string figure_text = VisibleText(dump.out.substr(at, figure_end - at));
+    for (const std::string& name : variants) {
+      EXPECT_NE(legend_text.find(name), std::string::npos) << "plot " << plots << " legend: " << legend_text;
+      EXPECT_NE(figure_text.find(name), std::string::npos) << "plot " << plots << ": " << figure_text;
+    }
+    EXPECT_EQ(legend_text.find("&amp;"), std::string::npos) << "plot " << plots << " legend: " << legend_text;
+    EXPECT_EQ(legend_text.find("&lt;"), std::string::npos) << "plot " << plots << " legend: " << legend_text;
+  }
+  EXPECT_EQ(plots, cli::DefaultComparisonMetrics().size());
 }
 
 }  // namespace

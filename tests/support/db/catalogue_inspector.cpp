@@ -148,6 +148,17 @@ std::int64_t CatalogueInspector::CountIncompleteOrOrphanDerivedChannelSets(int c
   return select->ColumnInt64(0);
 }
 
+std::vector<std::pair<std::string, std::int64_t>> CatalogueInspector::ReadDerivedChannelSizes(
+    TestId test, ConfigId config) {
+  auto select = catalogue_.connection_.Prepare(
+      "SELECT name, length(samples) FROM derived_channels WHERE test_id = ?1 AND config_id = ?2 ORDER BY "
+      "name");
+  select->BindAll(test, config);
+  std::vector<std::pair<std::string, std::int64_t>> sizes;
+  while (select->Step()) sizes.emplace_back(select->ColumnText(0), select->ColumnInt64(1));
+  return sizes;
+}
+
 std::vector<std::int64_t> CatalogueInspector::ReadJobAttempts(ConfigId config) {
   auto select =
       catalogue_.connection_.Prepare("SELECT attempts FROM jobs WHERE config_id = ?1 ORDER BY test_id");

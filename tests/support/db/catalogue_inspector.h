@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "db/catalogue.h"
@@ -60,6 +61,9 @@ class CatalogueInspector {
   // (test, config) sets of derived channels that do not hold exactly
   // `channels_per_result` channels or have no result row.
   std::int64_t CountIncompleteOrOrphanDerivedChannelSets(int channels_per_result);
+  // The derived channels stored for the test's result under `config`: name
+  // and bytes of samples, in name order.
+  std::vector<std::pair<std::string, std::int64_t>> ReadDerivedChannelSizes(TestId test, ConfigId config);
   // `attempts` of every job of `config`, in test key order.
   std::vector<std::int64_t> ReadJobAttempts(ConfigId config);
 
