@@ -83,7 +83,9 @@ int ReportOptionError(const CLI::ParseError& error) {
     if (excludes != std::string::npos)
       text = text.substr(0, excludes) + " and " + text.substr(excludes + 10) + " cannot be given together";
   }
-  if (!text.empty() && std::isupper(static_cast<unsigned char>(text.front())))
+  // "The following argument ..." reads on after "napkin: " in lower case; "KIND is ..." stays.
+  if (text.size() > 1 && std::isupper(static_cast<unsigned char>(text[0])) &&
+      std::islower(static_cast<unsigned char>(text[1])))
     text.front() = static_cast<char>(std::tolower(static_cast<unsigned char>(text.front())));
   while (!text.empty() && (text.back() == '.' || std::isspace(static_cast<unsigned char>(text.back()))))
     text.pop_back();
