@@ -89,9 +89,9 @@ TEST(CliIsoMmeAccelerationOnly, ExportWritesTheCgAccelerationAndReimportsToTheSa
     ADD_FAILURE() << "no hic15 of " << id << " under " << config;
     return 0.0;
   };
-  const double original = hic15("float64.json", "a1");
+  const double original = hic15("float64", "a1");
   EXPECT_GT(original, 0.0);
-  EXPECT_NEAR(hic15("as-exported.json", "iso"), original, 1e-9 * original);
+  EXPECT_NEAR(hic15("as-exported", "iso"), original, 1e-9 * original);
 }
 
 }  // namespace
