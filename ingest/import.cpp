@@ -237,7 +237,9 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   prepared.default_map = formats::LoadChannelMap("default");
   if (prepared.channel_map) prepared.csv_columns = prepared.channel_map->CsvColumns();
   for (auto& [slot, column] : formats::ParseCsvColumnOptions(options.csv_columns)) {
-    std::erase_if(prepared.csv_columns, [&](const auto& mapped) { return mapped.first == slot; });
+    // A named copy: clang 14 (the `make fuzz` build) cannot capture a structured binding.
+    const std::string& named_slot = slot;
+    std::erase_if(prepared.csv_columns, [&](const auto& mapped) { return mapped.first == named_slot; });
     prepared.csv_columns.emplace_back(slot, column);
   }
   for (const auto& [slot, column] : prepared.csv_columns)
