@@ -6,6 +6,7 @@ BUILD_RELEASE ?= build/release
 BUILD_TEST ?= build/test
 BUILD_BENCH ?= build/bench
 BUILD_FUZZ ?= build/fuzz
+BUILD_TIDY ?= build/tidy
 # What the program needs (make demo): Boost.Math for compare's t distribution,
 # dygraphs embedded into the binary for report's charts. What the tests and
 # benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
@@ -17,13 +18,16 @@ DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-de
   chromium time slurm-wlm munge
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
+# What `make tidy` adds: clang-tidy (and the test headers, as the sources include them).
+TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-tidy
 
-.PHONY: deps program-deps fuzz-deps demo test build release bench fuzz format format-check clean
+.PHONY: deps program-deps fuzz-deps tidy-deps demo test build release bench fuzz tidy format format-check clean
 
 deps: PACKAGES = $(DEBIAN_PACKAGES)
 program-deps: PACKAGES = $(PROGRAM_PACKAGES)
 fuzz-deps: PACKAGES = $(FUZZ_PACKAGES)
-deps program-deps fuzz-deps:
+tidy-deps: PACKAGES = $(TIDY_PACKAGES)
+deps program-deps fuzz-deps tidy-deps:
 	@missing=""; for p in $(PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
@@ -40,9 +44,14 @@ $(BUILD_RELEASE)/CMakeCache.txt: | program-deps
 release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
 	cmake --build $(BUILD_RELEASE) -j$(JOBS) --target napkin
 
-# The test build: warnings are errors, address and undefined-behaviour sanitizers on.
+# The test build: warnings are errors, address and undefined-behaviour sanitizers on. napkin is
+# compiled with -O1 and the test files with -O0, both with line tables (-g1) for the sanitizers'
+# reports: optimising GoogleTest's macros under the sanitizers was most of the build's time
+# (cmake/NapkinHelpers.cmake). The benchmarks are not part of it: `make bench` builds them as
+# they are meant to run (Release, no sanitizers).
 $(BUILD_TEST)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON
+	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+	  -DNAPKIN_TEST_CODE_OPTIONS=-O0 -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON -DNAPKIN_BUILD_BENCH=OFF
 
 build: deps $(BUILD_TEST)/CMakeCache.txt
 	cmake --build $(BUILD_TEST) -j$(JOBS)
@@ -96,6 +105,24 @@ fuzz: fuzz-deps $(BUILD_FUZZ)/CMakeCache.txt
 	  echo "napkin fuzz: findings in:$$failed (inputs in $(BUILD_FUZZ)/artifacts/<target>/, details in the logs)"; \
 	  exit 1; \
 	fi
+
+# clang-tidy with the checks of .clang-tidy (bug-prone, performance, naming), warnings as errors.
+# `make tidy` checks every C++ source file git tracks; `make tidy TIDY_BASE=main` (or any
+# revision) only those changed since its merge base with HEAD. The compile commands come from a
+# configuration of their own (no sanitizers; nothing is built there).
+TIDY_BASE ?=
+TIDY_SOURCES = $(if $(TIDY_BASE),$(shell git diff --name-only --diff-filter=d $$(git merge-base $(TIDY_BASE) HEAD) -- '*.cpp'),$(shell git ls-files '*.cpp'))
+
+$(BUILD_TIDY)/CMakeCache.txt: | tidy-deps
+	cmake -S . -B $(BUILD_TIDY) -DCMAKE_BUILD_TYPE=Debug -DNAPKIN_BUILD_BENCH=ON
+
+tidy: tidy-deps $(BUILD_TIDY)/CMakeCache.txt
+	@if [ -z "$(strip $(TIDY_SOURCES))" ]; then echo "napkin tidy: no C++ source changed since $(TIDY_BASE)"; else \
+	  echo "napkin tidy: clang-tidy over $(words $(TIDY_SOURCES)) files (log $(BUILD_TIDY)/tidy.log)"; \
+	  printf '%s\n' $(TIDY_SOURCES) | xargs -P $(JOBS) -n 4 clang-tidy -p $(BUILD_TIDY) --quiet \
+	    --warnings-as-errors='*' --header-filter='^$(CURDIR)/[a-z]+/' > $(BUILD_TIDY)/tidy.log 2>&1; \
+	  status=$$?; grep -E '(warning|error):' $(BUILD_TIDY)/tidy.log | sort -u; \
+	  if [ $$status = 0 ]; then echo "napkin tidy: clean"; else echo "napkin tidy: findings above"; exit 1; fi; fi
 
 clean:
 	rm -rf build

@@ -2,6 +2,12 @@
 # test executable per folder, tests registered with CTest as "<folder>/<Suite>.<Test>".
 
 set(NAPKIN_WARNING_FLAGS -Wall -Wextra -Wpedantic)
+# Compile options for the test code only (tests/: the GoogleTest files and their support), after
+# the build type's: `make test` compiles the test files with -O0 and napkin itself with -O1 (both
+# with line tables for the sanitizers' reports). Test files are mostly GoogleTest's macros, whose
+# optimised code costs most of a sanitizer build's time and buys nothing; the numerics they call
+# stay optimised in napkin's libraries.
+set(NAPKIN_TEST_CODE_OPTIONS "" CACHE STRING "Extra compile options for the test code (e.g. -O0)")
 if(NAPKIN_WERROR)
   list(APPEND NAPKIN_WARNING_FLAGS -Werror)
 endif()
@@ -39,7 +45,7 @@ function(napkin_add_tests folder)
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${folder}/*.cpp)
   set(exe napkin_${folder}_tests)
   add_executable(${exe} ${sources})
-  target_compile_options(${exe} PRIVATE ${NAPKIN_WARNING_FLAGS})
+  target_compile_options(${exe} PRIVATE ${NAPKIN_WARNING_FLAGS} ${NAPKIN_TEST_CODE_OPTIONS})
   target_link_libraries(${exe} PRIVATE ${ARG_DEPS} napkin_test_support GTest::gtest GTest::gmock GTest::gtest_main)
   gtest_discover_tests(${exe} TEST_PREFIX "${folder}/" DISCOVERY_TIMEOUT 60
                        PROPERTIES ENVIRONMENT "NAPKIN_CONFIG_DIR=${PROJECT_SOURCE_DIR}/config")

@@ -40,7 +40,7 @@ class JobsTest : public ::testing::Test {
   void AddTests(Catalogue& catalogue, int n) {
     const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
     for (int i = 0; i < n; ++i) {
-      char name[8];
+      char name[16];  // "t" and any int: 12 bytes (GCC's -Wformat-truncation at -O0 counts them)
       std::snprintf(name, sizeof name, "t%03d", i);
       test_support::AddTest(catalogue, array, name, "S", i % 2 == 0 ? "A" : "B");
     }
