@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "formats/atomic_file.h"
+#include "util/atomic_file.h"
 
 namespace napkin::cli {
 namespace {
@@ -36,7 +36,7 @@ std::vector<fs::path> StampedFiles(const fs::path& dir) {
 
 // Whether `relative` is one of `files`, a SQLite side file of the demo's
 // catalogue `catalogue`, or a temporary file napkin's atomic writer left for
-// one of them (formats/atomic_file.h: ".NAME.tmp-...", left only when killed).
+// one of them (util/atomic_file.h: ".NAME.tmp-...", left only when killed).
 bool IsDemoFile(const fs::path& relative, const std::vector<fs::path>& files, const fs::path& catalogue) {
   for (const fs::path& file : files) {
     if (relative == file) return true;
@@ -101,7 +101,7 @@ bool PrepareDemoFolder(const fs::path& dir, const fs::path& catalogue) {
 }
 
 void WriteDemoStamp(const fs::path& dir, const std::vector<fs::path>& files) {
-  formats::WriteFileAtomically(dir / kStampName, [&](formats::AtomicFile& file) {
+  util::WriteFileAtomically(dir / kStampName, [&](util::AtomicFile& file) {
     file.Write(std::string(kStampHeader) + "\n");
     for (const fs::path& path : files) file.Write(path.generic_string() + "\n");
   });

@@ -512,7 +512,7 @@ class JobReader {
     auto item = std::make_unique<WorkItem>();
     item->job = claimed_.front();
     claimed_.pop_front();
-    const db::TestRecord test = catalogue_.ReadTest(item->job.test_id);
+    const db::TestRow test = catalogue_.ReadTest(item->job.test_id);
     item->external_id = test.external_id;
     item->initial = test.initial_state;
     item->signals = catalogue_.ReadTestSignals(item->job.test_id);

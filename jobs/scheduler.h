@@ -70,7 +70,7 @@ struct RunOptions {
 // The processing configuration of a run.
 struct RunProcessing {
   engine::ProcessingConfig config;
-  db::ConfigRecord record;  // name, canonical JSON and its hash (identifies the results)
+  db::ConfigRow record;  // name, canonical JSON and its hash (identifies the results)
 };
 
 struct RunProgress {

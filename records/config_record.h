@@ -10,11 +10,11 @@
 namespace napkin::records {
 
 // The record of `config` under `name`: name, canonical JSON and its SHA-256.
-db::ConfigRecord MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name);
+db::ConfigRow MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name);
 
 struct ResolvedConfig {
   engine::ProcessingConfig config;
-  db::ConfigRecord record;  // name, canonical JSON and its SHA-256
+  db::ConfigRow record;  // name, canonical JSON and its SHA-256
 };
 
 // A processing configuration given by preset name or JSON path (empty: the
