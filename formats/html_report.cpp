@@ -3,17 +3,20 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <utility>
 
 #include "common/error.h"
 #include "engine/display_reduction.h"
+#include "engine/summary_fields.h"
 #include "engine/units.h"
 #include "formats/report_assets.h"
 #include "util/atomic_file.h"
@@ -76,203 +79,7 @@ Eigen::MatrixXd WithResultant(const engine::Series3& components, double scale = 
   return traces;
 }
 
-// ---- page text
-
-constexpr const char* kPageStyle = R"css(
-:root { --ink: #1b1f24; --muted: #5b6470; --line: #d8dde3; --band: #f5f7f9; --accent: #1f4e9c; }
-* { box-sizing: border-box; }
-body { margin: 0; font: 14px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial, sans-serif;
-       color: var(--ink); background: #fff; }
-main { max-width: 1280px; margin: 0 auto; padding: 24px 32px 64px; }
-header.report { border-bottom: 3px solid var(--accent); padding-bottom: 12px; margin-bottom: 20px; }
-h1 { font-size: 26px; margin: 0 0 10px; }
-h1 .product { color: var(--accent); }
-h2 { font-size: 20px; margin: 36px 0 8px; padding-top: 8px; border-top: 1px solid var(--line); }
-h2 .tag { font-size: 13px; font-weight: normal; color: var(--muted); margin-left: 10px; }
-h3 { font-size: 15px; margin: 18px 0 6px; color: var(--accent); }
-table { border-collapse: collapse; margin: 4px 0 8px; }
-th, td { border: 1px solid var(--line); padding: 3px 9px; text-align: left; vertical-align: top; }
-th { background: var(--band); font-weight: 600; }
-td.num, table.compare td:nth-child(n+3) { text-align: right; font-variant-numeric: tabular-nums; }
-table.compare { font-size: 13px; }
-table.compare td { padding: 2px 7px; }
-table.meta th { width: 170px; }
-table.meta code { word-break: break-all; }
-details { margin: 4px 0; }
-details pre { background: var(--band); border: 1px solid var(--line); padding: 8px; max-height: 320px;
-              overflow: auto; font-size: 12px; }
-nav.tests { display: flex; flex-wrap: wrap; gap: 4px 14px; margin: 6px 0 0; }
-nav.tests a { color: var(--accent); text-decoration: none; }
-.facts { display: flex; flex-wrap: wrap; gap: 8px 28px; }
-.charts { display: grid; grid-template-columns: repeat(auto-fill, minmax(560px, 1fr)); gap: 14px 22px; }
-figure { margin: 0; border: 1px solid var(--line); border-radius: 4px; padding: 8px 10px 6px; }
-figcaption { font-weight: 600; margin-bottom: 4px; }
-.chart { width: 100%; height: 280px; }
-.legend { min-height: 20px; font-size: 12px; color: var(--muted); margin-top: 4px; }
-.legend span { margin-right: 6px; }
-.hint, .note { color: var(--muted); font-size: 12px; }
-.severity-error { color: #b00020; font-weight: 600; }
-.severity-warning { color: #a05a00; font-weight: 600; }
-.severity-info { color: var(--muted); }
-.napkin-script-error { background: #b00020; color: #fff; padding: 6px 10px; margin: 4px 0; }
-)css";
-
-// Runs first: any later script error is written into the page (the
-// headless-browser test looks for it).
-constexpr const char* kErrorScript = R"js(
-window.napkinReportError = function (message) {
-  var box = document.createElement('div');
-  box.className = 'napkin-' + 'script-error';
-  box.textContent = 'report script error: ' + message;
-  (document.body || document.documentElement).appendChild(box);
-};
-window.addEventListener('error', function (e) {
-  window.napkinReportError(e.message + ' (' + e.filename + ':' + e.lineno + ')');
-});
-window.addEventListener('unhandledrejection', function (e) { window.napkinReportError(String(e.reason)); });
-)js";
-
-// Draws every chart of the embedded data with dygraphs. The axis labels,
-// tick labels and legend values dygraphs inserts as HTML are escaped first;
-// the series labels are handed over as text, since dygraphs escapes them
-// itself for its legend (dygraph.js "labelHTML"): escaped twice, `a&b`
-// would read `a&amp;b` there.
-constexpr const char* kDrawScript = R"js(
-(function () {
-  'use strict';
-  var data = JSON.parse(document.getElementById('napkin-data').textContent);
-  function esc(text) {
-    return String(text).replace(/[&<>"']/g, function (c) {
-      return { '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;' }[c];
-    });
-  }
-  var componentColors = ['#1f77b4', '#d62728', '#2ca02c', '#222222'];
-  var groupColors = ['#1f4e9c', '#d9730d', '#2a9d55', '#8e44ad', '#c0392b', '#16a085', '#7f8c8d'];
-  var windowFill = ['rgba(230, 126, 34, 0.20)', 'rgba(52, 120, 200, 0.13)'];
-  var windowInk = ['#b85c00', '#1f4e9c'];
-
-  function drawn(element) {
-    return function (graph, initial) { if (initial) element.setAttribute('data-drawn', 'true'); };
-  }
-
-  function timeHistory(chart) {
-    var element = document.getElementById(chart.id);
-    var rows = new Array(chart.t.length);
-    for (var i = 0; i < chart.t.length; ++i) {
-      var row = [chart.t[i]];
-      for (var k = 0; k < chart.y.length; ++k) row.push(chart.y[k][i]);
-      rows[i] = row;
-    }
-    new Dygraph(element, rows, {
-      labels: ['time (ms)'].concat(chart.labels),
-      xlabel: 'time (ms)',
-      ylabel: esc(chart.ylabel),
-      colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
-      strokeWidth: 1.4,
-      legend: 'always',
-      labelsDiv: element.parentNode.querySelector('.legend'),
-      labelsSeparateLines: false,
-      gridLineColor: '#e4e7eb',
-      axisLabelFontSize: 12,
-      xLabelHeight: 16,
-      yLabelWidth: 16,
-      axes: { y: { axisLabelWidth: 56 } },
-      underlayCallback: function (canvas, area, graph) {
-        chart.windows.forEach(function (w, i) {
-          var x1 = graph.toDomXCoord(w.t1), x2 = graph.toDomXCoord(w.t2);
-          canvas.fillStyle = windowFill[i % 2];
-          canvas.fillRect(x1, area.y, x2 - x1, area.h);
-          canvas.strokeStyle = windowInk[i % 2];
-          canvas.lineWidth = 1;
-          canvas.setLineDash([4, 3]);
-          canvas.beginPath();
-          canvas.moveTo(x1, area.y); canvas.lineTo(x1, area.y + area.h);
-          canvas.moveTo(x2, area.y); canvas.lineTo(x2, area.y + area.h);
-          canvas.stroke();
-          canvas.setLineDash([]);
-          canvas.font = 'bold 12px system-ui, sans-serif';
-          canvas.fillStyle = windowInk[i % 2];
-          var text = w.label + '  (' + w.t1.toFixed(1) + '–' + w.t2.toFixed(1) + ' ms)';
-          var x = Math.max(area.x + 4, Math.min(x2 + 6, area.x + area.w - canvas.measureText(text).width - 4));
-          canvas.fillText(text, x, area.y + 16 + 16 * i);
-        });
-      },
-      drawCallback: drawn(element)
-    });
-  }
-
-  // Every test as a point (left of its group's tick), the group's mean with
-  // its 95 % confidence interval as a bar (right of the tick).
-  function distribution(chart) {
-    var element = document.getElementById(chart.id);
-    var groups = chart.groups;
-    var rows = [];
-    groups.forEach(function (group, g) {
-      group.values.forEach(function (value, j) {
-        var row = [g - 0.12 + ((j % 5) - 2) * 0.035];
-        for (var k = 0; k < groups.length; ++k) row.push(k === g ? value : null);
-        rows.push(row);
-      });
-    });
-    rows.sort(function (a, b) { return a[0] - b[0]; });
-    new Dygraph(element, rows, {
-      labels: ['variant'].concat(groups.map(function (g) { return g.name; })),
-      ylabel: esc(chart.ylabel),
-      colors: groups.map(function (g, k) { return groupColors[k % groupColors.length]; }),
-      strokeWidth: 0,
-      drawPoints: true,
-      pointSize: 3.5,
-      highlightCircleSize: 5,
-      legend: 'always',
-      labelsDiv: element.parentNode.querySelector('.legend'),
-      labelsSeparateLines: false,
-      gridLineColor: '#e4e7eb',
-      axisLabelFontSize: 12,
-      yLabelWidth: 16,
-      includeZero: true,
-      dateWindow: [-0.5, groups.length - 0.5],
-      interactionModel: {},
-      axes: {
-        x: {
-          drawGrid: false,
-          axisLabelWidth: 120,
-          ticker: function () { return groups.map(function (g, k) { return { v: k, label: esc(g.name) }; }); },
-          valueFormatter: function (x) { var k = Math.round(x); return k >= 0 && k < groups.length ? esc(groups[k].name) : ''; }
-        },
-        y: { axisLabelWidth: 56 }
-      },
-      underlayCallback: function (canvas, area, graph) {
-        groups.forEach(function (group, k) {
-          var x = graph.toDomXCoord(k + 0.18);
-          var ink = groupColors[k % groupColors.length];
-          canvas.strokeStyle = ink;
-          canvas.fillStyle = ink;
-          canvas.lineWidth = 2;
-          if (group.ci_low !== null && group.ci_high !== null) {
-            var top = graph.toDomYCoord(group.ci_high), bottom = graph.toDomYCoord(group.ci_low);
-            canvas.beginPath();
-            canvas.moveTo(x, top); canvas.lineTo(x, bottom);
-            canvas.moveTo(x - 6, top); canvas.lineTo(x + 6, top);
-            canvas.moveTo(x - 6, bottom); canvas.lineTo(x + 6, bottom);
-            canvas.stroke();
-          }
-          var y = graph.toDomYCoord(group.mean);
-          canvas.fillRect(x - 10, y - 1.5, 20, 3);
-        });
-      },
-      drawCallback: drawn(element)
-    });
-  }
-
-  function guarded(draw) {
-    return function (chart) {
-      try { draw(chart); } catch (e) { window.napkinReportError(chart.id + ': ' + (e && e.message ? e.message : e)); }
-    };
-  }
-  data.charts.forEach(guarded(timeHistory));
-  data.distributions.forEach(guarded(distribution));
-})();
-)js";
+// ---- script elements
 
 // Text between <script> and </script> must not close the element: in JSON
 // '<', '>' and '&' occur only inside strings, where \u escapes mean the same.
@@ -300,81 +107,123 @@ std::string_view WithoutSourceMap(std::string_view text, std::string_view marker
   return at == std::string_view::npos ? text : text.substr(0, at);
 }
 
+// ---- markup
+
+// Text of the page. User-supplied text (test ids, names, settings, finding
+// details) becomes Html only through Text(), the one place it is escaped;
+// Markup() is for napkin's own tags, words and numbers.
+struct Html {
+  std::string text;
+};
+
+Html Text(std::string_view text) { return {EscapeHtml(text)}; }
+Html Markup(std::string markup) { return {std::move(markup)}; }
+
+Html& operator+=(Html& html, const Html& more) {
+  html.text += more.text;
+  return html;
+}
+Html operator+(Html html, const Html& more) { return html += more; }
+
+// <tag attributes>content</tag>; `open` is the tag with its attributes.
+Html Element(std::string_view open, const Html& content) {
+  const std::string_view tag = open.substr(0, open.find(' '));
+  return Markup("<" + std::string(open) + ">" + content.text + "</" + std::string(tag) + ">");
+}
+
+Html TextOrDash(const std::optional<std::string>& text) { return text ? Text(*text) : Markup("—"); }
+
+// A row of cells (each an Element "td ..." or "th ...") and its line end.
+Html Row(std::initializer_list<Html> cells) {
+  Html row = Markup("<tr>");
+  for (const Html& cell : cells) row += cell;
+  return row + Markup("</tr>\n");
+}
+
+// A row of texts, each in a `cell` element ("th" or "td").
+template <typename Texts>
+Html TextRow(std::string_view cell, const Texts& texts) {
+  Html row = Markup("<tr>");
+  for (const std::string_view text : texts) row += Element(cell, Text(text));
+  return row + Markup("</tr>\n");
+}
+
+// A labelled value: the row of the header's and a section's small tables.
+Html LabelledRow(std::string_view label, const Html& value, bool numeric = true) {
+  return Row({Element("th", Text(label)), Element(numeric ? "td class=\"num\"" : "td", value)});
+}
+
+// A chart's place: dygraphs draws into the element `id`, its legend below.
+Html Figure(const std::string& id, std::string_view caption) {
+  return Markup("<figure>") + Element("figcaption", Text(caption)) +
+         Markup("<div class=\"chart\" id=\"" + id + "\"></div><div class=\"legend\"></div></figure>\n");
+}
+
+// ---- the header
+
 std::string PrettySettings(const std::string& settings_json) {
   const json settings = json::parse(settings_json, nullptr, /*allow_exceptions=*/false);
   if (settings.is_discarded()) return settings_json;
   return settings.dump(2, ' ', false, json::error_handler_t::replace);
 }
 
-void AppendRow(std::string& html, std::string_view label, const std::string& value, bool numeric = true) {
-  html += "<tr><th>";
-  html += label;
-  html += numeric ? "</th><td class=\"num\">" : "</th><td>";
-  html += value;
-  html += "</td></tr>\n";
+Html ConfigCell(const ReportConfig& config) {
+  return Element("strong", Text(config.name)) + Markup(" ") +
+         Element("span class=\"note\"", Markup("SHA-256 ") + Element("code", Text(config.hash))) +
+         Markup("\n") +
+         Element("details", Element("summary", Markup("settings")) +
+                                Element("pre", Text(PrettySettings(config.settings_json))));
 }
 
-std::string HicCell(const engine::HicWindow& hic) {
-  return Display(hic.value) + " <span class=\"note\">(" + Fixed(hic.t1_s * 1000.0, 2) + "–" +
-         Fixed(hic.t2_s * 1000.0, 2) + " ms)</span>";
+Html Navigation(std::span<const std::string> test_ids) {
+  if (test_ids.empty()) return {};
+  Html nav = Element("strong", Markup("Tests:"));
+  for (std::size_t i = 0; i < test_ids.size(); ++i)
+    nav += Markup(" ") + Element("a href=\"#test-" + std::to_string(i + 1) + "\"", Text(test_ids[i]));
+  return Element("nav class=\"tests\"", nav) + Markup("\n");
 }
 
-void AppendHeader(std::string& html, const ReportHeader& header, std::span<const std::string> test_ids) {
-  html +=
-      "<header class=\"report\">\n<h1><span class=\"product\">napkin</span> head-kinematics report</h1>\n";
-  html += "<table class=\"meta\">\n";
-  AppendRow(html, "catalogue", "<code>" + EscapeHtml(header.catalogue) + "</code>", false);
-  AppendRow(html, "napkin version", EscapeHtml(header.napkin_version), false);
-  AppendRow(html, "selection", header.selection.empty() ? "every test" : EscapeHtml(header.selection), false);
-  AppendRow(html, "tests", std::to_string(test_ids.size()), false);
-  for (const ReportConfig& config : header.configs) {
-    std::string cell = "<strong>" + EscapeHtml(config.name) +
-                       "</strong> <span class=\"note\">SHA-256 <code>" + EscapeHtml(config.hash) +
-                       "</code></span>\n<details><summary>settings</summary><pre>" +
-                       EscapeHtml(PrettySettings(config.settings_json)) + "</pre></details>";
-    AppendRow(html, "processing config", cell, false);
-  }
-  html += "</table>\n";
-  html +=
-      "<p class=\"hint\">Time histories: drag across a plot to zoom in, double-click to zoom out. Traces are "
-      "reduced for display to at most " +
+Html PageHeader(const ReportHeader& header, std::span<const std::string> test_ids) {
+  Html meta = Markup("\n");
+  meta += LabelledRow("catalogue", Element("code", Text(header.catalogue)), false);
+  meta += LabelledRow("napkin version", Text(header.napkin_version), false);
+  meta += LabelledRow("selection", header.selection.empty() ? Markup("every test") : Text(header.selection),
+                      false);
+  meta += LabelledRow("tests", Markup(std::to_string(test_ids.size())), false);
+  for (const ReportConfig& config : header.configs)
+    meta += LabelledRow("processing config", ConfigCell(config), false);
+  const Html hint = Markup(
+      "Time histories: drag across a plot to zoom in, double-click to zoom out. Traces are reduced for "
+      "display to at most " +
       std::to_string(kReportMaxPoints) +
       " points per plot keeping every bucket's minimum and maximum, so no peak is lost; the full-resolution "
-      "data stays in the catalogue (<code>napkin export</code>).</p>\n";
-  if (!test_ids.empty()) {
-    html += "<nav class=\"tests\"><strong>Tests:</strong>";
-    for (std::size_t i = 0; i < test_ids.size(); ++i) {
-      html += " <a href=\"#test-" + std::to_string(i + 1) + "\">" + EscapeHtml(test_ids[i]) + "</a>";
-    }
-    html += "</nav>\n";
-  }
-  html += "</header>\n";
+      "data stays in the catalogue (<code>napkin export</code>).");
+  return Element("header class=\"report\"",
+                 Markup("\n") +
+                     Element("h1", Element("span class=\"product\"", Markup("napkin")) +
+                                       Markup(" head-kinematics report")) +
+                     Markup("\n") + Element("table class=\"meta\"", meta) + Markup("\n") +
+                     Element("p class=\"hint\"", hint) + Markup("\n") + Navigation(test_ids)) +
+         Markup("\n");
 }
 
-void AppendFigure(std::string& html, const std::string& id, const std::string& caption) {
-  html += "<figure><figcaption>" + EscapeHtml(caption) + "</figcaption><div class=\"chart\" id=\"" + id +
-          "\"></div><div class=\"legend\"></div></figure>\n";
-}
+// ---- a series' comparison
 
-void AppendComparison(std::string& html, json& distributions, const ReportComparison& comparison,
-                      std::size_t index) {
-  html += "<section class=\"comparison\">\n<h2>Series " + EscapeHtml(comparison.series) +
-          ": variants compared</h2>\n<table class=\"compare\">\n<tr>";
-  for (const std::string& column : comparison.columns) html += "<th>" + EscapeHtml(column) + "</th>";
-  html += "</tr>\n";
-  for (const std::vector<std::string>& row : comparison.rows) {
-    html += "<tr>";
-    for (const std::string& cell : row) html += "<td>" + EscapeHtml(cell) + "</td>";
-    html += "</tr>\n";
-  }
-  html += "</table>\n";
-  for (const std::string& note : comparison.notes) html += "<p class=\"note\">" + EscapeHtml(note) + "</p>\n";
+// Its section; the data of its distribution plots are appended to `distributions`.
+Html ComparisonSection(json& distributions, const ReportComparison& comparison, std::size_t index) {
+  Html table = Markup("\n") + TextRow("th", comparison.columns);
+  for (const std::vector<std::string>& row : comparison.rows) table += TextRow("td", row);
+  Html section = Markup("\n") +
+                 Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
+                 Markup("\n") + Element("table class=\"compare\"", table) + Markup("\n");
+  for (const std::string& note : comparison.notes)
+    section += Element("p class=\"note\"", Text(note)) + Markup("\n");
   if (!comparison.distributions.empty()) {
-    html += "<div class=\"charts\">\n";
+    Html figures = Markup("\n");
     for (std::size_t m = 0; m < comparison.distributions.size(); ++m) {
       const ReportDistribution& distribution = comparison.distributions[m];
       const std::string id = "dist-" + std::to_string(index + 1) + "-" + std::to_string(m + 1);
-      AppendFigure(html, id, distribution.metric + ": every test, mean and 95 % CI per variant");
+      figures += Figure(id, distribution.metric + ": every test, mean and 95 % CI per variant");
       json groups = json::array();
       for (const ReportDistribution::Group& group : distribution.groups) {
         json values = json::array();
@@ -387,51 +236,175 @@ void AppendComparison(std::string& html, json& distributions, const ReportCompar
       }
       distributions.push_back({{"id", id}, {"ylabel", distribution.metric}, {"groups", std::move(groups)}});
     }
-    html += "</div>\n";
+    section += Element("div class=\"charts\"", figures) + Markup("\n");
   }
-  html += "</section>\n";
+  return Element("section class=\"comparison\"", section) + Markup("\n");
 }
 
-void AppendTest(std::string& html, json& charts, const ReportTest& test, std::size_t index) {
-  const std::string section_id = "test-" + std::to_string(index + 1);
+// ---- a test's summary tables
+
+const engine::SummaryField* FindField(std::string_view name) {
+  for (const engine::SummaryField& field : engine::SummaryFields())
+    if (field.name == name) return &field;
+  return nullptr;
+}
+
+const engine::SummaryField& Field(std::string_view name) {
+  const engine::SummaryField* field = FindField(name);
+  if (field == nullptr) throw std::logic_error("html report: no summary field '" + std::string(name) + "'");
+  return *field;
+}
+
+// A row of the rotation or final-pose table: summary fields shown together,
+// comma-separated, with about four significant digits (decimals < 0) or a
+// fixed number of decimals, times `scale` (the unit of the label).
+struct FieldRow {
+  std::string_view label;
+  std::array<std::string_view, 4> fields;  // engine/summary_fields.h names; unused ones empty
+  int decimals = -1;
+  double scale = 1.0;
+};
+
+constexpr FieldRow kRotationRows[] = {
+    {"peak |ω| x, y, z (rad/s)", {"peak_omega_x_radps", "peak_omega_y_radps", "peak_omega_z_radps"}},
+    {"peak ω resultant (rad/s)", {"peak_omega_radps"}},
+    {"peak α resultant (rad/s²)", {"peak_alpha_radps2"}},
+    {"max rotation (deg)", {"max_rotation_deg"}},
+    {"max residual (m/s²)", {"max_residual_mps2"}},
+};
+
+constexpr FieldRow kPoseRows[] = {
+    {"quaternion w, x, y, z", {"final_quat_w", "final_quat_x", "final_quat_y", "final_quat_z"}, 5},
+    {"roll, pitch, yaw (deg)", {"final_roll_deg", "final_pitch_deg", "final_yaw_deg"}, 2},
+    {"position x, y, z (mm)", {"final_pos_x_m", "final_pos_y_m", "final_pos_z_m"}, 1, 1000.0},
+};
+
+// The criteria table's label of a criterion; one not named here shows its
+// meaning (engine/summary_fields.cpp).
+constexpr std::pair<std::string_view, std::string_view> kCriterionLabels[] = {
+    {"hic15", "HIC15"},
+    {"hic36", "HIC36"},
+    {"hic", "HIC (no window limit)"},
+    {"peak_acc_g", "peak acceleration (g)"},
+    {"a3ms_g", "a3ms (g)"},
+    {"hic_d", "HIC(d)"},
+    {"bric", "BrIC"},
+    {"damage", "DAMAGE"},
+};
+
+Html FieldRowHtml(const FieldRow& row, const engine::TestSummary& summary) {
+  std::string values;
+  for (const std::string_view name : row.fields) {
+    if (name.empty()) break;
+    const double value = Field(name).Get(summary) * row.scale;
+    values += (values.empty() ? "" : ", ") + (row.decimals < 0 ? Display(value) : Fixed(value, row.decimals));
+  }
+  return LabelledRow(row.label, Markup(values));
+}
+
+Html FieldTable(std::string_view table_class, std::span<const FieldRow> rows,
+                const engine::TestSummary& summary) {
+  Html html = Markup("\n");
+  for (const FieldRow& row : rows) html += FieldRowHtml(row, summary);
+  return Element("table class=\"" + std::string(table_class) + "\"", html);
+}
+
+bool InFieldRows(std::string_view name, std::span<const FieldRow> rows) {
+  for (const FieldRow& row : rows)
+    if (std::find(row.fields.begin(), row.fields.end(), name) != row.fields.end()) return true;
+  return false;
+}
+
+bool EndsWith(std::string_view text, std::string_view end) {
+  return text.size() >= end.size() && text.substr(text.size() - end.size()) == end;
+}
+
+// A HIC window's start or end (its HIC's cell shows it).
+bool IsWindowBound(std::string_view name) {
+  return (EndsWith(name, "_t1_s") || EndsWith(name, "_t2_s")) &&
+         FindField(name.substr(0, name.size() - 5)) != nullptr;
+}
+
+// The criteria table: every field of `napkin query criteria`
+// (engine::SummaryFieldsOf, in its order) that the rotation and final-pose
+// tables do not show, a HIC with its window: "812.3 (20.50–31.50 ms)".
+Html CriteriaTable(const engine::TestSummary& summary) {
+  Html rows = Markup("\n");
+  for (const engine::SummaryField* field :
+       engine::SummaryFieldsOf({engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation})) {
+    const std::string_view name = field->name;
+    if (IsWindowBound(name) || InFieldRows(name, kRotationRows) || InFieldRows(name, kPoseRows)) continue;
+    std::string_view label = field->meaning;
+    for (const auto& [criterion, criterion_label] : kCriterionLabels)
+      if (criterion == name) label = criterion_label;
+    Html value = Markup(Display(field->Get(summary)));
+    const engine::SummaryField* t1 = FindField(std::string(name) + "_t1_s");
+    const engine::SummaryField* t2 = FindField(std::string(name) + "_t2_s");
+    if (t1 != nullptr && t2 != nullptr)
+      value += Markup(" ") +
+               Element("span class=\"note\"", Markup("(" + Fixed(t1->Get(summary) * 1000.0, 2) + "–" +
+                                                     Fixed(t2->Get(summary) * 1000.0, 2) + " ms)"));
+    rows += LabelledRow(label, value);
+  }
+  return Element("table class=\"criteria\"", rows);
+}
+
+// ---- a test's section
+
+constexpr std::string_view kFindingColumns[] = {"severity", "check", "channel", "detail"};
+constexpr std::string_view kConditioningColumns[] = {"channel", "filter", "bias removed", "bias window (ms)",
+                                                     "time shift (ms)"};
+
+Html FindingsTable(const std::vector<engine::Finding>& findings) {
+  if (findings.empty())
+    return Element("p class=\"note\"", Markup("No findings: every check passed.")) + Markup("\n");
+  Html rows = Markup("\n") + TextRow("th", kFindingColumns);
+  for (const engine::Finding& finding : findings) {
+    const std::string severity = engine::SeverityName(finding.severity);
+    rows += Row({Element("td class=\"severity-" + severity + "\"", Markup(severity)),
+                 Element("td", Text(finding.check)), Element("td", TextOrDash(finding.channel)),
+                 Element("td", Text(finding.detail))});
+  }
+  return Element("table class=\"findings\"", rows) + Markup("\n");
+}
+
+// What conditioning did to each channel (docs/formats.md "Conditioning record").
+Html ConditioningTable(const std::vector<engine::ChannelConditioning>& conditioning) {
+  if (conditioning.empty()) return {};
+  Html rows = Markup("\n") + TextRow("th", kConditioningColumns);
+  for (const engine::ChannelConditioning& record : conditioning) {
+    const std::string window = record.bias_window_start_s && record.bias_window_end_s
+                                   ? Display(*record.bias_window_start_s * 1000.0) + " to " +
+                                         Display(*record.bias_window_end_s * 1000.0)
+                                   : std::string("none");
+    rows += Row({Element("td", Text(record.channel)), Element("td", Text(engine::FilterDescription(record))),
+                 Element("td", Markup(Display(record.bias_removed))), Element("td", Markup(window)),
+                 Element("td", Markup(Display(record.time_shift_s * 1000.0)))});
+  }
+  return Element("h3", Markup("Conditioning")) + Markup("\n") +
+         Element("table class=\"conditioning\"", rows) + Markup("\n");
+}
+
+// A facts column: its heading and table.
+Html Facts(std::string_view heading, const Html& table) {
+  return Element("div", Element("h3", Markup(std::string(heading))) + table) + Markup("\n");
+}
+
+// The test's section; its charts' data are appended to `charts`.
+Html TestSection(json& charts, const ReportTest& test, std::size_t index) {
   const engine::TestSummary& s = test.summary;
-  html += "<section class=\"test\" id=\"" + section_id + "\">\n<h2>Test " + EscapeHtml(test.test_id);
-  html += "<span class=\"tag\">series " + (test.series ? EscapeHtml(*test.series) : std::string("—")) +
-          " · variant " + (test.variant ? EscapeHtml(*test.variant) : std::string("—")) + " · config " +
-          EscapeHtml(test.config_name) + "</span></h2>\n";
-
-  html += "<div class=\"facts\">\n<div><h3>Injury criteria</h3><table class=\"criteria\">\n";
-  AppendRow(html, "HIC15", HicCell(s.hic15));
-  AppendRow(html, "HIC36", HicCell(s.hic36));
-  AppendRow(html, "HIC (no window limit)", HicCell(s.hic));
-  AppendRow(html, "peak acceleration (g)", Display(s.peak_acc_g));
-  AppendRow(html, "a3ms (g)", Display(s.a3ms_g));
-  AppendRow(html, "BrIC", Display(s.bric));
-  AppendRow(html, "DAMAGE", Display(s.damage));
-  html += "</table></div>\n<div><h3>Rotation</h3><table class=\"rotation\">\n";
-  AppendRow(html, "peak |ω| x, y, z (rad/s)",
-            Display(s.peak_omega_body_radps.x()) + ", " + Display(s.peak_omega_body_radps.y()) + ", " +
-                Display(s.peak_omega_body_radps.z()));
-  AppendRow(html, "peak ω resultant (rad/s)", Display(s.peak_omega_radps));
-  AppendRow(html, "peak α resultant (rad/s²)", Display(s.peak_alpha_radps2));
-  AppendRow(html, "max rotation (deg)", Display(s.max_rotation_deg));
-  AppendRow(html, "max residual (m/s²)", Display(s.max_residual_mps2));
-  html += "</table></div>\n<div><h3>Final pose</h3><table class=\"pose\">\n";
-  AppendRow(html, "quaternion w, x, y, z",
-            Fixed(s.final_quat_wxyz(0), 5) + ", " + Fixed(s.final_quat_wxyz(1), 5) + ", " +
-                Fixed(s.final_quat_wxyz(2), 5) + ", " + Fixed(s.final_quat_wxyz(3), 5));
-  AppendRow(html, "roll, pitch, yaw (deg)",
-            Fixed(s.final_roll_pitch_yaw_deg.x(), 2) + ", " + Fixed(s.final_roll_pitch_yaw_deg.y(), 2) +
-                ", " + Fixed(s.final_roll_pitch_yaw_deg.z(), 2));
-  AppendRow(html, "position x, y, z (mm)",
-            Fixed(s.final_pos_fixed_m.x() * 1000.0, 1) + ", " + Fixed(s.final_pos_fixed_m.y() * 1000.0, 1) +
-                ", " + Fixed(s.final_pos_fixed_m.z() * 1000.0, 1));
-  html += "</table></div>\n</div>\n";
-
-  html += "<h3>Time histories</h3>\n<div class=\"charts\">\n";
+  const Html heading =
+      Element("h2", Markup("Test ") + Text(test.test_id) +
+                        Element("span class=\"tag\"", Markup("series ") + TextOrDash(test.series) +
+                                                          Markup(" · variant ") + TextOrDash(test.variant) +
+                                                          Markup(" · config ") + Text(test.config_name)));
+  const Html facts = Markup("\n") + Facts("Injury criteria", CriteriaTable(s)) +
+                     Facts("Rotation", FieldTable("rotation", kRotationRows, s)) +
+                     Facts("Final pose", FieldTable("pose", kPoseRows, s));
+  Html figures = Markup("\n");
   for (const ReportChart& chart : test.charts) {
     const std::string id = "chart-" + std::to_string(index + 1) + "-" + chart.key;
-    AppendFigure(html, id, chart.title);
+    figures += Figure(id, chart.title);
     json windows = json::array();
     for (const ReportWindow& window : chart.windows)
       windows.push_back({{"label", window.label}, {"t1", window.t1_ms}, {"t2", window.t2_ms}});
@@ -442,41 +415,13 @@ void AppendTest(std::string& html, json& charts, const ReportTest& test, std::si
                       {"y", chart.traces},
                       {"windows", std::move(windows)}});
   }
-  html += "</div>\n";
-
-  html += "<h3>Screening findings</h3>\n";
-  if (s.findings.empty()) {
-    html += "<p class=\"note\">No findings: every check passed.</p>\n";
-  } else {
-    html +=
-        "<table "
-        "class=\"findings\">\n<tr><th>severity</th><th>check</th><th>channel</th><th>detail</th></tr>\n";
-    for (const engine::Finding& finding : s.findings) {
-      const std::string severity = engine::SeverityName(finding.severity);
-      html += "<tr><td class=\"severity-" + severity + "\">" + severity + "</td><td>" +
-              EscapeHtml(finding.check) + "</td><td>" +
-              (finding.channel ? EscapeHtml(*finding.channel) : std::string("—")) + "</td><td>" +
-              EscapeHtml(finding.detail) + "</td></tr>\n";
-    }
-    html += "</table>\n";
-  }
-  if (!s.conditioning.empty()) {
-    // What conditioning did to each channel (docs/formats.md "Conditioning record").
-    html +=
-        "<h3>Conditioning</h3>\n<table class=\"conditioning\">\n<tr><th>channel</th><th>filter</th>"
-        "<th>bias removed</th><th>bias window (ms)</th><th>time shift (ms)</th></tr>\n";
-    for (const engine::ChannelConditioning& record : s.conditioning) {
-      const std::string window = record.bias_window_start_s && record.bias_window_end_s
-                                     ? Display(*record.bias_window_start_s * 1000.0) + " to " +
-                                           Display(*record.bias_window_end_s * 1000.0)
-                                     : std::string("none");
-      html += "<tr><td>" + EscapeHtml(record.channel) + "</td><td>" +
-              EscapeHtml(engine::FilterDescription(record)) + "</td><td>" + Display(record.bias_removed) +
-              "</td><td>" + window + "</td><td>" + Display(record.time_shift_s * 1000.0) + "</td></tr>\n";
-    }
-    html += "</table>\n";
-  }
-  html += "</section>\n";
+  const Html section = Markup("\n") + heading + Markup("\n") + Element("div class=\"facts\"", facts) +
+                       Markup("\n") + Element("h3", Markup("Time histories")) + Markup("\n") +
+                       Element("div class=\"charts\"", figures) + Markup("\n") +
+                       Element("h3", Markup("Screening findings")) + Markup("\n") +
+                       FindingsTable(s.findings) + ConditioningTable(s.conditioning);
+  return Element("section class=\"test\" id=\"test-" + std::to_string(index + 1) + "\"", section) +
+         Markup("\n");
 }
 
 }  // namespace
@@ -550,25 +495,23 @@ HtmlReportWriter::HtmlReportWriter(HtmlSink sink, const ReportHeader& header,
                                    std::span<const std::string> test_ids,
                                    std::span<const ReportComparison> comparisons)
     : sink_(std::move(sink)), test_count_(test_ids.size()) {
-  std::string html;
-  html +=
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      "<meta name=\"generator\" content=\"napkin " +
-      EscapeHtml(header.napkin_version) + "\">\n<title>napkin report: " + EscapeHtml(header.catalogue) +
-      "</title>\n<script>" + kErrorScript + "</script>\n<style>\n";
-  sink_(html);
+  // The error catcher runs first, so any later script error is written into
+  // the page (the headless-browser test looks for it).
+  sink_(
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"generator\" "
+      "content=\"napkin " +
+      Text(header.napkin_version).text + "\">\n" +
+      Element("title", Markup("napkin report: ") + Text(header.catalogue)).text + "\n<script>\n");
+  sink_(ReportErrorScript());
+  sink_("</script>\n<style>\n");
   sink_(WithoutSourceMap(DygraphsStylesheet(), "/*# sourceMappingURL="));
-  html = "\n</style>\n<style>";
-  html += kPageStyle;
-  html += "</style>\n</head>\n<body>\n<main>\n";
-  AppendHeader(html, header, test_ids);
-  sink_(html);
+  sink_("\n</style>\n<style>\n");
+  sink_(ReportStylesheet());
+  sink_("</style>\n</head>\n<body>\n<main>\n");
+  sink_(PageHeader(header, test_ids).text);
   json distributions = json::array();
-  for (std::size_t i = 0; i < comparisons.size(); ++i) {
-    html.clear();
-    AppendComparison(html, distributions, comparisons[i], i);
-    sink_(html);
-  }
+  for (std::size_t i = 0; i < comparisons.size(); ++i)
+    sink_(ComparisonSection(distributions, comparisons[i], i).text);
   distributions_json_ = JsonForScript(distributions);
 }
 
@@ -579,10 +522,8 @@ HtmlReportWriter::~HtmlReportWriter() {
 void HtmlReportWriter::AddTest(const ReportTest& test) {
   if (finished_ || tests_added_ == test_count_)
     throw std::logic_error("HtmlReportWriter: more tests added than the header names");
-  std::string html;
   json charts = json::array();
-  AppendTest(html, charts, test, tests_added_);
-  sink_(html);
+  sink_(TestSection(charts, test, tests_added_).text);
   // The plot data go to the page's one data element after every section:
   // kept in a temporary file until then (one test's charts in memory).
   for (const json& chart : charts) {
@@ -621,10 +562,14 @@ void HtmlReportWriter::Finish() {
     std::fclose(chart_data_);
     chart_data_ = nullptr;
   }
-  html = "],\"distributions\":" + distributions_json_ + "}</script>\n<script>";
-  html += kDrawScript;
-  html += "</script>\n</body>\n</html>\n";
-  sink_(html);
+  sink_("],\"distributions\":" + distributions_json_ + "}</script>\n<script>\n");
+  // Draws every chart of the embedded data with dygraphs. The axis labels,
+  // tick labels and legend values dygraphs inserts as HTML are escaped
+  // first; the series labels are handed over as text, since dygraphs escapes
+  // them itself for its legend (dygraph.js "labelHTML"): escaped twice, `a&b`
+  // would read `a&amp;b` there.
+  sink_(ReportDrawScript());
+  sink_("</script>\n</body>\n</html>\n");
 }
 
 void HtmlReportWriter::SpoolChartData(std::string_view text) {

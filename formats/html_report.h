@@ -1,16 +1,20 @@
 #pragma once
-// `napkin report`: one self-contained HTML file (docs/formats.md "HTML
-// report") that opens offline in any browser. The charting library
-// (dygraphs, formats/report_assets.h) and the plot data (JSON, nlohmann-json)
-// are inside the file; nothing is loaded from a network or from beside it.
-// Every user-supplied text (test ids, series and variant names, config names
-// and settings, finding details) is escaped against HTML and script injection.
+// The page of `napkin report`: one self-contained HTML file (docs/formats.md
+// "HTML report") that opens offline in any browser. Its stylesheet and
+// scripts (formats/report/), the charting library (dygraphs; all embedded at
+// build time, formats/report_assets.h) and the plot data (JSON,
+// nlohmann-json) are inside the file; nothing is loaded from a network or
+// from beside it. Every user-supplied text (test ids, series and variant
+// names, config names and settings, finding details) is escaped against HTML
+// and script injection.
 //
-// The writer takes plain data and streams the page: the command
-// (cli/report_builder.cpp) reads the catalogue one test at a time, turns it
-// into a ReportTest with MakeReportTest (which keeps only the reduced traces)
-// and hands it to an HtmlReportWriter, which writes its section through a
-// sink at once, so the memory of a report does not grow with its tests.
+// The writer takes plain data and streams the page: the commands `report`
+// and `demo` (cli/command_report.cpp, cli/demo_session.cpp) call
+// cli::WriteCatalogueReport (cli/report_builder.cpp), which reads the
+// catalogue one test at a time, turns it into a ReportTest with
+// MakeReportTest (which keeps only the reduced traces) and hands it to an
+// HtmlReportWriter, which writes its section through a sink at once, so the
+// memory of a report does not grow with its tests.
 #include <Eigen/Core>
 #include <cstdio>
 #include <filesystem>

@@ -1,7 +1,7 @@
 #pragma once
 // The catalogue's SQL migrations (schema/NNN_*.sql), embedded into the binary
-// at build time by embed_migrations.cmake. Migration N brings a catalogue from
-// PRAGMA user_version N-1 to N.
+// at build time by cmake/embed_files.cmake (schema/CMakeLists.txt). Migration
+// N brings a catalogue from PRAGMA user_version N-1 to N.
 #include <span>
 #include <string_view>
 

@@ -1,0 +1,21 @@
+#pragma once
+// `napkin demo`: builds a catalogue from the padding series (three paddings,
+// five oblique head impacts each) and the report's section 4.5 validation
+// scenario on its three 3-2-2-2 geometries, processes it in parallel with the
+// batch scheduler, and prints what napkin tells about it: the padding
+// comparison, the validation table against the known answers, the legacy
+// solver's error, the HTML report it wrote, and the commands to try next.
+#include <string>
+
+namespace napkin::cli {
+
+struct DemoRequest {
+  std::string dir = "napkin-demo";  // the demo's folder (cli/demo_folder.h)
+  int threads = 0;                  // worker threads; 0: all cores
+};
+
+// Runs the demo, printing to standard output. Throws InputError when the
+// folder cannot be used (cli/demo_folder.h) or a demo test fails.
+void RunDemo(const DemoRequest& request);
+
+}  // namespace napkin::cli

@@ -1,0 +1,134 @@
+(function () {
+  'use strict';
+  var data = JSON.parse(document.getElementById('napkin-data').textContent);
+  function esc(text) {
+    return String(text).replace(/[&<>"']/g, function (c) {
+      return { '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;' }[c];
+    });
+  }
+  var componentColors = ['#1f77b4', '#d62728', '#2ca02c', '#222222'];
+  var groupColors = ['#1f4e9c', '#d9730d', '#2a9d55', '#8e44ad', '#c0392b', '#16a085', '#7f8c8d'];
+  var windowFill = ['rgba(230, 126, 34, 0.20)', 'rgba(52, 120, 200, 0.13)'];
+  var windowInk = ['#b85c00', '#1f4e9c'];
+
+  function drawn(element) {
+    return function (graph, initial) { if (initial) element.setAttribute('data-drawn', 'true'); };
+  }
+
+  function timeHistory(chart) {
+    var element = document.getElementById(chart.id);
+    var rows = new Array(chart.t.length);
+    for (var i = 0; i < chart.t.length; ++i) {
+      var row = [chart.t[i]];
+      for (var k = 0; k < chart.y.length; ++k) row.push(chart.y[k][i]);
+      rows[i] = row;
+    }
+    new Dygraph(element, rows, {
+      labels: ['time (ms)'].concat(chart.labels),
+      xlabel: 'time (ms)',
+      ylabel: esc(chart.ylabel),
+      colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
+      strokeWidth: 1.4,
+      legend: 'always',
+      labelsDiv: element.parentNode.querySelector('.legend'),
+      labelsSeparateLines: false,
+      gridLineColor: '#e4e7eb',
+      axisLabelFontSize: 12,
+      xLabelHeight: 16,
+      yLabelWidth: 16,
+      axes: { y: { axisLabelWidth: 56 } },
+      underlayCallback: function (canvas, area, graph) {
+        chart.windows.forEach(function (w, i) {
+          var x1 = graph.toDomXCoord(w.t1), x2 = graph.toDomXCoord(w.t2);
+          canvas.fillStyle = windowFill[i % 2];
+          canvas.fillRect(x1, area.y, x2 - x1, area.h);
+          canvas.strokeStyle = windowInk[i % 2];
+          canvas.lineWidth = 1;
+          canvas.setLineDash([4, 3]);
+          canvas.beginPath();
+          canvas.moveTo(x1, area.y); canvas.lineTo(x1, area.y + area.h);
+          canvas.moveTo(x2, area.y); canvas.lineTo(x2, area.y + area.h);
+          canvas.stroke();
+          canvas.setLineDash([]);
+          canvas.font = 'bold 12px system-ui, sans-serif';
+          canvas.fillStyle = windowInk[i % 2];
+          var text = w.label + '  (' + w.t1.toFixed(1) + '–' + w.t2.toFixed(1) + ' ms)';
+          var x = Math.max(area.x + 4, Math.min(x2 + 6, area.x + area.w - canvas.measureText(text).width - 4));
+          canvas.fillText(text, x, area.y + 16 + 16 * i);
+        });
+      },
+      drawCallback: drawn(element)
+    });
+  }
+
+  // Every test as a point (left of its group's tick), the group's mean with
+  // its 95 % confidence interval as a bar (right of the tick).
+  function distribution(chart) {
+    var element = document.getElementById(chart.id);
+    var groups = chart.groups;
+    var rows = [];
+    groups.forEach(function (group, g) {
+      group.values.forEach(function (value, j) {
+        var row = [g - 0.12 + ((j % 5) - 2) * 0.035];
+        for (var k = 0; k < groups.length; ++k) row.push(k === g ? value : null);
+        rows.push(row);
+      });
+    });
+    rows.sort(function (a, b) { return a[0] - b[0]; });
+    new Dygraph(element, rows, {
+      labels: ['variant'].concat(groups.map(function (g) { return g.name; })),
+      ylabel: esc(chart.ylabel),
+      colors: groups.map(function (g, k) { return groupColors[k % groupColors.length]; }),
+      strokeWidth: 0,
+      drawPoints: true,
+      pointSize: 3.5,
+      highlightCircleSize: 5,
+      legend: 'always',
+      labelsDiv: element.parentNode.querySelector('.legend'),
+      labelsSeparateLines: false,
+      gridLineColor: '#e4e7eb',
+      axisLabelFontSize: 12,
+      yLabelWidth: 16,
+      includeZero: true,
+      dateWindow: [-0.5, groups.length - 0.5],
+      interactionModel: {},
+      axes: {
+        x: {
+          drawGrid: false,
+          axisLabelWidth: 120,
+          ticker: function () { return groups.map(function (g, k) { return { v: k, label: esc(g.name) }; }); },
+          valueFormatter: function (x) { var k = Math.round(x); return k >= 0 && k < groups.length ? esc(groups[k].name) : ''; }
+        },
+        y: { axisLabelWidth: 56 }
+      },
+      underlayCallback: function (canvas, area, graph) {
+        groups.forEach(function (group, k) {
+          var x = graph.toDomXCoord(k + 0.18);
+          var ink = groupColors[k % groupColors.length];
+          canvas.strokeStyle = ink;
+          canvas.fillStyle = ink;
+          canvas.lineWidth = 2;
+          if (group.ci_low !== null && group.ci_high !== null) {
+            var top = graph.toDomYCoord(group.ci_high), bottom = graph.toDomYCoord(group.ci_low);
+            canvas.beginPath();
+            canvas.moveTo(x, top); canvas.lineTo(x, bottom);
+            canvas.moveTo(x - 6, top); canvas.lineTo(x + 6, top);
+            canvas.moveTo(x - 6, bottom); canvas.lineTo(x + 6, bottom);
+            canvas.stroke();
+          }
+          var y = graph.toDomYCoord(group.mean);
+          canvas.fillRect(x - 10, y - 1.5, 20, 3);
+        });
+      },
+      drawCallback: drawn(element)
+    });
+  }
+
+  function guarded(draw) {
+    return function (chart) {
+      try { draw(chart); } catch (e) { window.napkinReportError(chart.id + ': ' + (e && e.message ? e.message : e)); }
+    };
+  }
+  data.charts.forEach(guarded(timeHistory));
+  data.distributions.forEach(guarded(distribution));
+})();
