@@ -56,8 +56,6 @@ struct RunOptions {
   double commit_interval_s = 1.0;      // ... or when the oldest uncommitted result is this old
   double lease_s = 120.0;              // job lease; renewed every lease_s / 4 while the job is in flight
   double poll_interval_s = 0.5;        // wait between claims while other workers hold the remaining jobs
-  bool store_kinematics = true;        // false: store no derived channels whatever config.storage says
-  bool durable = true;                 // synchronous=FULL commits
   // --results: when set, the catalogue is only read (opened immutable, so
   // many nodes may share it) and the jobs and results go to this results
   // file (db/results_file.h), created if missing; empty: both in the catalogue.
