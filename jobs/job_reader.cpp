@@ -2,14 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include "common/error.h"
-#include "records/array_record.h"
-
 namespace napkin::jobs {
 
 JobReader::JobReader(RunContext& context, db::Catalogue& inputs, db::Catalogue& jobs, ReadyQueue& ready,
                      ResultWriter& writer)
-    : context_(context), catalogue_(inputs), queue_(jobs), ready_(ready), writer_(writer), thread_([this] {
+    : context_(context), inputs_(inputs), queue_(jobs), ready_(ready), writer_(writer), thread_([this] {
         Loop();
       }) {}
 
@@ -40,16 +37,9 @@ ItemPtr JobReader::ReadNext() {
   auto item = std::make_unique<WorkItem>();
   item->job = claimed_.front();
   claimed_.pop_front();
-  const db::TestRecord test = catalogue_.ReadTest(item->job.test_id);
-  item->external_id = test.external_id;
-  item->initial = test.initial_state;
-  item->signals = catalogue_.ReadTestSignals(item->job.test_id);
-  item->samples = static_cast<std::int64_t>(item->signals.samples.size());
-  try {
-    item->array = Array(test.array_id);
-  } catch (const InputError& error) {
-    item->error = error.what();
-  }
+  // An array that cannot be decoded fails the test when it is computed.
+  item->inputs = inputs_.Read(item->job.test_id);
+  item->samples = static_cast<std::int64_t>(item->inputs.signals.samples.size());
   context_.state.Read();
   context_.report.read_s += SecondsSince(read_start);
   return item;
@@ -100,22 +90,6 @@ bool JobReader::Claim() {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return false;
-}
-
-std::shared_ptr<const engine::ArrayGeometry> JobReader::Array(db::ArrayId id) {
-  auto found = arrays_.find(id);
-  if (found == arrays_.end()) {
-    CachedArray cached;
-    try {
-      cached.geometry =
-          std::make_shared<const engine::ArrayGeometry>(records::DecodeArrayRecord(catalogue_.ReadArray(id)));
-    } catch (const InputError& error) {
-      cached.error = error.what();
-    }
-    found = arrays_.emplace(id, std::move(cached)).first;
-  }
-  if (!found->second.error.empty()) throw InputError(found->second.error);
-  return found->second.geometry;
 }
 
 }  // namespace napkin::jobs

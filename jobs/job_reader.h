@@ -5,8 +5,6 @@
 #include <atomic>
 #include <deque>
 #include <exception>
-#include <map>
-#include <memory>
 #include <string>
 #include <thread>
 
@@ -33,24 +31,17 @@ class JobReader {
   bool stopped() const { return stopped_; }
 
  private:
-  struct CachedArray {
-    std::shared_ptr<const engine::ArrayGeometry> geometry;
-    std::string error;  // the array's decoding error, if any
-  };
-
   void Loop();
   ItemPtr ReadNext();
   bool Stopping();
   bool Claim();
-  std::shared_ptr<const engine::ArrayGeometry> Array(db::ArrayId id);
 
-  RunContext& context_;       // the report's read_s, reclaimed: this thread's alone until Join
-  db::Catalogue& catalogue_;  // inputs
-  db::JobQueue queue_;        // on the catalogue the results go to
+  RunContext& context_;  // the report's read_s, reclaimed: this thread's alone until Join
+  records::TestInputReader inputs_;
+  db::JobQueue queue_;  // on the catalogue the results go to
   ReadyQueue& ready_;
   ResultWriter& writer_;
   std::deque<db::Job> claimed_;
-  std::map<db::ArrayId, CachedArray> arrays_;
   std::atomic<bool> stopped_{false};
   std::exception_ptr error_;
   std::thread thread_;  // last: started after every other member is ready

@@ -134,12 +134,12 @@ void ResultWriter::Commit(const std::vector<ItemPtr>& batch) {
       case Outcome::kFailed:
         ++report.failed;
         report.samples += item.samples;
-        spdlog::warn("test '{}' failed: {}", item.external_id, *item.error);
+        spdlog::warn("test '{}' failed: {}", item.inputs.external_id, *item.error);
         break;
       case Outcome::kLost:
         ++report.lost;
         spdlog::warn("test '{}': the job's lease passed to another worker; its result was not stored",
-                     item.external_id);
+                     item.inputs.external_id);
         break;
     }
   }

@@ -20,6 +20,7 @@
 #include "db/job_queue.h"
 #include "engine/pipeline.h"
 #include "jobs/scheduler.h"
+#include "records/test_inputs.h"
 
 namespace napkin::jobs {
 
@@ -32,10 +33,7 @@ inline double SecondsSince(SteadyClock::time_point start) {
 // One test on its way through the pipeline.
 struct WorkItem {
   db::Job job;
-  std::string external_id;
-  std::shared_ptr<const engine::ArrayGeometry> array;
-  engine::TestSignals signals;
-  engine::InitialState initial;
+  records::TestInputs inputs;
   engine::ProcessedTest processed;
   std::optional<std::string> error;  // the failure sentence, if the test failed
   std::int64_t samples = 0;
@@ -157,7 +155,7 @@ class ReadyQueue {
 // write_s) and read by RunScheduler only after the stages have ended.
 struct RunContext {
   // `threads`: the compute threads (RunOptions::threads resolved).
-  RunContext(const RunProcessing& processing, const RunOptions& options, int threads,
+  RunContext(const records::ResolvedConfig& processing, const RunOptions& options, int threads,
              const ProgressCallback& progress, const std::atomic<bool>* stop)
       : processing(processing),
         options(options),
@@ -171,7 +169,7 @@ struct RunContext {
   RunContext(const RunContext&) = delete;
   RunContext& operator=(const RunContext&) = delete;
 
-  const RunProcessing& processing;  // the config (with its storage choice) and its record
+  const records::ResolvedConfig& processing;  // the config (with its storage choice) and its record
   const RunOptions& options;
   const ProgressCallback& progress;
   const std::atomic<bool>* stop;  // set by a signal handler: end after the tests in flight

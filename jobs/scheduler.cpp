@@ -59,8 +59,9 @@ void RunOptions::Check() const {
   require(poll_interval_s > 0.0, "poll_interval_s must be positive");
 }
 
-RunReport RunScheduler(const std::string& db_path, const RunProcessing& processing, const RunOptions& options,
-                       const ProgressCallback& progress, const std::atomic<bool>* stop) {
+RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig& processing,
+                       const RunOptions& options, const ProgressCallback& progress,
+                       const std::atomic<bool>* stop) {
   options.Check();
   processing.config.Check();
   RunContext context(processing, options,

@@ -41,6 +41,7 @@
 #include "db/catalogue.h"
 #include "db/job_queue.h"
 #include "engine/processing.h"
+#include "records/config_record.h"
 
 namespace napkin::jobs {
 
@@ -65,11 +66,10 @@ struct RunOptions {
   void Check() const;
 };
 
-// The processing configuration of a run.
-struct RunProcessing {
-  engine::ProcessingConfig config;
-  db::ConfigRecord record;  // name, canonical JSON and its hash (identifies the results)
-};
+// The processing configuration of a run is a records::ResolvedConfig: the
+// config (its storage choice included) and its record, whose hash identifies
+// the results. RunProcessing is only another name for it (cli/command_demo.cpp).
+using RunProcessing = records::ResolvedConfig;
 
 struct RunProgress {
   std::int64_t total = 0;   // jobs to process when the run started
@@ -110,8 +110,9 @@ struct RunReport {
 // by a signal handler) ends the run after the tests in flight. Throws
 // InputError for a catalogue that cannot be opened, db::DatabaseError when
 // the catalogue fails during the run (its leases are released first).
-RunReport RunScheduler(const std::string& db_path, const RunProcessing& processing, const RunOptions& options,
-                       const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr);
+RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig& processing,
+                       const RunOptions& options, const ProgressCallback& progress = {},
+                       const std::atomic<bool>* stop = nullptr);
 
 // "host:pid:random": unique per scheduler, readable in the jobs table.
 std::string MakeOwnerId();

@@ -39,11 +39,10 @@ void LowerComputeThreadPriority() {
 
 void ComputeTest(WorkItem& item, RunContext& context) {
   LowerComputeThreadPriority();
-  if (item.error) return;  // failed while reading
   const engine::ProcessingConfig& config = context.processing.config;
   const auto start = SteadyClock::now();
   try {
-    item.processed = engine::ProcessTest(*item.array, item.signals, item.initial, config);
+    item.processed = records::ComputeResult(item.inputs, config);
     // The verdict of engine/pipeline.h; a failed test's findings are stored
     // with its failure.
     if (const engine::Finding* failing = engine::FailingFinding(item.processed)) item.error = failing->detail;
@@ -53,7 +52,7 @@ void ComputeTest(WorkItem& item, RunContext& context) {
     // Not bad data but a failure all the same: record it and go on.
     item.error = std::string("processing failed: ") + error.what();
   }
-  item.signals = {};  // the raw samples are not needed any more: free them before the write
+  item.inputs.signals = {};  // the raw samples are not needed any more: free them before the write
   // Without derived channels to store, the writer needs only the summary:
   // free the series too, so a test waiting in the writer's batch holds a few
   // kilobytes instead of its whole kinematics.
