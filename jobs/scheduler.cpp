@@ -57,6 +57,7 @@ void RunOptions::Check() const {
   require(commit_interval_s > 0.0, "commit_interval_s must be positive");
   require(lease_s > 0.0, "lease_s must be positive");
   require(poll_interval_s > 0.0, "poll_interval_s must be positive");
+  require(static_cast<bool>(compute), "compute must be set");
 }
 
 RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig& processing,

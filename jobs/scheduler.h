@@ -11,10 +11,10 @@
 //                    time under a lease and reads each test's signals, array
 //                    and initial state ahead of the compute threads;
 //   compute        — a tbb::task_arena of exactly `threads` threads running a
-//                    tbb::parallel_pipeline of engine::ProcessTest; an
-//                    InputError (bad data) or a screening error becomes the
-//                    test's failure record; finished tests go to the writer's
-//                    queue;
+//                    tbb::parallel_pipeline of records::ComputeResult; an
+//                    InputError (bad data) or a screening error fails the
+//                    test, any other exception (a bug) stops the run;
+//                    finished tests go to the writer's queue;
 //   writer thread  — its own connection: commits results in batches (ONE
 //                    transaction per batch; each test's result row, findings,
 //                    derived channels and job state together or not at all)
@@ -42,6 +42,7 @@
 #include "db/job_queue.h"
 #include "engine/processing.h"
 #include "records/config_record.h"
+#include "records/test_inputs.h"
 
 namespace napkin::jobs {
 
@@ -61,14 +62,18 @@ struct RunOptions {
   // many nodes may share it) and the jobs and results go to this results
   // file (db/results_file.h), created if missing; empty: both in the catalogue.
   std::string results_path;
+  // The computation of one test on a compute thread: records::ComputeResult.
+  // A test puts a failing one here to see how the run handles it
+  // (tests/cli/run_internal_error_test.cpp).
+  std::function<engine::ProcessedTest(const records::TestInputs&, const engine::ProcessingConfig&)> compute =
+      records::ComputeResult;
 
   // Throws std::invalid_argument naming the field out of range.
   void Check() const;
 };
 
-// The processing configuration of a run is a records::ResolvedConfig: the
-// config (its storage choice included) and its record, whose hash identifies
-// the results. RunProcessing is only another name for it (cli/command_demo.cpp).
+// A run's processing config is a records::ResolvedConfig (the config, storage
+// choice included, and its record); RunProcessing only names it (command_demo.cpp).
 using RunProcessing = records::ResolvedConfig;
 
 struct RunProgress {
@@ -106,10 +111,10 @@ struct RunReport {
 // (with force) present (db::JobQueue::EnqueueMissing); see the file comment.
 // With options.results_path the inputs come from the catalogue at `db_path`
 // opened read-only and immutable, and everything written (config, jobs,
-// results) goes to the results file. `stop` (set
-// by a signal handler) ends the run after the tests in flight. Throws
-// InputError for a catalogue that cannot be opened, db::DatabaseError when
-// the catalogue fails during the run (its leases are released first).
+// results) goes to the results file. `stop` (set by a signal handler) ends the
+// run after the tests in flight. Throws InputError for a catalogue that cannot
+// be opened; db::DatabaseError when it fails during the run, or what a
+// computation throws but InputError (a bug), after releasing its leases.
 RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig& processing,
                        const RunOptions& options, const ProgressCallback& progress = {},
                        const std::atomic<bool>* stop = nullptr);

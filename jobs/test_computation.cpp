@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <exception>
 #include <string>
 
 #include "common/error.h"
@@ -42,15 +41,18 @@ void ComputeTest(WorkItem& item, RunContext& context) {
   const engine::ProcessingConfig& config = context.processing.config;
   const auto start = SteadyClock::now();
   try {
-    item.processed = records::ComputeResult(item.inputs, config);
+    item.processed = context.options.compute(item.inputs, config);
     // The verdict of engine/pipeline.h; a failed test's findings are stored
     // with its failure.
     if (const engine::Finding* failing = engine::FailingFinding(item.processed)) item.error = failing->detail;
   } catch (const InputError& error) {
+    // Bad data (an input, screening or plausibility error; common/error.h):
+    // the test's failure. Anything else is no property of the test but a bug
+    // in napkin (or no memory left): it leaves the pipeline and stops the
+    // run, which commits what it computed, gives its leases back and
+    // rethrows it, so the CLI reports an internal error (cli/diagnostics.h)
+    // and the test is not marked failed for a fault of its own it does not have.
     item.error = error.what();
-  } catch (const std::exception& error) {
-    // Not bad data but a failure all the same: record it and go on.
-    item.error = std::string("processing failed: ") + error.what();
   }
   item.inputs.signals = {};  // the raw samples are not needed any more: free them before the write
   // Without derived channels to store, the writer needs only the summary:
