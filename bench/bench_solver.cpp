@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "engine/solver.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 
 namespace napkin::engine {
 namespace {
@@ -42,18 +42,18 @@ ArrayGeometry DentonNap() {
 }
 
 // The record both solvers process: 20,000 samples of the displaced Denton array.
-const SyntheticTest& NapTest20000() {
-  static const SyntheticTest test = [] {
-    RandomMotionOptions motion;
+const synth::SyntheticTest& NapTest20000() {
+  static const synth::SyntheticTest test = [] {
+    synth::RandomMotionOptions motion;
     motion.seed = 1;
     motion.duration_s = 1.9999;  // 20,000 samples at 10 kHz
-    return SynthRandomMotion(DisplaceSensors(DentonNap(), 0.25 * kMetresPerInch, 1), motion);
+    return synth::SynthRandomMotion(synth::DisplaceSensors(DentonNap(), 0.25 * kMetresPerInch, 1), motion);
   }();
   return test;
 }
 
 void SolveNap20000(benchmark::State& state, SolverKind solver) {
-  const SyntheticTest& test = NapTest20000();
+  const synth::SyntheticTest& test = NapTest20000();
   SolveOptions options;
   options.solver = solver;
   options.initial = test.initial;

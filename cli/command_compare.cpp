@@ -4,9 +4,9 @@
 // "napkin compare").
 #include <fmt/core.h>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
 
 namespace napkin::cli {

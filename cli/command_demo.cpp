@@ -15,23 +15,23 @@
 #include <thread>
 #include <vector>
 
-#include "cli/catalogue_access.h"
-#include "cli/catalogue_report.h"
 #include "cli/command.h"
 #include "cli/comparison.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
+#include "cli/report_builder.h"
 #include "cli/table_output.h"
 #include "cli/transform.h"
 #include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
-#include "engine/synth.h"
 #include "engine/units.h"
 #include "formats/array_json.h"
-#include "formats/atomic_file.h"
 #include "formats/csv.h"
-#include "ingest/synth.h"
+#include "ingest/synthetic_import.h"
 #include "jobs/scheduler.h"
+#include "synth/synthetic_tests.h"
+#include "util/atomic_file.h"
 
 namespace napkin::cli {
 
@@ -94,13 +94,13 @@ constexpr const char* kDbSideSuffixes[] = {"-wal", "-shm", "-journal"};
 std::string SeedOutput(const char* as) { return std::string("seed_as_") + as + ".csv"; }
 
 // DIR/csv/<variant>/<test>.csv of a padding test (relative to DIR).
-fs::path PaddingCsvPath(const engine::ScenarioTest& test) {
+fs::path PaddingCsvPath(const synth::ScenarioTest& test) {
   return fs::path("csv") / test.variant.value_or("none") / (test.external_id + ".csv");
 }
 
 ingest::SynthPlan PaddingPlan() {
   ingest::SynthRequest padding;
-  padding.scenario = engine::SynthScenario::kPaddingSeries;
+  padding.scenario = synth::SynthScenario::kPaddingSeries;
   padding.array = kPaddingArray;
   return ingest::PlanSynth(padding);
 }
@@ -109,7 +109,7 @@ ingest::SynthPlan PaddingPlan() {
 std::vector<fs::path> DemoFiles() {
   std::vector<fs::path> files = {kDemoDb, kDemoReport, kSeedInput};
   for (const char* as : {"ideal-3222", "volpe-table4-2"}) files.emplace_back(SeedOutput(as));
-  for (const engine::ScenarioTest& test : PaddingPlan().tests) files.push_back(PaddingCsvPath(test));
+  for (const synth::ScenarioTest& test : PaddingPlan().tests) files.push_back(PaddingCsvPath(test));
   return files;
 }
 
@@ -128,7 +128,7 @@ std::vector<fs::path> StampedFiles(const fs::path& dir) {
 
 // Whether `relative` is one of `files`, a SQLite side file of the demo
 // catalogue, or a temporary file napkin's atomic writer left for one of them
-// (formats/atomic_file.h: ".NAME.tmp-...", left only when killed).
+// (util/atomic_file.h: ".NAME.tmp-...", left only when killed).
 bool IsDemoFile(const fs::path& relative, const std::vector<fs::path>& files) {
   for (const fs::path& file : files) {
     if (relative == file) return true;
@@ -197,7 +197,7 @@ bool PrepareDemoFolder(const fs::path& dir) {
 // Writes the stamp listing the files this demo writes, before it writes any
 // (so an interrupted demo's output is its own too).
 void WriteStamp(const fs::path& dir) {
-  formats::WriteFileAtomically(dir / kStampName, [&](formats::AtomicFile& file) {
+  util::WriteFileAtomically(dir / kStampName, [&](util::AtomicFile& file) {
     file.Write(std::string(kStampHeader) + "\n");
     for (const fs::path& path : DemoFiles()) file.Write(path.generic_string() + "\n");
   });
@@ -209,12 +209,12 @@ int StoreDemoTests(const std::string& db_path) {
   db::Catalogue catalogue = db::Catalogue::Open(db_path);
   int added = 0;
   ingest::SynthRequest padding;
-  padding.scenario = engine::SynthScenario::kPaddingSeries;
+  padding.scenario = synth::SynthScenario::kPaddingSeries;
   padding.array = kPaddingArray;
   added += ingest::StoreSynthTests(catalogue, ingest::PlanSynth(padding)).added;
   for (const char* geometry : kGeometries) {
     ingest::SynthRequest validation;
-    validation.scenario = engine::SynthScenario::kSeedFixedAxis;
+    validation.scenario = synth::SynthScenario::kSeedFixedAxis;
     validation.array = geometry;
     validation.series = kValidationSeries;
     validation.test_id = ValidationTestId(geometry);
@@ -228,10 +228,10 @@ int StoreDemoTests(const std::string& db_path) {
 // the README's tour of `napkin import`. Returns the folder.
 fs::path WritePaddingCsvFiles(const fs::path& dir) {
   const ingest::SynthPlan plan = PaddingPlan();
-  for (const engine::ScenarioTest& test : plan.tests) {
+  for (const synth::ScenarioTest& test : plan.tests) {
     const fs::path path = dir / PaddingCsvPath(test);
     fs::create_directories(path.parent_path());
-    formats::WriteSignalsCsv(engine::SynthScenarioTest(plan.array, plan.scenario, test).signals, path);
+    formats::WriteSignalsCsv(synth::SynthScenarioTest(plan.array, plan.scenario, test).signals, path);
   }
   return dir / "csv";
 }
@@ -295,7 +295,7 @@ void PrintValidationTable(db::Catalogue& catalogue, db::ConfigId config) {
 void PrintSeedSolverTable(const fs::path& dir) {
   fmt::print("\nseed solver (LC_COMP, Appendix B) on Table 4-2 data:\n");
   const engine::ArrayGeometry table42 = formats::LoadArray("volpe-table4-2");
-  const engine::SyntheticTest test = engine::SynthSeedFixedAxis(table42, Eigen::Vector3d(0.5, 0.5, 0.5));
+  const synth::SyntheticTest test = synth::SynthSeedFixedAxis(table42, Eigen::Vector3d(0.5, 0.5, 0.5));
   const std::string input = (dir / kSeedInput).string();
   formats::WriteSignalsCsv(test.signals, input);
   fmt::print("{:<40} {:>16} {:>16} {:>18}\n", "processed as", "peak |omega_X|", "peak |omega_Z|",
@@ -355,7 +355,7 @@ class DemoCommand : public Command {
         "  {} tests: series '{}' (oblique head impacts modelled on the report's sections 3.3 and 3.10:\n"
         "  production trim, foam-a, foam-b, {} repeats each, {} array) and series '{}' (report 4.5 on {}, "
         "{}, {})\n",
-        added, kPaddingSeries, engine::kPaddingRepeats, kPaddingArray, kValidationSeries, kGeometries[0],
+        added, kPaddingSeries, synth::kPaddingRepeats, kPaddingArray, kValidationSeries, kGeometries[0],
         kGeometries[1], kGeometries[2]);
 
     // Process them as `napkin run` does: in parallel, resumably.

@@ -12,19 +12,19 @@
 #include <string>
 #include <vector>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "common/error.h"
 #include "engine/kinematics.h"
-#include "formats/atomic_file.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
-#include "formats/text.h"
 #include "formats/uds_export.h"
 #include "records/array_record.h"
 #include "records/config_record.h"
+#include "util/atomic_file.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -69,7 +69,7 @@ class ExportCommand : public Command {
 
   int Run() override {
     const bool folder_format = format_ == "isomme" || format_ == "uds";
-    if (folder_format && out_ == formats::kStandardOutputName)
+    if (folder_format && out_ == util::kStandardOutputName)
       throw UsageError("--format " + format_ +
                        " writes a folder of files, which cannot go to standard output " +
                        "(--out -); name a folder.");
@@ -112,29 +112,28 @@ class ExportCommand : public Command {
                                           : numform_ == "sun" ? formats::UdsNumberForm::kSun
                                                               : formats::UdsNumberForm::kIeee;
       // FCUT: the class the result's channels are filtered at (docs/formats.md "UDS-1992 export").
-      const db::TestRecord record = catalogue.ReadTest(*test);
+      const db::TestRow record = catalogue.ReadTest(*test);
       const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(*test, *config);
       const formats::UdsExportFilters filters = formats::UdsFiltersOfResult(
           summary ? summary->conditioning : std::vector<engine::ChannelConditioning>{},
           records::DecodeArrayRecord(catalogue.ReadArray(record.array_id)),
           records::DecodeConfigRecord(catalogue.ReadConfig(*config)).filter);
       // The files appear beside what --out holds, none replaced unless --force
-      // (formats/atomic_file.h WriteDirectoryAtomically).
-      formats::WriteDirectoryAtomically(
+      // (util/atomic_file.h WriteDirectoryAtomically).
+      util::WriteDirectoryAtomically(
           out_,
           [&](const std::filesystem::path& staging) {
-            formats::WriteDerivedUds(*kinematics, staging, formats::FileNameComponent(test_id_), form,
-                                     filters);
+            formats::WriteDerivedUds(*kinematics, staging, util::FileNameComponent(test_id_), form, filters);
           },
           force_);
     } else {
       // The test id names the files: made safe (no separator, control
       // character, "." or ".."; docs/formats.md "Names, limits and escaping").
       const formats::IsoMmeExportOptions options = IsoMmeOptions(catalogue, *test, *config);
-      formats::WriteDirectoryAtomically(
+      util::WriteDirectoryAtomically(
           out_,
           [&](const std::filesystem::path& staging) {
-            formats::WriteDerivedIsoMme(*kinematics, staging, formats::FileNameComponent(test_id_), options);
+            formats::WriteDerivedIsoMme(*kinematics, staging, util::FileNameComponent(test_id_), options);
           },
           force_);
     }
@@ -147,7 +146,7 @@ class ExportCommand : public Command {
   // applied, and whether the array has angular-rate sensors.
   formats::IsoMmeExportOptions IsoMmeOptions(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
     formats::IsoMmeExportOptions options;
-    const db::TestRecord record = catalogue.ReadTest(test);
+    const db::TestRow record = catalogue.ReadTest(test);
     const nlohmann::json metadata = nlohmann::json::parse(record.metadata_json, nullptr, false);
     auto stored = [&](const char* key) -> std::optional<std::string> {
       if (!metadata.is_object() || !metadata.contains(key)) return std::nullopt;

@@ -11,12 +11,12 @@
 #include <memory>
 #include <optional>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/db_option.h"
 #include "cli/progress.h"
 #include "cli/triple_option.h"
-#include "formats/text.h"
 #include "ingest/import.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -64,7 +64,7 @@ class ImportCommand : public Command {
       if (result.outcome == ingest::ImportOutcome::kFailed) {
         spdlog::error("{}", result.message);
       } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
-        std::cout << formats::EscapeControl(result.message) << "\n" << std::flush;
+        std::cout << util::EscapeControl(result.message) << "\n" << std::flush;
       }
       if (progress_bar) progress_bar->Update(done, result.test_id);
     };

@@ -7,8 +7,8 @@
 
 #include <map>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "cli/query_filters.h"
 #include "cli/table_output.h"

@@ -1,12 +1,12 @@
 // `napkin report`: one self-contained HTML file of the selected tests
-// (cli/catalogue_report.h; docs/formats.md "HTML report").
+// (cli/report_builder.h; docs/formats.md "HTML report").
 #include <fmt/core.h>
 
 #include <string>
 
-#include "cli/catalogue_report.h"
 #include "cli/command.h"
-#include "formats/output_destination.h"
+#include "cli/report_builder.h"
+#include "util/output_destination.h"
 
 namespace napkin::cli {
 namespace {
@@ -30,7 +30,7 @@ class ReportCommand : public Command {
   int Run() override {
     const std::string written = WrittenReportText(WriteCatalogueReport(global_->db_path, selection_, out_));
     // With --out - the report is standard output; what was written goes to stderr.
-    fmt::print(out_ == formats::kStandardOutputName ? stderr : stdout, "{}", written);
+    fmt::print(out_ == util::kStandardOutputName ? stderr : stdout, "{}", written);
     return kExitOk;
   }
 

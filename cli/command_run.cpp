@@ -8,15 +8,15 @@
 #include <filesystem>
 #include <optional>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "cli/progress.h"
 #include "common/error.h"
 #include "db/results_file.h"
-#include "formats/output_destination.h"
-#include "formats/text.h"
 #include "jobs/scheduler.h"
+#include "util/output_destination.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -69,9 +69,9 @@ class RunCommand : public Command {
                   "also recompute results computed by another napkin version (see `napkin --version`)");
     sub->add_option("--shard", shard_, "process shard I of N (0 <= I < N) of the tests: I/N")
         ->check([](const std::string& text) {
-          return ParseShard(text) ? std::string()
-                                  : "--shard takes I/N with 0 <= I < N, e.g. 0/3; it is '" +
-                                        formats::Abbreviated(text) + "'";
+          return ParseShard(text)
+                     ? std::string()
+                     : "--shard takes I/N with 0 <= I < N, e.g. 0/3; it is '" + util::Abbreviated(text) + "'";
         });
     sub->add_option("--results", options_.results_path,
                     "read --db only (shared, immutable) and write the results to this file (created if "
@@ -85,7 +85,7 @@ class RunCommand : public Command {
     if (!shard_.empty()) options_.scope.shard = ParseShard(shard_);
     // The results file is a catalogue of its own, never the --db one's side
     // files (db::ResultsFile::Open refuses the catalogue itself).
-    if (!options_.results_path.empty()) formats::CheckNotProtected(options_.results_path);
+    if (!options_.results_path.empty()) util::CheckNotProtected(options_.results_path);
     CheckScope();
 
     const ResolvedConfig processing = ResolveConfig(config_);

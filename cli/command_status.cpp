@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "common/version.h"
 #include "db/job_queue.h"

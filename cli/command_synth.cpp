@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "cli/catalogue_access.h"
 #include "cli/command.h"
+#include "cli/db_option.h"
 #include "cli/option_checks.h"
-#include "engine/synth.h"
-#include "ingest/synth.h"
+#include "ingest/synthetic_import.h"
+#include "synth/synthetic_tests.h"
 
 namespace napkin::cli {
 namespace {
@@ -22,8 +22,8 @@ class SynthCommand : public Command {
     CLI::App* sub =
         app.add_subcommand("synth", "add synthetic tests with exact known answers to the catalogue");
     std::vector<std::string> scenarios;
-    for (const engine::SynthScenario scenario : engine::kSynthScenarios)
-      scenarios.push_back(engine::SynthScenarioName(scenario));
+    for (const synth::SynthScenario scenario : synth::kSynthScenarios)
+      scenarios.push_back(synth::SynthScenarioName(scenario));
     sub->add_option("--scenario", scenario_,
                     "seed-fixed-axis (report 4.5), seed-sequential (report 4.4), random, padding-series")
         ->required()
@@ -48,7 +48,7 @@ class SynthCommand : public Command {
   }
 
   int Run() override {
-    request_.scenario = *engine::ParseSynthScenario(scenario_);  // checked by OneOfCheck
+    request_.scenario = *synth::ParseSynthScenario(scenario_);  // checked by OneOfCheck
     const ingest::SynthPlan plan = ingest::PlanSynth(request_);
     db::Catalogue catalogue = OpenCatalogue(*global_);
     const ingest::SynthCounts counts = ingest::StoreSynthTests(catalogue, plan);

@@ -9,11 +9,11 @@
 #include <set>
 #include <string_view>
 
-#include "cli/catalogue_access.h"
+#include "cli/db_option.h"
 #include "common/error.h"
 #include "engine/summary_fields.h"
-#include "formats/text.h"
 #include "ingest/import.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -126,9 +126,9 @@ std::string HumanComparison(const Comparison& comparison) {
   const bool by_variant = comparison.by == CompareBy::kVariant;
   // Stored names are shown escaped (control characters, bytes that are not UTF-8).
   std::string out =
-      fmt::format("series {}: {} compared with {} '{}'\n", formats::EscapeControl(comparison.series),
+      fmt::format("series {}: {} compared with {} '{}'\n", util::EscapeControl(comparison.series),
                   by_variant ? "variants" : "processing configs", by_variant ? "variant" : "config",
-                  formats::EscapeControl(comparison.baseline));
+                  util::EscapeControl(comparison.baseline));
   out += by_variant ? "difference of means in % of the baseline mean, [95 % confidence interval] "
                       "(Welch's t), two-sided p\n"
                     : "mean of the per-test differences in % of the baseline's mean over the same tests, "
@@ -137,10 +137,10 @@ std::string HumanComparison(const Comparison& comparison) {
   for (const MetricComparison& metric : comparison.metrics) {
     std::vector<std::vector<std::string>> cells;
     cells.push_back({by_variant ? "variant" : "config", "n", "mean", "sd", "median", "min", "max",
-                     "vs " + formats::EscapeControl(comparison.baseline)});
+                     "vs " + util::EscapeControl(comparison.baseline)});
     for (const ComparisonRow& row : metric.rows) {
       const engine::Description& d = row.description;
-      cells.push_back({formats::EscapeControl(row.group), std::to_string(d.n), Number(d.mean), Number(d.sd),
+      cells.push_back({util::EscapeControl(row.group), std::to_string(d.n), Number(d.mean), Number(d.sd),
                        Number(d.median), Number(d.min), Number(d.max), DifferenceText(row, comparison.by)});
       if (!row.is_baseline && !std::isfinite(row.difference.diff)) small_group = true;
     }
@@ -189,7 +189,7 @@ std::vector<std::string> DefaultComparisonMetrics() {
 Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request) {
   if (!catalogue.ReadSeries(request.series)) {
     std::vector<std::string> names;
-    for (const db::SeriesRecord& series : catalogue.ReadAllSeries()) names.push_back(series.name);
+    for (const db::SeriesRow& series : catalogue.ReadAllSeries()) names.push_back(series.name);
     throw UsageError(
         "unknown series '" + request.series + "' (" +
         (names.empty() ? std::string("the catalogue has no series") : "series: " + JoinNames(names)) + ").");

@@ -30,7 +30,7 @@ struct ComparisonRequest {
   std::optional<std::string> baseline;
   // Summary field names (engine::SummaryFields()); empty: DefaultComparisonMetrics().
   std::vector<std::string> metrics;
-  // Processing configs as NAME or HASH-PREFIX (ResolveConfigSelector, cli/catalogue_access.h). By
+  // Processing configs as NAME or HASH-PREFIX (ResolveConfigSelector, cli/db_option.h). By
   // variant: at most one, whose results are compared (default: each test's
   // latest result, as `napkin query`). By config: the configs compared
   // (default: every config with results in the series).

@@ -14,7 +14,7 @@
 #include "cli/command.h"
 #include "common/error.h"
 #include "db/sqlite.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -31,7 +31,7 @@ class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
     // The one gate to stderr: control characters from file names, ids or
     // file contents are shown escaped, never sent to the terminal.
     const std::string escaped =
-        formats::EscapeControl(std::string_view(message.payload.data(), message.payload.size()));
+        util::EscapeControl(std::string_view(message.payload.data(), message.payload.size()));
     const std::string_view text(escaped);
     switch (message.level) {
       case spdlog::level::err:
@@ -76,7 +76,7 @@ int ReportOptionError(const CLI::ParseError& error) {
     text.erase(0, std::string_view("Could not convert: ").size());
     const std::size_t equals = text.find(" = ");
     if (equals != std::string::npos)
-      text = text.substr(0, equals) + " cannot be '" + formats::Abbreviated(text.substr(equals + 3)) + "'";
+      text = text.substr(0, equals) + " cannot be '" + util::Abbreviated(text.substr(equals + 3)) + "'";
   } else if (kind == "ExcludesError") {
     // "--duration excludes --samples"
     const std::size_t excludes = text.find(" excludes ");

@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 
-#include "cli/catalogue_protection.h"
 #include "cli/command.h"
+#include "cli/db_protection.h"
 #include "cli/diagnostics.h"
 #include "common/version.h"
 

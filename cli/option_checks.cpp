@@ -5,14 +5,14 @@
 #include <limits>
 #include <optional>
 
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
 
 // The value as typed, quoted and cut like all quoted input (docs/formats.md
 // "Names, limits and escaping").
-std::string Quoted(const std::string& text) { return "'" + formats::Abbreviated(text) + "'"; }
+std::string Quoted(const std::string& text) { return "'" + util::Abbreviated(text) + "'"; }
 
 }  // namespace
 
@@ -32,13 +32,13 @@ CLI::Validator WholeNumberCheck(const std::string& option, long long minimum, lo
                                  : "from " + std::to_string(minimum) + " to " + std::to_string(maximum);
   return CLI::Validator(
       [=](std::string& text) -> std::string {
-        const std::optional<long long> number = formats::ParseInteger(text);
+        const std::optional<long long> number = util::ParseInteger(text);
         if (!number) return option + " must be a whole number " + bounds + "; it is " + Quoted(text);
         if (*number < minimum || (!int_maximum && *number > maximum))
-          return option + " must be " + bounds + "; it is " + formats::Abbreviated(text);
+          return option + " must be " + bounds + "; it is " + util::Abbreviated(text);
         if (*number > maximum)
           return option + " must be at most " + std::to_string(maximum) + "; it is " +
-                 formats::Abbreviated(text);
+                 util::Abbreviated(text);
         return {};
       },
       "INT " + bounds);
@@ -47,10 +47,10 @@ CLI::Validator WholeNumberCheck(const std::string& option, long long minimum, lo
 CLI::Validator PositiveNumberCheck(const std::string& option) {
   return CLI::Validator(
       [=](std::string& text) -> std::string {
-        const std::optional<double> number = formats::ParseDouble(text);
+        const std::optional<double> number = util::ParseDouble(text);
         if (!number || !std::isfinite(*number))
           return option + " must be a number above 0; it is " + Quoted(text);
-        if (*number <= 0.0) return option + " must be above 0; it is " + formats::Abbreviated(text);
+        if (*number <= 0.0) return option + " must be above 0; it is " + util::Abbreviated(text);
         return {};
       },
       "NUMBER above 0");

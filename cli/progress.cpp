@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -33,7 +33,7 @@ bool ProgressBar::WantedOnStderr(bool quiet) { return !quiet && StderrIsTerminal
 
 void ProgressBar::Update(std::size_t done, const std::string& raw_label) {
   if (!enabled_) return;
-  const std::string label = formats::EscapeControl(raw_label);
+  const std::string label = util::EscapeControl(raw_label);
   done = std::min(done, total_);
   const std::size_t filled = done * kBarWidth / total_;
   std::string line = "\r[";

@@ -5,10 +5,10 @@
 #include <charconv>
 #include <system_error>
 
-#include "cli/catalogue_access.h"
-#include "cli/where_expression.h"
+#include "cli/db_option.h"
+#include "cli/where_parser.h"
 #include "common/error.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -67,15 +67,15 @@ db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField
   if (colon != std::string_view::npos) {
     const std::string direction = Lowercase(std::string(text.substr(colon + 1)));
     if (direction != "asc" && direction != "desc")
-      throw UsageError("--sort \"" + formats::Abbreviated(text) +
+      throw UsageError("--sort \"" + util::Abbreviated(text) +
                        "\": the direction after ':' is asc or desc, not '" +
-                       formats::Abbreviated(text.substr(colon + 1)) + "'.");
+                       util::Abbreviated(text.substr(colon + 1)) + "'.");
     key.descending = direction == "desc";
   }
   if (std::none_of(fields.begin(), fields.end(),
                    [&](const db::QueryField& f) { return f.name == key.field; }))
-    throw UsageError("--sort \"" + formats::Abbreviated(text) + "\": unknown field '" +
-                     formats::Abbreviated(key.field) + "'; the fields are " + FieldList(fields) + ".");
+    throw UsageError("--sort \"" + util::Abbreviated(text) + "\": unknown field '" +
+                     util::Abbreviated(key.field) + "'; the fields are " + FieldList(fields) + ".");
   return key;
 }
 
@@ -83,7 +83,7 @@ std::int64_t ParseRowLimit(std::string_view text) {
   std::int64_t limit = -1;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), limit);
   if (error != std::errc() || end != text.data() + text.size() || limit < 0)
-    throw UsageError("--limit takes a whole number of rows, 0 or more, not '" + formats::Abbreviated(text) +
+    throw UsageError("--limit takes a whole number of rows, 0 or more, not '" + util::Abbreviated(text) +
                      "'.");
   return limit;
 }

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
@@ -29,7 +29,7 @@ std::string HumanText(const db::Cell& cell) {
         } else if constexpr (std::is_same_v<T, double>) {
           return fmt::format("{:.6g}", value);
         } else {
-          return formats::EscapeControl(value);  // no terminal escape sequence reaches the screen
+          return util::EscapeControl(value);  // no terminal escape sequence reaches the screen
         }
       },
       cell);
@@ -54,9 +54,9 @@ std::string CsvText(const db::Cell& cell) {
         } else if constexpr (std::is_same_v<T, std::int64_t>) {
           return std::to_string(value);
         } else if constexpr (std::is_same_v<T, double>) {
-          return std::isfinite(value) ? formats::FormatNumber(value) : "";
+          return std::isfinite(value) ? util::FormatNumber(value) : "";
         } else {
-          return CsvField(formats::EscapeControl(value));
+          return CsvField(util::EscapeControl(value));
         }
       },
       cell);

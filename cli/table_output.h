@@ -22,7 +22,7 @@ TableFormat ParseTableFormat(std::string_view text);
 // kJson: an array with one object per row, keys the column names in column
 // order, numbers as numbers (non-finite ones and NULL as null), text as strings.
 // Text cells of kTable and kCsv have their control characters escaped
-// (formats::EscapeControl: "\x1b", "\n", ...), so stored text can never
+// (util::EscapeControl: "\x1b", "\n", ...), so stored text can never
 // send escape sequences to a terminal or break a CSV line; kJson escapes
 // them as JSON does. Every form ends with a newline.
 std::string FormatTable(const db::Table& table, TableFormat format);

@@ -4,17 +4,17 @@
 #include <filesystem>
 #include <optional>
 
-#include "cli/catalogue_access.h"
+#include "cli/db_option.h"
 #include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
 #include "engine/solver.h"
 #include "formats/array_json.h"
-#include "formats/atomic_file.h"
 #include "formats/csv.h"
 #include "formats/lsdyna.h"
-#include "formats/output_destination.h"
 #include "formats/summary_json.h"
+#include "util/atomic_file.h"
+#include "util/output_destination.h"
 
 namespace napkin::cli {
 namespace fs = std::filesystem;
@@ -38,7 +38,7 @@ TransformReport RunTransform(const TransformOptions& options) {
   // One stream cannot carry two files (docs/formats.md "Output destinations").
   int to_standard_output = 0;
   for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
-    to_standard_output += *output == formats::kStandardOutputName;
+    to_standard_output += *output == util::kStandardOutputName;
   if (to_standard_output > 1)
     throw UsageError("only one of --out, --summary and --lsdyna can be standard output (-).");
   const engine::ArrayGeometry array = formats::LoadArray(options.array);
@@ -88,11 +88,11 @@ TransformReport RunTransform(const TransformOptions& options) {
   // output behind. A name that was there before is never removed (it may be
   // the user's FIFO, device or link; napkin removes only files it wrote).
   for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
-    if (!output->empty()) formats::ResolveOutputDestination(*output);  // refused before anything is written
+    if (!output->empty()) util::ResolveOutputDestination(*output);  // refused before anything is written
   std::vector<fs::path> created;
   auto is_new = [](const std::string& path) {
     std::error_code error;
-    return path != formats::kStandardOutputName && !fs::exists(fs::symlink_status(path, error));
+    return path != util::kStandardOutputName && !fs::exists(fs::symlink_status(path, error));
   };
   try {
     const bool out_new = is_new(options.out);
@@ -100,8 +100,7 @@ TransformReport RunTransform(const TransformOptions& options) {
     if (out_new) created.emplace_back(options.out);
     if (!options.summary.empty()) {
       const bool summary_new = is_new(options.summary);
-      formats::WriteFileAtomically(options.summary,
-                                   [&](formats::AtomicFile& file) { file.Write(summary_text); });
+      util::WriteFileAtomically(options.summary, [&](util::AtomicFile& file) { file.Write(summary_text); });
       if (summary_new) created.emplace_back(options.summary);
     }
     if (!options.lsdyna.empty()) formats::WriteLsDynaKeyword(report.kinematics, options.lsdyna);

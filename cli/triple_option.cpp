@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 
@@ -11,7 +11,7 @@ std::optional<std::vector<double>> ParseTriple(std::string_view text) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = text.find(',', start);
-    const std::optional<double> value = formats::ParseDouble(
+    const std::optional<double> value = util::ParseDouble(
         text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
     if (!value || !std::isfinite(*value)) return std::nullopt;
     values.push_back(*value);
@@ -31,7 +31,7 @@ CLI::Option* AddTripleOption(CLI::App* command, const std::string& name, std::ve
             const std::optional<std::vector<double>> parsed = ParseTriple(text);
             if (!parsed)
               throw CLI::ValidationError(name, name + " needs three comma-separated numbers, e.g. " + name +
-                                                   "=0.1,0,-0.2; it is '" + formats::Abbreviated(text) + "'");
+                                                   "=0.1,0,-0.2; it is '" + util::Abbreviated(text) + "'");
             values = *parsed;
           },
           description)

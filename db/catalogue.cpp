@@ -81,8 +81,8 @@ constexpr const char* kTestColumns =
     "t.omega_x_radps, t.omega_y_radps, t.omega_z_radps, "
     "t.source_path, t.content_hash, t.imported_at";
 
-TestRecord ReadTestRow(const Statement& row) {
-  TestRecord test;
+TestRow ReadTestRow(const Statement& row) {
+  TestRow test;
   test.id = TestId{row.ColumnInt64(0)};
   test.external_id = row.ColumnText(1);
   test.series = row.ColumnOptionalText(2);
@@ -213,16 +213,16 @@ SeriesId Catalogue::WriteSeries(const std::string& name, const std::string& desc
   return id;
 }
 
-std::optional<SeriesRecord> Catalogue::ReadSeries(const std::string& name) {
+std::optional<SeriesRow> Catalogue::ReadSeries(const std::string& name) {
   auto select = connection_.Prepare("SELECT id, name, description FROM series WHERE name = ?1");
   select->Bind(1, name);
   if (!select->Step()) return std::nullopt;
-  return SeriesRecord{SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)};
+  return SeriesRow{SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)};
 }
 
-std::vector<SeriesRecord> Catalogue::ReadAllSeries() {
+std::vector<SeriesRow> Catalogue::ReadAllSeries() {
   auto select = connection_.Prepare("SELECT id, name, description FROM series ORDER BY name");
-  std::vector<SeriesRecord> series;
+  std::vector<SeriesRow> series;
   while (select->Step())
     series.push_back({SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)});
   return series;
@@ -230,7 +230,7 @@ std::vector<SeriesRecord> Catalogue::ReadAllSeries() {
 
 // ------------------------------------------------------------------- arrays
 
-ArrayId Catalogue::WriteArray(const ArrayRecord& array) {
+ArrayId Catalogue::WriteArray(const ArrayRow& array) {
   Transaction transaction(connection_);
   {
     auto valid = connection_.Prepare("SELECT json_valid(?1)");
@@ -257,18 +257,18 @@ ArrayId Catalogue::WriteArray(const ArrayRecord& array) {
   return id;
 }
 
-ArrayRecord Catalogue::ReadArray(ArrayId id) {
+ArrayRow Catalogue::ReadArray(ArrayId id) {
   auto select =
       connection_.Prepare("SELECT name, definition_json, definition_hash FROM arrays WHERE id = ?1");
   select->Bind(1, id);
   if (!select->Step())
     throw InputError("array #" + std::to_string(static_cast<std::int64_t>(id)) + " is not in the catalogue.");
-  return ArrayRecord{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2)};
+  return ArrayRow{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2)};
 }
 
 // -------------------------------------------------------------------- tests
 
-TestId Catalogue::WriteTest(const TestRecord& test) {
+TestId Catalogue::WriteTest(const TestRow& test) {
   Transaction transaction(connection_);
   {
     auto existing = connection_.Prepare("SELECT source_path FROM tests WHERE external_id = ?1");
@@ -343,7 +343,7 @@ std::string NameOfTest(Connection& connection, TestId id) {
   return "a test removed from the catalogue meanwhile";
 }
 
-TestRecord Catalogue::ReadTest(TestId id) {
+TestRow Catalogue::ReadTest(TestId id) {
   auto select =
       connection_.Prepare(std::string("SELECT ") + kTestColumns +
                           " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE t.id = ?1");
@@ -354,12 +354,12 @@ TestRecord Catalogue::ReadTest(TestId id) {
   return ReadTestRow(*select);
 }
 
-std::vector<TestRecord> Catalogue::ReadAllTests(const TestFilter& filter) {
+std::vector<TestRow> Catalogue::ReadAllTests(const TestFilter& filter) {
   auto select = connection_.Prepare(std::string("SELECT ") + kTestColumns +
                                     " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
                                     internal::kTestFilterTerms + " ORDER BY t.external_id");
   internal::BindTestFilter(*select, filter);
-  std::vector<TestRecord> tests;
+  std::vector<TestRow> tests;
   while (select->Step()) tests.push_back(ReadTestRow(*select));
   return tests;
 }
@@ -452,7 +452,7 @@ engine::TestSignals Catalogue::ReadTestSignals(TestId test) {
 
 // ------------------------------------------------------------------ configs
 
-ConfigId Catalogue::WriteConfig(const ConfigRecord& config) {
+ConfigId Catalogue::WriteConfig(const ConfigRow& config) {
   Transaction transaction(connection_);
   {
     auto valid = connection_.Prepare("SELECT json_valid(?1)");
@@ -479,15 +479,15 @@ ConfigId Catalogue::WriteConfig(const ConfigRecord& config) {
   return id;
 }
 
-ConfigRecord Catalogue::ReadConfig(ConfigId id) {
+ConfigRow Catalogue::ReadConfig(ConfigId id) {
   auto select =
       connection_.Prepare("SELECT name, config_json, config_hash, created_at FROM configs WHERE id = ?1");
   select->Bind(1, id);
   if (!select->Step())
     throw InputError("processing config #" + std::to_string(static_cast<std::int64_t>(id)) +
                      " is not in the catalogue.");
-  return ConfigRecord{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2),
-                      select->ColumnText(3)};
+  return ConfigRow{id, select->ColumnText(0), select->ColumnText(1), select->ColumnText(2),
+                   select->ColumnText(3)};
 }
 
 std::optional<ConfigId> Catalogue::FindConfigByHash(const std::string& config_hash) {
@@ -497,10 +497,10 @@ std::optional<ConfigId> Catalogue::FindConfigByHash(const std::string& config_ha
   return ConfigId{select->ColumnInt64(0)};
 }
 
-std::vector<ConfigRecord> Catalogue::ReadAllConfigs() {
+std::vector<ConfigRow> Catalogue::ReadAllConfigs() {
   auto select =
       connection_.Prepare("SELECT id, name, config_json, config_hash, created_at FROM configs ORDER BY id");
-  std::vector<ConfigRecord> configs;
+  std::vector<ConfigRow> configs;
   while (select->Step())
     configs.push_back({ConfigId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2),
                        select->ColumnText(3), select->ColumnText(4)});

@@ -32,14 +32,14 @@ enum class ArrayId : std::int64_t {};
 enum class TestId : std::int64_t {};
 enum class ConfigId : std::int64_t {};
 
-struct SeriesRecord {
+struct SeriesRow {
   SeriesId id{};
   std::string name;
   std::string description;
 };
 
 // An accelerometer array definition (docs/formats.md), deduplicated by hash.
-struct ArrayRecord {
+struct ArrayRow {
   ArrayId id{};                 // set by WriteArray / ReadArray
   std::string name;             // e.g. "denton-3222"
   std::string definition_json;  // canonical JSON
@@ -47,7 +47,7 @@ struct ArrayRecord {
 };
 
 // A processing configuration, deduplicated by hash.
-struct ConfigRecord {
+struct ConfigRow {
   ConfigId id{};            // set by WriteConfig / ReadConfig
   std::string name;         // e.g. "default"
   std::string config_json;  // canonical JSON
@@ -55,7 +55,7 @@ struct ConfigRecord {
   std::string created_at;   // ISO-8601 UTC, set by WriteConfig
 };
 
-struct TestRecord {
+struct TestRow {
   TestId id{};                        // set by WriteTest / ReadTest
   std::string external_id;            // the user's test id ("v0001"); unique
   std::optional<std::string> series;  // series name; created on write if new
@@ -203,25 +203,25 @@ class Catalogue {
   // ---- series
   // Returns the series' key, creating it if new (an existing description is kept).
   SeriesId WriteSeries(const std::string& name, const std::string& description = "");
-  std::optional<SeriesRecord> ReadSeries(const std::string& name);
+  std::optional<SeriesRow> ReadSeries(const std::string& name);
   // Every series, in name order.
-  std::vector<SeriesRecord> ReadAllSeries();
+  std::vector<SeriesRow> ReadAllSeries();
 
   // ---- arrays
   // Returns the key of the array with this hash, inserting it if new.
-  ArrayId WriteArray(const ArrayRecord& array);
-  ArrayRecord ReadArray(ArrayId id);
+  ArrayId WriteArray(const ArrayRow& array);
+  ArrayRow ReadArray(ArrayId id);
 
   // ---- tests
   // Inserts a test (creating its series if new). Throws InputError when its
   // external id or content hash is already in the catalogue, or its metadata
   // is not a JSON object.
-  TestId WriteTest(const TestRecord& test);
+  TestId WriteTest(const TestRow& test);
   bool ExistsTestByHash(const std::string& content_hash);
   bool ExistsTestByExternalId(const std::string& external_id);
   std::optional<TestId> FindTestByExternalId(const std::string& external_id);
-  TestRecord ReadTest(TestId id);
-  std::vector<TestRecord> ReadAllTests(const TestFilter& filter = {});
+  TestRow ReadTest(TestId id);
+  std::vector<TestRow> ReadAllTests(const TestFilter& filter = {});
 
   // ---- raw channels
   // Stores (replacing) the test's channels: one row per slot, samples as
@@ -235,11 +235,11 @@ class Catalogue {
 
   // ---- configs
   // Returns the key of the config with this hash, inserting it if new.
-  ConfigId WriteConfig(const ConfigRecord& config);
-  ConfigRecord ReadConfig(ConfigId id);
+  ConfigId WriteConfig(const ConfigRow& config);
+  ConfigRow ReadConfig(ConfigId id);
   std::optional<ConfigId> FindConfigByHash(const std::string& config_hash);
   // Every config, in key (creation) order.
-  std::vector<ConfigRecord> ReadAllConfigs();
+  std::vector<ConfigRow> ReadAllConfigs();
 
   // ---- results
   // Stores (replacing) the test's summary, findings and conditioning record

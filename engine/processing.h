@@ -11,7 +11,7 @@
 
 #include "engine/array_geometry.h"
 #include "engine/cfc_filter.h"
-#include "engine/conditioning_record.h"
+#include "engine/channel_conditioning.h"
 #include "engine/signals.h"
 #include "engine/solver.h"
 #include "engine/summary.h"

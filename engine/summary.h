@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/conditioning_record.h"
+#include "engine/channel_conditioning.h"
 #include "engine/kinematics.h"
 #include "engine/vocabulary.h"
 

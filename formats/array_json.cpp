@@ -8,9 +8,9 @@
 
 #include "common/error.h"
 #include "engine/units.h"
-#include "formats/atomic_file.h"
 #include "formats/json_file.h"
-#include "formats/text.h"
+#include "util/atomic_file.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -58,10 +58,10 @@ Eigen::Vector3d RequireVector3(const json& value, const char* key, const std::st
   return vector;
 }
 
-// Names are printable and of sane length (formats::CheckName).
+// Names are printable and of sane length (util::CheckName).
 void CheckJsonName(const std::string& source, const std::string& what, const std::string& name) {
   try {
-    CheckName(what, name);
+    util::CheckName(what, name);
   } catch (const InputError& error) {
     std::string problem = error.what();
     problem.pop_back();  // Fail adds the full stop
@@ -171,7 +171,7 @@ json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_uni
 void WriteArrayJson(const engine::ArrayGeometry& array, const std::filesystem::path& path,
                     std::string_view length_unit) {
   const std::string text = ArrayToJson(array, length_unit).dump(2) + "\n";
-  WriteFileAtomically(path, [&](AtomicFile& file) { file.Write(text); });
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) { file.Write(text); });
 }
 
 std::filesystem::path DefaultConfigDir() {

@@ -7,13 +7,15 @@
 #include "engine/units.h"
 #include "formats/array_json.h"
 #include "formats/json_file.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
 
-// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
-std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (util/text.h).
+std::string Quoted(std::string_view text) {
+  return "\"" + util::Abbreviated(text, util::kQuotedInputLongChars) + "\"";
+}
 
 }  // namespace
 
@@ -23,8 +25,9 @@ std::string RawChannel::Label() const {
 }
 
 std::optional<SignalUnit> ParseSignalUnit(std::string_view unit, const std::string& where) {
-  const std::string_view trimmed = Trim(unit);
-  if (trimmed.empty() || EqualsIgnoreCase(trimmed, "NOVALUE") || EqualsIgnoreCase(trimmed, "NONE"))
+  const std::string_view trimmed = util::Trim(unit);
+  if (trimmed.empty() || util::EqualsIgnoreCase(trimmed, "NOVALUE") ||
+      util::EqualsIgnoreCase(trimmed, "NONE"))
     return std::nullopt;
   if (const std::optional<SignalUnit> parsed = engine::SignalUnitToSi(trimmed)) return parsed;
   throw InputError(
@@ -54,7 +57,7 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
     if (!name->is_string()) fail("\"name\" must be a string");
     map.name = name->get<std::string>();
     try {
-      CheckName("the channel map's \"name\"", map.name);
+      util::CheckName("the channel map's \"name\"", map.name);
     } catch (const InputError& error) {
       std::string problem = error.what();
       problem.pop_back();  // fail adds the full stop
@@ -90,7 +93,7 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
                                      {"column", &entry.column}}) {
       if (const auto it = value.find(key); it != value.end()) {
         if (!it->is_string()) fail(where + ": \"" + key + "\" must be a string");
-        *field = std::string(Trim(it->get<std::string>()));
+        *field = std::string(util::Trim(it->get<std::string>()));
       }
     }
     if (entry.codes.empty() && entry.senatt.empty() && entry.column.empty())
@@ -111,10 +114,10 @@ ChannelMap LoadChannelMap(std::string_view name_or_path) {
 }
 
 bool CodeMatches(std::string_view pattern, std::string_view code) {
-  code = Trim(code);
+  code = util::Trim(code);
   if (pattern.size() != code.size()) return false;
   for (std::size_t i = 0; i < pattern.size(); ++i)
-    if (pattern[i] != '?' && !EqualsIgnoreCase(pattern.substr(i, 1), code.substr(i, 1))) return false;
+    if (pattern[i] != '?' && !util::EqualsIgnoreCase(pattern.substr(i, 1), code.substr(i, 1))) return false;
   return true;
 }
 
@@ -123,8 +126,8 @@ bool EntryMatches(const ChannelMapEntry& entry, const RawChannel& channel, engin
   if (!channel.code.empty()) {
     for (const std::string& pattern : entry.codes) matched = matched || CodeMatches(pattern, channel.code);
   } else if (!entry.senatt.empty()) {
-    matched = EqualsIgnoreCase(Trim(channel.senatt), entry.senatt) &&
-              (entry.axis.empty() || EqualsIgnoreCase(Trim(channel.axis), entry.axis));
+    matched = util::EqualsIgnoreCase(util::Trim(channel.senatt), entry.senatt) &&
+              (entry.axis.empty() || util::EqualsIgnoreCase(util::Trim(channel.axis), entry.axis));
   }
   if (!matched) return false;
   // The unit tells accelerations from angular rates where codes or SENATT/AXIS
@@ -189,17 +192,18 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
   for (const std::size_t c : channel_of_sensor) {
     const RawChannel& channel = channels.at(c);
     if (!(channel.dt_s > 0.0) || !std::isfinite(channel.dt_s))
-      throw InputError(channel.Label() + ": the sampling interval " + FormatNumber(channel.dt_s) +
+      throw InputError(channel.Label() + ": the sampling interval " + util::FormatNumber(channel.dt_s) +
                        " s is not a finite positive number.");
     if (std::abs(channel.dt_s - dt) > 1e-6 * dt)
       throw InputError("test " + test_name + ": " + first.Label() + " is sampled every " +
-                       FormatNumber(dt, 9) + " s but " + channel.Label() + " every " +
-                       FormatNumber(channel.dt_s, 9) + " s; channels must share the sampling interval.");
+                       util::FormatNumber(dt, 9) + " s but " + channel.Label() + " every " +
+                       util::FormatNumber(channel.dt_s, 9) +
+                       " s; channels must share the sampling interval.");
     const double offset = (channel.t0_s - first.t0_s) / dt;
     if (std::abs(offset - std::round(offset)) > 1e-3)
       throw InputError("test " + test_name + ": " + channel.Label() + " starts at " +
-                       FormatNumber(channel.t0_s, 9) + " s, not on the sampling grid of " + first.Label() +
-                       " (first sample at " + FormatNumber(first.t0_s, 9) + " s).");
+                       util::FormatNumber(channel.t0_s, 9) + " s, not on the sampling grid of " +
+                       first.Label() + " (first sample at " + util::FormatNumber(first.t0_s, 9) + " s).");
     if (channel.values.empty()) throw InputError(channel.Label() + ": the channel has no samples.");
     start = std::max(start, channel.t0_s);
     end = std::min(end, channel.t0_s + static_cast<double>(channel.values.size() - 1) * dt);
@@ -208,7 +212,7 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
   if (!(end >= start) || count < 2)
     throw InputError("test " + test_name +
                      ": the channels do not overlap in time for two samples or more (common span " +
-                     FormatNumber(start, 9) + " s to " + FormatNumber(end, 9) + " s).");
+                     util::FormatNumber(start, 9) + " s to " + util::FormatNumber(end, 9) + " s).");
   if (notes != nullptr) {
     // Channels of different spans are cropped to the common span, and the test says so
     // (docs/formats.md "ISO-MME (ISO/TS 13499) input").
@@ -224,8 +228,8 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
     if (!cropped.empty())
       notes->push_back("test " + test_name +
                        ": the channels' time spans differ; all were cropped to the common span " +
-                       FormatNumber(start, 9) + " s to " + FormatNumber(end, 9) + " s, dropping samples of " +
-                       cropped + ".");
+                       util::FormatNumber(start, 9) + " s to " + util::FormatNumber(end, 9) +
+                       " s, dropping samples of " + cropped + ".");
   }
 
   engine::TestSignals signals;

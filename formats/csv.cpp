@@ -6,9 +6,9 @@
 
 #include "common/error.h"
 #include "engine/units.h"
-#include "formats/atomic_file.h"
 #include "formats/json_file.h"
-#include "formats/text.h"
+#include "util/atomic_file.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -36,14 +36,14 @@ void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
 }
 
 std::string_view Unquote(std::string_view text) {
-  text = Trim(text);
+  text = util::Trim(text);
   if (text.size() >= 2 && text.front() == '"' && text.back() == '"')
-    text = Trim(text.substr(1, text.size() - 2));
+    text = util::Trim(text.substr(1, text.size() - 2));
   return text;
 }
 
-// Input quoted in a message: escaped and cut (formats/text.h Abbreviated).
-std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text) + "\""; }
+// Input quoted in a message: escaped and cut (util/text.h Abbreviated).
+std::string Quoted(std::string_view text) { return "\"" + util::Abbreviated(text) + "\""; }
 
 // The column `slot` is read from: its mapping in `columns`, else its own name.
 const std::string& ColumnOf(const std::string& slot, const CsvColumnMap& columns) {
@@ -64,9 +64,10 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
   CsvColumnMap columns;
   for (const std::string& option : options) {
     const std::size_t equals = option.find('=');
-    const std::string slot = equals == std::string::npos ? "" : std::string(Trim(option.substr(0, equals)));
+    const std::string slot =
+        equals == std::string::npos ? "" : std::string(util::Trim(option.substr(0, equals)));
     const std::string column =
-        equals == std::string::npos ? "" : std::string(Trim(option.substr(equals + 1)));
+        equals == std::string::npos ? "" : std::string(util::Trim(option.substr(equals + 1)));
     if (slot.empty() || column.empty())
       throw UsageError("--column takes SLOT=NAME (the CSV column NAME feeds slot SLOT), not " +
                        Quoted(option) + ".");
@@ -79,7 +80,7 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
 
 CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array,
                           const CsvColumnMap& column_map) {
-  const std::string file = EscapeControl(path.string());
+  const std::string file = util::EscapeControl(path.string());
   std::string text = ReadWholeFile(path);
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
 
@@ -104,7 +105,7 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
     if (line.size() > kMaxLineBytes)
       throw InputError(file + ": line " + std::to_string(line_number) + " is " + std::to_string(line.size()) +
                        " bytes long, more than the 1 MiB napkin accepts for one line (header or row).");
-    const std::string_view trimmed = Trim(line);
+    const std::string_view trimmed = util::Trim(line);
     if (trimmed.empty() || trimmed.front() == '#') continue;
     SplitFields(line, fields);
 
@@ -176,12 +177,12 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
                        std::to_string(fields.size()) + " values but the header has " +
                        std::to_string(header.size()) + " columns.");
     auto parse = [&](int field) {
-      const std::string_view value = Trim(fields[field]);
+      const std::string_view value = util::Trim(fields[field]);
       const std::string& column = header[field];
       if (value.empty())
         throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) +
                          " is empty.");
-      const std::optional<double> number = ParseDouble(value);
+      const std::optional<double> number = util::ParseDouble(value);
       if (!number)
         throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + ": " +
                          Quoted(value) + " is not a number.");
@@ -203,18 +204,20 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
   // Strictly increasing, then uniformly spaced around the mean interval.
   for (std::size_t k = 1; k < time.size(); ++k)
     if (!(time[k] > time[k - 1]))
-      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": time_s " + FormatNumber(time[k]) +
-                       " does not increase over the previous row's " + FormatNumber(time[k - 1]) + ".");
+      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": time_s " +
+                       util::FormatNumber(time[k]) + " does not increase over the previous row's " +
+                       util::FormatNumber(time[k - 1]) + ".");
   const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
   if (!(std::isfinite(dt) && dt > 0.0))
-    throw InputError(file + ": time_s runs from " + FormatNumber(time.front()) + " s to " +
-                     FormatNumber(time.back()) + " s, so the sampling interval " + FormatNumber(dt) +
-                     " s is not a finite positive number; check the time column.");
+    throw InputError(file + ": time_s runs from " + util::FormatNumber(time.front()) + " s to " +
+                     util::FormatNumber(time.back()) + " s, so the sampling interval " +
+                     util::FormatNumber(dt) + " s is not a finite positive number; check the time column.");
   for (std::size_t k = 1; k < time.size(); ++k) {
     const double step = time[k] - time[k - 1];
     if (std::abs(step - dt) > kMaxRelativeJitter * dt)
       throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": the time step " +
-                       FormatNumber(step, 9) + " s differs from the mean step " + FormatNumber(dt, 9) +
+                       util::FormatNumber(step, 9) + " s differs from the mean step " +
+                       util::FormatNumber(dt, 9) +
                        " s by more than 1e-6 (relative); samples must be uniformly spaced.");
   }
 
@@ -231,17 +234,17 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
 void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::path& path) {
   if (static_cast<Eigen::Index>(signals.slots.size()) != signals.samples.cols())
     throw InputError(path.string() + ": cannot write signals whose slot names do not match their columns.");
-  WriteFileAtomically(path, [&](AtomicFile& file) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
     std::string line = "time_s";
     for (const std::string& slot : signals.slots) line += "," + slot;
     line += '\n';
     file.Write(line);
     for (Eigen::Index k = 0; k < signals.size(); ++k) {
       line.clear();
-      AppendNumber(line, signals.TimeAt(k));
+      util::AppendNumber(line, signals.TimeAt(k));
       for (Eigen::Index c = 0; c < signals.samples.cols(); ++c) {
         line += ',';
-        AppendNumber(line, signals.samples(k, c));
+        util::AppendNumber(line, signals.samples(k, c));
       }
       line += '\n';
       file.Write(line);
@@ -293,7 +296,7 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
   // file readable and well inside the precision of the solution.
   constexpr int kDigits = 12;
   const Eigen::Index n = kinematics.size();
-  WriteFileAtomically(path, [&](AtomicFile& file) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
     std::string line;
     for (std::size_t i = 0; i < DerivedCsvColumns().size(); ++i) {
       if (i > 0) line += ',';
@@ -307,7 +310,7 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
     const bool rotation = engine::HasRotation(kinematics);
     auto append = [&](double value) {
       line += ',';
-      if (std::isfinite(value)) AppendNumber(line, value, kDigits);
+      if (std::isfinite(value)) util::AppendNumber(line, value, kDigits);
     };
     auto append3 = [&](const engine::Series3& series, Eigen::Index k, double scale) {
       for (int c = 0; c < 3; ++c) append(series(k, c) * scale);
@@ -317,7 +320,7 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem
     const double g_per_si = 1.0 / engine::kStandardGravity;
     for (Eigen::Index k = 0; k < n; ++k) {
       line.clear();
-      AppendNumber(line, kinematics.time_s[k], kDigits);
+      util::AppendNumber(line, kinematics.time_s[k], kDigits);
       if (!rotation) {
         line.append(4 * 3, ',');  // omega_body to alpha_fixed
         append3(kinematics.acc_body, k, g_per_si);

@@ -15,9 +15,9 @@
 #include "common/error.h"
 #include "engine/display_reduction.h"
 #include "engine/units.h"
-#include "formats/atomic_file.h"
 #include "formats/report_assets.h"
-#include "formats/text.h"
+#include "util/atomic_file.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -28,7 +28,7 @@ using nlohmann::json;
 // embedded data stays small. Tables show the stored values.
 double ForDisplay(double value) {
   if (!std::isfinite(value)) return value;  // null in the JSON: a gap in the trace
-  return ParseDouble(FormatNumber(value, 6)).value_or(value);
+  return util::ParseDouble(util::FormatNumber(value, 6)).value_or(value);
 }
 
 // A number for a table: about four significant digits, no exponent for the
@@ -37,7 +37,7 @@ std::string Display(double value) {
   if (!std::isfinite(value)) return "—";
   if (value == 0.0) return "0";
   const double magnitude = std::abs(value);
-  if (magnitude < 1e-3) return FormatNumber(value, 3);
+  if (magnitude < 1e-3) return util::FormatNumber(value, 3);
   const int decimals = std::clamp(3 - static_cast<int>(std::floor(std::log10(magnitude))), 0, 6);
   char text[64];
   std::snprintf(text, sizeof text, "%.*f", decimals, value);
@@ -667,7 +667,7 @@ void WriteHtmlReport(const ReportHeader& header, std::span<const ReportCompariso
 
 void WriteHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
                      std::span<const ReportTest> tests, const std::filesystem::path& path) {
-  WriteFileAtomically(path, [&](AtomicFile& file) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
     WriteHtmlReport(header, comparisons, tests, [&file](std::string_view text) { file.Write(text); });
   });
 }

@@ -7,7 +7,7 @@
 // and settings, finding details) is escaped against HTML and script injection.
 //
 // The writer takes plain data and streams the page: the command
-// (cli/catalogue_report.cpp) reads the catalogue one test at a time, turns it
+// (cli/report_builder.cpp) reads the catalogue one test at a time, turns it
 // into a ReportTest with MakeReportTest (which keeps only the reduced traces)
 // and hands it to an HtmlReportWriter, which writes its section through a
 // sink at once, so the memory of a report does not grow with its tests.
@@ -107,7 +107,7 @@ struct ReportComparison {
 };
 
 // Where the page goes, piece by piece, in order: an AtomicFile
-// (formats/atomic_file.h), standard output, a string.
+// (util/atomic_file.h), standard output, a string.
 using HtmlSink = std::function<void(std::string_view)>;
 
 // Writes the page through a sink while it is made: the head, the header (the
@@ -153,7 +153,7 @@ void WriteHtmlReport(const ReportHeader& header, std::span<const ReportCompariso
 std::string RenderHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
                              std::span<const ReportTest> tests);
 
-// Writes the page atomically (formats/atomic_file.h). Throws
+// Writes the page atomically (util/atomic_file.h). Throws
 // InputError naming `path` when it cannot be written.
 void WriteHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,
                      std::span<const ReportTest> tests, const std::filesystem::path& path);

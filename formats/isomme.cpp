@@ -10,15 +10,17 @@
 #include "common/error.h"
 #include "engine/cfc_filter.h"
 #include "engine/units.h"
-#include "formats/atomic_file.h"
 #include "formats/json_file.h"
-#include "formats/text.h"
+#include "util/atomic_file.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
 
-// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
-std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (util/text.h).
+std::string Quoted(std::string_view text) {
+  return "\"" + util::Abbreviated(text, util::kQuotedInputLongChars) + "\"";
+}
 
 // Lines of a text file (LF or CRLF), with their 1-based numbers; blank lines skipped.
 struct Line {
@@ -33,7 +35,7 @@ std::vector<Line> SplitLines(const std::string& text) {
     std::size_t end = text.find('\n', position);
     if (end == std::string::npos) end = text.size();
     ++number;
-    const std::string_view line = Trim(std::string_view(text).substr(position, end - position));
+    const std::string_view line = util::Trim(std::string_view(text).substr(position, end - position));
     if (!line.empty()) lines.push_back({number, line});
     position = end + 1;
   }
@@ -49,19 +51,19 @@ std::size_t ParseHeader(const std::vector<Line>& lines, Header& header) {
   for (; i < lines.size(); ++i) {
     const std::size_t colon = lines[i].text.find(':');
     if (colon == std::string_view::npos) break;
-    header.emplace_back(std::string(Trim(lines[i].text.substr(0, colon))),
-                        std::string(Trim(lines[i].text.substr(colon + 1))));
+    header.emplace_back(std::string(util::Trim(lines[i].text.substr(0, colon))),
+                        std::string(util::Trim(lines[i].text.substr(colon + 1))));
   }
   return i;
 }
 
 std::optional<std::string> Lookup(const Header& header, std::string_view key) {
   for (const auto& [k, v] : header)
-    if (EqualsIgnoreCase(k, key)) return v;
+    if (util::EqualsIgnoreCase(k, key)) return v;
   return std::nullopt;
 }
 
-bool IsNoValue(std::string_view value) { return EqualsIgnoreCase(Trim(value), "NOVALUE"); }
+bool IsNoValue(std::string_view value) { return util::EqualsIgnoreCase(util::Trim(value), "NOVALUE"); }
 
 // The entry of `directory` whose name equals `name` ignoring case.
 std::optional<std::filesystem::path> FindIgnoringCase(const std::filesystem::path& directory,
@@ -70,11 +72,11 @@ std::optional<std::filesystem::path> FindIgnoringCase(const std::filesystem::pat
   std::error_code error;
   if (std::filesystem::exists(exact, error)) return exact;
   for (const auto& entry : std::filesystem::directory_iterator(directory, error))
-    if (EqualsIgnoreCase(entry.path().filename().string(), name)) return entry.path();
+    if (util::EqualsIgnoreCase(entry.path().filename().string(), name)) return entry.path();
   return std::nullopt;
 }
 
-std::string ReadText(const std::filesystem::path& path) { return ToUtf8(ReadWholeFile(path)); }
+std::string ReadText(const std::filesystem::path& path) { return util::ToUtf8(ReadWholeFile(path)); }
 
 RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string& fallback_code) {
   const std::string file = path.string();
@@ -93,7 +95,7 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   };
   auto require_number = [&](std::string_view key) {
     const std::string value = require(key);
-    const std::optional<double> number = ParseDouble(value);
+    const std::optional<double> number = util::ParseDouble(value);
     if (!number || !std::isfinite(*number))
       throw InputError(file + ": " + Quoted(key) + " is " + Quoted(value) + ", not a number.");
     return *number;
@@ -102,23 +104,24 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   channel.code = code && !code->empty() && !IsNoValue(*code) ? *code : fallback_code;
   if (channel.code.empty()) throw InputError(file + ": the header has no \"Channel code\".");
   // ISO/TS 13499 codes begin with the test object and the position (docs/formats.md).
-  if (Trim(channel.code).size() == 16) channel.position = std::string(Trim(channel.code).substr(0, 2));
+  if (util::Trim(channel.code).size() == 16)
+    channel.position = std::string(util::Trim(channel.code).substr(0, 2));
   if (const auto name = Lookup(header, "Name of the channel")) channel.name = *name;
   if (const auto unit = Lookup(header, "Unit")) channel.unit = *unit;
   // Already filtered? The header's class, else the code's filter letter (ISO/TS 13499).
   if (const auto frequency_class = Lookup(header, "Channel frequency class")) {
-    const std::optional<double> number = ParseDouble(*frequency_class);
+    const std::optional<double> number = util::ParseDouble(*frequency_class);
     if (number && std::isfinite(*number) && *number > 0.0) channel.prefiltered_cfc = *number;
   }
   if (!channel.prefiltered_cfc && channel.code.size() == 16)
     channel.prefiltered_cfc = IsoMmeFilterClassOfLetter(channel.code[15]);
   channel.dt_s = require_number("Sampling interval");
   if (!(channel.dt_s > 0.0))
-    throw InputError(file + ": the sampling interval " + FormatNumber(channel.dt_s) +
+    throw InputError(file + ": the sampling interval " + util::FormatNumber(channel.dt_s) +
                      " is not a finite positive number.");
   channel.t0_s = require_number("Time of first sample");
   const std::string declared_text = require("Number of samples");
-  const std::optional<long long> declared = ParseInteger(declared_text);
+  const std::optional<long long> declared = util::ParseInteger(declared_text);
   if (!declared || *declared < 0)
     throw InputError(file + ": \"Number of samples\" is " + Quoted(declared_text) + ", not a count.");
 
@@ -136,7 +139,7 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
     if (IsNoValue(line.text))
       throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) +
                        ") is NOVALUE.");
-    const std::optional<double> value = ParseDouble(line.text);
+    const std::optional<double> value = util::ParseDouble(line.text);
     if (!value || !std::isfinite(*value))
       throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) +
                        ") is " + Quoted(line.text.substr(0, 40)) + ", not a finite number.");
@@ -181,23 +184,24 @@ std::string FixedDecimal(double value) {
 
 // The decimal a computed grid value stands for: 15 significant digits
 // ((t_last - t_first) / (n - 1) = 9.9999999999999991e-05 is 0.0001).
-double IntendedDecimal(double value) { return *ParseDouble(FormatNumber(value, 15)); }
+double IntendedDecimal(double value) { return *util::ParseDouble(util::FormatNumber(value, 15)); }
 
 void WriteTestFolder(const std::filesystem::path& folder, const std::string& test_number, double dt,
                      double t0, const std::vector<OutputChannel>& channels, int precision) {
   // No separator, control character (a newline), ".", ".." or hidden name
   // may reach a file name (docs/formats.md "Names, limits and escaping").
-  if (test_number.empty() || test_number != FileNameComponent(test_number))
+  if (test_number.empty() || test_number != util::FileNameComponent(test_number))
     throw InputError(folder.string() + ": " + Quoted(test_number) + " cannot name ISO-MME files (use " +
-                     Quoted(FileNameComponent(test_number)) + ").");
-  WriteDirectoryAtomically(folder, [&](const std::filesystem::path& directory) {
+                     Quoted(util::FileNameComponent(test_number)) + ").");
+  util::WriteDirectoryAtomically(folder, [&](const std::filesystem::path& directory) {
     std::string mme;
     AppendHeaderLine(mme, "Data format", "ISO-MME");
     AppendHeaderLine(mme, "Version", "1.6");
     AppendHeaderLine(mme, "Test number", test_number);
     AppendHeaderLine(mme, "Laboratory name", "napkin");
     AppendHeaderLine(mme, "Number of test objects", "1");
-    WriteFileAtomically(directory / (test_number + ".mme"), [&](AtomicFile& file) { file.Write(mme); });
+    util::WriteFileAtomically(directory / (test_number + ".mme"),
+                              [&](util::AtomicFile& file) { file.Write(mme); });
 
     const std::filesystem::path channel_dir = directory / "Channel";
     std::filesystem::create_directory(channel_dir);
@@ -209,7 +213,8 @@ void WriteTestFolder(const std::filesystem::path& folder, const std::string& tes
       std::snprintf(key, sizeof(key), "Name of channel %03zu", i + 1);
       AppendHeaderLine(chn, key, channels[i].code + " / " + channels[i].name);
     }
-    WriteFileAtomically(channel_dir / (test_number + ".chn"), [&](AtomicFile& file) { file.Write(chn); });
+    util::WriteFileAtomically(channel_dir / (test_number + ".chn"),
+                              [&](util::AtomicFile& file) { file.Write(chn); });
 
     for (std::size_t i = 0; i < channels.size(); ++i) {
       const OutputChannel& channel = channels[i];
@@ -219,18 +224,19 @@ void WriteTestFolder(const std::filesystem::path& folder, const std::string& tes
       AppendHeaderLine(text, "Data source", "calculated");
       AppendHeaderLine(text, "Reference system", channel.reference_system);
       AppendHeaderLine(text, "Sampling interval", FixedDecimal(dt));
-      AppendHeaderLine(text, "Channel frequency class", channel.cfc ? FormatNumber(*channel.cfc) : "NOVALUE");
+      AppendHeaderLine(text, "Channel frequency class",
+                       channel.cfc ? util::FormatNumber(*channel.cfc) : "NOVALUE");
       AppendHeaderLine(text, "Reference channel", "implicit");
       AppendHeaderLine(text, "Unit", channel.unit);
-      AppendHeaderLine(text, "Time of first sample", FormatNumber(t0));
+      AppendHeaderLine(text, "Time of first sample", util::FormatNumber(t0));
       AppendHeaderLine(text, "Number of samples", std::to_string(channel.values.size()));
       AppendHeaderLine(text, "Data status", "ok");
       for (const double value : channel.values) {
-        AppendNumber(text, value, precision);
+        util::AppendNumber(text, value, precision);
         text += '\n';
       }
-      WriteFileAtomically(channel_dir / ChannelFileName(test_number, i + 1),
-                          [&](AtomicFile& file) { file.Write(text); });
+      util::WriteFileAtomically(channel_dir / ChannelFileName(test_number, i + 1),
+                                [&](util::AtomicFile& file) { file.Write(text); });
     }
   });
 }
@@ -276,7 +282,7 @@ char FilterClassLetter(std::optional<double> cfc) {
 
 std::string IsoMmeTest::TestNumber() const {
   for (const auto& [key, value] : test_info)
-    if (EqualsIgnoreCase(key, "Test number") && !value.empty() && !IsNoValue(value)) return value;
+    if (util::EqualsIgnoreCase(key, "Test number") && !value.empty() && !IsNoValue(value)) return value;
   return name;
 }
 
@@ -290,7 +296,7 @@ TestInfo IsoMmeTestInfo(const IsoMmeTest& test, const RawChannel& head_channel) 
   info.title = value_of("Title");
   info.date = value_of("Date of the test");
   info.laboratory = value_of("Laboratory name");
-  const std::string code(Trim(head_channel.code));
+  const std::string code(util::Trim(head_channel.code));
   if (code.size() == 16) {
     info.vehicle = value_of(std::string("Name of test object ") + code[0]);
     const std::string fine3 = code.substr(10, 2);
@@ -307,7 +313,7 @@ IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
     test.folder = folder_or_mme;
     std::vector<std::filesystem::path> candidates;
     for (const auto& entry : std::filesystem::directory_iterator(folder_or_mme, error))
-      if (entry.is_regular_file() && EqualsIgnoreCase(entry.path().extension().string(), ".mme"))
+      if (entry.is_regular_file() && util::EqualsIgnoreCase(entry.path().extension().string(), ".mme"))
         candidates.push_back(entry.path());
     if (candidates.size() != 1)
       throw InputError(folder_or_mme.string() +
@@ -338,7 +344,7 @@ IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
   Header chn_header;
   ParseHeader(chn_lines, chn_header);
   const std::optional<std::string> count_text = Lookup(chn_header, "Number of channels");
-  const std::optional<long long> count = count_text ? ParseInteger(*count_text) : std::nullopt;
+  const std::optional<long long> count = count_text ? util::ParseInteger(*count_text) : std::nullopt;
   if (!count || *count < 1)
     throw InputError(chn->string() + ": \"Number of channels\" is missing or not a positive count.");
   for (long long i = 1; i <= *count; ++i) {
@@ -352,7 +358,7 @@ IsoMmeTest ReadIsoMme(const std::filesystem::path& folder_or_mme) {
     std::snprintf(key, sizeof(key), "Name of channel %03lld", i);
     std::string fallback_code;
     if (const auto listed = Lookup(chn_header, key))
-      fallback_code = std::string(Trim(listed->substr(0, listed->find('/'))));
+      fallback_code = std::string(util::Trim(listed->substr(0, listed->find('/'))));
     test.channels.push_back(ReadChannelFile(*path, fallback_code));
   }
   return test;

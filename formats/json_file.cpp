@@ -8,12 +8,12 @@
 #include <cstring>
 
 #include "common/error.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
 
-std::string Named(const std::filesystem::path& path) { return EscapeControl(path.string()); }
+std::string Named(const std::filesystem::path& path) { return util::EscapeControl(path.string()); }
 
 std::string SizeText(std::uintmax_t bytes) {
   if (bytes >= (std::uintmax_t{1} << 20) && bytes % (std::uintmax_t{1} << 20) == 0)
@@ -107,8 +107,8 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
     const std::size_t start = what.find("] ");
     if (what.rfind("[json.exception.", 0) == 0 && start != std::string::npos) what = what.substr(start + 2);
     if (!what.empty() && what.back() != '.') what += '.';
-    throw InputError(Named(path) + ": not valid JSON (" + Abbreviated(what.substr(0, what.size() - 1), 200) +
-                     ").");
+    throw InputError(Named(path) + ": not valid JSON (" +
+                     util::Abbreviated(what.substr(0, what.size() - 1), 200) + ").");
   }
 }
 

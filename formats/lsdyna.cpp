@@ -6,7 +6,7 @@
 
 #include "common/error.h"
 #include "engine/units.h"
-#include "formats/atomic_file.h"
+#include "util/atomic_file.h"
 
 namespace napkin::formats {
 namespace {
@@ -49,7 +49,7 @@ void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesys
       {&kinematics.omega_fixed, 1, 1.0, 6, "angular velocity about fixed Y (rad/s)"},
       {&kinematics.omega_fixed, 2, 1.0, 7, "angular velocity about fixed Z (rad/s)"},
   };
-  WriteFileAtomically(path, [&](AtomicFile& file) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
     std::string out;
     out += "*KEYWORD\n";
     out += "$ napkin: 6-DOF head CG motion, SAE J211 axes (x forward, y right, z down); units ";
@@ -103,7 +103,7 @@ void WriteLcFile(const engine::Kinematics& kinematics, const std::filesystem::pa
       {&kinematics.omega_fixed, 1, 1.0, "c load curve for angular vel. about y axis"},
       {&kinematics.omega_fixed, 2, 1.0, "c load curve for angular vel. about z axis"},
   };
-  WriteFileAtomically(path, [&](AtomicFile& file) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
     for (int i = 0; i < 6; ++i) {
       file.Printf("%s\n lcd   %d   %4lld\n", curves[i].comment, i + 1, static_cast<long long>(n));
       for (Eigen::Index k = 0; k < n; ++k)  // format 6100: 2(3x,1pe10.3)

@@ -8,7 +8,7 @@
 
 #include "common/error.h"
 #include "formats/json_file.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 
@@ -155,7 +155,7 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
                           "bric", "screening", "plausibility", "storage"});
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
-  if (const auto* name = top.Find("name")) CheckName(source + ": \"name\"", name->get<std::string>());
+  if (const auto* name = top.Find("name")) util::CheckName(source + ": \"name\"", name->get<std::string>());
   top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);
 
   if (const auto* object = top.Object("filter")) {
@@ -292,7 +292,7 @@ engine::ProcessingConfig ReadProcessingConfig(const std::filesystem::path& path)
   try {
     parsed = json::parse(text);
   } catch (const json::exception& error) {  // syntax, or a number beyond double's range (fuzz/)
-    throw InputError(source + " is not valid JSON (" + Abbreviated(error.what(), 200) + ").");
+    throw InputError(source + " is not valid JSON (" + util::Abbreviated(error.what(), 200) + ").");
   }
   return ParseProcessingConfig(parsed, source);
 }

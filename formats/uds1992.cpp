@@ -9,9 +9,9 @@
 
 #include "common/error.h"
 #include "engine/cfc_filter.h"
-#include "formats/atomic_file.h"
 #include "formats/json_file.h"
-#include "formats/text.h"
+#include "util/atomic_file.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -80,7 +80,7 @@ using Record = const std::uint8_t*;
 // already valid UTF-8 (napkin's own exports) is kept as it is.
 std::string ReadString(Record record, Field field) {
   std::string text(reinterpret_cast<const char*>(record + field.offset), field.length);
-  return ToUtf8(std::string(Trim(text)));
+  return util::ToUtf8(std::string(util::Trim(text)));
 }
 
 void WriteString(std::uint8_t* record, Field field, std::string_view text) {
@@ -142,8 +142,10 @@ double IntendedDecimal(double stored) {
   return value;
 }
 
-// Input quoted in a message: control characters escaped, a huge value cut (formats/text.h).
-std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\""; }
+// Input quoted in a message: control characters escaped, a huge value cut (util/text.h).
+std::string Quoted(std::string_view text) {
+  return "\"" + util::Abbreviated(text, util::kQuotedInputLongChars) + "\"";
+}
 
 }  // namespace
 
@@ -278,7 +280,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (!ReadReal(curve, curve_header::kDel, form, del) || !std::isfinite(del) || !(del > 0.0))
     throw InputError(file + ": DEL (the sampling interval) is not a finite positive number.");
   del = IntendedDecimal(del);
-  const std::string xunits = ToUpper(channel.xunits);
+  const std::string xunits = util::ToUpper(channel.xunits);
   if (xunits.find("MILLI") != std::string::npos || xunits == "MSEC" || xunits == "MS") del *= 1e-3;
   channel.del_s = del;
   channel.nfp = nfp;
@@ -293,7 +295,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   }
   if (channel.filter_cutoff_hz > 0.0 && !engine::J211ClassOfCutoff(channel.filter_cutoff_hz))
     channel.warnings.push_back(
-        file + ": FCUT " + FormatNumber(channel.filter_cutoff_hz) +
+        file + ": FCUT " + util::FormatNumber(channel.filter_cutoff_hz) +
         " Hz is no SAE J211 class cut-off (100, 300, 1000 or 1650 Hz), so the "
         "channel is taken as filtered at an unknown class and filtered as configured.");
 
@@ -401,10 +403,10 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
     for (std::size_t i = first; i < last; ++i)
       if (!WriteReal(record, kDataOffset + 4 * (i - first), channel.values[i], form))
         throw InputError(file + ": sample " + std::to_string(channel.nfp + static_cast<long long>(i)) + " (" +
-                         FormatNumber(channel.values[i]) + ") cannot be stored as a " +
+                         util::FormatNumber(channel.values[i]) + ") cannot be stored as a " +
                          UdsNumberFormName(form) + " real.");
   }
-  WriteFileAtomically(path, [&](AtomicFile& out) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& out) {
     out.Write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   });
 }
@@ -425,7 +427,7 @@ RawChannel ToRawChannel(const UdsChannel& channel, const std::filesystem::path& 
   raw.values = channel.values;
   raw.position = channel.senloc;
   // INIVEL is in the velocity unit of DIMSYS (docs/formats.md "UDS-1992 input").
-  const std::string dimsys = ToUpper(channel.dimsys);
+  const std::string dimsys = util::ToUpper(channel.dimsys);
   const double mps_per_unit = dimsys == "SI" ? 1.0 : dimsys == "ENG" ? 0.44704 : 1.0 / 3.6;
   if (channel.initial_velocity != 0.0) raw.initial_velocity_mps = channel.initial_velocity * mps_per_unit;
   return raw;

@@ -7,7 +7,7 @@
 #include "common/error.h"
 #include "engine/cfc_filter.h"
 #include "engine/units.h"
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 
@@ -39,13 +39,13 @@ std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kin
   if (test_number.empty() || test_number.find_first_of("/\\") != std::string::npos)
     throw InputError(folder.string() + ": \"" + test_number + "\" cannot name UDS-1992 files.");
   // The sampling interval as the decimal it stands for (15 significant digits).
-  const double dt = *ParseDouble(
-      FormatNumber((kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1), 15));
+  const double dt = *util::ParseDouble(
+      util::FormatNumber((kinematics.time_s[n - 1] - kinematics.time_s[0]) / static_cast<double>(n - 1), 15));
   const double first_sample = kinematics.time_s[0] / dt;
   const long nfp = std::lround(first_sample);
   if (std::abs(first_sample - static_cast<double>(nfp)) > 1e-6)
-    throw InputError(folder.string() + ": the first sample at " + FormatNumber(kinematics.time_s[0]) +
-                     " s is not a whole number of sampling intervals (" + FormatNumber(dt) +
+    throw InputError(folder.string() + ": the first sample at " + util::FormatNumber(kinematics.time_s[0]) +
+                     " s is not a whole number of sampling intervals (" + util::FormatNumber(dt) +
                      " s); UDS-1992 cannot place it.");
 
   UdsChannel templ;  // the report's "template" UDS object

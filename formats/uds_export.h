@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engine/array_geometry.h"
-#include "engine/conditioning_record.h"
+#include "engine/channel_conditioning.h"
 #include "engine/kinematics.h"
 #include "engine/processing.h"
 #include "formats/uds1992.h"

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli/where_expression.h"
+#include "cli/where_parser.h"
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "engine/array_geometry.h"

@@ -3,20 +3,21 @@
 #include <cstdint>
 #include <span>
 
-#include "formats/content_hash.h"
+#include "formats/file_hash.h"
+#include "util/sha256.h"
 
 namespace napkin::ingest {
 
 std::string InputContentHash(const ImportInput& input) {
   if (input.format != InputFormat::kUds1992) return formats::HashPath(input.source);
-  formats::Sha256 hash;
+  util::Sha256 hash;
   hash.Update("uds-1992 group\n");
   for (const std::filesystem::path& file : input.files) hash.Update(formats::HashPath(file) + "\n");
   return hash.HexDigest();
 }
 
-std::string SyntheticContentHash(const db::ArrayRecord& array, const engine::SyntheticTest& test) {
-  formats::Sha256 hash;
+std::string SyntheticContentHash(const db::ArrayRow& array, const synth::SyntheticTest& test) {
+  util::Sha256 hash;
   hash.Update("napkin synthetic test\n");
   hash.Update(array.definition_hash);
   for (const std::string& slot : test.signals.slots) {

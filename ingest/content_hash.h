@@ -6,8 +6,8 @@
 #include <string>
 
 #include "db/catalogue.h"
-#include "engine/synth.h"
 #include "ingest/discovery.h"
+#include "synth/synthetic_tests.h"
 
 namespace napkin::ingest {
 
@@ -18,6 +18,6 @@ std::string InputContentHash(const ImportInput& input);
 
 // The hash of a synthetic test's content: its array record's hash, initial
 // state, time base, slot names and the samples' bytes.
-std::string SyntheticContentHash(const db::ArrayRecord& array, const engine::SyntheticTest& test);
+std::string SyntheticContentHash(const db::ArrayRow& array, const synth::SyntheticTest& test);
 
 }  // namespace napkin::ingest

@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "common/error.h"
-#include "formats/text.h"
 #include "formats/uds1992.h"
+#include "util/text.h"
 
 namespace napkin::ingest {
 namespace fs = std::filesystem;
@@ -21,7 +21,7 @@ bool IsHidden(const fs::path& path) {
 }
 
 bool HasExtension(const fs::path& path, std::string_view extension) {
-  return formats::EqualsIgnoreCase(path.extension().string(), extension);
+  return util::EqualsIgnoreCase(path.extension().string(), extension);
 }
 
 // UDS-1992 channel files are numbered: v0001.001 ... v0001.009.

@@ -9,9 +9,9 @@
 
 #include "common/error.h"
 #include "formats/isomme.h"
-#include "formats/text.h"
 #include "formats/uds1992.h"
 #include "ingest/zip_input.h"
+#include "util/text.h"
 
 namespace napkin::ingest {
 namespace {
@@ -99,7 +99,7 @@ FileInitialVelocity InitialVelocityBody(const std::vector<formats::RawChannel>& 
   FileInitialVelocity result;
   auto described = [](const formats::RawChannel& channel, const engine::Sensor& sensor) {
     return channel.Label() + " (slot " + sensor.slot + ", INIVEL " +
-           formats::FormatNumber(*channel.initial_velocity_mps) + " m/s)";
+           util::FormatNumber(*channel.initial_velocity_mps) + " m/s)";
   };
   for (std::size_t s = 0; s < array.sensors.size() && s < channel_of_sensor.size(); ++s) {
     const engine::Sensor& sensor = array.sensors[s];

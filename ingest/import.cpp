@@ -11,15 +11,15 @@
 #include "engine/rotation.h"
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
-#include "formats/content_hash.h"
 #include "formats/csv.h"
-#include "formats/text.h"
-#include "formats/utf8.h"
 #include "ingest/content_hash.h"
 #include "ingest/dummy_heads.h"
 #include "ingest/store.h"
 #include "ingest/zip_input.h"
 #include "records/array_record.h"
+#include "util/sha256.h"
+#include "util/text.h"
+#include "util/utf8.h"
 
 namespace napkin::ingest {
 namespace fs = std::filesystem;
@@ -45,7 +45,7 @@ Eigen::Vector3d Triple(const std::vector<double>& values, const char* what) {
 // What ImportTests resolves once for all inputs.
 struct PreparedImport {
   engine::ArrayGeometry array;
-  db::ArrayRecord array_record;
+  db::ArrayRow array_record;
   std::optional<formats::ChannelMap> channel_map;  // given with --channel-map
   formats::ChannelMap default_map;                 // for ISO-MME and UDS-1992 without --channel-map
   formats::CsvColumnMap csv_columns;               // the map's "column" entries, then --column
@@ -77,8 +77,8 @@ void CheckPathsAreUtf8(const ImportInput& input) {
   std::vector<fs::path> paths = {error ? input.source : absolute};
   paths.insert(paths.end(), input.files.begin(), input.files.end());
   for (const fs::path& path : paths)
-    if (!formats::IsValidUtf8(path.string()))
-      throw InputError("'" + formats::Abbreviated(path.string(), formats::kQuotedInputLongChars) +
+    if (!util::IsValidUtf8(path.string()))
+      throw InputError("'" + util::Abbreviated(path.string(), util::kQuotedInputLongChars) +
                        "': the path is not valid UTF-8 (the bytes that are not are shown as \\xHH), and "
                        "napkin stores names in UTF-8 only; rename it, e.g. with `convmv -f latin1 -t utf8 "
                        "--notest`, and import it again.");
@@ -105,7 +105,7 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
   };
   if (catalogue.ExistsTestByHash(content_hash)) return skipped();
   if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
-    const db::TestRecord record = catalogue.ReadTest(*existing);
+    const db::TestRow record = catalogue.ReadTest(*existing);
     // Another import of the same input (a concurrent process) stored it
     // between the two look-ups: present, not failed.
     if (record.content_hash == content_hash) return skipped();
@@ -126,7 +126,7 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
     metadata["test"] = std::move(info);
   if (!head.notes.empty()) metadata["notes"] = head.notes;
 
-  db::TestRecord record;
+  db::TestRow record;
   record.external_id = test_id;
   record.series = options.series;
   record.variant = options.variant;
@@ -164,7 +164,7 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
     // Ids are UTF-8, printable and of sane length: they reach terminals,
     // tables, JSON and export file names (docs/formats.md "Names, limits and
     // escaping").
-    formats::CheckName("test id", test_id);
+    util::CheckName("test id", test_id);
     const std::string input_hash = InputContentHash(input);
     // An input of one dummy keeps its content hash; nothing more to read when it is stored.
     if (!options.position && catalogue.ExistsTestByHash(input_hash)) {
@@ -192,7 +192,7 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
       // (docs/formats.md "Several dummies in one test").
       const std::string head_id = read.several && !options.test_id ? test_id + "/" + head.position : test_id;
       const std::string content_hash =
-          read.several ? formats::Sha256Hex(input_hash + "\nposition " + head.position) : input_hash;
+          read.several ? util::Sha256Hex(input_hash + "\nposition " + head.position) : input_hash;
       try {
         results.push_back(StoreHead(catalogue, input, prepared, options, head, head_id, content_hash));
       } catch (const InputError& error) {
@@ -254,7 +254,7 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
   auto check_option = [](const char* option, const std::optional<std::string>& value) {
     if (!value) return;
     try {
-      formats::CheckName(option, *value);
+      util::CheckName(option, *value);
     } catch (const InputError& error) {
       throw UsageError(error.what());
     }

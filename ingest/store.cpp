@@ -8,7 +8,7 @@
 namespace napkin::ingest {
 
 std::optional<db::TestId> StoreTest(db::Catalogue& catalogue, const engine::ArrayGeometry& array,
-                                    const db::ArrayRecord& array_record, db::TestRecord record,
+                                    const db::ArrayRow& array_record, db::TestRow record,
                                     const engine::TestSignals& signals) {
   const std::vector<std::string> units = records::SlotUnits(array, signals.slots);
   db::Transaction transaction = catalogue.BeginTransaction();

@@ -16,7 +16,7 @@ namespace napkin::ingest {
 // nothing is stored and nullopt is returned. Throws InputError, before
 // anything is written, when a channel is not a slot of `array`.
 std::optional<db::TestId> StoreTest(db::Catalogue& catalogue, const engine::ArrayGeometry& array,
-                                    const db::ArrayRecord& array_record, db::TestRecord record,
+                                    const db::ArrayRow& array_record, db::TestRow record,
                                     const engine::TestSignals& signals);
 
 }  // namespace napkin::ingest

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "common/error.h"
-#include "formats/text.h"
 #include "ingest/temporary_folder.h"
+#include "util/text.h"
 
 namespace napkin::ingest {
 namespace fs = std::filesystem;
@@ -24,15 +24,15 @@ bool IsTestMember(const formats::ZipMember& member) {
   const fs::path name(member.name);
   if (name.filename().string().front() == '.') return false;
   const std::string extension = name.extension().string();
-  if (formats::EqualsIgnoreCase(extension, ".mme") || formats::EqualsIgnoreCase(extension, ".chn") ||
-      formats::EqualsIgnoreCase(extension, ".csv"))
+  if (util::EqualsIgnoreCase(extension, ".mme") || util::EqualsIgnoreCase(extension, ".chn") ||
+      util::EqualsIgnoreCase(extension, ".csv"))
     return true;
   return extension.size() == 4 && extension.find_first_not_of("0123456789", 1) == std::string::npos;
 }
 
 // `member` as docs/formats.md names it in messages: "ARCHIVE.zip:MEMBER".
 std::string MemberInArchive(const fs::path& archive, const std::string& member) {
-  return archive.string() + ":" + formats::Abbreviated(member, formats::kQuotedInputLongChars);
+  return archive.string() + ":" + util::Abbreviated(member, util::kQuotedInputLongChars);
 }
 
 // Writes one member's bytes; throws InputError naming the member when the
@@ -78,7 +78,7 @@ ArchiveTest::ArchiveTest(const fs::path& archive, const formats::ZipLimits& limi
     const auto inside = targets.lower_bound(relative + "/");
     if (inside != targets.end() && inside->first.starts_with(relative + "/"))
       throw InputError(MemberInArchive(archive, inside->second->name) + " cannot be unpacked: \"" +
-                       formats::Abbreviated(member->name, formats::kQuotedInputLongChars) +
+                       util::Abbreviated(member->name, util::kQuotedInputLongChars) +
                        "\" is a file of the archive, not a folder.");
   }
   if (targets.empty())

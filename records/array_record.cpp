@@ -4,19 +4,19 @@
 
 #include "common/error.h"
 #include "formats/array_json.h"
-#include "formats/content_hash.h"
+#include "util/sha256.h"
 
 namespace napkin::records {
 
-db::ArrayRecord MakeArrayRecord(const engine::ArrayGeometry& array) {
-  db::ArrayRecord record;
+db::ArrayRow MakeArrayRecord(const engine::ArrayGeometry& array) {
+  db::ArrayRow record;
   record.name = array.name;
   record.definition_json = formats::ArrayToJson(array, "m").dump();
-  record.definition_hash = formats::Sha256Hex(record.definition_json);
+  record.definition_hash = util::Sha256Hex(record.definition_json);
   return record;
 }
 
-engine::ArrayGeometry DecodeArrayRecord(const db::ArrayRecord& record) {
+engine::ArrayGeometry DecodeArrayRecord(const db::ArrayRow& record) {
   const std::string source = "array '" + record.name + "' of the catalogue";
   nlohmann::json json;
   try {

@@ -5,20 +5,20 @@
 
 #include "common/error.h"
 #include "formats/array_json.h"
-#include "formats/content_hash.h"
 #include "formats/processing_config_json.h"
+#include "util/sha256.h"
 
 namespace napkin::records {
 
-db::ConfigRecord MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name) {
-  db::ConfigRecord record;
+db::ConfigRow MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name) {
+  db::ConfigRow record;
   record.name = name;
   record.config_json = formats::CanonicalProcessingConfig(config);
-  record.config_hash = formats::Sha256Hex(record.config_json);
+  record.config_hash = util::Sha256Hex(record.config_json);
   return record;
 }
 
-engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRecord& record) {
+engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRow& record) {
   const std::string source = "config '" + record.name + "' of the catalogue";
   nlohmann::json json;
   try {

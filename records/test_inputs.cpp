@@ -7,7 +7,7 @@
 namespace napkin::records {
 
 TestInputs TestInputReader::Read(db::TestId test) {
-  const db::TestRecord record = catalogue_.ReadTest(test);
+  const db::TestRow record = catalogue_.ReadTest(test);
   TestInputs inputs;
   inputs.external_id = record.external_id;
   inputs.initial = record.initial_state;

@@ -58,7 +58,7 @@ int IoBaseline(const std::string& path, int batch, engine::DerivedStorage storag
   // result rows are as large as the run's; computed once, outside the clock.
   engine::TestSummary real_summary;
   {
-    const std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+    const std::vector<db::TestRow> tests = catalogue.ReadAllTests();
     if (tests.empty()) throw InputError("catalogue '" + path + "' has no tests.");
     const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(tests[0].array_id));
     real_summary = engine::ProcessTest(array, catalogue.ReadTestSignals(tests[0].id), tests[0].initial_state,
@@ -82,7 +82,7 @@ int IoBaseline(const std::string& path, int batch, engine::DerivedStorage storag
     std::vector<Output> outputs;
     const auto read_start = SteadyClock::now();
     for (const db::Job& job : jobs) {
-      const db::TestRecord test = catalogue.ReadTest(job.test_id);
+      const db::TestRow test = catalogue.ReadTest(job.test_id);
       catalogue.ReadArray(test.array_id);
       const engine::TestSignals signals = catalogue.ReadTestSignals(job.test_id);
       samples += signals.samples.size();
@@ -155,14 +155,14 @@ int Verify(const std::string& path, std::size_t sample, std::uint64_t seed, cons
   const engine::ProcessingConfig& config = resolved.config;
   const auto config_id = catalogue.FindConfigByHash(resolved.record.config_hash);
   if (!config_id) throw InputError("config '" + config_name + "' has no results in '" + path + "'.");
-  std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+  std::vector<db::TestRow> tests = catalogue.ReadAllTests();
   if (sample > 0 && sample < tests.size()) {
     std::mt19937_64 random(seed);
     std::shuffle(tests.begin(), tests.end(), random);
     tests.resize(sample);
   }
   int equal = 0, different = 0;
-  for (const db::TestRecord& test : tests) {
+  for (const db::TestRow& test : tests) {
     const engine::ProcessedTest expected = records::RecomputeResult(catalogue, test.id, *config_id);
     const auto kinematics = catalogue.ReadKinematics(test.id, *config_id);
     const auto summary = catalogue.ReadSummary(test.id, *config_id);

@@ -36,11 +36,11 @@ class AccelerationOnlyStorage : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_code, 0);
-    engine::RandomMotionOptions motion;
+    synth::RandomMotionOptions motion;
     motion.seed = 1912;
     motion.duration_s = 0.05;
     fs::create_directories(dir_ / "heads");
-    formats::WriteSignalsCsv(engine::SynthRandomMotion(formats::LoadArray("3a-cg"), motion).signals,
+    formats::WriteSignalsCsv(synth::SynthRandomMotion(formats::LoadArray("3a-cg"), motion).signals,
                              dir_ / "heads" / "h1.csv");
     const RunResult import = Napkin({"import", "--array", "3a-cg", "--series", "heads", "heads"});
     ASSERT_EQ(import.exit_code, 0) << import.err;

@@ -11,15 +11,15 @@
 #include <string>
 #include <vector>
 
-#include "cli/catalogue_access.h"
+#include "cli/db_option.h"
 #include "db/catalogue.h"
 #include "engine/pipeline.h"
-#include "engine/synth.h"
 #include "formats/array_json.h"
-#include "formats/text.h"
 #include "records/array_record.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/run_command.h"
+#include "util/text.h"
 
 namespace napkin::test_support {
 
@@ -73,17 +73,17 @@ inline std::string DumpCatalogue(const fs::path& path) {
 }
 
 // A NAP (3-2-2-2) test with a random smooth motion on the Denton geometry.
-inline engine::SyntheticTest SynthNapTest(std::uint64_t seed, double duration_s = 0.05) {
-  engine::RandomMotionOptions options;
+inline synth::SyntheticTest SynthNapTest(std::uint64_t seed, double duration_s = 0.05) {
+  synth::RandomMotionOptions options;
   options.seed = seed;
   options.duration_s = duration_s;
-  return engine::SynthRandomMotion(formats::LoadArray("denton-3222"), options);
+  return synth::SynthRandomMotion(formats::LoadArray("denton-3222"), options);
 }
 
 // "--orientation=a,b,c" with numbers in their shortest exact form.
 inline std::string TripleFlag(const char* flag, const Eigen::Vector3d& value) {
-  return std::string(flag) + "=" + formats::FormatNumber(value.x()) + "," + formats::FormatNumber(value.y()) +
-         "," + formats::FormatNumber(value.z());
+  return std::string(flag) + "=" + util::FormatNumber(value.x()) + "," + util::FormatNumber(value.y()) + "," +
+         util::FormatNumber(value.z());
 }
 
 // Computes and stores the result of test `test_id` under the default config
@@ -93,7 +93,7 @@ inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std:
   db::Catalogue catalogue = db::Catalogue::Open(db_path.string());
   const std::optional<db::TestId> key = catalogue.FindTestByExternalId(test_id);
   if (!key) throw std::runtime_error("no test " + test_id);
-  const db::TestRecord test = catalogue.ReadTest(*key);
+  const db::TestRow test = catalogue.ReadTest(*key);
   const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
   const cli::ResolvedConfig config = cli::ResolveConfig("");
   engine::ProcessedTest processed =

@@ -39,7 +39,7 @@ class CompareGroups : public ::testing::Test {
     const db::ConfigId config =
         catalogue.WriteConfig({{}, "default", R"({"gravity":true})", "d0a1b2c3d4e5f6071829", {}});
     for (std::size_t i = 0; i < tests.size(); ++i) {
-      db::TestRecord test;
+      db::TestRow test;
       test.external_id = "t" + std::to_string(i);
       test.series = "sled";
       test.variant = tests[i].variant;

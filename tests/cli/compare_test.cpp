@@ -60,7 +60,7 @@ class CliCompare : public ::testing::Test {
         catalogue.WriteConfig({{}, "default", R"({"gravity":true})", "d0a1b2c3d4e5f6071829", {}});
     std::vector<db::TestId> keys;
     for (const FixedTest& fixed : kTests) {
-      db::TestRecord test;
+      db::TestRow test;
       test.external_id = fixed.id;
       test.series = "sled";
       test.variant = fixed.variant;
@@ -69,7 +69,7 @@ class CliCompare : public ::testing::Test {
       test.content_hash = std::string("content-") + fixed.id;
       keys.push_back(catalogue.WriteTest(test));
     }
-    db::TestRecord never_run;
+    db::TestRow never_run;
     never_run.external_id = "d01";
     never_run.series = "drop";
     never_run.array_id = array;
@@ -303,7 +303,7 @@ TEST_F(CliCompare, ByConfigNumbersEqualAnIndependentPairedRecomputation) {
   // The stored summaries under each config, read one by one.
   db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
   std::map<std::string, db::ConfigId> configs;
-  for (const db::ConfigRecord& config : catalogue.ReadAllConfigs()) configs[config.name] = config.id;
+  for (const db::ConfigRow& config : catalogue.ReadAllConfigs()) configs[config.name] = config.id;
   const nlohmann::json rows =
       CompareJson({"--series", "sled", "--by", "config", "--baseline", "d0a1b2", "--metrics", "hic15,bric"});
   ASSERT_EQ(rows.size(), 4u);
@@ -369,8 +369,7 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
   EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,,,,,");
   const nlohmann::json json = CompareJson({"--series", "sled", "--metrics", "hic15"});
   EXPECT_EQ(
-      lines[3].rfind("hic15,production,5," + formats::FormatNumber(json[2]["mean"].get<double>()) + ",", 0),
-      0u)
+      lines[3].rfind("hic15,production,5," + util::FormatNumber(json[2]["mean"].get<double>()) + ",", 0), 0u)
       << lines[3];
 }
 

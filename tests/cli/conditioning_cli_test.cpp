@@ -15,7 +15,7 @@ namespace {
 TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
   TempDir dir;
   ASSERT_EQ(RunNapkin(dir.path(), {"init"}).exit_code, 0);
-  const engine::SyntheticTest synth = SynthNapTest(5);
+  const synth::SyntheticTest synth = SynthNapTest(5);
   engine::TestSignals marked = synth.signals;
   marked.prefiltered_cfc.assign(9, engine::kCfc1000);
   const formats::ChannelMap map = formats::LoadChannelMap("nap-example");
@@ -36,7 +36,7 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
   const std::optional<db::TestId> found = catalogue.FindTestByExternalId("marked");
   ASSERT_TRUE(found.has_value());
   const db::TestId marked_id = *found;
-  const db::TestRecord record = catalogue.ReadTest(marked_id);
+  const db::TestRow record = catalogue.ReadTest(marked_id);
   EXPECT_EQ(catalogue.ReadTestSignals(marked_id).prefiltered_cfc,
             std::vector<std::optional<double>>(9, engine::kCfc1000));
   engine::ProcessingConfig unfiltered = cli::ResolveConfig("").config;

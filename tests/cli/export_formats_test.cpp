@@ -26,10 +26,10 @@ class CliExportFormats : public ::testing::Test {
  protected:
   void SetUp() override {
     // CG accelerometers and angular-rate sensors: the channels an ISO-MME export holds.
-    engine::RandomMotionOptions options;
+    synth::RandomMotionOptions options;
     options.seed = 91;
     options.duration_s = 0.08;
-    synth_ = engine::SynthRandomMotion(formats::LoadArray("6aw-cg"), options);
+    synth_ = synth::SynthRandomMotion(formats::LoadArray("6aw-cg"), options);
     formats::WriteSignalsCsv(synth_.signals, dir_ / "t91.csv");
     ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_code, 0);
     const RunResult import = Import({"t91.csv"});
@@ -57,7 +57,7 @@ class CliExportFormats : public ::testing::Test {
   }
 
   napkin::test_support::TempDir dir_;
-  engine::SyntheticTest synth_;
+  synth::SyntheticTest synth_;
 };
 
 TEST_F(CliExportFormats, IsoMmeHeadersCarryCodesFilterClassAndTimeBase) {
@@ -155,7 +155,7 @@ TEST_F(CliExportFormats, UdsExportWritesTheReportsFilesReadBackWithinFloat32) {
     EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / out), fs::directory_iterator()), 21);
     for (const Expected& e : expected) {
       const formats::UdsChannel channel = formats::ReadUds1992(dir_ / out / e.name);
-      EXPECT_EQ(formats::UdsNumberFormName(channel.number_form), formats::ToUpper(numform)) << e.name;
+      EXPECT_EQ(formats::UdsNumberFormName(channel.number_form), util::ToUpper(numform)) << e.name;
       EXPECT_EQ(channel.yunits, e.yunits) << e.name;
       EXPECT_EQ(channel.axis, e.axis) << e.name;
       EXPECT_EQ(channel.senatt, "HEAD CG") << e.name;

@@ -37,7 +37,7 @@ class CliExport : public ::testing::Test {
   }
 
   napkin::test_support::TempDir dir_;
-  engine::SyntheticTest synth_;
+  synth::SyntheticTest synth_;
 };
 
 TEST_F(CliExport, ExportedCsvEqualsTransformOfTheSameFile) {

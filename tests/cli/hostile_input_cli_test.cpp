@@ -13,10 +13,10 @@
 #include "cli/table_output.h"
 #include "engine/units.h"
 #include "formats/csv.h"
-#include "formats/text.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin {
 namespace {
@@ -25,11 +25,11 @@ namespace fs = std::filesystem;
 
 bool HasRawControl(const std::string& text) {
   for (const char c : text)
-    if (c != '\n' && formats::HasControlCharacter(std::string_view(&c, 1))) return true;
+    if (c != '\n' && util::HasControlCharacter(std::string_view(&c, 1))) return true;
   return false;
 }
 
-std::vector<std::string> ImportArgs(const std::string& db, const engine::SyntheticTest& test) {
+std::vector<std::string> ImportArgs(const std::string& db, const synth::SyntheticTest& test) {
   return {"--db",
           db,
           "import",
@@ -45,8 +45,8 @@ std::vector<std::string> ImportArgs(const std::string& db, const engine::Synthet
 // published as done with HIC15 = 1.47e14.
 TEST(HostileInputCli, AMillionGSampleFailsRunAndTransformNamingChannelTimeAndValue) {
   test_support::TempDir dir;
-  const engine::SyntheticTest clean = test_support::SynthNapTest(5);
-  engine::SyntheticTest corrupt = clean;
+  const synth::SyntheticTest clean = test_support::SynthNapTest(5);
+  synth::SyntheticTest corrupt = clean;
   const Eigen::Index k = corrupt.signals.size() / 2;
   corrupt.signals.samples(k, corrupt.signals.FindSlot("cg_x")) = 1e6;  // g
   fs::create_directories(dir / "tests");
@@ -86,7 +86,7 @@ TEST(HostileInputCli, AMillionGSampleFailsRunAndTransformNamingChannelTimeAndVal
 // Issue 11, item 5: a FIFO named *.csv made `import` block forever.
 TEST(HostileInputCli, FifoNamedCsvDoesNotBlockImport) {
   test_support::TempDir dir;
-  const engine::SyntheticTest clean = test_support::SynthNapTest(6);
+  const synth::SyntheticTest clean = test_support::SynthNapTest(6);
   fs::create_directories(dir / "tests");
   formats::WriteSignalsCsv(clean.signals, dir / "tests" / "good.csv");
   ASSERT_EQ(::mkfifo((dir / "tests" / "pipe.csv").c_str(), 0600), 0);
@@ -103,7 +103,7 @@ TEST(HostileInputCli, FifoNamedCsvDoesNotBlockImport) {
 // "." and ".." exported as hidden files.
 TEST(HostileInputCli, ControlCharactersNeverReachStderrAndExportNamesAreSafe) {
   test_support::TempDir dir;
-  const engine::SyntheticTest clean = test_support::SynthNapTest(7);
+  const synth::SyntheticTest clean = test_support::SynthNapTest(7);
   fs::create_directories(dir / "tests");
   formats::WriteSignalsCsv(clean.signals, dir / "tests" / "evil\x1b]0;title\x07.csv");
   formats::WriteSignalsCsv(clean.signals, dir / "dots.csv");
@@ -129,7 +129,7 @@ TEST(HostileInputCli, ControlCharactersNeverReachStderrAndExportNamesAreSafe) {
   for (const auto& entry : fs::recursive_directory_iterator(dir / "iso")) {
     const std::string name = entry.path().filename().string();
     EXPECT_NE(name.front(), '.') << name;
-    EXPECT_FALSE(formats::HasControlCharacter(name)) << name;
+    EXPECT_FALSE(util::HasControlCharacter(name)) << name;
     ++files;
   }
   EXPECT_GT(files, 3);

@@ -87,8 +87,7 @@ class CliImport : public ::testing::Test {
 
   std::vector<std::string> TestIds() {
     std::vector<std::string> ids;
-    for (const db::TestRecord& test : OpenForReading(db_path()).ReadAllTests())
-      ids.push_back(test.external_id);
+    for (const db::TestRow& test : OpenForReading(db_path()).ReadAllTests()) ids.push_back(test.external_id);
     return ids;
   }
 
@@ -100,7 +99,7 @@ class CliImport : public ::testing::Test {
 // ------------------------------------------------------------ round trips
 
 TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
-  const engine::SyntheticTest synth = SynthNapTest(11);
+  const synth::SyntheticTest synth = SynthNapTest(11);
   const engine::TestSignals& truth = synth.signals;
   const fs::path tests = dir_ / "tests";
   fs::create_directories(tests);
@@ -135,14 +134,14 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
   }
 
   db::Catalogue catalogue = OpenForReading(db_path());
-  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+  for (const db::TestRow& test : catalogue.ReadAllTests()) {
     EXPECT_EQ(test.series, "roundtrip");
     EXPECT_EQ(test.variant, "none");
     EXPECT_EQ(test.initial_state.orientation_rad,
               synth.initial.orientation_rad);  // exact through the text flag
     EXPECT_EQ(test.initial_state.velocity_fixed_mps, synth.initial.velocity_fixed_mps);
     // The stored array reads back as the preset, bit-exact.
-    const db::ArrayRecord array = catalogue.ReadArray(test.array_id);
+    const db::ArrayRow array = catalogue.ReadArray(test.array_id);
     const engine::ArrayGeometry geometry = records::DecodeArrayRecord(array);
     ASSERT_EQ(geometry.sensors.size(), synth.array.sensors.size());
     for (std::size_t i = 0; i < geometry.sensors.size(); ++i) {
@@ -158,7 +157,7 @@ TEST_F(CliImport, EveryFormatImportsTheSameSamples) {
 }
 
 TEST_F(CliImport, NineUdsFilesWithoutAMapFillTheTable21SlotsAndShareTheirStem) {
-  const engine::SyntheticTest synth = SynthNapTest(12);
+  const synth::SyntheticTest synth = SynthNapTest(12);
   WriteUdsGroup(synth.signals, dir_ / "raw", "v0001", formats::UdsNumberForm::kVax,
                 /*with_sensor_labels=*/false);
   std::vector<std::string> args;
@@ -173,7 +172,7 @@ TEST_F(CliImport, NineUdsFilesWithoutAMapFillTheTable21SlotsAndShareTheirStem) {
 }
 
 TEST_F(CliImport, TestIdOptionNamesASingleTestAndIsAUsageErrorForSeveral) {
-  const engine::SyntheticTest synth = SynthNapTest(13);
+  const synth::SyntheticTest synth = SynthNapTest(13);
   formats::WriteSignalsCsv(synth.signals, dir_ / "a.csv");
   formats::WriteSignalsCsv(SynthNapTest(14).signals, dir_ / "b.csv");
   const RunResult one = Import({"--test-id", "sled-42", "a.csv"});
@@ -235,7 +234,7 @@ std::string FolderTestName(int i) {
 std::map<std::string, engine::TestSignals> WriteFolderOfTests(const fs::path& folder) {
   fs::create_directories(folder);
   std::map<std::string, engine::TestSignals> written;
-  engine::SyntheticTest base = SynthNapTest(31, 0.01);
+  synth::SyntheticTest base = SynthNapTest(31, 0.01);
   for (int i = 0; i < kFolderTests; ++i) {
     engine::TestSignals signals = base.signals;
     signals.samples.array() += 0.001 * i;
@@ -297,7 +296,7 @@ TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt)
   std::size_t kept = 0;
   {
     db::Catalogue catalogue = OpenForReading(db_path());
-    for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+    for (const db::TestRow& test : catalogue.ReadAllTests()) {
       ++kept;
       EXPECT_EQ(catalogue.ReadTestSignals(test.id).samples, written.at(test.external_id).samples)
           << test.external_id;
@@ -312,10 +311,10 @@ TEST_F(CliImport, KilledFolderImportKeepsFinishedTestsWholeAndARerunCompletesIt)
                                          std::to_string(kept) + " already present.")
       << "(killed after " << kept << " tests)";
   db::Catalogue catalogue = OpenForReading(db_path());
-  const std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+  const std::vector<db::TestRow> tests = catalogue.ReadAllTests();
   ASSERT_EQ(tests.size(), static_cast<std::size_t>(kFolderTests));
   std::set<std::string> ids;
-  for (const db::TestRecord& test : tests) {
+  for (const db::TestRow& test : tests) {
     ids.insert(test.external_id);
     EXPECT_EQ(catalogue.ReadTestSignals(test.id).samples, written.at(test.external_id).samples);
   }
@@ -344,7 +343,7 @@ class CliImportBadInput : public CliImport {
   }
 
   void WriteIsoTest(const fs::path& folder) {
-    const engine::SyntheticTest synth = SynthNapTest(42);
+    const synth::SyntheticTest synth = SynthNapTest(42);
     formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("nap-example"), folder, "iso");
   }
 
@@ -466,7 +465,7 @@ TEST_F(CliImport, TripleOptionsTakeOneArgumentWhereverTheyStand) {
   const RunResult run =
       Import({"--orientation", "0.25,-0.5,1e-3", "o.csv", "--initial-velocity=-7,0,2.5", "--series", "s"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const db::TestRecord test = OpenForReading(db_path()).ReadAllTests().at(0);
+  const db::TestRow test = OpenForReading(db_path()).ReadAllTests().at(0);
   EXPECT_EQ(test.initial_state.orientation_rad, Eigen::Vector3d(0.25, -0.5, 1e-3));
   EXPECT_EQ(test.initial_state.velocity_fixed_mps, Eigen::Vector3d(-7, 0, 2.5));
   EXPECT_EQ(test.series, "s");
@@ -484,7 +483,7 @@ TEST_F(CliImport, TripleOptionsTakeOneArgumentWhereverTheyStand) {
 
 TEST(ImportDiscovery, FindsEachKindOfTestInAFolderTree) {
   napkin::test_support::TempDir dir;
-  const engine::SyntheticTest synth = SynthNapTest(61);
+  const synth::SyntheticTest synth = SynthNapTest(61);
   fs::create_directories(dir / "tree" / "nested");
   formats::WriteSignalsCsv(synth.signals, dir / "tree" / "a.csv");
   formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("nap-example"),
@@ -526,7 +525,7 @@ TEST(ImportDiscovery, FindsEachKindOfTestInAFolderTree) {
 
 TEST(ImportDiscovery, UdsGroupHashDependsOnEveryMemberFile) {
   napkin::test_support::TempDir dir;
-  const engine::SyntheticTest synth = SynthNapTest(62);
+  const synth::SyntheticTest synth = SynthNapTest(62);
   WriteUdsGroup(synth.signals, dir / "u", "v1", formats::UdsNumberForm::kIeee);
   const Discovery found = DiscoverInputs({(dir / "u").string()});
   ASSERT_EQ(found.inputs.size(), 1u);

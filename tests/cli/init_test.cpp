@@ -50,7 +50,7 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
     ASSERT_EQ(old.schema_version(), 1);
     const db::ArrayId array = old.WriteArray({{}, "two", R"({"name":"two"})", "hash-two"});
     for (const char* id : {"v0001", "v0002"}) {
-      db::TestRecord test;
+      db::TestRow test;
       test.external_id = id;
       test.series = "sled";
       test.variant = std::string("foam-") + id;
@@ -69,7 +69,7 @@ TEST(CliInit, MigratesAnOlderCatalogueInPlaceKeepingItsRows) {
 
   db::Catalogue catalogue = OpenForReading(path);
   EXPECT_EQ(catalogue.schema_version(), kLatest);
-  const std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+  const std::vector<db::TestRow> tests = catalogue.ReadAllTests();
   ASSERT_EQ(tests.size(), 2u);
   EXPECT_EQ(tests[0].external_id, "v0001");
   EXPECT_EQ(tests[1].variant, "foam-v0002");

@@ -24,10 +24,10 @@ using namespace napkin::test_support;
 TEST(CliIsoMmeAccelerationOnly, ExportWritesTheCgAccelerationAndReimportsToTheSameChannels) {
   TempDir dir;
   ASSERT_EQ(RunNapkin(dir.path(), {"init"}).exit_code, 0);
-  engine::RandomMotionOptions motion;
+  synth::RandomMotionOptions motion;
   motion.seed = 311;
   motion.duration_s = 0.05;
-  formats::WriteSignalsCsv(engine::SynthRandomMotion(formats::LoadArray("3a-cg"), motion).signals,
+  formats::WriteSignalsCsv(synth::SynthRandomMotion(formats::LoadArray("3a-cg"), motion).signals,
                            dir / "a1.csv");
   ASSERT_EQ(RunNapkin(dir.path(), {"import", "--array", "3a-cg", "a1.csv"}).exit_code, 0);
   // Bit-exact derived channels (docs/formats.md "Derived-channel storage").

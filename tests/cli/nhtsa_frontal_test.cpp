@@ -66,12 +66,12 @@ Recording ReadRecording(const fs::path& path) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(formats::Trim(line), "time_s,ax_g,ay_g,az_g") << path;
+  EXPECT_EQ(util::Trim(line), "time_s,ax_g,ay_g,az_g") << path;
   Recording recording;
   std::vector<std::array<double, 4>> rows;
   while (std::getline(in, line)) {
-    if (formats::Trim(line).empty()) continue;
-    recording.data_lines.emplace_back(formats::Trim(line));
+    if (util::Trim(line).empty()) continue;
+    recording.data_lines.emplace_back(util::Trim(line));
     std::array<double, 4> row{};
     std::stringstream fields(recording.data_lines.back());
     std::string field;

@@ -106,7 +106,7 @@ TEST_F(OutdatedCliTest, StatusCountsByVersionAndRunOutdatedRecomputesTheOlderOne
   {
     db::Catalogue catalogue = db::Catalogue::Open(db_);
     db::CatalogueInspector inspector(catalogue);
-    for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+    for (const db::TestRow& test : catalogue.ReadAllTests()) {
       config = *catalogue.ReadLatestResultConfig(test.id);
       summaries[test.external_id] = *catalogue.ReadSummary(test.id, config);
       kinematics[test.external_id] = *catalogue.ReadKinematics(test.id, config);
@@ -140,7 +140,7 @@ TEST_F(OutdatedCliTest, StatusCountsByVersionAndRunOutdatedRecomputesTheOlderOne
   db::Catalogue catalogue = db::Catalogue::Open(db_);
   db::CatalogueInspector inspector(catalogue);
   const std::vector<std::int64_t> after = inspector.ReadJobAttempts(config);
-  const std::vector<db::TestRecord> tests = catalogue.ReadAllTests();
+  const std::vector<db::TestRow> tests = catalogue.ReadAllTests();
   ASSERT_EQ(after.size(), tests.size());
   for (std::size_t i = 0; i < tests.size(); ++i) {
     const std::string& id = tests[i].external_id;

@@ -101,7 +101,7 @@ void WriteFixedCatalogue(const fs::path& path) {
   std::vector<db::TestId> keys;
   for (const Chosen& chosen : tests) {
     ++k;
-    db::TestRecord test;
+    db::TestRow test;
     test.external_id = chosen.id;
     test.series = chosen.series;
     test.variant = chosen.variant;

@@ -140,7 +140,7 @@ TEST_F(CliQuery, CsvCarriesExactNumbersAndTableAlignsColumns) {
   std::string header;
   for (const std::string& field : kHicFields) header += (header.empty() ? "" : ",") + field;
   EXPECT_EQ(lines[0], header);
-  const std::string hic15 = formats::FormatNumber(processed_q1_.summary.hic15.value);
+  const std::string hic15 = util::FormatNumber(processed_q1_.summary.hic15.value);
   EXPECT_EQ(lines[1].rfind("q1,sled,foam-a," + hic15 + ",", 0), 0u) << lines[1];
 
   const RunResult table = RunNapkin(dir_.path(), {"query", "hic", "--series", "sled"});
@@ -159,7 +159,7 @@ TEST_F(CliQuery, CsvCarriesExactNumbersAndTableAlignsColumns) {
     const auto [begin, end] = spans[c];
     EXPECT_TRUE(begin == 0 || line[begin - 1] == ' ') << line;
     const std::string text = line.substr(begin, std::min(end, line.size()) - begin);
-    return std::string(formats::Trim(text));
+    return std::string(util::Trim(text));
   };
   for (std::size_t c = 0; c < kHicFields.size(); ++c) EXPECT_EQ(cell(rows[0], c), kHicFields[c]);
   EXPECT_EQ(cell(rows[2], 0), "q1");

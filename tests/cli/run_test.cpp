@@ -170,7 +170,7 @@ TEST_F(RunCliTest, ShardsOnCopiesMergedEqualOneUnshardedRun) {
   }
   const db::ConfigId config_a = *a.ReadLatestResultConfig(*a.FindTestByExternalId("random-0001"));
   const db::ConfigId config_b = *b.ReadLatestResultConfig(*b.FindTestByExternalId("random-0001"));
-  for (const db::TestRecord& test : a.ReadAllTests()) {
+  for (const db::TestRow& test : a.ReadAllTests()) {
     const auto ka = a.ReadKinematics(test.id, config_a);
     const auto kb = b.ReadKinematics(*b.FindTestByExternalId(test.external_id), config_b);
     ASSERT_TRUE(ka && kb) << test.external_id;
@@ -229,7 +229,7 @@ TEST_F(RunCliTest, CatalogueResultsEqualNapkinTransformOnTheSameInputs) {
   test_support::WriteText(float64, R"({"storage": {"derived_channels": "float64"}})");
   ASSERT_EQ(Napkin({"run", "--config", float64.string()}, db).exit_code, 0);
   db::Catalogue catalogue = db::Catalogue::Open(db);
-  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+  for (const db::TestRow& test : catalogue.ReadAllTests()) {
     const fs::path input = dir_ / (test.external_id + ".csv");
     const fs::path array = dir_ / (test.external_id + ".array.json");
     formats::WriteSignalsCsv(catalogue.ReadTestSignals(test.id), input);

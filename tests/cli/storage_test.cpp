@@ -106,7 +106,7 @@ class StorageCliTest : public ::testing::Test {
   std::vector<std::string> TestIds() {
     db::Catalogue catalogue = test_support::OpenForReading(dir_ / "napkin.db");
     std::vector<std::string> ids;
-    for (const db::TestRecord& test : catalogue.ReadAllTests()) ids.push_back(test.external_id);
+    for (const db::TestRow& test : catalogue.ReadAllTests()) ids.push_back(test.external_id);
     return ids;
   }
 
@@ -121,7 +121,7 @@ TEST_F(StorageCliTest, NoneStoresNothingAndItsExportEqualsTheFloat64ExportByteFo
     const auto none = catalogue.FindConfigByHash(Resolve("none").record.config_hash);
     const auto float64 = catalogue.FindConfigByHash(Resolve("float64").record.config_hash);
     ASSERT_TRUE(none && float64);
-    for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+    for (const db::TestRow& test : catalogue.ReadAllTests()) {
       EXPECT_TRUE(catalogue.ReadSummary(test.id, *none).has_value()) << test.external_id;
       EXPECT_FALSE(catalogue.ReadKinematics(test.id, *none).has_value()) << test.external_id;
       EXPECT_TRUE(catalogue.ReadKinematics(test.id, *float64).has_value()) << test.external_id;
@@ -156,7 +156,7 @@ TEST_F(StorageCliTest, Float32HoldsTheFloat64ValuesRoundedToFloat) {
   ASSERT_TRUE(float32 && float64);
   // The default preset is float32 and has the same hash as float32.json but for the name.
   EXPECT_EQ(Resolve("float32").record.config_hash, records::ResolveConfig("default").record.config_hash);
-  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+  for (const db::TestRow& test : catalogue.ReadAllTests()) {
     const auto exact = catalogue.ReadKinematics(test.id, *float64);
     const auto rounded = catalogue.ReadKinematics(test.id, *float32);
     ASSERT_TRUE(exact && rounded) << test.external_id;

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/catalogue_access.h"
+#include "cli/db_option.h"
 #include "db/job_queue.h"
 #include "formats/channel_map.h"
 #include "formats/csv.h"
@@ -162,7 +162,7 @@ TEST_F(TextEncodingCli, StoredTextThatIsNotUtf8NeverBreaksAnAnswer) {
     const db::ConfigId config_id = catalogue.WriteConfig(config.record);
     int index = 0;
     for (const char* variant : {"v\xfe", "v\xfe", "w", "w"}) {
-      db::TestRecord test;
+      db::TestRow test;
       test.external_id = "M\xfcller-" + std::to_string(index);
       test.series = "s\xff";
       test.variant = variant;

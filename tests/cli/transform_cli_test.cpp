@@ -9,8 +9,8 @@
 #include "cli/transform.h"
 #include "common/error.h"
 #include "engine/report_known_answers.h"
-#include "engine/synth.h"
 #include "formats/csv.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
@@ -25,8 +25,7 @@ void WriteText(const fs::path& path, const std::string& text) { std::ofstream(pa
 class TransformCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const engine::SyntheticTest test =
-        engine::SynthSeedFixedAxis(Denton3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+    const synth::SyntheticTest test = synth::SynthSeedFixedAxis(Denton3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
     input_ = dir_ / "t1.csv";
     formats::WriteSignalsCsv(test.signals, input_);
     csv_text_ = ReadText(input_);

@@ -11,9 +11,9 @@
 #include <string>
 
 #include "engine/criteria.h"
-#include "engine/synth.h"
 #include "engine/units.h"
 #include "formats/csv.h"
+#include "synth/synthetic_tests.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/run_command.h"
@@ -25,7 +25,7 @@ namespace {
 using test_support::ReadText;
 
 // Runs `napkin transform` on `input` with the test's initial state.
-test_support::CommandResult Transform(const test_support::TempDir& dir, const engine::SyntheticTest& test,
+test_support::CommandResult Transform(const test_support::TempDir& dir, const synth::SyntheticTest& test,
                                       const std::string& input, const std::string& array = "denton-3222") {
   return test_support::RunProgram(
       NAPKIN_BINARY,
@@ -34,22 +34,22 @@ test_support::CommandResult Transform(const test_support::TempDir& dir, const en
        (dir / "out.csv").string(), "--summary", (dir / "s.json").string(), input});
 }
 
-double TrueHic15(const engine::SyntheticTest& test) {
+double TrueHic15(const synth::SyntheticTest& test) {
   const Eigen::VectorXd acc_g = test.truth.acc_fixed.rowwise().norm() / engine::kStandardGravity;
   engine::HicOptions window;
   window.window_s = engine::kHic15Window;
   return engine::Hic(acc_g, test.signals.dt_s, test.signals.t0_s, window).value;
 }
 
-engine::SyntheticTest Motion() {
-  engine::RandomMotionOptions options;
+synth::SyntheticTest Motion() {
+  synth::RandomMotionOptions options;
   options.seed = 3;
-  return engine::SynthRandomMotion(test_support::Denton3222(), options);
+  return synth::SynthRandomMotion(test_support::Denton3222(), options);
 }
 
 TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
   test_support::TempDir dir;
-  const engine::SyntheticTest test = Motion();
+  const synth::SyntheticTest test = Motion();
   formats::WriteSignalsCsv(test.signals, dir / "clean.csv");
   const test_support::CommandResult run = Transform(dir, test, (dir / "clean.csv").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -65,7 +65,7 @@ TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
 
 TEST(TransformScreening, SummaryNamesTheSpikedChannel) {
   test_support::TempDir dir;
-  engine::SyntheticTest test = Motion();
+  synth::SyntheticTest test = Motion();
   auto spiked = test.signals.samples.col(test.signals.FindSlot("xarm_y"));
   spiked(700) += 120.0;  // g
   formats::WriteSignalsCsv(test.signals, dir / "spiked.csv");
@@ -94,7 +94,7 @@ TEST(TransformScreening, SummaryNamesTheSpikedChannel) {
 // naming the file and the channel, no output.
 TEST(TransformScreening, ClippedChannelFailsNamingItAndWritesNothing) {
   test_support::TempDir dir;
-  engine::SyntheticTest test = Motion();
+  synth::SyntheticTest test = Motion();
   auto spiked = test.signals.samples.col(test.signals.FindSlot("xarm_y"));
   spiked(700) += 120.0;  // g
   auto clipped = test.signals.samples.col(test.signals.FindSlot("cg_z"));
@@ -111,7 +111,7 @@ TEST(TransformScreening, ClippedChannelFailsNamingItAndWritesNothing) {
 
 TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
   test_support::TempDir dir;
-  engine::SyntheticTest test = Motion();
+  synth::SyntheticTest test = Motion();
   test.signals.samples.col(test.signals.FindSlot("zarm_x")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
   const test_support::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string());
@@ -130,9 +130,9 @@ TEST(TransformScreening, FlippedChannelThatBreaksTheSolveFailsNamingIt) {
 // test all the same (as `napkin run` fails it): exit 1, nothing written.
 TEST(TransformScreening, FlippedChannelFailsNamingItAndWritesNothing) {
   test_support::TempDir dir;
-  engine::RandomMotionOptions options;
+  synth::RandomMotionOptions options;
   options.seed = 3;
-  engine::SyntheticTest test = engine::SynthRandomMotion(test_support::NapArs12(), options);
+  synth::SyntheticTest test = synth::SynthRandomMotion(test_support::NapArs12(), options);
   test.signals.samples.col(test.signals.FindSlot("yarm_z")) *= -1.0;
   formats::WriteSignalsCsv(test.signals, dir / "flipped.csv");
   const test_support::CommandResult run = Transform(dir, test, (dir / "flipped.csv").string(), "nap-ars-12");
@@ -148,10 +148,10 @@ TEST(TransformScreening, FlippedChannelFailsNamingItAndWritesNothing) {
 // (after the file name); a clean file passes both.
 TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
   test_support::TempDir dir;
-  engine::RandomMotionOptions options;
+  synth::RandomMotionOptions options;
   options.seed = 3;
-  const engine::SyntheticTest clean = engine::SynthRandomMotion(test_support::NapArs12(), options);
-  engine::SyntheticTest flipped = clean;
+  const synth::SyntheticTest clean = synth::SynthRandomMotion(test_support::NapArs12(), options);
+  synth::SyntheticTest flipped = clean;
   flipped.signals.samples.col(flipped.signals.FindSlot("yarm_z")) *= -1.0;
   std::filesystem::create_directories(dir / "tests");
   formats::WriteSignalsCsv(clean.signals, dir / "tests" / "clean.csv");
@@ -192,7 +192,7 @@ TEST(TransformScreening, RunAndTransformAgreeOnTheSameFiles) {
 
 TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {
   test_support::TempDir dir;
-  const engine::SyntheticTest test = Motion();
+  const synth::SyntheticTest test = Motion();
   formats::WriteSignalsCsv(test.signals, dir / "clean.csv");
   // Replace the yarm_x value of one data row by "nan".
   std::istringstream lines(ReadText(dir / "clean.csv"));

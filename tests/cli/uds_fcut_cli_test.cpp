@@ -86,10 +86,10 @@ void ExpectExportedFcut(const fs::path& folder, const std::string& test, double 
 
 TEST(CliUdsFcut, ExportWritesTheCutoffOfTheClassApplied) {
   TempDir dir;
-  engine::RandomMotionOptions options;
+  synth::RandomMotionOptions options;
   options.seed = 93;
   options.duration_s = 0.05;
-  const engine::SyntheticTest synth = engine::SynthRandomMotion(formats::LoadArray("6aw-cg"), options);
+  const synth::SyntheticTest synth = synth::SynthRandomMotion(formats::LoadArray("6aw-cg"), options);
   formats::WriteSignalsCsv(synth.signals, dir / "t93.csv");
   ASSERT_EQ(RunNapkin(dir.path(), {"init"}).exit_code, 0);
   const RunResult import = RunNapkin(dir.path(), {"import", "--array", "6aw-cg", "t93.csv"});
@@ -116,7 +116,7 @@ TEST(CliUdsFcut, ExportWritesTheCutoffOfTheClassApplied) {
 
 // A 6aw-cg head as UDS-1992 files: CG accelerations filtered at CFC 600 (FCUT
 // 1000 Hz) and angular rates at CFC 180 (FCUT 300 Hz).
-void WritePrefilteredUds(const engine::SyntheticTest& synth, const fs::path& folder) {
+void WritePrefilteredUds(const synth::SyntheticTest& synth, const fs::path& folder) {
   fs::create_directories(folder);
   const char* axes[3] = {"XL", "YL", "ZL"};
   for (Eigen::Index c = 0; c < 6; ++c) {
@@ -140,10 +140,10 @@ void WritePrefilteredUds(const engine::SyntheticTest& synth, const fs::path& fol
 
 TEST(CliUdsFcut, PrefilteredChannelsAreNotFilteredAgainAndExportSaysTheirClass) {
   TempDir dir;
-  engine::RandomMotionOptions options;
+  synth::RandomMotionOptions options;
   options.seed = 94;
   options.duration_s = 0.05;
-  const engine::SyntheticTest synth = engine::SynthRandomMotion(formats::LoadArray("6aw-cg"), options);
+  const synth::SyntheticTest synth = synth::SynthRandomMotion(formats::LoadArray("6aw-cg"), options);
   WritePrefilteredUds(synth, dir / "uds");
   ASSERT_EQ(RunNapkin(dir.path(), {"init"}).exit_code, 0);
   const RunResult import = RunNapkin(dir.path(), {"import", "--array", "6aw-cg", "uds"});

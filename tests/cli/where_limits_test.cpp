@@ -12,7 +12,7 @@
 #include <random>
 #include <set>
 
-#include "cli/where_expression.h"
+#include "cli/where_parser.h"
 #include "common/error.h"
 #include "db/sqlite.h"
 #include "formats/csv.h"

@@ -88,7 +88,7 @@ class CliZipImport : public ::testing::Test {
 };
 
 TEST_F(CliZipImport, IsoMmeArchiveImportsTheSameSamplesAsItsFolder) {
-  const engine::SyntheticTest synth = SynthNapTest(81);
+  const synth::SyntheticTest synth = SynthNapTest(81);
   formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("nap-example"), dir_ / "T81",
                        "T81");
   // NHTSA's layout: the test folder inside the archive; also the files at its top.
@@ -107,7 +107,7 @@ TEST_F(CliZipImport, IsoMmeArchiveImportsTheSameSamplesAsItsFolder) {
     EXPECT_EQ(zipped.samples, folder.samples) << id;  // bit for bit
   }
   db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
-  const db::TestRecord record = catalogue.ReadTest(*catalogue.FindTestByExternalId("v81iso"));
+  const db::TestRow record = catalogue.ReadTest(*catalogue.FindTestByExternalId("v81iso"));
   EXPECT_NE(record.metadata_json.find("\"archive\":\"zip\""), std::string::npos) << record.metadata_json;
   EXPECT_NE(record.metadata_json.find("\"format\":\"iso-mme\""), std::string::npos) << record.metadata_json;
   EXPECT_TRUE(TemporaryFolderIsEmpty());
@@ -119,7 +119,7 @@ TEST_F(CliZipImport, IsoMmeArchiveImportsTheSameSamplesAsItsFolder) {
 }
 
 TEST_F(CliZipImport, UdsArchiveWithNchanAboveOneImportsWithAWarning) {
-  const engine::SyntheticTest synth = SynthNapTest(82);
+  const synth::SyntheticTest synth = SynthNapTest(82);
   WriteUdsFiles(synth.signals, dir_ / "uds", "v0082", formats::UdsNumberForm::kVax);
   std::vector<ZipEntry> entries = FolderEntries(dir_ / "uds");
   ASSERT_EQ(entries.size(), 9u);
@@ -147,7 +147,7 @@ class CliZipRefusal : public CliZipImport {
   void SetUp() override {
     CliZipImport::SetUp();
     // A catalogue that already holds a test, so "identical" is not trivially true.
-    const engine::SyntheticTest synth = SynthNapTest(83);
+    const synth::SyntheticTest synth = SynthNapTest(83);
     formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("nap-example"), dir_ / "T83",
                          "T83");
     WriteZip(dir_ / "good.zip", FolderEntries(dir_ / "T83", "T83/"));
@@ -308,7 +308,7 @@ TEST_F(CliZipImport, ASignalDuringTheImportRemovesTheTemporaryFolder) {
   std::string zeros;
   for (std::size_t c = 0; c < columns; ++c) zeros += ",0.125";
   for (int row = 0; csv.size() < (std::size_t{40} << 20); ++row)
-    csv += formats::FormatNumber(row * 1e-4) + zeros + "\n";
+    csv += util::FormatNumber(row * 1e-4) + zeros + "\n";
   WriteZip(dir_ / "big.zip", {{"big.csv", csv}}, /*store=*/true);
   const std::string before = DumpCatalogue(dir_ / "napkin.db");
 

@@ -67,7 +67,7 @@ class CatalogueTest : public ::testing::Test {
 // ------------------------------------------------------------------- tests
 
 TEST_F(CatalogueTest, TestRecordRoundTrips) {
-  TestRecord test;
+  TestRow test;
   test.external_id = "v0001";
   test.series = "sled-2024";
   test.variant = "foam-a";
@@ -80,7 +80,7 @@ TEST_F(CatalogueTest, TestRecordRoundTrips) {
   test.content_hash = "abc123";
   const TestId id = catalogue_.WriteTest(test);
 
-  const TestRecord read = catalogue_.ReadTest(id);
+  const TestRow read = catalogue_.ReadTest(id);
   EXPECT_EQ(read.id, id);
   EXPECT_EQ(read.external_id, test.external_id);
   EXPECT_EQ(read.series, test.series);
@@ -103,7 +103,7 @@ TEST_F(CatalogueTest, TestRecordRoundTrips) {
 
 TEST_F(CatalogueTest, DuplicateTestsAreRefusedInOneSentence) {
   test_support::AddTest(catalogue_, array_, "v0001");
-  TestRecord same_id;
+  TestRow same_id;
   same_id.external_id = "v0001";
   same_id.array_id = array_;
   same_id.source_path = "/elsewhere/v0001.csv";
@@ -111,13 +111,13 @@ TEST_F(CatalogueTest, DuplicateTestsAreRefusedInOneSentence) {
   EXPECT_THAT([&] { catalogue_.WriteTest(same_id); },
               ThrowsMessage<InputError>(
                   StrEq("test 'v0001' is already in the catalogue (imported from '/data/v0001.csv').")));
-  TestRecord same_content = same_id;
+  TestRow same_content = same_id;
   same_content.external_id = "copy";
   same_content.content_hash = "content-v0001";
   EXPECT_THAT([&] { catalogue_.WriteTest(same_content); },
               ThrowsMessage<InputError>(StrEq(
                   "'/elsewhere/v0001.csv' has the same content as test 'v0001', already in the catalogue.")));
-  TestRecord bad_metadata = same_id;
+  TestRow bad_metadata = same_id;
   bad_metadata.external_id = "v0003";
   bad_metadata.metadata_json = "[1, 2]";
   EXPECT_THAT([&] { catalogue_.WriteTest(bad_metadata); },
@@ -134,7 +134,7 @@ TEST_F(CatalogueTest, ArraysAndConfigsAreDeduplicatedByHash) {
   EXPECT_EQ(catalogue_.ReadConfig(other).config_json, R"({"filter":"cfc180"})");
   EXPECT_EQ(catalogue_.ReadArray(array_).definition_json, test_support::IdealArray().definition_json);
 
-  ArrayRecord collision = test_support::IdealArray();
+  ArrayRow collision = test_support::IdealArray();
   collision.definition_json = "{}";
   EXPECT_THROW(catalogue_.WriteArray(collision), InputError);
 }

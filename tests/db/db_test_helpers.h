@@ -8,20 +8,20 @@
 
 namespace napkin::test_support {
 
-inline db::ArrayRecord IdealArray() {
-  return db::ArrayRecord{
+inline db::ArrayRow IdealArray() {
+  return db::ArrayRow{
       {}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"};
 }
 
-inline db::ConfigRecord DefaultConfig(const std::string& json = R"({"filter":"cfc1000","solver":"exact"})") {
-  return db::ConfigRecord{{}, "default", json, "config-hash-" + json, {}};
+inline db::ConfigRow DefaultConfig(const std::string& json = R"({"filter":"cfc1000","solver":"exact"})") {
+  return db::ConfigRow{{}, "default", json, "config-hash-" + json, {}};
 }
 
 // A test with external id `external_id`, unique content hash and the given labels.
 inline db::TestId AddTest(db::Catalogue& catalogue, db::ArrayId array, const std::string& external_id,
                           const std::optional<std::string>& series = std::nullopt,
                           const std::optional<std::string>& variant = std::nullopt) {
-  db::TestRecord test;
+  db::TestRow test;
   test.external_id = external_id;
   test.series = series;
   test.variant = variant;

@@ -208,7 +208,7 @@ TEST_F(JobsTest, ChangedConfigReenqueuesWithoutDeletingEarlierResults) {
   EXPECT_EQ(counts.pending, 3);
   EXPECT_EQ(counts.done, 0);
   EXPECT_EQ(queue.EnqueueMissing(new_config), 3);
-  for (const TestRecord& test : catalogue.ReadAllTests())
+  for (const TestRow& test : catalogue.ReadAllTests())
     EXPECT_TRUE(catalogue.ReadSummary(test.id, old_config).has_value()) << test.external_id;
   EXPECT_EQ(queue.ReadStatusCounts(old_config).done, 3);
   EXPECT_EQ(catalogue.Query(QueryKind::kHic).rows.size(), 3u) << "old results stay queryable";

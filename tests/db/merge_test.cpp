@@ -111,7 +111,7 @@ TEST_F(MergeTest, ShardsMergeIntoTheCompleteCatalogue) {
   EXPECT_EQ(counts.failures[0].test_id, "t3");
   EXPECT_EQ(counts.failures[0].error, "channel 'cg_y' of test 't3' is missing.");
 
-  for (const TestRecord& test : main.ReadAllTests()) {
+  for (const TestRow& test : main.ReadAllTests()) {
     if (test.external_id == "t3") continue;
     const auto summary = main.ReadSummary(test.id, config);
     ASSERT_TRUE(summary.has_value()) << test.external_id;
@@ -139,7 +139,7 @@ TEST_F(MergeTest, TestsImportedInAShardAreAddedWithTheirChannels) {
   {
     Catalogue shard = Catalogue::Open(shard_path);
     // A new array and series on the shard shift its keys away from main's.
-    ArrayRecord other_array = test_support::IdealArray();
+    ArrayRow other_array = test_support::IdealArray();
     other_array.definition_hash = "other";
     other_array.definition_json = "{\"other\":true}";
     const ArrayId array = shard.WriteArray(other_array);
@@ -154,7 +154,7 @@ TEST_F(MergeTest, TestsImportedInAShardAreAddedWithTheirChannels) {
   EXPECT_EQ(report.tests_added, 1);
   const auto added = main.FindTestByExternalId("t9");
   ASSERT_TRUE(added.has_value());
-  const TestRecord test = main.ReadTest(*added);
+  const TestRow test = main.ReadTest(*added);
   EXPECT_EQ(test.series, "new-series");
   EXPECT_EQ(main.ReadArray(test.array_id).definition_hash, "other");
   Catalogue shard = Catalogue::Open(shard_path);
@@ -171,7 +171,7 @@ TEST_F(MergeTest, ConflictingTestIdsAndForeignFilesAreRefused) {
   }
   {
     Catalogue shard = Catalogue::Open(shard_path);
-    TestRecord clash;
+    TestRow clash;
     clash.external_id = "t9";
     clash.array_id = shard.WriteArray(test_support::IdealArray());
     clash.source_path = "/other/t9.csv";

@@ -138,7 +138,7 @@ TEST_F(ProvenanceTest, OutdatedQueuesExactlyTheResultsOfAnotherVersion) {
   EXPECT_EQ(queue.EnqueueMissing(config, {}, false, true), 0) << "every result is of this version now";
 
   CatalogueInspector inspector(catalogue);
-  for (const TestRecord& test : catalogue.ReadAllTests()) {
+  for (const TestRow& test : catalogue.ReadAllTests()) {
     EXPECT_THAT(inspector.ReadResultVersion(test.id, config), Optional(std::string(kNewVersion)))
         << test.external_id;
     EXPECT_THAT(inspector.ReadResultVersion(test.id, other_config), Optional(std::string(kOldVersion)))

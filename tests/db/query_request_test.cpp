@@ -242,7 +242,7 @@ TEST_F(QueryRequestTest, UnknownFieldsAndMismatchedValuesAreRefused) {
 }
 
 TEST_F(QueryRequestTest, ReadAllConfigsInWriteOrder) {
-  const std::vector<ConfigRecord> configs = catalogue_.ReadAllConfigs();
+  const std::vector<ConfigRow> configs = catalogue_.ReadAllConfigs();
   ASSERT_EQ(configs.size(), 2u);
   EXPECT_EQ(configs[0].id, config_);
   EXPECT_EQ(configs[1].id, other_config_);

@@ -103,8 +103,8 @@ TEST_F(ResultsFileTest, TestsAreCopiedWithTheirKeysAndWithoutRawChannels) {
   EXPECT_EQ(ResultsFile::CopyTests(shared, results, scope), 3);
   EXPECT_EQ(ResultsFile::CopyTests(shared, results, scope), 0) << "rows already there are kept";
   std::vector<std::string> copied;
-  for (const TestRecord& test : results.ReadAllTests()) {
-    const TestRecord original = shared.ReadTest(test.id);  // same key
+  for (const TestRow& test : results.ReadAllTests()) {
+    const TestRow original = shared.ReadTest(test.id);  // same key
     EXPECT_EQ(test.external_id, original.external_id);
     EXPECT_EQ(test.content_hash, original.content_hash);
     EXPECT_EQ(test.series, original.series);

@@ -15,8 +15,8 @@
 #include "engine/pipeline.h"
 #include "engine/screening.h"
 #include "engine/summary_fields.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -33,11 +33,11 @@ ProcessingConfig Unconditioned() {
 
 // A random 3-D head motion sensed by the CG triad (truth: the motion's own
 // body-frame CG acceleration).
-SyntheticTest RandomMotionAtCg(std::uint64_t seed) {
-  RandomMotionOptions motion;
+synth::SyntheticTest RandomMotionAtCg(std::uint64_t seed) {
+  synth::RandomMotionOptions motion;
   motion.seed = seed;
   motion.duration_s = 0.1;
-  return SynthRandomMotion(test_support::ThreeACg(), motion);
+  return synth::SynthRandomMotion(test_support::ThreeACg(), motion);
 }
 
 bool IsRotationField(const SummaryField& field) {
@@ -45,7 +45,7 @@ bool IsRotationField(const SummaryField& field) {
 }
 
 TEST(AccelerationOnly, CgAccelerationAndCriteriaEqualTheTruthAndRotationIsAbsent) {
-  const SyntheticTest test = RandomMotionAtCg(7);
+  const synth::SyntheticTest test = RandomMotionAtCg(7);
   const ProcessedTest processed = ProcessTest(test.array, test.signals, test.initial, Unconditioned());
   const Kinematics& kin = processed.kinematics;
   ASSERT_EQ(kin.size(), test.truth.size());
@@ -91,7 +91,7 @@ TEST(AccelerationOnly, CgAccelerationAndCriteriaEqualTheTruthAndRotationIsAbsent
 }
 
 TEST(AccelerationOnly, OneInfoFindingAndNoRigidBodyFinding) {
-  const SyntheticTest test = RandomMotionAtCg(8);
+  const synth::SyntheticTest test = RandomMotionAtCg(8);
   const ProcessedTest processed = ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});
   ASSERT_EQ(processed.summary.findings.size(), 1u);
   const Finding& finding = processed.summary.findings.front();
@@ -107,7 +107,7 @@ TEST(AccelerationOnly, OneInfoFindingAndNoRigidBodyFinding) {
 TEST(AccelerationOnly, ScreeningStillSeesWhatThreeChannelsShow) {
   // A spike, a clipped run and an offset on the raw channels are found as
   // for any array; no rigid-body finding (polarity, residual) is invented.
-  SyntheticTest test = RandomMotionAtCg(9);
+  synth::SyntheticTest test = RandomMotionAtCg(9);
   Eigen::MatrixXd& samples = test.signals.samples;
   const Eigen::Index n = samples.rows();
   samples(n / 3, 0) += 80.0;                           // spike on cg_x
@@ -131,7 +131,7 @@ TEST(AccelerationOnly, ScreeningStillSeesWhatThreeChannelsShow) {
 }
 
 TEST(AccelerationOnly, GravityCompensationAndTheSeedSolverAreRefused) {
-  const SyntheticTest test = RandomMotionAtCg(10);
+  const synth::SyntheticTest test = RandomMotionAtCg(10);
   ProcessingConfig gravity;
   gravity.gravity.compensate = true;
   try {

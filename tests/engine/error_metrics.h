@@ -9,8 +9,8 @@
 #include "engine/kinematics.h"
 #include "engine/rotation.h"
 #include "engine/solver.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 
 namespace napkin::test_support {
 
@@ -60,7 +60,7 @@ inline void PrintErrors(const std::string& label, const KinematicsErrors& e) {
 }
 
 // Solver options that start from a synthetic test's true initial state.
-inline engine::SolveOptions OptionsFor(const engine::SyntheticTest& test) {
+inline engine::SolveOptions OptionsFor(const synth::SyntheticTest& test) {
   engine::SolveOptions options;
   options.initial = test.initial;
   return options;

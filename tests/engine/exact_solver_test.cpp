@@ -13,8 +13,8 @@
 #include "engine/report_known_answers.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/engine/error_metrics.h"
 #include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
@@ -50,7 +50,7 @@ class ExactSolverOnNapTest : public ::testing::TestWithParam<NapGeometryCase> {}
 TEST_P(ExactSolverOnNapTest, SeedFixedAxisMeetsReportAccuracy) {
   const ArrayGeometry array = GetParam().array();
   SCOPED_TRACE(array.name);
-  const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
+  const synth::SyntheticTest test = synth::SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
   const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
   const KinematicsErrors e = CompareKinematics(solved, test.truth);
   PrintErrors("4.5 " + array.name, e);
@@ -94,10 +94,10 @@ TEST_P(ExactSolverOnNapTest, RandomMotionsWithDisplacedSensorsMeetAccuracyTarget
   double worst_residual = 0.0;
   for (std::uint64_t seed = first_seed; seed < first_seed + kMotionsPerGeometry; ++seed) {
     SCOPED_TRACE(nominal.name + " seed " + std::to_string(seed));
-    const ArrayGeometry displaced = DisplaceSensors(nominal, 0.25 * kMetresPerInch, 100 + seed);
-    RandomMotionOptions motion;
+    const ArrayGeometry displaced = synth::DisplaceSensors(nominal, 0.25 * kMetresPerInch, 100 + seed);
+    synth::RandomMotionOptions motion;
     motion.seed = seed;
-    const SyntheticTest test = SynthRandomMotion(displaced, motion);
+    const synth::SyntheticTest test = synth::SynthRandomMotion(displaced, motion);
     const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
     const KinematicsErrors e = CompareKinematics(solved, test.truth);
     EXPECT_LE(e.omega_rel, 0.05e-2);
@@ -120,10 +120,10 @@ INSTANTIATE_TEST_SUITE_P(NapGeometries, ExactSolverOnNapTest, ::testing::ValuesI
 // by its mean, here the same value twice), and each residual component
 // appears twice.
 TEST(ExactSolver, ArrayBeyondSixteenSensorsGivesTheSameSolutionAsItsNineDistinctSensors) {
-  const ArrayGeometry nap = DisplaceSensors(test_support::Denton3222(), 0.25 * kMetresPerInch, 7);
-  RandomMotionOptions motion;
+  const ArrayGeometry nap = synth::DisplaceSensors(test_support::Denton3222(), 0.25 * kMetresPerInch, 7);
+  synth::RandomMotionOptions motion;
   motion.seed = 7;
-  const SyntheticTest test = SynthRandomMotion(nap, motion);
+  const synth::SyntheticTest test = synth::SynthRandomMotion(nap, motion);
   ArrayGeometry doubled = test.array;
   TestSignals doubled_signals = test.signals;
   doubled_signals.samples.conservativeResize(Eigen::NoChange, 2 * test.signals.samples.cols());

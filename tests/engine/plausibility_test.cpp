@@ -16,8 +16,8 @@
 #include "engine/criteria.h"
 #include "engine/pipeline.h"
 #include "engine/screening.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -25,13 +25,13 @@ namespace {
 
 using ::testing::HasSubstr;
 
-SyntheticTest CleanTest(const ArrayGeometry& array, std::uint64_t seed = 3) {
-  RandomMotionOptions options;
+synth::SyntheticTest CleanTest(const ArrayGeometry& array, std::uint64_t seed = 3) {
+  synth::RandomMotionOptions options;
   options.seed = seed;
-  return SynthRandomMotion(array, options);
+  return synth::SynthRandomMotion(array, options);
 }
 
-std::string ErrorOf(const SyntheticTest& test, const ProcessingConfig& config = {}) {
+std::string ErrorOf(const synth::SyntheticTest& test, const ProcessingConfig& config = {}) {
   try {
     ProcessTest(test.array, test.signals, test.initial, config);
   } catch (const InputError& error) {
@@ -45,7 +45,7 @@ std::string ErrorOf(const SyntheticTest& test, const ProcessingConfig& config = 
 // channel, the sample's time and the value.
 TEST(Plausibility, OneSampleAtAMillionGFailsTheTestNamingChannelTimeAndValue) {
   for (const ArrayGeometry& array : {test_support::Ideal3222(), test_support::SixAOmegaCg()}) {
-    SyntheticTest test = CleanTest(array);
+    synth::SyntheticTest test = CleanTest(array);
     const Sensor& sensor = array.sensors.front();
     ASSERT_EQ(sensor.kind, SensorKind::kLinear);
     const Eigen::Index k = test.signals.size() / 2;
@@ -71,7 +71,7 @@ TEST(Plausibility, OneSampleAtAMillionGFailsTheTestNamingChannelTimeAndValue) {
 }
 
 TEST(Plausibility, AngularRateBeyondTheLimitFailsTheTest) {
-  SyntheticTest test = CleanTest(test_support::SixAOmegaCg());
+  synth::SyntheticTest test = CleanTest(test_support::SixAOmegaCg());
   const Sensor* rate = nullptr;
   for (const Sensor& sensor : test.array.sensors)
     if (sensor.kind == SensorKind::kAngularRate) rate = &sensor;
@@ -87,7 +87,7 @@ TEST(Plausibility, AngularRateBeyondTheLimitFailsTheTest) {
 // The limits are configuration: raising them lets the same data through
 // (with its warnings), so nothing else fails the test.
 TEST(Plausibility, LimitsComeFromTheProcessingConfig) {
-  SyntheticTest test = CleanTest(test_support::Ideal3222());
+  synth::SyntheticTest test = CleanTest(test_support::Ideal3222());
   test.signals.samples(50, 0) += 3000.0 * kStandardGravity / test.array.sensors[0].si_per_unit;
   ProcessingConfig config;
   const Finding* failing = nullptr;
@@ -107,7 +107,7 @@ TEST(Plausibility, CleanTestsTripNothing) {
   for (const ArrayGeometry& array : {test_support::Ideal3222(), test_support::Denton3222(),
                                      test_support::SixAOmegaCg(), test_support::NapArs12()})
     for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-      const SyntheticTest test = CleanTest(array, seed);
+      const synth::SyntheticTest test = CleanTest(array, seed);
       const ProcessedTest processed = ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});
       for (const Finding& finding : processed.summary.findings)
         EXPECT_NE(finding.check, "implausible") << array.name << " seed " << seed << ": " << finding.detail;
@@ -129,9 +129,9 @@ TEST(Plausibility, ConfigChecksTheLimits) {
 // was blamed on "channels inconsistent with a rigid body"; "sampling interval
 // inf s is not positive".
 TEST(TimeBaseAndInitialState, AbsurdValuesAreRefusedUpFrontNamingThem) {
-  SyntheticTest test = CleanTest(test_support::Ideal3222());
+  synth::SyntheticTest test = CleanTest(test_support::Ideal3222());
   {
-    SyntheticTest fast = test;
+    synth::SyntheticTest fast = test;
     fast.initial.velocity_fixed_mps = Eigen::Vector3d(1e308, 0.0, 0.0);
     const std::string error = ErrorOf(fast);
     EXPECT_THAT(error, HasSubstr("initial velocity"));
@@ -139,14 +139,14 @@ TEST(TimeBaseAndInitialState, AbsurdValuesAreRefusedUpFrontNamingThem) {
     EXPECT_EQ(error.find("rigid"), std::string::npos) << error;
   }
   {
-    SyntheticTest tiny = test;
+    synth::SyntheticTest tiny = test;
     tiny.signals.dt_s = 1e-320;
     const std::string error = ErrorOf(tiny);
     EXPECT_THAT(error, HasSubstr("sampling interval 9.99989e-321 s is below 1e-09 s"));
     EXPECT_EQ(error.find("rigid"), std::string::npos) << error;
   }
   {
-    SyntheticTest infinite = test;
+    synth::SyntheticTest infinite = test;
     infinite.signals.dt_s = std::numeric_limits<double>::infinity();
     EXPECT_EQ(ErrorOf(infinite), "the sampling interval inf s is not a finite positive number.");
   }
@@ -160,15 +160,15 @@ TEST(HicWindows, DoNotDependOnTheRecordsStartTime) {
   // A long, low pulse, so the HIC15 window is limited by its 15 ms (150
   // samples): with dt from the difference of two absolute times near 2.1e5 s
   // it shrank to 149 samples.
-  HeadImpact impact;
-  impact.contact_point_body_m = NominalContactPoint(impact.trajectory_deg);
+  synth::HeadImpact impact;
+  impact.contact_point_body_m = synth::NominalContactPoint(impact.trajectory_deg);
   impact.pulse_s = 0.05;
-  const SyntheticTest test = SynthHeadImpact(test_support::Denton3222(), impact);
+  const synth::SyntheticTest test = synth::SynthHeadImpact(test_support::Denton3222(), impact);
   const ProcessedTest at_zero = ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});
   ASSERT_GT(at_zero.summary.hic15.value, 10.0);
   ASSERT_NEAR(at_zero.summary.hic15.t2_s - at_zero.summary.hic15.t1_s, kHic15Window, 1e-12);
   for (const double nfp : {2.1e9, 2'147'483'000.0, 123456789.0}) {
-    SyntheticTest shifted = test;
+    synth::SyntheticTest shifted = test;
     shifted.signals.t0_s = test.signals.t0_s + nfp * test.signals.dt_s;
     const ProcessedTest late =
         ProcessTest(shifted.array, shifted.signals, shifted.initial, ProcessingConfig{});

@@ -16,8 +16,8 @@
 #include "common/error.h"
 #include "engine/criteria.h"
 #include "engine/pipeline.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -27,14 +27,14 @@ using Eigen::Index;
 
 const Eigen::Vector3d kTiltedOrientation(0.3, -0.4, 0.8);
 
-SyntheticTest RandomTest(const ArrayGeometry& array, std::uint64_t seed) {
-  RandomMotionOptions options;
+synth::SyntheticTest RandomTest(const ArrayGeometry& array, std::uint64_t seed) {
+  synth::RandomMotionOptions options;
   options.seed = seed;
-  return SynthRandomMotion(array, options);
+  return synth::SynthRandomMotion(array, options);
 }
 
 // White noise of `rms_g` on every linear channel (seeded).
-void AddLinearNoise(SyntheticTest& test, double rms_g, std::uint64_t seed) {
+void AddLinearNoise(synth::SyntheticTest& test, double rms_g, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, 1.0);
   for (std::size_t i = 0; i < test.array.sensors.size(); ++i) {
@@ -46,13 +46,13 @@ void AddLinearNoise(SyntheticTest& test, double rms_g, std::uint64_t seed) {
   }
 }
 
-Eigen::Ref<Eigen::VectorXd> Column(SyntheticTest& test, const std::string& slot) {
+Eigen::Ref<Eigen::VectorXd> Column(synth::SyntheticTest& test, const std::string& slot) {
   const int column = test.signals.FindSlot(slot);
   EXPECT_GE(column, 0) << slot;
   return test.signals.samples.col(column);
 }
 
-std::vector<Finding> ProcessFindings(const SyntheticTest& test, const ProcessingConfig& config = {}) {
+std::vector<Finding> ProcessFindings(const synth::SyntheticTest& test, const ProcessingConfig& config = {}) {
   return ProcessTest(test.array, test.signals, test.initial, config).summary.findings;
 }
 
@@ -61,7 +61,7 @@ std::string Describe(const std::vector<Finding>& findings);
 // The findings ProcessTest has gathered (default config) when it stops on
 // diverged kinematics: the raw-signal checks, then the rigid-body checks on
 // the exact solve of the conditioned signals.
-std::vector<Finding> FindingsBeforeDivergence(const SyntheticTest& test) {
+std::vector<Finding> FindingsBeforeDivergence(const synth::SyntheticTest& test) {
   const ProcessingConfig config;
   std::vector<Finding> findings = ScreenSignals(test.array, test.signals, test.initial, config);
   TestSignals conditioned = test.signals;
@@ -78,7 +78,7 @@ std::vector<Finding> FindingsBeforeDivergence(const SyntheticTest& test) {
 // kinematics diverge stops ProcessTest with an InputError that must name
 // the channel at fault; the findings then come from the screening checks
 // ProcessTest ran before it stopped.
-std::vector<Finding> FaultFindings(const SyntheticTest& test, const std::string& slot) {
+std::vector<Finding> FaultFindings(const synth::SyntheticTest& test, const std::string& slot) {
   try {
     return ProcessFindings(test);
   } catch (const InputError& error) {
@@ -132,16 +132,16 @@ void ExpectOnly(const std::vector<Finding>& findings, const std::string& check,
 
 // Clean tests over the report's arrays: random motions and the section 4.5
 // fixed-axis rotation (tilted, so every NAP channel carries signal).
-std::vector<SyntheticTest> FaultHosts() {
-  std::vector<SyntheticTest> hosts;
+std::vector<synth::SyntheticTest> FaultHosts() {
+  std::vector<synth::SyntheticTest> hosts;
   for (std::uint64_t seed : {1, 2, 3}) hosts.push_back(RandomTest(test_support::Denton3222(), seed));
   hosts.push_back(RandomTest(test_support::Ideal3222(), 4));
-  hosts.push_back(SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
+  hosts.push_back(synth::SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
   return hosts;
 }
 
 TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
-  std::vector<std::pair<std::string, SyntheticTest>> tests;
+  std::vector<std::pair<std::string, synth::SyntheticTest>> tests;
   for (std::uint64_t seed = 1; seed <= 6; ++seed)
     tests.emplace_back("denton", RandomTest(test_support::Denton3222(), seed));
   for (std::uint64_t seed = 7; seed <= 9; ++seed)
@@ -150,20 +150,21 @@ TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
     tests.emplace_back("ars12", RandomTest(test_support::NapArs12(), seed));
   for (std::uint64_t seed = 13; seed <= 14; ++seed)
     tests.emplace_back("6aw", RandomTest(test_support::SixAOmegaCg(), seed));
-  tests.emplace_back("fixed-axis", SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
+  tests.emplace_back("fixed-axis", synth::SynthSeedFixedAxis(test_support::Denton3222(), kTiltedOrientation));
   tests.emplace_back("fixed-axis-upright",
-                     SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d::Zero()));
-  tests.emplace_back("sequential", SynthSequential(test_support::Denton3222()));
+                     synth::SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d::Zero()));
+  tests.emplace_back("sequential", synth::SynthSequential(test_support::Denton3222()));
   // Noisy (0.5 g RMS) and conditioned with the defaults.
   for (std::uint64_t seed = 21; seed <= 26; ++seed) {
-    SyntheticTest test = RandomTest(seed % 2 ? test_support::Denton3222() : test_support::NapArs12(), seed);
+    synth::SyntheticTest test =
+        RandomTest(seed % 2 ? test_support::Denton3222() : test_support::NapArs12(), seed);
     AddLinearNoise(test, 0.5, 100 + seed);
     tests.emplace_back("noisy", std::move(test));
   }
   // Sensors displaced up to 5 mm, processed with their true geometry.
   for (std::uint64_t seed = 31; seed <= 33; ++seed)
     tests.emplace_back("displaced",
-                       RandomTest(DisplaceSensors(test_support::Denton3222(), 0.005, seed), seed));
+                       RandomTest(synth::DisplaceSensors(test_support::Denton3222(), 0.005, seed), seed));
   ASSERT_GE(tests.size(), 20u);
   for (const auto& [kind, test] : tests) {
     const std::vector<Finding> findings = ProcessFindings(test);
@@ -172,7 +173,7 @@ TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
 }
 
 TEST(Screening, ArrayWithoutRedundancySaysSoAtInfo) {
-  const SyntheticTest test = RandomTest(test_support::SixAOmegaCg(), 3);
+  const synth::SyntheticTest test = RandomTest(test_support::SixAOmegaCg(), 3);
   EXPECT_EQ(ResidualRedundancy(test.array), 0);
   EXPECT_EQ(ResidualRedundancy(test_support::Denton3222()), 3);
   EXPECT_EQ(ResidualRedundancy(test_support::NapArs12()), 6);
@@ -185,10 +186,10 @@ TEST(Screening, ArrayWithoutRedundancySaysSoAtInfo) {
 
 TEST(Screening, FlippedSignIsAPolarityError) {
   int host_index = 0;
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     ++host_index;
     for (const std::string slot : {"cg_x", "cg_z", "yarm_z", "yarm_x", "xarm_y", "zarm_x", "zarm_y"}) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       Column(test, slot) *= -1.0;
       const std::vector<Finding> findings = FaultFindings(test, slot);
       ExpectOnly(findings, "polarity", {slot}, Severity::kError, test.name + " flipped " + slot);
@@ -201,9 +202,9 @@ TEST(Screening, FlippedSignIsAPolarityError) {
 TEST(Screening, SwappedChannelsAreAnAxisLabelError) {
   const std::vector<std::pair<std::string, std::string>> pairs = {
       {"yarm_z", "yarm_x"}, {"xarm_z", "xarm_y"}, {"zarm_x", "zarm_y"}, {"cg_x", "cg_y"}, {"cg_z", "xarm_z"}};
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     for (const auto& [first, second] : pairs) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       Column(test, first).swap(Column(test, second));
       const std::vector<Finding> findings = FaultFindings(test, first);
       ExpectOnly(findings, "axis_label", {first, second}, Severity::kError,
@@ -214,9 +215,9 @@ TEST(Screening, SwappedChannelsAreAnAxisLabelError) {
 }
 
 TEST(Screening, ClippedChannelIsASaturationError) {
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     for (const std::string slot : {"cg_y", "yarm_x", "xarm_z", "zarm_y"}) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       auto column = Column(test, slot);
       const double clip = 0.8 * column.cwiseAbs().maxCoeff();
       column = column.cwiseMax(-clip).cwiseMin(clip);
@@ -228,9 +229,9 @@ TEST(Screening, ClippedChannelIsASaturationError) {
 
 TEST(Screening, SpikeIsAWarningAtItsSample) {
   std::mt19937_64 rng(7);
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     for (const std::string slot : {"cg_x", "yarm_z", "xarm_y", "zarm_x"}) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       auto column = Column(test, slot);
       std::uniform_int_distribution<Index> where(10, column.size() - 10);
       const Index k = where(rng);
@@ -246,7 +247,7 @@ TEST(Screening, SpikeIsAWarningAtItsSample) {
 }
 
 TEST(Screening, SpikeOnTheCrashPulseOfANoisyRecordIsFoundWithoutFalseAlarms) {
-  SyntheticTest test = RandomTest(test_support::Denton3222(), 8);
+  synth::SyntheticTest test = RandomTest(test_support::Denton3222(), 8);
   AddLinearNoise(test, 0.5, 808);
   auto column = Column(test, "yarm_x");
   Index peak_at = 0;
@@ -257,9 +258,9 @@ TEST(Screening, SpikeOnTheCrashPulseOfANoisyRecordIsFoundWithoutFalseAlarms) {
 }
 
 TEST(Screening, TwoGBiasWithoutPreImpactDataIsAWarning) {
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     for (const std::string slot : {"cg_x", "cg_y", "yarm_z", "xarm_z", "zarm_y"}) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       Column(test, slot).array() += 2.0;
       ExpectOnly(FaultFindings(test, slot), "bias", {slot}, Severity::kWarning,
                  test.name + " bias on " + slot);
@@ -272,7 +273,7 @@ TEST(Screening, TwoGBiasWithoutPreImpactDataIsAWarning) {
 TEST(Screening, TwoGBiasInThePreImpactMeanIsAWarning) {
   for (std::uint64_t seed : {1, 2}) {
     for (const std::string slot : {"cg_z", "yarm_x", "zarm_y"}) {
-      SyntheticTest test = RandomTest(test_support::Denton3222(), seed);
+      synth::SyntheticTest test = RandomTest(test_support::Denton3222(), seed);
       const Index pre = 100;
       Eigen::MatrixXd samples = Eigen::MatrixXd::Zero(pre + test.signals.size(), test.signals.samples.cols());
       samples.bottomRows(test.signals.size()) = test.signals.samples;
@@ -299,9 +300,9 @@ TEST(Screening, TwoGBiasInThePreImpactMeanIsAWarning) {
 }
 
 TEST(Screening, NanDropoutIsAnErrorAndStopsProcessingNamingSlotAndSample) {
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     for (const std::string slot : {"cg_y", "yarm_x", "zarm_x"}) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       auto column = Column(test, slot);
       const Index first = column.size() / 3;
       column.segment(first, 25).setConstant(std::nan(""));
@@ -323,7 +324,7 @@ TEST(Screening, NanDropoutIsAnErrorAndStopsProcessingNamingSlotAndSample) {
 }
 
 TEST(Screening, MissingChannelIsAnErrorNamingTheSlot) {
-  SyntheticTest test = RandomTest(test_support::Denton3222(), 1);
+  synth::SyntheticTest test = RandomTest(test_support::Denton3222(), 1);
   test.signals.slots[4] = "not_a_slot";
   const std::vector<Finding> findings =
       ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
@@ -339,9 +340,9 @@ TEST(Screening, MissingChannelIsAnErrorNamingTheSlot) {
 // Report section 2.2 also names scale-factor errors: a channel reading 50 %
 // high is inconsistent with a rigid body; the residual names it.
 TEST(Screening, ScaleFactorErrorShowsInTheResidualNamingTheChannel) {
-  for (const SyntheticTest& host : FaultHosts()) {
+  for (const synth::SyntheticTest& host : FaultHosts()) {
     for (const std::string slot : {"cg_x", "yarm_z", "xarm_y"}) {
-      SyntheticTest test = host;
+      synth::SyntheticTest test = host;
       Column(test, slot) *= 1.5;
       const std::vector<Finding> findings = FaultFindings(test, slot);
       ExpectOnly(findings, "residual", {slot}, Severity::kWarning, test.name + " gain error on " + slot);
@@ -353,7 +354,7 @@ TEST(Screening, ScaleFactorErrorShowsInTheResidualNamingTheChannel) {
 }
 
 TEST(Screening, SeedSolverRunsAreScreenedWithTheExactResidual) {
-  SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), kTiltedOrientation);
+  synth::SyntheticTest test = synth::SynthSeedFixedAxis(test_support::Ideal3222(), kTiltedOrientation);
   Column(test, "yarm_x") *= -1.0;
   ProcessingConfig config;
   config.solver = SolverKind::kSeed;
@@ -364,16 +365,16 @@ TEST(Screening, SeedSolverRunsAreScreenedWithTheExactResidual) {
 // The verdict beside ProcessTest: a clean test and one with warnings only
 // pass; the first error-severity finding fails the test with its sentence.
 TEST(Verdict, FirstErrorFindingFailsTheTest) {
-  const SyntheticTest clean = RandomTest(test_support::NapArs12(), 3);
+  const synth::SyntheticTest clean = RandomTest(test_support::NapArs12(), 3);
   EXPECT_EQ(FailingFinding(ProcessTest(clean.array, clean.signals, clean.initial, {})), nullptr);
 
-  SyntheticTest spiked = clean;
+  synth::SyntheticTest spiked = clean;
   Column(spiked, "yarm_z")(700) += 100.0;  // g
   const ProcessedTest warned = ProcessTest(spiked.array, spiked.signals, spiked.initial, {});
   ExpectOnly(warned.summary.findings, "spike", {"yarm_z"}, Severity::kWarning, "spike on yarm_z");
   EXPECT_EQ(FailingFinding(warned), nullptr) << Describe(warned.summary.findings);
 
-  SyntheticTest flipped = clean;
+  synth::SyntheticTest flipped = clean;
   Column(flipped, "yarm_z") *= -1.0;
   const ProcessedTest failed = ProcessTest(flipped.array, flipped.signals, flipped.initial, {});
   const Finding* failing = FailingFinding(failed);
@@ -389,7 +390,7 @@ TEST(Verdict, FirstErrorFindingFailsTheTest) {
 }
 
 TEST(Screening, FlatChannelIsInfo) {
-  SyntheticTest test = RandomTest(test_support::Denton3222(), 2);
+  synth::SyntheticTest test = RandomTest(test_support::Denton3222(), 2);
   const std::vector<Finding> clean =
       ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
   EXPECT_TRUE(clean.empty()) << Describe(clean);
@@ -407,7 +408,7 @@ TEST(Screening, NoisyTestsWithDefaultFilteringKeepPeakOmegaAndHic15) {
   int motions = 0;
   for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::Ideal3222()}) {
     for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-      SyntheticTest test = RandomTest(array, seed);
+      synth::SyntheticTest test = RandomTest(array, seed);
       ASSERT_DOUBLE_EQ(test.signals.dt_s, 1e-4);
       AddLinearNoise(test, 0.5, 1000 + seed);
       const ProcessedTest processed = ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{});

@@ -13,8 +13,8 @@
 #include "engine/exact_solver.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/engine/error_metrics.h"
 #include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
@@ -39,7 +39,8 @@ std::string SolveError(const ArrayGeometry& array, const TestSignals& signals,
 }
 
 TEST(Solver, RejectsUnusableSignals) {
-  const SyntheticTest test = SynthSeedFixedAxis(test_support::Denton3222(), Eigen::Vector3d::Zero());
+  const synth::SyntheticTest test =
+      synth::SynthSeedFixedAxis(test_support::Denton3222(), Eigen::Vector3d::Zero());
   EXPECT_EQ(SolveError(test.array, test.signals), "");
 
   TestSignals missing = test.signals;
@@ -77,7 +78,8 @@ TEST(Solver, RejectsUnusableSignals) {
 }
 
 TEST(Solver, ExtraChannelsAndColumnOrderDoNotMatter) {
-  const SyntheticTest test = SynthSeedFixedAxis(test_support::VolpeTable42(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const synth::SyntheticTest test =
+      synth::SynthSeedFixedAxis(test_support::VolpeTable42(), Eigen::Vector3d(0.5, 0.5, 0.5));
   TestSignals shuffled;
   shuffled.dt_s = test.signals.dt_s;
   shuffled.slots = {"extra"};
@@ -101,10 +103,10 @@ TEST(Solver, AngularRatePathsMeetAccuracyTargets) {
     KinematicsErrors worst;
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
       SCOPED_TRACE(nominal.name + " seed " + std::to_string(seed));
-      RandomMotionOptions motion;
+      synth::RandomMotionOptions motion;
       motion.seed = seed;
-      const SyntheticTest test =
-          SynthRandomMotion(DisplaceSensors(nominal, 0.25 * kMetresPerInch, 200 + seed), motion);
+      const synth::SyntheticTest test = synth::SynthRandomMotion(
+          synth::DisplaceSensors(nominal, 0.25 * kMetresPerInch, 200 + seed), motion);
       const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
       const KinematicsErrors e = CompareKinematics(solved, test.truth);
       EXPECT_LE(e.omega_rel, 0.05e-2);
@@ -129,9 +131,9 @@ TEST(Solver, RateSensorsInDegreesPerSecond) {
     sensor.unit = "deg/s";
     sensor.si_per_unit = kPi / 180.0;
   }
-  RandomMotionOptions motion;
+  synth::RandomMotionOptions motion;
   motion.seed = 3;
-  const SyntheticTest test = SynthRandomMotion(array, motion);
+  const synth::SyntheticTest test = synth::SynthRandomMotion(array, motion);
   const KinematicsErrors e = CompareKinematics(Solve(test.array, test.signals, OptionsFor(test)), test.truth);
   EXPECT_LE(e.omega_rel, 1e-12);
   EXPECT_LE(e.acc_rel, 0.1e-2);
@@ -149,7 +151,7 @@ class SequentialRotationsTest : public ::testing::TestWithParam<ReferenceArrayCa
 // Report section 4.4: the final orientation is Rx(90) Ry(90) Rz(90).
 TEST_P(SequentialRotationsTest, EndAtKnownOrientation) {
   const ArrayGeometry array = GetParam().array();
-  const SyntheticTest test = SynthSequential(array);
+  const synth::SyntheticTest test = synth::SynthSequential(array);
   const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
   const Eigen::Quaterniond final_quat = QuatAt(solved.quat_fixed_from_body, solved.size() - 1);
   const double quarter = report::kSequentialTurnRad;
@@ -175,13 +177,13 @@ INSTANTIATE_TEST_SUITE_P(ReferenceArrays, SequentialRotationsTest,
 // Gravity (docs/algorithms.md): with compensation the solver recovers the true
 // CG acceleration; without it the velocity error is metres per second.
 TEST(Solver, GravityCompensationRecoversTruth) {
-  RandomMotionOptions motion;
+  synth::RandomMotionOptions motion;
   motion.synth.gravity = true;
   for (std::uint64_t seed : {4, 9}) {
     for (const ArrayGeometry& array :
          {test_support::Denton3222(), test_support::NapArs12(), test_support::SixAOmegaCg()}) {
       motion.seed = seed;
-      const SyntheticTest test = SynthRandomMotion(array, motion);
+      const synth::SyntheticTest test = synth::SynthRandomMotion(array, motion);
       SolveOptions options = OptionsFor(test);
       options.gravity.compensate = true;
       const KinematicsErrors with = CompareKinematics(Solve(test.array, test.signals, options), test.truth);
@@ -199,10 +201,10 @@ TEST(Solver, GravityCompensationRecoversTruth) {
 }
 
 TEST(Solver, ZeroGravityGivesIdenticalResultsWithAndWithoutCompensation) {
-  RandomMotionOptions motion;
+  synth::RandomMotionOptions motion;
   motion.seed = 6;
   for (const ArrayGeometry& array : {test_support::VolpeTable42(), test_support::NapArs12()}) {
-    const SyntheticTest test = SynthRandomMotion(array, motion);
+    const synth::SyntheticTest test = synth::SynthRandomMotion(array, motion);
     SolveOptions options = OptionsFor(test);
     options.gravity.g_fixed_mps2.setZero();
     options.gravity.compensate = true;
@@ -221,7 +223,7 @@ TEST(Solver, ZeroGravityGivesIdenticalResultsWithAndWithoutCompensation) {
 // where one channel is corrupted.
 TEST(Solver, ResidualFlagsACorruptedChannel) {
   for (const ArrayGeometry& array : {test_support::Denton3222(), test_support::NapArs12()}) {
-    const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
+    const synth::SyntheticTest test = synth::SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
     const Kinematics clean = Solve(test.array, test.signals, OptionsFor(test));
     EXPECT_LT(clean.residual.maxCoeff(), 0.005 * kStandardGravity) << array.name;
     TestSignals corrupted = test.signals;
@@ -235,7 +237,8 @@ TEST(Solver, ResidualFlagsACorruptedChannel) {
 }
 
 TEST(Solver, InitialVelocityAndOrientationAreHonoured) {
-  const SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.1, -0.2, 0.3));
+  const synth::SyntheticTest test =
+      synth::SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.1, -0.2, 0.3));
   SolveOptions options = OptionsFor(test);
   options.initial.velocity_fixed_mps = Eigen::Vector3d(1.0, -2.0, 3.0);
   const Kinematics solved = Solve(test.array, test.signals, options);
@@ -265,7 +268,7 @@ namespace {
 TEST(Solver, ShortRecordsGiveFiniteResults) {
   for (const ArrayGeometry& array :
        {test_support::Denton3222(), test_support::SixAOmegaCg(), test_support::NapArs12()}) {
-    const SyntheticTest test = SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
+    const synth::SyntheticTest test = synth::SynthSeedFixedAxis(array, Eigen::Vector3d(0.5, 0.5, 0.5));
     for (Eigen::Index n = 2; n <= 5; ++n) {
       TestSignals shortened = test.signals;
       shortened.samples = test.signals.samples.middleRows(100, n);

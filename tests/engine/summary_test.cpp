@@ -8,8 +8,8 @@
 #include "engine/integration.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -93,7 +93,8 @@ TEST(Summary, MaxRotationIsTheLargestAngleFromTheInitialOrientation) {
 
 // Report section 4.5 truth: the summary carries the known answers.
 TEST(Summary, SeedFixedAxisKnownAnswers) {
-  const SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const synth::SyntheticTest test =
+      synth::SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
   TestSummary summary;
   SummarizeKinematics(test.truth, summary);
   EXPECT_NEAR(summary.peak_omega_radps, report::kPeakOmegaFixedYRadps, 1e-12);

@@ -15,8 +15,8 @@
 #include "engine/processing.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
-#include "engine/synth.h"
 #include "engine/units.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
@@ -157,7 +157,8 @@ TEST(ProcessingConfigCheck, RefusesSettingsThatWouldBeIgnored) {
 }
 
 TEST(Solve, SeedSolverRefusesWhatItWouldIgnore) {
-  const SyntheticTest test = SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  const synth::SyntheticTest test =
+      synth::SynthSeedFixedAxis(test_support::Ideal3222(), Eigen::Vector3d(0.5, 0.5, 0.5));
   SolveOptions options;
   options.solver = SolverKind::kSeed;
   options.initial = test.initial;

@@ -117,7 +117,7 @@ class Faults : public ::testing::Test {
   // `count` distinct small CSV tests (100 samples at 10 kHz) in `folder`.
   void WriteCsvTests(const fs::path& folder, int count) {
     fs::create_directories(folder);
-    const engine::SyntheticTest base = test_support::SynthNapTest(71, 0.01);
+    const synth::SyntheticTest base = test_support::SynthNapTest(71, 0.01);
     for (int i = 0; i < count; ++i) {
       engine::TestSignals signals = base.signals;
       signals.samples.array() += 0.001 * i;

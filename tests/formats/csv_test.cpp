@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "engine/units.h"
-#include "formats/text.h"
 #include "tests/formats/formats_test_util.h"
 #include "tests/support/named_cases.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -74,7 +74,7 @@ TEST(CsvTest, JitterWithinOnePpmIsAccepted) {
   std::ostringstream text;
   text << "time_s,a\n";
   for (int k = 0; k < 100; ++k)
-    text << FormatNumber(k * 1e-4 * (1.0 + ((k % 2) ? 4e-7 / k : 0.0))) << "," << k << "\n";
+    text << util::FormatNumber(k * 1e-4 * (1.0 + ((k % 2) ? 4e-7 / k : 0.0))) << "," << k << "\n";
   WriteBytes(dir / "in.csv", text.str());
   EXPECT_NO_THROW(ReadSignalsCsv(dir / "in.csv"));
 }

@@ -18,15 +18,15 @@
 
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
-#include "formats/content_hash.h"
 #include "formats/csv.h"
+#include "formats/file_hash.h"
 #include "formats/isomme.h"
 #include "formats/json_file.h"
 #include "formats/processing_config_json.h"
-#include "formats/text.h"
 #include "tests/formats/formats_test_util.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -75,37 +75,37 @@ class FifoWriter {
 // --- escaping (item 9) ------------------------------------------------------
 
 TEST(EscapeControl, ControlCharactersBecomeVisibleEscapes) {
-  EXPECT_EQ(EscapeControl("plain text, é"), "plain text, é");
-  EXPECT_EQ(EscapeControl("a\x1b[31mred\x1b[0m"), "a\\x1b[31mred\\x1b[0m");
-  EXPECT_EQ(EscapeControl("line\nbreak\r\ttab\x7f"), "line\\nbreak\\r\\ttab\\x7f");
-  EXPECT_EQ(EscapeControl(std::string("nul\0!", 5)), "nul\\x00!");
-  EXPECT_EQ(EscapeControl("c1 \xC2\x9B"), "c1 \\u009b");  // U+009B, the 8-bit CSI
-  EXPECT_FALSE(HasControlCharacter("Tête 11HEAD0000H3ACXA"));
-  EXPECT_TRUE(HasControlCharacter("a\nb"));
+  EXPECT_EQ(util::EscapeControl("plain text, é"), "plain text, é");
+  EXPECT_EQ(util::EscapeControl("a\x1b[31mred\x1b[0m"), "a\\x1b[31mred\\x1b[0m");
+  EXPECT_EQ(util::EscapeControl("line\nbreak\r\ttab\x7f"), "line\\nbreak\\r\\ttab\\x7f");
+  EXPECT_EQ(util::EscapeControl(std::string("nul\0!", 5)), "nul\\x00!");
+  EXPECT_EQ(util::EscapeControl("c1 \xC2\x9B"), "c1 \\u009b");  // U+009B, the 8-bit CSI
+  EXPECT_FALSE(util::HasControlCharacter("Tête 11HEAD0000H3ACXA"));
+  EXPECT_TRUE(util::HasControlCharacter("a\nb"));
 }
 
 TEST(Abbreviated, CutsLongInputTo60BytesAndSaysHowMuchIsLeft) {
-  EXPECT_EQ(Abbreviated("short"), "short");
+  EXPECT_EQ(util::Abbreviated("short"), "short");
   const std::string cell(100'000, 'x');
-  EXPECT_EQ(Abbreviated(cell), std::string(60, 'x') + "…(99940 more bytes)");
-  EXPECT_EQ(Abbreviated("\x1b" + std::string(70, 'y')).substr(0, 5), "\\x1by");
+  EXPECT_EQ(util::Abbreviated(cell), std::string(60, 'x') + "…(99940 more bytes)");
+  EXPECT_EQ(util::Abbreviated("\x1b" + std::string(70, 'y')).substr(0, 5), "\\x1by");
 }
 
 TEST(CheckName, RefusesEmptyHugeAndControlCharacterNames) {
-  EXPECT_NO_THROW(CheckName("test id", "k001 padding A (Tête)"));
-  ExpectInputError([] { CheckName("test id", ""); }, {"test id must not be empty"});
-  ExpectInputError([] { CheckName("series", std::string(1000, 's')); },
+  EXPECT_NO_THROW(util::CheckName("test id", "k001 padding A (Tête)"));
+  ExpectInputError([] { util::CheckName("test id", ""); }, {"test id must not be empty"});
+  ExpectInputError([] { util::CheckName("series", std::string(1000, 's')); },
                    {"series", "1000 bytes long", "limited to 256 bytes"});
-  ExpectInputError([] { CheckName("test id", "a\nb"); }, {"test id 'a\\nb'", "control character"});
+  ExpectInputError([] { util::CheckName("test id", "a\nb"); }, {"test id 'a\\nb'", "control character"});
 }
 
 TEST(FileNameComponent, NeverASeparatorControlCharacterDotOrDotDot) {
-  EXPECT_EQ(FileNameComponent("k001"), "k001");
-  EXPECT_EQ(FileNameComponent("."), "_.");
-  EXPECT_EQ(FileNameComponent(".."), "_..");
-  EXPECT_EQ(FileNameComponent(".hidden"), "_.hidden");
-  EXPECT_EQ(FileNameComponent("a/b\\c:d\ne"), "a_b_c_d_e");
-  EXPECT_EQ(FileNameComponent(""), "_");
+  EXPECT_EQ(util::FileNameComponent("k001"), "k001");
+  EXPECT_EQ(util::FileNameComponent("."), "_.");
+  EXPECT_EQ(util::FileNameComponent(".."), "_..");
+  EXPECT_EQ(util::FileNameComponent(".hidden"), "_.hidden");
+  EXPECT_EQ(util::FileNameComponent("a/b\\c:d\ne"), "a_b_c_d_e");
+  EXPECT_EQ(util::FileNameComponent(""), "_");
 }
 
 // --- special files (item 5) ---------------------------------------------------
@@ -217,7 +217,7 @@ TEST(CsvLimits, ControlCharactersInACellAreEscapedInTheMessage) {
     ADD_FAILURE() << "a non-numeric cell must be refused";
   } catch (const InputError& error) {
     const std::string message = error.what();
-    EXPECT_FALSE(HasControlCharacter(message)) << message;
+    EXPECT_FALSE(util::HasControlCharacter(message)) << message;
     EXPECT_THAT(message, HasSubstr("\"\\x1b]0;pwned\\x07\" is not a number"));
   }
 }

@@ -15,9 +15,9 @@
 #include "common/error.h"
 #include "engine/units.h"
 #include "formats/report_assets.h"
-#include "formats/text.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {

@@ -5,10 +5,10 @@
 #include <fstream>
 
 #include "engine/units.h"
-#include "formats/text.h"
 #include "tests/formats/formats_test_util.h"
 #include "tests/support/lsdyna_keyword.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {

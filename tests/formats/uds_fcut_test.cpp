@@ -12,14 +12,14 @@
 #include <vector>
 
 #include "engine/cfc_filter.h"
-#include "engine/conditioning_record.h"
+#include "engine/channel_conditioning.h"
 #include "engine/processing.h"
-#include "engine/synth.h"
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
-#include "formats/text.h"
 #include "formats/uds1992.h"
+#include "synth/synthetic_tests.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -78,9 +78,9 @@ TEST(UdsFcut, AnotherFrequencyIsAFilterOfUnknownClassWithAWarning) {
 
   // Conditioning filters it as configured and says so.
   const engine::ArrayGeometry array = LoadArray("3a-cg");
-  engine::RandomMotionOptions motion;
+  synth::RandomMotionOptions motion;
   motion.duration_s = 0.03;
-  engine::TestSignals signals = engine::SynthRandomMotion(array, motion).signals;
+  engine::TestSignals signals = synth::SynthRandomMotion(array, motion).signals;
   signals.prefiltered_cfc = {engine::kPrefilteredClassUnknown, std::nullopt, std::nullopt};
   const engine::TestSignals unfiltered = signals;
   engine::ProcessingConfig config;
@@ -112,10 +112,10 @@ TEST(UdsFcut, ChannelsFilteredAtTheirClassAreNotFilteredAgain) {
   for (const CutoffOfClass& cutoff : kCutoffs) {
     SCOPED_TRACE("FCUT " + std::to_string(cutoff.fcut_hz));
     TempDir dir;
-    engine::RandomMotionOptions motion;
+    synth::RandomMotionOptions motion;
     motion.seed = 7;
     motion.duration_s = 0.05;
-    engine::TestSignals synth = engine::SynthRandomMotion(array, motion).signals;
+    engine::TestSignals synth = synth::SynthRandomMotion(array, motion).signals;
     std::vector<std::filesystem::path> files;
     const char* axes[3] = {"XL", "YL", "ZL"};
     for (Eigen::Index c = 0; c < 3; ++c) {
@@ -143,7 +143,8 @@ TEST(UdsFcut, ChannelsFilteredAtTheirClassAreNotFilteredAgain) {
     for (const engine::ChannelConditioning& record : records) {
       EXPECT_EQ(record.prefiltered_cfc, cutoff.cfc) << record.channel;
       EXPECT_TRUE(record.filter_skipped_prefiltered) << record.channel;
-      EXPECT_EQ(engine::FilterDescription(record), "none, prefiltered at CFC " + FormatNumber(cutoff.cfc))
+      EXPECT_EQ(engine::FilterDescription(record),
+                "none, prefiltered at CFC " + util::FormatNumber(cutoff.cfc))
           << record.channel;
     }
   }

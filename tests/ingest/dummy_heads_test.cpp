@@ -26,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using test_support::TempDir;
 
-db::TestRecord ReadByExternalId(db::Catalogue& catalogue, const std::string& id) {
+db::TestRow ReadByExternalId(db::Catalogue& catalogue, const std::string& id) {
   const std::optional<db::TestId> test = catalogue.FindTestByExternalId(id);
   if (!test) throw std::runtime_error("no test " + id);
   return catalogue.ReadTest(*test);
@@ -49,7 +49,7 @@ void ExpectTheTwoGeneratedHeads(db::Catalogue& catalogue, const ImportReport& re
   EXPECT_EQ(ResultIds(report), (std::vector<std::string>{id + "/11", id + "/13"}));
   EXPECT_EQ(catalogue.ReadAllTests().size(), 2U);
   for (const test_support::GeneratedHead& head : generated.heads) {
-    const db::TestRecord record = ReadByExternalId(catalogue, id + "/" + head.position);
+    const db::TestRow record = ReadByExternalId(catalogue, id + "/" + head.position);
     const engine::TestSignals signals = catalogue.ReadTestSignals(record.id);
     ASSERT_EQ(signals.slots, (std::vector<std::string>{"cg_x", "cg_y", "cg_z", "ars_x", "ars_y", "ars_z"}));
     ASSERT_EQ(signals.size(), head.acc_g.rows());
@@ -233,7 +233,7 @@ TEST(UdsImportTest, WithoutAMapTheDefaultMapFindsEachDummyAndInivelIsTheInitialV
   ASSERT_EQ(report.imported, 2) << report.results.front().message;
   EXPECT_EQ(ResultIds(report), (std::vector<std::string>{"v4321/01", "v4321/03"}));
 
-  const db::TestRecord passenger = ReadByExternalId(catalogue, "v4321/03");
+  const db::TestRow passenger = ReadByExternalId(catalogue, "v4321/03");
   const engine::TestSignals signals = catalogue.ReadTestSignals(passenger.id);
   EXPECT_EQ(signals.t0_s, -100 * 1e-4);
   EXPECT_FLOAT_EQ(signals.samples(50, 0), static_cast<float>(-60 * std::sin(0.5)));
@@ -258,7 +258,7 @@ TEST(UdsImportTest, WithoutAMapTheDefaultMapFindsEachDummyAndInivelIsTheInitialV
   options.initial_velocity_mps = {1.0, 2.0, 3.0};
   options.position = "01";
   ASSERT_EQ(ImportTests(other, {(dir / "uds").string()}, options).imported, 1);
-  const db::TestRecord driver = ReadByExternalId(other, "v4321/01");
+  const db::TestRow driver = ReadByExternalId(other, "v4321/01");
   EXPECT_EQ(driver.initial_state.velocity_fixed_mps, Eigen::Vector3d(1.0, 2.0, 3.0));
   EXPECT_EQ(nlohmann::json::parse(driver.metadata_json).count("initial_velocity"), 0U);
 }
@@ -289,7 +289,7 @@ TEST(IsoMmeImportTest, ChannelsOfDifferentSpansAreCroppedWithANoteRecordedWithTh
   EXPECT_NE(note.find("cropped to the common span -0.01 s to -0.0066 s"), std::string::npos) << note;
   EXPECT_NE(note.find("11HEAD0000H3ACXA (5 samples)"), std::string::npos) << note;
   EXPECT_EQ(note.find("11HEAD0000H3ACYA"), std::string::npos) << note;  // the short one lost nothing
-  const db::TestRecord record = ReadByExternalId(catalogue, "T1");
+  const db::TestRow record = ReadByExternalId(catalogue, "T1");
   EXPECT_EQ(catalogue.ReadTestSignals(record.id).size(), 35);
   const nlohmann::json metadata = nlohmann::json::parse(record.metadata_json);
   ASSERT_EQ(metadata["notes"].size(), 1U);

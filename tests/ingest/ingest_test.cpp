@@ -14,7 +14,7 @@
 #include "ingest/content_hash.h"
 #include "ingest/import.h"
 #include "ingest/store.h"
-#include "ingest/synth.h"
+#include "ingest/synthetic_import.h"
 #include "records/array_record.h"
 #include "tests/formats/formats_test_util.h"
 #include "tests/support/db/catalogue_inspector.h"
@@ -33,9 +33,9 @@ void WriteText(const fs::path& path, const std::string& text) {
 // defined by, computed independently (Python hashlib); a change here
 // would make existing catalogues import their tests a second time.
 TEST(ContentHashTest, SyntheticHashIsPinned) {
-  db::ArrayRecord array;
+  db::ArrayRow array;
   array.definition_hash = "array-hash";
-  engine::SyntheticTest test;
+  synth::SyntheticTest test;
   test.signals.slots = {"cg_x", "cg_y"};
   test.signals.dt_s = 1e-4;
   test.signals.t0_s = -0.01;
@@ -67,9 +67,9 @@ TEST(ContentHashTest, InputHashesArePinned) {
 class StoreTestTest : public ::testing::Test {
  protected:
   StoreTestTest() : catalogue_(db::Catalogue::Open((dir_ / "c.db").string())) {
-    engine::RandomMotionOptions motion;
+    synth::RandomMotionOptions motion;
     motion.duration_s = 0.01;
-    test_ = engine::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
+    test_ = synth::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
     record_.external_id = "t1";
     record_.initial_state = test_.initial;
     record_.source_path = "synth";
@@ -78,15 +78,15 @@ class StoreTestTest : public ::testing::Test {
 
   napkin::test_support::TempDir dir_;
   db::Catalogue catalogue_;
-  engine::SyntheticTest test_;
-  db::TestRecord record_;
+  synth::SyntheticTest test_;
+  db::TestRow record_;
 };
 
 TEST_F(StoreTestTest, StoresArrayTestAndChannelsOnceByContent) {
-  const db::ArrayRecord array = records::MakeArrayRecord(test_.array);
+  const db::ArrayRow array = records::MakeArrayRecord(test_.array);
   const std::optional<db::TestId> id = StoreTest(catalogue_, test_.array, array, record_, test_.signals);
   ASSERT_TRUE(id);
-  const db::TestRecord stored = catalogue_.ReadTest(*id);
+  const db::TestRow stored = catalogue_.ReadTest(*id);
   EXPECT_EQ(stored.external_id, "t1");
   EXPECT_EQ(catalogue_.ReadArray(stored.array_id).definition_json, array.definition_json);
   const engine::TestSignals signals = catalogue_.ReadTestSignals(*id);
@@ -95,7 +95,7 @@ TEST_F(StoreTestTest, StoresArrayTestAndChannelsOnceByContent) {
 
   // The same content under another id is not stored again.
   const std::string dump = db::CatalogueInspector(catalogue_).Dump();
-  db::TestRecord again = record_;
+  db::TestRow again = record_;
   again.external_id = "t2";
   EXPECT_FALSE(StoreTest(catalogue_, test_.array, array, again, test_.signals));
   EXPECT_EQ(db::CatalogueInspector(catalogue_).Dump(), dump);
@@ -118,7 +118,7 @@ TEST(SynthTest, PaddingSeriesIsLabelledDescribedAndStoredOnce) {
   napkin::test_support::TempDir dir;
   db::Catalogue catalogue = db::Catalogue::Open((dir / "c.db").string());
   SynthRequest request;
-  request.scenario = engine::SynthScenario::kPaddingSeries;
+  request.scenario = synth::SynthScenario::kPaddingSeries;
   EXPECT_EQ(PlanSynth(request).tests.size(), 15u);  // five repeats per padding by default
   request.count = 2;
   request.seed = 7;
@@ -128,12 +128,12 @@ TEST(SynthTest, PaddingSeriesIsLabelledDescribedAndStoredOnce) {
   const SynthCounts first = StoreSynthTests(catalogue, plan);
   EXPECT_EQ(first.added, 6);
   EXPECT_EQ(first.present, 0);
-  const db::TestRecord test = catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-series-foam-a-02"));
+  const db::TestRow test = catalogue.ReadTest(*catalogue.FindTestByExternalId("padding-series-foam-a-02"));
   EXPECT_EQ(test.series, "padding-series");
   EXPECT_EQ(test.variant, "foam-a");
   EXPECT_EQ(test.source_path, "synth:padding-series");
   // The fourth test of the series: seed 7 + 3, and the impact drawn from it.
-  const engine::HeadImpact impact = engine::ScatteredImpact(engine::kPaddingVariants[1], 10);
+  const synth::HeadImpact impact = synth::ScatteredImpact(synth::kPaddingVariants[1], 10);
   const nlohmann::json expected_impact = {
       {"speed_mps", impact.speed_mps},
       {"trajectory_deg", impact.trajectory_deg},
@@ -156,7 +156,7 @@ TEST(SynthTest, PaddingSeriesIsLabelledDescribedAndStoredOnce) {
 
 TEST(SynthTest, FixedDurationScenariosRefuseSamples) {
   SynthRequest request;
-  request.scenario = engine::SynthScenario::kSeedSequential;
+  request.scenario = synth::SynthScenario::kSeedSequential;
   request.duration_s = 0.1;
   try {
     PlanSynth(request);

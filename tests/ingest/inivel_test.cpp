@@ -65,7 +65,7 @@ TEST(UdsInivel, CgTriadOffTheOriginGivesTheInitialVelocity) {
   options.array = "denton-3222";
   const ImportReport report = ImportTests(catalogue, {(dir / "nap").string()}, options);
   ASSERT_EQ(report.imported, 1) << report.results.front().message;
-  const db::TestRecord record = catalogue.ReadTest(*catalogue.FindTestByExternalId("n0077"));
+  const db::TestRow record = catalogue.ReadTest(*catalogue.FindTestByExternalId("n0077"));
   EXPECT_NEAR(record.initial_state.velocity_fixed_mps.x(), 56.0 / 3.6, 1e-5);
   EXPECT_EQ(record.initial_state.velocity_fixed_mps.y(), 0.0);
   EXPECT_EQ(record.initial_state.velocity_fixed_mps.z(), 0.0);
@@ -82,7 +82,7 @@ TEST(UdsInivel, InivelNotUsedIsReportedNamingTheChannelAndWhy) {
   options.array = "denton-3222";
   const ImportReport report = ImportTests(catalogue, {(dir / "nap").string()}, options);
   ASSERT_EQ(report.imported, 1) << report.results.front().message;
-  const db::TestRecord record = catalogue.ReadTest(*catalogue.FindTestByExternalId("n0077"));
+  const db::TestRow record = catalogue.ReadTest(*catalogue.FindTestByExternalId("n0077"));
   EXPECT_NEAR(record.initial_state.velocity_fixed_mps.x(), 56.0 / 3.6, 1e-5);
   std::vector<std::string> warnings = InivelWarnings(report);
   ASSERT_EQ(warnings.size(), 1u);

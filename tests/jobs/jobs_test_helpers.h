@@ -5,12 +5,12 @@
 #include <string>
 
 #include "db/catalogue.h"
-#include "engine/synth.h"
 #include "formats/array_json.h"
 #include "ingest/store.h"
 #include "jobs/scheduler.h"
 #include "records/array_record.h"
 #include "records/config_record.h"
+#include "synth/synthetic_tests.h"
 
 namespace napkin::test_support {
 
@@ -27,10 +27,10 @@ inline std::string TestName(int index) {
 // Stores `test` as test `external_id` with the array record `array` (by
 // default the record of the test's array; content hash from the id: the
 // tests here only need unique hashes).
-inline db::TestId StoreTest(db::Catalogue& catalogue, const engine::SyntheticTest& test,
+inline db::TestId StoreTest(db::Catalogue& catalogue, const synth::SyntheticTest& test,
                             const std::string& external_id, const std::string& series = "synthetic",
-                            const db::ArrayRecord* array = nullptr) {
-  db::TestRecord record;
+                            const db::ArrayRow* array = nullptr) {
+  db::TestRow record;
   record.external_id = external_id;
   record.series = series;
   record.initial_state = test.initial;
@@ -46,10 +46,10 @@ inline void AddRandomTests(const std::string& path, int count, int samples = 100
   db::Catalogue catalogue = db::Catalogue::Open(path);
   const engine::ArrayGeometry array = formats::LoadArray("ideal-3222");
   for (int i = first; i < first + count; ++i) {
-    engine::RandomMotionOptions options;
+    synth::RandomMotionOptions options;
     options.seed = 100 + static_cast<std::uint64_t>(i);
     options.duration_s = (samples - 1) / options.synth.rate_hz;
-    StoreTest(catalogue, engine::SynthRandomMotion(array, options), TestName(i));
+    StoreTest(catalogue, synth::SynthRandomMotion(array, options), TestName(i));
   }
 }
 

@@ -55,7 +55,7 @@ TEST(OutdatedRunTest, RecomputesExactlyTheResultsOfAnotherVersionBitForBit) {
     db::CatalogueInspector inspector(catalogue);
     for (const auto& [id, version] : older)
       inspector.SetResultVersion(*catalogue.FindTestByExternalId(id), first.config, version);
-    for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+    for (const db::TestRow& test : catalogue.ReadAllTests()) {
       summaries[test.external_id] = *catalogue.ReadSummary(test.id, first.config);
       kinematics[test.external_id] = *catalogue.ReadKinematics(test.id, first.config);
     }

@@ -67,7 +67,7 @@ TEST(Recomputation, EqualsTheStoredFloat64ResultBitForBit) {
   ASSERT_EQ(report.done, 6);
 
   db::Catalogue catalogue = db::Catalogue::Open(path);
-  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+  for (const db::TestRow& test : catalogue.ReadAllTests()) {
     const auto kinematics = catalogue.ReadKinematics(test.id, report.config);
     const auto summary = catalogue.ReadSummary(test.id, report.config);
     ASSERT_TRUE(kinematics && summary) << test.external_id;
@@ -94,7 +94,7 @@ TEST(Recomputation, OfANoneResultEqualsTheFloat64StoredKinematicsBitForBit) {
   ASSERT_NE(float64.config, none.config);
 
   db::Catalogue catalogue = db::Catalogue::Open(path);
-  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+  for (const db::TestRow& test : catalogue.ReadAllTests()) {
     EXPECT_FALSE(catalogue.ReadKinematics(test.id, none.config)) << test.external_id;
     const auto stored = catalogue.ReadKinematics(test.id, float64.config);
     const auto summary = catalogue.ReadSummary(test.id, none.config);

@@ -75,7 +75,7 @@ TEST_F(SchedulerTest, ParallelResultsEqualTheTransformCoreBitForBit) {
   EXPECT_EQ(progress.back().total, 12);
 
   db::Catalogue catalogue = db::Catalogue::Open(path_);
-  for (const db::TestRecord& test : catalogue.ReadAllTests()) {
+  for (const db::TestRow& test : catalogue.ReadAllTests()) {
     const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
     const engine::ProcessedTest expected =
         engine::ProcessTest(array, catalogue.ReadTestSignals(test.id), test.initial_state, processing.config);
@@ -105,12 +105,12 @@ TEST_F(SchedulerTest, FailedTestsAreRecordedWithTheirReasonAndTheRunGoesOn) {
   {
     db::Catalogue catalogue = db::Catalogue::Open(path_);
     const engine::ArrayGeometry array = formats::LoadArray("ideal-3222");
-    engine::RandomMotionOptions motion;
+    synth::RandomMotionOptions motion;
     motion.duration_s = 0.05;
-    engine::SyntheticTest bad = engine::SynthRandomMotion(array, motion);
+    synth::SyntheticTest bad = synth::SynthRandomMotion(array, motion);
     bad.signals.samples(200, 4) = std::numeric_limits<double>::quiet_NaN();
     test_support::StoreTest(catalogue, bad, "bad-nan");
-    engine::SyntheticTest short_of_one = engine::SynthRandomMotion(array, motion);
+    synth::SyntheticTest short_of_one = synth::SynthRandomMotion(array, motion);
     short_of_one.signals.slots.pop_back();  // "zarm_y" is missing
     short_of_one.signals.samples.conservativeResize(Eigen::NoChange, 8);
     test_support::StoreTest(catalogue, short_of_one, "missing-channel");
@@ -150,7 +150,7 @@ TEST_F(SchedulerTest, FailedTestsAreRecordedWithTheirReasonAndTheRunGoesOn) {
 TEST_F(SchedulerTest, AnUndecodableArrayFailsItsTestsOnly) {
   AddRandomTests(path_, 3, 500);
   // Three more tests whose stored array cannot be solved (no sensors).
-  const db::ArrayRecord broken{
+  const db::ArrayRow broken{
       {}, "broken", R"({"name":"broken","length_unit":"m","sensors":[]})", "broken-hash"};
   std::string decode_error;
   try {
@@ -161,9 +161,9 @@ TEST_F(SchedulerTest, AnUndecodableArrayFailsItsTestsOnly) {
   }
   {
     db::Catalogue catalogue = db::Catalogue::Open(path_);
-    engine::RandomMotionOptions motion;
+    synth::RandomMotionOptions motion;
     motion.duration_s = 0.05;
-    const engine::SyntheticTest test = engine::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
+    const synth::SyntheticTest test = synth::SynthRandomMotion(formats::LoadArray("ideal-3222"), motion);
     for (int i = 0; i < 3; ++i)
       test_support::StoreTest(catalogue, test, "broken-" + std::to_string(i), "synthetic", &broken);
   }

@@ -5,11 +5,11 @@
 
 #include "common/error.h"
 #include "formats/array_json.h"
-#include "formats/content_hash.h"
 #include "formats/processing_config_json.h"
 #include "records/array_record.h"
 #include "records/config_record.h"
 #include "records/test_record.h"
+#include "util/sha256.h"
 
 namespace napkin::records {
 namespace {
@@ -17,9 +17,9 @@ namespace {
 TEST(ArrayRecordTest, PresetsReadBackBitExact) {
   for (const char* preset : {"ideal-3222", "denton-3222", "nap-ars-12", "6aw-cg", "volpe-table4-2"}) {
     const engine::ArrayGeometry array = formats::LoadArray(preset);
-    const db::ArrayRecord record = MakeArrayRecord(array);
+    const db::ArrayRow record = MakeArrayRecord(array);
     EXPECT_EQ(record.name, array.name);
-    EXPECT_EQ(record.definition_hash, formats::Sha256Hex(record.definition_json));
+    EXPECT_EQ(record.definition_hash, util::Sha256Hex(record.definition_json));
     const engine::ArrayGeometry decoded = DecodeArrayRecord(record);
     ASSERT_EQ(decoded.sensors.size(), array.sensors.size()) << preset;
     for (std::size_t i = 0; i < array.sensors.size(); ++i) {
@@ -35,14 +35,14 @@ TEST(ArrayRecordTest, PresetsReadBackBitExact) {
 }
 
 TEST(ArrayRecordTest, BadDefinitionsNameTheArray) {
-  const db::ArrayRecord not_json{{}, "x", "{", "h"};
+  const db::ArrayRow not_json{{}, "x", "{", "h"};
   try {
     DecodeArrayRecord(not_json);
     ADD_FAILURE() << "malformed JSON was accepted";
   } catch (const InputError& error) {
     EXPECT_STREQ(error.what(), "array 'x' of the catalogue is not valid JSON.");
   }
-  const db::ArrayRecord no_sensors{{}, "y", R"({"name":"y","length_unit":"m","sensors":[]})", "h"};
+  const db::ArrayRow no_sensors{{}, "y", R"({"name":"y","length_unit":"m","sensors":[]})", "h"};
   try {
     DecodeArrayRecord(no_sensors);
     ADD_FAILURE() << "an array without sensors was accepted";
@@ -55,10 +55,10 @@ TEST(ArrayRecordTest, BadDefinitionsNameTheArray) {
 TEST(ConfigRecordTest, RecordIsTheCanonicalJsonAndItsHash) {
   engine::ProcessingConfig config;
   config.filter.padding_s = 0.02;
-  const db::ConfigRecord record = MakeConfigRecord(config, "mine");
+  const db::ConfigRow record = MakeConfigRecord(config, "mine");
   EXPECT_EQ(record.name, "mine");
   EXPECT_EQ(record.config_json, formats::CanonicalProcessingConfig(config));
-  EXPECT_EQ(record.config_hash, formats::Sha256Hex(record.config_json));
+  EXPECT_EQ(record.config_hash, util::Sha256Hex(record.config_json));
 
   const ResolvedConfig preset = ResolveConfig("");
   EXPECT_EQ(preset.record.name, "default");
@@ -72,7 +72,7 @@ TEST(ConfigRecordTest, DecodesBackToTheSameCanonicalConfig) {
   config.filter.padding_s = 0.0123456789012345;
   config.screening.residual_limit_g = 4.321098765432109;
   config.storage.derived_channels = engine::DerivedStorage::kNone;
-  const db::ConfigRecord record = MakeConfigRecord(config, "unusual");
+  const db::ConfigRow record = MakeConfigRecord(config, "unusual");
   const engine::ProcessingConfig decoded = DecodeConfigRecord(record);
   EXPECT_EQ(decoded.filter.padding_s, config.filter.padding_s);
   EXPECT_EQ(decoded.screening.residual_limit_g, config.screening.residual_limit_g);
@@ -81,7 +81,7 @@ TEST(ConfigRecordTest, DecodesBackToTheSameCanonicalConfig) {
 }
 
 TEST(ConfigRecordTest, BadStoredConfigsNameTheConfig) {
-  db::ConfigRecord record;
+  db::ConfigRow record;
   record.name = "broken";
   record.config_json = "{";
   try {

@@ -1,7 +1,7 @@
 #pragma once
 // Reading back the LS-DYNA keyword files napkin writes (docs/formats.md), card by
 // card, for the formats and CLI export tests. Header-only: it uses
-// formats::ParseDouble, so only test targets linking napkin_formats include it.
+// util::ParseDouble, so only test targets linking napkin_formats include it.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "formats/text.h"
+#include "util/text.h"
 
 namespace napkin::test_support {
 
@@ -25,7 +25,7 @@ inline double KeywordField(const std::string& line, std::size_t start, std::size
     ADD_FAILURE() << "short card (field [" << start << ", " << start + width << ")): \"" << line << "\"";
     return 0.0;
   }
-  const std::optional<double> value = formats::ParseDouble(line.substr(start, width));
+  const std::optional<double> value = util::ParseDouble(line.substr(start, width));
   EXPECT_TRUE(value) << "field [" << start << ", " << start + width << ") of \"" << line << "\"";
   return value.value_or(0.0);
 }

@@ -75,9 +75,9 @@ std::string CatalogueInspector::Dump() {
   return dump;
 }
 
-std::vector<SeriesRecord> CatalogueInspector::ReadAllSeries() {
+std::vector<SeriesRow> CatalogueInspector::ReadAllSeries() {
   auto select = catalogue_.connection_.Prepare("SELECT id, name, description FROM series ORDER BY name");
-  std::vector<SeriesRecord> all;
+  std::vector<SeriesRow> all;
   while (select->Step())
     all.push_back({SeriesId{select->ColumnInt64(0)}, select->ColumnText(1), select->ColumnText(2)});
   return all;
@@ -93,7 +93,7 @@ std::optional<std::string> CatalogueInspector::ReadResultSolver(TestId test, Con
 
 std::vector<SummaryRow> CatalogueInspector::ReadAllSummaries(const TestFilter& filter) {
   std::vector<SummaryRow> rows;
-  for (const TestRecord& test : catalogue_.ReadAllTests(filter)) {
+  for (const TestRow& test : catalogue_.ReadAllTests(filter)) {
     const std::optional<ConfigId> latest = catalogue_.ReadLatestResultConfig(test.id);
     if (!latest) continue;
     SummaryRow row{test.external_id, test.series, test.variant, *catalogue_.ReadSummary(test.id, *latest)};

@@ -38,7 +38,7 @@ class CatalogueInspector {
   // order, values type-tagged, BLOBs in hex): compare catalogues in tests.
   std::string Dump();
   // Every series, ordered by name.
-  std::vector<SeriesRecord> ReadAllSeries();
+  std::vector<SeriesRow> ReadAllSeries();
   // The solver that computed the test's result under `config`, if any.
   std::optional<std::string> ReadResultSolver(TestId test, ConfigId config);
   // Latest summary of every test in `filter` that has one, ordered by test id

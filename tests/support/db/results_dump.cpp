@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "db/catalogue.h"
-#include "formats/content_hash.h"
 #include "tests/support/db/catalogue_inspector.h"
+#include "util/sha256.h"
 
 namespace napkin::db {
 
@@ -60,7 +60,7 @@ std::string Value(const Statement& row, int c) {
     default: {
       const auto blob = row.ColumnBlob(c);
       const std::string_view bytes(reinterpret_cast<const char*>(blob.data()), blob.size());
-      return "blob:" + std::to_string(blob.size()) + ":" + formats::Sha256Hex(bytes);
+      return "blob:" + std::to_string(blob.size()) + ":" + util::Sha256Hex(bytes);
     }
   }
 }

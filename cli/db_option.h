@@ -1,0 +1,40 @@
+#pragma once
+// What the catalogue commands share: opening the --db catalogue,
+// resolving the --config processing configuration to its catalogue record
+// (records::ResolveConfig), and reading a result's kinematics.
+#include <string>
+
+#include "cli/command.h"
+#include "db/catalogue.h"
+#include "engine/kinematics.h"
+#include "records/config_record.h"
+
+namespace napkin::cli {
+
+// Opens --db; for writing (read_only false) after SQLite's quick_check, so a
+// damaged catalogue is refused before anything is written into it.
+db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false);
+
+// A stored processing config named by a `--config NAME|HASH-PREFIX` selector
+// (query, compare, report): the config whose name is `selector` (exactly
+// one), else the one config whose hash starts with it (case-insensitive).
+// Throws UsageError listing the catalogue's configs (name and hash) when none
+// or several match.
+db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector);
+
+// The kinematics of the test's result under `config` (the caller knows the
+// result exists), for every reader of derived channels (export, report,
+// demo): the stored derived channels when the result has them (float64:
+// bit-exact; float32: each value widened exactly), else (processing config
+// storage.derived_channels "none") recomputed by records::RecomputeResult from
+// the test's raw channels, initial state and array and the config decoded from
+// its record -- the inputs and the computation `napkin run` computed the
+// result with, so the recomputation equals a float64-stored result bit for
+// bit (docs/formats.md "Derived-channel storage").
+engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config);
+
+// `run`/`export --config` value (preset name or JSON path; empty: the default preset).
+using records::ResolveConfig;
+using records::ResolvedConfig;
+
+}  // namespace napkin::cli

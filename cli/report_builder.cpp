@@ -1,0 +1,277 @@
+// The report `napkin report` and `napkin demo` write: one self-contained HTML file (docs/formats.md "HTML
+// report"): the comparison of each series' variants (cli/comparison.h, as
+// `napkin compare`), then each selected test's latest result: criteria, time
+// histories, screening findings and final pose. Reads the catalogue one test
+// at a time and streams the page (formats/html_report.h HtmlReportWriter):
+// its memory does not grow with the number of tests.
+#include "cli/report_builder.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+#include "cli/comparison.h"
+#include "cli/db_option.h"
+#include "cli/where_parser.h"
+#include "common/error.h"
+#include "common/version.h"
+#include "engine/statistics.h"
+#include "formats/html_report.h"
+#include "util/atomic_file.h"
+#include "util/output_destination.h"
+#include "util/text.h"
+
+namespace napkin::cli {
+namespace {
+
+std::string Joined(const std::vector<std::string>& values) {
+  std::string text;
+  for (const std::string& value : values) text += (text.empty() ? "" : ", ") + value;
+  return text;
+}
+
+// "1 test", "6 tests".
+std::string Tests(std::size_t count) { return std::to_string(count) + (count == 1 ? " test" : " tests"); }
+
+// A cell of the compare table as text: 5 significant digits, "—" for null.
+std::string CellText(const db::Cell& cell) {
+  if (const auto* integer = std::get_if<std::int64_t>(&cell)) return std::to_string(*integer);
+  if (const auto* text = std::get_if<std::string>(&cell)) return *text;
+  if (const auto* number = std::get_if<double>(&cell); number && std::isfinite(*number))
+    return util::FormatNumber(*number, 5);
+  return "—";
+}
+
+// The series' variants compared as `napkin compare --series S` does (every
+// test of the series with a result, its latest), with each variant's values
+// per metric and the 95 % interval of its mean: the one-sample t interval,
+// which is engine::PairedComparison's interval of differences from zero.
+formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::string& series) {
+  ComparisonRequest request;
+  request.series = series;
+  request.by = CompareBy::kVariant;
+  const Comparison comparison = BuildComparison(catalogue, request);
+
+  formats::ReportComparison report;
+  report.series = series;
+  const db::Table table = ComparisonTable(comparison);
+  report.columns = table.columns;
+  for (const std::vector<db::Cell>& row : table.rows) {
+    std::vector<std::string>& cells = report.rows.emplace_back();
+    for (const db::Cell& cell : row) cells.push_back(CellText(cell));
+  }
+  report.notes.push_back(
+      "Every test of series " + series + " with a result (its latest), as napkin compare --series " + series +
+      " shows them; baseline " + comparison.baseline +
+      "; diff = mean − baseline mean with its 95 % confidence interval (Welch's t) and the "
+      "two-sided p-value.");
+  std::set<std::string> small_groups;
+  for (const MetricComparison& metric : comparison.metrics) {
+    // A metric no test has (the rotation of acceleration-only tests): its
+    // table rows say n = 0, and there is nothing to plot.
+    if (std::all_of(metric.groups.begin(), metric.groups.end(),
+                    [](const GroupValues& values) { return values.values.empty(); }))
+      continue;
+    formats::ReportDistribution& distribution = report.distributions.emplace_back();
+    distribution.metric = metric.metric;
+    for (std::size_t g = 0; g < metric.groups.size(); ++g) {
+      const GroupValues& values = metric.groups[g];
+      formats::ReportDistribution::Group& group = distribution.groups.emplace_back();
+      group.name = values.group;
+      group.values = values.values;
+      group.mean = metric.rows[g].description.mean;
+      if (values.values.size() < 2) {
+        small_groups.insert(values.group);
+        continue;
+      }
+      const engine::MeanDifference interval = engine::PairedComparison(values.values, 1.0);
+      if (std::isfinite(interval.ci_low) && std::isfinite(interval.ci_high)) {
+        group.ci_low = interval.ci_low;
+        group.ci_high = interval.ci_high;
+      }
+    }
+  }
+  for (const std::string& group : small_groups)
+    report.notes.push_back("Variant " + group +
+                           " has fewer than 2 tests with results: no interval and no p-value (—).");
+  return report;
+}
+
+// The selected tests, ordered by series, variant and test id.
+std::vector<db::TestRow> SelectedTests(db::Catalogue& catalogue, const ReportSelection& selection,
+                                       const std::vector<db::WhereExpression>& where) {
+  db::TestFilter filter;
+  filter.external_ids = selection.test_ids;
+  std::vector<db::TestRow> tests = catalogue.ReadAllTests(filter);
+  if (!where.empty()) {  // the tests whose latest results `query criteria --where` lists
+    db::QueryRequest request;
+    request.external_ids = selection.test_ids;
+    request.where = where;
+    const db::Table rows = catalogue.Query(db::QueryKind::kCriteria, request);
+    std::set<std::string> matching;
+    for (const std::vector<db::Cell>& row : rows.rows) matching.insert(std::get<std::string>(row.front()));
+    std::erase_if(tests, [&](const db::TestRow& test) { return !matching.count(test.external_id); });
+  }
+  const std::set<std::string> series(selection.series.begin(), selection.series.end());
+  const std::set<std::string> variants(selection.variants.begin(), selection.variants.end());
+  std::erase_if(tests, [&](const db::TestRow& test) {
+    return (!series.empty() && (!test.series || !series.count(*test.series))) ||
+           (!variants.empty() && (!test.variant || !variants.count(*test.variant)));
+  });
+  std::stable_sort(tests.begin(), tests.end(), [](const db::TestRow& a, const db::TestRow& b) {
+    return std::tie(a.series, a.variant, a.external_id) < std::tie(b.series, b.variant, b.external_id);
+  });
+  return tests;
+}
+
+// What was asked for, e.g. "series sled, variant foam-a"; "" for every test.
+std::string Selection(const ReportSelection& selection) {
+  std::vector<std::string> parts;
+  if (!selection.series.empty()) parts.push_back("series " + Joined(selection.series));
+  if (!selection.variants.empty()) parts.push_back("variant " + Joined(selection.variants));
+  if (!selection.test_ids.empty()) parts.push_back("test " + Joined(selection.test_ids));
+  for (const std::string& expression : selection.where) parts.push_back("where " + expression);
+  return Joined(parts);
+}
+
+std::string Described(const ReportSelection& selection) {
+  return Selection(selection).empty() ? "the catalogue" : Selection(selection);
+}
+
+// The report of the selected tests, checked and planned from the catalogue
+// (which tests have results, their configs, the comparisons) before
+// anything is written; Write then reads one test at a time and streams the
+// page (formats::HtmlReportWriter), so its memory does not grow with the
+// number of tests.
+class CatalogueReport {
+ public:
+  CatalogueReport(const std::string& db_path, const ReportSelection& selection)
+      : catalogue_(Open(db_path, selection)) {
+    for (const std::string& id : selection.test_ids)
+      if (!catalogue_.ExistsTestByExternalId(id))
+        throw InputError("test '" + id + "' is not in catalogue '" + db_path + "'.");
+    selected_ = SelectedTests(catalogue_, selection, where_);
+    if (selected_.empty() && Selection(selection).empty())
+      throw InputError("catalogue '" + db_path +
+                       "' holds no tests; add some with `napkin import` or `napkin synth` first.");
+    if (selected_.empty())
+      throw InputError("no test in catalogue '" + db_path + "' matches " + Selection(selection) + ".");
+
+    header_.catalogue = db_path;
+    header_.napkin_version = napkin::Version();  // common/version.h: "0.1.0+g1a2b3c4"
+    header_.selection = Selection(selection);
+    std::map<db::ConfigId, db::ConfigRow> configs;
+    std::map<std::string, std::set<std::string>> variants_by_series;
+    for (const db::TestRow& record : selected_) {
+      const std::optional<db::ConfigId> config_id = catalogue_.ReadLatestResultConfig(record.id);
+      if (!config_id) {
+        without_results_.push_back(record.external_id);
+        continue;
+      }
+      auto config = configs.find(*config_id);
+      if (config == configs.end())
+        config = configs.emplace(*config_id, catalogue_.ReadConfig(*config_id)).first;
+      shown_.push_back({&record, *config_id, config->second.name});
+      test_ids_.push_back(record.external_id);
+      if (record.series && record.variant) variants_by_series[*record.series].insert(*record.variant);
+    }
+    if (shown_.empty())
+      throw InputError("no test of " + Described(selection) +
+                       " has results with derived channels yet; run `napkin run` first.");
+    for (const auto& [id, config] : configs)
+      header_.configs.push_back({config.name, config.config_hash, config.config_json});
+    // Each series of the report with more than one variant is compared.
+    for (const auto& [series, variants] : variants_by_series)
+      if (variants.size() > 1) comparisons_.push_back(SeriesComparison(catalogue_, series));
+  }
+
+  // Writes the page through `sink`; the tests shown and the bytes written.
+  WrittenReport Write(const formats::HtmlSink& sink) {
+    WrittenReport written;
+    const formats::HtmlSink counting = [&sink, &written](std::string_view text) {
+      sink(text);
+      written.bytes = written.bytes.value_or(0) + text.size();
+    };
+    formats::HtmlReportWriter writer(counting, header_, test_ids_, comparisons_);
+    for (const Shown& test : shown_) {
+      std::optional<engine::TestSummary> summary = catalogue_.ReadSummary(test.record->id, test.config);
+      if (!summary)
+        throw InputError("the result of test '" + test.record->external_id +
+                         "' disappeared while the report was written; write the report again.");
+      const engine::Kinematics kinematics = ReadResultKinematics(catalogue_, test.record->id, test.config);
+      writer.AddTest(formats::MakeReportTest(test.record->external_id, test.record->series,
+                                             test.record->variant, test.config_name, std::move(*summary),
+                                             kinematics));
+    }
+    writer.Finish();
+    written.tests = shown_.size();
+    written.without_results = without_results_;
+    return written;
+  }
+
+ private:
+  struct Shown {
+    const db::TestRow* record;  // in selected_
+    db::ConfigId config;        // of its latest result
+    std::string config_name;
+  };
+
+  // A malformed --where is a usage error before the catalogue is opened.
+  db::Catalogue Open(const std::string& db_path, const ReportSelection& selection) {
+    for (const std::string& expression : selection.where)
+      where_.push_back(ParseWhereExpression(expression, db::QueryFields(db::QueryKind::kCriteria)));
+    db::CatalogueOptions read_only;
+    read_only.read_only = true;
+    return db::Catalogue::Open(db_path, read_only);
+  }
+
+  std::vector<db::WhereExpression> where_;  // before catalogue_: Open fills it
+  db::Catalogue catalogue_;
+  std::vector<db::TestRow> selected_;
+  std::vector<Shown> shown_;
+  std::vector<std::string> test_ids_;  // of shown_
+  std::vector<std::string> without_results_;
+  formats::ReportHeader header_;
+  std::vector<formats::ReportComparison> comparisons_;
+};
+
+}  // namespace
+
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const std::string& out) {
+  CatalogueReport report(db_path, selection);
+  WrittenReport written;
+  util::WriteFileAtomically(out, [&](util::AtomicFile& file) {
+    written = report.Write([&file](std::string_view text) { file.Write(text); });
+  });
+  written.path = out;
+  return written;
+}
+
+WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
+                                   const formats::HtmlSink& sink) {
+  return CatalogueReport(db_path, selection).Write(sink);
+}
+
+std::string WrittenReportText(const WrittenReport& written) {
+  std::string text = written.path == util::kStandardOutputName
+                         ? fmt::format("wrote the report to standard output: {}.\n", Tests(written.tests))
+                     : written.bytes ? fmt::format("wrote {}: {}, {} bytes.\n", written.path,
+                                                   Tests(written.tests), *written.bytes)
+                                     : fmt::format("wrote {}: {}.\n", written.path, Tests(written.tests));
+  if (!written.without_results.empty())
+    text += fmt::format("left out {} without results ({}); run `napkin run` first.\n",
+                        Tests(written.without_results.size()), Joined(written.without_results));
+  return text;
+}
+
+}  // namespace napkin::cli
