@@ -8,7 +8,7 @@ namespace napkin::jobs {
 // Computes `item`'s result with the context's processing config; an input
 // error (bad data) or the failing finding of the verdict (engine/pipeline.h)
 // becomes the item's failure sentence, any other exception propagates (and
-// stops the run: jobs/README.md "Errors keep their meaning"). Lowers the
+// stops the run: jobs/README.md "Errors"). Lowers the
 // calling thread's priority the first time (jobs/README.md "Priorities").
 void ComputeTest(WorkItem& item, RunContext& context);
 
