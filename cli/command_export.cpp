@@ -20,9 +20,9 @@
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
-#include "formats/processing_config_json.h"
 #include "formats/uds_export.h"
 #include "records/array_record.h"
+#include "records/config_record.h"
 #include "util/atomic_file.h"
 #include "util/text.h"
 
@@ -117,9 +117,7 @@ class ExportCommand : public Command {
       const formats::UdsExportFilters filters = formats::UdsFiltersOfResult(
           summary ? summary->conditioning : std::vector<engine::ChannelConditioning>{},
           records::DecodeArrayRecord(catalogue.ReadArray(record.array_id)),
-          formats::ParseProcessingConfig(nlohmann::json::parse(catalogue.ReadConfig(*config).config_json),
-                                         "the result's config")
-              .filter);
+          records::DecodeConfigRecord(catalogue.ReadConfig(*config)).filter);
       // The files appear beside what --out holds, none replaced unless --force
       // (util/atomic_file.h WriteDirectoryAtomically).
       util::WriteDirectoryAtomically(
@@ -159,8 +157,7 @@ class ExportCommand : public Command {
     };
     options.position = position_.value_or(stored("position").value_or(options.position));
     options.dummy_type = dummy_type_.value_or(stored("dummy_type").value_or(options.dummy_type));
-    const engine::ProcessingConfig processing = formats::ParseProcessingConfig(
-        nlohmann::json::parse(catalogue.ReadConfig(config).config_json), "the result's config");
+    const engine::ProcessingConfig processing = records::DecodeConfigRecord(catalogue.ReadConfig(config));
     options.linear_cfc = processing.filter.linear_cfc;
     options.angular_rate_cfc = processing.filter.angular_rate_cfc;
     for (const engine::Sensor& sensor :

@@ -88,8 +88,7 @@ class RunCommand : public Command {
     if (!options_.results_path.empty()) util::CheckNotProtected(options_.results_path);
     CheckScope();
 
-    const ResolvedConfig resolved = ResolveConfig(config_);
-    jobs::RunProcessing processing{resolved.config, resolved.record};
+    const ResolvedConfig processing = ResolveConfig(config_);
     InstallStopHandlers();
     RunProgressReporter reporter(global_->quiet);
     const jobs::RunReport report = jobs::RunScheduler(

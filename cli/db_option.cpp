@@ -3,13 +3,10 @@
 #include <algorithm>
 #include <cctype>
 #include <iterator>
-#include <nlohmann/json.hpp>
 #include <utility>
 
 #include "common/error.h"
-#include "engine/pipeline.h"
-#include "formats/processing_config_json.h"
-#include "records/array_record.h"
+#include "records/test_inputs.h"
 
 namespace napkin::cli {
 namespace {
@@ -41,20 +38,10 @@ db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only) {
 engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
   if (std::optional<engine::Kinematics> stored = catalogue.ReadKinematics(test, config))
     return std::move(*stored);
-  // The inputs the batch scheduler (jobs/scheduler.cpp) hands engine::ProcessTest.
-  const db::TestRow record = catalogue.ReadTest(test);
-  const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(record.array_id));
-  const engine::ProcessingConfig processing = formats::ParseProcessingConfig(
-      nlohmann::json::parse(catalogue.ReadConfig(config).config_json), "the result's config");
-  engine::TestSignals signals = catalogue.ReadTestSignals(test);
-  // A results file of `run --results` carries no raw channels (docs/formats.md
-  // "Results files"): nothing to recompute from.
-  if (signals.samples.cols() == 0)
-    throw InputError("test '" + record.external_id +
-                     "' has no stored derived channels (its config stores none) and no raw channels to "
-                     "recompute them from (a results file of `run --results` holds none); export it from the "
-                     "catalogue the results were merged into.");
-  return engine::ProcessTest(array, signals, record.initial_state, processing).kinematics;
+  // The inputs and the computation of `napkin run` (records/test_inputs.h);
+  // a results file of `run --results` carries no raw channels
+  // (docs/formats.md "Results files"): nothing to recompute from.
+  return records::RecomputeResult(catalogue, test, config).kinematics;
 }
 
 db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector) {

@@ -26,11 +26,11 @@ db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string&
 // result exists), for every reader of derived channels (export, report,
 // demo): the stored derived channels when the result has them (float64:
 // bit-exact; float32: each value widened exactly), else (processing config
-// storage.derived_channels "none") recomputed by engine::ProcessTest from the
-// test's raw channels, initial state and array and the config parsed back from
-// its canonical JSON -- the inputs `napkin run` computed the result from, so
-// the recomputation equals a float64-stored result bit for bit
-// (docs/formats.md "Derived-channel storage").
+// storage.derived_channels "none") recomputed by records::RecomputeResult from
+// the test's raw channels, initial state and array and the config decoded from
+// its record -- the inputs and the computation `napkin run` computed the
+// result with, so the recomputation equals a float64-stored result bit for
+// bit (docs/formats.md "Derived-channel storage").
 engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config);
 
 // `run`/`export --config` value (preset name or JSON path; empty: the default preset).

@@ -11,10 +11,10 @@
 //                    time under a lease and reads each test's signals, array
 //                    and initial state ahead of the compute threads;
 //   compute        — a tbb::task_arena of exactly `threads` threads running a
-//                    tbb::parallel_pipeline of engine::ProcessTest; an
-//                    InputError (bad data) or a screening error becomes the
-//                    test's failure record; finished tests go to the writer's
-//                    queue;
+//                    tbb::parallel_pipeline of records::ComputeResult; an
+//                    InputError (bad data) or a screening error fails the
+//                    test, any other exception (a bug) stops the run;
+//                    finished tests go to the writer's queue;
 //   writer thread  — its own connection: commits results in batches (ONE
 //                    transaction per batch; each test's result row, findings,
 //                    derived channels and job state together or not at all)
@@ -41,6 +41,8 @@
 #include "db/catalogue.h"
 #include "db/job_queue.h"
 #include "engine/processing.h"
+#include "records/config_record.h"
+#include "records/test_inputs.h"
 
 namespace napkin::jobs {
 
@@ -56,22 +58,23 @@ struct RunOptions {
   double commit_interval_s = 1.0;      // ... or when the oldest uncommitted result is this old
   double lease_s = 120.0;              // job lease; renewed every lease_s / 4 while the job is in flight
   double poll_interval_s = 0.5;        // wait between claims while other workers hold the remaining jobs
-  bool store_kinematics = true;        // false: store no derived channels whatever config.storage says
-  bool durable = true;                 // synchronous=FULL commits
   // --results: when set, the catalogue is only read (opened immutable, so
   // many nodes may share it) and the jobs and results go to this results
   // file (db/results_file.h), created if missing; empty: both in the catalogue.
   std::string results_path;
+  // The computation of one test on a compute thread: records::ComputeResult.
+  // A test puts a failing one here to see how the run handles it
+  // (tests/cli/run_internal_error_test.cpp).
+  std::function<engine::ProcessedTest(const records::TestInputs&, const engine::ProcessingConfig&)> compute =
+      records::ComputeResult;
 
   // Throws std::invalid_argument naming the field out of range.
   void Check() const;
 };
 
-// The processing configuration of a run.
-struct RunProcessing {
-  engine::ProcessingConfig config;
-  db::ConfigRow record;  // name, canonical JSON and its hash (identifies the results)
-};
+// A run's processing config is a records::ResolvedConfig (the config, storage
+// choice included, and its record); RunProcessing only names it (command_demo.cpp).
+using RunProcessing = records::ResolvedConfig;
 
 struct RunProgress {
   std::int64_t total = 0;   // jobs to process when the run started
@@ -108,12 +111,13 @@ struct RunReport {
 // (with force) present (db::JobQueue::EnqueueMissing); see the file comment.
 // With options.results_path the inputs come from the catalogue at `db_path`
 // opened read-only and immutable, and everything written (config, jobs,
-// results) goes to the results file. `stop` (set
-// by a signal handler) ends the run after the tests in flight. Throws
-// InputError for a catalogue that cannot be opened, db::DatabaseError when
-// the catalogue fails during the run (its leases are released first).
-RunReport RunScheduler(const std::string& db_path, const RunProcessing& processing, const RunOptions& options,
-                       const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr);
+// results) goes to the results file. `stop` (set by a signal handler) ends the
+// run after the tests in flight. Throws InputError for a catalogue that cannot
+// be opened; db::DatabaseError when it fails during the run, or what a
+// computation throws but InputError (a bug), after releasing its leases.
+RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig& processing,
+                       const RunOptions& options, const ProgressCallback& progress = {},
+                       const std::atomic<bool>* stop = nullptr);
 
 // "host:pid:random": unique per scheduler, readable in the jobs table.
 std::string MakeOwnerId();

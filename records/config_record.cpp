@@ -1,7 +1,9 @@
 #include "records/config_record.h"
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
+#include "common/error.h"
 #include "formats/array_json.h"
 #include "formats/processing_config_json.h"
 #include "util/sha256.h"
@@ -14,6 +16,17 @@ db::ConfigRow MakeConfigRecord(const engine::ProcessingConfig& config, const std
   record.config_json = formats::CanonicalProcessingConfig(config);
   record.config_hash = util::Sha256Hex(record.config_json);
   return record;
+}
+
+engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRow& record) {
+  const std::string source = "config '" + record.name + "' of the catalogue";
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(record.config_json);
+  } catch (const nlohmann::json::parse_error&) {
+    throw InputError(source + " is not valid JSON.");
+  }
+  return formats::ParseProcessingConfig(json, source);
 }
 
 ResolvedConfig ResolveConfig(const std::string& name_or_path) {

@@ -12,6 +12,14 @@ namespace napkin::records {
 // The record of `config` under `name`: name, canonical JSON and its SHA-256.
 db::ConfigRow MakeConfigRecord(const engine::ProcessingConfig& config, const std::string& name);
 
+// Parses a stored configuration back from its canonical JSON: the
+// configuration the results under `record` were computed with. Throws
+// InputError naming the config when the JSON is malformed or out of range.
+engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRow& record);
+
+// A processing configuration and its record: what `napkin run` processes
+// with (jobs::RunScheduler), the storage choice of its derived channels
+// included (config.storage).
 struct ResolvedConfig {
   engine::ProcessingConfig config;
   db::ConfigRow record;  // name, canonical JSON and its SHA-256

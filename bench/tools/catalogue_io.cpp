@@ -14,7 +14,8 @@
 //
 //   napkin_catalogue_io verify DB [--sample N] [--seed S] [--config NAME]
 //     Recomputes N random tests (all with N = 0) with the transform core on
-//     the stored inputs and compares the stored summary (every field and
+//     the stored inputs (records::RecomputeResult, the path of `napkin run`
+//     and of `export` for storage none) and compares the stored summary (every field and
 //     finding, engine/summary_fields.h) with it bit for bit, and the stored
 //     kinematics as the config's storage.derived_channels says: bit for bit
 //     (float64), each value the computed one rounded to float32 (float32), or
@@ -36,6 +37,7 @@
 #include "engine/summary_fields.h"
 #include "records/array_record.h"
 #include "records/config_record.h"
+#include "records/test_inputs.h"
 
 namespace {
 
@@ -161,9 +163,7 @@ int Verify(const std::string& path, std::size_t sample, std::uint64_t seed, cons
   }
   int equal = 0, different = 0;
   for (const db::TestRow& test : tests) {
-    const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
-    const engine::ProcessedTest expected =
-        engine::ProcessTest(array, catalogue.ReadTestSignals(test.id), test.initial_state, config);
+    const engine::ProcessedTest expected = records::RecomputeResult(catalogue, test.id, *config_id);
     const auto kinematics = catalogue.ReadKinematics(test.id, *config_id);
     const auto summary = catalogue.ReadSummary(test.id, *config_id);
     std::vector<std::string> differing;

@@ -14,8 +14,8 @@
 
 namespace napkin::test_support {
 
-inline jobs::RunProcessing Processing(const engine::ProcessingConfig& config = {}) {
-  return jobs::RunProcessing{config, records::MakeConfigRecord(config, "test-config")};
+inline records::ResolvedConfig Processing(const engine::ProcessingConfig& config = {}) {
+  return records::ResolvedConfig{config, records::MakeConfigRecord(config, "test-config")};
 }
 
 inline std::string TestName(int index) {

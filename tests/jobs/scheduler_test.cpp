@@ -61,7 +61,7 @@ TEST_F(SchedulerTest, ParallelResultsEqualTheTransformCoreBitForBit) {
   // Stored bit-exact (the default float32 storage rounds; docs/formats.md "Derived-channel storage").
   engine::ProcessingConfig config;
   config.storage.derived_channels = engine::DerivedStorage::kFloat64;
-  const RunProcessing processing = Processing(config);
+  const records::ResolvedConfig processing = Processing(config);
   std::vector<RunProgress> progress;
   const RunReport report =
       RunScheduler(path_, processing, Options(2), [&](const RunProgress& p) { progress.push_back(p); });
@@ -234,7 +234,7 @@ TEST_F(SchedulerTest, ConcurrentSchedulersOnOneFileProcessEachTestOnce) {
 
 TEST_F(SchedulerTest, JobsOfADeadLocalWorkerAreReclaimedAtOnce) {
   AddRandomTests(path_, 6, 400);
-  const RunProcessing processing = Processing();
+  const records::ResolvedConfig processing = Processing();
   // A worker on this host that claimed jobs and died (its pid is reaped).
   const pid_t child = fork();
   if (child == 0) _exit(0);
@@ -262,7 +262,7 @@ TEST_F(SchedulerTest, JobsOfADeadLocalWorkerAreReclaimedAtOnce) {
 
 TEST_F(SchedulerTest, JobsOfAForeignWorkerAreTakenWhenTheirLeaseExpires) {
   AddRandomTests(path_, 4, 400);
-  const RunProcessing processing = Processing();
+  const records::ResolvedConfig processing = Processing();
   const std::string foreign = "another-host:1:0123456789abcdef";
   EXPECT_FALSE(IsDeadLocalOwner(foreign)) << "no way to know: wait for the lease";
   {

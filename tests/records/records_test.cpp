@@ -67,6 +67,39 @@ TEST(ConfigRecordTest, RecordIsTheCanonicalJsonAndItsHash) {
   EXPECT_EQ(ResolveConfig("default").record.config_hash, preset.record.config_hash);
 }
 
+TEST(ConfigRecordTest, DecodesBackToTheSameCanonicalConfig) {
+  engine::ProcessingConfig config;
+  config.filter.padding_s = 0.0123456789012345;
+  config.screening.residual_limit_g = 4.321098765432109;
+  config.storage.derived_channels = engine::DerivedStorage::kNone;
+  const db::ConfigRow record = MakeConfigRecord(config, "unusual");
+  const engine::ProcessingConfig decoded = DecodeConfigRecord(record);
+  EXPECT_EQ(decoded.filter.padding_s, config.filter.padding_s);
+  EXPECT_EQ(decoded.screening.residual_limit_g, config.screening.residual_limit_g);
+  EXPECT_EQ(decoded.storage.derived_channels, engine::DerivedStorage::kNone);
+  EXPECT_EQ(MakeConfigRecord(decoded, "unusual").config_json, record.config_json);
+}
+
+TEST(ConfigRecordTest, BadStoredConfigsNameTheConfig) {
+  db::ConfigRow record;
+  record.name = "broken";
+  record.config_json = "{";
+  try {
+    DecodeConfigRecord(record);
+    FAIL() << "malformed JSON decoded";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), "config 'broken' of the catalogue is not valid JSON.");
+  }
+  record.config_json = R"({"filter": {"padding_s": -1}})";
+  try {
+    DecodeConfigRecord(record);
+    FAIL() << "a negative padding decoded";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("config 'broken' of the catalogue"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(TestRecordTest, SlotUnitsComeFromTheArray) {
   const engine::ArrayGeometry array = formats::LoadArray("ideal-3222");
   std::vector<std::string> slots;
