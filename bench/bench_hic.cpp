@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -26,7 +27,7 @@ const Eigen::VectorXd& CrashLikeSignal() {
     Eigen::VectorXd a(kSamples);
     const auto haversine = [](double t, double start, double length, double height) {
       const double s = (t - start) / length;
-      return s >= 0.0 && s <= 1.0 ? height * 0.5 * (1.0 - std::cos(2.0 * kPi * s)) : 0.0;
+      return s >= 0.0 && s <= 1.0 ? height * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * s)) : 0.0;
     };
     for (Eigen::Index k = 0; k < kSamples; ++k) {
       const double t = kT0 + static_cast<double>(k) * kDt;

@@ -23,29 +23,17 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=${5:-$ROOT/build/bench-memory}
 CONFIG=${6:-default}
 BUILD=$ROOT/build/bench
+# shellcheck source=bench/lib.sh
+source "$ROOT/bench/lib.sh"
 
-if [[ ! -x /usr/bin/time ]]; then
-  echo "/usr/bin/time is missing: install the Debian package 'time' (make deps)" >&2
-  exit 1
-fi
-if (( LARGE <= SMALL )); then
-  echo "LARGE ($LARGE) must exceed SMALL ($SMALL)" >&2
-  exit 2
-fi
-need_mb=$(( LARGE * SAMPLES * 8 * (9 + 36) * 11 / 10 / 1000000 + 200 ))
-mkdir -p "$WORK"
-avail_mb=$(df -Pm "$WORK" | awk 'NR == 2 {print $4}')
-echo "disk: need about ${need_mb} MB in $WORK, ${avail_mb} MB available"
-if (( avail_mb < need_mb )); then
-  echo "not enough disk space for ${LARGE} tests x ${SAMPLES} samples" >&2
-  exit 1
-fi
+require_time
+require_larger "$SMALL" "$LARGE"
+require_disk "$WORK" $(( LARGE * SAMPLES * 8 * (9 + 36) * 11 / 10 / 1000000 + 200 )) \
+  "${LARGE} tests x ${SAMPLES} samples"
 
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON > /dev/null
-cmake --build "$BUILD" -j"$(nproc)" --target napkin > /dev/null
+build_release "$BUILD" "$(nproc)" napkin
 NAPKIN=$BUILD/cli/napkin
 DB=$WORK/memory.db
-remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
 remove_db "$DB"
 trap 'remove_db "$DB"' EXIT
 
@@ -56,7 +44,7 @@ peak_kb() {
   /usr/bin/time -v "$NAPKIN" --quiet --db "$DB" run --threads "$THREADS" --config "$CONFIG" \
     2> "$WORK/time.txt" || { cat "$WORK/time.txt" >&2; return 1; }
   remove_db "$DB"
-  awk -F': ' '/Maximum resident set size/ {print $2}' "$WORK/time.txt"
+  peak_rss_kb "$WORK/time.txt"
 }
 
 small_kb=$(peak_kb "$SMALL")

@@ -18,6 +18,8 @@ SAMPLES=${1:-2000000}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=${2:-$ROOT/build/bench-memory}
 BUILD=${3:-$ROOT/build/bench}
+# shellcheck source=bench/lib.sh
+source "$ROOT/bench/lib.sh"
 
 for tool in /usr/bin/time sqlite3; do
   if ! command -v "$tool" > /dev/null; then
@@ -26,21 +28,17 @@ for tool in /usr/bin/time sqlite3; do
   fi
 done
 
-if [[ $# -lt 3 ]]; then
-  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON > /dev/null
-  cmake --build "$BUILD" -j2 --target napkin > /dev/null
-fi
+[[ $# -ge 3 ]] || build_release "$BUILD" 2 napkin
 NAPKIN=$BUILD/cli/napkin
 mkdir -p "$WORK"
 DB=$WORK/acceleration-only.db
-remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
 remove_db "$DB"
 trap 'remove_db "$DB"' EXIT
 
 "$NAPKIN" --db "$DB" synth --scenario random --array 3a-cg --count 1 --samples "$SAMPLES" > /dev/null
 /usr/bin/time -v "$NAPKIN" --quiet --db "$DB" run --threads 2 2> "$WORK/time.txt" > /dev/null ||
   { cat "$WORK/time.txt" >&2; exit 1; }
-peak_kb=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$WORK/time.txt")
+peak_kb=$(peak_rss_kb "$WORK/time.txt")
 raw_bytes=$(( SAMPLES * 3 * 8 ))
 bound_kb=$(( (8 * raw_bytes + 150 * 1000 * 1000) / 1024 ))
 read -r rows bytes < <(sqlite3 -separator ' ' "$DB" \

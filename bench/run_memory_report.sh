@@ -21,22 +21,14 @@ SAMPLES=${3:-1000}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=${4:-$ROOT/build/bench-memory}
 BUILD=${5:-$ROOT/build/bench}
+# shellcheck source=bench/lib.sh
+source "$ROOT/bench/lib.sh"
 
-if [[ ! -x /usr/bin/time ]]; then
-  echo "/usr/bin/time is missing: install the Debian package 'time' (make deps)" >&2
-  exit 1
-fi
-if (( LARGE <= SMALL )); then
-  echo "LARGE ($LARGE) must exceed SMALL ($SMALL)" >&2
-  exit 2
-fi
-if [[ $# -lt 5 ]]; then
-  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON > /dev/null
-  cmake --build "$BUILD" -j2 --target napkin > /dev/null
-fi
+require_time
+require_larger "$SMALL" "$LARGE"
+[[ $# -ge 5 ]] || build_release "$BUILD" 2 napkin
 NAPKIN=$BUILD/cli/napkin
 mkdir -p "$WORK"
-remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
 
 # Prints the peak resident set size (kB) and the page's bytes of `napkin
 # report` of a catalogue of $1 run tests.
@@ -49,7 +41,7 @@ report_peak() {
   /usr/bin/time -v "$NAPKIN" --db "$db" report --out "$page" 2> "$WORK/time.txt" > /dev/null ||
     { cat "$WORK/time.txt" >&2; return 1; }
   [[ ${KEEP_CATALOGUES:-0} == 1 ]] || remove_db "$db"
-  echo "$(awk -F': ' '/Maximum resident set size/ {print $2}' "$WORK/time.txt") $(stat -c %s "$page")"
+  echo "$(peak_rss_kb "$WORK/time.txt") $(stat -c %s "$page")"
   rm -f "$page"
 }
 

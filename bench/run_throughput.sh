@@ -41,25 +41,19 @@ for storage in "${STORAGES[@]}"; do
   esac
 done
 BUILD=$ROOT/build/bench
+# shellcheck source=bench/lib.sh
+source "$ROOT/bench/lib.sh"
 
 derived_bytes=8
 for storage in "${STORAGES[@]}"; do [[ $storage == float64 ]] && derived_bytes=8 && break; derived_bytes=4; done
 # input + one copy of it + the largest results + 10% WAL and slack
-need_mb=$(( TESTS * SAMPLES * (9 * 8 * 2 + 36 * derived_bytes) * 11 / 10 / 1000000 + 200 ))
-mkdir -p "$WORK"
-avail_mb=$(df -Pm "$WORK" | awk 'NR == 2 {print $4}')
-echo "disk: need about ${need_mb} MB in $WORK, ${avail_mb} MB available"
-if (( avail_mb < need_mb )); then
-  echo "not enough disk space for ${TESTS} tests x ${SAMPLES} samples" >&2
-  exit 1
-fi
+require_disk "$WORK" $(( TESTS * SAMPLES * (9 * 8 * 2 + 36 * derived_bytes) * 11 / 10 / 1000000 + 200 )) \
+  "${TESTS} tests x ${SAMPLES} samples"
 
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=ON > /dev/null
-cmake --build "$BUILD" -j"$(nproc)" --target napkin napkin_catalogue_io > /dev/null
+build_release "$BUILD" "$(nproc)" napkin napkin_catalogue_io
 NAPKIN=$BUILD/cli/napkin
 IO=$BUILD/bench/napkin_catalogue_io
 
-remove_db() { rm -f "$1" "$1-wal" "$1-shm"; }
 remove_db "$WORK/input.db"
 now() { date +%s.%N; }
 

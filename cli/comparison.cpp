@@ -11,6 +11,7 @@
 
 #include "cli/db_option.h"
 #include "common/error.h"
+#include "common/joined.h"
 #include "engine/summary_fields.h"
 #include "ingest/import.h"
 #include "util/text.h"
@@ -33,12 +34,6 @@ std::string VariantGroup(const std::optional<std::string>& variant) {
   return core == kNoVariant ? "\"" + *variant + "\"" : *variant;
 }
 
-std::string JoinNames(const std::vector<std::string>& names) {
-  std::string joined;
-  for (const std::string& name : names) joined += (joined.empty() ? "" : ", ") + name;
-  return joined;
-}
-
 const engine::SummaryField* FindField(const std::string& name) {
   for (const engine::SummaryField& field : engine::SummaryFields())
     if (name == field.name) return &field;
@@ -53,7 +48,7 @@ std::vector<const engine::SummaryField*> ResolveMetrics(const std::vector<std::s
     if (field == nullptr) {
       std::vector<std::string> valid;
       for (const engine::SummaryField& known : engine::SummaryFields()) valid.emplace_back(known.name);
-      throw UsageError("unknown metric '" + name + "' (metrics: " + JoinNames(valid) + ").");
+      throw UsageError("unknown metric '" + name + "' (metrics: " + Joined(valid) + ").");
     }
     if (std::find(fields.begin(), fields.end(), field) == fields.end()) fields.push_back(field);
   }
@@ -192,7 +187,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
     for (const db::SeriesRow& series : catalogue.ReadAllSeries()) names.push_back(series.name);
     throw UsageError(
         "unknown series '" + request.series + "' (" +
-        (names.empty() ? std::string("the catalogue has no series") : "series: " + JoinNames(names)) + ").");
+        (names.empty() ? std::string("the catalogue has no series") : "series: " + Joined(names)) + ").");
   }
   const std::vector<const engine::SummaryField*> fields = ResolveMetrics(request.metrics);
   if (request.by == CompareBy::kVariant && request.configs.size() > 1)
@@ -251,7 +246,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
       for (const auto& [group, members] : results_by_group) names.push_back(group);
       throw UsageError("unknown baseline '" + *request.baseline + "' (" +
                        (request.by == CompareBy::kVariant ? "variants" : "configs") + " of series '" +
-                       request.series + "' with results: " + JoinNames(names) + ").");
+                       request.series + "' with results: " + Joined(names) + ").");
     }
     comparison.baseline = *found;
   }

@@ -1,7 +1,6 @@
 #include "cli/query_filters.h"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <system_error>
 
@@ -11,21 +10,6 @@
 #include "util/text.h"
 
 namespace napkin::cli {
-namespace {
-
-std::string FieldList(const std::vector<db::QueryField>& fields) {
-  std::string list;
-  for (const db::QueryField& field : fields) list += (list.empty() ? "" : ", ") + field.name;
-  return list;
-}
-
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
-}  // namespace
 
 void QueryFilterOptions::Register(CLI::App& command) {
   command.add_option("--series", series, "only tests of this series (repeatable: any of them)")
@@ -65,7 +49,7 @@ db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField
   const std::size_t colon = text.rfind(':');
   db::SortKey key{std::string(text.substr(0, colon)), false};
   if (colon != std::string_view::npos) {
-    const std::string direction = Lowercase(std::string(text.substr(colon + 1)));
+    const std::string direction = util::ToLower(text.substr(colon + 1));
     if (direction != "asc" && direction != "desc")
       throw UsageError("--sort \"" + util::Abbreviated(text) +
                        "\": the direction after ':' is asc or desc, not '" +
@@ -75,7 +59,7 @@ db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField
   if (std::none_of(fields.begin(), fields.end(),
                    [&](const db::QueryField& f) { return f.name == key.field; }))
     throw UsageError("--sort \"" + util::Abbreviated(text) + "\": unknown field '" +
-                     util::Abbreviated(key.field) + "'; the fields are " + FieldList(fields) + ".");
+                     util::Abbreviated(key.field) + "'; the fields are " + db::FieldNames(fields) + ".");
   return key;
 }
 

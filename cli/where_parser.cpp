@@ -28,12 +28,6 @@ bool EndsWord(char c) {
          c == '=' || c == '!' || c == '<' || c == '>';
 }
 
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
 class Parser {
  public:
   Parser(std::string_view text, const std::vector<db::QueryField>& fields) : text_(text), fields_(fields) {}
@@ -54,10 +48,8 @@ class Parser {
     std::string shown(text_);
     std::replace_if(
         shown.begin(), shown.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-    std::string fields;
-    for (const db::QueryField& field : fields_) fields += (fields.empty() ? "" : ", ") + field.name;
     throw UsageError("--where \"" + util::Abbreviated(shown) + "\": " + problem + "; the fields are " +
-                     fields + ".");
+                     db::FieldNames(fields_) + ".");
   }
 
   // A token's text as typed, cut like the expression.
@@ -133,7 +125,7 @@ class Parser {
   const Token& Peek() const { return tokens_[next_]; }
   const Token& Take() { return tokens_[next_ < tokens_.size() - 1 ? next_++ : next_]; }
   bool IsKeyword(const Token& token, const char* keyword) const {
-    return token.kind == Token::Kind::kWord && Lowercase(token.text) == keyword;
+    return token.kind == Token::Kind::kWord && util::ToLower(token.text) == keyword;
   }
 
   // Operands joined by `keyword`; one operand stands for itself.

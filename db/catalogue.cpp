@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 #include <thread>
 
@@ -98,6 +99,59 @@ TestRow ReadTestRow(const Statement& row) {
   test.content_hash = row.ColumnText(16);
   test.imported_at = row.ColumnText(17);
   return test;
+}
+
+// How WriteArray and WriteConfig store a JSON definition: once per content
+// hash (schema/001_catalogue.sql: the hash columns are UNIQUE), in the
+// columns <column>_json and <column>_hash of `table` beside its name.
+struct HashKeyedTable {
+  const char* table;            // "arrays"
+  const char* column;           // "definition"
+  const char* what;             // "array": messages name "array '<name>'"
+  const char* definition_what;  // "definition of array": "... '<name>' is not valid JSON."
+  const char* other_what;       // "array definition": "... the hash of a different array definition ..."
+  bool created_at;              // the row records when it was written (configs)
+};
+constexpr HashKeyedTable kArrayTable{"arrays",           "definition", "array", "definition of array",
+                                     "array definition", false};
+constexpr HashKeyedTable kConfigTable{"configs",           "config", "processing config",
+                                      "processing config", "config", true};
+
+// In one transaction: checks that `json` is valid JSON, inserts the row
+// unless one with `hash` is there, and returns the id of the row holding
+// `hash`: the new one, or the one already there when its JSON is the same.
+std::int64_t InsertByHash(Connection& connection, const HashKeyedTable& table, const std::string& name,
+                          const std::string& json, const std::string& hash,
+                          const std::function<double()>& clock) {
+  const std::string column = table.column;
+  Transaction transaction(connection);
+  {
+    auto valid = connection.Prepare("SELECT json_valid(?1)");
+    valid->Bind(1, json);
+    valid->Step();
+    if (valid->ColumnInt64(0) == 0)
+      throw InputError(std::string(table.definition_what) + " '" + name + "' is not valid JSON.");
+  }
+  {
+    auto insert =
+        connection.Prepare(std::string("INSERT INTO ") + table.table + " (name, " + column + "_json, " +
+                           column + "_hash" + (table.created_at ? ", created_at" : "") +
+                           ") VALUES (?1, ?2, ?3" + (table.created_at ? ", " + IsoTimestampSql("?4") : "") +
+                           ") ON CONFLICT (" + column + "_hash) DO NOTHING");
+    insert->BindAll(name, json, hash);
+    if (table.created_at) insert->Bind(4, clock());
+    insert->Execute();
+  }
+  auto select = connection.Prepare("SELECT id, " + column + "_json FROM " + table.table + " WHERE " + column +
+                                   "_hash = ?1");
+  select->Bind(1, hash);
+  select->Step();
+  if (select->ColumnText(1) != json)
+    throw InputError(std::string(table.what) + " '" + name + "' has the hash " + hash + " of a different " +
+                     table.other_what + " already in the catalogue.");
+  const std::int64_t id = select->ColumnInt64(0);
+  transaction.Commit();
+  return id;
 }
 
 }  // namespace
@@ -231,30 +285,8 @@ std::vector<SeriesRow> Catalogue::ReadAllSeries() {
 // ------------------------------------------------------------------- arrays
 
 ArrayId Catalogue::WriteArray(const ArrayRow& array) {
-  Transaction transaction(connection_);
-  {
-    auto valid = connection_.Prepare("SELECT json_valid(?1)");
-    valid->Bind(1, array.definition_json);
-    valid->Step();
-    if (valid->ColumnInt64(0) == 0)
-      throw InputError("definition of array '" + array.name + "' is not valid JSON.");
-  }
-  {
-    auto insert = connection_.Prepare(
-        "INSERT INTO arrays (name, definition_json, definition_hash) VALUES (?1, ?2, ?3) "
-        "ON CONFLICT (definition_hash) DO NOTHING");
-    insert->BindAll(array.name, array.definition_json, array.definition_hash);
-    insert->Execute();
-  }
-  auto select = connection_.Prepare("SELECT id, definition_json FROM arrays WHERE definition_hash = ?1");
-  select->Bind(1, array.definition_hash);
-  select->Step();
-  if (select->ColumnText(1) != array.definition_json)
-    throw InputError("array '" + array.name + "' has the hash " + array.definition_hash +
-                     " of a different array definition already in the catalogue.");
-  const ArrayId id{select->ColumnInt64(0)};
-  transaction.Commit();
-  return id;
+  return ArrayId{InsertByHash(connection_, kArrayTable, array.name, array.definition_json,
+                              array.definition_hash, clock_)};
 }
 
 ArrayRow Catalogue::ReadArray(ArrayId id) {
@@ -453,30 +485,8 @@ engine::TestSignals Catalogue::ReadTestSignals(TestId test) {
 // ------------------------------------------------------------------ configs
 
 ConfigId Catalogue::WriteConfig(const ConfigRow& config) {
-  Transaction transaction(connection_);
-  {
-    auto valid = connection_.Prepare("SELECT json_valid(?1)");
-    valid->Bind(1, config.config_json);
-    valid->Step();
-    if (valid->ColumnInt64(0) == 0)
-      throw InputError("processing config '" + config.name + "' is not valid JSON.");
-  }
-  {
-    auto insert = connection_.Prepare(
-        "INSERT INTO configs (name, config_json, config_hash, created_at) VALUES (?1, ?2, ?3, " +
-        IsoTimestampSql("?4") + ") ON CONFLICT (config_hash) DO NOTHING");
-    insert->BindAll(config.name, config.config_json, config.config_hash, clock_());
-    insert->Execute();
-  }
-  auto select = connection_.Prepare("SELECT id, config_json FROM configs WHERE config_hash = ?1");
-  select->Bind(1, config.config_hash);
-  select->Step();
-  if (select->ColumnText(1) != config.config_json)
-    throw InputError("processing config '" + config.name + "' has the hash " + config.config_hash +
-                     " of a different config already in the catalogue.");
-  const ConfigId id{select->ColumnInt64(0)};
-  transaction.Commit();
-  return id;
+  return ConfigId{
+      InsertByHash(connection_, kConfigTable, config.name, config.config_json, config.config_hash, clock_)};
 }
 
 ConfigRow Catalogue::ReadConfig(ConfigId id) {

@@ -119,6 +119,9 @@ struct QueryField {
 // kind's groups; `tests` and `quality` their own text columns.
 std::vector<QueryField> QueryFields(QueryKind kind);
 
+// "test_id, series, ...": the names of `fields`, for messages that list them.
+std::string FieldNames(const std::vector<QueryField>& fields);
+
 // One --sort key.
 struct SortKey {
   std::string field;  // one of QueryFields(kind)

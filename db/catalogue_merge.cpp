@@ -5,6 +5,9 @@
 // mapping keys through content: tests by content hash, arrays and configs by
 // hash, series by name (keys of a shard that imported new tests differ).
 #include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include "common/error.h"
 #include "db/catalogue.h"
@@ -49,14 +52,22 @@ void DropKeyMaps(Connection& connection) {
     connection.Execute(std::string("DROP TABLE IF EXISTS temp.merge_") + table + "_key");
 }
 
+// The first text `sql` selects (the test that stops the merge), if any.
+std::optional<std::string> FirstText(Connection& connection, std::string_view sql) {
+  auto select = connection.Prepare(sql);
+  if (!select->Step()) return std::nullopt;
+  return select->ColumnText(0);
+}
+
 // A test id present on both sides must have the same content on both.
 void RefuseConflictingTests(Connection& connection, const std::string& shard_path) {
-  auto conflict = connection.Prepare(
-      "SELECT st.external_id FROM shard.tests AS st JOIN main.tests AS mt ON mt.external_id = "
-      "st.external_id "
-      "WHERE mt.content_hash <> st.content_hash ORDER BY st.external_id LIMIT 1");
-  if (conflict->Step())
-    throw InputError("test '" + conflict->ColumnText(0) + "' in shard '" + shard_path +
+  const std::optional<std::string> conflict =
+      FirstText(connection,
+                "SELECT st.external_id FROM shard.tests AS st JOIN main.tests AS mt ON mt.external_id = "
+                "st.external_id "
+                "WHERE mt.content_hash <> st.content_hash ORDER BY st.external_id LIMIT 1");
+  if (conflict)
+    throw InputError("test '" + *conflict + "' in shard '" + shard_path +
                      "' has different content from the catalogue's test of that id.");
 }
 
@@ -90,13 +101,14 @@ void MergeDefinitions(Connection& connection) {
 // them, so it can only bring results of tests already here.
 void RefuseTestsWithoutChannels(Connection& connection, const std::string& shard_path,
                                 const std::string& catalogue_path) {
-  auto missing = connection.Prepare(
+  const std::optional<std::string> missing = FirstText(
+      connection,
       "SELECT st.external_id FROM shard.tests AS st WHERE st.content_hash NOT IN (SELECT content_hash FROM "
       "main.tests) AND NOT EXISTS (SELECT 1 FROM shard.raw_channels AS rc WHERE rc.test_id = st.id) "
       "ORDER BY st.external_id LIMIT 1");
-  if (missing->Step())
-    throw InputError("test '" + missing->ColumnText(0) + "' of '" + shard_path +
-                     "' is not in the catalogue '" + catalogue_path +
+  if (missing)
+    throw InputError("test '" + *missing + "' of '" + shard_path + "' is not in the catalogue '" +
+                     catalogue_path +
                      "', and a results file carries no raw channels, so it cannot add tests: merge it into "
                      "the catalogue it was computed from.");
 }

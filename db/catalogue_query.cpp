@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/joined.h"
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
 #include "engine/summary_fields.h"
@@ -78,19 +79,13 @@ class Parameters {
   std::vector<Value> values_;
 };
 
-std::string FieldList(const std::vector<QueryField>& fields) {
-  std::string list;
-  for (const QueryField& field : fields) list += (list.empty() ? "" : ", ") + field.name;
-  return list;
-}
-
 const QueryField& FindField(QueryKind kind, const std::vector<QueryField>& fields, const std::string& name,
                             const char* option) {
   const auto found =
       std::find_if(fields.begin(), fields.end(), [&](const QueryField& field) { return field.name == name; });
   if (found == fields.end())
     throw UsageError(std::string(option) + " names unknown field '" + name + "'; the fields of query " +
-                     KindName(kind) + " are " + FieldList(fields) + ".");
+                     KindName(kind) + " are " + FieldNames(fields) + ".");
   return *found;
 }
 
@@ -251,6 +246,8 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
   return fields;
 }
+
+std::string FieldNames(const std::vector<QueryField>& fields) { return Joined(fields, &QueryField::name); }
 
 Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
   QueryRequest request;

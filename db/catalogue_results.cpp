@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "common/joined.h"
 #include "db/catalogue.h"
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
@@ -107,12 +108,8 @@ bool CheckKinematicsShape(const engine::Kinematics& kinematics) {
 }  // namespace
 
 std::string internal::SummaryColumnList(const std::string& prefix) {
-  std::string list;
-  for (const engine::SummaryField& field : engine::SummaryFields()) {
-    if (!list.empty()) list += ", ";
-    list += prefix + field.name;
-  }
-  return list;
+  return Joined(engine::SummaryFields(),
+                [&prefix](const engine::SummaryField& field) { return prefix + field.name; });
 }
 
 // ------------------------------------------------------------------ results

@@ -62,6 +62,27 @@ using internal::BindJobScope;
 
 std::string ScopeCte() { return internal::JobScopeCte(); }
 
+// The parameters of a statement over one config's jobs of a scope: the
+// scope (?1..?5) and the config (?10).
+void BindConfigScope(Statement& statement, ConfigId config, const JobScope& scope) {
+  BindJobScope(statement, scope);
+  statement.Bind(10, config);
+}
+
+// Runs `sql`, an UPDATE of job ?1 while it is running under lease owner ?2,
+// with the parameters `bind` binds, in a transaction of its own; true when
+// the job was still held (one row changed).
+template <typename Bind>
+bool UpdateHeldJob(Connection& connection, std::string_view sql, Bind bind) {
+  Transaction transaction(connection);
+  auto update = connection.Prepare(sql);
+  bind(*update);
+  update->Execute();
+  const bool held = connection.Changes() == 1;
+  transaction.Commit();
+  return held;
+}
+
 }  // namespace
 
 JobQueue::JobQueue(Catalogue& catalogue)
@@ -70,6 +91,18 @@ JobQueue::JobQueue(Catalogue& catalogue)
       napkin_version_(catalogue.napkin_version_) {}
 
 std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bool force, bool outdated) {
+  // Both statements bind the scope (?1-?9), the config (?10), the time
+  // (?11), `force` (?12) and, for `outdated`, this napkin's version (?13;
+  // unbound, NULL: any version is up to date). Returns the jobs (re)queued.
+  const auto queue = [&](const std::string& sql) {
+    auto statement = connection_.Prepare(sql);
+    BindConfigScope(*statement, config, scope);
+    statement->Bind(11, clock_());
+    statement->Bind(12, force);
+    if (outdated) statement->Bind(13, napkin_version_);
+    statement->Execute();
+    return connection_.Changes();
+  };
   Transaction transaction(connection_);
   std::int64_t queued = 0;
   {
@@ -82,14 +115,7 @@ std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bo
         "WHERE NOT EXISTS (SELECT 1 FROM jobs AS j WHERE j.test_id = scope.test_id AND j.config_id = ?10) "
         "AND (?12 OR NOT EXISTS (" +
         internal::UpToDateResult("scope.test_id") + "))";
-    auto insert = connection_.Prepare(kInsert);
-    BindJobScope(*insert, scope);
-    insert->Bind(10, config);
-    insert->Bind(11, clock_());
-    insert->Bind(12, force);
-    if (outdated) insert->Bind(13, napkin_version_);
-    insert->Execute();
-    queued += connection_.Changes();
+    queued += queue(kInsert);
   }
   {
     // Existing jobs: failed ones, done ones whose result is gone, and with
@@ -102,14 +128,7 @@ std::int64_t JobQueue::EnqueueMissing(ConfigId config, const JobScope& scope, bo
         "WHERE config_id = ?10 AND test_id IN (SELECT test_id FROM scope) AND ("
         "state = 'failed' OR (state = 'done' AND (?12 OR NOT EXISTS (" +
         internal::UpToDateResult("jobs.test_id") + "))))";
-    auto requeue = connection_.Prepare(kRequeue);
-    BindJobScope(*requeue, scope);
-    requeue->Bind(10, config);
-    requeue->Bind(11, clock_());
-    requeue->Bind(12, force);
-    if (outdated) requeue->Bind(13, napkin_version_);
-    requeue->Execute();
-    queued += connection_.Changes();
+    queued += queue(kRequeue);
   }
   transaction.Commit();
   return queued;
@@ -130,8 +149,7 @@ std::vector<Job> JobQueue::ClaimJobs(ConfigId config, const std::string& owner, 
       "(state = 'queued' OR (state = 'running' AND lease_expires_at <= ?12)) ORDER BY id LIMIT ?14) "
       "RETURNING id, test_id, attempts";
   auto claim = connection_.Prepare(kClaim);
-  BindJobScope(*claim, scope);
-  claim->Bind(10, config);
+  BindConfigScope(*claim, config, scope);
   claim->Bind(11, owner);
   claim->Bind(12, now);
   claim->Bind(13, lease_seconds);
@@ -151,8 +169,7 @@ std::vector<std::string> JobQueue::ReadLeaseOwners(ConfigId config, const JobSco
       " SELECT DISTINCT lease_owner FROM jobs WHERE config_id = ?10 AND state = 'running' "
       "AND test_id IN (SELECT test_id FROM scope) ORDER BY lease_owner";
   auto select = connection_.Prepare(kOwners);
-  BindJobScope(*select, scope);
-  select->Bind(10, config);
+  BindConfigScope(*select, config, scope);
   std::vector<std::string> owners;
   while (select->Step()) owners.push_back(select->ColumnText(0));
   return owners;
@@ -171,40 +188,28 @@ std::int64_t JobQueue::ReleaseLeases(ConfigId config, const std::string& owner) 
 }
 
 bool JobQueue::RenewLease(JobId job, const std::string& owner, double lease_seconds) {
-  Transaction transaction(connection_);
-  auto renew = connection_.Prepare(
-      "UPDATE jobs SET lease_expires_at = ?3 + ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
-  renew->BindAll(job, owner, clock_(), lease_seconds);
-  renew->Execute();
-  const bool held = connection_.Changes() == 1;
-  transaction.Commit();
-  return held;
+  return UpdateHeldJob(
+      connection_,
+      "UPDATE jobs SET lease_expires_at = ?3 + ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2",
+      [&](Statement& renew) { renew.BindAll(job, owner, clock_(), lease_seconds); });
 }
 
 bool JobQueue::CompleteJob(JobId job, const std::string& owner) {
-  Transaction transaction(connection_);
-  auto complete = connection_.Prepare(
+  return UpdateHeldJob(
+      connection_,
       "UPDATE jobs SET state = 'done', finished_at = ?3, duration_s = ?3 - started_at, lease_expires_at = "
       "NULL, "
-      "last_error = NULL, napkin_version = ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2");
-  complete->BindAll(job, owner, clock_(), napkin_version_);
-  complete->Execute();
-  const bool held = connection_.Changes() == 1;
-  transaction.Commit();
-  return held;
+      "last_error = NULL, napkin_version = ?4 WHERE id = ?1 AND state = 'running' AND lease_owner = ?2",
+      [&](Statement& complete) { complete.BindAll(job, owner, clock_(), napkin_version_); });
 }
 
 bool JobQueue::FailJob(JobId job, const std::string& owner, const std::string& error) {
-  Transaction transaction(connection_);
-  auto fail = connection_.Prepare(
+  return UpdateHeldJob(
+      connection_,
       "UPDATE jobs SET state = 'failed', last_error = ?4, finished_at = ?3, duration_s = ?3 - started_at, "
       "lease_expires_at = NULL, napkin_version = ?5 WHERE id = ?1 AND state = 'running' AND lease_owner = "
-      "?2");
-  fail->BindAll(job, owner, clock_(), error, napkin_version_);
-  fail->Execute();
-  const bool held = connection_.Changes() == 1;
-  transaction.Commit();
-  return held;
+      "?2",
+      [&](Statement& fail) { fail.BindAll(job, owner, clock_(), error, napkin_version_); });
 }
 
 StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) {
@@ -225,8 +230,7 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
         "SELECT count(*), coalesce(sum(state = 'done'), 0), coalesce(sum(state = 'failed'), 0), "
         "coalesce(sum(state = 'queued'), 0), coalesce(sum(state = 'running'), 0) FROM states";
     auto select = connection_.Prepare(kCounts);
-    BindJobScope(*select, scope);
-    select->Bind(10, config);
+    BindConfigScope(*select, config, scope);
     select->Step();
     counts.tests = select->ColumnInt64(0);
     counts.done = select->ColumnInt64(1);
@@ -241,8 +245,7 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
         "JOIN scope ON scope.test_id = j.test_id JOIN tests AS t ON t.id = j.test_id "
         "WHERE j.config_id = ?10 AND j.state = 'failed' ORDER BY t.external_id";
     auto select = connection_.Prepare(kFailures);
-    BindJobScope(*select, scope);
-    select->Bind(10, config);
+    BindConfigScope(*select, config, scope);
     while (select->Step()) counts.failures.push_back({select->ColumnText(0), select->ColumnText(1)});
   }
   transaction.Commit();

@@ -32,7 +32,9 @@ struct Sensor {
   Eigen::Vector3d position_body_m = Eigen::Vector3d::Zero();  // from head CG, body axes
   Eigen::Vector3d axis_body = Eigen::Vector3d::UnitX();       // unit sense axis
   std::string unit = "g";                                     // unit of the recorded samples
-  double si_per_unit = 9.80665;                               // samples * si_per_unit = SI value
+  // samples * si_per_unit = SI value; 1 g by default (engine/units.h kStandardGravity,
+  // which cannot be named here: units.h includes this header).
+  double si_per_unit = 9.80665;
 };
 
 struct ArrayGeometry {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <sstream>
 
 #include "common/error.h"
@@ -25,8 +26,8 @@ double PrewarpedCutoff(double cfc_hz, double dt_s, CfcVariant variant) {
     message << "the sampling interval " << dt_s << " s given to the CFC filter is not positive.";
     throw InputError(message.str());
   }
-  const double half_angle = 2.0 * kPi * cfc_hz * CfcDesignFactor(variant) * dt_s / 2.0;
-  if (half_angle >= 0.5 * kPi * (1.0 - 1e-9)) {
+  const double half_angle = 2.0 * std::numbers::pi * cfc_hz * CfcDesignFactor(variant) * dt_s / 2.0;
+  if (half_angle >= 0.5 * std::numbers::pi * (1.0 - 1e-9)) {
     std::ostringstream message;
     message << "CFC " << cfc_hz << " cannot be applied at a sampling rate of " << 1.0 / dt_s
             << " Hz (the design frequency reaches Nyquist; sample faster or choose a lower class).";
@@ -144,7 +145,7 @@ CfcCoefficients ComputeCfcCoefficients(double cfc_hz, double dt_s, CfcVariant va
 
 double CfcTwoPassGain(double frequency_hz, double cfc_hz, double dt_s, CfcVariant variant) {
   const double wa = PrewarpedCutoff(cfc_hz, dt_s, variant);
-  const double ratio = std::tan(kPi * frequency_hz * dt_s) / wa;
+  const double ratio = std::tan(std::numbers::pi * frequency_hz * dt_s) / wa;
   const double ratio2 = ratio * ratio;
   return 1.0 / (1.0 + ratio2 * ratio2);
 }

@@ -5,6 +5,7 @@
 #include "engine/kinematics.h"
 #include "engine/signals.h"
 #include "engine/solver.h"
+#include "engine/units.h"
 
 namespace napkin::engine {
 
@@ -39,7 +40,7 @@ ExactPath ClassifyArray(const ArrayGeometry& validated_array);
 // an alpha error of sqrt(130)/12 * 0.01 rad/s / dt (95 rad/s^2 at 10 kHz).
 // With arms of ~5 cm the linear sensors thus know alpha ~10x better than the
 // differentiated rates; the fusion weights them accordingly.
-inline constexpr double kFusedLinearSigmaMps2 = 0.05 * 9.80665;
+inline constexpr double kFusedLinearSigmaMps2 = 0.05 * kStandardGravity;
 inline constexpr double kFusedRateSigmaRadps = 0.01;
 
 // Solves one test with a validated array and checked signals (Solve() does

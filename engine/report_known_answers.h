@@ -8,6 +8,8 @@
 // definition, and the comment says so. Tolerances stay with each check: they
 // depend on what is compared (truth, exact solver, text output), not on the
 // answer.
+#include <numbers>
+
 #include "engine/units.h"
 
 namespace napkin::engine::report {
@@ -75,7 +77,7 @@ inline constexpr double kUncompensatedCrossAxisFraction = 0.05;
 // (100-140 ms). The final orientation is Rx(90 deg) Ry(90 deg) Rz(90 deg),
 // "equivalent to sequential rotations of 90 degrees about the fixed X axis,
 // followed by rotations about fixed Z and X axes" (section 4.4).
-inline constexpr double kSequentialTurnRad = kPi / 2;
+inline constexpr double kSequentialTurnRad = std::numbers::pi / 2;
 
 // ---------------------------------------------------------------------------
 // An independent HIC answer (docs/algorithms.md "Known answers", not from the

@@ -55,10 +55,10 @@ std::string Number(double value, int digits = 4) {
   return out.str();
 }
 
-Finding MakeFinding(const char* check, const std::optional<std::string>& channel, Severity severity,
+Finding MakeFinding(Check check, const std::optional<std::string>& channel, Severity severity,
                     std::string detail) {
   Finding finding;
-  finding.check = check;
+  finding.check = CheckName(check);
   finding.channel = channel;
   finding.severity = severity;
   finding.detail = std::move(detail);
@@ -114,7 +114,7 @@ std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& s
   if (last != first)
     detail << " and the last at sample " << last << " (t = " << Number(signals.TimeAt(last), 6) << " s)";
   detail << ".";
-  return MakeFinding("non_finite", sensor.slot, Severity::kError, detail.str());
+  return MakeFinding(Check::kNonFinite, sensor.slot, Severity::kError, detail.str());
 }
 
 // Physical plausibility of a raw channel (ProcessingConfig::plausibility):
@@ -131,7 +131,7 @@ std::optional<Finding> CheckPlausible(const Sensor& sensor, const TestSignals& s
   const double limit = linear ? limits.max_acceleration_g : limits.max_angular_velocity_radps;
   if (!(std::abs(value) > limit)) return std::nullopt;
   const char* unit = linear ? " g" : " rad/s";
-  return MakeFinding("implausible", sensor.slot, Severity::kError,
+  return MakeFinding(Check::kImplausible, sensor.slot, Severity::kError,
                      "channel " + sensor.slot + " reads " + Number(value, 6) + unit + " at sample " +
                          std::to_string(worst) + " (t = " + Number(signals.TimeAt(worst), 6) +
                          " s), beyond the plausibility limit of " + Number(limit, 6) + unit +
@@ -179,7 +179,7 @@ std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& 
            << Number(extreme) << " " << sensor.unit << " for " << best_run
            << " consecutive samples from t = " << Number(signals.TimeAt(start), 6)
            << " s, a flat top that indicates a clipped (saturated) signal.";
-    worst = MakeFinding("saturation", sensor.slot, Severity::kError, detail.str());
+    worst = MakeFinding(Check::kSaturation, sensor.slot, Severity::kError, detail.str());
   }
   return worst;
 }
@@ -219,7 +219,7 @@ std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& sign
          << " above " << Number(size) << " " << sensor.unit << ", the largest " << Number(largest) << " "
          << sensor.unit << " at sample " << largest_at << " (t = " << Number(signals.TimeAt(largest_at), 6)
          << " s).";
-  return MakeFinding("spike", sensor.slot, Severity::kWarning, detail.str());
+  return MakeFinding(Check::kSpike, sensor.slot, Severity::kWarning, detail.str());
 }
 
 // Reading a sensor should show at rest: zero for a zeroed linear
@@ -291,7 +291,7 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
              << "zero offset beyond the " << Number(limit) << " " << sensor.unit << " bias limit that "
              << (removed ? "the configured bias window subtracts." : "no bias removal corrects.");
     }
-    findings.push_back(MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str()));
+    findings.push_back(MakeFinding(Check::kBias, sensor.slot, Severity::kWarning, detail.str()));
   }
 }
 
@@ -350,7 +350,7 @@ std::optional<Finding> ExplainAsOffset(const Sensor& sensor, const TestSignals& 
          << " (RMS deviation " << Number(spread, 2) << " " << sensor.unit
          << ") off what the other channels imply for a rigid body: a zero offset beyond the " << Number(limit)
          << " " << sensor.unit << " bias limit.";
-  return MakeFinding("bias", sensor.slot, Severity::kWarning, detail.str());
+  return MakeFinding(Check::kBias, sensor.slot, Severity::kWarning, detail.str());
 }
 
 // What the exact solver's rigid-body residual says at a glance.
@@ -392,14 +392,14 @@ SolveOptions TrialOptions(const SolveOptions& exact_options) {
 }
 
 Finding FlipFinding(const Sensor& sensor, double recorded_rms, double flipped_rms) {
-  return MakeFinding("polarity", sensor.slot, Severity::kError,
+  return MakeFinding(Check::kPolarity, sensor.slot, Severity::kError,
                      "channel " + sensor.slot +
                          " appears sign flipped: flipping it lowers the RMS rigid-body residual " +
                          FromTo(recorded_rms, flipped_rms) + ".");
 }
 
 Finding SwapFinding(const Sensor& sensor, const Sensor& other, double recorded_rms, double swapped_rms) {
-  return MakeFinding("axis_label", sensor.slot, Severity::kError,
+  return MakeFinding(Check::kAxisLabel, sensor.slot, Severity::kError,
                      "channels " + sensor.slot + " and " + other.slot +
                          " appear swapped: swapping them lowers the RMS rigid-body residual " +
                          FromTo(recorded_rms, swapped_rms) + ".");
@@ -518,14 +518,14 @@ Finding ResidualFinding(const ResidualStatistics& residual, const Kinematics& ki
            << " g) and no single channel accounts for it.";
   else
     detail << " and no single channel accounts for it.";
-  return MakeFinding("residual", culprit_slot, Severity::kWarning, detail.str());
+  return MakeFinding(Check::kResidual, culprit_slot, Severity::kWarning, detail.str());
 }
 
 }  // namespace
 
 bool IsFatal(const Finding& finding) {
   return finding.severity == Severity::kError &&
-         (finding.check == "missing" || finding.check == "non_finite");
+         (finding.check == CheckName(Check::kMissing) || finding.check == CheckName(Check::kNonFinite));
 }
 
 void AppendFindings(const std::vector<Finding>& more, std::vector<Finding>& findings) {
@@ -564,7 +564,7 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
     columns[i] = raw_signals.FindSlot(sensor.slot);
     if (columns[i] < 0 || columns[i] >= raw_signals.samples.cols()) {
       findings.push_back(MakeFinding(
-          "missing", sensor.slot, Severity::kError,
+          Check::kMissing, sensor.slot, Severity::kError,
           "the signals have no channel for slot " + sensor.slot + " of array " + array.name + "."));
       complete = false;
     }
@@ -584,7 +584,7 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
     if (std::optional<Finding> finding = CheckPlausible(sensor, raw_signals, x, config.plausibility))
       findings.push_back(std::move(*finding));
     if (x.maxCoeff() == x.minCoeff()) {
-      findings.push_back(MakeFinding("flat", sensor.slot, Severity::kInfo,
+      findings.push_back(MakeFinding(Check::kFlat, sensor.slot, Severity::kInfo,
                                      "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " +
                                          sensor.unit +
                                          ") over the whole record: check that it was recorded."));
@@ -605,7 +605,7 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
                                        const ScreeningConfig& config) {
   std::vector<Finding> findings;
   if (ResidualRedundancy(array) <= 0) {
-    findings.push_back(MakeFinding("consistency", std::nullopt, Severity::kInfo,
+    findings.push_back(MakeFinding(Check::kConsistency, std::nullopt, Severity::kInfo,
                                    "array " + array.name +
                                        " has no redundant channel, so polarity, axis-label and "
                                        "rigid-body residual checks are not possible."));
@@ -666,7 +666,7 @@ std::vector<Finding> ScreenPlausibility(const Kinematics& kinematics, const Eige
     Index worst = 0;
     const double value = norm.maxCoeff(&worst) * scale;
     if (!(value > limit)) return;
-    findings.push_back(MakeFinding("implausible", std::string(channel), Severity::kError,
+    findings.push_back(MakeFinding(Check::kImplausible, std::string(channel), Severity::kError,
                                    "the solved " + std::string(what) + " reaches " + Number(value, 6) + unit +
                                        " at sample " + std::to_string(worst) +
                                        " (t = " + Number(kinematics.time_s(worst), 6) +

@@ -8,6 +8,7 @@
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/signals.h"
+#include "engine/units.h"
 #include "engine/vocabulary.h"
 
 namespace napkin::engine {
@@ -32,7 +33,7 @@ inline std::optional<SolverKind> ParseSolverName(std::string_view name) {
 
 struct GravityOptions {
   bool compensate = false;  // add back -(R^T - R0^T) g_fixed (docs/algorithms.md "Gravity")
-  Eigen::Vector3d g_fixed_mps2{0.0, 0.0, 9.80665};  // SAE: z down
+  Eigen::Vector3d g_fixed_mps2{0.0, 0.0, kStandardGravity};  // SAE: z down
 };
 
 inline constexpr int kDefaultCorrectorPasses = 3;

@@ -24,8 +24,42 @@ struct HicWindow {
 
 enum class Severity { kInfo, kWarning, kError };
 
+// What a finding is about: the data-screening checks (engine/screening.h),
+// the plausibility limits, and an array that cannot determine rotation
+// (docs/algorithms.md "Acceleration-only arrays").
+enum class Check {
+  kMissing,      // a slot of the array with no channel
+  kNonFinite,    // NaN or infinite samples
+  kImplausible,  // beyond the plausibility limits
+  kSaturation,   // a run of equal samples at a channel's extreme
+  kSpike,        // one-sample jumps
+  kBias,         // zero offset
+  kFlat,         // a channel that never changes
+  kPolarity,     // a channel whose sign is flipped
+  kAxisLabel,    // two channels swapped
+  kResidual,     // rigid-body residual
+  kConsistency,  // too few redundant sensors to screen the array
+  kRotation,     // the array cannot determine rotation
+};
+
+// The one spelling of each check in findings (summary JSON, the catalogue's
+// `quality`, the report).
+inline constexpr std::array<NamedValue<Check>, 12> kCheckNames{{{Check::kMissing, "missing"},
+                                                                {Check::kNonFinite, "non_finite"},
+                                                                {Check::kImplausible, "implausible"},
+                                                                {Check::kSaturation, "saturation"},
+                                                                {Check::kSpike, "spike"},
+                                                                {Check::kBias, "bias"},
+                                                                {Check::kFlat, "flat"},
+                                                                {Check::kPolarity, "polarity"},
+                                                                {Check::kAxisLabel, "axis_label"},
+                                                                {Check::kResidual, "residual"},
+                                                                {Check::kConsistency, "consistency"},
+                                                                {Check::kRotation, "rotation"}}};
+inline const char* CheckName(Check check) { return NameIn(kCheckNames, check); }
+
 struct Finding {
-  std::string check;                   // e.g. "saturation", "polarity", "residual"
+  std::string check;                   // CheckName(), e.g. "saturation", "polarity", "residual"
   std::optional<std::string> channel;  // slot name, or none for the whole test
   Severity severity = Severity::kInfo;
   std::string detail;  // one sentence

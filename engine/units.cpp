@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cctype>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -61,7 +62,7 @@ std::optional<SignalUnit> SignalUnitToSi(std::string_view unit) {
   if (u == "RAD/S" || u == "RADPS" || u == "RAD/S^1" || u == "RADS^-1" || u == "RADS-1")
     return SignalUnit{SensorKind::kAngularRate, 1.0};
   if (u == "DEG/S" || u == "DEGPS" || u == "DEGS^-1" || u == "DEGS-1" || u == "DPS")
-    return SignalUnit{SensorKind::kAngularRate, kPi / 180.0};
+    return SignalUnit{SensorKind::kAngularRate, std::numbers::pi / 180.0};
   return std::nullopt;
 }
 

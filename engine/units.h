@@ -3,6 +3,7 @@
 // (1 g = 9.80665 m/s^2, ISO 80000-3 standard gravity); internally everything
 // is SI (m, s, rad). This is the one place that reads unit names: array
 // JSON, ISO-MME and UDS-1992 channels all go through SignalUnitToSi.
+#include <numbers>
 #include <optional>
 #include <string_view>
 
@@ -13,8 +14,7 @@ namespace napkin::engine {
 inline constexpr double kStandardGravity = 9.80665;  // m/s^2 per g
 inline constexpr double kMetresPerInch = 0.0254;
 inline constexpr double kMetresPerFoot = 0.3048;
-inline constexpr double kPi = 3.14159265358979323846;
-inline constexpr double kDegPerRad = 180.0 / kPi;
+inline constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 // Physical kind and SI factor of a recorded signal's unit.
 struct SignalUnit {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/joined.h"
 #include "engine/units.h"
 #include "formats/json_file.h"
 #include "util/atomic_file.h"
@@ -199,10 +200,8 @@ std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_v
   for (const auto& entry : std::filesystem::directory_iterator(config_dir / subdir, error))
     if (entry.path().extension() == ".json") known.push_back(entry.path().stem().string());
   std::sort(known.begin(), known.end());
-  std::string list;
-  for (const auto& name : known) list += (list.empty() ? "" : ", ") + name;
   throw InputError("\"" + std::string(name_or_path) + "\" is neither a file nor a preset in " +
-                   (config_dir / subdir).string() + " (presets: " + list + ").");
+                   (config_dir / subdir).string() + " (presets: " + Joined(known) + ").");
 }
 
 engine::ArrayGeometry LoadArray(std::string_view name_or_path) {

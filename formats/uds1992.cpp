@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <span>
 
 #include "common/error.h"
 #include "engine/cfc_filter.h"
@@ -86,6 +87,36 @@ std::string ReadString(Record record, Field field) {
 void WriteString(std::uint8_t* record, Field field, std::string_view text) {
   std::memset(record + field.offset, ' ', field.length);
   std::memcpy(record + field.offset, text.data(), std::min(text.size(), field.length));
+}
+
+// The channel's text fields, header by header: ReadUds1992 reads and
+// WriteUds1992 writes each of them through this one table (TSTSRC apart:
+// written as NAPKIN when the channel names no laboratory).
+struct TextField {
+  Field field;
+  std::string UdsChannel::*member;
+};
+constexpr TextField kFileHeaderTexts[] = {
+    {file_header::kDimsys, &UdsChannel::dimsys},    {file_header::kTstnam, &UdsChannel::test_name},
+    {file_header::kTitle, &UdsChannel::title},      {file_header::kMake, &UdsChannel::make},
+    {file_header::kModel, &UdsChannel::model},      {file_header::kOcctyp, &UdsChannel::occupant_type},
+    {file_header::kDumsiz, &UdsChannel::dummy_size}};
+constexpr TextField kCurveHeaderTexts[] = {{curve_header::kCurnam, &UdsChannel::curve_name},
+                                           {curve_header::kSenatt, &UdsChannel::senatt},
+                                           {curve_header::kSenloc, &UdsChannel::senloc},
+                                           {curve_header::kAxis, &UdsChannel::axis},
+                                           {curve_header::kYtyp, &UdsChannel::ytyp},
+                                           {curve_header::kYunits, &UdsChannel::yunits},
+                                           {curve_header::kXtyp, &UdsChannel::xtyp},
+                                           {curve_header::kXunits, &UdsChannel::xunits},
+                                           {curve_header::kCurdsc, &UdsChannel::curve_description}};
+
+void ReadTexts(Record record, std::span<const TextField> fields, UdsChannel& channel) {
+  for (const TextField& text : fields) channel.*text.member = ReadString(record, text.field);
+}
+
+void WriteTexts(std::uint8_t* record, std::span<const TextField> fields, const UdsChannel& channel) {
+  for (const TextField& text : fields) WriteString(record, text.field, channel.*text.member);
 }
 
 bool BigEndian(UdsNumberForm form) { return form == UdsNumberForm::kSun; }
@@ -245,15 +276,9 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (fileform != "Y")
     throw InputError(file + ": FILEFORM is " + Quoted(fileform) +
                      "; napkin reads uniformly sampled \"Y\" channels (X-Y curves are not supported).");
-  channel.dimsys = ReadString(header, file_header::kDimsys);
+  ReadTexts(header, kFileHeaderTexts, channel);
   channel.test_number = ReadInt(header, file_header::kTstno, form);
-  channel.test_name = ReadString(header, file_header::kTstnam);
-  channel.title = ReadString(header, file_header::kTitle);
   channel.test_source = ReadString(header, file_header::kTstsrc);
-  channel.make = ReadString(header, file_header::kMake);
-  channel.model = ReadString(header, file_header::kModel);
-  channel.occupant_type = ReadString(header, file_header::kOcctyp);
-  channel.dummy_size = ReadString(header, file_header::kDumsiz);
 
   std::size_t index = 1;
   Record curve = record_at(index, "the curve header");
@@ -262,15 +287,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (record_header != "CURVE HDR")
     throw InputError(file + ": record " + std::to_string(index + 1) + " starts with " +
                      Quoted(record_header) + " where the curve header (\"CURVE HDR\") belongs.");
-  channel.curve_name = ReadString(curve, curve_header::kCurnam);
-  channel.senatt = ReadString(curve, curve_header::kSenatt);
-  channel.senloc = ReadString(curve, curve_header::kSenloc);
-  channel.axis = ReadString(curve, curve_header::kAxis);
-  channel.ytyp = ReadString(curve, curve_header::kYtyp);
-  channel.yunits = ReadString(curve, curve_header::kYunits);
-  channel.xtyp = ReadString(curve, curve_header::kXtyp);
-  channel.xunits = ReadString(curve, curve_header::kXunits);
-  channel.curve_description = ReadString(curve, curve_header::kCurdsc);
+  ReadTexts(curve, kCurveHeaderTexts, channel);
   const std::int32_t nfp = ReadInt(curve, curve_header::kNfp, form);
   const std::int32_t nlp = ReadInt(curve, curve_header::kNlp, form);
   if (nlp < nfp)
@@ -357,34 +374,20 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
   WriteWord(header, file_header::kNchan, 1, form);
   WriteString(header, file_header::kFileform, "Y");
   WriteString(header, file_header::kNumform, UdsNumberFormName(form));
-  WriteString(header, file_header::kDimsys, channel.dimsys);
   WriteString(header, file_header::kTstsrc, "NAPKIN");
   WriteWord(header, file_header::kTstno, static_cast<std::uint32_t>(channel.test_number), form);
-  WriteString(header, file_header::kTstnam, channel.test_name);
-  WriteString(header, file_header::kTitle, channel.title);
   for (const Field field : file_header::kOtherStrings) WriteString(header, field, "");
   if (!channel.test_source.empty()) WriteString(header, file_header::kTstsrc, channel.test_source);
-  WriteString(header, file_header::kMake, channel.make);
-  WriteString(header, file_header::kModel, channel.model);
-  WriteString(header, file_header::kOcctyp, channel.occupant_type);
-  WriteString(header, file_header::kDumsiz, channel.dummy_size);
+  WriteTexts(header, kFileHeaderTexts, channel);
 
   std::uint8_t* curve = bytes.data() + kUdsRecordBytes;
   WriteString(curve, curve_header::kRecordHeader, "CURVE HDR");
   WriteWord(curve, curve_header::kIchan, 1, form);
   WriteString(curve, curve_header::kChanform, "Y");
   WriteWord(curve, curve_header::kCurno, 1, form);
-  WriteString(curve, curve_header::kCurnam, channel.curve_name);
-  WriteString(curve, curve_header::kSenatt, channel.senatt);
-  WriteString(curve, curve_header::kSenloc, channel.senloc);
-  WriteString(curve, curve_header::kAxis, channel.axis);
-  WriteString(curve, curve_header::kYtyp, channel.ytyp);
-  WriteString(curve, curve_header::kYunits, channel.yunits);
-  WriteString(curve, curve_header::kXtyp, channel.xtyp);
-  WriteString(curve, curve_header::kXunits, channel.xunits);
+  WriteTexts(curve, kCurveHeaderTexts, channel);
   WriteString(curve, curve_header::kStatus, "");
   WriteString(curve, curve_header::kCurtyp, "TIME SERIES");
-  WriteString(curve, curve_header::kCurdsc, channel.curve_description);
   for (const Field field : curve_header::kOtherStrings) WriteString(curve, field, "");
   WriteWord(curve, curve_header::kNfp, static_cast<std::uint32_t>(channel.nfp), form);
   WriteWord(curve, curve_header::kNlp, static_cast<std::uint32_t>(channel.nlp()), form);

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "common/error.h"
+#include "util/text.h"
 
 namespace napkin::formats {
 namespace {
@@ -16,12 +17,6 @@ std::string LibzipMessage(int code) {
   std::string message = zip_error_strerror(&error);
   zip_error_fini(&error);
   return message;
-}
-
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); });
-  return text;
 }
 
 std::string Bytes(std::uint64_t bytes) { return std::to_string(bytes) + " bytes"; }
@@ -48,7 +43,7 @@ ZipArchive::ZipArchive(const std::filesystem::path& path, ZipLimits limits) : pa
   int code = 0;
   archive_ = zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code);
   if (archive_ == nullptr)
-    throw InputError(path_.string() + ": not a readable zip archive (" + Lowercase(LibzipMessage(code)) +
+    throw InputError(path_.string() + ": not a readable zip archive (" + util::ToLower(LibzipMessage(code)) +
                      ").");
   try {
     const zip_int64_t count = zip_get_num_entries(archive_, 0);
@@ -65,7 +60,7 @@ ZipArchive::ZipArchive(const std::filesystem::path& path, ZipLimits limits) : pa
           (stat.valid & ZIP_STAT_COMP_SIZE) == 0)
         throw InputError(path_.string() + ": member " + std::to_string(i + 1) +
                          " of the zip archive has an unreadable header (" +
-                         Lowercase(zip_error_strerror(zip_get_error(archive_))) + ").");
+                         util::ToLower(zip_error_strerror(zip_get_error(archive_))) + ").");
       ZipMember member;
       member.index = static_cast<std::uint64_t>(i);
       member.name = stat.name;
@@ -118,7 +113,7 @@ std::string ZipArchive::Read(const ZipMember& member) {
   zip_file_t* file = zip_fopen_index(archive_, member.index, 0);
   if (file == nullptr)
     throw InputError(Where(member) + " cannot be opened (" +
-                     Lowercase(zip_error_strerror(zip_get_error(archive_))) + ").");
+                     util::ToLower(zip_error_strerror(zip_get_error(archive_))) + ").");
   std::string bytes;
   bytes.reserve(static_cast<std::size_t>(member.size));
   // Read one byte more than declared: data that inflates beyond its declared
@@ -130,7 +125,7 @@ std::string ZipArchive::Read(const ZipMember& member) {
     const zip_uint64_t chunk = std::min<std::uint64_t>(sizeof(buffer), wanted - bytes.size());
     const zip_int64_t got = zip_fread(file, buffer, chunk);
     if (got < 0) {
-      failure = Lowercase(zip_error_strerror(zip_file_get_error(file)));
+      failure = util::ToLower(zip_error_strerror(zip_file_get_error(file)));
       break;
     }
     if (got == 0) break;

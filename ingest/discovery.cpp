@@ -73,28 +73,13 @@ class UdsGroups {
   std::map<std::pair<std::string, std::string>, std::size_t> slots_;
 };
 
-ImportInput CsvInput(const fs::path& file) {
-  ImportInput input;
-  input.format = InputFormat::kCsv;
-  input.name = file.stem().string();
-  input.source = file;
-  return input;
+// A CSV file or a zip archive: one input, named after the file.
+ImportInput FileInput(InputFormat format, const fs::path& file) {
+  return {format, file.stem().string(), file, {}};
 }
 
 ImportInput IsoMmeInput(const fs::path& folder, const std::string& name) {
-  ImportInput input;
-  input.format = InputFormat::kIsoMme;
-  input.name = name;
-  input.source = folder;
-  return input;
-}
-
-ImportInput ZipInput(const fs::path& archive) {
-  ImportInput input;
-  input.format = InputFormat::kZipArchive;
-  input.name = archive.stem().string();
-  input.source = archive;
-  return input;
+  return {InputFormat::kIsoMme, name, folder, {}};
 }
 
 // Why `path` (a file napkin would read) cannot be a test, or "" when it is a
@@ -137,9 +122,9 @@ void DiscoverFolder(const fs::path& folder, std::vector<ImportInput>& found, std
       if (const std::string problem = NotARegularFile(entry); !problem.empty()) {
         errors.push_back(problem);
       } else if (HasExtension(entry, ".csv")) {
-        found.push_back(CsvInput(entry));
+        found.push_back(FileInput(InputFormat::kCsv, entry));
       } else if (HasExtension(entry, ".zip")) {
-        found.push_back(ZipInput(entry));
+        found.push_back(FileInput(InputFormat::kZipArchive, entry));
       } else {
         uds.Add(entry, found);
       }
@@ -198,14 +183,14 @@ Discovery DiscoverInputs(const std::vector<std::string>& paths) {
                (HasExtension(path, ".csv") || IsUdsFile(path) || HasExtension(path, ".zip"))) {
       discovery.errors.push_back(problem);
     } else if (HasExtension(path, ".csv")) {
-      discovery.inputs.push_back(CsvInput(path));
+      discovery.inputs.push_back(FileInput(InputFormat::kCsv, path));
     } else if (HasExtension(path, ".mme")) {
       discovery.inputs.push_back(
           IsoMmeInput(path.has_parent_path() ? path.parent_path() : fs::path("."), path.stem().string()));
     } else if (IsUdsFile(path)) {
       uds.Add(path, discovery.inputs);
     } else if (HasExtension(path, ".zip")) {
-      discovery.inputs.push_back(ZipInput(path));
+      discovery.inputs.push_back(FileInput(InputFormat::kZipArchive, path));
     } else {
       discovery.errors.push_back(
           "'" + text +

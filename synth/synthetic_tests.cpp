@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -109,15 +110,16 @@ struct Pulse {
   void Evaluate(double t, double& derivative, double& value, double& integral,
                 double& double_integral) const {
     const double u = (t - start_s) / duration_s;
-    const double two_pi_u = 2.0 * engine::kPi * u;
+    const double two_pi_u = 2.0 * std::numbers::pi * u;
     if (u <= 0.0) {
       derivative = value = integral = double_integral = 0.0;
     } else if (u < 1.0) {
-      derivative = amplitude * engine::kPi * std::sin(two_pi_u) / duration_s;
+      derivative = amplitude * std::numbers::pi * std::sin(two_pi_u) / duration_s;
       value = amplitude * 0.5 * (1.0 - std::cos(two_pi_u));
-      integral = amplitude * duration_s * 0.5 * (u - std::sin(two_pi_u) / (2.0 * engine::kPi));
-      double_integral = amplitude * duration_s * duration_s * 0.5 *
-                        (0.5 * u * u + (std::cos(two_pi_u) - 1.0) / (4.0 * engine::kPi * engine::kPi));
+      integral = amplitude * duration_s * 0.5 * (u - std::sin(two_pi_u) / (2.0 * std::numbers::pi));
+      double_integral =
+          amplitude * duration_s * duration_s * 0.5 *
+          (0.5 * u * u + (std::cos(two_pi_u) - 1.0) / (4.0 * std::numbers::pi * std::numbers::pi));
     } else {
       derivative = value = 0.0;
       integral = amplitude * duration_s * 0.5;
@@ -159,7 +161,7 @@ class Uniform {
 double Normal(Uniform& uniform) {
   const double u1 = 1.0 - uniform();  // in (0, 1]
   const double u2 = uniform();
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * engine::kPi * u2);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
 // A normal deviate truncated at +-3 (redrawn beyond).
@@ -203,7 +205,7 @@ SyntheticTest SynthSeedFixedAxis(const engine::ArrayGeometry& array, const Eigen
   // swings on a 10 in radius; R(t) = Ry(Theta(t)) R0.
   constexpr double kAmplitude = 25.0, kPulse = 0.06;
   const double arm_m = 10.0 * engine::kMetresPerInch;
-  const double rate = 2.0 * engine::kPi / kPulse;
+  const double rate = 2.0 * std::numbers::pi / kPulse;
   const Matrix3d fixed_from_body_0 = engine::InitialFixedFromBody(orientation_rad);
   engine::InitialState initial;
   initial.orientation_rad = orientation_rad;
@@ -238,7 +240,7 @@ SyntheticTest SynthSequential(const engine::ArrayGeometry& array, const SynthOpt
   // the first sample, at t = 0, takes the right-hand limit.
   constexpr double kTurn = 0.04;
   constexpr std::array<double, 3> kStarts = {0.0, 0.05, 0.10};
-  const double half_angle = 0.25 * engine::kPi, rate = engine::kPi / kTurn;
+  const double half_angle = 0.25 * std::numbers::pi, rate = std::numbers::pi / kTurn;
   const Motion motion = [=](double t) {
     std::array<double, 3> angle{}, speed{}, accel{};
     for (int j = 0; j < 3; ++j) {
@@ -293,9 +295,9 @@ SyntheticTest SynthRandomMotion(const engine::ArrayGeometry& array, const Random
                        options.peak_acc_g * engine::kStandardGravity * uniform(0.4, 0.75));
   engine::InitialState initial;
   if (options.random_initial_orientation)
-    initial.orientation_rad =
-        Vector3d(uniform(-engine::kPi, engine::kPi), uniform(-0.45 * engine::kPi, 0.45 * engine::kPi),
-                 uniform(-engine::kPi, engine::kPi));
+    initial.orientation_rad = Vector3d(uniform(-std::numbers::pi, std::numbers::pi),
+                                       uniform(-0.45 * std::numbers::pi, 0.45 * std::numbers::pi),
+                                       uniform(-std::numbers::pi, std::numbers::pi));
   if (options.random_initial_velocity)
     initial.velocity_fixed_mps = Vector3d(uniform(-6.0, 6.0), uniform(-6.0, 6.0), uniform(-6.0, 6.0));
   const Matrix3d fixed_from_body_0 = engine::InitialFixedFromBody(initial.orientation_rad);

@@ -11,6 +11,7 @@
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/signals.h"
+#include "engine/units.h"
 
 namespace napkin::synth {
 
@@ -25,7 +26,7 @@ struct SyntheticTest {
 struct SynthOptions {
   double rate_hz = 10000.0;
   bool gravity = false;  // sensors also sense -R^T g_fixed, zeroed at t = 0
-  Eigen::Vector3d g_fixed_mps2{0.0, 0.0, 9.80665};
+  Eigen::Vector3d g_fixed_mps2{0.0, 0.0, engine::kStandardGravity};
 };
 
 // Report section 4.5: rotation about an axis parallel to fixed Y, 10 in from

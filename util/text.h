@@ -22,7 +22,9 @@ std::optional<double> ParseDouble(std::string_view text);
 std::optional<long long> ParseInteger(std::string_view text);
 
 std::string_view Trim(std::string_view text);
+// ASCII case mapping (napkin never sets a locale: std::toupper/tolower of the "C" locale).
 std::string ToUpper(std::string_view text);
+std::string ToLower(std::string_view text);
 bool EqualsIgnoreCase(std::string_view a, std::string_view b);
 
 // `text` unchanged when it is valid UTF-8 (util/utf8.h; a leading BOM

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -19,7 +20,7 @@ namespace {
 // |H(e^{j 2 pi f T})|^2 of one pass, evaluated from the coefficients alone
 // (independent of the closed form in CfcTwoPassGain).
 double OnePassPowerFromCoefficients(const CfcCoefficients& c, double frequency_hz, double dt_s) {
-  const std::complex<double> z_inv = std::polar(1.0, -2.0 * kPi * frequency_hz * dt_s);
+  const std::complex<double> z_inv = std::polar(1.0, -2.0 * std::numbers::pi * frequency_hz * dt_s);
   const std::complex<double> numerator = c.a0 + c.a1 * z_inv + c.a2 * z_inv * z_inv;
   const std::complex<double> denominator = 1.0 - c.b1 * z_inv - c.b2 * z_inv * z_inv;
   return std::norm(numerator / denominator);
@@ -85,7 +86,7 @@ TEST(CfcFilter, LongSinesAreScaledByTheAnalyticTwoPassGainWithZeroPhase) {
         const double f = ratio * cfc * 1.0000371;  // not commensurate with the rate
         if (f > 4500.0) continue;
         Eigen::VectorXd x(n), y(n);
-        for (Eigen::Index k = 0; k < n; ++k) x[k] = std::sin(2.0 * kPi * f * k * dt + 0.3);
+        for (Eigen::Index k = 0; k < n; ++k) x[k] = std::sin(2.0 * std::numbers::pi * f * k * dt + 0.3);
         filter.Apply(x, y);
         const double gain = CfcTwoPassGain(f, cfc, dt, variant);
         double worst = 0.0;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <random>
 
 #include "common/error.h"
@@ -21,20 +22,7 @@
 namespace napkin::engine {
 namespace {
 
-ArrayGeometry OneLinearOneRate() {
-  ArrayGeometry array;
-  array.name = "test";
-  Sensor linear;
-  linear.slot = "cg_x";
-  linear.kind = SensorKind::kLinear;
-  Sensor rate;
-  rate.slot = "ars_x";
-  rate.kind = SensorKind::kAngularRate;
-  rate.unit = "rad/s";
-  rate.si_per_unit = 1.0;
-  array.sensors = {linear, rate};
-  return array;
-}
+using test_support::OneLinearOneRate;
 
 // cg_x, ars_x: noisy pulses with offsets, from t0 = -5 ms at 10 kHz.
 TestSignals NoisySignals() {
@@ -48,7 +36,7 @@ TestSignals NoisySignals() {
   signals.samples.resize(n, 2);
   for (Eigen::Index k = 0; k < n; ++k) {
     const double t = signals.TimeAt(k);
-    const double pulse = t > 0.0 && t < 0.02 ? std::sin(kPi * t / 0.02) : 0.0;
+    const double pulse = t > 0.0 && t < 0.02 ? std::sin(std::numbers::pi * t / 0.02) : 0.0;
     signals.samples(k, 0) = 2.5 + 60.0 * pulse + noise(rng);
     signals.samples(k, 1) = -0.75 + 20.0 * pulse + 0.1 * noise(rng);
   }
@@ -206,10 +194,10 @@ TEST(A3msDefinitions, HalfSineAnalytic) {
   const auto n = static_cast<Eigen::Index>(std::llround(duration / dt)) + 1;
   Eigen::VectorXd acc(n);
   for (Eigen::Index k = 0; k < n; ++k)
-    acc[k] = amplitude * std::sin(kPi * static_cast<double>(k) * dt / duration);
-  const double analytic = amplitude * std::cos(kPi * 0.003 / (2.0 * duration));  // 89.1007 g
+    acc[k] = amplitude * std::sin(std::numbers::pi * static_cast<double>(k) * dt / duration);
+  const double analytic = amplitude * std::cos(std::numbers::pi * 0.003 / (2.0 * duration));  // 89.1007 g
   // Sampling error: the slope at the level times one sample.
-  const double tolerance = amplitude * kPi / duration * dt;
+  const double tolerance = amplitude * std::numbers::pi / duration * dt;
   EXPECT_NEAR(A3ms(acc, dt), analytic, tolerance);
   EXPECT_NEAR(A3msContinuous(acc, dt), analytic, tolerance);
 }

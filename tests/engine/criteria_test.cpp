@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "common/error.h"
@@ -59,9 +60,9 @@ TEST(A3ms, HalfSineMatchesTheContinuousLevel) {
   const auto n = static_cast<Eigen::Index>(std::llround(duration / dt)) + 1;
   Eigen::VectorXd a(n);
   for (Eigen::Index k = 0; k < n; ++k)
-    a[k] = amplitude * std::sin(kPi * static_cast<double>(k) * dt / duration);
-  const double expected = amplitude * std::cos(kPi * 0.003 / (2.0 * duration));
-  EXPECT_NEAR(A3ms(a, dt), expected, amplitude * kPi / duration * dt);
+    a[k] = amplitude * std::sin(std::numbers::pi * static_cast<double>(k) * dt / duration);
+  const double expected = amplitude * std::cos(std::numbers::pi * 0.003 / (2.0 * duration));
+  EXPECT_NEAR(A3ms(a, dt), expected, amplitude * std::numbers::pi / duration * dt);
 }
 
 TEST(A3ms, ShortRecordsAndBadInputAreInputErrors) {
@@ -133,7 +134,7 @@ TEST(Damage, SineOnTheYAxisConvergesToTheClosedFormAtSecondOrder) {
   // Linear interpolation of a smooth alpha is the only error: O(dt^2).
   const DamageModel model;
   const double w = std::sqrt(model.kyy), zeta = model.a1_s * model.kyy / (2.0 * w);
-  const double amplitude = 2500.0, forcing = 2.0 * kPi * 40.0;
+  const double amplitude = 2500.0, forcing = 2.0 * std::numbers::pi * 40.0;
   double previous_error = 0.0;
   for (const double dt : {2e-4, 1e-4, 5e-5}) {
     const auto n = static_cast<Eigen::Index>(std::llround(0.1 / dt)) + 1;
@@ -200,7 +201,8 @@ TEST(Damage, CoupledPulsesMatchAFineStepRk4Reference) {
       const double height = 6000.0 * (uniform(rng) - 0.5);
       for (Eigen::Index k = 0; k < n; ++k) {
         const double s = (static_cast<double>(k) * dt - start) / length;
-        if (s >= 0.0 && s <= 1.0) alpha(k, axis) += height * 0.5 * (1.0 - std::cos(2.0 * kPi * s));
+        if (s >= 0.0 && s <= 1.0)
+          alpha(k, axis) += height * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * s));
       }
     }
   }
@@ -239,8 +241,8 @@ TEST(FillCriteria, ReportSection45ScenarioFromKinematics) {
     const double t = static_cast<double>(k) * dt;
     double omega = 0.0, omega_dot = 0.0;
     if (t <= 0.06) {
-      omega = 25.0 * (1.0 - std::cos(2.0 * kPi * t / 0.06));
-      omega_dot = 25.0 * (2.0 * kPi / 0.06) * std::sin(2.0 * kPi * t / 0.06);
+      omega = 25.0 * (1.0 - std::cos(2.0 * std::numbers::pi * t / 0.06));
+      omega_dot = 25.0 * (2.0 * std::numbers::pi / 0.06) * std::sin(2.0 * std::numbers::pi * t / 0.06);
     }
     kinematics.time_s[k] = t;
     const double angle = 0.5 + 0.1 * t;  // any direction in the X-Z plane

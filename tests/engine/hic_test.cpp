@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -26,8 +27,8 @@ Eigen::VectorXd SeedFixedAxisAccelerationG(double dt_s = 1e-4) {
     const double t = static_cast<double>(k) * dt_s;
     double omega = 0.0, omega_dot = 0.0;
     if (t <= 0.06) {
-      omega = 25.0 * (1.0 - std::cos(2.0 * kPi * t / 0.06));
-      omega_dot = 25.0 * (2.0 * kPi / 0.06) * std::sin(2.0 * kPi * t / 0.06);
+      omega = 25.0 * (1.0 - std::cos(2.0 * std::numbers::pi * t / 0.06));
+      omega_dot = 25.0 * (2.0 * std::numbers::pi / 0.06) * std::sin(2.0 * std::numbers::pi * t / 0.06);
     }
     acc_g[k] = radius_m * std::sqrt(omega_dot * omega_dot + std::pow(omega, 4)) / kStandardGravity;
   }
@@ -83,7 +84,7 @@ TEST(Hic, HalfSineKnownAnswer) {
   // 0.02048 at [0.0100, 0.0400] s (the window centred on the peak).
   Eigen::VectorXd acc_g(501);
   for (Eigen::Index k = 0; k < acc_g.size(); ++k)
-    acc_g[k] = std::sin(20.0 * kPi * static_cast<double>(k) * 1e-4);
+    acc_g[k] = std::sin(20.0 * std::numbers::pi * static_cast<double>(k) * 1e-4);
   const HicWindow hic = Hic(acc_g, 1e-4, 0.0, Window(report::kHalfSineHicWindowS));
   EXPECT_NEAR(hic.value, report::kHalfSineHic, 0.000005);
   EXPECT_NEAR(hic.t1_s, report::kHalfSineHicT1S, 1e-9);
@@ -145,7 +146,7 @@ Eigen::VectorXd RandomSignal(std::mt19937_64& rng, int kind, Eigen::Index n, dou
                      height = 200 * uniform(rng);
         for (Eigen::Index k = 0; k < n; ++k) {
           const double s = (k * dt - start) / length;
-          if (s >= 0 && s <= 1) a[k] += height * 0.5 * (1 - std::cos(2 * kPi * s));
+          if (s >= 0 && s <= 1) a[k] += height * 0.5 * (1 - std::cos(2 * std::numbers::pi * s));
         }
       }
       for (Eigen::Index k = 0; k < n; ++k) a[k] = std::abs(a[k] + normal(rng));
@@ -232,7 +233,7 @@ TEST(Hic, FastEqualsExhaustiveOnLongMultiPulseSignals) {
       const double height = 10.0 + uniform(rng) * 70.0;
       for (Eigen::Index k = 0; k < n; ++k) {
         const double s = (static_cast<double>(k) - start) / length;
-        if (s >= 0.0 && s <= 1.0) a[k] += height * 0.5 * (1.0 - std::cos(2.0 * kPi * s));
+        if (s >= 0.0 && s <= 1.0) a[k] += height * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * s));
       }
     }
     for (const double window : {kHic15Window, kHic36Window, kUnlimitedHicWindow}) {

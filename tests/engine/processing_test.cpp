@@ -5,28 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "common/error.h"
 #include "engine/units.h"
+#include "tests/support/reference_arrays.h"
 
 namespace napkin::engine {
 namespace {
 
-ArrayGeometry TwoKindArray() {
-  ArrayGeometry array;
-  array.name = "test";
-  Sensor linear;
-  linear.slot = "cg_x";
-  linear.kind = SensorKind::kLinear;
-  Sensor rate;
-  rate.slot = "ars_x";
-  rate.kind = SensorKind::kAngularRate;
-  rate.unit = "rad/s";
-  rate.si_per_unit = 1.0;
-  array.sensors = {linear, rate};
-  return array;
-}
+using test_support::OneLinearOneRate;
 
 // Columns cg_x, ars_x, extra (not in the array); noisy pulses plus offsets.
 TestSignals NoisySignals(double t0, Eigen::Index n, double dt = 1e-4) {
@@ -39,7 +28,7 @@ TestSignals NoisySignals(double t0, Eigen::Index n, double dt = 1e-4) {
   signals.samples.resize(n, 3);
   for (Eigen::Index k = 0; k < n; ++k) {
     const double t = signals.TimeAt(k);
-    const double pulse = t > 0.0 && t < 0.02 ? std::sin(kPi * t / 0.02) : 0.0;
+    const double pulse = t > 0.0 && t < 0.02 ? std::sin(std::numbers::pi * t / 0.02) : 0.0;
     signals.samples(k, 0) = 2.5 + 60.0 * pulse + noise(rng);
     signals.samples(k, 1) = -0.75 + 20.0 * pulse + 0.1 * noise(rng);
     signals.samples(k, 2) = 1.0 + noise(rng);
@@ -112,7 +101,7 @@ TEST(ProcessingConfig, MakeSolveOptionsCarriesSolverAndGravity) {
 }
 
 TEST(Conditioning, AutoBiasUsesPreImpactSamplesWhenThereIsAtLeastOneMillisecond) {
-  const ArrayGeometry array = TwoKindArray();
+  const ArrayGeometry array = OneLinearOneRate();
   TestSignals signals = NoisySignals(-0.005, 600);
   const Eigen::MatrixXd raw = signals.samples;
   ApplyConditioning(array, signals, NoFilter());
@@ -135,7 +124,7 @@ TEST(Conditioning, AutoBiasUsesPreImpactSamplesWhenThereIsAtLeastOneMillisecond)
 }
 
 TEST(Conditioning, WindowAndNoneBiasModes) {
-  const ArrayGeometry array = TwoKindArray();
+  const ArrayGeometry array = OneLinearOneRate();
   ProcessingConfig config = NoFilter();
   config.bias.mode = BiasMode::kWindow;
   config.bias.window_start_s = 0.030;
@@ -160,7 +149,7 @@ TEST(Conditioning, WindowAndNoneBiasModes) {
 }
 
 TEST(Conditioning, FiltersEachSensorKindWithItsClassAndLeavesOtherColumns) {
-  const ArrayGeometry array = TwoKindArray();
+  const ArrayGeometry array = OneLinearOneRate();
   ProcessingConfig config;
   config.bias.mode = BiasMode::kNone;
   config.filter.variant = CfcVariant::kIso6487;
@@ -182,7 +171,7 @@ TEST(Conditioning, FiltersEachSensorKindWithItsClassAndLeavesOtherColumns) {
 }
 
 TEST(Conditioning, ShiftThenCropKeepsTheRequestedSpan) {
-  const ArrayGeometry array = TwoKindArray();
+  const ArrayGeometry array = OneLinearOneRate();
   ProcessingConfig config = NoFilter();
   config.bias.mode = BiasMode::kNone;
   config.time.shift_s = 0.012;  // the pulse started at 12 ms
@@ -212,7 +201,7 @@ TEST(Conditioning, ShiftThenCropKeepsTheRequestedSpan) {
 
 TEST(Conditioning, FilteringHappensBeforeTheCrop) {
   // Cropping after filtering means the crop edges see real neighbours.
-  const ArrayGeometry array = TwoKindArray();
+  const ArrayGeometry array = OneLinearOneRate();
   ProcessingConfig config;
   config.bias.mode = BiasMode::kNone;
   config.time.start_s = 0.005;
@@ -226,7 +215,7 @@ TEST(Conditioning, FilteringHappensBeforeTheCrop) {
 }
 
 TEST(Conditioning, NonFiniteSampleNamesTheChannel) {
-  const ArrayGeometry array = TwoKindArray();
+  const ArrayGeometry array = OneLinearOneRate();
   TestSignals signals = NoisySignals(0.0, 100);
   signals.samples(42, 1) = std::nan("");
   try {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -43,16 +44,16 @@ Series4 TestQuaternions(Eigen::Index n) {
   std::vector<Eigen::Quaterniond> awkward = {
       Eigen::Quaterniond::Identity(),
       Eigen::Quaterniond(-1.0, 0.0, 0.0, 0.0),  // identity, other hemisphere
-      Quaternion(Ry(kPi / 2)),                  // pitch +90 deg: gimbal lock
-      Quaternion(Ry(-kPi / 2)),                 // pitch -90 deg: gimbal lock
-      Quaternion(Rz(0.7) * Ry(kPi / 2) * Rx(-0.4)),
-      Quaternion(Rz(-2.9) * Ry(-kPi / 2) * Rx(1.3)),
-      Quaternion(Rz(0.3) * Ry(kPi / 2 - 1e-9) * Rx(0.2)),  // near, not at, gimbal lock
-      Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0),              // half turns about x, y, z
+      Quaternion(Ry(std::numbers::pi / 2)),     // pitch +90 deg: gimbal lock
+      Quaternion(Ry(-std::numbers::pi / 2)),    // pitch -90 deg: gimbal lock
+      Quaternion(Rz(0.7) * Ry(std::numbers::pi / 2) * Rx(-0.4)),
+      Quaternion(Rz(-2.9) * Ry(-std::numbers::pi / 2) * Rx(1.3)),
+      Quaternion(Rz(0.3) * Ry(std::numbers::pi / 2 - 1e-9) * Rx(0.2)),  // near, not at, gimbal lock
+      Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0),                           // half turns about x, y, z
       Eigen::Quaterniond(0.0, 0.0, 1.0, 0.0),
       Eigen::Quaterniond(0.0, 0.0, 0.0, 1.0),
       Eigen::Quaterniond(0.0, std::sqrt(0.5), std::sqrt(0.5), 0.0),  // half turn about (1, 1, 0)
-      Quaternion(Rz(kPi) * Ry(0.3) * Rx(-kPi)),
+      Quaternion(Rz(std::numbers::pi) * Ry(0.3) * Rx(-std::numbers::pi)),
       Eigen::Quaterniond(1.0 + 1e-15, 1e-9, -1e-9, 2e-9),  // slightly long: diagonal of R near 1
       Eigen::Quaterniond(1e-17, 1.0 + 1e-15, 0.0, 0.0),    // R(1,1), R(2,2) below -1: clamped
       Eigen::Quaterniond(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0, 0.0),
@@ -110,7 +111,7 @@ TEST(RotationAngles, AwkwardRotationsHaveTheExpectedScalarAngles) {
   // Every implementation on the awkward cases: gimbal lock puts yaw - roll
   // in yaw, the clamp keeps acos finite, NaN stays NaN.
   Series4 quat(4, 4);
-  const Eigen::Quaterniond locked = Quaternion(Rz(0.7) * Ry(kPi / 2) * Rx(-0.4));
+  const Eigen::Quaterniond locked = Quaternion(Rz(0.7) * Ry(std::numbers::pi / 2) * Rx(-0.4));
   quat.row(0) << locked.w(), locked.x(), locked.y(), locked.z();
   quat.row(1) << 1e-17, 1.0 + 1e-15, 0.0, 0.0;  // |q| > 1: R(1,1) = R(2,2) = -1 - 4e-15
   quat.row(2).setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -120,17 +121,17 @@ TEST(RotationAngles, AwkwardRotationsHaveTheExpectedScalarAngles) {
     Series3 roll_pitch_yaw, dcos;
     OrientationAngles(quat, roll_pitch_yaw, dcos, implementation);
     EXPECT_EQ(roll_pitch_yaw(0, 0), 0.0);
-    EXPECT_NEAR(roll_pitch_yaw(0, 1), kPi / 2, 2e-8);  // sqrt of round-off near the pole
+    EXPECT_NEAR(roll_pitch_yaw(0, 1), std::numbers::pi / 2, 2e-8);  // sqrt of round-off near the pole
     EXPECT_NEAR(roll_pitch_yaw(0, 2), 0.7 + 0.4, 1e-8);
     EXPECT_NEAR(dcos(1, 0), 0.0, 1e-7);
-    EXPECT_NEAR(dcos(1, 1), kPi, 1e-15);
-    EXPECT_NEAR(dcos(1, 2), kPi, 1e-15);
+    EXPECT_NEAR(dcos(1, 1), std::numbers::pi, 1e-15);
+    EXPECT_NEAR(dcos(1, 2), std::numbers::pi, 1e-15);
     for (int i = 0; i < 3; ++i) {
       EXPECT_TRUE(std::isnan(roll_pitch_yaw(2, i)));
       EXPECT_TRUE(std::isnan(dcos(2, i)));
     }
-    EXPECT_NEAR(std::abs(roll_pitch_yaw(3, 2)), kPi, 1e-15);  // half turn about z
-    EXPECT_NEAR(dcos(3, 0), kPi, 1e-15);
+    EXPECT_NEAR(std::abs(roll_pitch_yaw(3, 2)), std::numbers::pi, 1e-15);  // half turn about z
+    EXPECT_NEAR(dcos(3, 0), std::numbers::pi, 1e-15);
     EXPECT_NEAR(dcos(3, 2), 0.0, 1e-15);
   }
 }

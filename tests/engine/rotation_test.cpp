@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "engine/integration.h"
@@ -24,7 +25,8 @@ double MatrixAngle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 
 TEST(Rotation, ExpLogRoundTripAtAwkwardAngles) {
   const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
-  for (double angle : {0.0, 1e-12, 1e-8, 1e-5, 1e-4, 0.5, 1.0, 3.0, kPi - 1e-6, kPi - 1e-9}) {
+  for (double angle :
+       {0.0, 1e-12, 1e-8, 1e-5, 1e-4, 0.5, 1.0, 3.0, std::numbers::pi - 1e-6, std::numbers::pi - 1e-9}) {
     SCOPED_TRACE(angle);
     const Eigen::Vector3d v = angle * axis;
     const Eigen::Quaterniond q = QuaternionExp(v);
@@ -94,23 +96,23 @@ TEST(Rotation, ConingMotionIntegrationConvergesToClosedForm) {
 }
 
 TEST(Rotation, RollPitchYawRoundTripOverFullRange) {
-  const double near_lock = kPi / 2 - 1e-7;
-  for (double roll : {-kPi + 1e-9, -2.5, -1.0, 0.0, 0.3, 1.7, 3.0, kPi}) {
+  const double near_lock = std::numbers::pi / 2 - 1e-7;
+  for (double roll : {-std::numbers::pi + 1e-9, -2.5, -1.0, 0.0, 0.3, 1.7, 3.0, std::numbers::pi}) {
     for (double pitch : {-near_lock, -1.2, -0.4, 0.0, 0.6, 1.5, near_lock}) {
-      for (double yaw : {-3.1, -1.5, 0.0, 0.9, 2.8, kPi}) {
+      for (double yaw : {-3.1, -1.5, 0.0, 0.9, 2.8, std::numbers::pi}) {
         const Eigen::Matrix3d r = Rz(yaw) * Ry(pitch) * Rx(roll);
         const Eigen::Vector3d angles = RollPitchYaw(r);
         const Eigen::Matrix3d back = Rz(angles.z()) * Ry(angles.y()) * Rx(angles.x());
         EXPECT_LE((back - r).norm(), 1e-12);
         EXPECT_NEAR(angles.y(), pitch, 1e-8);
         // Angles themselves, modulo 2 pi (roll = pi and -pi are the same).
-        EXPECT_NEAR(std::remainder(angles.x() - roll, 2 * kPi), 0.0, 2e-7);
-        EXPECT_NEAR(std::remainder(angles.z() - yaw, 2 * kPi), 0.0, 2e-7);
+        EXPECT_NEAR(std::remainder(angles.x() - roll, 2 * std::numbers::pi), 0.0, 2e-7);
+        EXPECT_NEAR(std::remainder(angles.z() - yaw, 2 * std::numbers::pi), 0.0, 2e-7);
       }
     }
   }
   // Exactly at gimbal lock only yaw -/+ roll is defined: R must still round-trip.
-  for (double pitch : {kPi / 2, -kPi / 2}) {
+  for (double pitch : {std::numbers::pi / 2, -std::numbers::pi / 2}) {
     const Eigen::Matrix3d r = Rz(0.7) * Ry(pitch) * Rx(-0.4);
     const Eigen::Vector3d angles = RollPitchYaw(r);
     EXPECT_LE((Rz(angles.z()) * Ry(angles.y()) * Rx(angles.x()) - r).norm(), 1e-12);
@@ -124,7 +126,7 @@ TEST(Rotation, DirectionCosineAnglesAreAnglesBetweenBodyAndFixedAxes) {
     const Eigen::Vector3d body_axis_in_fixed = r * Eigen::Vector3d::Unit(i);
     EXPECT_NEAR(angles[i], std::acos(body_axis_in_fixed.dot(Eigen::Vector3d::Unit(i))), 1e-14);
   }
-  EXPECT_NEAR(DirectionCosineAngles(Rx(kPi / 2)).y(), kPi / 2, 1e-15);
+  EXPECT_NEAR(DirectionCosineAngles(Rx(std::numbers::pi / 2)).y(), std::numbers::pi / 2, 1e-15);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -475,10 +476,10 @@ constexpr double kAmplitude = 25.0;
 constexpr double kArmIn = 10.0;
 
 double TrueOmegaY(double t) {
-  return t <= kPulse ? kAmplitude * (1.0 - std::cos(2.0 * kPi * t / kPulse)) : 0.0;
+  return t <= kPulse ? kAmplitude * (1.0 - std::cos(2.0 * std::numbers::pi * t / kPulse)) : 0.0;
 }
 double TrueTheta(double t) {
-  const double w = 2.0 * kPi / kPulse;
+  const double w = 2.0 * std::numbers::pi / kPulse;
   return t <= kPulse ? kAmplitude * (t - std::sin(w * t) / w) : kAmplitude * kPulse;
 }
 Eigen::Matrix3d TrueFixedFromBody(double t) {
@@ -582,7 +583,7 @@ TEST(SeedScenario45, IdealAndDentonAreAccurateButNotExact) {
     // axes stay near 0 and omega_Y carries only the forward-Euler
     // (right-endpoint rectangle) error dt/2 * max|alpha| = 0.131 rad/s plus
     // O(dt^2 alpha') = 2e-4 rad/s.
-    const double euler_bound = 0.5 * 1e-4 * kAmplitude * 2.0 * kPi / kPulse + 1e-3;
+    const double euler_bound = 0.5 * 1e-4 * kAmplitude * 2.0 * std::numbers::pi / kPulse + 1e-3;
     EXPECT_LT(e.max_omega_error.x(), 1e-4) << array.name;
     EXPECT_LT(e.max_omega_error.z(), 1e-4) << array.name;
     EXPECT_LT(e.max_omega_error.y(), euler_bound) << array.name;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <ostream>
 
 #include "common/error.h"
@@ -129,7 +130,7 @@ TEST(Solver, RateSensorsInDegreesPerSecond) {
   for (Sensor& sensor : array.sensors) {
     if (sensor.kind != SensorKind::kAngularRate) continue;
     sensor.unit = "deg/s";
-    sensor.si_per_unit = kPi / 180.0;
+    sensor.si_per_unit = std::numbers::pi / 180.0;
   }
   synth::RandomMotionOptions motion;
   motion.seed = 3;

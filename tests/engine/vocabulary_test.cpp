@@ -6,6 +6,7 @@
 #include <array>
 #include <cctype>
 #include <initializer_list>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -65,6 +66,18 @@ TEST(Vocabulary, NamesAreTheDocumentedSpellings) {
   EXPECT_STREQ(SeverityName(Severity::kError), "error");
   EXPECT_STREQ(SensorKindName(SensorKind::kLinear), "linear");
   EXPECT_STREQ(SensorKindName(SensorKind::kAngularRate), "angular_rate");
+  EXPECT_STREQ(CheckName(Check::kMissing), "missing");
+  EXPECT_STREQ(CheckName(Check::kNonFinite), "non_finite");
+  EXPECT_STREQ(CheckName(Check::kImplausible), "implausible");
+  EXPECT_STREQ(CheckName(Check::kSaturation), "saturation");
+  EXPECT_STREQ(CheckName(Check::kSpike), "spike");
+  EXPECT_STREQ(CheckName(Check::kBias), "bias");
+  EXPECT_STREQ(CheckName(Check::kFlat), "flat");
+  EXPECT_STREQ(CheckName(Check::kPolarity), "polarity");
+  EXPECT_STREQ(CheckName(Check::kAxisLabel), "axis_label");
+  EXPECT_STREQ(CheckName(Check::kResidual), "residual");
+  EXPECT_STREQ(CheckName(Check::kConsistency), "consistency");
+  EXPECT_STREQ(CheckName(Check::kRotation), "rotation");
 }
 
 TEST(Units, OneParserForEverySpelling) {
@@ -72,7 +85,7 @@ TEST(Units, OneParserForEverySpelling) {
   EXPECT_EQ(LinearUnitToSi("g"), kStandardGravity);
   for (const char* unit : {"m/s^2", "m/s2", "m/s**2"}) EXPECT_EQ(LinearUnitToSi(unit), 1.0) << unit;
   EXPECT_EQ(AngularRateUnitToSi("rad/s"), 1.0);
-  EXPECT_EQ(AngularRateUnitToSi("deg/s"), kPi / 180.0);
+  EXPECT_EQ(AngularRateUnitToSi("deg/s"), std::numbers::pi / 180.0);
   EXPECT_EQ(LengthUnitToMetres("m"), 1.0);
   EXPECT_EQ(LengthUnitToMetres("mm"), 1e-3);
   EXPECT_EQ(LengthUnitToMetres("in"), kMetresPerInch);
@@ -82,8 +95,8 @@ TEST(Units, OneParserForEverySpelling) {
   EXPECT_EQ(LinearUnitToSi("FT/SEC**2"), kMetresPerFoot);
   EXPECT_EQ(LinearUnitToSi("in/s^2"), kMetresPerInch);
   EXPECT_EQ(AngularRateUnitToSi("RADIANS/SECOND"), 1.0);
-  EXPECT_EQ(AngularRateUnitToSi("DEG/SEC"), kPi / 180.0);
-  EXPECT_EQ(AngularRateUnitToSi("\xC2\xB0/s"), kPi / 180.0);
+  EXPECT_EQ(AngularRateUnitToSi("DEG/SEC"), std::numbers::pi / 180.0);
+  EXPECT_EQ(AngularRateUnitToSi("\xC2\xB0/s"), std::numbers::pi / 180.0);
   EXPECT_EQ(LengthUnitToMetres("Inches"), kMetresPerInch);
   EXPECT_EQ(LengthUnitToMetres("ft"), kMetresPerFoot);
   // A unit of the other kind, or none, is not a unit of this kind.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <numbers>
 
 #include "common/error.h"
 #include "engine/units.h"
@@ -76,7 +77,7 @@ TEST(ArrayJsonTest, RoundTripInEveryLengthUnit) {
     array.sensors[4].unit = "m/s^2";
     array.sensors[4].si_per_unit = 1.0;
     array.sensors[10].unit = "deg/s";
-    array.sensors[10].si_per_unit = engine::kPi / 180.0;
+    array.sensors[10].si_per_unit = std::numbers::pi / 180.0;
     const std::filesystem::path path = dir / (std::string("array-") + unit + ".json");
     WriteArrayJson(array, path, unit);
     ExpectSameArray(array, ReadArrayJson(path));
@@ -102,7 +103,7 @@ TEST(ArrayJsonTest, AxesAreNormalisedAndUnitsConverted) {
   EXPECT_EQ(array.sensors[0].si_per_unit, 1.0);
   EXPECT_EQ(array.sensors[1].kind, engine::SensorKind::kAngularRate);
   EXPECT_NEAR(array.sensors[1].axis_body.z(), -1.0, 1e-15);
-  EXPECT_NEAR(array.sensors[1].si_per_unit, engine::kPi / 180.0, 1e-18);
+  EXPECT_NEAR(array.sensors[1].si_per_unit, std::numbers::pi / 180.0, 1e-18);
   EXPECT_TRUE(array.sensors[1].position_body_m.isZero());
 }
 

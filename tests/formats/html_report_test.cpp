@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 
 #include "common/error.h"
@@ -40,7 +41,7 @@ engine::Kinematics PulseKinematics() {
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) * dt;
     k.time_s(i) = t;
-    const double pulse = t >= 0.02 && t <= 0.032 ? std::sin(engine::kPi * (t - 0.02) / 0.012) : 0.0;
+    const double pulse = t >= 0.02 && t <= 0.032 ? std::sin(std::numbers::pi * (t - 0.02) / 0.012) : 0.0;
     k.acc_fixed.row(i) << -80.0 * engine::kStandardGravity * pulse, 0.0, 0.0;
     k.acc_body.row(i) = k.acc_fixed.row(i);
     k.omega_body.row(i) << 0.0, 0.0, 30.0 * pulse;

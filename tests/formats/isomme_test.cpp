@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <numbers>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -98,12 +99,12 @@ INSTANTIATE_TEST_SUITE_P(
 
 INSTANTIATE_TEST_SUITE_P(
     AngularRate, SignalUnitSpellingTest,
-    ::testing::Values(UnitCase{"rad_s", "rad/s", engine::SensorKind::kAngularRate, 1.0},
-                      UnitCase{"RADIANS_SECOND", "RADIANS/SECOND", engine::SensorKind::kAngularRate, 1.0},
-                      UnitCase{"DEG_SEC", "DEG/SEC", engine::SensorKind::kAngularRate, engine::kPi / 180},
-                      UnitCase{"deg_s", "deg/s", engine::SensorKind::kAngularRate, engine::kPi / 180},
-                      UnitCase{"degree_sign_s", "\xC2\xB0/s", engine::SensorKind::kAngularRate,
-                               engine::kPi / 180}),
+    ::testing::Values(
+        UnitCase{"rad_s", "rad/s", engine::SensorKind::kAngularRate, 1.0},
+        UnitCase{"RADIANS_SECOND", "RADIANS/SECOND", engine::SensorKind::kAngularRate, 1.0},
+        UnitCase{"DEG_SEC", "DEG/SEC", engine::SensorKind::kAngularRate, std::numbers::pi / 180},
+        UnitCase{"deg_s", "deg/s", engine::SensorKind::kAngularRate, std::numbers::pi / 180},
+        UnitCase{"degree_sign_s", "\xC2\xB0/s", engine::SensorKind::kAngularRate, std::numbers::pi / 180}),
     test_support::CaseName());
 
 TEST(SignalUnitTest, NoUnitOrAnUnknownOne) {
@@ -219,10 +220,10 @@ TEST(IsoMmeTest, ReadsForeignFolderOnCommonTimeSpanInSlotUnits) {
   EXPECT_NEAR(signals.t0_s, 0.0, 1e-15);
   EXPECT_EQ(signals.dt_s, 0.001);
   for (int k = 0; k < 8; ++k) {
-    EXPECT_NEAR(signals.samples(k, 0), k + 2, 1e-12);           // cg_x in g, shifted by 2 samples
-    EXPECT_NEAR(signals.samples(k, 1), k, 1e-12);               // m/s**2 -> g
-    EXPECT_NEAR(signals.samples(k, 2), 101 + k, 1e-12);         // shifted by 1 sample
-    EXPECT_NEAR(signals.samples(k, 3), k * engine::kPi, 1e-9);  // deg/s -> rad/s
+    EXPECT_NEAR(signals.samples(k, 0), k + 2, 1e-12);                // cg_x in g, shifted by 2 samples
+    EXPECT_NEAR(signals.samples(k, 1), k, 1e-12);                    // m/s**2 -> g
+    EXPECT_NEAR(signals.samples(k, 2), 101 + k, 1e-12);              // shifted by 1 sample
+    EXPECT_NEAR(signals.samples(k, 3), k * std::numbers::pi, 1e-9);  // deg/s -> rad/s
     EXPECT_EQ(signals.samples(k, 4), 5.0);
   }
   const IsoMmeTest test = ReadIsoMme(dir / "t");

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <numbers>
 
 #include "engine/units.h"
 #include "tests/formats/formats_test_util.h"
@@ -32,12 +33,12 @@ engine::Kinematics PulseKinematics(Eigen::Index n, double t0) {
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) * kPulse / static_cast<double>(n - 1);
     k.time_s[i] = t0 + t;
-    const double s = std::sin(engine::kPi * t / kPulse);
+    const double s = std::sin(std::numbers::pi * t / kPulse);
     for (int c = 0; c < 3; ++c) {
       k.vel_fixed(i, c) = kPeakVelocity[c] * s * s;
       k.omega_fixed(i, c) = kPeakOmega[c] * s * s;
-      k.pos_fixed(i, c) =
-          kPeakVelocity[c] * (t / 2 - kPulse * std::sin(2 * engine::kPi * t / kPulse) / (4 * engine::kPi));
+      k.pos_fixed(i, c) = kPeakVelocity[c] * (t / 2 - kPulse * std::sin(2 * std::numbers::pi * t / kPulse) /
+                                                          (4 * std::numbers::pi));
     }
   }
   return k;

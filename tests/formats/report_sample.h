@@ -6,11 +6,13 @@
 // Only what formats/html_report.h offered then is used here.
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "engine/kinematics.h"
 #include "engine/summary.h"
+#include "engine/units.h"
 #include "formats/html_report.h"
 
 namespace napkin::report_sample {
@@ -20,15 +22,14 @@ namespace napkin::report_sample {
 // acceleration-only array), every series that needs it is NaN, as stored
 // before such series were left out.
 inline engine::Kinematics Kinematics(Eigen::Index n, double peak_g, bool rotation) {
-  constexpr double kPi = 3.14159265358979323846;
-  constexpr double kG = 9.80665;
   engine::Kinematics k;
   k.Resize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = -0.002 + static_cast<double>(i) * 1e-4;
-    const double pulse = t >= 0.0 && t <= 0.012 ? std::sin(kPi * t / 0.012) : 0.0;
+    const double pulse = t >= 0.0 && t <= 0.012 ? std::sin(std::numbers::pi * t / 0.012) : 0.0;
     k.time_s(i) = t;
-    k.acc_body.row(i) << -peak_g * kG * pulse, 0.1 * peak_g * kG * pulse * pulse, 0.5;
+    k.acc_body.row(i) << -peak_g * engine::kStandardGravity * pulse,
+        0.1 * peak_g * engine::kStandardGravity * pulse * pulse, 0.5;
     k.acc_fixed.row(i) = k.acc_body.row(i);
     k.omega_body.row(i) << 0.5 * pulse, -0.25 * pulse, 20.0 * pulse;
     k.omega_fixed.row(i) = k.omega_body.row(i);

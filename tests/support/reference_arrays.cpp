@@ -113,4 +113,19 @@ ArrayGeometry NapArs12() {
   return array;
 }
 
+ArrayGeometry OneLinearOneRate() {
+  ArrayGeometry array;
+  array.name = "test";
+  Sensor linear;
+  linear.slot = "cg_x";
+  linear.kind = SensorKind::kLinear;
+  Sensor rate;
+  rate.slot = "ars_x";
+  rate.kind = SensorKind::kAngularRate;
+  rate.unit = "rad/s";
+  rate.si_per_unit = 1.0;
+  array.sensors = {linear, rate};
+  return array;
+}
+
 }  // namespace napkin::test_support

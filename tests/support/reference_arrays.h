@@ -18,5 +18,8 @@ engine::ArrayGeometry SixAOmegaCg();
 engine::ArrayGeometry ThreeACg();
 // Denton NAP plus three angular-rate sensors (12 channels).
 engine::ArrayGeometry NapArs12();
+// Array "test" of two sensors without positions, for conditioning tests: a
+// linear accelerometer in slot cg_x and an angular-rate sensor (rad/s) in ars_x.
+engine::ArrayGeometry OneLinearOneRate();
 
 }  // namespace napkin::test_support

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "engine/integration.h"
 #include "engine/report_known_answers.h"
@@ -109,7 +110,8 @@ TEST(Synth, SequentialEndsAtThreeBodyTurns) {
   EXPECT_LE((final_r - Rx(quarter) * Rz(quarter) * Rx(quarter)).norm(), 1e-12);
   // At the turn boundaries the angular acceleration jumps; elsewhere the truth is smooth.
   EXPECT_EQ(truth.vel_fixed.norm(), 0.0);
-  EXPECT_NEAR(truth.omega_body.rowwise().norm().maxCoeff(), 0.25 * kPi * kPi / 0.04, 1e-9);
+  EXPECT_NEAR(truth.omega_body.rowwise().norm().maxCoeff(), 0.25 * std::numbers::pi * std::numbers::pi / 0.04,
+              1e-9);
 }
 
 TEST(Synth, RandomMotionIsSeededSmoothAndStartsAtRest) {
@@ -148,13 +150,13 @@ TEST(Synth, RandomMotionIsSeededSmoothAndStartsAtRest) {
 TEST(Synth, SignalsUseEachSlotsUnit) {
   ArrayGeometry array = test_support::NapArs12();
   array.sensors[10].unit = "deg/s";
-  array.sensors[10].si_per_unit = kPi / 180.0;
+  array.sensors[10].si_per_unit = std::numbers::pi / 180.0;
   array.sensors[0].unit = "m/s^2";
   array.sensors[0].si_per_unit = 1.0;
   synth::RandomMotionOptions options;
   const synth::SyntheticTest test = synth::SynthRandomMotion(array, options);
   for (Eigen::Index k : {0, 700, 1500}) {
-    EXPECT_NEAR(test.signals.samples(k, 10), test.truth.omega_body(k, 1) * 180.0 / kPi, 1e-9);
+    EXPECT_NEAR(test.signals.samples(k, 10), test.truth.omega_body(k, 1) * 180.0 / std::numbers::pi, 1e-9);
     EXPECT_NEAR(test.signals.samples(k, 9), test.truth.omega_body(k, 0), 1e-12);
   }
   // Linear channels: the rigid-body model at each sensor, in its unit.
@@ -216,7 +218,8 @@ TEST(Synth, HeadImpactTruthIsAnExactRigidBodyPushedOffItsCg) {
   const double peak = 2.0 * (1.0 + impact.restitution) * impact.speed_mps / impact.pulse_s;
   for (Eigen::Index k = 0; k < truth.size(); ++k) {
     const double tau = (truth.time_s(k) - impact.contact_start_s) / impact.pulse_s;
-    const double expected = (tau > 0.0 && tau < 1.0) ? peak * std::pow(std::sin(kPi * tau), 2) : 0.0;
+    const double expected =
+        (tau > 0.0 && tau < 1.0) ? peak * std::pow(std::sin(std::numbers::pi * tau), 2) : 0.0;
     ASSERT_NEAR(truth.acc_fixed.row(k).dot(-u), expected, 1e-9 * peak) << k;
     ASSERT_LE(truth.acc_fixed.row(k).cross(u.transpose()).norm(), 1e-9 * peak) << k;
   }

@@ -1,0 +1,9 @@
+// OrientationAngles eight samples at a time: compiled with -mavx512f
+// -mavx512dq (engine/CMakeLists.txt) where the build links libmvec, empty elsewhere.
+#include "engine/rotation_angles_lanes.h"
+
+#if defined(NAPKIN_HAVE_LIBMVEC_AVX2)
+std::ptrdiff_t napkin::engine::internal::Avx512AngleRows(const AngleColumns& columns) {
+  return VectorAngleRows<__m512d>(columns);
+}
+#endif
