@@ -50,3 +50,16 @@ function(napkin_add_tests folder)
   gtest_discover_tests(${exe} TEST_PREFIX "${folder}/" DISCOVERY_TIMEOUT 60
                        PROPERTIES ENVIRONMENT "NAPKIN_CONFIG_DIR=${PROJECT_SOURCE_DIR}/config")
 endfunction()
+
+# napkin_embed_files(<output .inc> <comment> <file>...) : writes, at build time, the files' names and
+# bytes as C++ initialisers (cmake/embed_files.cmake) into <output>, rebuilt when a file changes:
+# the report's page files and dygraphs (formats/), the SQL migrations (schema/).
+function(napkin_embed_files output comment)
+  list(JOIN ARGN "|" file_list)
+  add_custom_command(
+    OUTPUT ${output}
+    COMMAND ${CMAKE_COMMAND} -DOUTPUT=${output} -DFILES=${file_list} -P ${PROJECT_SOURCE_DIR}/cmake/embed_files.cmake
+    DEPENDS ${ARGN} ${PROJECT_SOURCE_DIR}/cmake/embed_files.cmake
+    COMMENT "${comment}"
+    VERBATIM)
+endfunction()
