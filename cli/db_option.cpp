@@ -1,28 +1,22 @@
 #include "cli/db_option.h"
 
 #include <algorithm>
-#include <cctype>
 #include <iterator>
 #include <utility>
 
 #include "common/error.h"
+#include "common/joined.h"
 #include "records/test_inputs.h"
+#include "util/text.h"
 
 namespace napkin::cli {
 namespace {
 
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
 // "name (hash 0123456789ab), ..." of `configs`.
 std::string ConfigList(const std::vector<db::ConfigRow>& configs) {
-  std::string list;
-  for (const db::ConfigRow& config : configs)
-    list += (list.empty() ? "" : ", ") + config.name + " (hash " + config.config_hash.substr(0, 12) + ")";
-  return list;
+  return Joined(configs, [](const db::ConfigRow& config) {
+    return config.name + " (hash " + config.config_hash.substr(0, 12) + ")";
+  });
 }
 
 }  // namespace
@@ -56,10 +50,10 @@ db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string&
   if (named.size() > 1)
     throw UsageError("--config '" + selector + "' names " + std::to_string(named.size()) +
                      " configs: " + ConfigList(named) + "; give a hash prefix instead.");
-  const std::string prefix = Lowercase(selector);
+  const std::string prefix = util::ToLower(selector);
   std::vector<db::ConfigRow> hashed;
   std::copy_if(configs.begin(), configs.end(), std::back_inserter(hashed), [&](const db::ConfigRow& config) {
-    return Lowercase(config.config_hash).rfind(prefix, 0) == 0;
+    return util::ToLower(config.config_hash).rfind(prefix, 0) == 0;
   });
   if (hashed.size() == 1) return hashed.front();
   if (hashed.empty())

@@ -219,8 +219,7 @@ void PrintSeedSolverTable(const fs::path& dir) {
 // with the default config and prints one line about it. Throws InputError
 // when a test failed.
 jobs::RunReport ProcessDemoTests(const std::string& db, int threads) {
-  const ResolvedConfig resolved = ResolveConfig("");
-  const jobs::RunProcessing processing{resolved.config, resolved.record};
+  const ResolvedConfig processing = ResolveConfig("");
   jobs::RunOptions options;
   options.threads =
       threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -229,7 +228,7 @@ jobs::RunReport ProcessDemoTests(const std::string& db, int threads) {
   const jobs::RunReport run = jobs::RunScheduler(db, processing, options);
   spdlog::set_level(log_level);
   fmt::print("  processed {} tests in {:.2f} s on {} threads (config '{}'), {} failed\n\n", run.done,
-             run.wall_s, run.threads, resolved.record.name, run.failed);
+             run.wall_s, run.threads, processing.record.name, run.failed);
   if (run.failed > 0)
     throw InputError(std::to_string(run.failed) + " demo tests failed; `napkin --db " + db +
                      " status` lists them.");

@@ -23,6 +23,7 @@
 #include "cli/db_option.h"
 #include "cli/where_parser.h"
 #include "common/error.h"
+#include "common/joined.h"
 #include "common/version.h"
 #include "engine/statistics.h"
 #include "formats/html_report.h"
@@ -32,12 +33,6 @@
 
 namespace napkin::cli {
 namespace {
-
-std::string Joined(const std::vector<std::string>& values) {
-  std::string text;
-  for (const std::string& value : values) text += (text.empty() ? "" : ", ") + value;
-  return text;
-}
 
 // "1 test", "6 tests".
 std::string Tests(std::size_t count) { return std::to_string(count) + (count == 1 ? " test" : " tests"); }

@@ -72,10 +72,6 @@ struct RunOptions {
   void Check() const;
 };
 
-// A run's processing config is a records::ResolvedConfig (the config, storage
-// choice included, and its record); RunProcessing only names it (command_demo.cpp).
-using RunProcessing = records::ResolvedConfig;
-
 struct RunProgress {
   std::int64_t total = 0;   // jobs to process when the run started
   std::int64_t done = 0;    // stored by this run so far
