@@ -13,10 +13,6 @@ namespace napkin::formats {
 namespace {
 
 // Input quoted in a message: control characters escaped, a huge value cut (util/text.h).
-std::string Quoted(std::string_view text) {
-  return "\"" + util::Abbreviated(text, util::kQuotedInputLongChars) + "\"";
-}
-
 }  // namespace
 
 std::string RawChannel::Label() const {
@@ -31,7 +27,7 @@ std::optional<SignalUnit> ParseSignalUnit(std::string_view unit, const std::stri
     return std::nullopt;
   if (const std::optional<SignalUnit> parsed = engine::SignalUnitToSi(trimmed)) return parsed;
   throw InputError(
-      where + ": unrecognised unit " + Quoted(trimmed) +
+      where + ": unrecognised unit " + util::QuotedLong(trimmed) +
       " (napkin reads accelerations in g, m/s^2, ft/s^2, in/s^2 and angular rates in rad/s or deg/s).");
 }
 
@@ -68,7 +64,7 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
   if (slots == json.end()) fail("the channel map has no \"slots\"");
   if (!slots->is_object()) fail("\"slots\" must be an object (slot name -> {code, senatt, axis})");
   for (const auto& [slot, value] : slots->items()) {
-    const std::string where = "slot " + Quoted(slot);
+    const std::string where = "slot " + util::QuotedLong(slot);
     if (!value.is_object())
       fail(where + " must map to an object with \"code\", \"senatt\", \"axis\" and/or \"column\"");
     ChannelMapEntry entry;
@@ -85,8 +81,8 @@ ChannelMap ParseChannelMap(const nlohmann::json& json, const std::string& source
       }
       for (const std::string& pattern : entry.codes)
         if (pattern.size() != 16)
-          fail(where + ": code pattern " + Quoted(pattern) + " has " + std::to_string(pattern.size()) +
-               " characters, ISO/TS 13499 channel codes have 16");
+          fail(where + ": code pattern " + util::QuotedLong(pattern) + " has " +
+               std::to_string(pattern.size()) + " characters, ISO/TS 13499 channel codes have 16");
     }
     for (const auto& [key, field] : {std::pair<const char*, std::string*>{"senatt", &entry.senatt},
                                      {"axis", &entry.axis},
@@ -148,14 +144,14 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
   for (const engine::Sensor& sensor : array.sensors) {
     const ChannelMapEntry* entry = map.Find(sensor.slot);
     if (entry == nullptr)
-      throw InputError("test " + test_name + ": channel map " + Quoted(map.name) + " (" + map.source +
-                       ") has no entry for slot " + Quoted(sensor.slot) + " of array " + Quoted(array.name) +
-                       ".");
+      throw InputError("test " + test_name + ": channel map " + util::QuotedLong(map.name) + " (" +
+                       map.source + ") has no entry for slot " + util::QuotedLong(sensor.slot) +
+                       " of array " + util::QuotedLong(array.name) + ".");
     std::optional<std::size_t> found;
     for (std::size_t c = 0; c < channels.size(); ++c) {
       if (!EntryMatches(*entry, channels[c], sensor.kind)) continue;
       if (found)
-        throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) +
+        throw InputError("test " + test_name + ": slot " + util::QuotedLong(sensor.slot) +
                          " is matched by two channels, " + channels[*found].Label() + " and " +
                          channels[c].Label() + ".");
       found = c;
@@ -164,16 +160,17 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
       std::string wanted;
       for (const std::string& code : entry->codes) wanted += (wanted.empty() ? "" : " or ") + code;
       if (!entry->senatt.empty())
-        wanted += (wanted.empty() ? "" : ", or ") + std::string("SENATT ") + Quoted(entry->senatt) +
-                  (entry->axis.empty() ? "" : " AXIS " + Quoted(entry->axis));
-      throw InputError("test " + test_name + ": no channel matches slot " + Quoted(sensor.slot) + " (" +
-                       wanted + ") of channel map " + Quoted(map.name) + ".");
+        wanted += (wanted.empty() ? "" : ", or ") + std::string("SENATT ") + util::QuotedLong(entry->senatt) +
+                  (entry->axis.empty() ? "" : " AXIS " + util::QuotedLong(entry->axis));
+      throw InputError("test " + test_name + ": no channel matches slot " + util::QuotedLong(sensor.slot) +
+                       " (" + wanted + ") of channel map " + util::QuotedLong(map.name) + ".");
     }
     for (std::size_t earlier = 0; earlier < assignment.size(); ++earlier)
       if (assignment[earlier] == *found)
         throw InputError("test " + test_name + ": " + channels[*found].Label() + " is matched by both slot " +
-                         Quoted(array.sensors[earlier].slot) + " and slot " + Quoted(sensor.slot) +
-                         " of channel map " + Quoted(map.name) + ".");
+                         util::QuotedLong(array.sensors[earlier].slot) + " and slot " +
+                         util::QuotedLong(sensor.slot) + " of channel map " + util::QuotedLong(map.name) +
+                         ".");
     assignment.push_back(*found);
   }
   return assignment;
@@ -245,8 +242,8 @@ engine::TestSignals AssembleSignals(const std::vector<RawChannel>& channels,
     if (unit) {
       if (unit->kind != sensor.kind)
         throw InputError(
-            "test " + test_name + ": " + channel.Label() + " in " + Quoted(channel.unit) +
-            " cannot feed slot " + Quoted(sensor.slot) + ", which is " +
+            "test " + test_name + ": " + channel.Label() + " in " + util::QuotedLong(channel.unit) +
+            " cannot feed slot " + util::QuotedLong(sensor.slot) + ", which is " +
             (sensor.kind == engine::SensorKind::kLinear ? "an accelerometer" : "an angular-rate sensor") +
             ".");
       scale = unit->si_per_unit / sensor.si_per_unit;

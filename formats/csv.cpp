@@ -43,8 +43,6 @@ std::string_view Unquote(std::string_view text) {
 }
 
 // Input quoted in a message: escaped and cut (util/text.h Abbreviated).
-std::string Quoted(std::string_view text) { return "\"" + util::Abbreviated(text) + "\""; }
-
 // The column `slot` is read from: its mapping in `columns`, else its own name.
 const std::string& ColumnOf(const std::string& slot, const CsvColumnMap& columns) {
   for (const auto& [mapped_slot, column] : columns)
@@ -54,8 +52,8 @@ const std::string& ColumnOf(const std::string& slot, const CsvColumnMap& columns
 
 std::string ColumnDescription(const std::string& slot, const CsvColumnMap& columns) {
   const std::string& column = ColumnOf(slot, columns);
-  if (column == slot) return "no column for slot " + Quoted(slot);
-  return "no column " + Quoted(column) + " (mapped to slot " + Quoted(slot) + ")";
+  if (column == slot) return "no column for slot " + util::Quoted(slot);
+  return "no column " + util::Quoted(column) + " (mapped to slot " + util::Quoted(slot) + ")";
 }
 
 }  // namespace
@@ -70,9 +68,9 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
         equals == std::string::npos ? "" : std::string(util::Trim(option.substr(equals + 1)));
     if (slot.empty() || column.empty())
       throw UsageError("--column takes SLOT=NAME (the CSV column NAME feeds slot SLOT), not " +
-                       Quoted(option) + ".");
+                       util::Quoted(option) + ".");
     for (const auto& [earlier, unused] : columns)
-      if (earlier == slot) throw UsageError("--column maps slot " + Quoted(slot) + " twice.");
+      if (earlier == slot) throw UsageError("--column maps slot " + util::Quoted(slot) + " twice.");
     columns.emplace_back(slot, column);
   }
   return columns;
@@ -118,7 +116,7 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
                            std::to_string(i + 1) + " has no name.");
         if (!index_of.emplace(name, static_cast<int>(i)).second)
           throw InputError(file + ": header line " + std::to_string(line_number) + " names column " +
-                           Quoted(name) + " twice.");
+                           util::Quoted(name) + " twice.");
         header.push_back(std::move(name));
       }
       const auto time_it = index_of.find(ColumnOf("time_s", column_map));
@@ -127,18 +125,19 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
             file + ": the header (line " + std::to_string(line_number) + ") has " +
             (ColumnOf("time_s", column_map) == "time_s"
                  ? std::string("no time_s column.")
-                 : "no column " + Quoted(ColumnOf("time_s", column_map)) + " (mapped to time_s)."));
+                 : "no column " + util::Quoted(ColumnOf("time_s", column_map)) + " (mapped to time_s)."));
       time_field = time_it->second;
       if (array != nullptr) {
         for (const auto& [slot, column] : column_map)
           if (slot != "time_s" && !array->FindSlot(slot))
-            throw InputError(file + ": the column map names slot " + Quoted(slot) + " (column " +
-                             Quoted(column) + "), which array " + Quoted(array->name) + " does not have.");
+            throw InputError(file + ": the column map names slot " + util::Quoted(slot) + " (column " +
+                             util::Quoted(column) + "), which array " + util::Quoted(array->name) +
+                             " does not have.");
         for (const engine::Sensor& sensor : array->sensors) {
           const auto it = index_of.find(ColumnOf(sensor.slot, column_map));
           if (it == index_of.end())
             throw InputError(file + ": " + ColumnDescription(sensor.slot, column_map) + " of array " +
-                             Quoted(array->name) + ".");
+                             util::Quoted(array->name) + ".");
           wanted_field.push_back(it->second);
           result.signals.slots.push_back(sensor.slot);
         }
@@ -150,16 +149,18 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
               std::find(wanted_field.begin(), wanted_field.end(), static_cast<int>(i)) == wanted_field.end())
             ignored.push_back(header[i]);
         if (ignored.size() == 1) {
-          result.warnings.push_back(file + ": column " + Quoted(ignored.front()) +
-                                    " is not a slot of array " + Quoted(array->name) + " and is ignored.");
+          result.warnings.push_back(file + ": column " + util::Quoted(ignored.front()) +
+                                    " is not a slot of array " + util::Quoted(array->name) +
+                                    " and is ignored.");
         } else if (!ignored.empty()) {
           std::string names;
           for (std::size_t i = 0; i < ignored.size() && i < kIgnoredColumnsNamed; ++i)
-            names += (i > 0 ? ", " : "") + Quoted(ignored[i]);
+            names += (i > 0 ? ", " : "") + util::Quoted(ignored[i]);
           if (ignored.size() > kIgnoredColumnsNamed)
             names += " and " + std::to_string(ignored.size() - kIgnoredColumnsNamed) + " more";
           result.warnings.push_back(file + ": " + std::to_string(ignored.size()) + " columns (" + names +
-                                    ") are not slots of array " + Quoted(array->name) + " and are ignored.");
+                                    ") are not slots of array " + util::Quoted(array->name) +
+                                    " and are ignored.");
         }
       } else {
         for (std::size_t i = 0; i < header.size(); ++i) {
@@ -180,15 +181,15 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
       const std::string_view value = util::Trim(fields[field]);
       const std::string& column = header[field];
       if (value.empty())
-        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) +
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + util::Quoted(column) +
                          " is empty.");
       const std::optional<double> number = util::ParseDouble(value);
       if (!number)
-        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + ": " +
-                         Quoted(value) + " is not a number.");
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + util::Quoted(column) +
+                         ": " + util::Quoted(value) + " is not a number.");
       if (!std::isfinite(*number))
-        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + Quoted(column) + ": " +
-                         Quoted(value) + " is not a finite number.");
+        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + util::Quoted(column) +
+                         ": " + util::Quoted(value) + " is not a finite number.");
       return *number;
     };
     time.push_back(parse(time_field));

@@ -18,10 +18,6 @@ namespace napkin::formats {
 namespace {
 
 // Input quoted in a message: control characters escaped, a huge value cut (util/text.h).
-std::string Quoted(std::string_view text) {
-  return "\"" + util::Abbreviated(text, util::kQuotedInputLongChars) + "\"";
-}
-
 // Lines of a text file (LF or CRLF), with their 1-based numbers; blank lines skipped.
 struct Line {
   long number;
@@ -90,14 +86,15 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   auto require = [&](std::string_view key) {
     const std::optional<std::string> value = Lookup(header, key);
     if (!value || value->empty() || IsNoValue(*value))
-      throw InputError(file + ": the header has no " + Quoted(key) + ".");
+      throw InputError(file + ": the header has no " + util::QuotedLong(key) + ".");
     return *value;
   };
   auto require_number = [&](std::string_view key) {
     const std::string value = require(key);
     const std::optional<double> number = util::ParseDouble(value);
     if (!number || !std::isfinite(*number))
-      throw InputError(file + ": " + Quoted(key) + " is " + Quoted(value) + ", not a number.");
+      throw InputError(file + ": " + util::QuotedLong(key) + " is " + util::QuotedLong(value) +
+                       ", not a number.");
     return *number;
   };
   const std::optional<std::string> code = Lookup(header, "Channel code");
@@ -123,7 +120,8 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
   const std::string declared_text = require("Number of samples");
   const std::optional<long long> declared = util::ParseInteger(declared_text);
   if (!declared || *declared < 0)
-    throw InputError(file + ": \"Number of samples\" is " + Quoted(declared_text) + ", not a count.");
+    throw InputError(file + ": \"Number of samples\" is " + util::QuotedLong(declared_text) +
+                     ", not a count.");
 
   // Every declared size is checked against the bytes present before anything is allocated (one
   // sample per line after the header, docs/formats.md "ISO-MME (ISO/TS 13499) input").
@@ -142,7 +140,7 @@ RawChannel ReadChannelFile(const std::filesystem::path& path, const std::string&
     const std::optional<double> value = util::ParseDouble(line.text);
     if (!value || !std::isfinite(*value))
       throw InputError(file + ": sample " + std::to_string(sample) + " (line " + std::to_string(line.number) +
-                       ") is " + Quoted(line.text.substr(0, 40)) + ", not a finite number.");
+                       ") is " + util::QuotedLong(line.text.substr(0, 40)) + ", not a finite number.");
     channel.values.push_back(*value);
   }
   if (static_cast<long long>(channel.values.size()) != *declared)
@@ -191,8 +189,9 @@ void WriteTestFolder(const std::filesystem::path& folder, const std::string& tes
   // No separator, control character (a newline), ".", ".." or hidden name
   // may reach a file name (docs/formats.md "Names, limits and escaping").
   if (test_number.empty() || test_number != util::FileNameComponent(test_number))
-    throw InputError(folder.string() + ": " + Quoted(test_number) + " cannot name ISO-MME files (use " +
-                     Quoted(util::FileNameComponent(test_number)) + ").");
+    throw InputError(folder.string() + ": " + util::QuotedLong(test_number) +
+                     " cannot name ISO-MME files (use " +
+                     util::QuotedLong(util::FileNameComponent(test_number)) + ").");
   util::WriteDirectoryAtomically(folder, [&](const std::filesystem::path& directory) {
     std::string mme;
     AppendHeaderLine(mme, "Data format", "ISO-MME");
@@ -375,7 +374,7 @@ engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme
     const RawChannel& channel = test.channels[channel_of_sensor[s]];
     if (!ParseSignalUnit(channel.unit, channel.Label()))
       throw InputError(channel.source + ": the header has no \"Unit\" for channel " + channel.code +
-                       ", which feeds slot " + Quoted(array.sensors[s].slot) +
+                       ", which feeds slot " + util::QuotedLong(array.sensors[s].slot) +
                        "; add the unit (e.g. g, m/s**2, deg/s, rad/s).");
   }
   return AssembleSignals(test.channels, channel_of_sensor, array, test_name);
@@ -384,8 +383,8 @@ engine::TestSignals ReadIsoMmeSignals(const std::filesystem::path& folder_or_mme
 std::string CodeForSlot(const ChannelMap& map, const std::string& slot) {
   const ChannelMapEntry* entry = map.Find(slot);
   if (entry == nullptr || entry->codes.empty())
-    throw InputError(map.source + ": channel map " + Quoted(map.name) + " has no code pattern for slot " +
-                     Quoted(slot) + ".");
+    throw InputError(map.source + ": channel map " + util::QuotedLong(map.name) +
+                     " has no code pattern for slot " + util::QuotedLong(slot) + ".");
   std::string code = entry->codes.front();
   for (std::size_t i = 0; i < code.size(); ++i)
     if (code[i] == '?') code[i] = i < 2 ? '1' : '0';
@@ -401,8 +400,8 @@ void WriteIsoMme(const engine::TestSignals& signals, const engine::ArrayGeometry
     OutputChannel channel;
     channel.code = CodeForSlot(map, slot);
     if (const auto [it, inserted] = slot_of_code.emplace(channel.code, slot); !inserted)
-      throw InputError(map.source + ": slots " + Quoted(it->second) + " and " + Quoted(slot) +
-                       " would both be written as channel " + channel.code + ".");
+      throw InputError(map.source + ": slots " + util::QuotedLong(it->second) + " and " +
+                       util::QuotedLong(slot) + " would both be written as channel " + channel.code + ".");
     if (const std::optional<double> prefiltered = signals.PrefilteredCfc(c)) {
       if (*prefiltered == engine::kPrefilteredClassUnknown) {
         channel.code[15] = 'X';  // filtered, class not stated: no frequency class (NOVALUE)

@@ -22,46 +22,46 @@ namespace {
 // TSTNO, TSTNAM*12, TITLE*70, ...; ICHAN, CHANFORM*10, CURNO, CURNAM*12,
 // SENATT*30, SENLOC*2, SENNUM, BANDNO, GAGNO, AXIS*2, YTYP*20, YUNITS*20,
 // XTYP*20, XUNITS*20, STATUS*20, CURTYP*20, CURDSC*70, NFP, NLP, DEL, ...).
-struct Field {
+struct HeaderField {
   std::size_t offset;
   std::size_t length;
 };
 namespace file_header {
-constexpr Field kFilever{0, 12};
+constexpr HeaderField kFilever{0, 12};
 constexpr std::size_t kNchan = 12;
-constexpr Field kFileform{16, 10};
-constexpr Field kNumform{26, 5};
-constexpr Field kDimsys{31, 3};
-constexpr Field kTstsrc{34, 15};
+constexpr HeaderField kFileform{16, 10};
+constexpr HeaderField kNumform{26, 5};
+constexpr HeaderField kDimsys{31, 3};
+constexpr HeaderField kTstsrc{34, 15};
 constexpr std::size_t kTstno = 49;
-constexpr Field kTstnam{53, 12};
-constexpr Field kTitle{65, 70};
-constexpr Field kMake{217, 15};
-constexpr Field kModel{232, 25};
-constexpr Field kOcctyp{298, 6};
-constexpr Field kDumsiz{313, 2};
+constexpr HeaderField kTstnam{53, 12};
+constexpr HeaderField kTitle{65, 70};
+constexpr HeaderField kMake{217, 15};
+constexpr HeaderField kModel{232, 25};
+constexpr HeaderField kOcctyp{298, 6};
+constexpr HeaderField kDumsiz{313, 2};
 // Remaining blank-padded strings: TSTPRF, TSTREF, TSTCFN, CMPTYP, CMPDSC, MAKE,
 // MODEL, BODY, ENGINE, OCCTYP, OCCSEX, DUMSIZ, RESTR1, RESTR2, AIS, HDR_RESV.
-constexpr Field kOtherStrings[] = {{135, 25}, {160, 10}, {170, 3}, {185, 2},  {187, 30}, {217, 15},
-                                   {232, 25}, {261, 25}, {286, 4}, {298, 6},  {308, 1},  {313, 2},
-                                   {315, 20}, {335, 20}, {379, 1}, {380, 132}};
+constexpr HeaderField kOtherStrings[] = {{135, 25}, {160, 10}, {170, 3}, {185, 2},  {187, 30}, {217, 15},
+                                         {232, 25}, {261, 25}, {286, 4}, {298, 6},  {308, 1},  {313, 2},
+                                         {315, 20}, {335, 20}, {379, 1}, {380, 132}};
 }  // namespace file_header
 namespace curve_header {
-constexpr Field kRecordHeader{0, 12};
+constexpr HeaderField kRecordHeader{0, 12};
 constexpr std::size_t kIchan = 12;
-constexpr Field kChanform{16, 10};
+constexpr HeaderField kChanform{16, 10};
 constexpr std::size_t kCurno = 26;
-constexpr Field kCurnam{30, 12};
-constexpr Field kSenatt{42, 30};
-constexpr Field kSenloc{72, 2};
-constexpr Field kAxis{86, 2};
-constexpr Field kYtyp{88, 20};
-constexpr Field kYunits{108, 20};
-constexpr Field kXtyp{128, 20};
-constexpr Field kXunits{148, 20};
-constexpr Field kStatus{168, 20};
-constexpr Field kCurtyp{188, 20};
-constexpr Field kCurdsc{208, 70};
+constexpr HeaderField kCurnam{30, 12};
+constexpr HeaderField kSenatt{42, 30};
+constexpr HeaderField kSenloc{72, 2};
+constexpr HeaderField kAxis{86, 2};
+constexpr HeaderField kYtyp{88, 20};
+constexpr HeaderField kYunits{108, 20};
+constexpr HeaderField kXtyp{128, 20};
+constexpr HeaderField kXunits{148, 20};
+constexpr HeaderField kStatus{168, 20};
+constexpr HeaderField kCurtyp{188, 20};
+constexpr HeaderField kCurdsc{208, 70};
 constexpr std::size_t kNfp = 278;
 constexpr std::size_t kNlp = 282;
 constexpr std::size_t kDel = 286;
@@ -69,9 +69,9 @@ constexpr std::size_t kInivel = 290;
 constexpr std::size_t kPref = 294;  // then FCUT, FCOR, FSTP, SCLFAC, ID1-5, RD1-5
 constexpr std::size_t kFcut = 298;
 // CD1*20, CD2*70, CURV_RESV*68.
-constexpr Field kOtherStrings[] = {{354, 20}, {374, 70}, {444, 68}};
+constexpr HeaderField kOtherStrings[] = {{354, 20}, {374, 70}, {444, 68}};
 }  // namespace curve_header
-constexpr Field kRecordHeader{0, 12};
+constexpr HeaderField kRecordHeader{0, 12};
 constexpr std::size_t kDataOffset = 12;
 
 using Record = const std::uint8_t*;
@@ -79,12 +79,12 @@ using Record = const std::uint8_t*;
 // A CHARACTER field, blanks trimmed, in UTF-8: UDS-1992 text is ASCII or,
 // in practice, ISO-8859-1 (docs/formats.md "Text encoding"); a field that is
 // already valid UTF-8 (napkin's own exports) is kept as it is.
-std::string ReadString(Record record, Field field) {
+std::string ReadString(Record record, HeaderField field) {
   std::string text(reinterpret_cast<const char*>(record + field.offset), field.length);
   return util::ToUtf8(std::string(util::Trim(text)));
 }
 
-void WriteString(std::uint8_t* record, Field field, std::string_view text) {
+void WriteString(std::uint8_t* record, HeaderField field, std::string_view text) {
   std::memset(record + field.offset, ' ', field.length);
   std::memcpy(record + field.offset, text.data(), std::min(text.size(), field.length));
 }
@@ -93,7 +93,7 @@ void WriteString(std::uint8_t* record, Field field, std::string_view text) {
 // WriteUds1992 writes each of them through this one table (TSTSRC apart:
 // written as NAPKIN when the channel names no laboratory).
 struct TextField {
-  Field field;
+  HeaderField field;
   std::string UdsChannel::*member;
 };
 constexpr TextField kFileHeaderTexts[] = {
@@ -164,7 +164,7 @@ bool WriteReal(std::uint8_t* record, std::size_t offset, double value, UdsNumber
 
 // The decimal a REAL*4 stands for: DEL = 1e-4 is stored as 9.99999975e-05,
 // which was meant as 0.0001 (shortest decimal that reads back to the same float).
-double IntendedDecimal(double stored) {
+double IntendedDecimalOfSingle(double stored) {
   const float single = static_cast<float>(stored);
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof(buffer), single);
@@ -174,10 +174,6 @@ double IntendedDecimal(double stored) {
 }
 
 // Input quoted in a message: control characters escaped, a huge value cut (util/text.h).
-std::string Quoted(std::string_view text) {
-  return "\"" + util::Abbreviated(text, util::kQuotedInputLongChars) + "\"";
-}
-
 }  // namespace
 
 const char* UdsNumberFormName(UdsNumberForm form) {
@@ -252,7 +248,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   const Record header = record_at(0, "the file header");
   const std::string filever = ReadString(header, file_header::kFilever);
   if (filever != "UDS-1992")
-    throw InputError(file + ": FILEVER is " + Quoted(filever) + ", not \"UDS-1992\" (not a UDS-1992 file).");
+    throw InputError(file + ": FILEVER is " + util::QuotedLong(filever) +
+                     ", not \"UDS-1992\" (not a UDS-1992 file).");
   const std::string numform = ReadString(header, file_header::kNumform);
   if (numform == "IEEE") {
     channel.number_form = UdsNumberForm::kIeee;
@@ -261,7 +258,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   } else if (numform == "SUN") {
     channel.number_form = UdsNumberForm::kSun;
   } else {
-    throw InputError(file + ": unknown NUMFORM " + Quoted(numform) + " (expected IEEE, VAX or SUN).");
+    throw InputError(file + ": unknown NUMFORM " + util::QuotedLong(numform) +
+                     " (expected IEEE, VAX or SUN).");
   }
   const UdsNumberForm form = channel.number_form;
   const std::int32_t nchan = ReadInt(header, file_header::kNchan, form);
@@ -274,7 +272,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
         "; the file holds one curve, read as its one channel (as NHTSA's reader does).");
   const std::string fileform = ReadString(header, file_header::kFileform);
   if (fileform != "Y")
-    throw InputError(file + ": FILEFORM is " + Quoted(fileform) +
+    throw InputError(file + ": FILEFORM is " + util::QuotedLong(fileform) +
                      "; napkin reads uniformly sampled \"Y\" channels (X-Y curves are not supported).");
   ReadTexts(header, kFileHeaderTexts, channel);
   channel.test_number = ReadInt(header, file_header::kTstno, form);
@@ -286,7 +284,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   const std::string record_header = ReadString(curve, kRecordHeader);
   if (record_header != "CURVE HDR")
     throw InputError(file + ": record " + std::to_string(index + 1) + " starts with " +
-                     Quoted(record_header) + " where the curve header (\"CURVE HDR\") belongs.");
+                     util::QuotedLong(record_header) + " where the curve header (\"CURVE HDR\") belongs.");
   ReadTexts(curve, kCurveHeaderTexts, channel);
   const std::int32_t nfp = ReadInt(curve, curve_header::kNfp, form);
   const std::int32_t nlp = ReadInt(curve, curve_header::kNlp, form);
@@ -296,7 +294,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   double del = 0.0;
   if (!ReadReal(curve, curve_header::kDel, form, del) || !std::isfinite(del) || !(del > 0.0))
     throw InputError(file + ": DEL (the sampling interval) is not a finite positive number.");
-  del = IntendedDecimal(del);
+  del = IntendedDecimalOfSingle(del);
   const std::string xunits = util::ToUpper(channel.xunits);
   if (xunits.find("MILLI") != std::string::npos || xunits == "MSEC" || xunits == "MS") del *= 1e-3;
   channel.del_s = del;
@@ -308,7 +306,8 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
        {std::pair<std::size_t, double*>{curve_header::kPref, &channel.prefilter_hz},
         {curve_header::kFcut, &channel.filter_cutoff_hz}}) {
     double hz = 0.0;
-    if (ReadReal(curve, offset, form, hz) && std::isfinite(hz) && hz > 0.0) *field = IntendedDecimal(hz);
+    if (ReadReal(curve, offset, form, hz) && std::isfinite(hz) && hz > 0.0)
+      *field = IntendedDecimalOfSingle(hz);
   }
   if (channel.filter_cutoff_hz > 0.0 && !engine::J211ClassOfCutoff(channel.filter_cutoff_hz))
     channel.warnings.push_back(
@@ -344,7 +343,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
     const Record record = data_record(r);
     const std::string data_header = ReadString(record, kRecordHeader);
     if (data_header != "Y DATA")
-      throw InputError(file + ": " + what + " starts with " + Quoted(data_header) +
+      throw InputError(file + ": " + what + " starts with " + util::QuotedLong(data_header) +
                        " instead of \"Y DATA\".");
     const std::size_t first = r * kUdsValuesPerRecord;
     const std::size_t last = std::min(count, first + kUdsValuesPerRecord);
@@ -376,7 +375,7 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
   WriteString(header, file_header::kNumform, UdsNumberFormName(form));
   WriteString(header, file_header::kTstsrc, "NAPKIN");
   WriteWord(header, file_header::kTstno, static_cast<std::uint32_t>(channel.test_number), form);
-  for (const Field field : file_header::kOtherStrings) WriteString(header, field, "");
+  for (const HeaderField field : file_header::kOtherStrings) WriteString(header, field, "");
   if (!channel.test_source.empty()) WriteString(header, file_header::kTstsrc, channel.test_source);
   WriteTexts(header, kFileHeaderTexts, channel);
 
@@ -388,7 +387,7 @@ void WriteUds1992(const UdsChannel& channel, const std::filesystem::path& path) 
   WriteTexts(curve, kCurveHeaderTexts, channel);
   WriteString(curve, curve_header::kStatus, "");
   WriteString(curve, curve_header::kCurtyp, "TIME SERIES");
-  for (const Field field : curve_header::kOtherStrings) WriteString(curve, field, "");
+  for (const HeaderField field : curve_header::kOtherStrings) WriteString(curve, field, "");
   WriteWord(curve, curve_header::kNfp, static_cast<std::uint32_t>(channel.nfp), form);
   WriteWord(curve, curve_header::kNlp, static_cast<std::uint32_t>(channel.nlp()), form);
   if (!WriteReal(curve, curve_header::kDel, channel.del_s, form) ||
@@ -474,8 +473,9 @@ std::vector<std::size_t> TableTwoOneAssignment(const engine::ArrayGeometry& arra
   for (const engine::Sensor& sensor : array.sensors) {
     const auto slot = std::find(std::begin(engine::kNapSlots), std::end(engine::kNapSlots), sensor.slot);
     if (slot == std::end(engine::kNapSlots))
-      throw InputError("test " + test_name + ": slot " + Quoted(sensor.slot) + " of array " +
-                       Quoted(array.name) + " is not one of the nine Table 2-1 slots; give a channel map.");
+      throw InputError("test " + test_name + ": slot " + util::QuotedLong(sensor.slot) + " of array " +
+                       util::QuotedLong(array.name) +
+                       " is not one of the nine Table 2-1 slots; give a channel map.");
     channel_of_sensor.push_back(static_cast<std::size_t>(slot - std::begin(engine::kNapSlots)));
   }
   return channel_of_sensor;

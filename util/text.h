@@ -46,6 +46,11 @@ bool HasControlCharacter(std::string_view text);
 inline constexpr std::size_t kQuotedInputChars = 60;       // a cell, a value
 inline constexpr std::size_t kQuotedInputLongChars = 200;  // a header field, a path
 std::string Abbreviated(std::string_view text, std::size_t max_chars = kQuotedInputChars);
+// The same in double quotes: a cell or value (Quoted), a header field or path (QuotedLong).
+inline std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text) + "\""; }
+inline std::string QuotedLong(std::string_view text) {
+  return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\"";
+}
 
 // Longest name napkin accepts for a test id, series, variant, array, slot,
 // channel map or processing config (bytes of UTF-8).

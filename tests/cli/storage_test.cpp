@@ -28,7 +28,7 @@ using test_support::RunNapkin;
 using test_support::WriteText;
 using CliResult = test_support::CommandResult;
 
-constexpr int kTests = 3;
+constexpr int kStorageTests = 3;
 
 // Every file of `folder` (name -> bytes).
 std::map<std::string, std::string> FolderFiles(const fs::path& folder) {
@@ -81,7 +81,7 @@ class StorageCliTest : public ::testing::Test {
   void SetUp() override {
     ASSERT_EQ(RunNapkin(dir_.path(), {"init"}).exit_code, 0);
     const CliResult synth = RunNapkin(dir_.path(), {"synth", "--scenario", "random", "--count",
-                                                    std::to_string(kTests), "--samples", "1500"});
+                                                    std::to_string(kStorageTests), "--samples", "1500"});
     ASSERT_EQ(synth.exit_code, 0) << synth.err;
     for (const char* storage : {"float64", "float32", "none"}) {
       WriteText(dir_ / (std::string(storage) + ".json"), std::string(R"({"name": ")") + storage +
@@ -115,7 +115,7 @@ class StorageCliTest : public ::testing::Test {
 
 TEST_F(StorageCliTest, NoneStoresNothingAndItsExportEqualsTheFloat64ExportByteForByte) {
   const std::vector<std::string> ids = TestIds();
-  ASSERT_EQ(ids.size(), static_cast<std::size_t>(kTests));
+  ASSERT_EQ(ids.size(), static_cast<std::size_t>(kStorageTests));
   {
     db::Catalogue catalogue = test_support::OpenForReading(dir_ / "napkin.db");
     const auto none = catalogue.FindConfigByHash(Resolve("none").record.config_hash);
@@ -127,7 +127,7 @@ TEST_F(StorageCliTest, NoneStoresNothingAndItsExportEqualsTheFloat64ExportByteFo
       EXPECT_TRUE(catalogue.ReadKinematics(test.id, *float64).has_value()) << test.external_id;
     }
     // Three configs, derived channels for two of them.
-    EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("derived_channels"), 2 * kTests * 36);
+    EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("derived_channels"), 2 * kStorageTests * 36);
   }
   for (const std::string& id : ids) {
     for (const char* storage : {"float64", "none"}) {
@@ -201,7 +201,7 @@ TEST_F(StorageCliTest, ReportRecomputesTheKinematicsOfANoneResult) {
   // The latest result of every test is the "none" run's (SetUp runs it last).
   const CliResult report = RunNapkin(dir_.path(), {"report", "--out", "report.html"});
   ASSERT_EQ(report.exit_code, 0) << report.err;
-  EXPECT_NE(report.out.find(std::to_string(kTests) + " tests"), std::string::npos) << report.out;
+  EXPECT_NE(report.out.find(std::to_string(kStorageTests) + " tests"), std::string::npos) << report.out;
   EXPECT_TRUE(fs::exists(dir_ / "report.html"));
 }
 

@@ -196,7 +196,7 @@ TEST_F(WhereLimits, RandomExpressionsWithinTheLimitsRun) {
 }
 
 // The one-line message of `text` as --where of query hic ("" when it parses).
-std::string ErrorOf(const std::string& text) {
+std::string HicWhereError(const std::string& text) {
   try {
     ParseWhereExpression(text, db::QueryFields(db::QueryKind::kHic));
   } catch (const UsageError& error) {
@@ -207,17 +207,18 @@ std::string ErrorOf(const std::string& text) {
 
 TEST(WhereLimitsParser, DeeperOrLongerExpressionsAreRefusedInOneSentence) {
   const int limit = db::kMaxWhereNesting;
-  EXPECT_EQ(ErrorOf(std::string(limit, '(') + "hic15 > 1" + std::string(limit, ')')), "");
-  const std::string deeper = ErrorOf(std::string(limit + 1, '(') + "hic15 > 1" + std::string(limit + 1, ')'));
+  EXPECT_EQ(HicWhereError(std::string(limit, '(') + "hic15 > 1" + std::string(limit, ')')), "");
+  const std::string deeper =
+      HicWhereError(std::string(limit + 1, '(') + "hic15 > 1" + std::string(limit + 1, ')'));
   EXPECT_NE(deeper.find("the '(' at column " + std::to_string(limit + 1) + " nests parentheses deeper than " +
                         std::to_string(limit) + " levels"),
             std::string::npos)
       << deeper;
 
   std::vector<std::string> terms(db::kMaxWhereComparisons, "hic15 > 1");
-  EXPECT_EQ(ErrorOf(Joined(terms, "or")), "");
+  EXPECT_EQ(HicWhereError(Joined(terms, "or")), "");
   terms.push_back("hic15 > 1");
-  const std::string longer = ErrorOf(Joined(terms, "or"));
+  const std::string longer = HicWhereError(Joined(terms, "or"));
   EXPECT_NE(longer.find("is one more than the " + std::to_string(db::kMaxWhereComparisons) +
                         " an expression may hold"),
             std::string::npos)

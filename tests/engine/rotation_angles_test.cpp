@@ -19,22 +19,12 @@
 
 #include "engine/rotation.h"
 #include "engine/units.h"
+#include "tests/support/ulp_distance.h"
 
 namespace napkin::engine {
 namespace {
 
-// Distance in units in the last place between two doubles (0 for -0 and +0;
-// NaN only matches NaN).
-std::uint64_t UlpDistance(double a, double b) {
-  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b) ? 0 : UINT64_MAX;
-  auto ordered = [](double x) {
-    const auto bits = std::bit_cast<std::int64_t>(x);
-    return bits < 0 ? std::numeric_limits<std::int64_t>::min() - bits : bits;
-  };
-  const std::int64_t oa = ordered(a), ob = ordered(b);
-  return oa > ob ? static_cast<std::uint64_t>(oa) - static_cast<std::uint64_t>(ob)
-                 : static_cast<std::uint64_t>(ob) - static_cast<std::uint64_t>(oa);
-}
+using test_support::UlpDistance;
 
 Eigen::Quaterniond Quaternion(const Eigen::Matrix3d& r) { return Eigen::Quaterniond(r).normalized(); }
 

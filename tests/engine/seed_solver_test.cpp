@@ -26,6 +26,7 @@
 #include "engine/units.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
+#include "tests/support/ulp_distance.h"
 
 namespace napkin::engine {
 namespace {
@@ -117,22 +118,7 @@ InitialState InitialOf(const LcCompInput& input) {
   return initial;
 }
 
-// Distance in units in the last place between two floats / doubles.
-int64_t UlpDistance(float a, float b) {
-  const auto key = [](float x) {
-    const int32_t bits = std::bit_cast<int32_t>(x);
-    return bits < 0 ? static_cast<int64_t>(INT32_MIN) - bits : static_cast<int64_t>(bits);
-  };
-  return std::llabs(key(a) - key(b));
-}
-int64_t UlpDistance(double a, double b) {
-  const auto key = [](double x) {
-    const int64_t bits = std::bit_cast<int64_t>(x);
-    return bits < 0 ? INT64_MIN - bits : bits;
-  };
-  const int64_t ka = key(a), kb = key(b);
-  return ka > kb ? ka - kb : kb - ka;
-}
+using test_support::UlpDistance;
 
 // The trace value the reference writes in output column `column`.
 float TraceReal4(const ListingTrace& trace, Eigen::Index k, int column) {
@@ -173,7 +159,7 @@ void PrintTo(const GoldenCase& golden, std::ostream* os) { *os << golden.input <
 // performs the listing's REAL*4/DOUBLE operations in the listing's order, so
 // the allowed difference is 0 ULP: any difference is an order-of-operations
 // (or type) mismatch, not rounding noise.
-constexpr int64_t kMaxUlp = 0;
+constexpr std::uint64_t kMaxUlp = 0;
 
 class SeedGoldenTest : public ::testing::TestWithParam<GoldenCase> {};
 
@@ -187,16 +173,16 @@ TEST_P(SeedGoldenTest, EveryColumnMatchesLcCompBitForBit) {
   const ListingTrace trace = RunListing(golden.array(), SignalsOf(input), InitialOf(input));
   ASSERT_EQ(trace.time.size(), static_cast<Eigen::Index>(expected.size()));
 
-  std::array<int64_t, 31> max_ulp{};
+  std::array<std::uint64_t, 31> max_ulp{};
   std::array<Eigen::Index, 31> worst_row{};
   for (std::size_t k = 0; k < expected.size(); ++k) {
     const auto row = static_cast<Eigen::Index>(k);
     for (int c = 0; c < 22; ++c) {
-      const int64_t ulp = UlpDistance(TraceReal4(trace, row, c), expected[k].real4[c]);
+      const std::uint64_t ulp = UlpDistance(TraceReal4(trace, row, c), expected[k].real4[c]);
       if (ulp > max_ulp[c]) max_ulp[c] = ulp, worst_row[c] = row;
     }
     for (int e = 0; e < 9; ++e) {
-      const int64_t ulp = UlpDistance(trace.t_rowmajor(row, e), expected[k].t[e]);
+      const std::uint64_t ulp = UlpDistance(trace.t_rowmajor(row, e), expected[k].t[e]);
       if (ulp > max_ulp[22 + e]) max_ulp[22 + e] = ulp, worst_row[22 + e] = row;
     }
   }

@@ -38,7 +38,7 @@ using test_support::TempDir;
 using test_support::WriteBytes;
 using ::testing::HasSubstr;
 
-const std::string kHeader = "time_s,cg_x,cg_y,cg_z,ars_x,ars_y,ars_z";
+const std::string kSixSlotCsvHeader = "time_s,cg_x,cg_y,cg_z,ars_x,ars_y,ars_z";
 
 std::string GoodRows() { return "0,1,2,3,4,5,6\n0.001,1,2,3,4,5,6\n0.002,1,2,3,4,5,6\n"; }
 
@@ -115,7 +115,7 @@ TEST(RegularFilesOnly, FifoNamedCsvIsRefusedWithoutBlocking) {
   const fs::path fifo = dir / "pipe.csv";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
-  FifoWriter writer(fifo, kHeader + "\n" + GoodRows());
+  FifoWriter writer(fifo, kSixSlotCsvHeader + "\n" + GoodRows());
   ExpectInputError([&] { ReadSignalsCsv(fifo, &array); }, {fifo.string(), "FIFO", "not a regular file"});
 }
 
@@ -163,7 +163,7 @@ TEST(CsvLimits, AMillionExtraColumnsGiveOneLineNotAMillion) {
   TempDir dir;
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   // 10^4 extra columns (a 100 KB header): one warning with the count.
-  std::string header = kHeader;
+  std::string header = kSixSlotCsvHeader;
   for (int i = 0; i < 10'000; ++i) header += ",x" + std::to_string(i);
   std::string rows;
   for (int k = 0; k < 3; ++k) {
@@ -179,7 +179,7 @@ TEST(CsvLimits, AMillionExtraColumnsGiveOneLineNotAMillion) {
   EXPECT_LT(read.warnings[0].size(), 300u);
 
   // 10^6 extra columns: the header line is beyond the line ceiling, one error.
-  header = kHeader;
+  header = kSixSlotCsvHeader;
   for (int i = 0; i < 1'000'000; ++i) header += ",x" + std::to_string(i);
   WriteBytes(dir / "wider.csv", header + "\n" + GoodRows());
   try {
@@ -196,7 +196,7 @@ TEST(CsvLimits, AHugeBadCellIsQuotedCutTo60Characters) {
   TempDir dir;
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
   const std::string cell(100'000, 'q');
-  WriteBytes(dir / "cell.csv", kHeader + "\n0,1,2,3,4,5,6\n0.001,1," + cell + ",3,4,5,6\n");
+  WriteBytes(dir / "cell.csv", kSixSlotCsvHeader + "\n0,1,2,3,4,5,6\n0.001,1," + cell + ",3,4,5,6\n");
   try {
     ReadSignalsCsv(dir / "cell.csv", &array);
     ADD_FAILURE() << "a non-numeric cell must be refused";
@@ -211,7 +211,7 @@ TEST(CsvLimits, AHugeBadCellIsQuotedCutTo60Characters) {
 TEST(CsvLimits, ControlCharactersInACellAreEscapedInTheMessage) {
   TempDir dir;
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
-  WriteBytes(dir / "esc.csv", kHeader + "\n0,1,2,3,4,5,6\n0.001,1,\x1b]0;pwned\x07,3,4,5,6\n");
+  WriteBytes(dir / "esc.csv", kSixSlotCsvHeader + "\n0,1,2,3,4,5,6\n0.001,1,\x1b]0;pwned\x07,3,4,5,6\n");
   try {
     ReadSignalsCsv(dir / "esc.csv", &array);
     ADD_FAILURE() << "a non-numeric cell must be refused";
@@ -226,7 +226,7 @@ TEST(CsvLimits, ControlCharactersInACellAreEscapedInTheMessage) {
 TEST(CsvLimits, AnOverflowingTimeSpanIsNotAFinitePositiveInterval) {
   TempDir dir;
   const engine::ArrayGeometry array = test_support::SixAOmegaCg();
-  WriteBytes(dir / "span.csv", kHeader + "\n-1.7e308,1,2,3,4,5,6\n1.7e308,1,2,3,4,5,6\n");
+  WriteBytes(dir / "span.csv", kSixSlotCsvHeader + "\n-1.7e308,1,2,3,4,5,6\n1.7e308,1,2,3,4,5,6\n");
   ExpectInputError([&] { ReadSignalsCsv(dir / "span.csv", &array); },
                    {"span.csv", "sampling interval inf s is not a finite positive number"});
 }

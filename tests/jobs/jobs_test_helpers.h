@@ -1,10 +1,13 @@
 #pragma once
 // Shared pieces of the scheduler tests: catalogues of synthetic tests and the
 // processing setup of a run.
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <string>
 
 #include "db/catalogue.h"
+#include "engine/kinematics.h"
 #include "formats/array_json.h"
 #include "ingest/store.h"
 #include "jobs/scheduler.h"
@@ -51,6 +54,26 @@ inline void AddRandomTests(const std::string& path, int count, int samples = 100
     options.duration_s = (samples - 1) / options.synth.rate_hz;
     StoreTest(catalogue, synth::SynthRandomMotion(array, options), TestName(i));
   }
+}
+
+// Every series of the kinematics, by name: compared with ==, i.e. bit for bit
+// (no NaN is stored in a derived channel of these tests).
+inline void ExpectSameKinematics(const engine::Kinematics& stored, const engine::Kinematics& computed,
+                                 const std::string& test) {
+  ASSERT_GT(stored.time_s.size(), 0) << test;
+  EXPECT_EQ(stored.time_s, computed.time_s) << test;
+  EXPECT_EQ(stored.omega_body, computed.omega_body) << test;
+  EXPECT_EQ(stored.alpha_body, computed.alpha_body) << test;
+  EXPECT_EQ(stored.omega_fixed, computed.omega_fixed) << test;
+  EXPECT_EQ(stored.alpha_fixed, computed.alpha_fixed) << test;
+  EXPECT_EQ(stored.acc_body, computed.acc_body) << test;
+  EXPECT_EQ(stored.acc_fixed, computed.acc_fixed) << test;
+  EXPECT_EQ(stored.vel_fixed, computed.vel_fixed) << test;
+  EXPECT_EQ(stored.pos_fixed, computed.pos_fixed) << test;
+  EXPECT_EQ(stored.quat_fixed_from_body, computed.quat_fixed_from_body) << test;
+  EXPECT_EQ(stored.roll_pitch_yaw_rad, computed.roll_pitch_yaw_rad) << test;
+  EXPECT_EQ(stored.dcos_rad, computed.dcos_rad) << test;
+  EXPECT_EQ(stored.residual, computed.residual) << test;
 }
 
 }  // namespace napkin::test_support

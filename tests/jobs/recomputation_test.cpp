@@ -17,25 +17,7 @@
 namespace napkin::jobs {
 namespace {
 
-// Every series of the kinematics, by name: compared with ==, i.e. bit for bit
-// (no NaN is stored in a derived channel of these tests).
-void ExpectSameKinematics(const engine::Kinematics& stored, const engine::Kinematics& recomputed,
-                          const std::string& test) {
-  ASSERT_GT(stored.time_s.size(), 0) << test;
-  EXPECT_EQ(stored.time_s, recomputed.time_s) << test;
-  EXPECT_EQ(stored.omega_body, recomputed.omega_body) << test;
-  EXPECT_EQ(stored.alpha_body, recomputed.alpha_body) << test;
-  EXPECT_EQ(stored.omega_fixed, recomputed.omega_fixed) << test;
-  EXPECT_EQ(stored.alpha_fixed, recomputed.alpha_fixed) << test;
-  EXPECT_EQ(stored.acc_body, recomputed.acc_body) << test;
-  EXPECT_EQ(stored.acc_fixed, recomputed.acc_fixed) << test;
-  EXPECT_EQ(stored.vel_fixed, recomputed.vel_fixed) << test;
-  EXPECT_EQ(stored.pos_fixed, recomputed.pos_fixed) << test;
-  EXPECT_EQ(stored.quat_fixed_from_body, recomputed.quat_fixed_from_body) << test;
-  EXPECT_EQ(stored.roll_pitch_yaw_rad, recomputed.roll_pitch_yaw_rad) << test;
-  EXPECT_EQ(stored.dcos_rad, recomputed.dcos_rad) << test;
-  EXPECT_EQ(stored.residual, recomputed.residual) << test;
-}
+using test_support::ExpectSameKinematics;
 
 // A config away from the defaults in fields whose decimal form does not
 // round-trip by accident (a value lost or rounded by the stored JSON would

@@ -25,23 +25,7 @@ using test_support::AddRandomTests;
 using test_support::Processing;
 using test_support::TestName;
 
-void ExpectSameKinematics(const engine::Kinematics& stored, const engine::Kinematics& computed,
-                          const std::string& test) {
-  // Bit-for-bit: the scheduler runs the same code on the same bytes.
-  EXPECT_EQ(stored.time_s, computed.time_s) << test;
-  EXPECT_EQ(stored.omega_body, computed.omega_body) << test;
-  EXPECT_EQ(stored.alpha_body, computed.alpha_body) << test;
-  EXPECT_EQ(stored.omega_fixed, computed.omega_fixed) << test;
-  EXPECT_EQ(stored.alpha_fixed, computed.alpha_fixed) << test;
-  EXPECT_EQ(stored.acc_body, computed.acc_body) << test;
-  EXPECT_EQ(stored.acc_fixed, computed.acc_fixed) << test;
-  EXPECT_EQ(stored.vel_fixed, computed.vel_fixed) << test;
-  EXPECT_EQ(stored.pos_fixed, computed.pos_fixed) << test;
-  EXPECT_EQ(stored.quat_fixed_from_body, computed.quat_fixed_from_body) << test;
-  EXPECT_EQ(stored.roll_pitch_yaw_rad, computed.roll_pitch_yaw_rad) << test;
-  EXPECT_EQ(stored.dcos_rad, computed.dcos_rad) << test;
-  EXPECT_EQ(stored.residual, computed.residual) << test;
-}
+using test_support::ExpectSameKinematics;
 
 class SchedulerTest : public ::testing::Test {
  protected:
