@@ -26,7 +26,7 @@ TEST(NcapHic15Ais3Risk, IsTheLognormalOfTheNcapNotice) {
   // At the FMVSS 208 limit HIC15 = 700: Phi((ln 700 - 7.45231) / 0.73998)
   // = Phi(-1.217908...) = 0.1116 (11 %).
   EXPECT_NEAR(NcapHic15Ais3Risk(700.0),
-              0.5 * std::erfc(((std::log(700.0) - 7.45231) / 0.73998) / std::sqrt(2.0)), 1e-15);
+              0.5 * std::erfc(-((std::log(700.0) - 7.45231) / 0.73998) / std::sqrt(2.0)), 1e-15);
   EXPECT_NEAR(NcapHic15Ais3Risk(700.0), 0.1116, 5e-5);
 }
 
