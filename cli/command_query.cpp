@@ -20,7 +20,8 @@ const std::map<std::string, db::QueryKind>& Kinds() {
   static const std::map<std::string, db::QueryKind> kinds = {
       {"tests", db::QueryKind::kTests},       {"hic", db::QueryKind::kHic},
       {"rotation", db::QueryKind::kRotation}, {"criteria", db::QueryKind::kCriteria},
-      {"quality", db::QueryKind::kQuality},   {"conditioning", db::QueryKind::kConditioning}};
+      {"quality", db::QueryKind::kQuality},   {"conditioning", db::QueryKind::kConditioning},
+      {"risk", db::QueryKind::kRisk}};
   return kinds;
 }
 
@@ -29,10 +30,10 @@ class QueryCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, quality or conditioning")
+    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality or conditioning")
         ->required()
         ->check(OneOfCheck("the query KIND",
-                           {"tests", "hic", "rotation", "criteria", "quality", "conditioning"}));
+                           {"tests", "hic", "rotation", "criteria", "risk", "quality", "conditioning"}));
     filters_.Register(*sub);
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))

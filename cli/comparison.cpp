@@ -80,7 +80,11 @@ engine::MeanDifference PairedDifference(const GroupValues& group, const GroupVal
   }
   row.pairs = differences.size();
   row.baseline_mean = engine::Describe(baseline_values).mean;
-  return engine::PairedComparison(differences, row.baseline_mean);
+  const engine::MeanDifference difference = engine::PairedComparison(differences, row.baseline_mean);
+  if (std::isfinite(difference.diff))
+    row.n_for_80pct_power = engine::WholeRepeatsForPower(
+        engine::PairedPowerModel(difference.diff, engine::Describe(differences).sd));
+  return difference;
 }
 
 engine::MeanDifference NoDifference() {
@@ -89,6 +93,16 @@ engine::MeanDifference NoDifference() {
 }
 
 // ---------------------------------------------------------------- the table
+
+// n_for_80pct_power as an integer cell, or NULL.
+db::Cell PowerCell(double n) {
+  if (!std::isfinite(n)) return std::monostate{};
+  return static_cast<std::int64_t>(n);
+}
+
+std::string PowerText(double n) {
+  return std::isfinite(n) ? fmt::format("{}", static_cast<long long>(n)) : "-";
+}
 
 std::string Number(double value) { return std::isfinite(value) ? fmt::format("{:.6g}", value) : "-"; }
 
@@ -128,15 +142,20 @@ std::string HumanComparison(const Comparison& comparison) {
                       "(Welch's t), two-sided p\n"
                     : "mean of the per-test differences in % of the baseline's mean over the same tests, "
                       "[95 % confidence interval] (paired t), two-sided p\n";
+  out += by_variant ? "n80: tests per variant that would detect the observed difference with 80 % power "
+                      "(two-sided t, alpha 0.05)\n"
+                    : "n80: tests that would detect the observed mean difference with 80 % power "
+                      "(two-sided paired t, alpha 0.05)\n";
   bool small_group = false;
   for (const MetricComparison& metric : comparison.metrics) {
     std::vector<std::vector<std::string>> cells;
-    cells.push_back({by_variant ? "variant" : "config", "n", "mean", "sd", "median", "min", "max",
+    cells.push_back({by_variant ? "variant" : "config", "n", "mean", "sd", "median", "min", "max", "n80",
                      "vs " + util::EscapeControl(comparison.baseline)});
     for (const ComparisonRow& row : metric.rows) {
       const engine::Description& d = row.description;
       cells.push_back({util::EscapeControl(row.group), std::to_string(d.n), Number(d.mean), Number(d.sd),
-                       Number(d.median), Number(d.min), Number(d.max), DifferenceText(row, comparison.by)});
+                       Number(d.median), Number(d.min), Number(d.max), PowerText(row.n_for_80pct_power),
+                       DifferenceText(row, comparison.by)});
       if (!row.is_baseline && !std::isfinite(row.difference.diff)) small_group = true;
     }
     std::vector<std::size_t> width(cells.front().size(), 0);
@@ -175,8 +194,9 @@ CompareBy ParseCompareBy(const std::string& text) {
 
 std::vector<std::string> DefaultComparisonMetrics() {
   std::vector<std::string> metrics;
-  for (const char* name : {"hic15", "hic36", "hic_d", "peak_acc_g", "a3ms_g", "peak_omega_radps",
-                           "peak_alpha_radps2", "bric", "damage", "max_rotation_deg"})
+  for (const char* name :
+       {"hic15", "hic36", "hic_d", "peak_acc_g", "a3ms_g", "peak_omega_radps", "peak_alpha_radps2", "bric",
+        "damage", "max_rotation_deg", "hic15_p_ais3", "bric_p_ais3", "bric_p_ais4"})
     if (FindField(name) != nullptr) metrics.emplace_back(name);
   return metrics;
 }
@@ -280,6 +300,9 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
       } else if (request.by == CompareBy::kVariant) {
         row.difference = engine::WelchComparison(values.values, baseline.values);
         row.baseline_mean = metric.rows.front().description.mean;
+        if (std::isfinite(row.difference.diff))
+          row.n_for_80pct_power = engine::WholeRepeatsForPower(engine::WelchPowerModel(
+              row.difference.diff, row.description.sd, metric.rows.front().description.sd));
       } else {
         row.difference = PairedDifference(values, baseline, row);
       }
@@ -291,14 +314,16 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
 
 db::Table ComparisonTable(const Comparison& comparison) {
   db::Table table;
-  table.columns = {"metric", "group",    "n",    "mean",     "sd",     "median",  "min",
-                   "max",    "baseline", "diff", "diff_pct", "ci_low", "ci_high", "p_value"};
+  table.columns = {"metric",   "group",  "n",       "mean",     "sd",
+                   "median",   "min",    "max",     "baseline", "diff",
+                   "diff_pct", "ci_low", "ci_high", "p_value",  "n_for_80pct_power"};
   for (const MetricComparison& metric : comparison.metrics) {
     for (const ComparisonRow& row : metric.rows) {
       const engine::Description& d = row.description;
       const engine::MeanDifference& m = row.difference;
       table.rows.push_back({row.metric, row.group, static_cast<std::int64_t>(d.n), d.mean, d.sd, d.median,
-                            d.min, d.max, row.baseline, m.diff, m.diff_pct, m.ci_low, m.ci_high, m.p_value});
+                            d.min, d.max, row.baseline, m.diff, m.diff_pct, m.ci_low, m.ci_high, m.p_value,
+                            PowerCell(row.n_for_80pct_power)});
     }
   }
   return table;

@@ -7,6 +7,7 @@
 // Groups are the series' variants (Welch's t against the baseline variant) or
 // the processing configs its tests were run under (paired t over the tests
 // that have results under both the config and the baseline config).
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,7 +40,7 @@ struct ComparisonRequest {
 
 // The metrics `napkin compare` shows by default: hic15, hic36, hic_d (when
 // this build has it), peak_acc_g, a3ms_g, peak_omega_radps, peak_alpha_radps2,
-// bric, damage, max_rotation_deg.
+// bric, damage, max_rotation_deg, hic15_p_ais3, bric_p_ais3, bric_p_ais4.
 std::vector<std::string> DefaultComparisonMetrics();
 
 // A group's values of one metric, one per test with a result (tests whose
@@ -67,6 +68,12 @@ struct ComparisonRow {
   double baseline_mean = 0.0;
   // By config: the number of tests paired with the baseline; by variant 0.
   std::size_t pairs = 0;
+  // Repeats per group that would detect the observed difference with 80 %
+  // power at two-sided alpha 0.05 (engine::WholeRepeatsForPower: Welch by
+  // variant, paired by config; docs/algorithms.md "Planning a series"); NaN
+  // on the baseline's row, where the difference is undefined or 0, and where
+  // both spreads are 0.
+  double n_for_80pct_power = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct MetricComparison {

@@ -84,9 +84,9 @@ struct RawChannelInfo {
 };
 
 // `napkin query` tables, read from the views v_tests, v_hic, v_rotation,
-// v_criteria and v_quality; column names are the query contract.
+// v_criteria, v_risk and v_quality; column names are the query contract.
 // v_conditioning (kConditioning: what conditioning did to each channel).
-enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning };
+enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning, kRisk };
 using Cell = std::variant<std::monostate, std::int64_t, double, std::string>;  // monostate: NULL
 struct Table {
   std::vector<std::string> columns;

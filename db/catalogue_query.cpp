@@ -27,6 +27,8 @@ const char* KindName(QueryKind kind) {
       return "hic";
     case QueryKind::kRotation:
       return "rotation";
+    case QueryKind::kRisk:
+      return "risk";
     case QueryKind::kCriteria:
       return "criteria";
     case QueryKind::kQuality:
@@ -44,6 +46,8 @@ std::vector<const engine::SummaryField*> KindSummaryFields(QueryKind kind) {
       return engine::SummaryFieldsOf({SummaryGroup::kHic});
     case QueryKind::kRotation:
       return engine::SummaryFieldsOf({SummaryGroup::kRotation});
+    case QueryKind::kRisk:
+      return engine::SummaryFieldsOf({SummaryGroup::kRisk});
     case QueryKind::kCriteria:
       return engine::SummaryFieldsOf({SummaryGroup::kHic, SummaryGroup::kRotation});
     default:
@@ -171,6 +175,8 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
         return "v_hic";
       case QueryKind::kRotation:
         return "v_rotation";
+      case QueryKind::kRisk:
+        return "v_risk";
       case QueryKind::kCriteria:
         return "v_criteria";
       case QueryKind::kQuality:

@@ -2,8 +2,37 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
+
+#include "engine/injury_risk.h"
 
 namespace napkin::db {
+namespace {
+
+// napkin_injury_risk(field, criterion): the risk of the curve whose summary
+// field is `field` (engine/injury_risk.h) at `criterion`; NULL for a NULL
+// criterion or an unknown field. Migrations call it to give results computed
+// before a curve existed the risk their stored criterion stands for, by the
+// engine's own function (schema/008_injury_risk.sql).
+void InjuryRiskFunction(sqlite3_context* context, int, sqlite3_value** arguments) {
+  const unsigned char* field = sqlite3_value_text(arguments[0]);
+  const engine::InjuryRiskCurve* curve =
+      field == nullptr ? nullptr : engine::FindInjuryRiskCurve(reinterpret_cast<const char*>(field));
+  if (curve == nullptr || sqlite3_value_type(arguments[1]) == SQLITE_NULL) {
+    sqlite3_result_null(context);
+    return;
+  }
+  sqlite3_result_double(context, curve->risk(sqlite3_value_double(arguments[1])));
+}
+
+void RegisterMigrationFunctions(Connection& connection) {
+  if (sqlite3_create_function_v2(connection.handle(), "napkin_injury_risk", 2,
+                                 SQLITE_UTF8 | SQLITE_DETERMINISTIC | SQLITE_DIRECTONLY, nullptr,
+                                 InjuryRiskFunction, nullptr, nullptr, nullptr) != SQLITE_OK)
+    throw DatabaseError("cannot register the SQL function napkin_injury_risk.", SQLITE_ERROR);
+}
+
+}  // namespace
 
 void CheckMigrationList(std::span<const schema::Migration> migrations) {
   for (std::size_t i = 0; i < migrations.size(); ++i)
@@ -17,6 +46,7 @@ int ApplyMigrations(Connection& connection, std::span<const schema::Migration> m
   CheckMigrationList(migrations);
   int version = static_cast<int>(connection.PragmaInt("user_version"));
   if (version >= static_cast<int>(migrations.size())) return version;
+  RegisterMigrationFunctions(connection);
 
   // Foreign-key enforcement is switched off while migrating (it cannot change
   // inside a transaction) so a migration may rebuild a table the SQLite way

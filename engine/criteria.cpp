@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "engine/injury_risk.h"
 #include "engine/units.h"
 
 namespace napkin::engine {
@@ -558,6 +559,7 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
   summary.bric = rotation ? Bric(kinematics.omega_body, config.bric.critical_radps) : kUndetermined;
   summary.damage = rotation ? Damage(kinematics.alpha_body, dt) : kUndetermined;
+  FillInjuryRisks(summary);
 }
 
 }  // namespace napkin::engine

@@ -120,7 +120,8 @@ double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, c
 
 // ---------------------------------------------------------------------------
 // Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), hic_d, a3ms_g (config.a3ms),
-// bric (omega_body, config.bric) and damage (alpha_body) of `summary`. The
+// bric (omega_body, config.bric), damage (alpha_body) and the injury risks
+// (engine/injury_risk.h) of `summary`. The
 // time base must be uniform (dt: kinematics.dt_s, else from the first and
 // last samples; windows are found on sample indices, so a record starting
 // far from t = 0 gets the windows of one starting at 0); throws

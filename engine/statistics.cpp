@@ -1,8 +1,11 @@
 #include "engine/statistics.h"
 
 #include <algorithm>
+#include <boost/math/distributions/non_central_t.hpp>
 #include <boost/math/distributions/students_t.hpp>
+#include <boost/math/tools/roots.hpp>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -174,6 +177,51 @@ MeanDifference PairedComparison(std::span<const double> differences, double base
   result.df = n - 1.0;
   FillInterval(result);
   return result;
+}
+
+PowerModel WelchPowerModel(double diff, double sd_a, double sd_b) {
+  const double a2 = sd_a * sd_a, b2 = sd_b * sd_b;
+  const double variance = a2 + b2;
+  const double fourth_powers = a2 * a2 + b2 * b2;
+  return {diff, variance, fourth_powers > 0.0 ? variance * variance / fourth_powers : kNaN};
+}
+
+PowerModel PairedPowerModel(double diff, double sd_differences) {
+  return {diff, sd_differences * sd_differences, 1.0};
+}
+
+double TTestPower(const PowerModel& model, double n, double alpha) {
+  const double df = (n - 1.0) * model.df_per_repeat;
+  const double noncentrality = std::abs(model.diff) / std::sqrt(model.variance / n);
+  const double t_critical =
+      boost::math::quantile(boost::math::complement(boost::math::students_t(df), alpha / 2.0));
+  return boost::math::cdf(boost::math::complement(boost::math::non_central_t(df, noncentrality), t_critical));
+}
+
+double RepeatsForPower(const PowerModel& model, double power, double alpha) {
+  if (!std::isfinite(model.diff) || !std::isfinite(model.variance) || !std::isfinite(model.df_per_repeat) ||
+      model.diff == 0.0 || !(model.variance > 0.0))
+    return kNaN;
+  const auto shortfall = [&](double n) { return TTestPower(model, n, alpha) - power; };
+  double low = 2.0;  // the fewest tests with a standard deviation
+  if (shortfall(low) >= 0.0) return low;
+  // Power grows with n (the non-centrality as sqrt(n), the critical t falls):
+  // double the upper end until it is reached, then solve on the bracket.
+  double high = 4.0;
+  while (shortfall(high) < 0.0) {
+    low = high;
+    high *= 2.0;
+    if (high > 1e12) return kNaN;  // a difference too small against its scatter to plan for
+  }
+  std::uintmax_t iterations = 200;
+  const auto [left, right] = boost::math::tools::toms748_solve(
+      shortfall, low, high, boost::math::tools::eps_tolerance<double>(48), iterations);
+  return left + (right - left) / 2.0;
+}
+
+double WholeRepeatsForPower(const PowerModel& model) {
+  const double n = RepeatsForPower(model);
+  return std::isnan(n) ? n : std::max(2.0, std::ceil(n));
 }
 
 }  // namespace napkin::engine

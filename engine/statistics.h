@@ -1,7 +1,8 @@
 #pragma once
 // Descriptive statistics and two-sample comparisons of a metric across tests
 // (docs/algorithms.md "Comparing groups of tests"): what `napkin compare` and
-// `napkin report` print. The t distribution is Boost.Math's students_t.
+// `napkin report` print. The t distribution is Boost.Math's students_t, the
+// non-central t of the power computation its non_central_t.
 //
 // Undefined quantities are NaN (null in the CLI's JSON and CSV):
 //  * Describe: every field of an empty sample; sd of a sample of one.
@@ -51,5 +52,40 @@ MeanDifference WelchComparison(std::span<const double> sample, std::span<const d
 // Paired t on per-test differences d_i = x_i - baseline_i; `baseline_mean`
 // (the mean of the baseline values of the same pairs) scales diff_pct.
 MeanDifference PairedComparison(std::span<const double> differences, double baseline_mean);
+
+// Planning a series (docs/algorithms.md "Planning a series"): the power of
+// the two-sided t test at level alpha to detect a true difference `diff`
+// with n tests per group (fractional n allowed), where the standard error is
+// sqrt(variance / n) and the degrees of freedom (n - 1) df_per_repeat:
+//  * two groups (Welch), standard deviations a and b, n tests each:
+//    variance = a^2 + b^2, df_per_repeat = (a^2 + b^2)^2 / (a^4 + b^4)
+//    (Welch–Satterthwaite with equal n; 2 when a = b, the pooled t's 2n - 2);
+//  * paired, standard deviation d of the differences, n pairs:
+//    variance = d^2, df_per_repeat = 1.
+// As R's power.t.test (strict = FALSE), power = P(T' > t_{1 - alpha/2, df})
+// with T' non-central t (Boost.Math's non_central_t) of non-centrality
+// |diff| / sqrt(variance / n); the chance of rejecting in the wrong
+// direction is left out.
+struct PowerModel {
+  double diff = 0.0;
+  double variance = 0.0;
+  double df_per_repeat = 1.0;
+};
+PowerModel WelchPowerModel(double diff, double sd_a, double sd_b);
+PowerModel PairedPowerModel(double diff, double sd_differences);
+
+inline constexpr double kPlanningPower = 0.8;
+inline constexpr double kPlanningAlpha = 0.05;
+
+double TTestPower(const PowerModel& model, double n, double alpha = kPlanningAlpha);
+
+// The n (>= 2, fractional, as R's power.t.test reports it) at which
+// TTestPower reaches `power`; NaN where no n does: diff 0, variance 0, or
+// either not finite.
+double RepeatsForPower(const PowerModel& model, double power = kPlanningPower, double alpha = kPlanningAlpha);
+
+// What `napkin compare` shows: the whole number of repeats per group,
+// ceil(RepeatsForPower) (at least 2); NaN where that is NaN.
+double WholeRepeatsForPower(const PowerModel& model);
 
 }  // namespace napkin::engine

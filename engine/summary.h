@@ -89,6 +89,11 @@ struct TestSummary {
   Eigen::Vector3d final_roll_pitch_yaw_deg = Eigen::Vector3d::Zero();
   Eigen::Vector3d final_pos_fixed_m = Eigen::Vector3d::Zero();
   double max_rotation_deg = 0.0;  // largest angle between current and initial orientation
+  // query risk (engine/injury_risk.h): probabilities 0..1
+  double hic15_p_ais3 = 0.0;
+  double hic36_p_ais4 = 0.0;
+  double bric_p_ais3 = 0.0;  // NaN where bric is
+  double bric_p_ais4 = 0.0;
   // quality
   double max_residual_mps2 = 0.0;
   std::vector<Finding> findings;

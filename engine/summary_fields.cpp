@@ -62,6 +62,16 @@ constexpr SummaryField kSummaryFields[] = {
     // the views list it after the other HIC fields.
     {"hic_d", G::kHic, "FMVSS 201 free-motion headform HIC(d) = 0.75446 HIC36 + 166.4",
      [](S& s) -> double& { return s.hic_d; }},
+    // Added by schema 8 (columns appended to the results table); the curves
+    // are engine/injury_risk.h, docs/algorithms.md "Injury risk".
+    {"hic15_p_ais3", G::kRisk, "P(AIS 3+ head injury) from HIC15, NHTSA NCAP lognormal curve (0..1)",
+     [](S& s) -> double& { return s.hic15_p_ais3; }},
+    {"hic36_p_ais4", G::kRisk, "P(AIS 4+ brain injury) from HIC36, Prasad-Mertz curve (0..1)",
+     [](S& s) -> double& { return s.hic36_p_ais4; }},
+    {"bric_p_ais3", G::kRisk, "P(AIS 3+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
+     [](S& s) -> double& { return s.bric_p_ais3; }},
+    {"bric_p_ais4", G::kRisk, "P(AIS 4+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
+     [](S& s) -> double& { return s.bric_p_ais4; }},
 };
 
 bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }

@@ -17,6 +17,7 @@ namespace napkin::engine {
 enum class SummaryGroup {
   kHic,       // query hic (and criteria)
   kRotation,  // query rotation (and criteria)
+  kRisk,      // query risk: injury risks (engine/injury_risk.h)
   kQuality,   // stored with the result, shown by no view and not in the JSON
 };
 
@@ -34,12 +35,14 @@ struct SummaryField {
 };
 
 // Every numeric field, in the order of the results table's columns (fields
-// added by later schema versions come last, as their columns do).
+// added by later schema versions come last, as their columns do; the table's
+// napkin_version column, schema 7, sits between hic_d and the risks).
 std::span<const SummaryField> SummaryFields();
 
 // The fields of `groups` in contract order: group by group, each in the order
 // above. The order of the views' columns, of `napkin query` and of the
-// summary JSON (hic_d, added later, follows the other HIC fields).
+// summary JSON (hic_d, added later, follows the other HIC fields; the risks,
+// added by schema 8, are their own group).
 std::vector<const SummaryField*> SummaryFieldsOf(std::initializer_list<SummaryGroup> groups);
 
 // The names of the fields of `group`, in contract order.

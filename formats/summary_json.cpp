@@ -49,8 +49,8 @@ nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const s
   json["test_id"] = test_id;
   json["series"] = series;
   json["variant"] = variant;
-  for (const engine::SummaryField* field :
-       engine::SummaryFieldsOf({engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation}))
+  for (const engine::SummaryField* field : engine::SummaryFieldsOf(
+           {engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation, engine::SummaryGroup::kRisk}))
     json[field->name] = Number(field->Get(summary));
   nlohmann::ordered_json quality = nlohmann::ordered_json::array();
   for (const engine::Finding& finding : summary.findings) quality.push_back(FindingToJson(finding));

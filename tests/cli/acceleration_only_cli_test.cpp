@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
@@ -90,6 +91,23 @@ TEST_F(CliAccelerationOnly, QueryShowsHicAndNullRotation) {
     if (finding.at("check") == "rotation" && finding.at("severity") == "info") ++rotation_findings;
   }
   EXPECT_EQ(rotation_findings, 4);
+
+  // Risks: the HIC risks are the curves at the HICs, the BrIC risks null.
+  const RunResult risk = Napkin({"query", "risk", "--format", "json"});
+  ASSERT_EQ(risk.exit_code, 0) << risk.err;
+  const nlohmann::json risk_rows = nlohmann::json::parse(risk.out);
+  ASSERT_EQ(risk_rows.size(), hic_rows.size());
+  for (std::size_t i = 0; i < risk_rows.size(); ++i) {
+    const nlohmann::json& row = risk_rows[i];
+    EXPECT_EQ(row.at("hic15_p_ais3").get<double>(),
+              engine::NcapHic15Ais3Risk(hic_rows[i].at("hic15").get<double>()))
+        << row.dump();
+    EXPECT_EQ(row.at("hic36_p_ais4").get<double>(),
+              engine::PrasadMertzHic36Ais4Risk(hic_rows[i].at("hic36").get<double>()))
+        << row.dump();
+    EXPECT_TRUE(row.at("bric_p_ais3").is_null()) << row.dump();
+    EXPECT_TRUE(row.at("bric_p_ais4").is_null()) << row.dump();
+  }
 }
 
 TEST_F(CliAccelerationOnly, CompareCountsOnlyValues) {

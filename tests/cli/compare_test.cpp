@@ -7,12 +7,14 @@
 
 #include <algorithm>
 #include <array>
+#include <boost/math/distributions/non_central_t.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli/comparison.h"
+#include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
@@ -93,6 +95,9 @@ class CliCompare : public ::testing::Test {
       field.Set(summary, OtherMetric(metric++, test) + offset);
     summary.hic15.value = kTests[test].hic15 + offset;
     summary.peak_acc_g = kTests[test].peak_acc_g + offset;
+    // BrIC in the range of the curves' slope; the risks as the engine stores them.
+    summary.bric = 0.45 + 0.05 * static_cast<double>(test % 5) + offset / 20.0;
+    engine::FillInjuryRisks(summary);
     return summary;
   }
 
@@ -121,18 +126,19 @@ TEST_F(CliCompare, TableByVariantIsTheGoldenText) {
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(run.out, R"(series sled: variants compared with variant 'production'
 difference of means in % of the baseline mean, [95 % confidence interval] (Welch's t), two-sided p
+n80: tests per variant that would detect the observed difference with 80 % power (two-sided t, alpha 0.05)
 
 hic15
-  variant     n   mean       sd  median    min      max  vs production
-  production  5  946.8  55.2549  955.75    871  1004.25  (baseline)
-  foam-a      5  715.5  22.6226     712  688.5      745  -24.4 % [-31.6, -17.3]  p=0.00025
-  foam-b      1    640        -     640    640      640  n < 2: no difference (1)
+  variant     n   mean       sd  median    min      max  n80  vs production
+  production  5  946.8  55.2549  955.75    871  1004.25    -  (baseline)
+  foam-a      5  715.5  22.6226     712  688.5      745    3  -24.4 % [-31.6, -17.3]  p=0.00025
+  foam-b      1    640        -     640    640      640    -  n < 2: no difference (1)
 
 peak_acc_g
-  variant     n   mean       sd  median    min   max  vs production
-  production  5   99.7   3.3326      99  95.25   104  (baseline)
-  foam-a      6  81.75  1.93649  81.875  79.25  84.5  -18.0 % [-22.1, -13.9]  p<0.0001
-  foam-b      1     75        -      75     75    75  n < 2: no difference (1)
+  variant     n   mean       sd  median    min   max  n80  vs production
+  production  5   99.7   3.3326      99  95.25   104    -  (baseline)
+  foam-a      6  81.75  1.93649  81.875  79.25  84.5    3  -18.0 % [-22.1, -13.9]  p<0.0001
+  foam-b      1     75        -      75     75    75    -  n < 2: no difference (1)
 
 (1) n < 2: with fewer than 2 tests in the group or the baseline there is no difference, interval or p-value (null in --format json and csv).
 )");
@@ -157,7 +163,8 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "diff_pct": null,
     "ci_low": null,
     "ci_high": null,
-    "p_value": null
+    "p_value": null,
+    "n_for_80pct_power": null
   },
   {
     "metric": "hic15",
@@ -173,7 +180,8 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "diff_pct": null,
     "ci_low": null,
     "ci_high": null,
-    "p_value": null
+    "p_value": null,
+    "n_for_80pct_power": null
   },
   {
     "metric": "hic15",
@@ -189,7 +197,8 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "diff_pct": 32.32704402515723,
     "ci_low": 163.82910040032897,
     "ci_high": 298.77089959967094,
-    "p_value": 0.0002509509818844315
+    "p_value": 0.0002509509818844315,
+    "n_for_80pct_power": 3
   }
 ]
 )");
@@ -202,11 +211,12 @@ TEST_F(CliCompare, TableByConfigIsTheGoldenText) {
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(run.out, R"(series sled: processing configs compared with config 'default'
 mean of the per-test differences in % of the baseline's mean over the same tests, [95 % confidence interval] (paired t), two-sided p
+n80: tests that would detect the observed mean difference with 80 % power (two-sided paired t, alpha 0.05)
 
 hic15
-  config       n     mean       sd   median  min      max  vs default
-  default     11  813.773   134.62      745  640  1004.25  (baseline)
-  no-gravity  10    832.4  128.712  808.625  691  1006.25  +0.2 % [+0.1, +0.2]  p=0.0062 (10 pairs)
+  config       n     mean       sd   median  min      max  n80  vs default
+  default     11  813.773   134.62      745  640  1004.25    -  (baseline)
+  no-gravity  10    832.4  128.712  808.625  691  1006.25    9  +0.2 % [+0.1, +0.2]  p=0.0062 (10 pairs)
 )");
 }
 
@@ -299,6 +309,62 @@ TEST_F(CliCompare, ByVariantNumbersEqualAnIndependentRecomputationFromTheStoredR
   EXPECT_EQ(rows[3]["n"], 6);  // peak_acc_g of foam-a
 }
 
+// The fewest whole repeats per variant at which the two-sided Welch t (equal
+// n, Welch–Satterthwaite df) reaches 80 % power at alpha 0.05 for the observed
+// difference and spreads, found by stepping n up one at a time (R's
+// power.t.test form: the upper tail of the non-central t only).
+double IndependentRepeatsFor80PercentPower(double diff, double sd_a, double sd_b) {
+  if (diff == 0.0 || (sd_a == 0.0 && sd_b == 0.0)) return kNaN;
+  for (double n = 2.0;; n += 1.0) {
+    const double se = std::sqrt((sd_a * sd_a + sd_b * sd_b) / n);
+    const double va = sd_a * sd_a / n, vb = sd_b * sd_b / n;
+    const double df = (va + vb) * (va + vb) / ((va * va + vb * vb) / (n - 1.0));
+    const double q = boost::math::quantile(boost::math::students_t(df), 0.975);
+    const double power = 1.0 - boost::math::cdf(boost::math::non_central_t(df, std::abs(diff) / se), q);
+    if (power >= 0.8) return n;
+  }
+}
+
+TEST_F(CliCompare, RiskStatisticsEqualARecomputationFromQueryRisk) {
+  const RunResult query = RunNapkin(dir_.path(), {"query", "risk", "--series", "sled", "--format", "json"});
+  ASSERT_EQ(query.exit_code, 0) << query.err;
+  const nlohmann::json stored = nlohmann::json::parse(query.out);
+  ASSERT_EQ(stored.size(), kTests.size());
+  const std::vector<std::string> metrics = {"hic15_p_ais3", "hic36_p_ais4", "bric_p_ais3", "bric_p_ais4"};
+  const nlohmann::json rows = CompareJson({"--series", "sled", "--baseline", "production", "--metrics",
+                                           "hic15_p_ais3,hic36_p_ais4,bric_p_ais3,bric_p_ais4"});
+  ASSERT_EQ(rows.size(), 12u);
+  std::size_t powers = 0;
+  for (const std::string& metric : metrics) {
+    std::map<std::string, std::vector<double>> by_variant;
+    for (const auto& test : stored)
+      if (!test[metric].is_null()) by_variant[test["variant"]].push_back(test[metric].get<double>());
+    const Independent b = Straightforward(by_variant.at("production"));
+    for (const auto& row : rows) {
+      if (row["metric"] != metric) continue;
+      const Independent a = Straightforward(by_variant.at(row["group"]));
+      std::array<double, 5> difference = {kNaN, kNaN, kNaN, kNaN, kNaN};
+      double repeats = kNaN;
+      if (row["group"] != "production" && a.n >= 2 && b.n >= 2) {
+        const double va = a.sd * a.sd / a.n, vb = b.sd * b.sd / b.n;
+        const double df = (va + vb) * (va + vb) / (va * va / (a.n - 1) + vb * vb / (b.n - 1));
+        difference = Interval(a.mean - b.mean, b.mean, std::sqrt(va + vb), df);
+        repeats = IndependentRepeatsFor80PercentPower(a.mean - b.mean, a.sd, b.sd);
+      }
+      ExpectRow(row, a, difference);
+      ASSERT_TRUE(row.contains("n_for_80pct_power")) << row;
+      if (std::isnan(repeats)) {
+        EXPECT_TRUE(row["n_for_80pct_power"].is_null()) << row;
+      } else {
+        ASSERT_TRUE(row["n_for_80pct_power"].is_number_integer()) << row;
+        EXPECT_EQ(row["n_for_80pct_power"].get<double>(), repeats) << row;
+        ++powers;
+      }
+    }
+  }
+  EXPECT_EQ(powers, 4u) << "foam-a against production, for each of the four risks";
+}
+
 TEST_F(CliCompare, ByConfigNumbersEqualAnIndependentPairedRecomputation) {
   // The stored summaries under each config, read one by one.
   db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
@@ -344,7 +410,7 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
   ASSERT_EQ(rows.size(), 3 * metrics.size());
   const std::vector<std::string> keys = {"metric",   "group",  "n",       "mean",     "sd",
                                          "median",   "min",    "max",     "baseline", "diff",
-                                         "diff_pct", "ci_low", "ci_high", "p_value"};
+                                         "diff_pct", "ci_low", "ci_high", "p_value",  "n_for_80pct_power"};
   for (std::size_t i = 0; i < rows.size(); ++i) {
     std::vector<std::string> row_keys;
     for (const auto& item : rows[i].items()) row_keys.push_back(item.key());
@@ -353,7 +419,7 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
     EXPECT_EQ(rows[i]["group"], (std::array<const char*, 3>{"foam-a", "foam-b", "production"}[i % 3]));
   }
   // Baseline row and the n < 2 group: the difference fields are null.
-  for (const char* key : {"diff", "diff_pct", "ci_low", "ci_high", "p_value"}) {
+  for (const char* key : {"diff", "diff_pct", "ci_low", "ci_high", "p_value", "n_for_80pct_power"}) {
     EXPECT_TRUE(rows[0][key].is_null()) << key;
     EXPECT_TRUE(rows[1][key].is_null()) << key;
     EXPECT_TRUE(rows[2][key].is_number()) << key;
@@ -365,8 +431,10 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
   EXPECT_EQ(csv.err, "");
   const std::vector<std::string> lines = Lines(csv.out);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[0], "metric,group,n,mean,sd,median,min,max,baseline,diff,diff_pct,ci_low,ci_high,p_value");
-  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,,,,,");
+  EXPECT_EQ(lines[0],
+            "metric,group,n,mean,sd,median,min,max,baseline,diff,diff_pct,ci_low,ci_high,p_value,"
+            "n_for_80pct_power");
+  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,,,,,,");
   const nlohmann::json json = CompareJson({"--series", "sled", "--metrics", "hic15"});
   EXPECT_EQ(
       lines[3].rfind("hic15,production,5," + util::FormatNumber(json[2]["mean"].get<double>()) + ",", 0), 0u)

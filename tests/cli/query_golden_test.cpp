@@ -12,8 +12,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
@@ -43,6 +45,7 @@ engine::TestSummary ChosenSummary(int k, const ChosenResult& chosen) {
   summary.peak_acc_g = chosen.peak_acc_g;
   summary.bric = chosen.bric;
   summary.max_rotation_deg = chosen.max_rotation_deg;
+  engine::FillInjuryRisks(summary);  // the risks their criteria stand for, as the engine stores them
   return summary;
 }
 
@@ -200,6 +203,40 @@ TEST_F(CliQueryGolden, WhereFiltersInEveryFormat) {
   ExpectGolden("hic_where_null_csv", {"hic", "--where", "hic15 < 600 or hic15 >= 600", "--format", "csv"});
 }
 
+TEST_F(CliQueryGolden, RiskInEveryFormatWithWhereAndSort) {
+  ExpectGolden("risk_table", {"risk"});
+  ExpectGolden("risk_csv", {"risk", "--format", "csv"});
+  ExpectGolden("risk_where_sort_json", {"risk", "--where", "hic15_p_ais3 > 0.1 or bric_p_ais4 < 0.1",
+                                        "--sort", "bric_p_ais3:desc", "--format", "json"});
+  ExpectGolden("risk_config_table", {"risk", "--config", "cfc180", "--sort", "hic15_p_ais3"});
+}
+
+TEST_F(CliQueryGolden, RiskIsTheCurveOfTheStoredCriterion) {
+  // Each row of `query risk` is the engine's curve at the criterion `query
+  // criteria` shows for the same test (NULL criterion: NULL risk).
+  const RunResult risk = Query({"risk", "--format", "json"});
+  const RunResult criteria = Query({"criteria", "--format", "json"});
+  ASSERT_EQ(risk.exit_code, 0) << risk.err;
+  ASSERT_EQ(criteria.exit_code, 0) << criteria.err;
+  const nlohmann::json risks = nlohmann::json::parse(risk.out);
+  const nlohmann::json tests = nlohmann::json::parse(criteria.out);
+  ASSERT_EQ(risks.size(), 7u);
+  ASSERT_EQ(risks.size(), tests.size());
+  for (std::size_t i = 0; i < risks.size(); ++i) {
+    ASSERT_EQ(risks[i]["test_id"], tests[i]["test_id"]);
+    for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
+      const nlohmann::json& criterion = tests[i][curve.criterion];
+      const nlohmann::json& value = risks[i][curve.field];
+      if (criterion.is_null()) {
+        EXPECT_TRUE(value.is_null()) << risks[i];
+        continue;
+      }
+      EXPECT_EQ(value.get<double>(), curve.risk(criterion.get<double>()))
+          << risks[i]["test_id"] << curve.field;
+    }
+  }
+}
+
 TEST_F(CliQueryGolden, SortAndLimit) {
   ExpectGolden("rotation_sort_desc_limit_json",
                {"rotation", "--sort", "max_rotation_deg:desc", "--limit", "3", "--format", "json"});
@@ -239,6 +276,10 @@ TEST_F(CliQueryGolden, UsageErrorsAreOneLineExitTwo) {
       {"hic", "--where", "hic16>700"},
       {"unknown field 'hic16' at column 1", "the fields are test_id, series, variant, hic15,", "hic_d"});
   ExpectUsageError({"hic", "--where", "bric>1"}, {"unknown field 'bric'"});
+  ExpectUsageError(
+      {"risk", "--where", "hic15>1"},
+      {"unknown field 'hic15'",
+       "the fields are test_id, series, variant, hic15_p_ais3, hic36_p_ais4, bric_p_ais3, bric_p_ais4"});
   ExpectUsageError({"rotation", "--where", "bric>1 and"},
                    {"expected a field name at column 11, found the end"});
   ExpectUsageError({"hic", "--where", "hic15>>700"}, {"expected a value after '>' at column 7, found '>'"});

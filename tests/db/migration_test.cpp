@@ -10,6 +10,7 @@
 #include "db/float64_blob.h"
 #include "db/migrate.h"
 #include "engine/criteria.h"
+#include "engine/injury_risk.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -151,6 +152,41 @@ TEST(Migrations, UpgradeFromVersion2LeavesResultsWithoutHic36Null) {
   EXPECT_EQ(std::get<std::string>(hic.rows[0][0]), "with");
   EXPECT_EQ(std::get<double>(hic.rows[0].back()), 0.75446 * 1234.5 + 166.4);
   EXPECT_TRUE(std::holds_alternative<std::monostate>(hic.rows[1].back()));
+}
+
+// Schema 8 gives results computed before it the injury risks of their stored
+// criteria, by the engine's curves (schema/008_injury_risk.sql): a NULL BrIC
+// (acceleration-only array) and a NULL HIC36 give NULL risks.
+TEST(Migrations, UpgradeFromVersion7FillsTheRisksOfTheStoredCriteria) {
+  napkin::test_support::TempDir dir;
+  const std::string path = dir / "v7.db";
+  {
+    CatalogueOptions first_seven;
+    first_seven.migrations = schema::Migrations().first(7);
+    Catalogue catalogue = Catalogue::Open(path, first_seven);
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
+    InsertVersion1Result(catalogue, test_support::AddTest(catalogue, array, "rotating", "sled"), config,
+                         700.0, 1000.0);
+    auto bric = CatalogueInspector(catalogue).connection().Prepare("UPDATE results SET bric = 1.0");
+    bric->Execute();
+    InsertVersion1Result(catalogue, test_support::AddTest(catalogue, array, "acc-only", "sled"), config,
+                         450.0, std::nullopt);
+  }
+  Catalogue catalogue = Catalogue::Open(path);
+  const Table risk = catalogue.Query(QueryKind::kRisk);
+  ASSERT_EQ(risk.columns, (std::vector<std::string>{"test_id", "series", "variant", "hic15_p_ais3",
+                                                    "hic36_p_ais4", "bric_p_ais3", "bric_p_ais4"}));
+  ASSERT_EQ(risk.rows.size(), 2u);
+  EXPECT_EQ(std::get<std::string>(risk.rows[0][0]), "acc-only");
+  EXPECT_EQ(std::get<double>(risk.rows[0][3]), engine::NcapHic15Ais3Risk(450.0));
+  for (std::size_t column = 4; column < 7; ++column)
+    EXPECT_TRUE(std::holds_alternative<std::monostate>(risk.rows[0][column])) << column;
+  EXPECT_EQ(std::get<std::string>(risk.rows[1][0]), "rotating");
+  EXPECT_EQ(std::get<double>(risk.rows[1][3]), engine::NcapHic15Ais3Risk(700.0));
+  EXPECT_EQ(std::get<double>(risk.rows[1][4]), engine::PrasadMertzHic36Ais4Risk(1000.0));
+  EXPECT_EQ(std::get<double>(risk.rows[1][5]), engine::TakhountsBricAis3Risk(1.0));
+  EXPECT_EQ(std::get<double>(risk.rows[1][6]), engine::TakhountsBricAis4Risk(1.0));
 }
 
 // Schema 6 rebuilds derived_channels with an encoding column: rows written

@@ -46,12 +46,15 @@ class SchemaTest : public ::testing::Test {
 };
 
 TEST_F(SchemaTest, ResultsColumnsAreTheSummaryFieldsInOrder) {
-  std::vector<std::string> names;
-  for (const engine::SummaryField& field : engine::SummaryFields()) names.emplace_back(field.name);
-  // napkin_version (schema/007_provenance.sql) was appended after the summary fields.
-  EXPECT_EQ(
-      Columns(*connection_, "results"),
-      Concatenated({"id", "test_id", "config_id", "solver", "computed_at"}, {names, {"napkin_version"}}));
+  std::vector<std::string> names, risks;
+  for (const engine::SummaryField& field : engine::SummaryFields())
+    (field.group == SummaryGroup::kRisk ? risks : names).emplace_back(field.name);
+  // napkin_version (schema/007_provenance.sql) was appended after the summary
+  // fields of schemas 1-3, the risks (schema/008_injury_risk.sql) after it.
+  EXPECT_EQ(Columns(*connection_, "results"),
+            Concatenated({"id", "test_id", "config_id", "solver", "computed_at"},
+                         {names, {"napkin_version"}, risks}));
+  EXPECT_EQ(risks, (std::vector<std::string>{"hic15_p_ais3", "hic36_p_ais4", "bric_p_ais3", "bric_p_ais4"}));
 }
 
 TEST_F(SchemaTest, SummaryViewsShowTheFieldsOfTheirGroup) {
@@ -61,6 +64,8 @@ TEST_F(SchemaTest, SummaryViewsShowTheFieldsOfTheirGroup) {
   EXPECT_EQ(Columns(*connection_, "v_hic"), Concatenated(labels, {hic}));
   EXPECT_EQ(Columns(*connection_, "v_rotation"), Concatenated(labels, {rotation}));
   EXPECT_EQ(Columns(*connection_, "v_criteria"), Concatenated(labels, {hic, rotation}));
+  EXPECT_EQ(Columns(*connection_, "v_risk"),
+            Concatenated(labels, {engine::SummaryFieldNames(SummaryGroup::kRisk)}));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "common/error.h"
 #include "engine/criteria.h"
+#include "engine/injury_risk.h"
 #include "engine/pipeline.h"
 #include "engine/screening.h"
 #include "engine/summary_fields.h"
@@ -40,8 +41,11 @@ synth::SyntheticTest RandomMotionAtCg(std::uint64_t seed) {
   return synth::SynthRandomMotion(test_support::ThreeACg(), motion);
 }
 
+// Rotation fields, the residual, and the risks read from BrIC (engine/injury_risk.h).
 bool IsRotationField(const SummaryField& field) {
-  return field.group == SummaryGroup::kRotation || std::string(field.name) == "max_residual_mps2";
+  const std::string name = field.name;
+  return field.group == SummaryGroup::kRotation || name == "max_residual_mps2" || name == "bric_p_ais3" ||
+         name == "bric_p_ais4";
 }
 
 TEST(AccelerationOnly, CgAccelerationAndCriteriaEqualTheTruthAndRotationIsAbsent) {
@@ -81,7 +85,10 @@ TEST(AccelerationOnly, CgAccelerationAndCriteriaEqualTheTruthAndRotationIsAbsent
   EXPECT_NEAR(summary.peak_acc_g, truth_g.maxCoeff(), 1e-12 * truth_g.maxCoeff());
   EXPECT_NEAR(summary.a3ms_g, A3ms(truth_g, dt), 1e-12 * truth_g.maxCoeff());
 
-  // Every rotation-dependent field is NaN (null), every HIC field finite.
+  // Every rotation-dependent field is NaN (null), every HIC field and HIC risk
+  // finite: the HIC risks are those of the HIC values.
+  EXPECT_EQ(summary.hic15_p_ais3, NcapHic15Ais3Risk(summary.hic15.value));
+  EXPECT_EQ(summary.hic36_p_ais4, PrasadMertzHic36Ais4Risk(summary.hic36.value));
   for (const SummaryField& field : SummaryFields()) {
     if (IsRotationField(field))
       EXPECT_TRUE(std::isnan(field.Get(summary))) << field.name;

@@ -258,3 +258,49 @@ TEST(Describe, MeanAndMedianLieBetweenMinAndMaxForNearlyEqualValues) {
 
 }  // namespace
 }  // namespace napkin::engine
+
+namespace napkin::engine {
+namespace {
+
+// R 4.x, stats::power.t.test (two-sample, two-sided, strict = FALSE):
+//   power.t.test(delta = 1, sd = 1, power = 0.8)  ->  n = 16.71477
+//   power.t.test(n = 20, delta = 1)                 ->  power = 0.8689528
+//   power.t.test(power = .90, delta = 1)            ->  n = 22.02110
+// (the first quoted in docs/algorithms.md "Planning a series"; the other two
+// are the examples of R's ?power.t.test). R finds n with uniroot to about
+// 1e-4 (its tol is .Machine$double.eps^0.25), hence the tolerance on n.
+TEST(PowerForPlanning, AgreesWithRPowerTTest) {
+  const PowerModel equal_spreads = WelchPowerModel(1.0, 1.0, 1.0);
+  EXPECT_EQ(equal_spreads.variance, 2.0);
+  EXPECT_EQ(equal_spreads.df_per_repeat, 2.0);  // Welch with equal n and sd: the pooled 2n - 2
+  EXPECT_NEAR(RepeatsForPower(equal_spreads), 16.71477, 2e-4);
+  EXPECT_NEAR(TTestPower(equal_spreads, 20.0), 0.8689528, 5e-8);
+  EXPECT_NEAR(RepeatsForPower(equal_spreads, 0.9), 22.02110, 2e-4);
+  // The n found gives the power asked for.
+  EXPECT_NEAR(TTestPower(equal_spreads, RepeatsForPower(equal_spreads)), 0.8, 1e-12);
+  EXPECT_EQ(WholeRepeatsForPower(equal_spreads), 17.0);
+  // The sign of the difference does not matter.
+  EXPECT_EQ(RepeatsForPower(WelchPowerModel(-1.0, 1.0, 1.0)), RepeatsForPower(equal_spreads));
+}
+
+TEST(PowerForPlanning, UndefinedWithoutADifferenceOrScatter) {
+  EXPECT_TRUE(std::isnan(RepeatsForPower(WelchPowerModel(0.0, 1.0, 2.0))));
+  EXPECT_TRUE(std::isnan(RepeatsForPower(WelchPowerModel(1.0, 0.0, 0.0))));
+  EXPECT_TRUE(std::isnan(WholeRepeatsForPower(PairedPowerModel(1.0, 0.0))));
+  EXPECT_TRUE(std::isnan(WholeRepeatsForPower(WelchPowerModel(std::nan(""), 1.0, 1.0))));
+  // A difference large against its scatter needs the fewest tests with a spread.
+  EXPECT_EQ(WholeRepeatsForPower(WelchPowerModel(100.0, 1.0, 1.0)), 2.0);
+}
+
+TEST(PowerForPlanning, PairedIsTheOneSampleT) {
+  // Paired: df = n - 1, non-centrality diff sqrt(n) / sd_d. R:
+  // power.t.test(delta = 1, sd = 1, power = 0.8, type = "paired") -> n = 9.937864.
+  EXPECT_NEAR(RepeatsForPower(PairedPowerModel(1.0, 1.0)), 9.937864, 2e-4);
+  // One spread 0: Welch's df per repeat is 1, the paired case with variance a^2.
+  const PowerModel one_sided = WelchPowerModel(1.0, 1.0, 0.0);
+  EXPECT_EQ(one_sided.df_per_repeat, 1.0);
+  EXPECT_EQ(RepeatsForPower(one_sided), RepeatsForPower(PairedPowerModel(1.0, 1.0)));
+}
+
+}  // namespace
+}  // namespace napkin::engine
