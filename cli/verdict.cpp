@@ -117,7 +117,9 @@ std::vector<VerdictMetric> VerdictMetrics(const Comparison& comparison) {
       const std::string label = MetricLabel(metric.metric);
       const std::string owner = criterion ? MetricLabel(*criterion) : OwnerLabel(metric.metric);
       // Next to its criterion the risk's label is enough; elsewhere it names it.
-      metrics.push_back({&metric, true, criterion ? label : label + " from " + owner, label + " " + owner});
+      metrics.push_back({&metric, true,
+                         criterion ? label : label.substr(0, label.size() - 1) + ", " + owner + ")",
+                         label + " " + owner});
     }
   };
   for (const std::string& criterion : criteria) {

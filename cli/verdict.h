@@ -15,7 +15,7 @@
 //  * a risk metric (IsRiskMetric): "P(AIS 3+) from 11.3 % to 2.1 %" when its
 //    own difference is significant, else "P(AIS 3+) unchanged (11.3 % vs
 //    10.9 %, p = 0.41)"; placed right after its criterion, or, of a criterion
-//    the verdict does not speak of, at the end: "P(AIS 4+) from HIC36 ...";
+//    the verdict does not speak of, at the end: "P(AIS 4+, HIC36) from ...";
 //  * no interval, no difference (n < 2, no scatter): said so, never "unchanged".
 // "n = a vs b" (variant vs baseline) is on the first clause and on any later
 // clause whose counts differ from the first's.

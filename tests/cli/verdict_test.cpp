@@ -174,7 +174,7 @@ TEST(Verdict, SentencesFollowTheCriteriaWithTheirRisks) {
             "foam-b " + CriterionClause("HIC15", hic.rows[1], hic.rows[0].description, true, true) + "; " +
                 RiskClause("P(AIS 3+)", risk.rows[1], risk.rows[0].description, false) + "; " +
                 CriterionClause("BrIC", bric.rows[1], bric.rows[0].description, false, false) + "; " +
-                RiskClause("P(AIS 4+) from HIC36", other.rows[1], other.rows[0].description, true));
+                RiskClause("P(AIS 4+, HIC36)", other.rows[1], other.rows[0].description, true));
   // The parts, as the rules word them from these numbers.
   EXPECT_EQ(verdict.sentences[0].rfind("foam-b lowers HIC15 by 45 % [", 0), 0u) << verdict.sentences[0];
   EXPECT_NE(verdict.sentences[0].find("; P(AIS 3+) from 11.5 % to 2.1 %; BrIC unchanged ("),
