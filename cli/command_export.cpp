@@ -57,7 +57,7 @@ class ExportCommand : public Command {
                   "isomme, uds: replace files of the same names in the --out folder (default: refuse)");
     std::vector<std::string> unit_systems;
     for (const formats::LsDynaUnits system : formats::kLsDynaUnits)
-      unit_systems.emplace_back(formats::LsDynaUnitsName(system));
+      unit_systems.emplace_back(engine::NameOf(system));
     sub->add_option("--units", units_, "lsdyna units: si (m, s) or english (in, s)")
         ->check(OneOfCheck("--units", unit_systems))
         ->capture_default_str();
@@ -101,7 +101,7 @@ class ExportCommand : public Command {
     } else if (format_ == "lsdyna") {
       formats::LsDynaOptions options;
       options.part_id = part_;
-      const std::optional<formats::LsDynaUnits> units = formats::ParseLsDynaUnitsName(units_);
+      const std::optional<formats::LsDynaUnits> units = engine::ParseName<formats::LsDynaUnits>(units_);
       if (!units) throw InputError("unknown lsdyna units \"" + units_ + "\" (use si or english).");
       options.units = *units;
       formats::WriteLsDynaKeyword(*kinematics, out_, options);
@@ -172,7 +172,7 @@ class ExportCommand : public Command {
   std::string out_;
   bool force_ = false;
   std::string config_;
-  std::string units_ = formats::LsDynaUnitsName(formats::LsDynaUnits::kSi);
+  std::string units_ = engine::NameOf(formats::LsDynaUnits::kSi);
   int part_ = 1;
   std::string numform_ = "ieee";
   std::optional<std::string> position_;

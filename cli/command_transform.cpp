@@ -23,8 +23,8 @@ class TransformCommand : public Command {
     std::vector<std::string> solvers;
     std::string solver_help;
     for (const engine::SolverKind kind : engine::kSolverKinds) {
-      solver_help += (solvers.empty() ? "" : " or ") + std::string(engine::SolverName(kind));
-      solvers.emplace_back(engine::SolverName(kind));
+      solver_help += (solvers.empty() ? "" : " or ") + std::string(engine::NameOf(kind));
+      solvers.emplace_back(engine::NameOf(kind));
     }
     sub->add_option("--solver", options_.solver, solver_help + " (default: the config's, exact)")
         ->check(OneOfCheck("--solver", solvers));

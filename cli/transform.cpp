@@ -24,7 +24,7 @@ namespace {
 std::string SolverNames(const std::string& separator) {
   std::string names;
   for (const engine::SolverKind kind : engine::kSolverKinds)
-    names += (names.empty() ? "" : separator) + engine::SolverName(kind);
+    names += (names.empty() ? "" : separator) + engine::NameOf(kind);
   return names;
 }
 
@@ -50,7 +50,7 @@ TransformReport RunTransform(const TransformOptions& options) {
   // catalogue result equals the transform of the same input.
   engine::ProcessingConfig config = ResolveConfig(options.config).config;
   if (!options.solver.empty()) {
-    const std::optional<engine::SolverKind> solver = engine::ParseSolverName(options.solver);
+    const std::optional<engine::SolverKind> solver = engine::ParseName<engine::SolverKind>(options.solver);
     if (!solver)
       throw InputError("unknown solver \"" + options.solver + "\" (use " + SolverNames(" or ") + ").");
     config.solver = *solver;

@@ -31,7 +31,8 @@ void ReadSummaryFields(const Statement& row, int first, TestSummary& summary) {
 
 // The column as engine::SeverityName wrote it.
 engine::Severity ParseSeverity(const std::string& text) {
-  if (const std::optional<engine::Severity> severity = engine::ParseSeverityName(text)) return *severity;
+  if (const std::optional<engine::Severity> severity = engine::ParseName<engine::Severity>(text))
+    return *severity;
   throw InputError("finding severity '" + text + "' in the catalogue is not info, warning or error.");
 }
 
@@ -164,7 +165,7 @@ void Catalogue::WriteFindings(TestId test, ConfigId config, std::span<const engi
       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
   for (std::size_t i = 0; i < findings.size(); ++i) {
     const engine::Finding& finding = findings[i];
-    insert->BindAll(test, config, i, finding.check, finding.channel, engine::SeverityName(finding.severity),
+    insert->BindAll(test, config, i, finding.check, finding.channel, engine::NameOf(finding.severity),
                     finding.detail);
     insert->Execute();
     insert->Reset();
@@ -234,7 +235,7 @@ void Catalogue::WriteKinematics(TestId test, ConfigId config, const engine::Kine
     if (needs_rotation && !rotation) continue;
     const std::span<const double> values(column, static_cast<std::size_t>(n));
     const bool float32 = storage == engine::DerivedStorage::kFloat32 && name != time_channel;
-    const char* encoding = engine::DerivedStorageName(float32 ? storage : engine::DerivedStorage::kFloat64);
+    const char* encoding = engine::NameOf(float32 ? storage : engine::DerivedStorage::kFloat64);
     insert->BindAll(
         test, config, name, dt_s, t0_s, n, encoding,
         float32 ? Float32LittleEndianBytes(values, scratch) : Float64LittleEndianBytes(values, scratch));
@@ -332,9 +333,9 @@ std::optional<engine::Kinematics> Catalogue::ReadKinematics(TestId test, ConfigI
                        std::to_string(n) + ".");
     const std::span<double> values(destination->second, static_cast<std::size_t>(n));
     const std::string encoding = select->ColumnText(3);
-    if (encoding == engine::DerivedStorageName(engine::DerivedStorage::kFloat32))
+    if (encoding == engine::NameOf(engine::DerivedStorage::kFloat32))
       DecodeFloat32LittleEndian(select->ColumnBlob(2), values);
-    else if (encoding == engine::DerivedStorageName(engine::DerivedStorage::kFloat64))
+    else if (encoding == engine::NameOf(engine::DerivedStorage::kFloat64))
       DecodeFloat64LittleEndian(select->ColumnBlob(2), values);
     else  // the schema's CHECK allows no other
       throw InputError("derived channel '" + destination->first + "' of test '" + ReadTest(test).external_id +

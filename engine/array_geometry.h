@@ -21,10 +21,7 @@ inline constexpr std::array<SensorKind, 2> kSensorKinds = ValuesOf(kSensorKindNa
 
 // The one spelling of each kind in array JSON ("linear", "angular_rate"), and
 // its inverse (nullopt for an unknown name).
-inline const char* SensorKindName(SensorKind kind) { return NameIn(kSensorKindNames, kind); }
-inline std::optional<SensorKind> ParseSensorKindName(std::string_view name) {
-  return ValueNamed(kSensorKindNames, name);
-}
+constexpr const auto& NamesOf(SensorKind) { return kSensorKindNames; }
 
 struct Sensor {
   std::string slot;  // e.g. "cg_x", "yarm_z", "ars_x"

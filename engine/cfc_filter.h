@@ -38,10 +38,7 @@ inline constexpr std::array<CfcVariant, 2> kCfcVariants = ValuesOf(kCfcVariantNa
 
 // The one spelling of each variant in processing configs ("sae", "iso"), and
 // its inverse (nullopt for an unknown name).
-inline const char* CfcVariantName(CfcVariant variant) { return NameIn(kCfcVariantNames, variant); }
-inline std::optional<CfcVariant> ParseCfcVariantName(std::string_view name) {
-  return ValueNamed(kCfcVariantNames, name);
-}
+constexpr const auto& NamesOf(CfcVariant) { return kCfcVariantNames; }
 
 // The standard channel classes; any positive frequency is accepted too.
 inline constexpr double kCfc60 = 60.0;

@@ -28,7 +28,7 @@ Eigen::Index FirstNonFinite(const Kinematics& kinematics) {
 
 // The info finding of a test whose array cannot determine rotation.
 Finding RotationUndetermined(const ArrayGeometry& array) {
-  return Finding{CheckName(Check::kRotation), std::nullopt, Severity::kInfo,
+  return Finding{NameOf(Check::kRotation), std::nullopt, Severity::kInfo,
                  "array " + array.name +
                      " cannot determine rotation from its sensors (neither six independent linear "
                      "rigid-body equations nor angular-rate sensors on three axes): the results hold the CG "

@@ -87,10 +87,10 @@ void ProcessingConfig::Check() const {
     ThrowIgnored("gravity.g_fixed", "gravity.compensate is false; turn compensation on or leave g_fixed out");
   if (bias.mode != BiasMode::kWindow && (bias.window_start_s != defaults.bias.window_start_s ||
                                          bias.window_end_s != defaults.bias.window_end_s))
-    ThrowIgnored("bias.window_s", std::string("bias.mode is \"") + BiasModeName(bias.mode) +
+    ThrowIgnored("bias.window_s", std::string("bias.mode is \"") + NameOf(bias.mode) +
                                       "\", the window is read only in mode \"window\"");
   if (bias.mode != BiasMode::kAuto && bias.auto_min_pre_impact_s != defaults.bias.auto_min_pre_impact_s)
-    ThrowIgnored("bias.auto_min_pre_impact_s", std::string("bias.mode is \"") + BiasModeName(bias.mode) +
+    ThrowIgnored("bias.auto_min_pre_impact_s", std::string("bias.mode is \"") + NameOf(bias.mode) +
                                                    "\", the minimum is read only in mode \"auto\"");
   if (!filter.linear_cfc && !filter.angular_rate_cfc) {
     if (filter.variant != defaults.filter.variant)

@@ -42,10 +42,7 @@ inline constexpr std::array<BiasMode, 3> kBiasModes = ValuesOf(kBiasModeNames);
 
 // The one spelling of each mode in processing configs ("auto", "window",
 // "none"), and its inverse (nullopt for an unknown name).
-inline const char* BiasModeName(BiasMode mode) { return NameIn(kBiasModeNames, mode); }
-inline std::optional<BiasMode> ParseBiasModeName(std::string_view name) {
-  return ValueNamed(kBiasModeNames, name);
-}
+constexpr const auto& NamesOf(BiasMode) { return kBiasModeNames; }
 
 // Bias (zero offset) removal, applied to every channel after the time shift.
 struct BiasConfig {
@@ -79,12 +76,7 @@ inline constexpr std::array<A3msDefinition, 2> kA3msDefinitions = ValuesOf(kA3ms
 
 // The one spelling of each definition in processing configs ("cumulative",
 // "continuous"), and its inverse (nullopt for an unknown name).
-inline const char* A3msDefinitionName(A3msDefinition definition) {
-  return NameIn(kA3msDefinitionNames, definition);
-}
-inline std::optional<A3msDefinition> ParseA3msDefinitionName(std::string_view name) {
-  return ValueNamed(kA3msDefinitionNames, name);
-}
+constexpr const auto& NamesOf(A3msDefinition) { return kA3msDefinitionNames; }
 
 struct A3msConfig {
   A3msDefinition definition = A3msDefinition::kCumulative;
@@ -140,12 +132,7 @@ inline constexpr std::array<DerivedStorage, 3> kDerivedStorages = ValuesOf(kDeri
 // The one spelling of each choice in processing configs ("float64",
 // "float32", "none") and in the catalogue's encoding column, and its
 // inverse (nullopt for an unknown name).
-inline const char* DerivedStorageName(DerivedStorage storage) {
-  return NameIn(kDerivedStorageNames, storage);
-}
-inline std::optional<DerivedStorage> ParseDerivedStorageName(std::string_view name) {
-  return ValueNamed(kDerivedStorageNames, name);
-}
+constexpr const auto& NamesOf(DerivedStorage) { return kDerivedStorageNames; }
 
 struct StorageConfig {
   DerivedStorage derived_channels = DerivedStorage::kFloat32;  // "float32" by default

@@ -58,7 +58,7 @@ std::string Number(double value, int digits = 4) {
 Finding MakeFinding(Check check, const std::optional<std::string>& channel, Severity severity,
                     std::string detail) {
   Finding finding;
-  finding.check = CheckName(check);
+  finding.check = NameOf(check);
   finding.channel = channel;
   finding.severity = severity;
   finding.detail = std::move(detail);
@@ -525,7 +525,7 @@ Finding ResidualFinding(const ResidualStatistics& residual, const Kinematics& ki
 
 bool IsFatal(const Finding& finding) {
   return finding.severity == Severity::kError &&
-         (finding.check == CheckName(Check::kMissing) || finding.check == CheckName(Check::kNonFinite));
+         (finding.check == NameOf(Check::kMissing) || finding.check == NameOf(Check::kNonFinite));
 }
 
 void AppendFindings(const std::vector<Finding>& more, std::vector<Finding>& findings) {

@@ -26,10 +26,7 @@ inline constexpr std::array<SolverKind, 2> kSolverKinds = ValuesOf(kSolverNames)
 // The one spelling of each solver ("exact", "seed") in processing configs,
 // the --solver option and the catalogue's results, and its inverse (nullopt
 // for an unknown name).
-inline const char* SolverName(SolverKind kind) { return NameIn(kSolverNames, kind); }
-inline std::optional<SolverKind> ParseSolverName(std::string_view name) {
-  return ValueNamed(kSolverNames, name);
-}
+constexpr const auto& NamesOf(SolverKind) { return kSolverNames; }
 
 struct GravityOptions {
   bool compensate = false;  // add back -(R^T - R0^T) g_fixed (docs/algorithms.md "Gravity")

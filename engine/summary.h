@@ -56,10 +56,10 @@ inline constexpr std::array<NamedValue<Check>, 12> kCheckNames{{{Check::kMissing
                                                                 {Check::kResidual, "residual"},
                                                                 {Check::kConsistency, "consistency"},
                                                                 {Check::kRotation, "rotation"}}};
-inline const char* CheckName(Check check) { return NameIn(kCheckNames, check); }
+constexpr const auto& NamesOf(Check) { return kCheckNames; }
 
 struct Finding {
-  std::string check;                   // CheckName(), e.g. "saturation", "polarity", "residual"
+  std::string check;                   // NameOf(Check), e.g. "saturation", "polarity", "residual"
   std::optional<std::string> channel;  // slot name, or none for the whole test
   Severity severity = Severity::kInfo;
   std::string detail;  // one sentence
@@ -71,10 +71,7 @@ inline constexpr std::array<Severity, 3> kSeverities = ValuesOf(kSeverityNames);
 
 // The one spelling of each severity ("info", "warning", "error") in the
 // summary JSON and the catalogue, and its inverse (nullopt for an unknown name).
-inline const char* SeverityName(Severity severity) { return NameIn(kSeverityNames, severity); }
-inline std::optional<Severity> ParseSeverityName(std::string_view name) {
-  return ValueNamed(kSeverityNames, name);
-}
+constexpr const auto& NamesOf(Severity) { return kSeverityNames; }
 
 struct TestSummary {
   // query hic

@@ -1,10 +1,12 @@
 #pragma once
 // One name <-> enum table per vocabulary (solver, bias mode, CFC variant,
 // severity, sensor kind, LS-DYNA units): the table beside each enum is the
-// only place its names are spelled. XName() and ParseXName() read it, the
-// JSON readers and writers and the CLI option checks call those, and
-// kXs = ValuesOf(table) lists the values in table order (for messages that
-// name what would be accepted).
+// only place its names are spelled. Beside the table, one line
+//   constexpr const auto& NamesOf(SolverKind) { return kSolverNames; }
+// says which table names the enum; NameOf(value) and ParseName<Enum>(name)
+// find it by argument-dependent lookup, the JSON readers and writers and the
+// CLI option checks call those, and kXs = ValuesOf(table) lists the values
+// in table order (for messages that name what would be accepted).
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -41,6 +43,18 @@ constexpr std::optional<Enum> ValueNamed(const std::array<NamedValue<Enum>, N>& 
   for (const NamedValue<Enum>& entry : names)
     if (name == entry.name) return entry.value;
   return std::nullopt;
+}
+
+// The one spelling of `value`, from the table NamesOf(Enum) names.
+template <typename Enum>
+constexpr const char* NameOf(Enum value) {
+  return NameIn(NamesOf(Enum{}), value);
+}
+
+// The value of Enum spelled `name` (exact spelling), or nullopt.
+template <typename Enum>
+constexpr std::optional<Enum> ParseName(std::string_view name) {
+  return ValueNamed(NamesOf(Enum{}), name);
 }
 
 }  // namespace napkin::engine

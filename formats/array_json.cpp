@@ -106,7 +106,7 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
     if (!slots.insert(sensor.slot).second) Fail(source, where + " duplicates an earlier slot");
 
     const std::string type = RequireString(entry, "type", source, where);
-    const std::optional<engine::SensorKind> kind = engine::ParseSensorKindName(type);
+    const std::optional<engine::SensorKind> kind = engine::ParseName<engine::SensorKind>(type);
     if (!kind) Fail(source, where + " has unknown type \"" + type + "\" (use linear or angular_rate)");
     sensor.kind = *kind;
 
@@ -158,7 +158,7 @@ json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_uni
   for (const engine::Sensor& sensor : array.sensors) {
     json entry = json::object();
     entry["slot"] = sensor.slot;
-    entry["type"] = engine::SensorKindName(sensor.kind);
+    entry["type"] = engine::NameOf(sensor.kind);
     const Eigen::Vector3d position = sensor.position_body_m / *metres_per_unit;
     entry["position"] = {position.x(), position.y(), position.z()};
     entry["axis"] = {sensor.axis_body.x(), sensor.axis_body.y(), sensor.axis_body.z()};

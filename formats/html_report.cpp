@@ -423,7 +423,7 @@ Html FindingsTable(const std::vector<engine::Finding>& findings) {
     return Element("p class=\"note\"", Markup("No findings: every check passed.")) + Markup("\n");
   Html rows = Markup("\n") + TextRow("th", kFindingColumns);
   for (const engine::Finding& finding : findings) {
-    const std::string severity = engine::SeverityName(finding.severity);
+    const std::string severity = engine::NameOf(finding.severity);
     rows += Row({Element("td class=\"severity-" + severity + "\"", Markup(severity)),
                  Element("td", Text(finding.check)), Element("td", TextOrDash(finding.channel)),
                  Element("td", Text(finding.detail))});

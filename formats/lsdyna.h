@@ -25,10 +25,7 @@ inline constexpr std::array<LsDynaUnits, 2> kLsDynaUnits = engine::ValuesOf(kLsD
 
 // The one spelling of each unit system ("si", "english"; `napkin export
 // --units`), and its inverse (nullopt for an unknown name).
-inline const char* LsDynaUnitsName(LsDynaUnits units) { return engine::NameIn(kLsDynaUnitsNames, units); }
-inline std::optional<LsDynaUnits> ParseLsDynaUnitsName(std::string_view name) {
-  return engine::ValueNamed(kLsDynaUnitsNames, name);
-}
+constexpr const auto& NamesOf(LsDynaUnits) { return kLsDynaUnitsNames; }
 
 struct LsDynaOptions {
   int part_id = 1;         // rigid part driven by the curves (--part)

@@ -105,14 +105,13 @@ class ObjectReader {
     }
   }
 
-  // A name of one of the engine's vocabularies: `parse` and `name` are its
-  // name<->enum pair, `all` its values (listed when the name is unknown).
+  // A name of one of the engine's vocabularies (engine/vocabulary.h), `all`
+  // its values (listed when the name is unknown).
   template <typename Enum, std::size_t N>
-  void Choice(const std::string& key, Enum& out, std::optional<Enum> (*parse)(std::string_view),
-              const char* (*name)(Enum), const std::array<Enum, N>& all) const {
+  void Choice(const std::string& key, Enum& out, const std::array<Enum, N>& all) const {
     if (const json* value = Find(key)) {
       if (value->is_string()) {
-        if (const std::optional<Enum> choice = parse(value->get<std::string>())) {
+        if (const std::optional<Enum> choice = engine::ParseName<Enum>(value->get<std::string>())) {
           out = *choice;
           return;
         }
@@ -120,7 +119,7 @@ class ObjectReader {
       std::string requirement = "one of";
       bool first = true;
       for (const Enum choice : all) {
-        requirement += (first ? " \"" : ", \"") + std::string(name(choice)) + "\"";
+        requirement += (first ? " \"" : ", \"") + std::string(engine::NameOf(choice)) + "\"";
         first = false;
       }
       Fail(Path(key), requirement);
@@ -156,21 +155,19 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   for (const char* key : {"name", "description"})
     if (const auto* value = top.Find(key); value && !value->is_string()) top.Fail(key, "a string");
   if (const auto* name = top.Find("name")) util::CheckName(source + ": \"name\"", name->get<std::string>());
-  top.Choice("solver", config.solver, engine::ParseSolverName, engine::SolverName, engine::kSolverKinds);
+  top.Choice("solver", config.solver, engine::kSolverKinds);
 
   if (const auto* object = top.Object("filter")) {
     const ObjectReader filter(*object, "filter", source,
                               {"variant", "linear_cfc", "angular_rate_cfc", "padding_s"});
-    filter.Choice("variant", config.filter.variant, engine::ParseCfcVariantName, engine::CfcVariantName,
-                  engine::kCfcVariants);
+    filter.Choice("variant", config.filter.variant, engine::kCfcVariants);
     filter.FilterClass("linear_cfc", config.filter.linear_cfc);
     filter.FilterClass("angular_rate_cfc", config.filter.angular_rate_cfc);
     filter.Number("padding_s", config.filter.padding_s);
   }
   if (const auto* object = top.Object("bias")) {
     const ObjectReader bias(*object, "bias", source, {"mode", "window_s", "auto_min_pre_impact_s"});
-    bias.Choice("mode", config.bias.mode, engine::ParseBiasModeName, engine::BiasModeName,
-                engine::kBiasModes);
+    bias.Choice("mode", config.bias.mode, engine::kBiasModes);
     if (const auto* window = bias.Find("window_s")) {
       if (!window->is_array() || window->size() != 2 || !(*window)[0].is_number() ||
           !(*window)[1].is_number())
@@ -197,8 +194,7 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   }
   if (const auto* object = top.Object("a3ms")) {
     const ObjectReader a3ms(*object, "a3ms", source, {"definition"});
-    a3ms.Choice("definition", config.a3ms.definition, engine::ParseA3msDefinitionName,
-                engine::A3msDefinitionName, engine::kA3msDefinitions);
+    a3ms.Choice("definition", config.a3ms.definition, engine::kA3msDefinitions);
   }
   if (const auto* object = top.Object("bric")) {
     const ObjectReader bric(*object, "bric", source, {"critical_radps"});
@@ -226,8 +222,7 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   }
   if (const auto* object = top.Object("storage")) {
     const ObjectReader storage(*object, "storage", source, {"derived_channels"});
-    storage.Choice("derived_channels", config.storage.derived_channels, engine::ParseDerivedStorageName,
-                   engine::DerivedStorageName, engine::kDerivedStorages);
+    storage.Choice("derived_channels", config.storage.derived_channels, engine::kDerivedStorages);
   }
 
   try {
@@ -244,12 +239,12 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
 
 nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
   json out = json::object();
-  out["solver"] = engine::SolverName(config.solver);
-  out["filter"] = {{"variant", engine::CfcVariantName(config.filter.variant)},
+  out["solver"] = engine::NameOf(config.solver);
+  out["filter"] = {{"variant", engine::NameOf(config.filter.variant)},
                    {"linear_cfc", FilterClassJson(config.filter.linear_cfc)},
                    {"angular_rate_cfc", FilterClassJson(config.filter.angular_rate_cfc)},
                    {"padding_s", config.filter.padding_s}};
-  out["bias"] = {{"mode", engine::BiasModeName(config.bias.mode)},
+  out["bias"] = {{"mode", engine::NameOf(config.bias.mode)},
                  {"window_s", json::array({config.bias.window_start_s, config.bias.window_end_s})},
                  {"auto_min_pre_impact_s", config.bias.auto_min_pre_impact_s}};
   out["time"] = {{"shift_s", config.time.shift_s},
@@ -261,7 +256,7 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
   // Added after results were first stored: present only when not the default
   // (cumulative), so every earlier configuration keeps its canonical form and hash.
   if (config.a3ms.definition != engine::ProcessingConfig{}.a3ms.definition)
-    out["a3ms"] = {{"definition", engine::A3msDefinitionName(config.a3ms.definition)}};
+    out["a3ms"] = {{"definition", engine::NameOf(config.a3ms.definition)}};
   out["bric"] = {{"critical_radps", Vector3Json(config.bric.critical_radps)}};
   out["screening"] = {{"residual_limit_g", config.screening.residual_limit_g},
                       {"spike_size_g", config.screening.spike_size_g},
@@ -277,7 +272,7 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
   // (float32), as "a3ms" above. Each stored derived channel records its own
   // encoding (docs/formats.md "Derived-channel storage").
   if (config.storage.derived_channels != engine::ProcessingConfig{}.storage.derived_channels)
-    out["storage"] = {{"derived_channels", engine::DerivedStorageName(config.storage.derived_channels)}};
+    out["storage"] = {{"derived_channels", engine::NameOf(config.storage.derived_channels)}};
   return out;
 }
 

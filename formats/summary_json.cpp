@@ -38,7 +38,7 @@ nlohmann::ordered_json FindingToJson(const engine::Finding& finding) {
   json["check"] = finding.check;
   json["channel"] =
       finding.channel ? nlohmann::ordered_json(*finding.channel) : nlohmann::ordered_json(nullptr);
-  json["severity"] = engine::SeverityName(finding.severity);
+  json["severity"] = engine::NameOf(finding.severity);
   json["detail"] = finding.detail;
   return json;
 }

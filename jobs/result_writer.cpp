@@ -109,7 +109,7 @@ void ResultWriter::Commit(const std::vector<ItemPtr>& batch) {
         held = queue_.FailJob(item->job.id, report.owner, *item->error);
       } else {
         catalogue_.WriteResult(item->job.test_id, report.config, item->processed.summary,
-                               engine::SolverName(config.solver), &item->processed.kinematics,
+                               engine::NameOf(config.solver), &item->processed.kinematics,
                                config.storage.derived_channels);
         held = queue_.CompleteJob(item->job.id, report.owner);
       }

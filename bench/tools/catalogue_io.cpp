@@ -109,7 +109,7 @@ int IoBaseline(const std::string& path, int batch, engine::DerivedStorage storag
     for (const Output& output : outputs) {
       engine::TestSummary summary = real_summary;
       summary.hic15.value = static_cast<double>(output.job.test_id);
-      catalogue.WriteResult(output.job.test_id, config_id, summary, engine::SolverName(config.solver),
+      catalogue.WriteResult(output.job.test_id, config_id, summary, engine::NameOf(config.solver),
                             &output.kinematics, storage);
       queue.CompleteJob(output.job.id, owner);
     }
@@ -119,7 +119,7 @@ int IoBaseline(const std::string& path, int batch, engine::DerivedStorage storag
   }
   const double wall = Seconds(start);
   fmt::print("io-baseline: {} tests, {} input samples read, {:.0f} MB of derived channels written ({})\n",
-             tests, samples, bytes_written / 1e6, engine::DerivedStorageName(storage));
+             tests, samples, bytes_written / 1e6, engine::NameOf(storage));
   fmt::print("io-baseline: wall {:.2f} s (read {:.2f} s, write+commit {:.2f} s)\n", wall, read_s, write_s);
   fmt::print("io_baseline_wall_s={:.3f}\n", wall);
   return 0;
@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
   try {
     if (args.size() >= 2 && args[0] == "io-baseline") {
       const std::string storage_name = option("--storage", "float64");
-      const auto storage = engine::ParseDerivedStorageName(storage_name);
+      const auto storage = engine::ParseName<engine::DerivedStorage>(storage_name);
       if (!storage) throw InputError("--storage takes float64, float32 or none, not '" + storage_name + "'.");
       return IoBaseline(args[1], std::stoi(option("--batch", "16")), *storage);
     }

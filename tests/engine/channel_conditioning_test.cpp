@@ -224,9 +224,9 @@ TEST(A3msDefinitions, InterruptedPulsesSeparateTheDefinitions) {
 
 TEST(A3msDefinitions, ProcessingConfigChoosesTheDefinition) {
   EXPECT_EQ(ProcessingConfig{}.a3ms.definition, A3msDefinition::kCumulative);
-  EXPECT_STREQ(A3msDefinitionName(A3msDefinition::kContinuous), "continuous");
-  EXPECT_EQ(ParseA3msDefinitionName("cumulative"), A3msDefinition::kCumulative);
-  EXPECT_FALSE(ParseA3msDefinitionName("sliding").has_value());
+  EXPECT_STREQ(NameOf(A3msDefinition::kContinuous), "continuous");
+  EXPECT_EQ(ParseName<A3msDefinition>("cumulative"), A3msDefinition::kCumulative);
+  EXPECT_FALSE(ParseName<A3msDefinition>("sliding").has_value());
 
   const ArrayGeometry array = test_support::Denton3222();
   synth::HeadImpact impact;

@@ -92,8 +92,8 @@ std::vector<Finding> FaultFindings(const synth::SyntheticTest& test, const std::
 std::string Describe(const std::vector<Finding>& findings) {
   std::string text;
   for (const Finding& f : findings)
-    text += std::string("  [") + SeverityName(f.severity) + "] " + f.check + " " + f.channel.value_or("-") +
-            ": " + f.detail + "\n";
+    text += std::string("  [") + NameOf(f.severity) + "] " + f.check + " " + f.channel.value_or("-") + ": " +
+            f.detail + "\n";
   return text;
 }
 

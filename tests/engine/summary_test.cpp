@@ -16,9 +16,9 @@ namespace napkin::engine {
 namespace {
 
 TEST(Summary, SeverityNames) {
-  EXPECT_STREQ(SeverityName(Severity::kInfo), "info");
-  EXPECT_STREQ(SeverityName(Severity::kWarning), "warning");
-  EXPECT_STREQ(SeverityName(Severity::kError), "error");
+  EXPECT_STREQ(NameOf(Severity::kInfo), "info");
+  EXPECT_STREQ(NameOf(Severity::kWarning), "warning");
+  EXPECT_STREQ(NameOf(Severity::kError), "error");
 }
 
 // A hand-made three-sample record with every peak at a different sample.

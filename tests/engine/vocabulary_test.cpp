@@ -26,10 +26,10 @@ namespace {
 // Every value's name parses back to it; an unknown or differently cased
 // name does not parse.
 template <typename Enum, std::size_t N>
-void ExpectRoundTrip(const std::array<Enum, N>& all, const char* (*name)(Enum),
-                     std::optional<Enum> (*parse)(std::string_view)) {
+void ExpectRoundTrip(const std::array<Enum, N>& all) {
+  const auto parse = [](std::string_view name) { return ParseName<Enum>(name); };
   for (const Enum value : all) {
-    const std::string text = name(value);
+    const std::string text = NameOf(value);
     EXPECT_EQ(parse(text), value) << text;
     std::string upper = text;
     for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -40,44 +40,44 @@ void ExpectRoundTrip(const std::array<Enum, N>& all, const char* (*name)(Enum),
 }
 
 TEST(Vocabulary, EveryNameParsesBackToItsValue) {
-  ExpectRoundTrip(kSolverKinds, SolverName, ParseSolverName);
-  ExpectRoundTrip(kBiasModes, BiasModeName, ParseBiasModeName);
-  ExpectRoundTrip(kDerivedStorages, DerivedStorageName, ParseDerivedStorageName);
-  ExpectRoundTrip(kCfcVariants, CfcVariantName, ParseCfcVariantName);
-  ExpectRoundTrip(kSeverities, SeverityName, ParseSeverityName);
-  ExpectRoundTrip(kSensorKinds, SensorKindName, ParseSensorKindName);
+  ExpectRoundTrip(kSolverKinds);
+  ExpectRoundTrip(kBiasModes);
+  ExpectRoundTrip(kDerivedStorages);
+  ExpectRoundTrip(kCfcVariants);
+  ExpectRoundTrip(kSeverities);
+  ExpectRoundTrip(kSensorKinds);
 }
 
 // Also: every enumerator has its table entry (a missing one would fall back
 // to the table's first name).
 TEST(Vocabulary, NamesAreTheDocumentedSpellings) {
-  EXPECT_STREQ(SolverName(SolverKind::kExact), "exact");
-  EXPECT_STREQ(SolverName(SolverKind::kSeed), "seed");
-  EXPECT_STREQ(BiasModeName(BiasMode::kAuto), "auto");
-  EXPECT_STREQ(BiasModeName(BiasMode::kWindow), "window");
-  EXPECT_STREQ(BiasModeName(BiasMode::kNone), "none");
-  EXPECT_STREQ(DerivedStorageName(DerivedStorage::kFloat64), "float64");
-  EXPECT_STREQ(DerivedStorageName(DerivedStorage::kFloat32), "float32");
-  EXPECT_STREQ(DerivedStorageName(DerivedStorage::kNone), "none");
-  EXPECT_STREQ(CfcVariantName(CfcVariant::kSaeJ211), "sae");
-  EXPECT_STREQ(CfcVariantName(CfcVariant::kIso6487), "iso");
-  EXPECT_STREQ(SeverityName(Severity::kInfo), "info");
-  EXPECT_STREQ(SeverityName(Severity::kWarning), "warning");
-  EXPECT_STREQ(SeverityName(Severity::kError), "error");
-  EXPECT_STREQ(SensorKindName(SensorKind::kLinear), "linear");
-  EXPECT_STREQ(SensorKindName(SensorKind::kAngularRate), "angular_rate");
-  EXPECT_STREQ(CheckName(Check::kMissing), "missing");
-  EXPECT_STREQ(CheckName(Check::kNonFinite), "non_finite");
-  EXPECT_STREQ(CheckName(Check::kImplausible), "implausible");
-  EXPECT_STREQ(CheckName(Check::kSaturation), "saturation");
-  EXPECT_STREQ(CheckName(Check::kSpike), "spike");
-  EXPECT_STREQ(CheckName(Check::kBias), "bias");
-  EXPECT_STREQ(CheckName(Check::kFlat), "flat");
-  EXPECT_STREQ(CheckName(Check::kPolarity), "polarity");
-  EXPECT_STREQ(CheckName(Check::kAxisLabel), "axis_label");
-  EXPECT_STREQ(CheckName(Check::kResidual), "residual");
-  EXPECT_STREQ(CheckName(Check::kConsistency), "consistency");
-  EXPECT_STREQ(CheckName(Check::kRotation), "rotation");
+  EXPECT_STREQ(NameOf(SolverKind::kExact), "exact");
+  EXPECT_STREQ(NameOf(SolverKind::kSeed), "seed");
+  EXPECT_STREQ(NameOf(BiasMode::kAuto), "auto");
+  EXPECT_STREQ(NameOf(BiasMode::kWindow), "window");
+  EXPECT_STREQ(NameOf(BiasMode::kNone), "none");
+  EXPECT_STREQ(NameOf(DerivedStorage::kFloat64), "float64");
+  EXPECT_STREQ(NameOf(DerivedStorage::kFloat32), "float32");
+  EXPECT_STREQ(NameOf(DerivedStorage::kNone), "none");
+  EXPECT_STREQ(NameOf(CfcVariant::kSaeJ211), "sae");
+  EXPECT_STREQ(NameOf(CfcVariant::kIso6487), "iso");
+  EXPECT_STREQ(NameOf(Severity::kInfo), "info");
+  EXPECT_STREQ(NameOf(Severity::kWarning), "warning");
+  EXPECT_STREQ(NameOf(Severity::kError), "error");
+  EXPECT_STREQ(NameOf(SensorKind::kLinear), "linear");
+  EXPECT_STREQ(NameOf(SensorKind::kAngularRate), "angular_rate");
+  EXPECT_STREQ(NameOf(Check::kMissing), "missing");
+  EXPECT_STREQ(NameOf(Check::kNonFinite), "non_finite");
+  EXPECT_STREQ(NameOf(Check::kImplausible), "implausible");
+  EXPECT_STREQ(NameOf(Check::kSaturation), "saturation");
+  EXPECT_STREQ(NameOf(Check::kSpike), "spike");
+  EXPECT_STREQ(NameOf(Check::kBias), "bias");
+  EXPECT_STREQ(NameOf(Check::kFlat), "flat");
+  EXPECT_STREQ(NameOf(Check::kPolarity), "polarity");
+  EXPECT_STREQ(NameOf(Check::kAxisLabel), "axis_label");
+  EXPECT_STREQ(NameOf(Check::kResidual), "residual");
+  EXPECT_STREQ(NameOf(Check::kConsistency), "consistency");
+  EXPECT_STREQ(NameOf(Check::kRotation), "rotation");
 }
 
 TEST(Units, OneParserForEverySpelling) {
@@ -144,7 +144,7 @@ TEST(ProcessingConfigCheck, RefusesSettingsThatWouldBeIgnored) {
     config = {};
     config.bias.mode = mode;
     config.bias.window_start_s = -0.02;
-    ExpectRefused(config, {"\"bias.window_s\"", "ignored", BiasModeName(mode), "\"window\""});
+    ExpectRefused(config, {"\"bias.window_s\"", "ignored", NameOf(mode), "\"window\""});
   }
   config.bias.mode = BiasMode::kWindow;
   EXPECT_EQ(CheckMessage(config), "");
@@ -153,7 +153,7 @@ TEST(ProcessingConfigCheck, RefusesSettingsThatWouldBeIgnored) {
     config = {};
     config.bias.mode = mode;
     config.bias.auto_min_pre_impact_s = 0.005;
-    ExpectRefused(config, {"\"bias.auto_min_pre_impact_s\"", "ignored", BiasModeName(mode), "\"auto\""});
+    ExpectRefused(config, {"\"bias.auto_min_pre_impact_s\"", "ignored", NameOf(mode), "\"auto\""});
   }
 
   config = {};

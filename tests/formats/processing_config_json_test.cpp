@@ -226,8 +226,8 @@ TEST(ProcessingConfigJson, DerivedStorageChoicesAreDistinctAndTheDefaultIsFloat3
   EXPECT_EQ(default_dump.find("storage"), std::string::npos);
   std::vector<std::string> dumps;
   for (const engine::DerivedStorage storage : engine::kDerivedStorages) {
-    const std::string name = engine::DerivedStorageName(storage);
-    EXPECT_EQ(engine::ParseDerivedStorageName(name), storage) << name;
+    const std::string name = engine::NameOf(storage);
+    EXPECT_EQ(engine::ParseName<engine::DerivedStorage>(name), storage) << name;
     const engine::ProcessingConfig parsed =
         ParseProcessingConfig(json{{"storage", {{"derived_channels", name}}}}, "storage");
     EXPECT_EQ(parsed.storage.derived_channels, storage) << name;
@@ -247,7 +247,7 @@ TEST(ProcessingConfigJson, DerivedStorageChoicesAreDistinctAndTheDefaultIsFloat3
   EXPECT_NE(dumps[0], dumps[1]);
   EXPECT_NE(dumps[0], dumps[2]);
   EXPECT_NE(dumps[1], dumps[2]);
-  EXPECT_FALSE(engine::ParseDerivedStorageName("Float32").has_value());
+  EXPECT_FALSE(engine::ParseName<engine::DerivedStorage>("Float32").has_value());
 }
 
 }  // namespace
