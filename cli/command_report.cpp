@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/command.h"
+#include "cli/option_checks.h"
 #include "cli/report_builder.h"
 #include "util/output_destination.h"
 
@@ -24,11 +25,23 @@ class ReportCommand : public Command {
                     "(repeatable: all of them)")
         ->allow_extra_args(false);
     sub->add_option("--out", out_, "HTML file to write (- for standard output)")->required();
+    sub->add_option("--baseline", options_.baseline,
+                    "the variant each compared series is compared with (default: first by name, as compare)");
+    sub->add_option("--align", align_,
+                    "t = 0 of the overlaid curves: recorded, or onset (first sample above --onset-threshold)")
+        ->check(OneOfCheck("--align", {"recorded", "onset"}))
+        ->capture_default_str();
+    sub->add_option("--onset-threshold", options_.onset_threshold_g,
+                    "resultant CG acceleration (g) that marks the impact onset for --align onset")
+        ->check(PositiveNumberCheck("--onset-threshold"))
+        ->capture_default_str();
     return sub;
   }
 
   int Run() override {
-    const std::string written = WrittenReportText(WriteCatalogueReport(global_->db_path, selection_, out_));
+    options_.align = ParseOverlayAlignment(align_);
+    const std::string written =
+        WrittenReportText(WriteCatalogueReport(global_->db_path, selection_, out_, options_));
     // With --out - the report is standard output; what was written goes to stderr.
     fmt::print(out_ == util::kStandardOutputName ? stderr : stdout, "{}", written);
     return kExitOk;
@@ -38,6 +51,8 @@ class ReportCommand : public Command {
   const GlobalOptions* global_ = nullptr;
   ReportSelection selection_;
   std::string out_;
+  ReportOptions options_;
+  std::string align_ = "recorded";
 };
 
 }  // namespace

@@ -22,18 +22,6 @@ namespace {
 // The group of the tests without a variant; import refuses it as a variant name.
 constexpr std::string_view kNoVariant = ingest::kNoVariantGroup;
 
-// The group of a variant: its name, except that names of the form (none),
-// "(none)", ""(none)"" ... get one more pair of double quotes, so no variant
-// is taken for (or pooled with) the tests without one, also in a catalogue
-// written before import refused the name (docs/formats.md "napkin compare").
-std::string VariantGroup(const std::optional<std::string>& variant) {
-  if (!variant) return std::string(kNoVariant);
-  std::string_view core = *variant;
-  while (core.size() >= 2 && core.front() == '"' && core.back() == '"')
-    core = core.substr(1, core.size() - 2);
-  return core == kNoVariant ? "\"" + *variant + "\"" : *variant;
-}
-
 const engine::SummaryField* FindField(const std::string& name) {
   for (const engine::SummaryField& field : engine::SummaryFields())
     if (name == field.name) return &field;
@@ -185,6 +173,18 @@ std::string HumanComparison(const Comparison& comparison) {
 }
 
 }  // namespace
+
+// The group of a variant: its name, except that names of the form (none),
+// "(none)", ""(none)"" ... get one more pair of double quotes, so no variant
+// is taken for (or pooled with) the tests without one, also in a catalogue
+// written before import refused the name (docs/formats.md "napkin compare").
+std::string VariantGroup(const std::optional<std::string>& variant) {
+  if (!variant) return std::string(kNoVariant);
+  std::string_view core = *variant;
+  while (core.size() >= 2 && core.front() == '"' && core.back() == '"')
+    core = core.substr(1, core.size() - 2);
+  return core == kNoVariant ? "\"" + *variant + "\"" : *variant;
+}
 
 CompareBy ParseCompareBy(const std::string& text) {
   if (text == "variant") return CompareBy::kVariant;

@@ -38,6 +38,10 @@ struct ComparisonRequest {
   std::vector<std::string> configs;
 };
 
+// The group of a test of `variant` when comparing by variant: the name, or
+// "(none)" for tests without one (docs/formats.md "napkin compare").
+std::string VariantGroup(const std::optional<std::string>& variant);
+
 // The metrics `napkin compare` shows by default: hic15, hic36, hic_d (when
 // this build has it), peak_acc_g, a3ms_g, peak_omega_radps, peak_alpha_radps2,
 // bric, damage, max_rotation_deg, hic15_p_ais3, bric_p_ais3, bric_p_ais4.

@@ -16,6 +16,7 @@
 #include "cli/report_builder.h"
 #include "cli/table_output.h"
 #include "cli/transform.h"
+#include "cli/verdict.h"
 #include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
@@ -36,6 +37,8 @@ constexpr const char* kValidationSeries = "validation";
 constexpr const char* kGeometries[3] = {"ideal-3222", "volpe-table4-2", "denton-3222"};
 // The padding series is recorded with the NAP array of the report's tests (Appendix A, Denton 3-2-2-2).
 constexpr const char* kPaddingArray = "denton-3222";
+// The padding every other is compared with, in the printed table and in the report.
+constexpr const char* kPaddingBaseline = "production";
 
 std::string ValidationTestId(const char* geometry) { return std::string("seed-fixed-axis-") + geometry; }
 
@@ -133,7 +136,9 @@ fs::path WritePaddingCsvFiles(const fs::path& dir) {
 void PrintPaddingComparison(db::Catalogue& catalogue) {
   ComparisonRequest request;
   request.series = kPaddingSeries;
-  request.baseline = "production";
+  request.baseline = kPaddingBaseline;
+  // The verdict first, from compare's default metrics, as the report words it.
+  fmt::print("{}\n", FormatVerdict(BuildVerdict(BuildComparison(catalogue, request))));
   request.metrics = {"hic15", "hic_d", "peak_acc_g", "peak_omega_radps", "peak_alpha_radps2", "bric"};
   fmt::print("{}", FormatComparison(BuildComparison(catalogue, request), TableFormat::kTable));
 }
@@ -242,7 +247,7 @@ void PrintNextSteps(const std::string& db, const fs::path& csv_dir) {
       "\nnext, try:\n"
       "  {0} query hic --where \"hic15>700\"\n"
       "  {0} compare --series {1} --by variant --baseline production\n"
-      "  {0} report --series {1} --out padding.html\n"
+      "  {0} report --series {1} --baseline production --align onset --out padding.html\n"
       "  {0} export --test {1}-production-01 --format lsdyna --out head.k\n"
       "  napkin --db lab.db import --array {3} --series sled --variant foam-b {2}/foam-b  "
       "(the raw channels of the padding series are in {2}/)\n",
@@ -282,7 +287,9 @@ void RunDemo(const DemoRequest& request) {
   const fs::path csv_dir = WritePaddingCsvFiles(dir);
 
   fmt::print("\n");
-  fmt::print("{}", WrittenReportText(WriteCatalogueReport(db, {}, report_path.string())));
+  ReportOptions report_options;
+  report_options.baseline = kPaddingBaseline;
+  fmt::print("{}", WrittenReportText(WriteCatalogueReport(db, {}, report_path.string(), report_options)));
   PrintNextSteps(db, csv_dir);
 }
 

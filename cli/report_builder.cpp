@@ -21,11 +21,15 @@
 
 #include "cli/comparison.h"
 #include "cli/db_option.h"
+#include "cli/verdict.h"
 #include "cli/where_parser.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "common/version.h"
+#include "engine/kinematics.h"
+#include "engine/overlay.h"
 #include "engine/statistics.h"
+#include "engine/units.h"
 #include "formats/html_report.h"
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
@@ -46,18 +50,176 @@ std::string CellText(const db::Cell& cell) {
   return "—";
 }
 
-// The series' variants compared as `napkin compare --series S` does (every
-// test of the series with a result, its latest), with each variant's values
-// per metric and the 95 % interval of its mean: the one-sample t interval,
+// The verdict of a comparison as the page shows it (cli/verdict.h).
+formats::ReportVerdict VerdictOf(const Comparison& comparison) {
+  const SeriesVerdict verdict = BuildVerdict(comparison);
+  formats::ReportVerdict report{verdict.baseline, verdict.columns, verdict.rows, verdict.sentences, {}};
+  report.notes.push_back(
+      "Each variant against " + verdict.baseline +
+      ": difference of means in % of the baseline mean with its 95 % confidence interval (Welch's t) and "
+      "two-sided p, n = tests of the variant vs the baseline; \"lowers\" or \"raises\" where p < 0.05, "
+      "\"unchanged\" where not. Risks (P(AIS n+)): mean probability of the baseline, then of the variant.");
+  return report;
+}
+
+// At most this many points on the overlays' common time base
+// (engine::CommonTimeBase), which holds one column per test of the series.
+constexpr Eigen::Index kOverlayBasePoints = 10000;
+
+std::string Milliseconds(double seconds) { return util::FormatNumber(seconds * 1000.0, 4) + " ms"; }
+
+// The overlaid curves of a series: each test's latest result, its resultant
+// CG acceleration (g) and, for tests with rotation, its resultant angular
+// velocity (rad/s), aligned as `options` say, resampled onto one common time
+// base, with each group's mean ± 1 sd. Reads each test's kinematics twice
+// (once for the time base, once for the values), so only the resampled
+// traces are held.
+void AddOverlays(db::Catalogue& catalogue, const Comparison& comparison, const ReportOptions& options,
+                 formats::ReportComparison& report) {
+  db::TestFilter filter;
+  filter.series = comparison.series;
+  struct OverlayTest {
+    std::string test_id;
+    std::size_t group;
+    db::TestId key;
+    db::ConfigId config;
+    double shift_s = 0.0;  // subtracted from its time axis
+    bool rotation = false;
+  };
+  std::vector<OverlayTest> tests;
+  for (const db::LabelledResult& result : catalogue.ReadResults(filter, db::ResultSelection::kLatest)) {
+    const auto group =
+        std::find(comparison.groups.begin(), comparison.groups.end(), VariantGroup(result.variant));
+    if (group == comparison.groups.end()) continue;
+    const std::optional<db::TestId> key = catalogue.FindTestByExternalId(result.test_id);
+    if (!key) continue;
+    tests.push_back({result.test_id, static_cast<std::size_t>(group - comparison.groups.begin()), *key,
+                     result.config_id});
+  }
+  std::stable_sort(tests.begin(), tests.end(), [](const OverlayTest& a, const OverlayTest& b) {
+    return std::tie(a.group, a.test_id) < std::tie(b.group, b.test_id);
+  });
+  if (tests.empty()) return;
+
+  auto acceleration_g = [](const engine::Kinematics& k) -> Eigen::VectorXd {
+    // As the per-test chart: fixed-frame resultant, body axes without rotation (the same length).
+    return (engine::HasRotation(k) ? k.acc_fixed : k.acc_body).rowwise().norm() / engine::kStandardGravity;
+  };
+  // Pass 1: alignment and the time base.
+  std::vector<engine::TimeSeries> spans;  // each test's aligned time axis (no values)
+  std::vector<engine::TimeSeries> rotation_spans;
+  std::vector<std::string> without_onset;
+  for (OverlayTest& test : tests) {
+    const engine::Kinematics k = ReadResultKinematics(catalogue, test.key, test.config);
+    test.rotation = engine::HasRotation(k) && k.size() > 0 && k.omega_body.rows() == k.size();
+    if (options.align == OverlayAlignment::kOnset) {
+      const std::optional<double> onset =
+          engine::OnsetTime(k.time_s, acceleration_g(k), options.onset_threshold_g);
+      if (onset)
+        test.shift_s = *onset;
+      else
+        without_onset.push_back(test.test_id);
+    }
+    engine::TimeSeries span{k.time_s.array() - test.shift_s, {}};
+    if (test.rotation) rotation_spans.push_back(span);
+    spans.push_back(std::move(span));
+  }
+  const Eigen::VectorXd base = engine::CommonTimeBase(spans, kOverlayBasePoints);
+  const Eigen::VectorXd rotation_base = engine::CommonTimeBase(rotation_spans, kOverlayBasePoints);
+  if (base.size() < 2) return;
+
+  // Pass 2: every test on the base; the corridors last.
+  const std::size_t rotation_tests = rotation_spans.size();
+  const std::size_t group_count = comparison.groups.size();
+  Eigen::MatrixXd acc(base.size(), static_cast<Eigen::Index>(tests.size() + 2 * group_count));
+  Eigen::MatrixXd omega(rotation_base.size(), static_cast<Eigen::Index>(rotation_tests + 2 * group_count));
+  std::vector<formats::ReportOverlay::Trace> acc_traces, omega_traces;
+  std::vector<std::vector<Eigen::Index>> acc_columns(group_count), omega_columns(group_count);
+  for (const OverlayTest& test : tests) {
+    const engine::Kinematics k = ReadResultKinematics(catalogue, test.key, test.config);
+    const Eigen::VectorXd time = k.time_s.array() - test.shift_s;
+    const auto column = static_cast<Eigen::Index>(acc_traces.size());
+    acc.col(column) = engine::ResampleOnto({time, acceleration_g(k)}, base);
+    acc_columns[test.group].push_back(column);
+    acc_traces.push_back({test.test_id, test.group, formats::ReportOverlay::Trace::Kind::kTest});
+    if (!test.rotation || rotation_base.size() < 2) continue;
+    const auto rotation_column = static_cast<Eigen::Index>(omega_traces.size());
+    omega.col(rotation_column) = engine::ResampleOnto({time, k.omega_body.rowwise().norm()}, rotation_base);
+    omega_columns[test.group].push_back(rotation_column);
+    omega_traces.push_back({test.test_id, test.group, formats::ReportOverlay::Trace::Kind::kTest});
+  }
+  auto add_corridors = [&](Eigen::MatrixXd& values, std::vector<formats::ReportOverlay::Trace>& traces,
+                           const std::vector<std::vector<Eigen::Index>>& columns) {
+    for (std::size_t g = 0; g < group_count; ++g) {
+      if (columns[g].empty()) continue;  // a variant without a trace here has no corridor
+      Eigen::MatrixXd members(values.rows(), static_cast<Eigen::Index>(columns[g].size()));
+      for (std::size_t m = 0; m < columns[g].size(); ++m)
+        members.col(static_cast<Eigen::Index>(m)) = values.col(columns[g][m]);
+      const engine::Corridor corridor = engine::MeanSdCorridor(members);
+      const auto low = static_cast<Eigen::Index>(traces.size());
+      values.col(low) = corridor.low;
+      values.col(low + 1) = corridor.high;
+      traces.push_back({comparison.groups[g] + " mean − 1 sd", g, formats::ReportOverlay::Trace::Kind::kLow});
+      traces.push_back(
+          {comparison.groups[g] + " mean + 1 sd", g, formats::ReportOverlay::Trace::Kind::kHigh});
+    }
+    values.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(traces.size()));
+  };
+  add_corridors(acc, acc_traces, acc_columns);
+  report.overlays.push_back(formats::MakeReportOverlay("acc", "Resultant CG acceleration, every test",
+                                                       "acceleration (g)", comparison.groups,
+                                                       std::move(acc_traces), base, acc));
+  if (!omega_traces.empty()) {
+    add_corridors(omega, omega_traces, omega_columns);
+    report.overlays.push_back(formats::MakeReportOverlay("omega", "Resultant angular velocity, every test",
+                                                         "angular velocity (rad/s)", comparison.groups,
+                                                         std::move(omega_traces), rotation_base, omega));
+  }
+
+  const double step_s = (base(base.size() - 1) - base(0)) / static_cast<double>(base.size() - 1);
+  report.overlay_notes.push_back(
+      "Every test of series " + comparison.series +
+      " with a result (its latest), thin in its variant's colour; " +
+      "dashed: each variant's mean ± 1 sd (sample sd) wherever at least 2 of its tests have a sample, the "
+      "band "
+      "between shaded. " +
+      (options.align == OverlayAlignment::kOnset
+           ? "Aligned at impact onset: t = 0 at each test's first sample whose resultant CG acceleration "
+             "exceeds " +
+                 util::FormatNumber(options.onset_threshold_g, 6) + " g (--align onset). "
+           : std::string("Aligned at t = 0 as recorded (--align onset aligns at the impact onset). ")) +
+      "Common time base: from the earliest to the latest aligned sample in steps of " + Milliseconds(step_s) +
+      " (the finest sample interval of the tests, at most " + std::to_string(kOverlayBasePoints) +
+      " points), each test linearly interpolated onto it; then reduced for display like the per-test charts, "
+      "keeping every bucket's extremes.");
+  if (!without_onset.empty())
+    report.overlay_notes.push_back("Never above " + util::FormatNumber(options.onset_threshold_g, 6) +
+                                   " g, so shown as recorded: " + Joined(without_onset) + ".");
+}
+
+// The series' variants compared as `napkin compare --series S [--baseline
+// V]` does (every test of the series with a result, its latest): the
+// verdict, the overlaid curves, the table, and each variant's values per
+// metric with the 95 % interval of its mean: the one-sample t interval,
 // which is engine::PairedComparison's interval of differences from zero.
-formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::string& series) {
+formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::string& series,
+                                           const ReportOptions& options) {
   ComparisonRequest request;
   request.series = series;
   request.by = CompareBy::kVariant;
-  const Comparison comparison = BuildComparison(catalogue, request);
+  request.baseline = options.baseline;
+  Comparison comparison = BuildComparison(catalogue, request);
+  // Metrics no test of the series has (the rotation of acceleration-only
+  // tests) say nothing: no table rows, no plots.
+  std::erase_if(comparison.metrics, [](const MetricComparison& metric) {
+    return std::all_of(metric.groups.begin(), metric.groups.end(),
+                       [](const GroupValues& values) { return values.values.empty(); });
+  });
 
   formats::ReportComparison report;
   report.series = series;
+  report.verdict = VerdictOf(comparison);
+  AddOverlays(catalogue, comparison, options, report);
   const db::Table table = ComparisonTable(comparison);
   report.columns = table.columns;
   for (const std::vector<db::Cell>& row : table.rows) {
@@ -66,16 +228,12 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
   }
   report.notes.push_back(
       "Every test of series " + series + " with a result (its latest), as napkin compare --series " + series +
-      " shows them; baseline " + comparison.baseline +
+      (options.baseline ? " --baseline " + *options.baseline : std::string()) + " shows them; baseline " +
+      comparison.baseline +
       "; diff = mean − baseline mean with its 95 % confidence interval (Welch's t) and the "
       "two-sided p-value.");
   std::set<std::string> small_groups;
   for (const MetricComparison& metric : comparison.metrics) {
-    // A metric no test has (the rotation of acceleration-only tests): its
-    // table rows say n = 0, and there is nothing to plot.
-    if (std::all_of(metric.groups.begin(), metric.groups.end(),
-                    [](const GroupValues& values) { return values.values.empty(); }))
-      continue;
     formats::ReportDistribution& distribution = report.distributions.emplace_back();
     distribution.metric = metric.metric;
     for (std::size_t g = 0; g < metric.groups.size(); ++g) {
@@ -149,7 +307,7 @@ std::string Described(const ReportSelection& selection) {
 // number of tests.
 class CatalogueReport {
  public:
-  CatalogueReport(const std::string& db_path, const ReportSelection& selection)
+  CatalogueReport(const std::string& db_path, const ReportSelection& selection, const ReportOptions& options)
       : catalogue_(Open(db_path, selection)) {
     for (const std::string& id : selection.test_ids)
       if (!catalogue_.ExistsTestByExternalId(id))
@@ -186,7 +344,7 @@ class CatalogueReport {
       header_.configs.push_back({config.name, config.config_hash, config.config_json});
     // Each series of the report with more than one variant is compared.
     for (const auto& [series, variants] : variants_by_series)
-      if (variants.size() > 1) comparisons_.push_back(SeriesComparison(catalogue_, series));
+      if (variants.size() > 1) comparisons_.push_back(SeriesComparison(catalogue_, series, options));
   }
 
   // Writes the page through `sink`; the tests shown and the bytes written.
@@ -241,9 +399,15 @@ class CatalogueReport {
 
 }  // namespace
 
+OverlayAlignment ParseOverlayAlignment(const std::string& text) {
+  if (text == "recorded") return OverlayAlignment::kRecorded;
+  if (text == "onset") return OverlayAlignment::kOnset;
+  throw UsageError("unknown --align '" + text + "' (use recorded or onset).");
+}
+
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
-                                   const std::string& out) {
-  CatalogueReport report(db_path, selection);
+                                   const std::string& out, const ReportOptions& options) {
+  CatalogueReport report(db_path, selection, options);
   WrittenReport written;
   util::WriteFileAtomically(out, [&](util::AtomicFile& file) {
     written = report.Write([&file](std::string_view text) { file.Write(text); });
@@ -253,8 +417,8 @@ WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelec
 }
 
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
-                                   const formats::HtmlSink& sink) {
-  return CatalogueReport(db_path, selection).Write(sink);
+                                   const formats::HtmlSink& sink, const ReportOptions& options) {
+  return CatalogueReport(db_path, selection, options).Write(sink);
 }
 
 std::string WrittenReportText(const WrittenReport& written) {

@@ -20,6 +20,27 @@ struct ReportSelection {
   std::vector<std::string> where;
 };
 
+// Where the overlaid curves of a series put each test's t = 0
+// (docs/formats.md "HTML report"): as recorded, or at its impact onset.
+enum class OverlayAlignment { kRecorded, kOnset };
+
+// "recorded" or "onset"; throws UsageError otherwise.
+OverlayAlignment ParseOverlayAlignment(const std::string& text);
+
+// The default onset threshold: 5 g of resultant CG acceleration.
+inline constexpr double kDefaultOnsetThresholdG = 5.0;
+
+// How the comparisons of the report are made and drawn.
+struct ReportOptions {
+  // The variant every compared series is compared with (each must have it);
+  // default: as `napkin compare`, the first variant in name order.
+  std::optional<std::string> baseline;
+  OverlayAlignment align = OverlayAlignment::kRecorded;
+  // kOnset: t = 0 at each test's first sample whose resultant CG
+  // acceleration exceeds this many g.
+  double onset_threshold_g = kDefaultOnsetThresholdG;
+};
+
 struct WrittenReport {
   std::string path;
   std::size_t tests = 0;                     // tests shown
@@ -29,18 +50,20 @@ struct WrittenReport {
 
 // Writes the report of the selected tests of the catalogue at `db_path`
 // (opened read-only) to `out`: each test's latest result, and the
-// comparison of each series with more than one variant. Throws UsageError
-// for a malformed `where` (before the catalogue is opened), InputError (one
+// comparison of each series with more than one variant (its verdict,
+// cli/verdict.h, and overlaid curves, as `options` say). Throws UsageError
+// for a malformed `where` (before the catalogue is opened) or a baseline a
+// compared series does not have, InputError (one
 // sentence) for an unknown test id, a selection matching no test, or no test
 // with results.
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
-                                   const std::string& out);
+                                   const std::string& out, const ReportOptions& options = {});
 
 // The same page written through `sink` (a destination the caller opened,
 // e.g. standard output), after the same checks; `path` of the answer is
 // empty. The page streams: one test is read and held at a time.
 WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelection& selection,
-                                   const formats::HtmlSink& sink);
+                                   const formats::HtmlSink& sink, const ReportOptions& options = {});
 
 // "wrote FILE: N tests, B bytes." (standard output: "wrote the report to
 // standard output: N tests.") and, when some were left out, a second line

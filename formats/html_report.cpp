@@ -209,12 +209,75 @@ Html PageHeader(const ReportHeader& header, std::span<const std::string> test_id
 
 // ---- a series' comparison
 
-// Its section; the data of its distribution plots are appended to `distributions`.
-Html ComparisonSection(json& distributions, const ReportComparison& comparison, std::size_t index) {
+const char* TraceKind(ReportOverlay::Trace::Kind kind) {
+  switch (kind) {
+    case ReportOverlay::Trace::Kind::kLow:
+      return "low";
+    case ReportOverlay::Trace::Kind::kHigh:
+      return "high";
+    case ReportOverlay::Trace::Kind::kTest:
+      break;
+  }
+  return "test";
+}
+
+// The verdict: its table and one sentence per variant (cli/verdict.h).
+Html VerdictBlock(const ReportVerdict& verdict) {
+  if (verdict.sentences.empty()) return {};
+  Html table = Markup("\n") + TextRow("th", verdict.columns);
+  for (const std::vector<std::string>& row : verdict.rows) table += TextRow("td", row);
+  Html sentences = Markup("\n");
+  for (const std::string& sentence : verdict.sentences)
+    sentences += Element("li", Text(sentence)) + Markup("\n");
+  Html block = Markup("\n") + Element("h3", Markup("Verdict against ") + Text(verdict.baseline)) +
+               Markup("\n") + Element("table class=\"verdict\"", table) + Markup("\n") +
+               Element("ul class=\"verdict\"", sentences) + Markup("\n");
+  for (const std::string& note : verdict.notes)
+    block += Element("p class=\"note\"", Text(note)) + Markup("\n");
+  return Element("div class=\"verdict\"", block) + Markup("\n");
+}
+
+// The overlaid curves; their data are appended to `overlays`.
+Html OverlayFigures(json& overlays, const ReportComparison& comparison, std::size_t index) {
+  if (comparison.overlays.empty()) return {};
+  Html figures = Markup("\n");
+  for (const ReportOverlay& overlay : comparison.overlays) {
+    const std::string id = "overlay-" + std::to_string(index + 1) + "-" + overlay.key;
+    figures += Figure(id, overlay.title);
+    json labels = json::array();
+    json groups_of = json::array();
+    json kinds = json::array();
+    for (const ReportOverlay::Trace& trace : overlay.traces) {
+      labels.push_back(trace.label);
+      groups_of.push_back(trace.group);
+      kinds.push_back(TraceKind(trace.kind));
+    }
+    overlays.push_back({{"id", id},
+                        {"ylabel", overlay.y_label},
+                        {"groups", overlay.groups},
+                        {"labels", std::move(labels)},
+                        {"group", std::move(groups_of)},
+                        {"kind", std::move(kinds)},
+                        {"t", overlay.time_ms},
+                        {"y", overlay.values}});
+  }
+  Html html = Element("h3", Markup("Time histories, every test")) + Markup("\n") +
+              Element("div class=\"charts overlays\"", figures) + Markup("\n");
+  for (const std::string& note : comparison.overlay_notes)
+    html += Element("p class=\"note\"", Text(note)) + Markup("\n");
+  return html;
+}
+
+// Its section; the data of its overlaid curves and distribution plots are
+// appended to `overlays` and `distributions`.
+Html ComparisonSection(json& overlays, json& distributions, const ReportComparison& comparison,
+                       std::size_t index) {
   Html table = Markup("\n") + TextRow("th", comparison.columns);
   for (const std::vector<std::string>& row : comparison.rows) table += TextRow("td", row);
   Html section = Markup("\n") +
                  Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
+                 Markup("\n") + VerdictBlock(comparison.verdict) +
+                 OverlayFigures(overlays, comparison, index) + Element("h3", Markup("Every metric")) +
                  Markup("\n") + Element("table class=\"compare\"", table) + Markup("\n");
   for (const std::string& note : comparison.notes)
     section += Element("p class=\"note\"", Text(note)) + Markup("\n");
@@ -489,6 +552,27 @@ ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series
   return test;
 }
 
+ReportOverlay MakeReportOverlay(std::string key, std::string title, std::string y_label,
+                                std::vector<std::string> groups, std::vector<ReportOverlay::Trace> traces,
+                                const Eigen::VectorXd& time_s, const Eigen::MatrixXd& values,
+                                Eigen::Index max_points) {
+  ReportOverlay overlay{
+      std::move(key), std::move(title), std::move(y_label), std::move(groups), std::move(traces), {}, {}};
+  const Eigen::MatrixXd for_choosing = values.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
+  // At least one bucket, however many traces (a series of hundreds of tests).
+  const std::vector<Eigen::Index> kept =
+      engine::PeakPreservingSamples(for_choosing, std::max(max_points, 2 * values.cols() + 2));
+  overlay.time_ms.reserve(kept.size());
+  for (const Eigen::Index row : kept) overlay.time_ms.push_back(ForDisplay(time_s(row) * 1000.0));
+  overlay.values.resize(static_cast<std::size_t>(values.cols()));
+  for (Eigen::Index trace = 0; trace < values.cols(); ++trace) {
+    std::vector<double>& out = overlay.values[static_cast<std::size_t>(trace)];
+    out.reserve(kept.size());
+    for (const Eigen::Index row : kept) out.push_back(ForDisplay(values(row, trace)));
+  }
+  return overlay;
+}
+
 // ---- the page, piece by piece
 
 HtmlReportWriter::HtmlReportWriter(HtmlSink sink, const ReportHeader& header,
@@ -509,10 +593,12 @@ HtmlReportWriter::HtmlReportWriter(HtmlSink sink, const ReportHeader& header,
   sink_(ReportStylesheet());
   sink_("</style>\n</head>\n<body>\n<main>\n");
   sink_(PageHeader(header, test_ids).text);
+  json overlays = json::array();
   json distributions = json::array();
   for (std::size_t i = 0; i < comparisons.size(); ++i)
-    sink_(ComparisonSection(distributions, comparisons[i], i).text);
+    sink_(ComparisonSection(overlays, distributions, comparisons[i], i).text);
   distributions_json_ = JsonForScript(distributions);
+  overlays_json_ = JsonForScript(overlays);
 }
 
 HtmlReportWriter::~HtmlReportWriter() {
@@ -543,7 +629,7 @@ void HtmlReportWriter::Finish() {
   html += "</main>\n<script>";
   sink_(html);
   sink_(WithoutSourceMap(DygraphsScript(), "//# sourceMappingURL="));
-  // JsonForScript of {"charts": [...], "distributions": [...]} (keys in
+  // JsonForScript of {"charts": [...], "distributions": [...], "overlays": [...]} (keys in
   // nlohmann's order), one chart at a time.
   sink_("</script>\n<script type=\"application/json\" id=\"napkin-data\">{\"charts\":[");
   if (chart_data_ != nullptr) {
@@ -562,7 +648,8 @@ void HtmlReportWriter::Finish() {
     std::fclose(chart_data_);
     chart_data_ = nullptr;
   }
-  sink_("],\"distributions\":" + distributions_json_ + "}</script>\n<script>\n");
+  sink_("],\"distributions\":" + distributions_json_ + ",\"overlays\":" + overlays_json_ +
+        "}</script>\n<script>\n");
   // Draws every chart of the embedded data with dygraphs. The axis labels,
   // tick labels and legend values dygraphs inserts as HTML are escaped
   // first; the series labels are handed over as text, since dygraphs escapes

@@ -100,10 +100,51 @@ struct ReportDistribution {
   std::vector<Group> groups;
 };
 
-// The comparison of a series' variants (`napkin compare`): its table, already
-// formatted as text, footnotes, and the distribution plots.
+// The verdict that opens a series' comparison (cli/verdict.h): a short
+// table and one sentence per variant against the baseline, as text.
+struct ReportVerdict {
+  std::string baseline;
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> sentences;
+  std::vector<std::string> notes;
+};
+
+// One quantity of a series' tests laid over each other: every test's trace
+// and each group's (variant's) mean - 1 sd and mean + 1 sd on a common time
+// base (engine/overlay.h), reduced for display.
+struct ReportOverlay {
+  std::string key;                  // "acc", "omega": part of the chart's element id
+  std::string title;                // e.g. "Resultant CG acceleration, every test"
+  std::string y_label;              // with its unit
+  std::vector<std::string> groups;  // the variants, in the comparison's order
+  struct Trace {
+    std::string label;  // a test id, or "<variant> mean − 1 sd" / "mean + 1 sd"
+    std::size_t group = 0;
+    enum class Kind { kTest, kLow, kHigh } kind = Kind::kTest;
+  };
+  std::vector<Trace> traces;
+  std::vector<double> time_ms;
+  std::vector<std::vector<double>> values;  // one per trace, each as long as time_ms; NaN: no sample
+};
+
+// `traces` (one column per trace, NaN where a trace has no sample) on the
+// common time base `time_s`, reduced to at most `max_points` points by
+// engine::PeakPreservingSamples (NaN counted as 0 for choosing the points:
+// the quantities overlaid are resultants, never negative), time in ms.
+ReportOverlay MakeReportOverlay(std::string key, std::string title, std::string y_label,
+                                std::vector<std::string> groups, std::vector<ReportOverlay::Trace> traces,
+                                const Eigen::VectorXd& time_s, const Eigen::MatrixXd& values,
+                                Eigen::Index max_points = kReportMaxPoints);
+
+// The comparison of a series' variants (`napkin compare`): the verdict, the
+// overlaid curves, its table, already formatted as text, footnotes, and the
+// distribution plots.
 struct ReportComparison {
   std::string series;
+  ReportVerdict verdict;
+  std::vector<ReportOverlay> overlays;
+  std::vector<std::string> overlay_notes;
   std::vector<std::string> columns;
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> notes;
@@ -145,6 +186,7 @@ class HtmlReportWriter {
   std::size_t tests_added_ = 0;
   std::size_t charts_spooled_ = 0;
   std::string distributions_json_;
+  std::string overlays_json_;
   std::FILE* chart_data_ = nullptr;  // the spooled plot data, once there are any
   bool finished_ = false;
 };

@@ -124,6 +124,76 @@
     });
   }
 
+  // Every test of a series thin in its variant's colour, each variant's
+  // mean ± 1 sd corridor as two dashed bounds with the band between them
+  // shaded (null values: gaps).
+  function overlay(chart) {
+    var element = document.getElementById(chart.id);
+    var rows = new Array(chart.t.length);
+    for (var i = 0; i < chart.t.length; ++i) {
+      var row = [chart.t[i]];
+      for (var k = 0; k < chart.y.length; ++k) row.push(chart.y[k][i]);
+      rows[i] = row;
+    }
+    var series = {};
+    var colors = chart.labels.map(function (label, k) {
+      var ink = groupColors[chart.group[k] % groupColors.length];
+      series[label] = chart.kind[k] === 'test'
+        ? { strokeWidth: 0.9 }
+        : { strokeWidth: 1.6, strokePattern: [6, 3] };
+      return ink;
+    });
+    new Dygraph(element, rows, {
+      labels: ['time (ms)'].concat(chart.labels),
+      xlabel: 'time (ms)',
+      ylabel: esc(chart.ylabel),
+      colors: colors,
+      series: series,
+      legend: 'always',
+      labelsDiv: element.parentNode.querySelector('.legend'),
+      labelsSeparateLines: false,
+      gridLineColor: '#e4e7eb',
+      axisLabelFontSize: 12,
+      xLabelHeight: 16,
+      yLabelWidth: 16,
+      axes: { y: { axisLabelWidth: 56 } },
+      underlayCallback: function (canvas, area, graph) {
+        chart.groups.forEach(function (name, g) {
+          var low = -1, high = -1;
+          chart.kind.forEach(function (kind, k) {
+            if (chart.group[k] !== g) return;
+            if (kind === 'low') low = k;
+            if (kind === 'high') high = k;
+          });
+          if (low < 0 || high < 0) return;
+          canvas.fillStyle = groupColors[g % groupColors.length];
+          canvas.globalAlpha = 0.13;
+          // One polygon per run of rows where both bounds exist.
+          var start = 0;
+          while (start < chart.t.length) {
+            while (start < chart.t.length && (chart.y[low][start] === null || chart.y[high][start] === null)) ++start;
+            var end = start;
+            while (end < chart.t.length && chart.y[low][end] !== null && chart.y[high][end] !== null) ++end;
+            if (end - start > 1) {
+              canvas.beginPath();
+              for (var i = start; i < end; ++i) {
+                var x = graph.toDomXCoord(chart.t[i]), y = graph.toDomYCoord(chart.y[high][i]);
+                if (i === start) canvas.moveTo(x, y); else canvas.lineTo(x, y);
+              }
+              for (var j = end - 1; j >= start; --j)
+                canvas.lineTo(graph.toDomXCoord(chart.t[j]), graph.toDomYCoord(chart.y[low][j]));
+              canvas.closePath();
+              canvas.fill();
+            }
+            start = end;
+          }
+          canvas.globalAlpha = 1;
+        });
+      },
+      drawCallback: drawn(element)
+    });
+  }
+
   function guarded(draw) {
     return function (chart) {
       try { draw(chart); } catch (e) { window.napkinReportError(chart.id + ': ' + (e && e.message ? e.message : e)); }
@@ -131,4 +201,5 @@
   }
   data.charts.forEach(guarded(timeHistory));
   data.distributions.forEach(guarded(distribution));
+  data.overlays.forEach(guarded(overlay));
 })();

@@ -156,6 +156,24 @@ TEST_F(CliAccelerationOnly, ReportHasTheAccelerationChartOnly) {
       for (const nlohmann::json& value : trace) EXPECT_TRUE(value.is_number()) << chart.at("id");
   // The tables show the rotation fields as "—".
   EXPECT_NE(html.find("<td class=\"num\">—</td>"), std::string::npos);
+
+  // The series' comparison: the acceleration overlay only (a trace per test,
+  // two bounds per variant), no rotation metric in its table or verdict.
+  ASSERT_EQ(data.at("overlays").size(), 1u);
+  const nlohmann::json& overlay = data.at("overlays")[0];
+  EXPECT_EQ(overlay.at("id"), "overlay-1-acc");
+  EXPECT_EQ(overlay.at("labels"), nlohmann::json({"a1", "a2", "b1", "b2", "a mean − 1 sd", "a mean + 1 sd",
+                                                  "b mean − 1 sd", "b mean + 1 sd"}));
+  EXPECT_EQ(html.find("overlay-1-omega"), std::string::npos);
+  for (const engine::SummaryField* field : engine::SummaryFieldsOf({engine::SummaryGroup::kRotation}))
+    EXPECT_EQ(html.find("<tr><td>" + std::string(field->name) + "</td>"), std::string::npos) << field->name;
+  EXPECT_NE(html.find("<tr><td>hic15</td>"), std::string::npos);
+  const std::size_t verdict = html.find("<div class=\"verdict\">");
+  ASSERT_NE(verdict, std::string::npos);
+  const std::string verdict_block = html.substr(verdict, html.find("</div>", verdict) - verdict);
+  EXPECT_NE(verdict_block.find("<li>b "), std::string::npos) << verdict_block;
+  EXPECT_NE(verdict_block.find("HIC15"), std::string::npos) << verdict_block;
+  EXPECT_EQ(verdict_block.find("BrIC"), std::string::npos) << verdict_block;
 }
 
 TEST_F(CliAccelerationOnly, ExportGivesTheAccelerationAndRefusesRotationFormats) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/report_known_answers.h"
+#include "formats/html_report.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
@@ -87,6 +88,27 @@ TEST(DemoCli, BuildsAndRunsItsCatalogueAndPrintsTheValidationTable) {
                                         "  foam-a +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\][^\n]*\n"
                                         "  foam-b +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\]")))
       << out;
+  // The verdict first, one sentence per foam, and the same sentences in the
+  // report (compared with production there too).
+  const std::size_t verdict = out.find("verdict on series padding-series against 'production'");
+  ASSERT_NE(verdict, std::string::npos) << out;
+  EXPECT_LT(verdict, out.find("series padding-series: variants compared with variant 'production'"));
+  const std::string report_html = ReadText(dir.path() / "d" / "report.html");
+  std::size_t sentences = 0;
+  for (const std::string& line : Lines(out.substr(verdict))) {
+    if (line.rfind("  foam-", 0) != 0) {
+      if (sentences > 0) break;
+      continue;
+    }
+    ++sentences;
+    EXPECT_EQ(line.rfind(sentences == 1 ? "  foam-a lowers HIC15 by " : "  foam-b lowers HIC15 by ", 0), 0u)
+        << line;
+    EXPECT_NE(report_html.find("<li>" + formats::EscapeHtml(line.substr(2)) + "</li>"), std::string::npos)
+        << line;
+  }
+  EXPECT_EQ(sentences, 2u) << out;
+  EXPECT_NE(report_html.find("<h3>Verdict against production</h3>"), std::string::npos);
+
   // The report of the whole catalogue, and what to try next.
   EXPECT_NE(out.find("wrote d/report.html: 18 tests, "), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir.path() / "d" / "report.html"));

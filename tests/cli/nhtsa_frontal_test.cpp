@@ -222,6 +222,29 @@ TEST(NhtsaFrontal, AccelerationOnlyImportsInEveryFormatMatchNhtsasPrograms) {
     if (finding.at("check") == "rotation") ++rotation_findings[finding.at("test_id").get<std::string>()];
   }
   EXPECT_EQ(rotation_findings.size(), 9u);
+
+  // The report of the three variants: the acceleration overlay only (a
+  // trace per test, two corridor bounds per variant), no rotation chart, and
+  // no compare row of a metric no test has (docs/formats.md "Overlaid curves").
+  const RunResult report =
+      RunNapkin(dir.path(), {"report", "--series", "nhtsa", "--align", "onset", "--out", "nhtsa.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  std::ifstream in(dir / "nhtsa.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string marker = "<script type=\"application/json\" id=\"napkin-data\">";
+  const std::size_t begin = html.find(marker);
+  ASSERT_NE(begin, std::string::npos);
+  const nlohmann::json plot_data = nlohmann::json::parse(
+      html.substr(begin + marker.size(), html.find("</script>", begin) - begin - marker.size()));
+  ASSERT_EQ(plot_data.at("overlays").size(), 1u);
+  EXPECT_EQ(plot_data.at("overlays")[0].at("id"), "overlay-1-acc");
+  EXPECT_EQ(plot_data.at("overlays")[0].at("labels").size(), 9u + 3u * 2u);
+  EXPECT_EQ(html.find("overlay-1-omega"), std::string::npos);
+  for (const char* rotation_metric :
+       {"peak_omega_radps", "peak_alpha_radps2", "bric", "damage", "max_rotation_deg"})
+    EXPECT_EQ(html.find(std::string("<tr><td>") + rotation_metric + "</td>"), std::string::npos)
+        << rotation_metric;
+  EXPECT_NE(html.find("<tr><td>hic15</td>"), std::string::npos);
 }
 
 }  // namespace

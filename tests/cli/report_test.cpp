@@ -6,9 +6,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <regex>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -129,6 +133,140 @@ TEST_F(ReportCli, WhereSelectsTheTestsQueryLists) {
   EXPECT_FALSE(fs::exists(dir_->path() / "bad.html"));
 }
 
+// The overlays' plot data of a written report (docs/formats.md "Overlaid curves").
+nlohmann::json OverlayData(const std::string& html) {
+  const std::string marker = "<script type=\"application/json\" id=\"napkin-data\">";
+  const std::size_t begin = html.find(marker);
+  if (begin == std::string::npos) return {};
+  const std::size_t end = html.find("</script>", begin);
+  return nlohmann::json::parse(html.substr(begin + marker.size(), end - begin - marker.size()))
+      .at("overlays");
+}
+
+// The time (ms) of the first plotted value of trace `k` above `threshold`; none if none.
+std::optional<double> FirstAbove(const nlohmann::json& overlay, std::size_t k, double threshold) {
+  const nlohmann::json& t = overlay.at("t");
+  const nlohmann::json& y = overlay.at("y").at(k);
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (y[i].is_number() && y[i].get<double>() > threshold) return t[i].get<double>();
+  return std::nullopt;
+}
+
+TEST_F(ReportCli, OverlaysLayEveryTestOverItsVariantsCorridor) {
+  const RunResult recorded = Napkin({"report", "--series", "padding-series", "--out", "recorded.html"});
+  ASSERT_EQ(recorded.exit_code, 0) << recorded.err;
+  const std::string html = test_support::ReadText(dir_->path() / "recorded.html");
+  const nlohmann::json overlays = OverlayData(html);
+  ASSERT_EQ(overlays.size(), 2u);
+  EXPECT_EQ(overlays[0].at("id"), "overlay-1-acc");
+  EXPECT_EQ(overlays[1].at("id"), "overlay-1-omega");
+  EXPECT_THAT(html, HasSubstr("Aligned at t = 0 as recorded"));
+  for (const nlohmann::json& overlay : overlays) {
+    const std::size_t points = overlay.at("t").size();
+    EXPECT_LE(points, 2000u);
+    ASSERT_EQ(overlay.at("labels").size(), 12u);  // 6 tests, 3 variants x 2 bounds
+    ASSERT_EQ(overlay.at("y").size(), 12u);
+    // Per variant (baseline foam-a first: first by name), its 2 tests and the
+    // corridor: at every point where both tests have a value, mean ± sd of two
+    // values are their min and max.
+    EXPECT_EQ(overlay.at("groups"), nlohmann::json({"foam-a", "foam-b", "production"}));
+    for (std::size_t g = 0; g < 3; ++g) {
+      std::vector<std::size_t> members;
+      std::size_t low = 0, high = 0;
+      for (std::size_t k = 0; k < 12; ++k) {
+        if (overlay.at("group")[k] != g) continue;
+        const std::string kind = overlay.at("kind")[k];
+        if (kind == "test") members.push_back(k);
+        if (kind == "low") low = k;
+        if (kind == "high") high = k;
+      }
+      ASSERT_EQ(members.size(), 2u);
+      ASSERT_EQ(overlay.at("labels")[low], overlay.at("groups")[g].get<std::string>() + " mean − 1 sd");
+      ASSERT_EQ(overlay.at("labels")[high], overlay.at("groups")[g].get<std::string>() + " mean + 1 sd");
+      std::size_t checked = 0;
+      for (std::size_t i = 0; i < points; ++i) {
+        const nlohmann::json& a = overlay.at("y")[members[0]][i];
+        const nlohmann::json& b = overlay.at("y")[members[1]][i];
+        if (!a.is_number() || !b.is_number()) continue;
+        const double x = a.get<double>(), z = b.get<double>();
+        // sd of two values is |x - z| / sqrt(2). Every plotted value keeps 6
+        // significant digits (error <= 5e-6 of its magnitude): x and z move
+        // mean - sd by <= 5e-6 (|x| + |z|) (1/2 + 1/sqrt(2)), the bound's own
+        // rounding by 5e-6 |bound| <= 5e-6 (|x| + |z|).
+        const double mean = (x + z) / 2, sd = std::abs(x - z) / std::sqrt(2.0);
+        const double tolerance = 1.5e-5 * (std::abs(x) + std::abs(z)) + 1e-12;
+        EXPECT_NEAR(overlay.at("y")[low][i].get<double>(), mean - sd, tolerance);
+        EXPECT_NEAR(overlay.at("y")[high][i].get<double>(), mean + sd, tolerance);
+        ++checked;
+      }
+      EXPECT_GT(checked, points / 2);
+    }
+  }
+  // Each test's peak is on the plot: the acceleration overlay reaches each
+  // test's peak_acc_g (query), to the 6 digits plotted.
+  const RunResult peaks = Napkin({"query", "hic", "--where", "series = padding-series", "--format", "json"});
+  ASSERT_EQ(peaks.exit_code, 0) << peaks.err;
+  for (const nlohmann::json& row : nlohmann::json::parse(peaks.out)) {
+    const auto label =
+        std::find(overlays[0].at("labels").begin(), overlays[0].at("labels").end(), row.at("test_id"));
+    ASSERT_NE(label, overlays[0].at("labels").end()) << row.dump();
+    double largest = 0;
+    for (const nlohmann::json& value : overlays[0].at("y")[label - overlays[0].at("labels").begin()])
+      if (value.is_number()) largest = std::max(largest, value.get<double>());
+    EXPECT_NEAR(largest, row.at("peak_acc_g").get<double>(), 1e-5 * largest) << row.dump();
+  }
+
+  // --align onset: no test is above 5 g before t = 0, and each crosses it
+  // right after (within one display bucket).
+  const RunResult onset =
+      Napkin({"report", "--series", "padding-series", "--align", "onset", "--out", "onset.html"});
+  ASSERT_EQ(onset.exit_code, 0) << onset.err;
+  const std::string onset_html = test_support::ReadText(dir_->path() / "onset.html");
+  EXPECT_THAT(onset_html, HasSubstr("first sample whose resultant CG acceleration exceeds 5 g"));
+  const nlohmann::json aligned = OverlayData(onset_html).at(0);
+  for (std::size_t k = 0; k < 6; ++k) {
+    const std::optional<double> first = FirstAbove(aligned, k, 5.0);
+    ASSERT_TRUE(first) << k;
+    EXPECT_GE(*first, -1e-9) << aligned.at("labels")[k];
+    EXPECT_LE(*first, 5.0) << aligned.at("labels")[k];
+  }
+  // A threshold no test reaches leaves every test as recorded, and says so.
+  const RunResult never = Napkin({"report", "--series", "padding-series", "--align", "onset",
+                                  "--onset-threshold", "10000", "--out", "never.html"});
+  ASSERT_EQ(never.exit_code, 0) << never.err;
+  const std::string never_html = test_support::ReadText(dir_->path() / "never.html");
+  EXPECT_EQ(OverlayData(never_html), overlays);
+  EXPECT_THAT(never_html, HasSubstr("Never above 10000 g, so shown as recorded: padding-series-foam-a-01, "));
+
+  const RunResult bad = Napkin({"report", "--align", "peak", "--out", "bad.html"});
+  EXPECT_EQ(bad.exit_code, 2);
+  const RunResult bad_baseline = Napkin({"report", "--baseline", "foam-c", "--out", "bad.html"});
+  EXPECT_EQ(bad_baseline.exit_code, 2);
+  test_support::ExpectOneSentenceError(bad_baseline,
+                                       {"unknown baseline 'foam-c'", "foam-a, foam-b, production"});
+  EXPECT_FALSE(fs::exists(dir_->path() / "bad.html"));
+}
+
+TEST_F(ReportCli, BaselineOptionComparesWithTheNamedVariant) {
+  const RunResult report = Napkin(
+      {"report", "--series", "padding-series", "--baseline", "production", "--out", "production.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = test_support::ReadText(dir_->path() / "production.html");
+  EXPECT_THAT(html, HasSubstr("<h3>Verdict against production</h3>"));
+  EXPECT_THAT(html, HasSubstr("<li>foam-a "));
+  EXPECT_THAT(html, HasSubstr("<li>foam-b "));
+  // The compare table's note and the overlays' variant order follow it.
+  EXPECT_THAT(html, HasSubstr("napkin compare --series padding-series --baseline production shows them; "
+                              "baseline production;"));
+  EXPECT_EQ(OverlayData(html).at(0).at("groups"), nlohmann::json({"production", "foam-a", "foam-b"}));
+  // Default: as compare, the first variant by name.
+  const RunResult by_name = Napkin({"report", "--series", "padding-series", "--out", "by-name.html"});
+  ASSERT_EQ(by_name.exit_code, 0) << by_name.err;
+  const std::string by_name_html = test_support::ReadText(dir_->path() / "by-name.html");
+  EXPECT_THAT(by_name_html, HasSubstr("<h3>Verdict against foam-a</h3>"));
+  EXPECT_THAT(by_name_html, HasSubstr("<li>production "));
+}
+
 TEST_F(ReportCli, ExplainsWhatIsMissing) {
   const RunResult unknown = Napkin({"report", "--test", "nope", "--out", "x.html"});
   EXPECT_EQ(unknown.exit_code, 1);
@@ -146,6 +284,8 @@ TEST_F(ReportCli, ExplainsWhatIsMissing) {
   const RunResult no_out = Napkin({"report"});
   EXPECT_EQ(no_out.exit_code, 2);
 }
+
+std::string VisibleText(const std::string& fragment);  // below
 
 // ---- headless Chromium
 
@@ -205,7 +345,8 @@ TEST_F(ReportInChromium, DrawsEveryChartWithoutScriptErrors) {
   const RunResult dump = RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + page.string());
   ASSERT_EQ(dump.exit_code, 0) << dump.err;
   const std::vector<bool> drawn = ChartsWithCanvas(dump.out);
-  ASSERT_EQ(drawn.size(), 24u + cli::DefaultComparisonMetrics().size()) << dump.out.substr(0, 2000);
+  // 4 per test, a distribution per metric, and the acceleration and angular velocity overlays.
+  ASSERT_EQ(drawn.size(), 24u + cli::DefaultComparisonMetrics().size() + 2u) << dump.out.substr(0, 2000);
   for (std::size_t i = 0; i < drawn.size(); ++i) EXPECT_TRUE(drawn[i]) << "chart " << i << " not drawn";
   EXPECT_THAT(dump.out, HasSubstr("dygraph-legend"));  // dygraphs wrote its legends
   EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)
@@ -220,6 +361,53 @@ TEST_F(ReportInChromium, DrawsEveryChartWithoutScriptErrors) {
   ASSERT_EQ(broken_dump.exit_code, 0) << broken_dump.err;
   EXPECT_THAT(broken_dump.out, HasSubstr("class=\"napkin-script-error\""));
   EXPECT_THAT(broken_dump.out, HasSubstr("undefinedFunctionOfTheTest"));
+}
+
+// The labels of the series a dygraphs legend lists at rest (legend
+// 'always', no point highlighted): one bold span per series.
+std::vector<std::string> LegendLabels(const std::string& legend_html) {
+  std::vector<std::string> labels;
+  const std::string marker = "<span style=\"font-weight: bold;";
+  for (std::size_t at = legend_html.find(marker); at != std::string::npos;
+       at = legend_html.find(marker, at + 1)) {
+    // The span holds the line's dash (divs) and the label.
+    const std::string label = VisibleText(legend_html.substr(at, legend_html.find("</span>", at) - at));
+    labels.push_back(label.substr(std::min(label.size(), label.find_first_not_of(' '))));
+  }
+  return labels;
+}
+
+// The series' overlays: each drawn, each a trace per test plus two corridor
+// bounds per variant as dygraphs holds them (its legend), no script error.
+TEST_F(ReportInChromium, OverlaysHaveATracePerTestAndTwoCorridorBoundsPerVariant) {
+  const fs::path page = browser_dir_ / "report.html";
+  test_support::WriteText(page, html_);
+  const RunResult dump = RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + page.string());
+  ASSERT_EQ(dump.exit_code, 0) << dump.err;
+  EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos);
+  const RunResult tests =
+      Napkin({"query", "tests", "--where", "series = padding-series", "--format", "json"});
+  ASSERT_EQ(tests.exit_code, 0) << tests.err;
+  std::set<std::string> expected;
+  for (const nlohmann::json& test : nlohmann::json::parse(tests.out))
+    expected.insert(test.at("test_id").get<std::string>());
+  ASSERT_EQ(expected.size(), 6u);
+  for (const char* variant : {"production", "foam-a", "foam-b"})
+    for (const char* bound : {" mean − 1 sd", " mean + 1 sd"}) expected.insert(std::string(variant) + bound);
+  for (const char* id : {"overlay-1-acc", "overlay-1-omega"}) {
+    const std::size_t at = dump.out.find(std::string("id=\"") + id + "\"");
+    ASSERT_NE(at, std::string::npos) << id;
+    const std::size_t open = dump.out.rfind("<div class=\"chart\"", at);
+    const std::size_t figure_end = dump.out.find("</figure>", at);
+    const std::string element = dump.out.substr(open, figure_end - open);
+    EXPECT_NE(element.find("data-drawn=\"true\""), std::string::npos) << id;
+    EXPECT_NE(element.find("<canvas"), std::string::npos) << id;
+    const std::size_t legend = element.find("<div class=\"legend\"");
+    ASSERT_NE(legend, std::string::npos) << id;
+    const std::vector<std::string> labels = LegendLabels(element.substr(legend));
+    EXPECT_EQ(labels.size(), 12u) << id;  // 6 tests + 3 variants x 2 bounds
+    EXPECT_EQ(std::set<std::string>(labels.begin(), labels.end()), expected) << id;
+  }
 }
 
 // Counts, in Chromium itself, the pixels of a PNG that are not white and

@@ -1,0 +1,83 @@
+// The verdict's wording (cli/verdict.h, docs/formats.md "Verdict") on the
+// fixed synthetic padding series (`napkin synth --scenario padding-series`:
+// fixed seeds, 5 repeats of production, foam-a and foam-b), run and
+// reported against production: the report's verdict block is compared with
+// tests/cli/golden/verdict/. Run with NAPKIN_UPDATE_GOLDEN=1 to rewrite the
+// golden file after a deliberate change, and review its diff.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cli/verdict.h"
+#include "tests/cli/cli_test_util.h"
+#include "tests/support/run_command.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::cli {
+namespace {
+
+using namespace napkin::test_support;
+
+const fs::path kGoldenDir = fs::path(NAPKIN_SOURCE_DIR) / "tests" / "cli" / "golden" / "verdict";
+
+void ExpectGolden(const std::string& name, const std::string& text) {
+  const fs::path golden = kGoldenDir / name;
+  if (const char* update = std::getenv("NAPKIN_UPDATE_GOLDEN");
+      update != nullptr && std::string(update) == "1") {
+    std::ofstream(golden, std::ios::binary) << text;
+    return;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << golden << " is missing (NAPKIN_UPDATE_GOLDEN=1 writes it)";
+  EXPECT_EQ(text, ReadText(golden)) << "golden file " << golden;
+}
+
+TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
+  TempDir dir;
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"synth", "--scenario", "padding-series"}, {"run", "--threads", "2"}}) {
+    const RunResult result = RunNapkin(dir.path(), args);
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+  }
+  const RunResult report = RunNapkin(
+      dir.path(), {"report", "--series", "padding-series", "--baseline", "production", "--out", "v.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = ReadText(dir / "v.html");
+  const std::string open = "<div class=\"verdict\">";
+  const std::size_t begin = html.find(open);
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = html.find("</div>", begin);
+  ASSERT_NE(end, std::string::npos);
+  const std::string block = html.substr(begin, end + 6 - begin) + "\n";
+  ExpectGolden("padding_series_production.html", block);
+
+  // The sentences are those of cli::BuildVerdict on compare's rows: the
+  // baseline's row first, then foam-a and foam-b, each sentence naming its variant.
+  EXPECT_NE(block.find("<h3>Verdict against production</h3>"), std::string::npos);
+  EXPECT_NE(block.find("<li>foam-a "), std::string::npos) << block;
+  EXPECT_NE(block.find("<li>foam-b "), std::string::npos) << block;
+  EXPECT_EQ(block.find("<li>production"), std::string::npos) << block;
+
+  // The HIC15 clause agrees with `napkin compare`'s numbers: a variant whose
+  // 95 % interval excludes 0 is said to lower or raise HIC15, else unchanged.
+  const RunResult compare = RunNapkin(dir.path(), {"compare", "--series", "padding-series", "--baseline",
+                                                   "production", "--metrics", "hic15", "--format", "json"});
+  ASSERT_EQ(compare.exit_code, 0) << compare.err;
+  for (const nlohmann::json& row : nlohmann::json::parse(compare.out)) {
+    if (row.at("group") == "production") continue;
+    const double p = row.at("p_value").get<double>();
+    const double diff = row.at("diff").get<double>();
+    const std::string verb = p >= kVerdictAlpha ? "leaves HIC15 unchanged"
+                             : diff < 0         ? "lowers HIC15"
+                                                : "raises HIC15";
+    EXPECT_NE(block.find("<li>" + row.at("group").get<std::string>() + " " + verb), std::string::npos)
+        << row.dump() << "\n"
+        << block;
+  }
+}
+
+}  // namespace
+}  // namespace napkin::cli
