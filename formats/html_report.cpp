@@ -353,6 +353,10 @@ constexpr std::pair<std::string_view, std::string_view> kCriterionLabels[] = {
     {"hic_d", "HIC(d)"},
     {"bric", "BrIC"},
     {"damage", "DAMAGE"},
+    {"hic15_p_ais3", "P(AIS 3+) from HIC15 (NCAP)"},
+    {"hic36_p_ais4", "P(AIS 4+) from HIC36 (Prasad–Mertz)"},
+    {"bric_p_ais3", "P(AIS 3+) from BrIC (Takhounts)"},
+    {"bric_p_ais4", "P(AIS 4+) from BrIC (Takhounts)"},
 };
 
 Html FieldRowHtml(const FieldRow& row, const engine::TestSummary& summary) {
@@ -388,13 +392,13 @@ bool IsWindowBound(std::string_view name) {
          FindField(name.substr(0, name.size() - 5)) != nullptr;
 }
 
-// The criteria table: every field of `napkin query criteria`
-// (engine::SummaryFieldsOf, in its order) that the rotation and final-pose
-// tables do not show, a HIC with its window: "812.3 (20.50–31.50 ms)".
+// The criteria table: every field of `napkin query criteria` and `napkin
+// query risk` (engine::SummaryFieldsOf, in its order) that the rotation and
+// final-pose tables do not show, a HIC with its window: "812.3 (20.50–31.50 ms)".
 Html CriteriaTable(const engine::TestSummary& summary) {
   Html rows = Markup("\n");
-  for (const engine::SummaryField* field :
-       engine::SummaryFieldsOf({engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation})) {
+  for (const engine::SummaryField* field : engine::SummaryFieldsOf(
+           {engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation, engine::SummaryGroup::kRisk})) {
     const std::string_view name = field->name;
     if (IsWindowBound(name) || InFieldRows(name, kRotationRows) || InFieldRows(name, kPoseRows)) continue;
     std::string_view label = field->meaning;

@@ -11,7 +11,7 @@
 namespace napkin::engine {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kQuietNaN = std::numeric_limits<double>::quiet_NaN();
 
 Eigen::VectorXd Vector(std::initializer_list<double> values) {
   Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
@@ -23,7 +23,7 @@ Eigen::VectorXd Vector(std::initializer_list<double> values) {
 TEST(Overlay, OnsetIsTheFirstSampleAboveTheThreshold) {
   const Eigen::VectorXd t = Vector({0.0, 0.001, 0.002, 0.003, 0.004});
   EXPECT_EQ(OnsetTime(t, Vector({1, 5, 6, 9, 2}), 5.0), 0.002);  // 5 is not above 5
-  EXPECT_EQ(OnsetTime(t, Vector({kNaN, 1, 2, 3, 4}), 5.0), std::nullopt);
+  EXPECT_EQ(OnsetTime(t, Vector({kQuietNaN, 1, 2, 3, 4}), 5.0), std::nullopt);
 }
 
 TEST(Overlay, CommonBaseSpansEveryTestAtTheFinestStep) {
@@ -54,9 +54,9 @@ TEST(Overlay, ResamplingInterpolatesInsideAndLeavesGapsOutside) {
 
 TEST(Overlay, CorridorIsMeanPlusMinusSampleSd) {
   Eigen::MatrixXd columns(3, 3);
-  columns << 1.0, 2.0, 3.0,  // mean 2, sd 1
-      4.0, kNaN, 8.0,        // mean 6, sd sqrt(8)
-      5.0, kNaN, kNaN;       // one value: no corridor
+  columns << 1.0, 2.0, 3.0,       // mean 2, sd 1
+      4.0, kQuietNaN, 8.0,        // mean 6, sd sqrt(8)
+      5.0, kQuietNaN, kQuietNaN;  // one value: no corridor
   const Corridor corridor = MeanSdCorridor(columns);
   EXPECT_DOUBLE_EQ(corridor.low(0), 1.0);
   EXPECT_DOUBLE_EQ(corridor.high(0), 3.0);

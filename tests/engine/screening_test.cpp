@@ -56,7 +56,7 @@ std::vector<Finding> ProcessFindings(const synth::SyntheticTest& test, const Pro
   return ProcessTest(test.array, test.signals, test.initial, config).summary.findings;
 }
 
-std::string Describe(const std::vector<Finding>& findings);
+std::string DescribeFindings(const std::vector<Finding>& findings);
 
 // The findings ProcessTest has gathered (default config) when it stops on
 // diverged kinematics: the raw-signal checks, then the rigid-body checks on
@@ -89,7 +89,7 @@ std::vector<Finding> FaultFindings(const synth::SyntheticTest& test, const std::
   }
 }
 
-std::string Describe(const std::vector<Finding>& findings) {
+std::string DescribeFindings(const std::vector<Finding>& findings) {
   std::string text;
   for (const Finding& f : findings)
     text += std::string("  [") + NameOf(f.severity) + "] " + f.check + " " + f.channel.value_or("-") + ": " +
@@ -118,7 +118,7 @@ void ExpectOnly(const std::vector<Finding>& findings, const std::string& check,
   for (const std::string& channel : channels) {
     const Finding* finding = FindCheck(findings, check, channel);
     ASSERT_NE(finding, nullptr) << context << ": no " << check << " finding for " << channel << "\n"
-                                << Describe(findings);
+                                << DescribeFindings(findings);
     EXPECT_EQ(finding->severity, severity) << context;
     EXPECT_NE(finding->detail.find(channel), std::string::npos) << finding->detail;
   }
@@ -126,7 +126,7 @@ void ExpectOnly(const std::vector<Finding>& findings, const std::string& check,
     if (f.check != check) continue;
     EXPECT_TRUE(f.channel && std::find(channels.begin(), channels.end(), *f.channel) != channels.end())
         << context << ": " << check << " also names " << f.channel.value_or("none") << "\n"
-        << Describe(findings);
+        << DescribeFindings(findings);
   }
 }
 
@@ -168,7 +168,8 @@ TEST(Screening, CleanTestsRaiseNothingAboveInfo) {
   ASSERT_GE(tests.size(), 20u);
   for (const auto& [kind, test] : tests) {
     const std::vector<Finding> findings = ProcessFindings(test);
-    EXPECT_TRUE(AboveInfo(findings).empty()) << kind << " " << test.name << "\n" << Describe(findings);
+    EXPECT_TRUE(AboveInfo(findings).empty()) << kind << " " << test.name << "\n"
+                                             << DescribeFindings(findings);
   }
 }
 
@@ -178,7 +179,7 @@ TEST(Screening, ArrayWithoutRedundancySaysSoAtInfo) {
   EXPECT_EQ(ResidualRedundancy(test_support::Denton3222()), 3);
   EXPECT_EQ(ResidualRedundancy(test_support::NapArs12()), 6);
   const std::vector<Finding> findings = ProcessFindings(test);
-  ASSERT_EQ(findings.size(), 1u) << Describe(findings);
+  ASSERT_EQ(findings.size(), 1u) << DescribeFindings(findings);
   EXPECT_EQ(findings[0].check, "consistency");
   EXPECT_EQ(findings[0].severity, Severity::kInfo);
   EXPECT_FALSE(findings[0].channel.has_value());
@@ -193,7 +194,7 @@ TEST(Screening, FlippedSignIsAPolarityError) {
       Column(test, slot) *= -1.0;
       const std::vector<Finding> findings = FaultFindings(test, slot);
       ExpectOnly(findings, "polarity", {slot}, Severity::kError, test.name + " flipped " + slot);
-      EXPECT_EQ(FindCheck(findings, "axis_label", slot), nullptr) << Describe(findings);
+      EXPECT_EQ(FindCheck(findings, "axis_label", slot), nullptr) << DescribeFindings(findings);
     }
   }
   EXPECT_EQ(host_index, 5);
@@ -209,7 +210,7 @@ TEST(Screening, SwappedChannelsAreAnAxisLabelError) {
       const std::vector<Finding> findings = FaultFindings(test, first);
       ExpectOnly(findings, "axis_label", {first, second}, Severity::kError,
                  test.name + " swapped " + first + "/" + second);
-      EXPECT_EQ(FindCheck(findings, "polarity", first), nullptr) << Describe(findings);
+      EXPECT_EQ(FindCheck(findings, "polarity", first), nullptr) << DescribeFindings(findings);
     }
   }
 }
@@ -282,7 +283,7 @@ TEST(Screening, TwoGBiasInThePreImpactMeanIsAWarning) {
       test.initial.velocity_fixed_mps.setZero();  // the head rests before the impact
       AddLinearNoise(test, 0.5, seed);
       const std::vector<Finding> clean = ProcessFindings(test);
-      EXPECT_TRUE(AboveInfo(clean).empty()) << Describe(clean);
+      EXPECT_TRUE(AboveInfo(clean).empty()) << DescribeFindings(clean);
       Column(test, slot).array() += 2.0;
       const std::vector<Finding> findings = ProcessFindings(test);
       ExpectOnly(findings, "bias", {slot}, Severity::kWarning, test.name + " pre-impact bias on " + slot);
@@ -294,7 +295,7 @@ TEST(Screening, TwoGBiasInThePreImpactMeanIsAWarning) {
       EXPECT_EQ(std::count_if(findings.begin(), findings.end(),
                               [](const Finding& f) { return f.check == "residual"; }),
                 0)
-          << Describe(findings);
+          << DescribeFindings(findings);
     }
   }
 }
@@ -348,7 +349,7 @@ TEST(Screening, ScaleFactorErrorShowsInTheResidualNamingTheChannel) {
       ExpectOnly(findings, "residual", {slot}, Severity::kWarning, test.name + " gain error on " + slot);
       EXPECT_TRUE(std::none_of(findings.begin(), findings.end(), [](const Finding& f) {
         return f.check == "polarity" || f.check == "axis_label";
-      })) << Describe(findings);
+      })) << DescribeFindings(findings);
     }
   }
 }
@@ -372,20 +373,20 @@ TEST(Verdict, FirstErrorFindingFailsTheTest) {
   Column(spiked, "yarm_z")(700) += 100.0;  // g
   const ProcessedTest warned = ProcessTest(spiked.array, spiked.signals, spiked.initial, {});
   ExpectOnly(warned.summary.findings, "spike", {"yarm_z"}, Severity::kWarning, "spike on yarm_z");
-  EXPECT_EQ(FailingFinding(warned), nullptr) << Describe(warned.summary.findings);
+  EXPECT_EQ(FailingFinding(warned), nullptr) << DescribeFindings(warned.summary.findings);
 
   synth::SyntheticTest flipped = clean;
   Column(flipped, "yarm_z") *= -1.0;
   const ProcessedTest failed = ProcessTest(flipped.array, flipped.signals, flipped.initial, {});
   const Finding* failing = FailingFinding(failed);
-  ASSERT_NE(failing, nullptr) << Describe(failed.summary.findings);
+  ASSERT_NE(failing, nullptr) << DescribeFindings(failed.summary.findings);
   EXPECT_EQ(failing->check, "polarity");
   EXPECT_EQ(failing->channel, "yarm_z");
   EXPECT_EQ(failing->severity, Severity::kError);
   for (const Finding& f : failed.summary.findings) {
     if (&f == failing) break;
     EXPECT_NE(f.severity, Severity::kError) << "not the first error finding\n"
-                                            << Describe(failed.summary.findings);
+                                            << DescribeFindings(failed.summary.findings);
   }
 }
 
@@ -393,7 +394,7 @@ TEST(Screening, FlatChannelIsInfo) {
   synth::SyntheticTest test = RandomTest(test_support::Denton3222(), 2);
   const std::vector<Finding> clean =
       ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});
-  EXPECT_TRUE(clean.empty()) << Describe(clean);
+  EXPECT_TRUE(clean.empty()) << DescribeFindings(clean);
   Column(test, "cg_z").setConstant(0.25);
   const std::vector<Finding> findings =
       ScreenSignals(test.array, test.signals, test.initial, ProcessingConfig{});

@@ -46,7 +46,9 @@ TEST(HtmlReportTables, CriteriaAreTheQueryCriteriaFieldsInContractOrder) {
   const std::string tables = SummaryTables(summary);
   EXPECT_EQ(RowLabels(tables, "criteria"),
             (std::vector<std::string>{"HIC15", "HIC36", "HIC (no window limit)", "peak acceleration (g)",
-                                      "a3ms (g)", "HIC(d)", "BrIC", "DAMAGE"}));
+                                      "a3ms (g)", "HIC(d)", "BrIC", "DAMAGE", "P(AIS 3+) from HIC15 (NCAP)",
+                                      "P(AIS 4+) from HIC36 (Prasad–Mertz)",
+                                      "P(AIS 3+) from BrIC (Takhounts)", "P(AIS 4+) from BrIC (Takhounts)"}));
   EXPECT_NE(tables.find("<tr><th>HIC(d)</th><td class=\"num\">803.9</td></tr>"), std::string::npos) << tables;
   EXPECT_NE(tables.find("<tr><th>HIC36</th><td class=\"num\">845.0 <span class=\"note\">(20.00–32.00 "
                         "ms)</span></td></tr>"),
@@ -54,14 +56,14 @@ TEST(HtmlReportTables, CriteriaAreTheQueryCriteriaFieldsInContractOrder) {
       << tables;
 }
 
-// Each field of `query criteria` and the residual shows in the tables: set
+// Each field of `query criteria`, `query risk` and the residual shows in the tables: set
 // alone to a value of its own, it changes them.
 TEST(HtmlReportTables, EverySummaryFieldIsShown) {
   const engine::TestSummary zero;
   const std::string zero_tables = SummaryTables(zero);
   ASSERT_FALSE(zero_tables.empty());
-  std::vector<const engine::SummaryField*> fields =
-      engine::SummaryFieldsOf({engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation});
+  std::vector<const engine::SummaryField*> fields = engine::SummaryFieldsOf(
+      {engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation, engine::SummaryGroup::kRisk});
   for (const engine::SummaryField* field : engine::SummaryFieldsOf({engine::SummaryGroup::kQuality}))
     fields.push_back(field);
   EXPECT_EQ(fields.size(), engine::SummaryFields().size());
