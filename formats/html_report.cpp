@@ -18,6 +18,7 @@
 #include "engine/display_reduction.h"
 #include "engine/summary_fields.h"
 #include "engine/units.h"
+#include "engine/vocabulary.h"
 #include "formats/report_assets.h"
 #include "util/atomic_file.h"
 #include "util/text.h"
@@ -209,17 +210,9 @@ Html PageHeader(const ReportHeader& header, std::span<const std::string> test_id
 
 // ---- a series' comparison
 
-const char* TraceKind(ReportOverlay::Trace::Kind kind) {
-  switch (kind) {
-    case ReportOverlay::Trace::Kind::kLow:
-      return "low";
-    case ReportOverlay::Trace::Kind::kHigh:
-      return "high";
-    case ReportOverlay::Trace::Kind::kTest:
-      break;
-  }
-  return "test";
-}
+using TraceKind = ReportOverlay::Trace::Kind;  // its names as report.js reads them:
+constexpr std::array<engine::NamedValue<TraceKind>, 3> kTraceKindNames{
+    {{TraceKind::kTest, "test"}, {TraceKind::kLow, "low"}, {TraceKind::kHigh, "high"}}};
 
 // The verdict: its table and one sentence per variant (cli/verdict.h).
 Html VerdictBlock(const ReportVerdict& verdict) {
@@ -250,7 +243,7 @@ Html OverlayFigures(json& overlays, const ReportComparison& comparison, std::siz
     for (const ReportOverlay::Trace& trace : overlay.traces) {
       labels.push_back(trace.label);
       groups_of.push_back(trace.group);
-      kinds.push_back(TraceKind(trace.kind));
+      kinds.push_back(engine::NameIn(kTraceKindNames, trace.kind));
     }
     overlays.push_back({{"id", id},
                         {"ylabel", overlay.y_label},
@@ -382,13 +375,9 @@ bool InFieldRows(std::string_view name, std::span<const FieldRow> rows) {
   return false;
 }
 
-bool EndsWith(std::string_view text, std::string_view end) {
-  return text.size() >= end.size() && text.substr(text.size() - end.size()) == end;
-}
-
 // A HIC window's start or end (its HIC's cell shows it).
 bool IsWindowBound(std::string_view name) {
-  return (EndsWith(name, "_t1_s") || EndsWith(name, "_t2_s")) &&
+  return (name.ends_with("_t1_s") || name.ends_with("_t2_s")) &&
          FindField(name.substr(0, name.size() - 5)) != nullptr;
 }
 

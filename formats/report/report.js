@@ -15,20 +15,13 @@
     return function (graph, initial) { if (initial) element.setAttribute('data-drawn', 'true'); };
   }
 
-  function timeHistory(chart) {
-    var element = document.getElementById(chart.id);
-    var rows = new Array(chart.t.length);
-    for (var i = 0; i < chart.t.length; ++i) {
-      var row = [chart.t[i]];
-      for (var k = 0; k < chart.y.length; ++k) row.push(chart.y[k][i]);
-      rows[i] = row;
-    }
-    new Dygraph(element, rows, {
+  // What every chart over time shares: the time axis, the legend under the
+  // plot, the grid and the axis label sizes.
+  function timeAxes(element, chart) {
+    return {
       labels: ['time (ms)'].concat(chart.labels),
       xlabel: 'time (ms)',
       ylabel: esc(chart.ylabel),
-      colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
-      strokeWidth: 1.4,
       legend: 'always',
       labelsDiv: element.parentNode.querySelector('.legend'),
       labelsSeparateLines: false,
@@ -36,7 +29,27 @@
       axisLabelFontSize: 12,
       xLabelHeight: 16,
       yLabelWidth: 16,
-      axes: { y: { axisLabelWidth: 56 } },
+      axes: { y: { axisLabelWidth: 56 } }
+    };
+  }
+
+  // The chart's samples as dygraphs rows: [t, y0, y1, ...].
+  function timeRows(chart) {
+    var rows = new Array(chart.t.length);
+    for (var i = 0; i < chart.t.length; ++i) {
+      var row = [chart.t[i]];
+      for (var k = 0; k < chart.y.length; ++k) row.push(chart.y[k][i]);
+      rows[i] = row;
+    }
+    return rows;
+  }
+
+  function timeHistory(chart) {
+    var element = document.getElementById(chart.id);
+    var rows = timeRows(chart);
+    new Dygraph(element, rows, Object.assign(timeAxes(element, chart), {
+      colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
+      strokeWidth: 1.4,
       underlayCallback: function (canvas, area, graph) {
         chart.windows.forEach(function (w, i) {
           var x1 = graph.toDomXCoord(w.t1), x2 = graph.toDomXCoord(w.t2);
@@ -58,7 +71,7 @@
         });
       },
       drawCallback: drawn(element)
-    });
+    }));
   }
 
   // Every test as a point (left of its group's tick), the group's mean with
@@ -129,12 +142,7 @@
   // shaded (null values: gaps).
   function overlay(chart) {
     var element = document.getElementById(chart.id);
-    var rows = new Array(chart.t.length);
-    for (var i = 0; i < chart.t.length; ++i) {
-      var row = [chart.t[i]];
-      for (var k = 0; k < chart.y.length; ++k) row.push(chart.y[k][i]);
-      rows[i] = row;
-    }
+    var rows = timeRows(chart);
     var series = {};
     var colors = chart.labels.map(function (label, k) {
       var ink = groupColors[chart.group[k] % groupColors.length];
@@ -143,20 +151,9 @@
         : { strokeWidth: 1.6, strokePattern: [6, 3] };
       return ink;
     });
-    new Dygraph(element, rows, {
-      labels: ['time (ms)'].concat(chart.labels),
-      xlabel: 'time (ms)',
-      ylabel: esc(chart.ylabel),
+    new Dygraph(element, rows, Object.assign(timeAxes(element, chart), {
       colors: colors,
       series: series,
-      legend: 'always',
-      labelsDiv: element.parentNode.querySelector('.legend'),
-      labelsSeparateLines: false,
-      gridLineColor: '#e4e7eb',
-      axisLabelFontSize: 12,
-      xLabelHeight: 16,
-      yLabelWidth: 16,
-      axes: { y: { axisLabelWidth: 56 } },
       underlayCallback: function (canvas, area, graph) {
         chart.groups.forEach(function (name, g) {
           var low = -1, high = -1;
@@ -191,7 +188,7 @@
         });
       },
       drawCallback: drawn(element)
-    });
+    }));
   }
 
   function guarded(draw) {
