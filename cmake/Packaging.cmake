@@ -60,9 +60,9 @@ set(CPACK_PACKAGE_CONTACT "${NAPKIN_PACKAGE_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "head kinematics and injury criteria for catalogues of crash tests")
+# The extended description; CPack puts the summary above it.
 set(CPACK_DEBIAN_PACKAGE_DESCRIPTION
-    "head kinematics and injury criteria for catalogues of crash tests
-napkin computes six-degree-of-freedom head kinematics from crash-test head
+    "napkin computes six-degree-of-freedom head kinematics from crash-test head
 instrumentation (nine-accelerometer and angular-rate arrays, ISO-MME, UDS-1992,
 CSV) and the injury criteria (HIC, BrIC, ...) with their risk curves, and keeps
 tests and results in a SQLite catalogue that it queries, compares and reports.

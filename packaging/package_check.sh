@@ -47,9 +47,9 @@ depends=$(dpkg-deb -f "$deb" Depends)
 step "Depends: $depends"
 missing=""
 for library in 'libtbb' 'libsqlite3' 'libspdlog|libfmt' 'libzip' 'python3-numpy'; do
-  grep -qE "(^|[ ,])($library)" <<< "$depends" || missing="$missing ${library//|/ or }"
+  grep -qE "(^|[ ,])($library)" <<< "$depends" || missing="${missing:+$missing, }${library//|/ or }"
 done
-[ -z "$missing" ] || fail "Depends of $deb does not name:$missing."
+[ -z "$missing" ] || fail "Depends of $deb does not name $missing."
 
 cd "$work"  # nothing below may pick up the source or build tree by accident
 unset NAPKIN_CONFIG_DIR
