@@ -75,11 +75,16 @@ completion.")
 # CPACK_DEBIAN_PACKAGE_DEPENDS, which holds what dpkg-shlibdeps cannot see: the Python
 # extension is loaded by python3 (it does not link libpython) and imports numpy at run time.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-if(NAPKIN_BUILD_PYTHON)
-  find_package(Python3 COMPONENTS Interpreter REQUIRED)
-  # The extension's file name carries its interpreter's ABI (cpython-3XY): that minor version only.
-  math(EXPR _python_next_minor "${Python3_VERSION_MINOR} + 1")
+if(TARGET napkin_python)
+  # The extension's file name carries its interpreter's ABI (pybind11 sets the target's SUFFIX to
+  # ".cpython-3XY-<triplet>.so"): python3 of that minor version only.
+  get_target_property(_python_suffix napkin_python SUFFIX)
+  if(NOT _python_suffix MATCHES "^\\.cpython-([0-9])([0-9]+)-")
+    message(FATAL_ERROR "Packaging.cmake: cannot read the Python version from the extension's suffix ${_python_suffix}")
+  endif()
+  set(_python_version ${CMAKE_MATCH_1}.${CMAKE_MATCH_2})
+  math(EXPR _python_next_minor "${CMAKE_MATCH_2} + 1")
   set(CPACK_DEBIAN_PACKAGE_DEPENDS
-      "python3 (>= ${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR}), python3 (<< ${Python3_VERSION_MAJOR}.${_python_next_minor}), python3-numpy")
+      "python3 (>= ${_python_version}), python3 (<< ${CMAKE_MATCH_1}.${_python_next_minor}), python3-numpy")
 endif()
 include(CPack)
