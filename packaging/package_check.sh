@@ -87,13 +87,15 @@ completion=$(PATH="$root/usr/bin:$PATH" bash -c '
 [ "$completion" = $'transform\n--array\ndenton-3222' ] ||
   fail "the bash completion completes \"napkin tran\", \"napkin transform --arr\", \"--array denton\" as \"${completion//$'\n'/ | }\"."
 
+# Debian's interpreter, the one the package's module is for (Depends: python3), whatever comes first in PATH.
+python=/usr/bin/python3
 step "import napkin"
-module=$(PYTHONPATH=$site python3 -c 'import napkin; print(napkin.__file__)')
+module=$(PYTHONPATH=$site "$python" -c 'import napkin; print(napkin.__file__)')
 [[ $module == "$site/"* ]] || fail "import napkin loaded $module, not the packaged module under $site."
 
 step "pytest python/tests against the package"
 # The NHTSA recordings where CTest finds them (python/CMakeLists.txt); those tests skip without.
 NAPKIN_BIN=$napkin PYTHONPATH=$site NAPKIN_NHTSA_FRONTAL_DIR=${NAPKIN_NHTSA_FRONTAL_DIR:-$source_dir/../shared/data/nhtsa-frontal} \
-  python3 -m pytest -q -p no:cacheprovider "$source_dir/python/tests" ||
+  "$python" -m pytest -q -p no:cacheprovider "$source_dir/python/tests" ||
   fail "the pytest suite python/tests fails against the package (above)."
 step "ok: $deb"
