@@ -153,7 +153,8 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
       if (!std::isfinite(signals.samples(k, c)))
         throw InputError(source + ": sample " + std::to_string(k) + ", channel " +
                          util::Quoted(array.sensors[static_cast<std::size_t>(c)].slot) + ": " +
-                         util::Quoted(util::FormatNumber(signals.samples(k, c))) + " is not a finite number.");
+                         util::Quoted(util::FormatNumber(signals.samples(k, c))) +
+                         " is not a finite number.");
   if (signals.samples.rows() < 2)
     throw InputError(source + ": the channels have " + std::to_string(signals.samples.rows()) +
                      " samples, at least two are needed.");
