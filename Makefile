@@ -13,18 +13,19 @@ BUILD_PACKAGE ?= build/package
 # benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
 # gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
 # the reprocess test on a private single-node cluster (tests/slurm).
+# The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame.
+PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3-pandas
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
-  chromium time slurm-wlm munge
+  chromium time slurm-wlm munge $(PYTHON_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 # What `make tidy` adds: clang-tidy (and the test headers, as the sources include them).
 TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-tidy
-# What `make package` adds: help2man writes the man page; dpkg-dev's dpkg-shlibdeps and file give
-# CPack the package's Depends; the Python module's build and tests; man-db renders the man page.
-PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) help2man dpkg-dev file man-db pybind11-dev python3-dev \
-  python3-numpy python3-pytest
+# What `make package` adds: the Python module's build and tests; help2man writes the man page;
+# dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page.
+PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db
 
 .PHONY: deps program-deps fuzz-deps tidy-deps package-deps demo test build release bench fuzz tidy format format-check \
   package package-check clean
@@ -60,7 +61,7 @@ release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
 $(BUILD_TEST)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
 	  -DNAPKIN_TEST_CODE_OPTIONS=-O0 -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON -DNAPKIN_BUILD_BENCH=OFF \
-	  -DNAPKIN_UNITY_BUILD=ON
+	  -DNAPKIN_UNITY_BUILD=ON -DNAPKIN_BUILD_PYTHON=ON
 
 build: deps $(BUILD_TEST)/CMakeCache.txt
 	cmake --build $(BUILD_TEST) -j$(JOBS)
