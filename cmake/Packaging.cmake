@@ -86,5 +86,8 @@ if(TARGET napkin_python)
   math(EXPR _python_next_minor "${CMAKE_MATCH_2} + 1")
   set(CPACK_DEBIAN_PACKAGE_DEPENDS
       "python3 (>= ${_python_version}), python3 (<< ${CMAKE_MATCH_1}.${_python_next_minor}), python3-numpy")
+  # Catalogue.query_frame returns a pandas DataFrame; without pandas it raises an ImportError
+  # naming python3-pandas (docs/python.md), so pandas is suggested, not depended on.
+  set(CPACK_DEBIAN_PACKAGE_SUGGESTS python3-pandas)
 endif()
 include(CPack)
