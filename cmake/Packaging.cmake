@@ -21,9 +21,8 @@ set(_man_sections ${_packaging_dir}/napkin.h2m)
 set(_completion ${_packaging_dir}/napkin.bash-completion)
 
 # The man page: help2man reads `napkin --help` and `napkin --version`; each subcommand's
-# --help is added as a COMMANDS section (packaging/man_sections.sh). Gzipped with -n (no
-# name or time stamp in the header: the same bytes each build) and -9, as Debian policy 12.1
-# asks of manual pages.
+# --help is added as a COMMANDS section (packaging/man_sections.sh). Gzipped with -9, as Debian
+# policy 12.1 asks of manual pages, and -n (no file name or time stamp in gzip's header).
 add_custom_command(
   OUTPUT ${_man_page}.gz
   COMMAND ${NAPKIN_BASH} ${PROJECT_SOURCE_DIR}/packaging/man_sections.sh $<TARGET_FILE:napkin> ${_man_sections}
