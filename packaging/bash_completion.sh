@@ -14,6 +14,7 @@
 set -euo pipefail
 NAPKIN=$1
 output=$2
+# shellcheck source=packaging/cli_help.sh
 . "$(dirname "$0")/cli_help.sh"
 
 subcommands=$(napkin_subcommands | tr "\n" " " | sed "s/ $//")
@@ -61,7 +62,7 @@ global_options=$(options_words "" | tr '\n' ' ' | sed 's/ $//')
   echo "  local cur=\${COMP_WORDS[COMP_CWORD]} prev=\${COMP_WORDS[COMP_CWORD-1]} sub=\"\" i"
   echo "  for ((i = 1; i < COMP_CWORD; i++)); do"
   echo "    case \${COMP_WORDS[i]} in"
-  echo "      $(echo $subcommands | tr ' ' '|')) sub=\${COMP_WORDS[i]}; break ;;"
+  echo "      $(echo "$subcommands" | tr ' ' '|')) sub=\${COMP_WORDS[i]}; break ;;"
   echo "    esac"
   echo "  done"
   echo "  case \$sub:\$prev in"

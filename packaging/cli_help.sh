@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by man_sections.sh and bash_completion.sh: napkin's subcommands and options as CLI11
 # prints them in --help. The layout read (CLI11 2.3, Debian libcli11-dev): section headings
 # ("Options:", "Subcommands:") start in column 1; an entry starts with two spaces, its names (and
@@ -21,7 +22,7 @@ napkin_subcommands() {
 # ("array preset", "channel map preset", "processing config preset"), "choices:<words>" when the
 # type lists them (CLI11's IsMember: "TEXT:one of table, csv or json"), else empty.
 napkin_options() {
-  napkin_help $1 | awk '
+  napkin_help ${1:+"$1"} | awk '
     function flush() { if (names != "") print names "\t" takes_value "\t" values; names = "" }
     /^  -/ {
       flush()

@@ -7,6 +7,7 @@
 set -euo pipefail
 NAPKIN=$1
 output=$2
+# shellcheck source=packaging/cli_help.sh
 . "$(dirname "$0")/cli_help.sh"
 
 subcommands=$(napkin_subcommands)
@@ -17,24 +18,28 @@ subcommands=$(napkin_subcommands)
 roff_verbatim() { sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"; }
 
 {
-  echo "[COMMANDS]"
-  echo "Each subcommand's options, as \\fBnapkin\\fR \\fIsubcommand\\fR \\fB\\-\\-help\\fR prints them."
-  echo "The options above (\\fB\\-\\-db\\fR, \\fB\\-\\-quiet\\fR) may also follow the subcommand."
+  cat <<'ROFF'
+[COMMANDS]
+Each subcommand's options, as \fBnapkin\fR \fIsubcommand\fR \fB\-\-help\fR prints them.
+The options above (\fB\-\-db\fR, \fB\-\-quiet\fR) may also follow the subcommand.
+ROFF
   for s in $subcommands; do
     echo ".SS \"napkin $s\""
     echo ".nf"
     napkin_help "$s" | roff_verbatim
     echo ".fi"
   done
-  echo
-  echo "[FILES]"
-  echo ".TP"
-  echo ".I /usr/share/napkin/config/"
-  echo "the presets: sensor arrays (\\fIarrays/\\fR), processing configs (\\fIprocessing/\\fR) and"
-  echo "channel maps (\\fIchannel\\-maps/\\fR), named by \\fB\\-\\-array\\fR, \\fB\\-\\-config\\fR and"
-  echo "\\fB\\-\\-channel\\-map\\fR. \\fBNAPKIN_CONFIG_DIR\\fR names another folder."
-  echo
-  echo "[SEE ALSO]"
-  echo "The Python module: \\fBpython3 \\-c 'import napkin; help(napkin)'\\fR."
+  cat <<'ROFF'
+
+[FILES]
+.TP
+.I /usr/share/napkin/config/
+the presets: sensor arrays (\fIarrays/\fR), processing configs (\fIprocessing/\fR) and
+channel maps (\fIchannel\-maps/\fR), named by \fB\-\-array\fR, \fB\-\-config\fR and
+\fB\-\-channel\-map\fR. \fBNAPKIN_CONFIG_DIR\fR names another folder.
+
+[SEE ALSO]
+The Python module: \fBpython3 \-c 'import napkin; help(napkin)'\fR.
+ROFF
 } > "$output.tmp"
 mv "$output.tmp" "$output"
