@@ -4,9 +4,6 @@
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_pipeline.h>
 #include <oneapi/tbb/task_arena.h>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <spdlog/spdlog.h>
 
 #include <exception>
@@ -19,32 +16,9 @@
 #include "jobs/result_writer.h"
 #include "jobs/run_context.h"
 #include "jobs/test_computation.h"
+#include "util/malloc_tuning.h"
 
 namespace napkin::jobs {
-
-namespace {
-
-// Every test of a run allocates the same few megabytes of series (signals,
-// kinematics, derived channels) and frees them a few milliseconds later.
-// glibc's malloc would hand most of that back to the kernel on free (heap
-// trimming above M_TRIM_THRESHOLD, and blocks above M_MMAP_THRESHOLD mapped
-// and unmapped one by one), so the next test pays a page fault per 4 KiB
-// page again: about 10 % of a test's CPU time in the profile. Keeping
-// freed memory in the heap for reuse bounds the process at its largest
-// working set, which the tokens of a run bound (jobs/README.md, "Memory").
-void KeepFreedMemoryForReuse() {
-#if defined(__GLIBC__)
-  static const bool kept = [] {
-    constexpr int kMmapThresholdBytes = 64 << 20;
-    constexpr int kTrimThresholdBytes = 256 << 20;
-    return mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes) == 1 &&
-           mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes) == 1;
-  }();
-  if (!kept) spdlog::debug("run: malloc tuning (mallopt) not applied");
-#endif
-}
-
-}  // namespace
 
 void RunOptions::Check() const {
   auto require = [](bool ok, const char* what) {
@@ -68,7 +42,8 @@ RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig
   RunContext context(processing, options,
                      options.threads > 0 ? options.threads : tbb::info::default_concurrency(), progress,
                      stop);
-  KeepFreedMemoryForReuse();
+  // Freed series are reused by the next test (util/malloc_tuning.h).
+  if (!util::KeepFreedMemoryForReuse()) spdlog::debug("run: malloc tuning (mallopt) not applied");
 
   RunReport& report = context.report;
   report.owner = MakeOwnerId();

@@ -4,6 +4,8 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -13,9 +15,10 @@
 #include "engine/solver.h"
 #include "formats/array_json.h"
 #include "formats/csv.h"
+#include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
 #include "python/py_bindings.h"
-#include "records/config_record.h"
+#include "util/malloc_tuning.h"
 #include "util/text.h"
 
 namespace napkin::python {
@@ -24,6 +27,29 @@ namespace {
 // What a bad-input sentence starts with: the test id when the caller gave one
 // (as the CLI names the input file), else the function.
 std::string Source(const std::string& test_id) { return test_id.empty() ? "napkin.transform" : test_id; }
+
+// A preset or JSON file read once per version of the file (its modification
+// time and size): a loop over thousands of tests must not read, parse and
+// check the same array and config for each (bench/run_python.sh). Called with
+// the GIL held, which serialises the callers.
+template <typename Value>
+Value ReadOnce(const std::filesystem::path& path, Value (*read)(const std::filesystem::path&)) {
+  struct Entry {
+    std::filesystem::file_time_type modified;
+    std::uintmax_t size = 0;
+    Value value;
+  };
+  static std::map<std::filesystem::path, Entry> cache;
+  std::error_code error;
+  const std::filesystem::path key = std::filesystem::absolute(path, error);
+  const auto modified = std::filesystem::last_write_time(path, error);
+  const std::uintmax_t size = error ? 0 : std::filesystem::file_size(path, error);
+  if (error) return read(path);  // read() says what is wrong with it
+  const auto found = cache.find(key);
+  if (found != cache.end() && found->second.modified == modified && found->second.size == size)
+    return found->second.value;
+  return cache.insert_or_assign(key, Entry{modified, size, read(path)}).first->second.value;
+}
 
 std::string SlotList(const engine::ArrayGeometry& array) {
   return Joined(array.sensors, [](const engine::Sensor& sensor) { return sensor.slot; });
@@ -133,8 +159,12 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   const std::string source = Source(test_id);
   const std::filesystem::path presets =
       config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
-  const engine::ArrayGeometry array = formats::LoadArray(array_name, presets);
-  engine::ProcessingConfig config = records::ResolveConfig(config_name, presets).config;
+  const engine::ArrayGeometry array =
+      ReadOnce(formats::ResolvePreset(array_name, "arrays", presets), formats::ReadArrayJson);
+  // As records::ResolveConfig: empty is the "default" preset.
+  engine::ProcessingConfig config =
+      ReadOnce(formats::ResolvePreset(config_name.empty() ? "default" : config_name, "processing", presets),
+               formats::ReadProcessingConfig);
   if (solver) {
     const std::optional<engine::SolverKind> kind = engine::ParseName<engine::SolverKind>(*solver);
     if (!kind)
@@ -167,6 +197,8 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity", source);
   initial.omega_body_radps = Triple(initial_omega_body_radps, "initial_omega_body", source);
 
+  // A loop over tests reuses the memory freed by the previous one, as `napkin run` does.
+  util::KeepFreedMemoryForReuse();
   engine::ProcessedTest processed;
   {
     const py::gil_scoped_release computing;

@@ -1,6 +1,7 @@
 """Times napkin.transform over every test of a catalogue (bench/run_python.sh):
 the inputs are read first (Catalogue.test_inputs), then transformed one after
-another with the default config; prints the seconds the loop took."""
+another with the config given (default: the default preset); prints the
+seconds the loop took."""
 
 import sys
 import time
@@ -8,8 +9,9 @@ import time
 import napkin
 
 catalogue = napkin.Catalogue(sys.argv[1])
+config = sys.argv[2] if len(sys.argv) > 2 else "default"
 inputs = [catalogue.test_inputs(test_id) for test_id in catalogue.tests()]
 start = time.perf_counter()
 for test in inputs:
-    napkin.transform(**test)
+    napkin.transform(**test, config=config)
 print("%.6f" % (time.perf_counter() - start))

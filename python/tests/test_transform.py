@@ -130,3 +130,17 @@ def test_threads_transform_side_by_side(tmp_path):
     with ThreadPoolExecutor(max_workers=2) as pool:
         threaded = [result.summary for result in pool.map(lambda test: napkin.transform(**test), inputs)]
     assert threaded == serial
+
+
+def test_a_changed_config_file_is_read_again(tmp_path):
+    # Presets and config files are read once per version of the file, never served stale.
+    time_s = np.arange(0, 0.05, 1e-4)
+    pulse = 60.0 * np.sin(np.pi * np.clip(time_s / 0.01, 0, 1)) ** 2
+    channels = {"cg_x": pulse, "cg_y": np.zeros_like(pulse), "cg_z": np.zeros_like(pulse)}
+    config = tmp_path / "filter.json"
+    config.write_text(json.dumps({"name": "filter", "filter": {"linear_cfc": 1000.0}}))
+    cfc1000 = napkin.transform(channels, time_s=time_s, array="3a-cg", config=config).summary["peak_acc_g"]
+    config.write_text(json.dumps({"name": "filter", "filter": {"linear_cfc": 60.0}, "description": "CFC 60"}))
+    cfc60 = napkin.transform(channels, time_s=time_s, array="3a-cg", config=config).summary["peak_acc_g"]
+    assert cfc60 < cfc1000 - 1.0  # CFC 60 rounds the 10 ms pulse's peak off
+    assert cfc1000 == napkin.transform(channels, time_s=time_s, array="3a-cg").summary["peak_acc_g"]
