@@ -17,12 +17,12 @@ namespace napkin::cli {
 namespace {
 
 const std::map<std::string, db::QueryKind>& Kinds() {
-  static const std::map<std::string, db::QueryKind> kinds = {
+  static const std::map<std::string, db::QueryKind> kKinds = {
       {"tests", db::QueryKind::kTests},       {"hic", db::QueryKind::kHic},
       {"rotation", db::QueryKind::kRotation}, {"criteria", db::QueryKind::kCriteria},
       {"quality", db::QueryKind::kQuality},   {"conditioning", db::QueryKind::kConditioning},
       {"risk", db::QueryKind::kRisk}};
-  return kinds;
+  return kKinds;
 }
 
 class QueryCommand : public Command {

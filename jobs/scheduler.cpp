@@ -34,13 +34,13 @@ namespace {
 // working set, which the tokens of a run bound (jobs/README.md, "Memory").
 void KeepFreedMemoryForReuse() {
 #if defined(__GLIBC__)
-  static const bool kept = [] {
+  static const bool kKept = [] {
     constexpr int kMmapThresholdBytes = 64 << 20;
     constexpr int kTrimThresholdBytes = 256 << 20;
     return mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes) == 1 &&
            mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes) == 1;
   }();
-  if (!kept) spdlog::debug("run: malloc tuning (mallopt) not applied");
+  if (!kKept) spdlog::debug("run: malloc tuning (mallopt) not applied");
 #endif
 }
 
