@@ -12,15 +12,18 @@ BUILD_TIDY ?= build/tidy
 # benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
 # gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
 # the reprocess test on a private single-node cluster (tests/slurm).
+# The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame.
+PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3-pandas
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
-  chromium time slurm-wlm munge
+  chromium time slurm-wlm munge $(PYTHON_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
-# What `make tidy` adds: clang-tidy and clang (its configuration's compiler), and the test
-# headers, as the sources include them.
-TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-tidy clang
+# What `make tidy` adds: clang-tidy and clang (its configuration's compiler), and the headers of
+# the tests, benchmarks and Python module, as the sources include them.
+TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev \
+  clang-tidy clang
 
 .PHONY: deps program-deps fuzz-deps tidy-deps demo test build release bench fuzz tidy format format-check clean
 
@@ -54,7 +57,7 @@ release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
 $(BUILD_TEST)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
 	  -DNAPKIN_TEST_CODE_OPTIONS=-O0 -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON -DNAPKIN_BUILD_BENCH=OFF \
-	  -DNAPKIN_UNITY_BUILD=ON
+	  -DNAPKIN_UNITY_BUILD=ON -DNAPKIN_BUILD_PYTHON=ON
 
 build: deps $(BUILD_TEST)/CMakeCache.txt
 	cmake --build $(BUILD_TEST) -j$(JOBS)
@@ -112,17 +115,17 @@ fuzz: fuzz-deps $(BUILD_FUZZ)/CMakeCache.txt
 # clang-tidy with the checks of .clang-tidy (bug-prone, performance, naming), warnings as errors.
 # `make tidy` checks every C++ source file git tracks; `make tidy TIDY_BASE=main` (or any
 # revision) only those changed since its merge base with HEAD. The compile commands come from a
-# configuration of their own, which has every source file in it: the tests, the benchmarks and,
-# as in `make fuzz`, clang with the libFuzzer targets (fuzz_main.cpp is compiled once a target,
-# with NAPKIN_FUZZ_TARGET naming it). Nothing is compiled there; only the generated fragments the
-# sources include (the embedded migrations and report files) are written.
+# configuration of their own, which has every source file in it: the tests, the benchmarks, the
+# Python module and, as in `make fuzz`, clang with the libFuzzer targets (fuzz_main.cpp is
+# compiled once a target, with NAPKIN_FUZZ_TARGET naming it). Nothing is compiled there; only the
+# generated fragments the sources include (the embedded migrations and report files) are written.
 TIDY_BASE ?=
 TIDY_SOURCES = $(if $(TIDY_BASE),$(shell git diff --name-only --diff-filter=d $$(git merge-base $(TIDY_BASE) HEAD) -- '*.cpp'),$(shell git ls-files '*.cpp'))
 
 # Reconfigured when this Makefile changes, so an older tidy configuration takes the options above.
 $(BUILD_TIDY)/CMakeCache.txt: Makefile | tidy-deps
 	cmake -S . -B $(BUILD_TIDY) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
-	  -DNAPKIN_BUILD_BENCH=ON -DNAPKIN_BUILD_FUZZ=ON
+	  -DNAPKIN_BUILD_BENCH=ON -DNAPKIN_BUILD_FUZZ=ON -DNAPKIN_BUILD_PYTHON=ON
 
 tidy: tidy-deps $(BUILD_TIDY)/CMakeCache.txt
 	cmake --build $(BUILD_TIDY) --target napkin_embedded_migrations napkin_embedded_report_assets

@@ -5,8 +5,6 @@
 // table, CSV or JSON (one object per row, docs/formats.md field names).
 #include <fmt/core.h>
 
-#include <map>
-
 #include "cli/command.h"
 #include "cli/db_option.h"
 #include "cli/option_checks.h"
@@ -16,24 +14,16 @@
 namespace napkin::cli {
 namespace {
 
-const std::map<std::string, db::QueryKind>& Kinds() {
-  static const std::map<std::string, db::QueryKind> kKinds = {
-      {"tests", db::QueryKind::kTests},       {"hic", db::QueryKind::kHic},
-      {"rotation", db::QueryKind::kRotation}, {"criteria", db::QueryKind::kCriteria},
-      {"quality", db::QueryKind::kQuality},   {"conditioning", db::QueryKind::kConditioning},
-      {"risk", db::QueryKind::kRisk}};
-  return kKinds;
-}
-
 class QueryCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
+    std::vector<std::string> kinds;
+    for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
     sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality or conditioning")
         ->required()
-        ->check(OneOfCheck("the query KIND",
-                           {"tests", "hic", "rotation", "criteria", "risk", "quality", "conditioning"}));
+        ->check(OneOfCheck("the query KIND", kinds));
     filters_.Register(*sub);
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))
@@ -42,7 +32,7 @@ class QueryCommand : public Command {
   }
 
   int Run() override {
-    const db::QueryKind kind = Kinds().at(what_);
+    const db::QueryKind kind = *engine::ParseName<db::QueryKind>(what_);
     db::QueryRequest request = filters_.Request(kind);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     request.config = filters_.Config(catalogue);

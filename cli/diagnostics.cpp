@@ -1,5 +1,6 @@
 #include "cli/diagnostics.h"
 
+#include <fmt/format.h>
 #include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
@@ -102,59 +103,62 @@ void SetUpLogging() {
   spdlog::set_default_logger(std::move(logger));
 }
 
-int ReportFailure(const std::exception_ptr& error, const std::string& db_path) {
+Failure DescribeFailure(const std::exception_ptr& error, const std::string& db_path) {
   try {
     std::rethrow_exception(error);
   } catch (const UsageError& usage) {
-    spdlog::error("{}", usage.what());
-    return kExitUsage;
+    return {kExitUsage, true, usage.what()};
   } catch (const InputError& input) {
-    spdlog::error("{}", input.what());
-    return kExitFailure;
+    return {kExitFailure, true, input.what()};
   } catch (const db::DatabaseError& database) {
-    if (database.busy()) {
-      spdlog::error(
-          "catalogue '{}' is busy: another napkin process has held its write lock longer than the wait "
-          "allows; "
-          "run the command again when that process has finished ({}).",
-          db_path, database.what());
-    } else if (database.full()) {
-      spdlog::error(
-          "catalogue '{}' could not be written: the disk holding it is full; free space there (or move the "
-          "catalogue to a larger disk) and run the command again, the work committed before is kept.",
-          db_path);
-    } else if (database.corrupt()) {
-      spdlog::error(
-          "catalogue '{}' is damaged (SQLite finds a malformed page); restore it from a backup, or save "
-          "what is readable with `sqlite3 {} .recover | sqlite3 recovered.db`.",
-          db_path, db_path);
-    } else if (database.read_only()) {
-      spdlog::error(
-          "catalogue '{}' cannot be written: the file or its directory is read-only; make both writable, "
-          "or copy the catalogue to a writable directory.",
-          db_path);
-    } else {
-      spdlog::error("catalogue '{}': {}", db_path, database.what());
-    }
-    return kExitFailure;
+    if (database.busy())
+      return {
+          kExitFailure, false,
+          fmt::format("catalogue '{}' is busy: another napkin process has held its write lock longer than "
+                      "the wait allows; run the command again when that process has finished ({}).",
+                      db_path, database.what())};
+    if (database.full())
+      return {kExitFailure, false,
+              fmt::format(
+                  "catalogue '{}' could not be written: the disk holding it is full; free space there (or "
+                  "move the catalogue to a larger disk) and run the command again, the work committed "
+                  "before is kept.",
+                  db_path)};
+    if (database.corrupt())
+      return {kExitFailure, false,
+              fmt::format(
+                  "catalogue '{}' is damaged (SQLite finds a malformed page); restore it from a backup, or "
+                  "save what is readable with `sqlite3 {} .recover | sqlite3 recovered.db`.",
+                  db_path, db_path)};
+    if (database.read_only())
+      return {
+          kExitFailure, false,
+          fmt::format("catalogue '{}' cannot be written: the file or its directory is read-only; make both "
+                      "writable, or copy the catalogue to a writable directory.",
+                      db_path)};
+    return {kExitFailure, false, fmt::format("catalogue '{}': {}", db_path, database.what())};
   } catch (const std::bad_alloc&) {
-    spdlog::error(
+    return {
+        kExitFailure, false,
         "out of memory; process fewer tests at once (run --threads 1) or free memory, then run the command "
-        "again.");
-    return kExitFailure;
+        "again."};
   } catch (const std::exception& internal) {
-    spdlog::error(
-        "internal error: {}; this is a bug in napkin, please report it with the command line that caused it.",
-        internal.what());
-    return kExitFailure;
+    return {kExitFailure, false,
+            fmt::format("internal error: {}; this is a bug in napkin, please report it with the command line "
+                        "that caused it.",
+                        internal.what())};
   } catch (...) {
-    spdlog::error(
+    return {
+        kExitFailure, false,
         "internal error: an unknown exception; this is a bug in napkin, please report it with the command "
-        "line "
-        "that caused it.");
-    return kExitFailure;
+        "line that caused it."};
   }
-  return kExitFailure;
+}
+
+int ReportFailure(const std::exception_ptr& error, const std::string& db_path) {
+  const Failure failure = DescribeFailure(error, db_path);
+  spdlog::error("{}", failure.sentence);
+  return failure.exit_status;
 }
 
 }  // namespace napkin::cli

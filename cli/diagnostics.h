@@ -38,8 +38,19 @@ void SetQuietLogging();
 // cli/option_checks.h refused) as one sentence and returns kExitUsage.
 int ReportOptionError(const CLI::ParseError& error);
 
-// Logs `error` (the exception in flight) as described above and returns its
-// exit status. `db_path` names the catalogue in database errors.
+// What `error` means for the user, as described above: its exit status,
+// whether it is bad input (UsageError, InputError: the Python module raises
+// ValueError for these, RuntimeError for the rest) and the sentence.
+// `db_path` names the catalogue in database errors.
+struct Failure {
+  int exit_status;
+  bool bad_input;
+  std::string sentence;
+};
+Failure DescribeFailure(const std::exception_ptr& error, const std::string& db_path);
+
+// Logs DescribeFailure's sentence of `error` (the exception in flight) and
+// returns its exit status.
 int ReportFailure(const std::exception_ptr& error, const std::string& db_path);
 
 }  // namespace napkin::cli

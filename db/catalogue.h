@@ -21,6 +21,7 @@
 #include "engine/processing.h"
 #include "engine/signals.h"
 #include "engine/summary.h"
+#include "engine/vocabulary.h"
 #include "schema/migrations.h"
 
 namespace napkin::db {
@@ -87,6 +88,16 @@ struct RawChannelInfo {
 // v_criteria, v_risk and v_quality; column names are the query contract.
 // v_conditioning (kConditioning: what conditioning did to each channel).
 enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning, kRisk };
+// The query KINDs of `napkin query` and the Python module's Catalogue.query, in the order they are listed.
+inline constexpr std::array<engine::NamedValue<QueryKind>, 7> kQueryKindNames{
+    {{QueryKind::kTests, "tests"},
+     {QueryKind::kHic, "hic"},
+     {QueryKind::kRotation, "rotation"},
+     {QueryKind::kCriteria, "criteria"},
+     {QueryKind::kRisk, "risk"},
+     {QueryKind::kQuality, "quality"},
+     {QueryKind::kConditioning, "conditioning"}}};
+constexpr const auto& NamesOf(QueryKind) { return kQueryKindNames; }
 using Cell = std::variant<std::monostate, std::int64_t, double, std::string>;  // monostate: NULL
 struct Table {
   std::vector<std::string> columns;

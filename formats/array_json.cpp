@@ -208,8 +208,8 @@ std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_v
                    (config_dir / subdir).string() + " (presets: " + Joined(known) + ").");
 }
 
-engine::ArrayGeometry LoadArray(std::string_view name_or_path) {
-  return ReadArrayJson(ResolvePreset(name_or_path, "arrays"));
+engine::ArrayGeometry LoadArray(std::string_view name_or_path, const std::filesystem::path& config_dir) {
+  return ReadArrayJson(ResolvePreset(name_or_path, "arrays", config_dir));
 }
 
 }  // namespace napkin::formats

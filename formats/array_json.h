@@ -32,7 +32,8 @@ std::filesystem::path DefaultConfigDir();
 std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_view subdir,
                                     const std::filesystem::path& config_dir = DefaultConfigDir());
 
-// Reads the array preset `name` ("denton-3222") or an array JSON file path.
-engine::ArrayGeometry LoadArray(std::string_view name_or_path);
+// Reads the array preset `name` ("denton-3222", in `config_dir`) or an array JSON file path.
+engine::ArrayGeometry LoadArray(std::string_view name_or_path,
+                                const std::filesystem::path& config_dir = DefaultConfigDir());
 
 }  // namespace napkin::formats

@@ -89,6 +89,29 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
   return columns;
 }
 
+TimeBase UniformTimeBase(std::span<const double> time_s, const std::string& source,
+                         const std::function<std::string(std::size_t)>& sample_name, std::string_view noun) {
+  // Strictly increasing, then uniformly spaced around the mean interval.
+  for (std::size_t k = 1; k < time_s.size(); ++k)
+    if (!(time_s[k] > time_s[k - 1]))
+      throw InputError(source + ": " + sample_name(k) + ": time_s " + util::FormatNumber(time_s[k]) +
+                       " does not increase over the previous " + std::string(noun) + "'s " +
+                       util::FormatNumber(time_s[k - 1]) + ".");
+  const double dt = (time_s.back() - time_s.front()) / static_cast<double>(time_s.size() - 1);
+  if (!(std::isfinite(dt) && dt > 0.0))
+    throw InputError(source + ": time_s runs from " + util::FormatNumber(time_s.front()) + " s to " +
+                     util::FormatNumber(time_s.back()) + " s, so the sampling interval " +
+                     util::FormatNumber(dt) + " s is not a finite positive number; check the time column.");
+  for (std::size_t k = 1; k < time_s.size(); ++k) {
+    const double step = time_s[k] - time_s[k - 1];
+    if (std::abs(step - dt) > kMaxRelativeJitter * dt)
+      throw InputError(source + ": " + sample_name(k) + ": the time step " + util::FormatNumber(step, 9) +
+                       " s differs from the mean step " + util::FormatNumber(dt, 9) +
+                       " s by more than 1e-6 (relative); samples must be uniformly spaced.");
+  }
+  return {time_s.front(), dt};
+}
+
 CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array,
                           const CsvColumnMap& column_map) {
   const std::string file = util::EscapeControl(path.string());
@@ -210,29 +233,11 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
     throw InputError(file + ": has " + std::to_string(time.size()) + " data row" +
                      (time.size() == 1 ? "" : "s") + ", at least two are needed.");
 
-  // Strictly increasing, then uniformly spaced around the mean interval.
-  for (std::size_t k = 1; k < time.size(); ++k)
-    if (!(time[k] > time[k - 1]))
-      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": time_s " +
-                       util::FormatNumber(time[k]) + " does not increase over the previous row's " +
-                       util::FormatNumber(time[k - 1]) + ".");
-  const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
-  if (!(std::isfinite(dt) && dt > 0.0))
-    throw InputError(file + ": time_s runs from " + util::FormatNumber(time.front()) + " s to " +
-                     util::FormatNumber(time.back()) + " s, so the sampling interval " +
-                     util::FormatNumber(dt) + " s is not a finite positive number; check the time column.");
-  for (std::size_t k = 1; k < time.size(); ++k) {
-    const double step = time[k] - time[k - 1];
-    if (std::abs(step - dt) > kMaxRelativeJitter * dt)
-      throw InputError(file + ": row " + std::to_string(row_lines[k]) + ": the time step " +
-                       util::FormatNumber(step, 9) + " s differs from the mean step " +
-                       util::FormatNumber(dt, 9) +
-                       " s by more than 1e-6 (relative); samples must be uniformly spaced.");
-  }
-
+  const TimeBase time_base = UniformTimeBase(
+      time, file, [&](std::size_t k) { return "row " + std::to_string(row_lines[k]); }, "row");
   engine::TestSignals& signals = result.signals;
-  signals.t0_s = time.front();
-  signals.dt_s = dt;
+  signals.t0_s = time_base.t0_s;
+  signals.dt_s = time_base.dt_s;
   signals.samples.resize(static_cast<Eigen::Index>(time.size()), static_cast<Eigen::Index>(columns.size()));
   for (std::size_t c = 0; c < columns.size(); ++c)
     signals.samples.col(static_cast<Eigen::Index>(c)) =
@@ -300,55 +305,63 @@ const std::vector<std::string>& DerivedCsvColumns() {
   return kColumns;
 }
 
+std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics) {
+  const std::vector<std::string>& names = DerivedCsvColumns();
+  std::vector<DerivedChannel> channels;
+  channels.reserve(names.size());
+  auto add = [&](const Eigen::VectorXd& values) { channels.push_back({names[channels.size()], values}); };
+  auto add3 = [&](const engine::Series3& series, double scale) {
+    for (int c = 0; c < 3; ++c) add(series.col(c) * scale);
+  };
+  auto add_absent = [&](std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) add(Eigen::VectorXd());
+  };
+  const double g_per_si = 1.0 / engine::kStandardGravity;
+  add(kinematics.time_s);
+  // An acceleration-only test has no rotation-dependent series (empty, or NaN
+  // as stored before; engine::HasRotation).
+  if (!engine::HasRotation(kinematics)) {
+    add_absent(4 * 3);  // omega_body to alpha_fixed
+    add3(kinematics.acc_body, g_per_si);
+    add_absent(names.size() - channels.size());  // acc_fixed to dcos
+    return channels;
+  }
+  add3(kinematics.omega_body, 1.0);
+  add3(kinematics.alpha_body, 1.0);
+  add3(kinematics.omega_fixed, 1.0);
+  add3(kinematics.alpha_fixed, 1.0);
+  add3(kinematics.acc_body, g_per_si);
+  add3(kinematics.acc_fixed, g_per_si);
+  add3(kinematics.vel_fixed, 1.0);
+  add3(kinematics.pos_fixed, 1.0);
+  for (int c = 0; c < 4; ++c) add(kinematics.quat_fixed_from_body.col(c));
+  add3(kinematics.roll_pitch_yaw_rad, engine::kDegPerRad);
+  add3(kinematics.dcos_rad, engine::kDegPerRad);
+  return channels;
+}
+
 void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
   // At least 9 significant digits are required (docs/formats.md); 12 keep the
   // file readable and well inside the precision of the solution.
   constexpr int kDigits = 12;
-  const Eigen::Index n = kinematics.size();
+  const std::vector<DerivedChannel> channels = DerivedChannels(kinematics);
   util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
     std::string line;
-    for (std::size_t i = 0; i < DerivedCsvColumns().size(); ++i) {
-      if (i > 0) line += ',';
-      line += DerivedCsvColumns()[i];
+    for (const DerivedChannel& channel : channels) {
+      if (!line.empty()) line += ',';
+      line += channel.name;
     }
     line += '\n';
     file.Write(line);
-    // An acceleration-only test has no rotation-dependent series (empty, or
-    // NaN as stored before; engine::HasRotation): their cells are empty
-    // (docs/formats.md "Derived channels").
-    const bool rotation = engine::HasRotation(kinematics);
-    auto append = [&](double value) {
-      line += ',';
-      if (std::isfinite(value)) util::AppendNumber(line, value, kDigits);
-    };
-    auto append3 = [&](const engine::Series3& series, Eigen::Index k, double scale) {
-      for (int c = 0; c < 3; ++c) append(series(k, c) * scale);
-    };
-    // The columns from acc_fixed_x_g to dcos_zz_deg (docs/formats.md).
-    const std::string cells_without_rotation(3 + 3 + 3 + 4 + 3 + 3, ',');
-    const double g_per_si = 1.0 / engine::kStandardGravity;
-    for (Eigen::Index k = 0; k < n; ++k) {
+    // A channel the test does not have, and a non-finite value, leave the
+    // cell empty (docs/formats.md "Derived channels").
+    for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
       line.clear();
-      util::AppendNumber(line, kinematics.time_s[k], kDigits);
-      if (!rotation) {
-        line.append(std::size_t{4} * 3, ',');  // omega_body to alpha_fixed
-        append3(kinematics.acc_body, k, g_per_si);
-        line += cells_without_rotation;
-        line += '\n';
-        file.Write(line);
-        continue;
+      for (std::size_t c = 0; c < channels.size(); ++c) {
+        if (c > 0) line += ',';
+        const Eigen::VectorXd& values = channels[c].values;
+        if (values.size() > 0 && std::isfinite(values[k])) util::AppendNumber(line, values[k], kDigits);
       }
-      append3(kinematics.omega_body, k, 1.0);
-      append3(kinematics.alpha_body, k, 1.0);
-      append3(kinematics.omega_fixed, k, 1.0);
-      append3(kinematics.alpha_fixed, k, 1.0);
-      append3(kinematics.acc_body, k, g_per_si);
-      append3(kinematics.acc_fixed, k, g_per_si);
-      append3(kinematics.vel_fixed, k, 1.0);
-      append3(kinematics.pos_fixed, k, 1.0);
-      for (int c = 0; c < 4; ++c) append(kinematics.quat_fixed_from_body(k, c));
-      append3(kinematics.roll_pitch_yaw_rad, k, engine::kDegPerRad);
-      append3(kinematics.dcos_rad, k, engine::kDegPerRad);
       line += '\n';
       file.Write(line);
     }

@@ -2,7 +2,10 @@
 // CSV signals (docs/formats.md "CSV input") and the derived-channel CSV
 // (docs/formats.md "Derived channels", a contract other programs rely on).
 #include <filesystem>
+#include <functional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -32,6 +35,19 @@ using CsvColumnMap = std::vector<std::pair<std::string, std::string>>;
 CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::ArrayGeometry* array = nullptr,
                           const CsvColumnMap& columns = {});
 
+// The sampling of sample times `time_s` (at least two): strictly increasing,
+// each step within 1e-6 (relative) of the mean step (docs/formats.md "CSV
+// input"). Returns the first time and the mean step. Throws InputError
+// starting with `source` and naming the sample at fault by `sample_name(k)`
+// ("row 12": its file line; the previous one is "the previous `noun`'s").
+// The CSV reader and the Python module's transform (python/) check time alike.
+struct TimeBase {
+  double t0_s = 0.0;
+  double dt_s = 0.0;
+};
+TimeBase UniformTimeBase(std::span<const double> time_s, const std::string& source,
+                         const std::function<std::string(std::size_t)>& sample_name, std::string_view noun);
+
 // Parses `--column SLOT=NAME` values into a CsvColumnMap; throws UsageError
 // for a value without '=' or with an empty side, or a slot given twice.
 CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options);
@@ -42,6 +58,21 @@ void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::
 
 // The derived-channel columns, in contract order.
 const std::vector<std::string>& DerivedCsvColumns();
+
+// One derived channel in the unit of its CSV column (acceleration in g,
+// angles in degrees, everything else SI). `values` is empty for a channel the
+// test does not have: an acceleration-only test (engine::HasRotation false)
+// has time_s and acc_body only, whose other cells the CSV leaves empty.
+struct DerivedChannel {
+  std::string name;
+  Eigen::VectorXd values;
+};
+
+// The derived channels of `kinematics`, one per DerivedCsvColumns() entry in
+// that order: what WriteDerivedCsv writes (rounded there to 12 digits) and
+// the Python module's TransformResult.channels hold (docs/formats.md
+// "Derived channels").
+std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics);
 
 // Writes the derived channels: acc in g, angles in degrees, everything else
 // SI; 12 significant digits.

@@ -29,9 +29,9 @@ engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRow& record) {
   return formats::ParseProcessingConfig(json, source);
 }
 
-ResolvedConfig ResolveConfig(const std::string& name_or_path) {
+ResolvedConfig ResolveConfig(const std::string& name_or_path, const std::filesystem::path& config_dir) {
   const std::string name = name_or_path.empty() ? "default" : name_or_path;
-  const std::filesystem::path path = formats::ResolvePreset(name, "processing");
+  const std::filesystem::path path = formats::ResolvePreset(name, "processing", config_dir);
   ResolvedConfig resolved;
   resolved.config = formats::ReadProcessingConfig(path);
   resolved.record = MakeConfigRecord(resolved.config, path.stem().string());

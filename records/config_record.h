@@ -2,10 +2,12 @@
 // Processing configurations as catalogue records: the canonical JSON
 // (formats::CanonicalProcessingConfig) and its SHA-256, which identify the
 // results computed with the configuration.
+#include <filesystem>
 #include <string>
 
 #include "db/catalogue.h"
 #include "engine/processing.h"
+#include "formats/array_json.h"
 
 namespace napkin::records {
 
@@ -26,8 +28,10 @@ struct ResolvedConfig {
 };
 
 // A processing configuration given by preset name or JSON path (empty: the
-// "default" preset), read and checked, with its record named after the
-// file's stem. Throws InputError naming the file and the key at fault.
-ResolvedConfig ResolveConfig(const std::string& name_or_path);
+// "default" preset; presets in `config_dir`), read and checked, with its
+// record named after the file's stem. Throws InputError naming the file and
+// the key at fault.
+ResolvedConfig ResolveConfig(const std::string& name_or_path,
+                             const std::filesystem::path& config_dir = formats::DefaultConfigDir());
 
 }  // namespace napkin::records

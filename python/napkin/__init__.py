@@ -1,0 +1,176 @@
+"""napkin from Python: head kinematics and injury criteria of crash-test dummies.
+
+A thin layer over the compiled module ``napkin._napkin``, built from the same
+libraries as the ``napkin`` command, so a result here is the command's result
+(docs/python.md):
+
+- ``transform(channels, ...)`` -- one test's raw signals (numpy arrays) to its
+  summary (the ``summary.json`` of ``napkin transform``) and derived channels;
+- ``hic``, ``cfc``, ``bric`` and the injury-risk curves ``hic15_p_ais3``,
+  ``hic36_p_ais4``, ``bric_p_ais3``, ``bric_p_ais4`` on numpy arrays;
+- ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
+  ``query_frame()``, ``channels()``, ``compare()``.
+
+Bad input raises ValueError with the sentence the command prints; anything
+else that goes wrong raises RuntimeError.
+"""
+
+import json as _json
+import os as _os
+
+from . import _napkin
+from ._napkin import bric, cfc, hic  # noqa: F401  (the public API)
+
+__version__ = _napkin.__version__
+
+# The injury-risk curves, one function per summary field (hic15_p_ais3, ...).
+RISK_CURVES = tuple(name for name in dir(_napkin) if "_p_ais" in name)
+for _name in RISK_CURVES:
+    globals()[_name] = getattr(_napkin, _name)
+
+__all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", *RISK_CURVES]
+
+
+def _config_dir():
+    """The presets (config/): $NAPKIN_CONFIG_DIR, else those installed with this
+    package (<prefix>/share/napkin/config beside <prefix>/lib/python3/...), else
+    the ones the extension was built with (empty: its own default)."""
+    if _os.environ.get("NAPKIN_CONFIG_DIR"):
+        return _os.environ["NAPKIN_CONFIG_DIR"]
+    here = _os.path.dirname(_os.path.abspath(__file__))
+    prefix = here
+    for _ in range(4):  # napkin -> dist-packages -> python3 -> lib -> <prefix>
+        prefix = _os.path.dirname(prefix)
+    installed = _os.path.join(prefix, "share", "napkin", "config")
+    return installed if _os.path.isdir(_os.path.join(installed, "arrays")) else ""
+
+
+class TransformResult:
+    """What ``transform`` computed for one test.
+
+    summary      -- dict equal to the ``summary.json`` of ``napkin transform``
+                    (criteria, windows, risks, ``quality`` findings, ``conditioning``)
+    channels     -- dict column name -> numpy array, named and scaled as the
+                    derived-channel CSV (acc in g, angles in degrees, else SI);
+                    an acceleration-only array gives time_s and acc_body_* only
+    conditioning -- list of dicts, what conditioning did to each channel
+    """
+
+    def __init__(self, summary, channels):
+        self.summary = summary
+        self.channels = channels
+        self.conditioning = summary.get("conditioning", [])
+
+    def __repr__(self):
+        return "<napkin.TransformResult hic15={} channels={}>".format(
+            self.summary.get("hic15"), len(self.channels))
+
+
+def transform(channels, time_s=None, dt=None, array="denton-3222", config="default",
+              orientation=(0.0, 0.0, 0.0), initial_velocity=(0.0, 0.0, 0.0),
+              initial_omega_body=(0.0, 0.0, 0.0), solver=None, test_id=""):
+    """Process one test as ``napkin transform`` does.
+
+    channels -- dict slot name -> 1-D array of samples (in the unit the array
+                gives the slot: g, rad/s), or a 2-D array (samples x slots) in
+                the array's slot order
+    time_s   -- the sample times (s), uniformly spaced; or give dt (s) and the
+                first sample is at t = 0
+    array    -- array preset name ("denton-3222", "3a-cg", ...) or array JSON path
+    config   -- processing config preset name or JSON path
+    orientation      -- initial orientation phi, theta, psi (rad)
+    initial_velocity -- initial CG velocity in the fixed frame (m/s)
+    initial_omega_body -- initial angular velocity in body axes (rad/s; usually at rest)
+    solver   -- None (the config's), or a solver name as ``--solver``
+    test_id  -- the summary's test_id, and the start of error sentences
+
+    Raises ValueError for bad input and for a test that fails screening (the
+    sentence ``napkin transform`` exits 1 with); the computation runs without
+    the GIL.
+    """
+    summary_json, derived = _napkin.transform(
+        channels, time_s, dt, _os.fspath(array), _os.fspath(config), list(orientation),
+        list(initial_velocity), list(initial_omega_body), solver, str(test_id), _config_dir())
+    return TransformResult(_json.loads(summary_json), derived)
+
+
+def _names(value):
+    if value is None:
+        return None
+    return [value] if isinstance(value, str) else [str(v) for v in value]
+
+
+class Catalogue:
+    """A napkin catalogue opened read-only (writing stays with the CLI).
+
+    Rows are those of ``napkin query|compare --format json``: the same keys,
+    numbers and nulls (None).
+    """
+
+    def __init__(self, path):
+        self._catalogue = _napkin.Catalogue(_os.fspath(path))
+
+    @property
+    def path(self):
+        return self._catalogue.path
+
+    def __repr__(self):
+        return "<napkin.Catalogue {!r}>".format(self.path)
+
+    def tests(self):
+        """The test ids, in order."""
+        return [row["test_id"] for row in self.query("tests")]
+
+    def _query(self, kind, where, sort, limit, config, series, variant):
+        if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int)):
+            raise ValueError("limit is a whole number of rows, not {!r}.".format(limit))
+        return self._catalogue.query_json(
+            str(kind), _names(where), _names(sort), None if limit is None else str(limit),
+            config, _names(series), _names(variant))
+
+    def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
+        """``napkin query KIND`` as a list of dicts.
+
+        kind    -- tests, hic, rotation, criteria, risk, quality or conditioning
+        where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
+        sort    -- "FIELD[:desc]" (or a list)
+        limit   -- at most this many rows
+        config  -- results of this stored config (name or hash prefix; default: each test's latest)
+        series, variant -- only tests of this series / variant (or any of a list)
+        """
+        text, _ = self._query(kind, where, sort, limit, config, series, variant)
+        return _json.loads(text)
+
+    def query_frame(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
+        """``query`` as a pandas DataFrame (columns in the query's order)."""
+        try:
+            import pandas
+        except ImportError as error:
+            raise ImportError("napkin.Catalogue.query_frame needs pandas: install it with "
+                              "`sudo apt install python3-pandas` (or pip install pandas).") from error
+        text, columns = self._query(kind, where, sort, limit, config, series, variant)
+        return pandas.DataFrame(_json.loads(text), columns=columns)
+
+    def channels(self, test_id, derived=True, config=None):
+        """One test's channels as a dict name -> numpy array.
+
+        derived=True: its result's derived channels, as ``napkin export --format
+        csv`` writes them (config: the stored config's name or hash prefix;
+        default: its latest result). derived=False: its raw channels (time_s and
+        one per slot, in the slot's unit).
+        """
+        return self._catalogue.channels(str(test_id), bool(derived), config)
+
+    def test_inputs(self, test_id):
+        """What ``napkin run`` computes the test's result from, as ``transform``'s
+        keyword arguments: test_id, array (the name of the test's stored array
+        definition, a preset name when it was imported with one), time_s,
+        channels (slot -> raw samples), orientation, initial_velocity,
+        initial_omega_body. ``transform(**catalogue.test_inputs(t), config=c)``
+        computes what ``napkin run --config c`` stores for it."""
+        return self._catalogue.test_inputs(str(test_id))
+
+    def compare(self, series, by="variant", baseline=None, metrics=None, config=None):
+        """``napkin compare --series S --format json`` as a list of dicts."""
+        return _json.loads(self._catalogue.compare_json(
+            str(series), str(by), baseline, _names(metrics), _names(config)))

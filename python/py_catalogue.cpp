@@ -1,0 +1,190 @@
+// napkin.Catalogue: a catalogue opened read-only, its queries and
+// comparisons as the CLI's `--format json` text (napkin/__init__.py parses
+// it, so a Python row is the CLI's row) and a test's channels as numpy arrays
+// (docs/python.md "Catalogue"). Writing stays with the CLI.
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "cli/comparison.h"
+#include "cli/db_option.h"
+#include "cli/query_filters.h"
+#include "cli/table_output.h"
+#include "common/error.h"
+#include "common/joined.h"
+#include "formats/csv.h"
+#include "python/py_bindings.h"
+#include "records/test_inputs.h"
+
+namespace napkin::python {
+namespace {
+
+class ReadOnlyCatalogue {
+ public:
+  explicit ReadOnlyCatalogue(std::string path) : path_(std::move(path)), catalogue_(Open(path_)) {}
+
+  const std::string& path() const { return path_; }
+
+  // (JSON text of `napkin query KIND --format json`, its column names).
+  std::pair<std::string, std::vector<std::string>> Query(const std::string& kind_name,
+                                                         const cli::QueryFilterOptions& filters) {
+    const std::optional<db::QueryKind> kind = engine::ParseName<db::QueryKind>(kind_name);
+    if (!kind)
+      throw UsageError(
+          "unknown query kind \"" + kind_name + "\" (use " +
+          Joined(db::kQueryKindNames, [](const auto& entry) { return std::string(entry.name); }) + ").");
+    db::QueryRequest request = filters.Request(*kind);
+    request.config = filters.Config(catalogue_);
+    const db::Table table = catalogue_.Query(*kind, request);
+    return {cli::FormatTable(table, cli::TableFormat::kJson), table.columns};
+  }
+
+  // JSON text of `napkin compare --format json`.
+  std::string Compare(const cli::ComparisonRequest& request) {
+    return cli::FormatComparison(cli::BuildComparison(catalogue_, request), cli::TableFormat::kJson);
+  }
+
+  // The derived channels of the test's result under the stored config
+  // `config` (NAME or HASH-PREFIX; default: its latest result), as `napkin
+  // export --format csv` writes them; or (derived false) its raw channels.
+  py::dict Channels(const std::string& test_id, bool derived, const std::optional<std::string>& config) {
+    const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
+    if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
+    if (!derived) {
+      py::dict inputs = TestInputs(*test);
+      const auto channels = inputs["channels"].cast<py::dict>();
+      py::dict raw;
+      raw["time_s"] = inputs["time_s"];
+      for (const auto& [slot, values] : channels) raw[slot] = values;
+      return raw;
+    }
+    std::optional<db::ConfigId> config_id;
+    if (config) {
+      config_id = cli::ResolveConfigSelector(catalogue_, *config).id;
+      if (!catalogue_.ReadSummary(*test, *config_id))
+        throw InputError("test '" + test_id + "' has no results for config '" + *config +
+                         "' yet; run `napkin run --config " + *config + "` first.");
+    } else {
+      config_id = catalogue_.ReadLatestResultConfig(*test);
+      if (!config_id) throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
+    }
+    const engine::Kinematics kinematics = cli::ReadResultKinematics(catalogue_, *test, *config_id);
+    py::dict channels;
+    for (formats::DerivedChannel& channel : formats::DerivedChannels(kinematics))
+      if (channel.values.size() > 0) channels[py::str(channel.name)] = ToNumpy(std::move(channel.values));
+    return channels;
+  }
+
+  // What `napkin run` computes the test's result from, as napkin.transform's
+  // keyword arguments (napkin/__init__.py Catalogue.test_inputs).
+  py::dict TestInputs(const std::string& test_id) {
+    const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
+    if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
+    return TestInputs(*test);
+  }
+
+ private:
+  py::dict TestInputs(db::TestId test) {
+    records::TestInputReader reader(catalogue_);
+    records::TestInputs inputs = reader.Read(test);
+    if (!inputs.array) throw InputError(inputs.array_error);
+    const engine::TestSignals& signals = inputs.signals;
+    Eigen::VectorXd time(signals.size());
+    for (Eigen::Index k = 0; k < signals.size(); ++k) time[k] = signals.TimeAt(k);
+    py::dict channels;
+    for (std::size_t c = 0; c < signals.slots.size(); ++c)
+      channels[py::str(signals.slots[c])] = ToNumpy(signals.samples.col(static_cast<Eigen::Index>(c)));
+    auto triple = [](const Eigen::Vector3d& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
+    py::dict result;
+    result["test_id"] = inputs.external_id;
+    result["array"] = inputs.array->name;
+    result["time_s"] = ToNumpy(std::move(time));
+    result["channels"] = channels;
+    result["orientation"] = triple(inputs.initial.orientation_rad);
+    result["initial_velocity"] = triple(inputs.initial.velocity_fixed_mps);
+    result["initial_omega_body"] = triple(inputs.initial.omega_body_radps);
+    return result;
+  }
+
+  static db::Catalogue Open(const std::string& path) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error))
+      throw InputError("catalogue '" + path + "' does not exist (or is not a file); `napkin init --db " +
+                       path + "` creates one.");
+    db::CatalogueOptions options;
+    options.read_only = true;
+    return db::Catalogue::Open(path, options);
+  }
+
+  std::string path_;
+  db::Catalogue catalogue_;
+};
+
+std::vector<std::string> AsList(const std::optional<std::vector<std::string>>& values) {
+  return values ? *values : std::vector<std::string>{};
+}
+
+}  // namespace
+
+void RegisterCatalogue(py::module_& module) {
+  py::class_<ReadOnlyCatalogue>(module, "Catalogue")
+      .def(py::init([](const std::string& path) {
+             return Translated(path, [&] { return std::make_unique<ReadOnlyCatalogue>(path); });
+           }),
+           py::arg("path"))
+      .def_property_readonly("path", &ReadOnlyCatalogue::path)
+      .def(
+          "query_json",
+          [](ReadOnlyCatalogue& self, const std::string& kind,
+             const std::optional<std::vector<std::string>>& where,
+             const std::optional<std::vector<std::string>>& sort, const std::optional<std::string>& limit,
+             const std::optional<std::string>& config, const std::optional<std::vector<std::string>>& series,
+             const std::optional<std::vector<std::string>>& variant) {
+            return Translated(self.path(), [&] {
+              cli::QueryFilterOptions filters;
+              filters.where = AsList(where);
+              filters.sort = AsList(sort);
+              filters.limit = limit.value_or("");
+              filters.config = config.value_or("");
+              filters.series = AsList(series);
+              filters.variants = AsList(variant);
+              return self.Query(kind, filters);
+            });
+          },
+          py::arg("kind"), py::arg("where"), py::arg("sort"), py::arg("limit"), py::arg("config"),
+          py::arg("series"), py::arg("variant"))
+      .def(
+          "compare_json",
+          [](ReadOnlyCatalogue& self, const std::string& series, const std::string& by,
+             const std::optional<std::string>& baseline,
+             const std::optional<std::vector<std::string>>& metrics,
+             const std::optional<std::vector<std::string>>& configs) {
+            return Translated(self.path(), [&] {
+              cli::ComparisonRequest request;
+              request.series = series;
+              request.by = cli::ParseCompareBy(by);
+              request.baseline = baseline;
+              request.metrics = AsList(metrics);
+              request.configs = AsList(configs);
+              return self.Compare(request);
+            });
+          },
+          py::arg("series"), py::arg("by"), py::arg("baseline"), py::arg("metrics"), py::arg("config"))
+      .def(
+          "channels",
+          [](ReadOnlyCatalogue& self, const std::string& test_id, bool derived,
+             const std::optional<std::string>& config) {
+            return Translated(self.path(), [&] { return self.Channels(test_id, derived, config); });
+          },
+          py::arg("test_id"), py::arg("derived"), py::arg("config"))
+      .def(
+          "test_inputs",
+          [](ReadOnlyCatalogue& self, const std::string& test_id) {
+            return Translated(self.path(), [&] { return self.TestInputs(test_id); });
+          },
+          py::arg("test_id"));
+}
+
+}  // namespace napkin::python

@@ -1,0 +1,122 @@
+// The criteria and filters of the engine on numpy arrays: napkin.hic,
+// napkin.cfc, napkin.bric and the injury-risk curves (docs/python.md).
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+
+#include "common/error.h"
+#include "engine/cfc_filter.h"
+#include "engine/criteria.h"
+#include "engine/injury_risk.h"
+#include "engine/processing.h"
+#include "python/py_bindings.h"
+
+namespace napkin::python {
+namespace {
+
+Eigen::Map<const Eigen::VectorXd> Samples(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& values, const std::string& what) {
+  if (values.ndim() != 1)
+    throw InputError(what + " has " + std::to_string(values.ndim()) +
+                     " dimensions; it is a 1-D array of samples.");
+  return {values.data(), static_cast<Eigen::Index>(values.shape(0))};
+}
+
+// engine::Hic: the exact maximum over windows up to max_window_s (None: no
+// limit), times in s from the first sample.
+py::tuple Hic(const py::handle& resultant_g, double dt_s, const std::optional<double>& max_window_s,
+              bool from_time_zero, double t0_s) {
+  const auto values = AsFloatArray(resultant_g, "napkin.hic: resultant_g");
+  const Eigen::Map<const Eigen::VectorXd> samples = Samples(values, "napkin.hic: resultant_g");
+  engine::HicOptions options;
+  options.window_s = max_window_s.value_or(engine::kUnlimitedHicWindow);
+  options.from_time_zero = from_time_zero;
+  engine::HicWindow window;
+  {
+    const py::gil_scoped_release computing;
+    window = engine::Hic(samples, dt_s, t0_s, options);
+  }
+  return py::make_tuple(window.value, window.t1_s, window.t2_s);
+}
+
+// engine::CfcFilterInPlace on a copy: the two-pass SAE J211 (or ISO 6487) filter.
+py::array_t<double> Cfc(const py::handle& x, double dt_s, double cfc_hz, const std::string& variant_name) {
+  const std::optional<engine::CfcVariant> variant = engine::ParseName<engine::CfcVariant>(variant_name);
+  if (!variant)
+    throw InputError("napkin.cfc: variant \"" + variant_name + "\" is neither \"sae\" nor \"iso\".");
+  if (!(std::isfinite(dt_s) && dt_s > 0.0))
+    throw InputError("napkin.cfc: dt " + std::to_string(dt_s) +
+                     " s is not a finite positive sampling interval.");
+  if (!(std::isfinite(cfc_hz) && cfc_hz > 0.0))
+    throw InputError("napkin.cfc: cfc " + std::to_string(cfc_hz) +
+                     " Hz is not a positive channel frequency class.");
+  const auto values = AsFloatArray(x, "napkin.cfc: x");
+  Eigen::VectorXd filtered = Samples(values, "napkin.cfc: x");
+  for (Eigen::Index k = 0; k < filtered.size(); ++k)
+    if (!std::isfinite(filtered[k]))
+      throw InputError("napkin.cfc: x[" + std::to_string(k) + "] is not a finite number.");
+  {
+    const py::gil_scoped_release computing;
+    engine::CfcFilterInPlace(filtered, dt_s, cfc_hz, *variant);
+  }
+  return ToNumpy(std::move(filtered));
+}
+
+// engine::Bric over omega_body (samples x 3, rad/s).
+double Bric(const py::handle& omega_body_radps, const std::optional<std::vector<double>>& critical) {
+  const auto values = AsFloatArray(omega_body_radps, "napkin.bric: omega_body_radps");
+  if (values.ndim() != 2 || values.shape(1) != 3)
+    throw InputError("napkin.bric: omega_body_radps is an array of " + std::to_string(values.ndim()) +
+                     " dimensions; it has one row per sample and 3 columns (x, y, z).");
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  const engine::Series3 omega = Eigen::Map<const Rows>(values.data(), values.shape(0), 3);
+  Eigen::Vector3d critical_radps = engine::BricConfig{}.critical_radps;
+  if (critical) {
+    if (critical->size() != 3)
+      throw InputError("napkin.bric: critical_radps takes 3 numbers (x, y, z), not " +
+                       std::to_string(critical->size()) + ".");
+    critical_radps = {(*critical)[0], (*critical)[1], (*critical)[2]};
+  }
+  return engine::Bric(omega, critical_radps);
+}
+
+}  // namespace
+
+void RegisterCriteria(py::module_& module) {
+  module.def(
+      "hic",
+      [](const py::handle& resultant_g, double dt, const std::optional<double>& max_window_s,
+         bool from_time_zero, double t0_s) {
+        return Translated("", [&] { return Hic(resultant_g, dt, max_window_s, from_time_zero, t0_s); });
+      },
+      py::arg("resultant_g"), py::arg("dt"), py::arg("max_window_s") = engine::kHic15Window,
+      py::arg("from_time_zero") = false, py::arg("t0_s") = 0.0,
+      "HIC of a resultant acceleration (g) sampled every dt s: (hic, t1_s, t2_s), the exact maximum over "
+      "windows "
+      "up to max_window_s (None: no limit), times in s from the first sample (plus t0_s).");
+  module.def(
+      "cfc",
+      [](const py::handle& x, double dt, double cfc, const std::string& variant) {
+        return Translated("", [&] { return Cfc(x, dt, cfc, variant); });
+      },
+      py::arg("x"), py::arg("dt"), py::arg("cfc") = engine::kCfc1000, py::arg("variant") = "sae",
+      "x filtered by the two-pass channel frequency class filter of SAE J211 (variant 'sae') or ISO 6487 "
+      "('iso').");
+  module.def(
+      "bric",
+      [](const py::handle& omega, const std::optional<std::vector<double>>& critical) {
+        return Translated("", [&] { return Bric(omega, critical); });
+      },
+      py::arg("omega_body_radps"), py::arg("critical_radps") = py::none(),
+      "BrIC (Takhounts 2013) of body angular velocity (samples x 3, rad/s); critical values default to "
+      "66.25, 56.45, 42.87 rad/s.");
+  // One function per curve of the summary-field table, named as its field.
+  for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
+    const std::string doc = std::string("P(AIS ") + std::to_string(curve.ais) + "+) from " + curve.criterion +
+                            " (docs/algorithms.md \"Injury risk\"); element-wise on arrays.";
+    module.def(curve.field, py::vectorize(curve.risk), py::arg(curve.criterion), doc.c_str());
+  }
+}
+
+}  // namespace napkin::python
