@@ -321,7 +321,7 @@ std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics
   // An acceleration-only test has no rotation-dependent series (empty, or NaN
   // as stored before; engine::HasRotation).
   if (!engine::HasRotation(kinematics)) {
-    add_absent(4 * 3);  // omega_body to alpha_fixed
+    add_absent(std::size_t{4} * 3);  // omega_body to alpha_fixed
     add3(kinematics.acc_body, g_per_si);
     add_absent(names.size() - channels.size());  // acc_fixed to dcos
     return channels;
