@@ -7,6 +7,7 @@ BUILD_TEST ?= build/test
 BUILD_BENCH ?= build/bench
 BUILD_FUZZ ?= build/fuzz
 BUILD_TIDY ?= build/tidy
+BUILD_PACKAGE ?= build/package
 # What the program needs (make demo): Boost.Math for compare's t distribution,
 # dygraphs embedded into the binary for report's charts. What the tests and
 # benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
@@ -24,14 +25,19 @@ FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 # the tests, benchmarks and Python module, as the sources include them.
 TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev \
   clang-tidy clang
+# What `make package` adds: the Python module's build and tests; help2man writes the man page;
+# dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page.
+PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db
 
-.PHONY: deps program-deps fuzz-deps tidy-deps demo test build release bench fuzz tidy format format-check clean
+.PHONY: deps program-deps fuzz-deps tidy-deps package-deps demo test build release bench fuzz tidy format format-check \
+  package package-check clean
 
 deps: PACKAGES = $(DEBIAN_PACKAGES)
 program-deps: PACKAGES = $(PROGRAM_PACKAGES)
 fuzz-deps: PACKAGES = $(FUZZ_PACKAGES)
 tidy-deps: PACKAGES = $(TIDY_PACKAGES)
-deps program-deps fuzz-deps tidy-deps:
+package-deps: PACKAGES = $(PACKAGE_PACKAGES)
+deps program-deps fuzz-deps tidy-deps package-deps:
 	@missing=""; for p in $(PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
@@ -135,6 +141,23 @@ tidy: tidy-deps $(BUILD_TIDY)/CMakeCache.txt
 	    --warnings-as-errors='*' --header-filter='^$(CURDIR)/[a-z]+/' > $(BUILD_TIDY)/tidy.log 2>&1; \
 	  status=$$?; grep -E '(warning|error):' $(BUILD_TIDY)/tidy.log | sort -u; \
 	  if [ $$status = 0 ]; then echo "napkin tidy: clean"; else echo "napkin tidy: findings above"; exit 1; fi; fi
+
+# The Debian package (cmake/Packaging.cmake, packaging/): a Release build of its own with the
+# Python module, no tests or benchmarks, installed under /usr; CPack writes
+# $(BUILD_PACKAGE)/napkin_<version>_<arch>.deb. `make package-check` checks it as installed
+# (packaging/package_check.sh); .ci/run runs it after `make test`.
+$(BUILD_PACKAGE)/CMakeCache.txt: | package-deps
+	cmake -S . -B $(BUILD_PACKAGE) -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DNAPKIN_BUILD_BENCH=OFF \
+	  -DNAPKIN_BUILD_PYTHON=ON -DNAPKIN_BUILD_PACKAGE=ON -DCMAKE_INSTALL_PREFIX=/usr
+
+package: package-deps $(BUILD_PACKAGE)/CMakeCache.txt
+	cmake --build $(BUILD_PACKAGE) -j$(JOBS)
+	rm -f $(BUILD_PACKAGE)/napkin_*.deb
+	cd $(BUILD_PACKAGE) && cpack -G DEB
+	@ls $(BUILD_PACKAGE)/napkin_*.deb
+
+package-check: package
+	packaging/package_check.sh $(BUILD_PACKAGE)
 
 clean:
 	rm -rf build
