@@ -120,6 +120,7 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
   std::vector<std::vector<std::int64_t>> claimed(2);
   std::atomic<int> errors = 0;
   std::vector<std::thread> workers;
+  workers.reserve(2);
   for (int w = 0; w < 2; ++w) {
     workers.emplace_back([&, w] {
       try {
