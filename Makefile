@@ -21,8 +21,10 @@ DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-de
   chromium time slurm-wlm munge $(PYTHON_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
-# What `make tidy` adds: clang-tidy (and the test headers, as the sources include them).
-TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-tidy
+# What `make tidy` adds: clang-tidy and clang (its configuration's compiler), and the headers of
+# the tests, benchmarks and Python module, as the sources include them.
+TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev \
+  clang-tidy clang
 # What `make package` adds: the Python module's build and tests; help2man writes the man page;
 # dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page.
 PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db
@@ -119,14 +121,20 @@ fuzz: fuzz-deps $(BUILD_FUZZ)/CMakeCache.txt
 # clang-tidy with the checks of .clang-tidy (bug-prone, performance, naming), warnings as errors.
 # `make tidy` checks every C++ source file git tracks; `make tidy TIDY_BASE=main` (or any
 # revision) only those changed since its merge base with HEAD. The compile commands come from a
-# configuration of their own (no sanitizers; nothing is built there).
+# configuration of their own, which has every source file in it: the tests, the benchmarks, the
+# Python module and, as in `make fuzz`, clang with the libFuzzer targets (fuzz_main.cpp is
+# compiled once a target, with NAPKIN_FUZZ_TARGET naming it). Nothing is compiled there; only the
+# generated fragments the sources include (the embedded migrations and report files) are written.
 TIDY_BASE ?=
 TIDY_SOURCES = $(if $(TIDY_BASE),$(shell git diff --name-only --diff-filter=d $$(git merge-base $(TIDY_BASE) HEAD) -- '*.cpp'),$(shell git ls-files '*.cpp'))
 
-$(BUILD_TIDY)/CMakeCache.txt: | tidy-deps
-	cmake -S . -B $(BUILD_TIDY) -DCMAKE_BUILD_TYPE=Debug -DNAPKIN_BUILD_BENCH=ON
+# Reconfigured when this Makefile changes, so an older tidy configuration takes the options above.
+$(BUILD_TIDY)/CMakeCache.txt: Makefile | tidy-deps
+	cmake -S . -B $(BUILD_TIDY) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+	  -DNAPKIN_BUILD_BENCH=ON -DNAPKIN_BUILD_FUZZ=ON -DNAPKIN_BUILD_PYTHON=ON
 
 tidy: tidy-deps $(BUILD_TIDY)/CMakeCache.txt
+	cmake --build $(BUILD_TIDY) --target napkin_embedded_migrations napkin_embedded_report_assets
 	@if [ -z "$(strip $(TIDY_SOURCES))" ]; then echo "napkin tidy: no C++ source changed since $(TIDY_BASE)"; else \
 	  echo "napkin tidy: clang-tidy over $(words $(TIDY_SOURCES)) files (log $(BUILD_TIDY)/tidy.log)"; \
 	  printf '%s\n' $(TIDY_SOURCES) | xargs -P $(JOBS) -n 4 clang-tidy -p $(BUILD_TIDY) --quiet \

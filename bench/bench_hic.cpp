@@ -21,7 +21,7 @@ constexpr Eigen::Index kSamples = 20000;
 // A crash-like resultant head acceleration (g): a primary impact, a
 // secondary contact and a rebound, broadband noise, filtered at CFC 1000.
 const Eigen::VectorXd& CrashLikeSignal() {
-  static const Eigen::VectorXd signal = [] {
+  static const Eigen::VectorXd kSignal = [] {
     std::mt19937_64 rng(1995);
     std::normal_distribution<double> noise(0.0, 1.5);
     Eigen::VectorXd a(kSamples);
@@ -37,7 +37,7 @@ const Eigen::VectorXd& CrashLikeSignal() {
     CfcFilterInPlace(a, kDt, kCfc1000);
     return Eigen::VectorXd(a.cwiseAbs());  // a resultant is non-negative
   }();
-  return signal;
+  return kSignal;
 }
 
 HicOptions WindowOf(double window_s) {

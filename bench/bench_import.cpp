@@ -21,8 +21,8 @@ namespace fs = std::filesystem;
 
 // A private folder holding the generated test as a folder and as a zip.
 const fs::path& GeneratedTestFolder() {
-  static const fs::path folder = [] {
-    const fs::path root = fs::temp_directory_path() / ("napkin-bench-import-" + std::to_string(::getpid()));
+  static const fs::path kFolder = [] {
+    fs::path root = fs::temp_directory_path() / ("napkin-bench-import-" + std::to_string(::getpid()));
     fs::create_directories(root);
     test_support::WriteMultiDummyIsoMme(root / "MD0001");
     test_support::WriteZip(root / "MD0001.zip", test_support::FolderEntries(root / "MD0001", "MD0001/"));
@@ -33,11 +33,11 @@ const fs::path& GeneratedTestFolder() {
     });
     return root;
   }();
-  return folder;
+  return kFolder;
 }
 
 void ImportTwoDummyIsoMme(benchmark::State& state, const std::string& input) {
-  const fs::path root = GeneratedTestFolder();
+  const fs::path& root = GeneratedTestFolder();
   ImportOptions options;
   options.array = "6aw-cg";
   int round = 0;

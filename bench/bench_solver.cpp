@@ -43,13 +43,13 @@ ArrayGeometry DentonNap() {
 
 // The record both solvers process: 20,000 samples of the displaced Denton array.
 const synth::SyntheticTest& NapTest20000() {
-  static const synth::SyntheticTest test = [] {
+  static const synth::SyntheticTest kTest = [] {
     synth::RandomMotionOptions motion;
     motion.seed = 1;
     motion.duration_s = 1.9999;  // 20,000 samples at 10 kHz
     return synth::SynthRandomMotion(synth::DisplaceSensors(DentonNap(), 0.25 * kMetresPerInch, 1), motion);
   }();
-  return test;
+  return kTest;
 }
 
 void SolveNap20000(benchmark::State& state, SolverKind solver) {

@@ -56,6 +56,7 @@ class ExportCommand : public Command {
     sub->add_flag("--force", force_,
                   "isomme, uds: replace files of the same names in the --out folder (default: refuse)");
     std::vector<std::string> unit_systems;
+    unit_systems.reserve(formats::kLsDynaUnits.size());
     for (const formats::LsDynaUnits system : formats::kLsDynaUnits)
       unit_systems.emplace_back(engine::NameOf(system));
     sub->add_option("--units", units_, "lsdyna units: si (m, s) or english (in, s)")

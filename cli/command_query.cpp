@@ -20,6 +20,7 @@ class QueryCommand : public Command {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
     std::vector<std::string> kinds;
+    kinds.reserve(db::kQueryKindNames.size());
     for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
     sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality or conditioning")
         ->required()

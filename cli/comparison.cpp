@@ -263,6 +263,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
     }
     if (!found) {
       std::vector<std::string> names;
+      names.reserve(results_by_group.size());
       for (const auto& [group, members] : results_by_group) names.push_back(group);
       throw UsageError("unknown baseline '" + *request.baseline + "' (" +
                        (request.by == CompareBy::kVariant ? "variants" : "configs") + " of series '" +

@@ -230,7 +230,7 @@ jobs::RunReport ProcessDemoTests(const std::string& db, int threads) {
       threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const spdlog::level::level_enum log_level = spdlog::get_level();
   spdlog::set_level(spdlog::level::warn);  // the demo prints its own summary line
-  const jobs::RunReport run = jobs::RunScheduler(db, processing, options);
+  jobs::RunReport run = jobs::RunScheduler(db, processing, options);
   spdlog::set_level(log_level);
   fmt::print("  processed {} tests in {:.2f} s on {} threads (config '{}'), {} failed\n\n", run.done,
              run.wall_s, run.threads, processing.record.name, run.failed);

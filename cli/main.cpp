@@ -8,7 +8,9 @@
 #include "cli/diagnostics.h"
 #include "common/version.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunNapkin(int argc, char** argv) {
   using namespace napkin::cli;
   CLI::App app{"napkin: head kinematics and injury criteria from crash-test head instrumentation"};
   app.require_subcommand(1);
@@ -23,6 +25,7 @@ int main(int argc, char** argv) {
 
   auto commands = MakeCommands();
   std::vector<std::pair<CLI::App*, Command*>> parsed;
+  parsed.reserve(commands.size());
   for (auto& command : commands) parsed.emplace_back(command->Setup(app, global), command.get());
 
   try {
@@ -42,4 +45,17 @@ int main(int argc, char** argv) {
     return ReportFailure(std::current_exception(), global.db_path);
   }
   return kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Setting up the command line (CLI11's options, the commands, the logger) may throw as well, e.g.
+  // std::bad_alloc: that ends as every other failure does, with one sentence and its exit status
+  // (cli/diagnostics.h), never in std::terminate. No catalogue is open before the command runs.
+  try {
+    return RunNapkin(argc, argv);
+  } catch (...) {
+    return napkin::cli::ReportFailure(std::current_exception(), "");
+  }
 }

@@ -65,7 +65,7 @@ std::string Magnitude(double value, bool percent, int decimals) {
 
 // "−9", "+8", "0".
 std::string Signed(double value, bool percent, int decimals) {
-  const std::string magnitude = Magnitude(value, percent, decimals);
+  std::string magnitude = Magnitude(value, percent, decimals);
   if (magnitude.find_first_not_of("0.") == std::string::npos) return magnitude;
   return (value < 0 ? std::string(kMinus) : std::string("+")) + magnitude;
 }
@@ -119,7 +119,7 @@ std::vector<VerdictMetric> VerdictMetrics(const Comparison& comparison) {
       // Next to its criterion the risk's label is enough; elsewhere it names it.
       metrics.push_back({&metric, true,
                          criterion ? label : label.substr(0, label.size() - 1) + ", " + owner + ")",
-                         label + " " + owner});
+                         fmt::format("{} {}", label, owner)});
     }
   };
   for (const std::string& criterion : criteria) {

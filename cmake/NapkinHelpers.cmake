@@ -55,7 +55,11 @@ endfunction()
 
 # napkin_embed_files(<output .inc> <comment> <file>...) : writes, at build time, the files' names and
 # bytes as C++ initialisers (cmake/embed_files.cmake) into <output>, rebuilt when a file changes:
-# the report's page files and dygraphs (formats/), the SQL migrations (schema/).
+# the report's page files and dygraphs (formats/), the SQL migrations (schema/). The target
+# napkin_<output's name> (e.g. napkin_embedded_migrations) writes the fragment alone: `make tidy`
+# builds it so clang-tidy finds the include without building the project. The library that
+# compiles the fragment must depend on that target (add_dependencies), so the two never run the
+# command at once.
 function(napkin_embed_files output comment)
   list(JOIN ARGN "|" file_list)
   add_custom_command(
@@ -64,4 +68,6 @@ function(napkin_embed_files output comment)
     DEPENDS ${ARGN} ${PROJECT_SOURCE_DIR}/cmake/embed_files.cmake
     COMMENT "${comment}"
     VERBATIM)
+  get_filename_component(name ${output} NAME_WE)
+  add_custom_target(napkin_${name} DEPENDS ${output})
 endfunction()

@@ -36,13 +36,14 @@ std::int64_t CopyRows(Statement& select, Connection& target, const std::string& 
   insert_sql += ")";
   const std::string existing_sql = "SELECT " + content_column + " FROM " + table + " WHERE id = ?1";
 
+  // The error for the row `select` is on: its content differs from the target's row of its id.
+  const auto conflict = [&] {
+    const std::string what = table == "tests" ? "test" : table == "arrays" ? "array" : "series";
+    return InputError(conflict_prefix + " (its " + what + " '" + select.ColumnText(name_index) +
+                      "' differs).");
+  };
   std::int64_t inserted = 0;
   while (select.Step()) {
-    auto conflict = [&] {
-      const std::string what = table == "tests" ? "test" : table == "arrays" ? "array" : "series";
-      return InputError(conflict_prefix + " (its " + what + " '" + select.ColumnText(name_index) +
-                        "' differs).");
-    };
     {
       auto existing = target.Prepare(existing_sql);
       existing->BindInt64(1, select.ColumnInt64(0));

@@ -3,6 +3,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -215,12 +217,15 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
       throw InputError("catalogue '" + path + "' does not exist.");
     // An immutable reader sees only the main file: changes still in a
     // write-ahead log (or a hot rollback journal) would be silently missing.
-    for (const std::string& log : {wal_path, path + "-journal"})
-      if (std::filesystem::exists(log, error) && std::filesystem::file_size(log, error) > 0)
-        throw InputError("catalogue '" + path + "' has changes not yet written into it (in '" + log +
-                         "'); let the process writing it finish, or run `sqlite3 '" + path +
-                         "' 'PRAGMA wal_checkpoint(TRUNCATE)'` where it is writable, then run the command "
-                         "again.");
+    const std::array<std::string, 2> logs = {wal_path, path + "-journal"};
+    const auto unwritten = std::find_if(logs.begin(), logs.end(), [&](const std::string& log) {
+      return std::filesystem::exists(log, error) && std::filesystem::file_size(log, error) > 0;
+    });
+    if (unwritten != logs.end())
+      throw InputError("catalogue '" + path + "' has changes not yet written into it (in '" + *unwritten +
+                       "'); let the process writing it finish, or run `sqlite3 '" + path +
+                       "' 'PRAGMA wal_checkpoint(TRUNCATE)'` where it is writable, then run the command "
+                       "again.");
   }
   if ((options.immutable || (directory_read_only && !wal_present)) &&
       std::filesystem::is_regular_file(path, error)) {

@@ -228,6 +228,7 @@ void CfcFilter::ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples,
   }
 }
 
+// NOLINTNEXTLINE(performance-unnecessary-value-param): copies the view, never the signal (cfc_filter.h)
 void CfcFilterInPlace(Eigen::Ref<Eigen::VectorXd> signal, double dt_s, double cfc_hz, CfcVariant variant) {
   CfcFilter filter(cfc_hz, dt_s, variant);
   filter.ApplyInPlace(signal);

@@ -99,6 +99,10 @@ class CfcFilter {
   // output = filtered input (same length; output may alias input).
   // Signals of fewer than 2 samples are copied unchanged.
   void Apply(const Eigen::Ref<const Eigen::VectorXd>& input, Eigen::Ref<Eigen::VectorXd> output);
+  // A writable Eigen::Ref is a view (pointer, size, stride), passed by value as Eigen's guide
+  // "Writing Functions Taking Eigen Types as Parameters" does: the samples are written through its
+  // copies, which a const reference would only hide.
+  // NOLINTNEXTLINE(performance-unnecessary-value-param): copies the view, never the signal
   void ApplyInPlace(Eigen::Ref<Eigen::VectorXd> signal) { Apply(signal, signal); }
 
   // ApplyInPlace on each of `columns` of `samples` (one channel per column),
@@ -118,7 +122,7 @@ class CfcFilter {
   Eigen::VectorXd work_;  // padded signal, grown on demand
 };
 
-// One-shot convenience: filters `signal` in place.
+// One-shot convenience: filters `signal` in place (a view passed by value, as ApplyInPlace).
 void CfcFilterInPlace(Eigen::Ref<Eigen::VectorXd> signal, double dt_s, double cfc_hz,
                       CfcVariant variant = CfcVariant::kSaeJ211);
 

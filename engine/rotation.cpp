@@ -49,7 +49,7 @@ Eigen::Vector3d QuaternionLog(const Eigen::Quaterniond& q_in) {
 Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d u = svd.matrixU();
-  const Eigen::Matrix3d v = svd.matrixV();
+  const Eigen::Matrix3d& v = svd.matrixV();
   if ((u * v.transpose()).determinant() < 0) u.col(2) *= -1.0;
   return u * v.transpose();
 }

@@ -31,15 +31,15 @@ namespace {
 
 #if NAPKIN_ANGLES_AVX2
 bool ProcessorHasAvx2() {
-  static const bool has_avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return has_avx2;
+  static const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return kHasAvx2;
 }
 
 // libmvec's AVX-512 functions need AVX512DQ as well (else they fall back to AVX2 code).
 bool ProcessorHasAvx512() {
-  static const bool has_avx512 =
+  static const bool kHasAvx512 =
       ProcessorHasAvx2() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-  return has_avx512;
+  return kHasAvx512;
 }
 #endif
 

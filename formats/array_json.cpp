@@ -70,6 +70,47 @@ void CheckJsonName(const std::string& source, const std::string& what, const std
   }
 }
 
+// Sensor `index` of the array's "sensors"; `slots` holds the slots of the sensors before it.
+engine::Sensor ParseSensor(const json& entry, std::size_t index, const std::string& source,
+                           double metres_per_unit, std::set<std::string>& slots) {
+  if (!entry.is_object())
+    Fail(source, SensorName(index, "") + " must be a JSON object, not " + JsonTypeName(entry));
+  engine::Sensor sensor;
+  sensor.slot = RequireString(entry, "slot", source, SensorName(index, ""));
+  if (sensor.slot.empty()) Fail(source, SensorName(index, "") + " has an empty slot name");
+  CheckJsonName(source, SensorName(index, "") + " slot", sensor.slot);
+  const std::string where = SensorName(index, sensor.slot);
+  if (!slots.insert(sensor.slot).second) Fail(source, where + " duplicates an earlier slot");
+
+  const std::string type = RequireString(entry, "type", source, where);
+  const std::optional<engine::SensorKind> kind = engine::ParseName<engine::SensorKind>(type);
+  if (!kind) Fail(source, where + " has unknown type \"" + type + "\" (use linear or angular_rate)");
+  sensor.kind = *kind;
+
+  sensor.unit = RequireString(entry, "unit", source, where);
+  const std::optional<double> si_per_unit = sensor.kind == engine::SensorKind::kLinear
+                                                ? engine::LinearUnitToSi(sensor.unit)
+                                                : engine::AngularRateUnitToSi(sensor.unit);
+  if (!si_per_unit)
+    Fail(source, where + " has unknown unit \"" + sensor.unit + "\" for a " + type + " sensor (use " +
+                     (sensor.kind == engine::SensorKind::kLinear ? "g or m/s^2" : "rad/s or deg/s") + ")");
+  sensor.si_per_unit = *si_per_unit;
+
+  const auto position = entry.find("position");
+  if (position != entry.end()) {
+    sensor.position_body_m = RequireVector3(*position, "position", source, where) * metres_per_unit;
+  } else if (sensor.kind == engine::SensorKind::kLinear) {
+    Fail(source, where + " has no \"position\"");
+  }
+  const auto axis = entry.find("axis");
+  if (axis == entry.end()) Fail(source, where + " has no \"axis\"");
+  sensor.axis_body = RequireVector3(*axis, "axis", source, where);
+  const double norm = sensor.axis_body.norm();
+  if (!(norm > 1e-12)) Fail(source, where + " has a zero axis");
+  sensor.axis_body /= norm;
+  return sensor;
+}
+
 }  // namespace
 
 engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source) {
@@ -94,45 +135,8 @@ engine::ArrayGeometry ParseArrayJson(const json& root, const std::string& source
   if (sensors->empty()) Fail(source, "the array has no sensors");
 
   std::set<std::string> slots;
-  for (std::size_t i = 0; i < sensors->size(); ++i) {
-    const json& entry = (*sensors)[i];
-    if (!entry.is_object())
-      Fail(source, SensorName(i, "") + " must be a JSON object, not " + JsonTypeName(entry));
-    engine::Sensor sensor;
-    sensor.slot = RequireString(entry, "slot", source, SensorName(i, ""));
-    if (sensor.slot.empty()) Fail(source, SensorName(i, "") + " has an empty slot name");
-    CheckJsonName(source, SensorName(i, "") + " slot", sensor.slot);
-    const std::string where = SensorName(i, sensor.slot);
-    if (!slots.insert(sensor.slot).second) Fail(source, where + " duplicates an earlier slot");
-
-    const std::string type = RequireString(entry, "type", source, where);
-    const std::optional<engine::SensorKind> kind = engine::ParseName<engine::SensorKind>(type);
-    if (!kind) Fail(source, where + " has unknown type \"" + type + "\" (use linear or angular_rate)");
-    sensor.kind = *kind;
-
-    sensor.unit = RequireString(entry, "unit", source, where);
-    const std::optional<double> si_per_unit = sensor.kind == engine::SensorKind::kLinear
-                                                  ? engine::LinearUnitToSi(sensor.unit)
-                                                  : engine::AngularRateUnitToSi(sensor.unit);
-    if (!si_per_unit)
-      Fail(source, where + " has unknown unit \"" + sensor.unit + "\" for a " + type + " sensor (use " +
-                       (sensor.kind == engine::SensorKind::kLinear ? "g or m/s^2" : "rad/s or deg/s") + ")");
-    sensor.si_per_unit = *si_per_unit;
-
-    const auto position = entry.find("position");
-    if (position != entry.end()) {
-      sensor.position_body_m = RequireVector3(*position, "position", source, where) * *metres_per_unit;
-    } else if (sensor.kind == engine::SensorKind::kLinear) {
-      Fail(source, where + " has no \"position\"");
-    }
-    const auto axis = entry.find("axis");
-    if (axis == entry.end()) Fail(source, where + " has no \"axis\"");
-    sensor.axis_body = RequireVector3(*axis, "axis", source, where);
-    const double norm = sensor.axis_body.norm();
-    if (!(norm > 1e-12)) Fail(source, where + " has a zero axis");
-    sensor.axis_body /= norm;
-    array.sensors.push_back(std::move(sensor));
-  }
+  for (std::size_t i = 0; i < sensors->size(); ++i)
+    array.sensors.push_back(ParseSensor((*sensors)[i], i, source, *metres_per_unit, slots));
   if (array.name.empty()) array.name = std::filesystem::path(source).stem().string();
   try {
     engine::ValidateArray(array);
@@ -191,10 +195,10 @@ std::filesystem::path DefaultConfigDir() {
 
 std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_view subdir,
                                     const std::filesystem::path& config_dir) {
-  const std::filesystem::path as_path(name_or_path);
+  std::filesystem::path as_path(name_or_path);
   std::error_code error;
   if (std::filesystem::is_regular_file(as_path, error)) return as_path;
-  const std::filesystem::path preset = config_dir / subdir / (std::string(name_or_path) + ".json");
+  std::filesystem::path preset = config_dir / subdir / (std::string(name_or_path) + ".json");
   if (std::filesystem::is_regular_file(preset, error)) return preset;
   std::vector<std::string> known;
   for (const auto& entry : std::filesystem::directory_iterator(config_dir / subdir, error))

@@ -137,6 +137,25 @@ bool EntryMatches(const ChannelMapEntry& entry, const RawChannel& channel, engin
   }
 }
 
+namespace {
+
+// What a channel map entry matches, for a message: "<code> or <code>, or SENATT <senatt> AXIS <axis>".
+std::string MatchedChannels(const ChannelMapEntry& entry) {
+  std::string wanted;
+  for (const std::string& code : entry.codes) {
+    if (!wanted.empty()) wanted += " or ";
+    wanted += code;
+  }
+  if (!entry.senatt.empty()) {
+    if (!wanted.empty()) wanted += ", or ";
+    wanted += "SENATT " + util::QuotedLong(entry.senatt);
+    if (!entry.axis.empty()) wanted += " AXIS " + util::QuotedLong(entry.axis);
+  }
+  return wanted;
+}
+
+}  // namespace
+
 std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
                                      const engine::ArrayGeometry& array, const ChannelMap& map,
                                      const std::string& test_name) {
@@ -156,15 +175,10 @@ std::vector<std::size_t> AssignSlots(const std::vector<RawChannel>& channels,
                          channels[c].Label() + ".");
       found = c;
     }
-    if (!found) {
-      std::string wanted;
-      for (const std::string& code : entry->codes) wanted += (wanted.empty() ? "" : " or ") + code;
-      if (!entry->senatt.empty())
-        wanted += (wanted.empty() ? "" : ", or ") + std::string("SENATT ") + util::QuotedLong(entry->senatt) +
-                  (entry->axis.empty() ? "" : " AXIS " + util::QuotedLong(entry->axis));
+    if (!found)
       throw InputError("test " + test_name + ": no channel matches slot " + util::QuotedLong(sensor.slot) +
-                       " (" + wanted + ") of channel map " + util::QuotedLong(map.name) + ".");
-    }
+                       " (" + MatchedChannels(*entry) + ") of channel map " + util::QuotedLong(map.name) +
+                       ".");
     for (std::size_t earlier = 0; earlier < assignment.size(); ++earlier)
       if (assignment[earlier] == *found)
         throw InputError("test " + test_name + ": " + channels[*found].Label() + " is matched by both slot " +

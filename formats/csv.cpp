@@ -35,6 +35,19 @@ void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
   }
 }
 
+// The ignored columns of the warning: the first kIgnoredColumnsNamed quoted, then how many more
+// ("a", "b", "c", "d", "e" and 3 more).
+std::string IgnoredColumnNames(const std::vector<std::string_view>& ignored) {
+  std::string names;
+  for (std::size_t i = 0; i < ignored.size() && i < kIgnoredColumnsNamed; ++i) {
+    if (i > 0) names += ", ";
+    names += util::Quoted(ignored[i]);
+  }
+  if (ignored.size() > kIgnoredColumnsNamed)
+    names += " and " + std::to_string(ignored.size() - kIgnoredColumnsNamed) + " more";
+  return names;
+}
+
 std::string_view Unquote(std::string_view text) {
   text = util::Trim(text);
   if (text.size() >= 2 && text.front() == '"' && text.back() == '"')
@@ -176,14 +189,9 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
                                     " is not a slot of array " + util::Quoted(array->name) +
                                     " and is ignored.");
         } else if (!ignored.empty()) {
-          std::string names;
-          for (std::size_t i = 0; i < ignored.size() && i < kIgnoredColumnsNamed; ++i)
-            names += (i > 0 ? ", " : "") + util::Quoted(ignored[i]);
-          if (ignored.size() > kIgnoredColumnsNamed)
-            names += " and " + std::to_string(ignored.size() - kIgnoredColumnsNamed) + " more";
-          result.warnings.push_back(file + ": " + std::to_string(ignored.size()) + " columns (" + names +
-                                    ") are not slots of array " + util::Quoted(array->name) +
-                                    " and are ignored.");
+          result.warnings.push_back(file + ": " + std::to_string(ignored.size()) + " columns (" +
+                                    IgnoredColumnNames(ignored) + ") are not slots of array " +
+                                    util::Quoted(array->name) + " and are ignored.");
         }
       } else {
         for (std::size_t i = 0; i < header.size(); ++i) {
@@ -313,7 +321,7 @@ std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics
   // An acceleration-only test has no rotation-dependent series (empty, or NaN
   // as stored before; engine::HasRotation).
   if (!engine::HasRotation(kinematics)) {
-    add_absent(4 * 3);  // omega_body to alpha_fixed
+    add_absent(std::size_t{4} * 3);  // omega_body to alpha_fixed
     add3(kinematics.acc_body, g_per_si);
     add_absent(names.size() - channels.size());  // acc_fixed to dcos
     return channels;

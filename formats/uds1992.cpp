@@ -320,18 +320,19 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (count > 100'000'000)
     throw InputError(file + ": NFP " + std::to_string(nfp) + " to NLP " + std::to_string(nlp) +
                      " declares an implausible number of samples.");
+  // "data record 3" (r from 0), written only into a message: the reading loop does not allocate it.
+  const auto record_name = [](std::size_t r) { return "data record " + std::to_string(r + 1); };
   // Every data record is present before the samples are allocated: a declared count is checked
   // against the file's size first (docs/formats.md "UDS-1992 input").
   auto data_record = [&](std::size_t r) -> Record {
-    const std::string what = "data record " + std::to_string(r + 1);
     const std::size_t offset = (index + 1 + r) * kUdsRecordBytes;
     if (offset >= size)
-      throw InputError(file + ": " + what + " is missing (NFP " + std::to_string(nfp) + " to NLP " +
+      throw InputError(file + ": " + record_name(r) + " is missing (NFP " + std::to_string(nfp) + " to NLP " +
                        std::to_string(nlp) + " needs " + std::to_string(records) +
                        " data records, the file of " + std::to_string(size) + " bytes holds " +
                        std::to_string(size / kUdsRecordBytes - (index + 1)) + ").");
     if (offset + kUdsRecordBytes > size)
-      throw InputError(file + ": " + what + " is truncated (" + std::to_string(size - offset) +
+      throw InputError(file + ": " + record_name(r) + " is truncated (" + std::to_string(size - offset) +
                        " of 512 bytes).");
     return data + offset;
   };
@@ -339,11 +340,10 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
   if (records > complete_data_records) data_record(complete_data_records);  // throws
   channel.values.resize(count);
   for (std::size_t r = 0; r < records; ++r) {
-    const std::string what = "data record " + std::to_string(r + 1);
     const Record record = data_record(r);
     const std::string data_header = ReadString(record, kRecordHeader);
     if (data_header != "Y DATA")
-      throw InputError(file + ": " + what + " starts with " + util::QuotedLong(data_header) +
+      throw InputError(file + ": " + record_name(r) + " starts with " + util::QuotedLong(data_header) +
                        " instead of \"Y DATA\".");
     const std::size_t first = r * kUdsValuesPerRecord;
     const std::size_t last = std::min(count, first + kUdsValuesPerRecord);
@@ -352,7 +352,7 @@ UdsChannel ReadUds1992(const std::filesystem::path& path) {
       const bool ok = ReadReal(record, kDataOffset + 4 * (i - first), form, value);
       if (!ok || !std::isfinite(value))
         throw InputError(file + ": sample " + std::to_string(nfp + static_cast<std::int64_t>(i)) + " (" +
-                         what + ", value " + std::to_string(i - first + 1) + ") is " +
+                         record_name(r) + ", value " + std::to_string(i - first + 1) + ") is " +
                          (ok ? "not a finite number" : "a VAX reserved operand") + ".");
       channel.values[i] = value;
     }

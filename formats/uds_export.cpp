@@ -66,6 +66,7 @@ std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kin
   auto write3 = [&](const engine::Series3& series, const std::string& prefix, const std::string& stem,
                     const char* ytyp, const char* yunits, const char* status, char frame, double scale,
                     std::optional<double> cfc, bool dcos = false) {
+    const std::string file_stem = prefix + test_number + stem;  // + the axis's extension
     for (int a = 0; a < 3; ++a) {
       UdsChannel channel = templ;
       // DCOS.011, .022, .033; otherwise .00X, .00Y, .00Z.
@@ -82,7 +83,7 @@ std::vector<std::filesystem::path> WriteDerivedUds(const engine::Kinematics& kin
       channel.filter_cutoff_hz = cfc ? engine::J211CutoffOfClass(*cfc) : 0.0;
       channel.values.resize(static_cast<std::size_t>(n));
       for (Eigen::Index k = 0; k < n; ++k) channel.values[static_cast<std::size_t>(k)] = series(k, a) * scale;
-      const std::filesystem::path path = folder / (prefix + test_number + stem + extension);
+      const std::filesystem::path path = folder / (file_stem + extension);
       WriteUds1992(channel, path);
       written.push_back(path);
     }

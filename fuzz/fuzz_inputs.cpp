@@ -47,8 +47,8 @@ class ScratchDirectory {
 };
 
 const fs::path& Scratch() {
-  static const ScratchDirectory directory;
-  return directory.path();
+  static const ScratchDirectory kDirectory;
+  return kDirectory.path();
 }
 
 void WriteFile(const fs::path& path, std::string_view bytes) {
@@ -61,12 +61,12 @@ void WriteFile(const fs::path& path, std::string_view bytes) {
 
 // The array and channel map the import is most often given for nine-accelerometer tests.
 const engine::ArrayGeometry& NineAccelerometerArray() {
-  static const engine::ArrayGeometry array = formats::LoadArray("denton-3222");
-  return array;
+  static const engine::ArrayGeometry kArray = formats::LoadArray("denton-3222");
+  return kArray;
 }
 const formats::ChannelMap& NineAccelerometerMap() {
-  static const formats::ChannelMap map = formats::LoadChannelMap("nap-example");
-  return map;
+  static const formats::ChannelMap kMap = formats::LoadChannelMap("nap-example");
+  return kMap;
 }
 
 // Runs `parse`; an InputError is the parser's rejection.
@@ -134,15 +134,15 @@ Outcome ReadIsoMmeFolder(const fs::path& folder) {
 }
 
 Outcome RunIsoMmeChannel(std::string_view input) {
-  static const fs::path folder = [] {
-    const fs::path path = Scratch() / "isomme_channel";
+  static const fs::path kFolder = [] {
+    fs::path path = Scratch() / "isomme_channel";
     fs::create_directories(path / "Channel");
     WriteFile(path / "FUZZ.mme", kDefaultMme);
     WriteFile(path / "Channel" / "FUZZ.chn", kDefaultChn);
     return path;
   }();
-  WriteFile(folder / "Channel" / "FUZZ.001", input);
-  return ReadIsoMmeFolder(folder);
+  WriteFile(kFolder / "Channel" / "FUZZ.001", input);
+  return ReadIsoMmeFolder(kFolder);
 }
 
 Outcome RunIsoMmeMme(std::string_view input) {
@@ -222,7 +222,7 @@ Outcome RunWhere(std::string_view input) {
 }  // namespace
 
 const std::vector<FuzzTarget>& FuzzTargets() {
-  static const std::vector<FuzzTarget> targets = {
+  static const std::vector<FuzzTarget> kTargets = {
       {"csv", "formats::ReadSignalsCsv (any columns, and the denton-3222 array)", RunCsv},
       {"isomme_channel", "formats::ReadIsoMme, one ISO-MME channel file", RunIsoMmeChannel},
       {"isomme_mme", "formats::ReadIsoMme, AssignSlots, AssembleSignals: .mme, .chn and channel files",
@@ -233,7 +233,7 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},
       {"where", "cli::ParseWhereExpression and db::Catalogue::Query (query --where, every kind)", RunWhere},
   };
-  return targets;
+  return kTargets;
 }
 
 const FuzzTarget& GetFuzzTarget(std::string_view name) {

@@ -63,6 +63,7 @@ DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
     return search;
   }
   std::optional<std::string> first_error;
+  const std::string head_name_prefix = test_name + "/";  // a head is named "<test>/<position>"
   for (const std::string& position : positions) {
     std::vector<formats::RawChannel> own;
     std::vector<std::size_t> index_in_test;
@@ -72,7 +73,7 @@ DummyHeadSearch FindDummyHeads(const std::vector<formats::RawChannel>& channels,
       index_in_test.push_back(c);
     }
     try {
-      DummyHead head{position, formats::AssignSlots(own, array, map, test_name + "/" + position)};
+      DummyHead head{position, formats::AssignSlots(own, array, map, head_name_prefix + position)};
       for (std::size_t& c : head.channel_of_sensor) c = index_in_test[c];
       search.heads.push_back(std::move(head));
     } catch (const InputError& error) {
@@ -216,6 +217,7 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
   }
 
   std::vector<std::string> positions;
+  positions.reserve(heads.size());
   for (const DummyHead& head : heads) positions.push_back(head.position);
   if (options.position) {
     const auto chosen = std::find(positions.begin(), positions.end(), *options.position);

@@ -87,6 +87,7 @@ ArchiveTest::ArchiveTest(const fs::path& archive, const formats::ZipLimits& limi
 
   folder_ = std::make_unique<TemporaryFolder>("napkin-zip-", archive.string());
   std::vector<std::string> files;
+  files.reserve(targets.size());
   for (const auto& target : targets) files.push_back(target.first);
   folder_->Plan(files);  // a signal from here on removes what was written
   for (const auto& [relative, member] : targets)

@@ -30,7 +30,8 @@ class CliAccelerationOnly : public ::testing::Test {
       fs::create_directories(dir_ / variant);
       for (int i = 1; i <= 2; ++i) {
         synth::RandomMotionOptions motion;
-        motion.seed = static_cast<std::uint64_t>(100 + 10 * (variant[0] - 'a') + i);
+        const int seed = 100 + 10 * (variant[0] - 'a') + i;  // 101, 102 (variant a), 111, 112 (b)
+        motion.seed = static_cast<std::uint64_t>(seed);
         motion.duration_s = 0.05;
         formats::WriteSignalsCsv(synth::SynthRandomMotion(array, motion).signals,
                                  dir_ / variant / (std::string(variant) + std::to_string(i) + ".csv"));

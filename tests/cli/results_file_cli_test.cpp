@@ -109,7 +109,7 @@ class ResultsFileTest : public ::testing::Test {
   fs::path ReadOnlyCopy(const std::string& name) {
     const fs::path folder = dir_ / name;
     fs::create_directories(folder);
-    const fs::path copy = folder / "catalogue.db";
+    fs::path copy = folder / "catalogue.db";
     fs::copy_file(base_, copy);
     const auto read_only = fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read;
     fs::permissions(copy, read_only);
@@ -123,7 +123,7 @@ class ResultsFileTest : public ::testing::Test {
 
   // A folder anyone may write, for the results files.
   fs::path OpenFolder(const std::string& name) {
-    const fs::path folder = dir_ / name;
+    fs::path folder = dir_ / name;
     fs::create_directories(folder);
     fs::permissions(folder, fs::perms::all);
     return folder;

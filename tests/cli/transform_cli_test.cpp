@@ -57,7 +57,7 @@ class TransformCliTest : public ::testing::Test {
     std::istringstream in(csv_text_);
     std::string line, out;
     for (int i = 0; std::getline(in, line); ++i) out += (i == line_number ? edit(line) : line) + "\n";
-    const fs::path path = dir_ / name;
+    fs::path path = dir_ / name;
     WriteText(path, out);
     return path;
   }

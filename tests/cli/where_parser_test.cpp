@@ -11,8 +11,8 @@ namespace napkin::cli {
 namespace {
 
 const std::vector<db::QueryField>& HicFields() {
-  static const std::vector<db::QueryField> fields = db::QueryFields(db::QueryKind::kHic);
-  return fields;
+  static const std::vector<db::QueryField> kFields = db::QueryFields(db::QueryKind::kHic);
+  return kFields;
 }
 
 std::string FieldList() {

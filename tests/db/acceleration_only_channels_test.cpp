@@ -52,14 +52,15 @@ class AccelerationOnlyChannels : public ::testing::Test {
 };
 
 TEST_F(AccelerationOnlyChannels, StoresTimeAndCgAccelerationOnlyAndReadsThemBack) {
-  constexpr Eigen::Index n = 500;
-  const engine::Kinematics kinematics = AccelerationOnly(n);
+  constexpr Eigen::Index kSamples = 500;
+  const engine::Kinematics kinematics = AccelerationOnly(kSamples);
   ASSERT_FALSE(engine::HasRotation(kinematics));
   catalogue_.WriteKinematics(test_, config_, kinematics, engine::DerivedStorage::kFloat64);
-  EXPECT_EQ(inspector_.ReadDerivedChannelSizes(test_, config_), (ChannelSizes{{"acc_body_x_mps2", 8 * n},
-                                                                              {"acc_body_y_mps2", 8 * n},
-                                                                              {"acc_body_z_mps2", 8 * n},
-                                                                              {"time_s", 8 * n}}));
+  EXPECT_EQ(inspector_.ReadDerivedChannelSizes(test_, config_),
+            (ChannelSizes{{"acc_body_x_mps2", 8 * kSamples},
+                          {"acc_body_y_mps2", 8 * kSamples},
+                          {"acc_body_z_mps2", 8 * kSamples},
+                          {"time_s", 8 * kSamples}}));
 
   const auto read = catalogue_.ReadKinematics(test_, config_);
   ASSERT_TRUE(read.has_value());
@@ -76,18 +77,19 @@ TEST_F(AccelerationOnlyChannels, StoresTimeAndCgAccelerationOnlyAndReadsThemBack
 
   // float32: the CG acceleration in 4 bytes a sample, time_s in 8.
   catalogue_.WriteKinematics(test_, config_, kinematics, engine::DerivedStorage::kFloat32);
-  EXPECT_EQ(inspector_.ReadDerivedChannelSizes(test_, config_), (ChannelSizes{{"acc_body_x_mps2", 4 * n},
-                                                                              {"acc_body_y_mps2", 4 * n},
-                                                                              {"acc_body_z_mps2", 4 * n},
-                                                                              {"time_s", 8 * n}}));
+  EXPECT_EQ(inspector_.ReadDerivedChannelSizes(test_, config_),
+            (ChannelSizes{{"acc_body_x_mps2", 4 * kSamples},
+                          {"acc_body_y_mps2", 4 * kSamples},
+                          {"acc_body_z_mps2", 4 * kSamples},
+                          {"time_s", 8 * kSamples}}));
 }
 
 TEST_F(AccelerationOnlyChannels, ResultsStoredNaNFilledReadBackAsStored) {
   // How napkin stored an acceleration-only result before: 36 channels, NaN but time and acc_body.
-  constexpr Eigen::Index n = 20;
-  const engine::Kinematics only = AccelerationOnly(n);
+  constexpr Eigen::Index kSamples = 20;
+  const engine::Kinematics only = AccelerationOnly(kSamples);
   engine::Kinematics filled;
-  filled.Resize(n);
+  filled.Resize(kSamples);
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (engine::Series3* series :
        {&filled.omega_body, &filled.alpha_body, &filled.omega_fixed, &filled.alpha_fixed, &filled.acc_fixed,
@@ -103,7 +105,7 @@ TEST_F(AccelerationOnlyChannels, ResultsStoredNaNFilledReadBackAsStored) {
   ASSERT_TRUE(read.has_value());
   EXPECT_FALSE(engine::HasRotation(*read));
   EXPECT_EQ(read->acc_body, only.acc_body);
-  EXPECT_EQ(read->omega_body.rows(), n);
+  EXPECT_EQ(read->omega_body.rows(), kSamples);
   EXPECT_TRUE(read->omega_body.array().isNaN().all());
 }
 

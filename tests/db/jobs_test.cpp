@@ -97,6 +97,7 @@ TEST_F(JobsTest, EnqueueClaimCompleteAndCount) {
   EXPECT_EQ(queue.EnqueueMissing(config), 1);
   const auto retried = queue.ClaimJobs(config, "worker-1", 10, 60.0);
   std::vector<TestId> retried_tests;
+  retried_tests.reserve(retried.size());
   for (const Job& job : retried) retried_tests.push_back(job.test_id);
   EXPECT_THAT(retried_tests, ::testing::Contains(jobs[1].test_id));
   for (const Job& job : retried) {
@@ -119,6 +120,7 @@ TEST_F(JobsTest, TwoConnectionsClaimDisjointJobSets) {
   std::vector<std::vector<std::int64_t>> claimed(2);
   std::atomic<int> errors = 0;
   std::vector<std::thread> workers;
+  workers.reserve(2);
   for (int w = 0; w < 2; ++w) {
     workers.emplace_back([&, w] {
       try {
@@ -172,6 +174,7 @@ TEST_F(JobsTest, ExpiredLeaseIsReclaimedAndTheOldOwnerLosesIt) {
   clock_.Advance(1.5);  // crashed-worker's leases (and others[1]'s) have expired
   const auto reclaimed = second_queue.ClaimJobs(config, "worker-2", 10, 10.0);
   std::vector<std::int64_t> reclaimed_ids;
+  reclaimed_ids.reserve(reclaimed.size());
   for (const Job& job : reclaimed) reclaimed_ids.push_back(static_cast<std::int64_t>(job.id));
   std::vector<std::int64_t> expected = {static_cast<std::int64_t>(crashed[0].id),
                                         static_cast<std::int64_t>(crashed[1].id),

@@ -61,7 +61,7 @@ class MergeTest : public ::testing::Test {
   // Copies the catalogue to a shard file, processes shard `index` of `count`
   // there (test t<k> gets HIC15 = 100 + k; "t3" fails).
   std::string ProcessShard(int index, int count) {
-    const std::string path = dir_ / ("shard" + std::to_string(index) + ".db");
+    std::string path = dir_ / ("shard" + std::to_string(index) + ".db");
     std::filesystem::copy_file(main_path_, path);
     Catalogue shard = Catalogue::Open(path);
     JobQueue queue(shard);

@@ -33,7 +33,7 @@ void ExpectSameArray(const engine::ArrayGeometry& expected, const engine::ArrayG
 }
 
 std::filesystem::path WriteText(const TempDir& dir, const std::string& name, const std::string& text) {
-  const std::filesystem::path path = dir / name;
+  std::filesystem::path path = dir / name;
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }

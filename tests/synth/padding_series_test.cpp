@@ -33,7 +33,7 @@ struct Series {
 };
 
 const Series& DefaultSeries() {
-  static const Series series = [] {
+  static const Series kSeries = [] {
     Series s;
     synth::ScenarioOptions options;
     options.scenario = synth::SynthScenario::kPaddingSeries;
@@ -44,7 +44,7 @@ const Series& DefaultSeries() {
       s.tests.push_back(synth::SynthScenarioTest(test_support::Ideal3222(), options, test));
     return s;
   }();
-  return series;
+  return kSeries;
 }
 
 TEST(PaddingSeries, Hic15OfProductionTrimAndFoamsFromTheTruth) {
