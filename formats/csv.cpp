@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <type_traits>
 
 #include "common/error.h"
 #include "engine/units.h"
@@ -305,38 +306,53 @@ const std::vector<std::string>& DerivedCsvColumns() {
   return kColumns;
 }
 
-std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics) {
+std::vector<DerivedChannelSource> DerivedChannelSources(const engine::Kinematics& kinematics) {
   const std::vector<std::string>& names = DerivedCsvColumns();
-  std::vector<DerivedChannel> channels;
-  channels.reserve(names.size());
-  auto add = [&](const Eigen::VectorXd& values) { channels.push_back({names[channels.size()], values}); };
-  auto add3 = [&](const engine::Series3& series, double scale) {
-    for (int c = 0; c < 3; ++c) add(series.col(c) * scale);
+  std::vector<DerivedChannelSource> sources;
+  sources.reserve(names.size());
+  auto add = [&](const double* values, Eigen::Index size, double to_csv_unit) {
+    sources.push_back({names[sources.size()], {values, static_cast<std::size_t>(size)}, to_csv_unit});
+  };
+  auto add_columns = [&](const auto& series, double to_csv_unit) {
+    static_assert(!std::decay_t<decltype(series)>::IsRowMajor, "a column's values are contiguous");
+    for (Eigen::Index c = 0; c < series.cols(); ++c) add(series.col(c).data(), series.rows(), to_csv_unit);
   };
   auto add_absent = [&](std::size_t count) {
-    for (std::size_t i = 0; i < count; ++i) add(Eigen::VectorXd());
+    for (std::size_t i = 0; i < count; ++i) add(nullptr, 0, 1.0);
   };
   const double g_per_si = 1.0 / engine::kStandardGravity;
-  add(kinematics.time_s);
+  add(kinematics.time_s.data(), kinematics.time_s.size(), 1.0);
   // An acceleration-only test has no rotation-dependent series (empty, or NaN
   // as stored before; engine::HasRotation).
   if (!engine::HasRotation(kinematics)) {
     add_absent(std::size_t{4} * 3);  // omega_body to alpha_fixed
-    add3(kinematics.acc_body, g_per_si);
-    add_absent(names.size() - channels.size());  // acc_fixed to dcos
-    return channels;
+    add_columns(kinematics.acc_body, g_per_si);
+    add_absent(names.size() - sources.size());  // acc_fixed to dcos
+    return sources;
   }
-  add3(kinematics.omega_body, 1.0);
-  add3(kinematics.alpha_body, 1.0);
-  add3(kinematics.omega_fixed, 1.0);
-  add3(kinematics.alpha_fixed, 1.0);
-  add3(kinematics.acc_body, g_per_si);
-  add3(kinematics.acc_fixed, g_per_si);
-  add3(kinematics.vel_fixed, 1.0);
-  add3(kinematics.pos_fixed, 1.0);
-  for (int c = 0; c < 4; ++c) add(kinematics.quat_fixed_from_body.col(c));
-  add3(kinematics.roll_pitch_yaw_rad, engine::kDegPerRad);
-  add3(kinematics.dcos_rad, engine::kDegPerRad);
+  add_columns(kinematics.omega_body, 1.0);
+  add_columns(kinematics.alpha_body, 1.0);
+  add_columns(kinematics.omega_fixed, 1.0);
+  add_columns(kinematics.alpha_fixed, 1.0);
+  add_columns(kinematics.acc_body, g_per_si);
+  add_columns(kinematics.acc_fixed, g_per_si);
+  add_columns(kinematics.vel_fixed, 1.0);
+  add_columns(kinematics.pos_fixed, 1.0);
+  add_columns(kinematics.quat_fixed_from_body, 1.0);
+  add_columns(kinematics.roll_pitch_yaw_rad, engine::kDegPerRad);
+  add_columns(kinematics.dcos_rad, engine::kDegPerRad);
+  return sources;
+}
+
+std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics) {
+  const std::vector<DerivedChannelSource> sources = DerivedChannelSources(kinematics);
+  std::vector<DerivedChannel> channels;
+  channels.reserve(sources.size());
+  for (const DerivedChannelSource& source : sources) {
+    const Eigen::Map<const Eigen::VectorXd> values_si(source.values_si.data(),
+                                                      static_cast<Eigen::Index>(source.values_si.size()));
+    channels.push_back({std::string(source.name), values_si * source.to_csv_unit});
+  }
   return channels;
 }
 

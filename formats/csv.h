@@ -68,10 +68,25 @@ struct DerivedChannel {
   Eigen::VectorXd values;
 };
 
-// The derived channels of `kinematics`, one per DerivedCsvColumns() entry in
-// that order: what WriteDerivedCsv writes (rounded there to 12 digits) and
-// the Python module's TransformResult.channels hold (docs/formats.md
-// "Derived channels").
+// Where one derived channel is in `kinematics`: its column in SI units
+// (empty for a channel the test does not have, as DerivedChannel) and the
+// factor from SI to the unit of its CSV column.
+struct DerivedChannelSource {
+  std::string_view name;
+  std::span<const double> values_si;
+  double to_csv_unit;
+};
+
+// The one list of derived channels, one per DerivedCsvColumns() entry in that
+// order (docs/formats.md "Derived channels"); the spans point into
+// `kinematics`. DerivedChannels copies and scales them; the Python module
+// scales its own kinematics in place and hands the columns to numpy without
+// a copy.
+std::vector<DerivedChannelSource> DerivedChannelSources(const engine::Kinematics& kinematics);
+
+// The derived channels of `kinematics` (DerivedChannelSources, scaled): what
+// WriteDerivedCsv writes (rounded there to 12 digits) and
+// Catalogue.channels() in Python returns.
 std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics);
 
 // Writes the derived channels: acc in g, angles in degrees, everything else

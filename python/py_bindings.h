@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "cli/diagnostics.h"
+#include "engine/kinematics.h"
 
 namespace napkin::python {
 
@@ -23,6 +24,13 @@ void RegisterCatalogue(py::module_& module);
 
 // A numpy array that owns `values` (moved, not copied).
 py::array_t<double> ToNumpy(Eigen::VectorXd values);
+
+// The derived channels of `kinematics` (formats::DerivedChannelSources) as a
+// dict column name -> numpy array in the CSV column's unit, without the
+// channels the test does not have. The arrays are views into the kinematics,
+// moved into one Python object they all keep alive and scaled there in place:
+// no channel is copied.
+py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics);
 
 // `object` as a contiguous float64 numpy array (a view when it already is
 // one); throws ValueError naming it `what` when it is no array of numbers.

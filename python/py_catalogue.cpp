@@ -70,11 +70,7 @@ class ReadOnlyCatalogue {
       config_id = catalogue_.ReadLatestResultConfig(*test);
       if (!config_id) throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
     }
-    const engine::Kinematics kinematics = cli::ReadResultKinematics(catalogue_, *test, *config_id);
-    py::dict channels;
-    for (formats::DerivedChannel& channel : formats::DerivedChannels(kinematics))
-      if (channel.values.size() > 0) channels[py::str(channel.name)] = ToNumpy(std::move(channel.values));
-    return channels;
+    return DerivedChannelsToNumpy(cli::ReadResultKinematics(catalogue_, *test, *config_id));
   }
 
   // What `napkin run` computes the test's result from, as napkin.transform's

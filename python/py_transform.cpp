@@ -214,10 +214,7 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   const std::string summary_json =
       formats::SummaryToJson(processed.summary, test_id, "", "")
           .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
-  py::dict derived;
-  for (formats::DerivedChannel& channel : formats::DerivedChannels(processed.kinematics))
-    if (channel.values.size() > 0) derived[py::str(channel.name)] = ToNumpy(std::move(channel.values));
-  return py::make_tuple(summary_json, derived);
+  return py::make_tuple(summary_json, DerivedChannelsToNumpy(std::move(processed.kinematics)));
 }
 
 }  // namespace

@@ -1,5 +1,9 @@
 #include "util/malloc_tuning.h"
 
+// <cstdlib> first: __GLIBC__ is defined by the C library's own headers, so
+// testing it before any is included would always take the #else branch.
+#include <cstdlib>
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif

@@ -101,7 +101,7 @@ TEST_F(CliQuery, RotationAndCriteriaJsonFields) {
 }
 
 TEST_F(CliQuery, SeriesAndVariantFilterTheTests) {
-  auto ids = [&](std::vector<std::string> args) {
+  auto ids = [&](const std::vector<std::string>& args) {
     std::vector<std::string> found;
     for (const auto& row : QueryJson(args)) found.push_back(row["test_id"]);
     return found;

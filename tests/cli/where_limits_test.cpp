@@ -5,6 +5,7 @@
 // crash (8,000 nested parentheses overflowed the parser's stack) nor SQLite's
 // "parser stack overflow" or "Expression tree is too large" blamed on the
 // catalogue with the C++ call quoted (1,001 `or` terms).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -31,7 +32,7 @@ constexpr db::QueryKind kKinds[] = {db::QueryKind::kTests,    db::QueryKind::kHi
 // "a or b or c" of `terms`, joined by `keyword`.
 std::string Joined(const std::vector<std::string>& terms, const std::string& keyword) {
   std::string text;
-  for (const std::string& term : terms) text += (text.empty() ? "" : " " + keyword + " ") + term;
+  for (const std::string& term : terms) text += text.empty() ? term : fmt::format(" {} {}", keyword, term);
   return text;
 }
 
@@ -41,12 +42,12 @@ std::string Joined(const std::vector<std::string>& terms, const std::string& key
 std::string RightNested(int levels) {
   std::string text = "test_id = q1 or test_id = q3";
   for (int level = 0; level < levels; ++level)
-    text = "test_id != zz" + std::to_string(level) + " and (test_id = zz or " + text + ")";
+    text = fmt::format("test_id != zz{} and (test_id = zz or {})", level, text);
   return text;
 }
 std::string LeftNested(int levels) {
   std::string text = "test_id = q1 or test_id = q3";
-  for (int level = 0; level < levels; ++level) text = "test_id = zz or (" + text + ") and test_id != zz";
+  for (int level = 0; level < levels; ++level) text = fmt::format("test_id = zz or ({}) and test_id != zz", text);
   return text;
 }
 
@@ -57,8 +58,8 @@ std::string LeftNested(int levels) {
 std::string BothDeep(int levels) {
   if (levels == 0) return "test_id = q1 or test_id = q3";
   std::string chain = "test_id = q1 or test_id = q3";
-  for (int level = 1; level < levels; ++level) chain = "test_id != zz and (test_id = zz or " + chain + ")";
-  return "(test_id = zz or " + BothDeep(levels - 1) + ") and (test_id = zz or " + chain + ")";
+  for (int level = 1; level < levels; ++level) chain = fmt::format("test_id != zz and (test_id = zz or {})", chain);
+  return fmt::format("(test_id = zz or {}) and (test_id = zz or {})", BothDeep(levels - 1), chain);
 }
 
 std::size_t Comparisons(const std::string& text) {
@@ -137,8 +138,8 @@ TEST_F(WhereLimits, ExpressionsAtTheLimitsRunOnEveryQuery) {
   ExpectRunsEverywhere({RightNested(db::kMaxWhereNesting)}, "right-nested");
   ExpectRunsEverywhere({LeftNested(db::kMaxWhereNesting)}, "left-nested");
   // Redundant parentheses count too.
-  ExpectRunsEverywhere({std::string(db::kMaxWhereNesting, '(') + "test_id = q1 or test_id = q3" +
-                        std::string(db::kMaxWhereNesting, ')')},
+  ExpectRunsEverywhere({fmt::format("{}test_id = q1 or test_id = q3{}", std::string(db::kMaxWhereNesting, '('),
+                                    std::string(db::kMaxWhereNesting, ')'))},
                        "redundant parentheses");
 
   // The most comparisons, joined by `or`, by `and`, and over several --where.
@@ -161,8 +162,10 @@ TEST_F(WhereLimits, ExpressionsAtTheLimitsRunOnEveryQuery) {
   // The same under a chain as deep as the nesting allows.
   const std::string both = BothDeep(levels / 2);
   std::string under = both;
-  while (WithinLimits("test_id != zz and (test_id = zz or " + under + ")"))
-    under = "test_id != zz and (test_id = zz or " + under + ")";
+  auto under_chain = [](const std::string& inner) {
+    return fmt::format("test_id != zz and (test_id = zz or {})", inner);
+  };
+  while (WithinLimits(under_chain(under))) under = under_chain(under);
   ExpectRunsEverywhere({under}, "both deep under a chain");
 }
 
