@@ -20,7 +20,8 @@ py::array_t<double> ToNumpy(Eigen::VectorXd values) {
 py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics) {
   auto owned = std::make_unique<engine::Kinematics>(std::move(kinematics));
   const std::vector<formats::DerivedChannelSource> sources = formats::DerivedChannelSources(*owned);
-  const py::capsule owner(owned.get(), [](void* pointer) { delete static_cast<engine::Kinematics*>(pointer); });
+  const py::capsule owner(owned.get(),
+                          [](void* pointer) { delete static_cast<engine::Kinematics*>(pointer); });
   static_cast<void>(owned.release());  // the capsule deletes it now
   py::dict channels;
   for (const formats::DerivedChannelSource& source : sources) {
@@ -32,8 +33,8 @@ py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics) {
     if (source.to_csv_unit != 1.0)
       for (double& value : values) value *= source.to_csv_unit;
     channels[py::str(source.name.data(), source.name.size())] =
-        py::array_t<double>({static_cast<py::ssize_t>(values.size())}, {static_cast<py::ssize_t>(sizeof(double))},
-                            values.data(), owner);
+        py::array_t<double>({static_cast<py::ssize_t>(values.size())},
+                            {static_cast<py::ssize_t>(sizeof(double))}, values.data(), owner);
   }
   return channels;
 }

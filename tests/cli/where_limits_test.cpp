@@ -47,7 +47,8 @@ std::string RightNested(int levels) {
 }
 std::string LeftNested(int levels) {
   std::string text = "test_id = q1 or test_id = q3";
-  for (int level = 0; level < levels; ++level) text = fmt::format("test_id = zz or ({}) and test_id != zz", text);
+  for (int level = 0; level < levels; ++level)
+    text = fmt::format("test_id = zz or ({}) and test_id != zz", text);
   return text;
 }
 
@@ -58,7 +59,8 @@ std::string LeftNested(int levels) {
 std::string BothDeep(int levels) {
   if (levels == 0) return "test_id = q1 or test_id = q3";
   std::string chain = "test_id = q1 or test_id = q3";
-  for (int level = 1; level < levels; ++level) chain = fmt::format("test_id != zz and (test_id = zz or {})", chain);
+  for (int level = 1; level < levels; ++level)
+    chain = fmt::format("test_id != zz and (test_id = zz or {})", chain);
   return fmt::format("(test_id = zz or {}) and (test_id = zz or {})", BothDeep(levels - 1), chain);
 }
 
@@ -138,9 +140,10 @@ TEST_F(WhereLimits, ExpressionsAtTheLimitsRunOnEveryQuery) {
   ExpectRunsEverywhere({RightNested(db::kMaxWhereNesting)}, "right-nested");
   ExpectRunsEverywhere({LeftNested(db::kMaxWhereNesting)}, "left-nested");
   // Redundant parentheses count too.
-  ExpectRunsEverywhere({fmt::format("{}test_id = q1 or test_id = q3{}", std::string(db::kMaxWhereNesting, '('),
-                                    std::string(db::kMaxWhereNesting, ')'))},
-                       "redundant parentheses");
+  ExpectRunsEverywhere(
+      {fmt::format("{}test_id = q1 or test_id = q3{}", std::string(db::kMaxWhereNesting, '('),
+                   std::string(db::kMaxWhereNesting, ')'))},
+      "redundant parentheses");
 
   // The most comparisons, joined by `or`, by `and`, and over several --where.
   std::vector<std::string> any = {"test_id = q1", "test_id = q3"};
