@@ -208,8 +208,9 @@ TEST(Screening, SwappedChannelsAreAnAxisLabelError) {
       synth::SyntheticTest test = host;
       Column(test, first).swap(Column(test, second));
       const std::vector<Finding> findings = FaultFindings(test, first);
-      ExpectOnly(findings, "axis_label", {first, second}, Severity::kError,
-                 test.name + " swapped " + first + "/" + second);
+      std::string what = test.name;
+      what.append(" swapped ").append(first).append("/").append(second);
+      ExpectOnly(findings, "axis_label", {first, second}, Severity::kError, what);
       EXPECT_EQ(FindCheck(findings, "polarity", first), nullptr) << DescribeFindings(findings);
     }
   }

@@ -184,6 +184,7 @@ std::string ChannelText(const std::string& code, const std::string& unit, double
 
 std::vector<std::string> Ramp(int count, double start, double step) {
   std::vector<std::string> values;
+  values.reserve(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) values.push_back(std::to_string(start + step * i));
   return values;
 }

@@ -27,6 +27,9 @@ namespace {
 using test_support::ExpectInputError;
 using test_support::TempDir;
 
+// A UDS-1992 file is a sequence of 512-byte records (header, curve header, data).
+constexpr std::size_t kRecordBytes = 512;
+
 // VAX F_floating: bit 15 sign, bits 14-7 excess-128 exponent, fraction 0.1f
 // with hidden bit; words little-endian, high-order word first. The longword
 // of 1.0 is 0x00004080, stored as bytes 80 40 00 00.
@@ -145,7 +148,7 @@ INSTANTIATE_TEST_SUITE_P(AllNumberForms, UdsRoundTripTest,
 // TSTNO@49; curve header: SENATT@42, AXIS@86, YUNITS@108, NFP@278, NLP@282,
 // DEL@286; data after a 12-byte record header.
 TEST(UdsLayoutTest, ReadsHandBuiltSunFile) {
-  std::string bytes(4 * 512, ' ');
+  std::string bytes(4 * kRecordBytes, ' ');
   auto put = [&](std::size_t offset, const std::string& text) { bytes.replace(offset, text.size(), text); };
   auto put_be = [&](std::size_t offset, std::uint32_t word) {
     for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<char>(word >> (24 - 8 * i));
@@ -221,7 +224,7 @@ INSTANTIATE_TEST_SUITE_P(
                      [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
                      {"data record 4 is truncated (312 of 512 bytes)"}},
         UdsErrorCase{"missing",
-                     [](const std::string& good) { return good.substr(0, 4 * 512); },
+                     [](const std::string& good) { return good.substr(0, 4 * kRecordBytes); },
                      {"data record 3 is missing"}},
         UdsErrorCase{"short_header",
                      [](const std::string& good) { return good.substr(0, 100); },
@@ -239,7 +242,7 @@ INSTANTIATE_TEST_SUITE_P(
                      [](const std::string& good) { return Poked(good, 512 + 282, std::int32_t{-5}); },
                      {"NLP -5 is less than NFP 0"}},
         UdsErrorCase{"record",
-                     [](const std::string& good) { return Replaced(good, 3 * 512, "X DATA"); },
+                     [](const std::string& good) { return Replaced(good, 3 * kRecordBytes, "X DATA"); },
                      {"data record 2 starts with \"X DATA\""}},
         UdsErrorCase{"curve",
                      [](const std::string& good) { return Replaced(good, 512, "CURVE XXX"); },
@@ -252,7 +255,7 @@ INSTANTIATE_TEST_SUITE_P(
         // Issue 11, item 2: a 1 KB file (the two headers) declaring NLP 99,999,999.
         UdsErrorCase{"absurd_nlp",
                      [](const std::string& good) {
-                       return Poked(good.substr(0, 2 * 512), 512 + 282, std::int32_t{99'999'999});
+                       return Poked(good.substr(0, 2 * kRecordBytes), 512 + 282, std::int32_t{99'999'999});
                      },
                      {"data record 1 is missing", "NLP 99999999 needs 800000 data records",
                       "the file of 1024 bytes holds 0"}}),
@@ -270,8 +273,8 @@ TEST(UdsSizeTest, DeclaredCountIsCheckedBeforeAllocating) {
   const auto good = dir / "good.001";
   WriteUds1992(MakeChannel(UdsNumberForm::kIeee, 0, 400), good);
   const auto path = dir / "absurd_nlp.001";
-  test_support::WriteBytes(
-      path, Poked(test_support::ReadBytes(good).substr(0, 2 * 512), 512 + 282, std::int32_t{99'999'999}));
+  test_support::WriteBytes(path, Poked(test_support::ReadBytes(good).substr(0, 2 * kRecordBytes), 512 + 282,
+                                       std::int32_t{99'999'999}));
   std::fflush(nullptr);
   const pid_t child = fork();
   ASSERT_GE(child, 0);
