@@ -18,6 +18,7 @@
 #include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
 #include "python/py_bindings.h"
+#include "records/config_record.h"
 #include "util/malloc_tuning.h"
 #include "util/text.h"
 
@@ -161,10 +162,8 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
       config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
   const engine::ArrayGeometry array =
       ReadOnce(formats::ResolvePreset(array_name, "arrays", presets), formats::ReadArrayJson);
-  // As records::ResolveConfig: empty is the "default" preset.
   engine::ProcessingConfig config =
-      ReadOnce(formats::ResolvePreset(config_name.empty() ? "default" : config_name, "processing", presets),
-               formats::ReadProcessingConfig);
+      ReadOnce(records::ProcessingConfigPath(config_name, presets), formats::ReadProcessingConfig);
   if (solver) {
     const std::optional<engine::SolverKind> kind = engine::ParseName<engine::SolverKind>(*solver);
     if (!kind)

@@ -29,9 +29,13 @@ engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRow& record) {
   return formats::ParseProcessingConfig(json, source);
 }
 
+std::filesystem::path ProcessingConfigPath(const std::string& name_or_path,
+                                           const std::filesystem::path& config_dir) {
+  return formats::ResolvePreset(name_or_path.empty() ? "default" : name_or_path, "processing", config_dir);
+}
+
 ResolvedConfig ResolveConfig(const std::string& name_or_path) {
-  const std::string name = name_or_path.empty() ? "default" : name_or_path;
-  const std::filesystem::path path = formats::ResolvePreset(name, "processing");
+  const std::filesystem::path path = ProcessingConfigPath(name_or_path, formats::DefaultConfigDir());
   ResolvedConfig resolved;
   resolved.config = formats::ReadProcessingConfig(path);
   resolved.record = MakeConfigRecord(resolved.config, path.stem().string());

@@ -2,6 +2,7 @@
 // Processing configurations as catalogue records: the canonical JSON
 // (formats::CanonicalProcessingConfig) and its SHA-256, which identify the
 // results computed with the configuration.
+#include <filesystem>
 #include <string>
 
 #include "db/catalogue.h"
@@ -24,6 +25,12 @@ struct ResolvedConfig {
   engine::ProcessingConfig config;
   db::ConfigRow record;  // name, canonical JSON and its SHA-256
 };
+
+// The file of a processing configuration given by preset name (in
+// `config_dir`) or JSON path; empty is the "default" preset. Throws
+// InputError naming the presets where there is no such file.
+std::filesystem::path ProcessingConfigPath(const std::string& name_or_path,
+                                           const std::filesystem::path& config_dir);
 
 // A processing configuration given by preset name or JSON path (empty: the
 // "default" preset), read and checked, with its record named after the

@@ -221,7 +221,7 @@ INSTANTIATE_TEST_SUITE_P(
     SpoiltFiles, UdsErrorTest,
     ::testing::Values(
         UdsErrorCase{"truncated",
-                     [](const std::string& good) { return good.substr(0, 5 * 512 + 312); },
+                     [](const std::string& good) { return good.substr(0, 5 * kRecordBytes + 312); },
                      {"data record 4 is truncated (312 of 512 bytes)"}},
         UdsErrorCase{"missing",
                      [](const std::string& good) { return good.substr(0, 4 * kRecordBytes); },
@@ -249,7 +249,8 @@ INSTANTIATE_TEST_SUITE_P(
                      {"record 2 starts with \"CURVE XXX\""}},
         UdsErrorCase{"nan",
                      [](const std::string& good) {
-                       return Poked(good, 2 * 512 + 12 + 4 * 7, std::numeric_limits<float>::quiet_NaN());
+                       return Poked(good, 2 * kRecordBytes + 12 + 4 * 7,
+                                    std::numeric_limits<float>::quiet_NaN());
                      },
                      {"sample 7", "not a finite number"}},
         // Issue 11, item 2: a 1 KB file (the two headers) declaring NLP 99,999,999.
@@ -313,8 +314,8 @@ TEST(UdsVaxErrorTest, ReservedOperandNamesFileAndSample) {
   UdsChannel vax = MakeChannel(UdsNumberForm::kVax, 0, 10);
   WriteUds1992(vax, dir / "vax.001");
   std::string reserved = test_support::ReadBytes(dir / "vax.001");
-  reserved[2 * 512 + 12 + 4 * 3] = 0x00;
-  reserved[2 * 512 + 12 + 4 * 3 + 1] = static_cast<char>(0x80);
+  reserved[2 * kRecordBytes + 12 + 4 * 3] = 0x00;
+  reserved[2 * kRecordBytes + 12 + 4 * 3 + 1] = static_cast<char>(0x80);
   const auto path = dir / "reserved.001";
   test_support::WriteBytes(path, reserved);
   ExpectInputError([&] { ReadUds1992(path); }, {path.string(), "sample 3", "VAX reserved operand"});
