@@ -356,32 +356,34 @@ std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics
   return channels;
 }
 
-void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
+void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& file) {
   // At least 9 significant digits are required (docs/formats.md); 12 keep the
   // file readable and well inside the precision of the solution.
   constexpr int kDigits = 12;
   const std::vector<DerivedChannel> channels = DerivedChannels(kinematics);
-  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
-    std::string line;
-    for (const DerivedChannel& channel : channels) {
-      if (!line.empty()) line += ',';
-      line += channel.name;
+  std::string line;
+  for (const DerivedChannel& channel : channels) {
+    if (!line.empty()) line += ',';
+    line += channel.name;
+  }
+  line += '\n';
+  file.Write(line);
+  // A channel the test does not have, and a non-finite value, leave the
+  // cell empty (docs/formats.md "Derived channels").
+  for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
+    line.clear();
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      if (c > 0) line += ',';
+      const Eigen::VectorXd& values = channels[c].values;
+      if (values.size() > 0 && std::isfinite(values[k])) util::AppendNumber(line, values[k], kDigits);
     }
     line += '\n';
     file.Write(line);
-    // A channel the test does not have, and a non-finite value, leave the
-    // cell empty (docs/formats.md "Derived channels").
-    for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
-      line.clear();
-      for (std::size_t c = 0; c < channels.size(); ++c) {
-        if (c > 0) line += ',';
-        const Eigen::VectorXd& values = channels[c].values;
-        if (values.size() > 0 && std::isfinite(values[k])) util::AppendNumber(line, values[k], kDigits);
-      }
-      line += '\n';
-      file.Write(line);
-    }
-  });
+  }
+}
+
+void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {
+  util::WriteFileAtomically(path, [&](util::AtomicFile& file) { WriteDerivedCsv(kinematics, file); });
 }
 
 }  // namespace napkin::formats

@@ -12,6 +12,7 @@
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/signals.h"
+#include "util/atomic_file.h"
 
 namespace napkin::formats {
 
@@ -92,5 +93,7 @@ std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics
 // Writes the derived channels: acc in g, angles in degrees, everything else
 // SI; 12 significant digits.
 void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path);
+// The same into an output already opened (several outputs committed together).
+void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& file);
 
 }  // namespace napkin::formats

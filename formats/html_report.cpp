@@ -21,6 +21,7 @@
 #include "engine/vocabulary.h"
 #include "formats/report_assets.h"
 #include "util/atomic_file.h"
+#include "util/temporary_directory.h"
 #include "util/text.h"
 
 namespace napkin::formats {
@@ -655,7 +656,7 @@ void HtmlReportWriter::Finish() {
 void HtmlReportWriter::SpoolChartData(std::string_view text) {
   if (chart_data_ == nullptr) {
     // An unnamed file (unlinked at once): nothing is left behind, whatever happens.
-    const std::filesystem::path directory = std::filesystem::temp_directory_path();
+    const std::filesystem::path directory = util::TemporaryDirectory();
     std::string name = (directory / "napkin-report-XXXXXX").string();
     const int descriptor = mkstemp(name.data());
     if (descriptor < 0)
@@ -671,7 +672,7 @@ void HtmlReportWriter::SpoolChartData(std::string_view text) {
   }
   if (!text.empty() && std::fwrite(text.data(), 1, text.size(), chart_data_) != text.size())
     throw InputError("cannot write the report's chart data to a temporary file in '" +
-                     std::filesystem::temp_directory_path().string() + "': " + std::strerror(errno) + ".");
+                     util::TemporaryDirectory().string() + "': " + std::strerror(errno) + ".");
 }
 
 std::string RenderHtmlReport(const ReportHeader& header, std::span<const ReportComparison> comparisons,

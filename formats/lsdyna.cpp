@@ -25,9 +25,9 @@ void AppendReal20(std::string& out, double value) {
 
 }  // namespace
 
-void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesystem::path& path,
+void WriteLsDynaKeyword(const engine::Kinematics& kinematics, util::AtomicFile& file,
                         const LsDynaOptions& options) {
-  RequireSamples(kinematics, path);
+  RequireSamples(kinematics, file.destination());
   const Eigen::Index n = kinematics.size();
   const double length_scale = options.units == LsDynaUnits::kSi ? 1.0 : 1.0 / engine::kMetresPerInch;
   const char* length_unit = options.units == LsDynaUnits::kSi ? "m" : "in";
@@ -49,39 +49,44 @@ void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesys
       {&kinematics.omega_fixed, 1, 1.0, 6, "angular velocity about fixed Y (rad/s)"},
       {&kinematics.omega_fixed, 2, 1.0, 7, "angular velocity about fixed Z (rad/s)"},
   };
-  util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
-    std::string out;
-    out += "*KEYWORD\n";
-    out += "$ napkin: 6-DOF head CG motion, SAE J211 axes (x forward, y right, z down); units ";
-    out += options.units == LsDynaUnits::kSi ? "m, s, rad\n" : "in, s, rad\n";
-    char line[256];
-    for (int i = 0; i < 6; ++i) {
-      const Curve& curve = curves[i];
-      out += "$ " + curve.title + "\n";
-      out += "*DEFINE_CURVE\n";
-      out += "$     LCID      SIDR       SFA       SFO      OFFA      OFFO    DATTYP\n";
-      std::snprintf(line, sizeof(line), "%10d%10d%10.1f%10.1f%10.1f%10.1f%10d\n", options.first_curve_id + i,
-                    0, 1.0, 1.0, 0.0, 0.0, 0);
-      out += line;
-      out += "$                 A1                  O1\n";
-      for (Eigen::Index k = 0; k < n; ++k) {
-        AppendReal20(out, kinematics.time_s[k] - kinematics.time_s[0]);
-        AppendReal20(out, (*curve.series)(k, curve.component) * curve.scale);
-        out += '\n';
-      }
-      file.Write(out);
-      out.clear();
+  std::string out;
+  out += "*KEYWORD\n";
+  out += "$ napkin: 6-DOF head CG motion, SAE J211 axes (x forward, y right, z down); units ";
+  out += options.units == LsDynaUnits::kSi ? "m, s, rad\n" : "in, s, rad\n";
+  char line[256];
+  for (int i = 0; i < 6; ++i) {
+    const Curve& curve = curves[i];
+    out += "$ " + curve.title + "\n";
+    out += "*DEFINE_CURVE\n";
+    out += "$     LCID      SIDR       SFA       SFO      OFFA      OFFO    DATTYP\n";
+    std::snprintf(line, sizeof(line), "%10d%10d%10.1f%10.1f%10.1f%10.1f%10d\n", options.first_curve_id + i, 0,
+                  1.0, 1.0, 0.0, 0.0, 0);
+    out += line;
+    out += "$                 A1                  O1\n";
+    for (Eigen::Index k = 0; k < n; ++k) {
+      AppendReal20(out, kinematics.time_s[k] - kinematics.time_s[0]);
+      AppendReal20(out, (*curve.series)(k, curve.component) * curve.scale);
+      out += '\n';
     }
-    for (int i = 0; i < 6; ++i) {
-      out += "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n";
-      out += "$      PID       DOF       VAD      LCID        SF       VID     DEATH     BIRTH\n";
-      std::snprintf(line, sizeof(line), "%10d%10d%10d%10d%10.1f%10d%10.3e%10.1f\n", options.part_id,
-                    curves[i].dof, 0, options.first_curve_id + i, 1.0, 0, 1e28, 0.0);
-      out += line;
-    }
-    out += "*END\n";
     file.Write(out);
-  });
+    out.clear();
+  }
+  for (int i = 0; i < 6; ++i) {
+    out += "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n";
+    out += "$      PID       DOF       VAD      LCID        SF       VID     DEATH     BIRTH\n";
+    std::snprintf(line, sizeof(line), "%10d%10d%10d%10d%10.1f%10d%10.3e%10.1f\n", options.part_id,
+                  curves[i].dof, 0, options.first_curve_id + i, 1.0, 0, 1e28, 0.0);
+    out += line;
+  }
+  out += "*END\n";
+  file.Write(out);
+}
+
+void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesystem::path& path,
+                        const LsDynaOptions& options) {
+  RequireSamples(kinematics, path);
+  util::WriteFileAtomically(path,
+                            [&](util::AtomicFile& file) { WriteLsDynaKeyword(kinematics, file, options); });
 }
 
 void WriteLcFile(const engine::Kinematics& kinematics, const std::filesystem::path& path) {

@@ -11,6 +11,7 @@
 
 #include "engine/kinematics.h"
 #include "engine/vocabulary.h"
+#include "util/atomic_file.h"
 
 namespace napkin::formats {
 
@@ -35,6 +36,9 @@ struct LsDynaOptions {
 
 // Abscissae are times from the first sample (the simulation starts at 0).
 void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesystem::path& path,
+                        const LsDynaOptions& options = {});
+// The same into an output already opened (several outputs committed together).
+void WriteLsDynaKeyword(const engine::Kinematics& kinematics, util::AtomicFile& file,
                         const LsDynaOptions& options = {});
 
 // LC_FILE.DAT as LC_COMP wrote it: per curve a comment line ("c load curve

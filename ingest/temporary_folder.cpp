@@ -14,6 +14,7 @@
 #include <system_error>
 
 #include "common/error.h"
+#include "util/temporary_directory.h"
 
 namespace napkin::ingest {
 namespace fs = std::filesystem;
@@ -93,11 +94,11 @@ class BlockedSignals {
 
 TemporaryFolder::TemporaryFolder(const std::string& prefix, const std::string& purpose) {
   const BlockedSignals blocked;
-  std::string pattern = (fs::temp_directory_path() / (prefix + "XXXXXX")).string();
+  const fs::path directory = util::TemporaryDirectory();
+  std::string pattern = (directory / (prefix + "XXXXXX")).string();
   if (mkdtemp(pattern.data()) == nullptr)
-    throw InputError(purpose + ": cannot create a temporary folder in '" +
-                     fs::temp_directory_path().string() + "' (" + std::generic_category().message(errno) +
-                     ").");
+    throw InputError(purpose + ": cannot create a temporary folder in '" + directory.string() + "' (" +
+                     std::generic_category().message(errno) + ").");
   path_ = pattern;
   {
     const std::lock_guard<std::mutex> lock(g_mutex);
