@@ -18,7 +18,8 @@ class DemoCommand : public Command {
     sub->add_option("--out,--dir", request_.dir,
                     "folder of the demo, new or empty or an earlier demo's: its catalogue napkin.db (rebuilt "
                     "on every run), report and files")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(PathCheck("--out"));
     sub->add_option("--threads", request_.threads, "worker threads (default: all cores)")
         ->check(WholeNumberCheck("--threads", 1));
     return sub;

@@ -14,9 +14,11 @@
 
 #include "cli/command.h"
 #include "cli/db_option.h"
+#include "cli/db_protection.h"
 #include "cli/option_checks.h"
 #include "common/error.h"
 #include "engine/kinematics.h"
+#include "formats/array_json.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
 #include "formats/lsdyna.h"
@@ -38,7 +40,9 @@ class ExportCommand : public Command {
     sub->add_option("--format", format_, "csv, lsdyna, lcfile, isomme or uds")
         ->required()
         ->check(OneOfCheck("--format", {"csv", "lsdyna", "lcfile", "isomme", "uds"}));
-    sub->add_option("--out", out_, "file to write (a folder for isomme and uds)")->required();
+    sub->add_option("--out", out_, "file to write (a folder for isomme and uds)")
+        ->required()
+        ->check(PathCheck("--out"));
     sub->add_option("--numform", numform_, "uds number form: ieee, vax or sun")
         ->check(OneOfCheck("--numform", {"ieee", "vax", "sun"}))
         ->capture_default_str();
@@ -49,8 +53,9 @@ class ExportCommand : public Command {
                     "isomme: dummy type of the channel codes, e.g. H3 (default: the test's stored dummy "
                     "type, else 00)");
     sub->add_option(
-        "--config", config_,
-        "processing config preset or JSON file whose result to export (default: the latest result)");
+           "--config", config_,
+           "processing config preset or JSON file whose result to export (default: the latest result)")
+        ->check(PathCheck("--config"));
     // docs/formats.md "Output destinations": --out - is standard output (one
     // file); a folder format writes beside what --out holds.
     sub->add_flag("--force", force_,
@@ -74,6 +79,15 @@ class ExportCommand : public Command {
       throw UsageError("--format " + format_ +
                        " writes a folder of files, which cannot go to standard output " +
                        "(--out -); name a folder.");
+    // The --config file this command reads is never its output (docs/formats.md
+    // "Output destinations"); an unknown preset is reported where it is used.
+    if (!config_.empty()) {
+      try {
+        ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
+                               "the --config file");
+      } catch (const InputError&) {
+      }
+    }
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id_);
     if (!test) throw InputError("test '" + test_id_ + "' is not in catalogue '" + global_->db_path + "'.");

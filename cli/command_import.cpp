@@ -13,6 +13,7 @@
 
 #include "cli/command.h"
 #include "cli/db_option.h"
+#include "cli/option_checks.h"
 #include "cli/progress.h"
 #include "cli/triple_option.h"
 #include "ingest/import.h"
@@ -27,7 +28,8 @@ class ImportCommand : public Command {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("import", "import ISO-MME folders, UDS-1992 files or CSV files");
     sub->add_option("--array", options_.array, "array preset name or array JSON file (the tests' geometry)")
-        ->required();
+        ->required()
+        ->check(PathCheck("--array"));
     sub->add_option("--series", series_, "series the tests belong to");
     sub->add_option("--variant", variant_, "variant label (e.g. padding A)");
     sub->add_option("--test-id", test_id_, "test id (one test only; default: file or folder name)");
@@ -36,13 +38,16 @@ class ImportCommand : public Command {
     AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
                     "initial CG velocity VX,VY,VZ in the fixed frame (m/s)");
     sub->add_option("--channel-map", options_.channel_map,
-                    "channel map preset or JSON file (ISO-MME, UDS-1992)");
+                    "channel map preset or JSON file (ISO-MME, UDS-1992)")
+        ->check(PathCheck("--channel-map"));
     sub->add_option("--column", options_.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
         ->allow_extra_args(false);
     sub->add_option("--position", position_,
                     "take only the dummy at this position (ISO-MME test object and position, e.g. 11)");
-    sub->add_option("paths", paths_, "test files or folders")->required();
+    sub->add_option("paths", paths_, "test files or folders")
+        ->required()
+        ->check(PathCheck("a path to import"));
     return sub;
   }
 

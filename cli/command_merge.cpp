@@ -4,6 +4,7 @@
 
 #include "cli/command.h"
 #include "cli/db_option.h"
+#include "cli/option_checks.h"
 
 namespace napkin::cli {
 namespace {
@@ -13,7 +14,7 @@ class MergeCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("merge", "merge shard catalogues produced by `run --shard` into --db");
-    sub->add_option("shards", shards_, "shard catalogue files")->required();
+    sub->add_option("shards", shards_, "shard catalogue files")->required()->check(PathCheck("a shard path"));
     return sub;
   }
 

@@ -24,7 +24,9 @@ class ReportCommand : public Command {
                     "only tests whose results satisfy EXPR, as in `napkin query criteria --where` "
                     "(repeatable: all of them)")
         ->allow_extra_args(false);
-    sub->add_option("--out", out_, "HTML file to write (- for standard output)")->required();
+    sub->add_option("--out", out_, "HTML file to write (- for standard output)")
+        ->required()
+        ->check(PathCheck("--out"));
     sub->add_option("--baseline", options_.baseline,
                     "the variant each compared series is compared with (default: first by name, as compare)");
     sub->add_option("--align", align_,

@@ -10,11 +10,14 @@
 
 #include "cli/command.h"
 #include "cli/db_option.h"
+#include "cli/db_protection.h"
 #include "cli/option_checks.h"
 #include "cli/progress.h"
 #include "common/error.h"
 #include "db/results_file.h"
+#include "formats/array_json.h"
 #include "jobs/scheduler.h"
+#include "records/config_record.h"
 #include "util/output_destination.h"
 #include "util/text.h"
 
@@ -61,7 +64,8 @@ class RunCommand : public Command {
         "run", "process every test whose results are missing or stale for the config; resumable");
     sub->add_option("--series", series_, "only the tests of this series");
     sub->add_option("--test", test_ids_, "only this test (repeatable)");
-    sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
+    sub->add_option("--config", config_, "processing config preset or JSON file (default: default)")
+        ->check(PathCheck("--config"));
     sub->add_option("--threads", options_.threads, "worker threads (default: all cores)")
         ->check(WholeNumberCheck("--threads", 1));
     sub->add_flag("--force", options_.force, "recompute tests whose results are up to date");
@@ -75,7 +79,8 @@ class RunCommand : public Command {
         });
     sub->add_option("--results", options_.results_path,
                     "read --db only (shared, immutable) and write the results to this file (created if "
-                    "missing; `napkin merge` takes it back)");
+                    "missing; `napkin merge` takes it back)")
+        ->check(PathCheck("--results"));
     return sub;
   }
 
@@ -85,6 +90,9 @@ class RunCommand : public Command {
     if (!shard_.empty()) options_.scope.shard = ParseShard(shard_);
     // The results file is a catalogue of its own, never the --db one's side
     // files (db::ResultsFile::Open refuses the catalogue itself).
+    // Nor the --config file this command reads (docs/formats.md "Output destinations").
+    ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
+                           "the --config file");
     if (!options_.results_path.empty()) util::CheckNotProtected(options_.results_path);
     CheckScope();
 

@@ -46,7 +46,8 @@ class StatusCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("status", "counts of tests by state for the config, and the failures");
-    sub->add_option("--config", config_, "processing config preset or JSON file (default: default)");
+    sub->add_option("--config", config_, "processing config preset or JSON file (default: default)")
+        ->check(PathCheck("--config"));
     sub->add_option("--format", format_, "table or json")
         ->check(OneOfCheck("--format", {"table", "json"}))
         ->capture_default_str();

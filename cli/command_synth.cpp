@@ -32,7 +32,9 @@ class SynthCommand : public Command {
                     "random: number of tests (default 1); padding-series: repeats per variant (default 5)")
         ->check(WholeNumberCheck("--count", 1));
     sub->add_option("--seed", request_.seed, "generator seed of the first test")->capture_default_str();
-    sub->add_option("--array", request_.array, "array preset name or array JSON file")->capture_default_str();
+    sub->add_option("--array", request_.array, "array preset name or array JSON file")
+        ->capture_default_str()
+        ->check(PathCheck("--array"));
     sub->add_option("--series", request_.series, "series label (default: the scenario name)");
     sub->add_option("--test-id", request_.test_id,
                     "test id, or prefix of numbered ids (default: the scenario name)");

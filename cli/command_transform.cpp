@@ -15,7 +15,9 @@ class TransformCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
     CLI::App* sub = app.add_subcommand("transform", "process one test file, no catalogue");
-    sub->add_option("--array", options_.array, "array preset name or array JSON file")->required();
+    sub->add_option("--array", options_.array, "array preset name or array JSON file")
+        ->required()
+        ->check(PathCheck("--array"));
     AddTripleOption(sub, "--orientation", options_.orientation_rad,
                     "initial orientation PHI,THETA,PSI (rad)");
     AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
@@ -28,14 +30,21 @@ class TransformCommand : public Command {
     }
     sub->add_option("--solver", options_.solver, solver_help + " (default: the config's, exact)")
         ->check(OneOfCheck("--solver", solvers));
-    sub->add_option("--config", options_.config, "processing config preset or JSON file");
+    sub->add_option("--config", options_.config, "processing config preset or JSON file")
+        ->check(PathCheck("--config"));
     sub->add_option("--column", options_.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
         ->allow_extra_args(false);
-    sub->add_option("input", options_.input, "input signals (CSV)")->required();
-    sub->add_option("--out", options_.out, "derived-channel CSV to write")->required();
-    sub->add_option("--summary", options_.summary, "per-test summary JSON to write");
-    sub->add_option("--lsdyna", options_.lsdyna, "LS-DYNA keyword load curves to write");
+    sub->add_option("input", options_.input, "input signals (CSV)")
+        ->required()
+        ->check(PathCheck("the input path"));
+    sub->add_option("--out", options_.out, "derived-channel CSV to write")
+        ->required()
+        ->check(PathCheck("--out"));
+    sub->add_option("--summary", options_.summary, "per-test summary JSON to write")
+        ->check(PathCheck("--summary"));
+    sub->add_option("--lsdyna", options_.lsdyna, "LS-DYNA keyword load curves to write")
+        ->check(PathCheck("--lsdyna"));
     return sub;
   }
 

@@ -22,4 +22,10 @@ void ProtectCatalogueFromOutput(const std::string& db_path) {
   }
 }
 
+void ProtectInputFromOutput(const std::filesystem::path& input, const std::string& what) {
+  if (input.empty()) return;
+  util::ProtectFromOutput(input, what + " '" + input.string() + "' that this command reads",
+                          util::Refusal::kUsage);
+}
+
 }  // namespace napkin::cli

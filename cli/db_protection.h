@@ -1,5 +1,7 @@
 #pragma once
-// The catalogue is never an output (docs/formats.md "Output destinations").
+// The catalogue and a command's own inputs are never an output (docs/formats.md
+// "Output destinations").
+#include <filesystem>
 #include <string>
 
 namespace napkin::cli {
@@ -10,5 +12,10 @@ namespace napkin::cli {
 // command's --out, --summary, --lsdyna, --results and demo file is refused
 // when it is one of them by any name. main() calls it before any command runs.
 void ProtectCatalogueFromOutput(const std::string& db_path);
+
+// Marks a file the command reads (an input recording, array, config, channel
+// map) as one no output of the same command may replace, by any name:
+// refused as a usage error (exit 2) naming `what`, e.g. "the --array file". An empty path is skipped.
+void ProtectInputFromOutput(const std::filesystem::path& input, const std::string& what);
 
 }  // namespace napkin::cli

@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "util/atomic_file.h"
+#include "util/output_destination.h"
 
 namespace napkin::cli {
 namespace {
@@ -41,7 +42,7 @@ bool IsDemoFile(const fs::path& relative, const std::vector<fs::path>& files, co
   for (const fs::path& file : files) {
     if (relative == file) return true;
     if (relative.parent_path() == file.parent_path() &&
-        relative.filename().string().rfind("." + file.filename().string() + ".tmp-", 0) == 0)
+        util::IsTemporaryNameOf(relative.filename().string(), file.filename().string()))
       return true;
   }
   for (const char* suffix : kDbSideSuffixes)
@@ -81,8 +82,14 @@ bool PrepareDemoFolder(const fs::path& dir, const fs::path& catalogue) {
       ours = has_stamp && IsFolderOfDemoFiles(relative, stamped);
       if (ours) folders.push_back(relative);
     } else if (fs::is_regular_file(entry_status)) {
-      ours = has_stamp && (relative == kStampName || IsDemoFile(relative, stamped, catalogue));
-      if (ours) files.push_back(relative);
+      // The stamp's own temporary file, left by a demo killed while writing
+      // it, is napkin's whether or not a stamp is there yet.
+      const bool stamp_temporary = util::IsTemporaryNameOf(relative.string(), kStampName);
+      ours = stamp_temporary ||
+             (has_stamp && (relative == kStampName || IsDemoFile(relative, stamped, catalogue)));
+      // The stamp stays until the new one is renamed over it: a demo killed
+      // from here on still leaves a stamp listing what it wrote.
+      if (ours && relative != kStampName) files.push_back(relative);
     }
     if (!ours)
       throw InputError("the demo folder '" + dir.string() + "' holds '" + entry->path().string() +

@@ -6,6 +6,7 @@
 #include "cli/command.h"
 #include "cli/db_protection.h"
 #include "cli/diagnostics.h"
+#include "cli/option_checks.h"
 #include "common/version.h"
 
 namespace {
@@ -16,7 +17,9 @@ int RunNapkin(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough();  // global options (--db, --quiet) may also follow the subcommand
   GlobalOptions global;
-  app.add_option("--db", global.db_path, "catalogue file (SQLite)")->capture_default_str();
+  app.add_option("--db", global.db_path, "catalogue file (SQLite)")
+      ->capture_default_str()
+      ->check(PathCheck("--db"));
   app.add_flag("-q,--quiet", global.quiet,
                "no progress output and no information lines: warnings and errors only");
   // "napkin 0.1.0+g1a2b3c4" (docs/formats.md "Version string").

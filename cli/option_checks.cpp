@@ -56,6 +56,15 @@ CLI::Validator PositiveNumberCheck(const std::string& option) {
       "NUMBER above 0");
 }
 
+CLI::Validator PathCheck(const std::string& option) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        if (text.empty()) return option + " must name a file or folder; it is empty";
+        return {};
+      },
+      "PATH");
+}
+
 CLI::Validator OneOfCheck(const std::string& option, const std::vector<std::string>& choices) {
   return CLI::Validator(
       [=](std::string& text) -> std::string {

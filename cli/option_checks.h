@@ -25,6 +25,11 @@ CLI::Validator PositiveNumberCheck(const std::string& option);
 // One of `choices`: "--format must be table, csv or json; it is 'xml'".
 CLI::Validator OneOfCheck(const std::string& option, const std::vector<std::string>& choices);
 
+// A path that is not empty: an empty string names no file, and is never
+// taken as "no option" (issue: `--results ''` once meant the catalogue):
+// "--out must name a file; it is empty".
+CLI::Validator PathCheck(const std::string& option);
+
 // "a, b or c".
 std::string ChoiceList(const std::vector<std::string>& choices);
 

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "cli/db_option.h"
+#include "cli/db_protection.h"
 #include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
@@ -13,6 +14,7 @@
 #include "formats/csv.h"
 #include "formats/lsdyna.h"
 #include "formats/summary_json.h"
+#include "records/config_record.h"
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
 
@@ -41,6 +43,16 @@ TransformReport RunTransform(const TransformOptions& options) {
     to_standard_output += *output == util::kStandardOutputName;
   if (to_standard_output > 1)
     throw UsageError("only one of --out, --summary and --lsdyna can be standard output (-).");
+  // A command's own inputs are never its outputs, nor is one output another
+  // (docs/formats.md "Output destinations"): refused before anything is read.
+  ProtectInputFromOutput(options.input, "the input recording");
+  ProtectInputFromOutput(formats::ResolvePreset(options.array, "arrays"), "the --array file");
+  ProtectInputFromOutput(records::ProcessingConfigPath(options.config, formats::DefaultConfigDir()),
+                         "the --config file");
+  util::CheckDistinctOutputs(
+      {{"--out", options.out}, {"--summary", options.summary}, {"--lsdyna", options.lsdyna}});
+  for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
+    if (!output->empty()) util::ResolveOutputDestination(*output);  // refused before anything is computed
   const engine::ArrayGeometry array = formats::LoadArray(options.array);
   if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
   formats::CsvSignals csv =
@@ -83,32 +95,21 @@ TransformReport RunTransform(const TransformOptions& options) {
       formats::SummaryToJson(report.summary, test_id, "", "")
           .dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) +
       "\n";
-  // Each writer is atomic; if a later one fails, the earlier outputs of this
-  // run that it created are removed too, so a failed transform leaves no new
-  // output behind. A name that was there before is never removed (it may be
-  // the user's FIFO, device or link; napkin removes only files it wrote).
-  for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
-    if (!output->empty()) util::ResolveOutputDestination(*output);  // refused before anything is written
-  std::vector<fs::path> created;
-  auto is_new = [](const std::string& path) {
-    std::error_code error;
-    return path != util::kStandardOutputName && !fs::exists(fs::symlink_status(path, error));
-  };
-  try {
-    const bool out_new = is_new(options.out);
-    formats::WriteDerivedCsv(report.kinematics, options.out);
-    if (out_new) created.emplace_back(options.out);
-    if (!options.summary.empty()) {
-      const bool summary_new = is_new(options.summary);
-      util::WriteFileAtomically(options.summary, [&](util::AtomicFile& file) { file.Write(summary_text); });
-      if (summary_new) created.emplace_back(options.summary);
-    }
-    if (!options.lsdyna.empty()) formats::WriteLsDynaKeyword(report.kinematics, options.lsdyna);
-  } catch (...) {
-    std::error_code ignored;
-    for (const auto& path : created) fs::remove(path, ignored);
-    throw;
-  }
+  // Every output is opened (decided on, its temporary file created) before
+  // any is written, and all are renamed into place only when all were
+  // written: a refused or failed output leaves no other output of this run
+  // behind, and nothing napkin did not write is ever removed
+  // (docs/formats.md "Output destinations").
+  std::optional<util::AtomicFile> out_file, summary_file, lsdyna_file;
+  out_file.emplace(options.out);
+  if (!options.summary.empty()) summary_file.emplace(options.summary);
+  if (!options.lsdyna.empty()) lsdyna_file.emplace(options.lsdyna);
+  formats::WriteDerivedCsv(report.kinematics, *out_file);
+  if (summary_file) summary_file->Write(summary_text);
+  if (lsdyna_file) formats::WriteLsDynaKeyword(report.kinematics, *lsdyna_file);
+  out_file->Commit();
+  if (summary_file) summary_file->Commit();
+  if (lsdyna_file) lsdyna_file->Commit();
   return report;
 }
 

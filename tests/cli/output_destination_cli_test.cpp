@@ -325,5 +325,253 @@ TEST_F(OutputDestinations, DashIsStandardOutputForOneFile) {
   EXPECT_FALSE(fs::exists(dir_ / "-"));
 }
 
+// Issue 29: the destination is decided on what is opened. While `export`
+// runs again and again, a second process flips the destination between two
+// objects with an atomic rename; whatever napkin meets, the catalogue stays
+// byte for byte, the user's files stay, and no temporary file is left.
+// `flip` is called in the child with the two names to exchange.
+class DestinationRace : public OutputDestinations {
+ protected:
+  // Runs `args` up to `tries` times or for `seconds` while a child process
+  // exchanges `a` and `b` (renameat2 RENAME_EXCHANGE: both names always
+  // exist). Returns how many exports exited 0.
+  int RaceExports(const std::vector<std::string>& args, const fs::path& a, const fs::path& b, int tries,
+                  int seconds) {
+    const pid_t flipper = ::fork();
+    if (flipper == 0) {
+      for (;;) ::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE);
+    }
+    int succeeded = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+    for (int i = 0; i < tries && std::chrono::steady_clock::now() < deadline; ++i) {
+      const RunResult run = Napkin(args);
+      succeeded += run.exit_code == 0;
+      // Any refusal is one sentence, never an internal error.
+      if (run.exit_code != 0) EXPECT_EQ(run.err.find("internal error"), std::string::npos) << run.err;
+    }
+    ::kill(flipper, SIGKILL);
+    ::waitpid(flipper, nullptr, 0);
+    return succeeded;
+  }
+
+  static std::vector<std::string> TemporaryFiles(const fs::path& dir) {
+    std::vector<std::string> found;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+      if (entry.path().filename().string().find(".tmp-") != std::string::npos ||
+          entry.path().filename().string().rfind(".napkin-staging-", 0) == 0)
+        found.push_back(entry.path().string());
+    return found;
+  }
+};
+
+// `--out out` while out flips between a character-device node and a symbolic
+// link to the catalogue: the catalogue used to become the CSV (exit 0).
+TEST_F(DestinationRace, ADeviceFlippedToALinkToTheCatalogueIsNeverWrittenThrough) {
+  if (::mknod((dir_ / "out").c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0)
+    GTEST_SKIP() << "cannot make a device node (needs root): " << std::strerror(errno);
+  fs::create_symlink("lab/lab.db", dir_ / "other");
+  const std::string hash = util::Sha256Hex(ReadText(Db()));
+  const std::map<std::string, std::string> lab_before = Listing(lab_);
+  const int succeeded = RaceExports({"export", "--test", "e1", "--format", "csv", "--out", "out"},
+                                    dir_ / "out", dir_ / "other", 300, 60);
+  EXPECT_GT(succeeded, 0);
+  EXPECT_EQ(util::Sha256Hex(ReadText(Db())), hash);
+  EXPECT_EQ(Listing(lab_), lab_before);
+  EXPECT_EQ(TemporaryFiles(dir_.path()), std::vector<std::string>{});
+  // Both names are still the node and the link, in some order.
+  std::vector<std::string> kinds;
+  for (const char* name : {"out", "other"}) {
+    const fs::file_status status = fs::symlink_status(dir_ / name);
+    kinds.push_back(fs::is_symlink(status) ? "link" : fs::is_character_file(status) ? "device" : "other");
+  }
+  std::sort(kinds.begin(), kinds.end());
+  EXPECT_EQ(kinds, (std::vector<std::string>{"device", "link"}));
+}
+
+// `--out sub/lab.db` while sub flips between a decoy folder and a symbolic
+// link to the catalogue's folder: the CSV used to be renamed over the
+// catalogue, with `.lab.db.tmp-*` files left beside it.
+TEST_F(DestinationRace, AFolderFlippedToALinkToTheCataloguesFolderIsNeverWrittenInto) {
+  fs::create_directories(dir_ / "sub");
+  fs::create_symlink("lab", dir_ / "other");
+  const std::string hash = util::Sha256Hex(ReadText(Db()));
+  const std::map<std::string, std::string> lab_before = Listing(lab_);
+  const int succeeded = RaceExports({"export", "--test", "e1", "--format", "csv", "--out", "sub/lab.db"},
+                                    dir_ / "sub", dir_ / "other", 300, 60);
+  EXPECT_GT(succeeded, 0);
+  EXPECT_EQ(util::Sha256Hex(ReadText(Db())), hash);
+  EXPECT_EQ(Listing(lab_), lab_before);
+  EXPECT_EQ(TemporaryFiles(dir_.path()), std::vector<std::string>{});
+}
+
+// Issue 29 item 2: every file a command reads, and every other output of the
+// same command, is refused as a destination (exit 2) before anything is written.
+TEST_F(OutputDestinations, ACommandsOwnInputsAndOutputsAreNeverItsDestination) {
+  fs::copy_file(fs::path(NAPKIN_SOURCE_DIR) / "config" / "processing" / "default.json", dir_ / "my.json");
+  fs::copy_file(fs::path(NAPKIN_SOURCE_DIR) / "config" / "arrays" / "denton-3222.json", dir_ / "array.json");
+  const std::map<std::string, std::string> before = Listing(dir_.path());
+  auto refused = [&](const std::vector<std::string>& args, std::initializer_list<std::string> fragments) {
+    const RunResult run = Napkin(args);
+    EXPECT_EQ(run.exit_code, 2) << ::testing::PrintToString(args) << run.err;
+    ExpectOneSentenceError(run, fragments);
+    EXPECT_EQ(Listing(dir_.path()), before) << ::testing::PrintToString(args);
+  };
+  const std::vector<std::string> transform = {"transform", "--array", "array.json",
+                                              "--config",  "my.json", "e1.csv"};
+  auto with = [&](std::vector<std::string> tail) {
+    std::vector<std::string> args = transform;
+    args.insert(args.end(), tail.begin(), tail.end());
+    return args;
+  };
+  refused(with({"--out", "e1.csv"}), {"'e1.csv' is the input recording 'e1.csv' that this command reads"});
+  refused(with({"--out", "./e1.csv"}), {"the input recording"});
+  refused(with({"--out", "t.csv", "--summary", "my.json"}), {"the --config file 'my.json'"});
+  refused(with({"--out", "array.json"}), {"the --array file 'array.json'"});
+  refused(with({"--out", "t.csv", "--lsdyna", "array.json"}), {"the --array file"});
+  refused(with({"--out", "x", "--summary", "x"}), {"--summary 'x' is the file --out 'x' writes"});
+  refused(with({"--out", "x", "--summary", "./x"}), {"--summary './x' is the file --out 'x' writes"});
+  refused({"export", "--test", "e1", "--format", "csv", "--config", "my.json", "--out", "my.json"},
+          {"the --config file 'my.json'"});
+  refused({"run", "--config", "my.json", "--results", "my.json"}, {"the --config file 'my.json'"});
+  // Two streams may take two outputs.
+  const RunResult streams = Napkin(with({"--out", "/dev/null", "--summary", "/dev/null"}));
+  EXPECT_EQ(streams.exit_code, 0) << streams.err;
+}
+
+// Issue 29 item 3: an empty path is a usage error everywhere, never "no
+// option" (`run --results ''` ran into the shared catalogue) nor an
+// internal error.
+TEST_F(OutputDestinations, AnEmptyPathIsAUsageError) {
+  const std::string dump = DumpCatalogue(Db());
+  const std::map<std::string, std::string> before = Listing(dir_.path());
+  const std::vector<std::string> transform = {"transform", "--array", "denton-3222", "e1.csv"};
+  const std::vector<std::vector<std::string>> commands = {
+      {"run", "--force", "--results", ""},
+      {"transform", "--array", "denton-3222", "e1.csv", "--out", "t.csv", "--summary", ""},
+      {"transform", "--array", "denton-3222", "e1.csv", "--out", "t.csv", "--lsdyna", ""},
+      {"transform", "--array", "denton-3222", "e1.csv", "--out", ""},
+      {"transform", "--array", "", "e1.csv", "--out", "t.csv"},
+      {"transform", "--array", "denton-3222", "", "--out", "t.csv"},
+      {"export", "--test", "e1", "--format", "csv", "--out", ""},
+      {"export", "--test", "e1", "--format", "isomme", "--out", ""},
+      {"export", "--test", "e1", "--format", "csv", "--config", "", "--out", "t.csv"},
+      {"report", "--out", ""},
+      {"import", "--array", "denton-3222", ""},
+      {"demo", "--out", ""},
+      {"merge", ""},
+  };
+  for (const std::vector<std::string>& args : commands) {
+    const RunResult run = Napkin(args);
+    EXPECT_EQ(run.exit_code, 2) << ::testing::PrintToString(args) << run.err;
+    ExpectOneSentenceError(run, {"must name a file or folder; it is empty"});
+  }
+  const RunResult db = RunNapkin(dir_.path(), {"--db", "", "query", "tests"});
+  EXPECT_EQ(db.exit_code, 2) << db.err;
+  ExpectOneSentenceError(db, {"--db must name a file or folder; it is empty"});
+  EXPECT_EQ(Listing(dir_.path()), before);
+  EXPECT_EQ(DumpCatalogue(Db()), dump);
+}
+
+// Issue 29 item 4: a folder export is all or nothing. With iso/Channel a link
+// to another file system, the move used to fail half-way, leaving iso/e1.mme
+// with no channels (exit 1).
+TEST_F(OutputDestinations, AFolderExportIsAllOrNothing) {
+  const fs::path elsewhere = fs::path("/dev/shm") / ("napkin-test-" + std::to_string(::getpid()));
+  struct stat shm {
+  }, here{};
+  if (::stat("/dev/shm", &shm) != 0 || ::stat(dir_.path().c_str(), &here) != 0 || shm.st_dev == here.st_dev)
+    GTEST_SKIP() << "needs /dev/shm on another file system than " << dir_.path();
+  fs::create_directories(elsewhere);
+  fs::create_directories(dir_ / "iso");
+  fs::create_symlink(elsewhere, dir_ / "iso" / "Channel");
+  const std::map<std::string, std::string> before = Listing(dir_.path());
+  const RunResult run = Napkin({"export", "--test", "e1", "--format", "isomme", "--out", "iso"});
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  ExpectOneSentenceError(run, {"iso/Channel", "another file system", "nothing was exported"});
+  EXPECT_EQ(Listing(dir_.path()), before);
+  EXPECT_TRUE(fs::is_empty(elsewhere));
+  fs::remove_all(elsewhere);
+}
+
+// Issue 29 item 5: a replaced file keeps its mode, owner and group; a new
+// file gets the umask's mode. As root (CI) the owner is given back.
+TEST_F(OutputDestinations, AReplacedFileKeepsItsModeAndOwner) {
+  WriteText(dir_ / "private.csv", "old\n");
+  ASSERT_EQ(::chmod((dir_ / "private.csv").c_str(), 0600), 0);
+  const bool root = ::geteuid() == 0;
+  const uid_t nobody = 65534;
+  if (root) ASSERT_EQ(::chown((dir_ / "private.csv").c_str(), nobody, nobody), 0);
+  const RunResult run = Napkin({"export", "--test", "e1", "--format", "csv", "--out", "private.csv"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  struct stat replaced {};
+  ASSERT_EQ(::stat((dir_ / "private.csv").c_str(), &replaced), 0);
+  EXPECT_EQ(replaced.st_mode & 07777, 0600u);
+  if (root) {
+    EXPECT_EQ(replaced.st_uid, nobody);
+    EXPECT_EQ(replaced.st_gid, nobody);
+  }
+  EXPECT_NE(ReadText(dir_ / "private.csv"), "old\n");
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  const RunResult fresh = Napkin({"export", "--test", "e1", "--format", "csv", "--out", "fresh.csv"});
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
+  struct stat created {};
+  ASSERT_EQ(::stat((dir_ / "fresh.csv").c_str(), &created), 0);
+  EXPECT_EQ(created.st_mode & 07777, 0666u & ~mask);
+}
+
+// Issue 29 item 8: a missing temporary folder is a sentence naming it.
+TEST_F(OutputDestinations, AMissingTemporaryFolderIsNamed) {
+  const char* previous = std::getenv("TMPDIR");
+  const std::string saved = previous != nullptr ? previous : "";
+  ::setenv("TMPDIR", "/nonexistent-napkin-tmp", 1);
+  const RunResult run = Napkin({"report", "--out", "r.html"});
+  if (previous != nullptr)
+    ::setenv("TMPDIR", saved.c_str(), 1);
+  else
+    ::unsetenv("TMPDIR");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  ExpectOneSentenceError(run, {"the temporary folder '/nonexistent-napkin-tmp' (TMPDIR)"});
+  EXPECT_FALSE(fs::exists(dir_ / "r.html"));
+}
+
+// Issue 29 item 9: the longest legal names (255 bytes) can be written; the
+// temporary name used to add 22 bytes ("File name too long").
+TEST_F(OutputDestinations, TheLongestLegalNamesCanBeWritten) {
+  const std::string reference = ReferenceCsv();
+  for (const std::size_t length : {234u, 250u, 255u}) {
+    const std::string name = std::string(length - 4, 'n') + ".csv";
+    const RunResult run = Napkin({"export", "--test", "e1", "--format", "csv", "--out", name});
+    ASSERT_EQ(run.exit_code, 0) << length << ": " << run.err;
+    EXPECT_EQ(ReadText(dir_ / name), reference);
+    // Again, over the file now there.
+    ASSERT_EQ(Napkin({"export", "--test", "e1", "--format", "csv", "--out", name}).exit_code, 0);
+  }
+  // A UTF-8 name cut for the temporary name is cut between characters: "é" is 2 bytes.
+  std::string accented;
+  while (accented.size() < 250) accented += "\xc3\xa9";
+  const RunResult run = Napkin({"export", "--test", "e1", "--format", "csv", "--out", accented});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(ReadText(dir_ / accented), reference);
+}
+
+// Issue 29 item 10: a demo killed while writing its stamp left
+// "..napkin-demo.tmp-*" (and no stamp, in a new folder): every later demo
+// refused the folder. napkin's own stale temporary files are removed.
+TEST_F(OutputDestinations, AStaleStampTemporaryFileDoesNotBlockTheDemo) {
+  fs::create_directories(dir_ / "fresh");
+  WriteText(dir_ / "fresh" / "..napkin-demo.tmp-0123456789abcdef", "# napkin demo: half");
+  RunResult demo = RunNapkin(dir_.path(), {"demo", "--out", "fresh"});
+  ASSERT_EQ(demo.exit_code, 0) << demo.err;
+  EXPECT_FALSE(fs::exists(dir_ / "fresh" / "..napkin-demo.tmp-0123456789abcdef"));
+  // A stale one beside a complete demo's output, as a kill after the
+  // earlier stamp's removal left it.
+  WriteText(dir_ / "fresh" / "..napkin-demo.tmp-fedcba9876543210", "# napkin demo: half");
+  demo = RunNapkin(dir_.path(), {"demo", "--out", "fresh"});
+  ASSERT_EQ(demo.exit_code, 0) << demo.err;
+  for (const auto& entry : fs::directory_iterator(dir_ / "fresh"))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
 }  // namespace
 }  // namespace napkin::cli

@@ -110,5 +110,66 @@ TEST_F(OutputDestinationTest, FolderWritesGoBesideWhatTheFolderHolds) {
   EXPECT_FALSE(fs::exists(dir_ / "fresh"));
 }
 
+// Issue 29 item 4: when a move fails half-way, what already moved is taken
+// back and a file it replaced is restored: the folder is as it was.
+TEST_F(OutputDestinationTest, AFolderWriteThatFailsHalfWayLeavesTheFolderAsItWas) {
+  const fs::path folder = dir_ / "out";
+  fs::create_directories(folder / "sub");
+  WriteBytes(folder / "a.txt", "old a");
+  WriteBytes(folder / "sub" / "c.txt", "old c");
+  auto fill = [](const fs::path& staging) {
+    fs::create_directories(staging / "sub");
+    fs::create_directories(staging / "new");
+    for (const char* name : {"a.txt", "b.txt", "new/d.txt", "sub/c.txt", "sub/e.txt"})
+      WriteFileAtomically(staging / name, [&](AtomicFile& file) { file.Write(std::string("new ") + name); });
+  };
+  // Moves in order: a.txt (replaces), b.txt, new (a whole folder), sub/c.txt (replaces), sub/e.txt.
+  for (int failing = 0; failing < 5; ++failing) {
+    FailFolderMoveForTesting(failing);
+    ExpectInputError([&] { WriteDirectoryAtomically(folder, fill, /*replace_existing=*/true); },
+                     {"cannot move the output file into place", "nothing was exported"});
+    EXPECT_EQ(ReadBytes(folder / "a.txt"), "old a") << failing;
+    EXPECT_EQ(ReadBytes(folder / "sub" / "c.txt"), "old c") << failing;
+    int entries = 0;
+    for (auto entry = fs::recursive_directory_iterator(folder); entry != fs::recursive_directory_iterator();
+         ++entry)
+      ++entries;
+    EXPECT_EQ(entries, 3) << failing;  // a.txt, sub, sub/c.txt: nothing added, no staging folder left
+  }
+  FailFolderMoveForTesting(-1);
+  WriteDirectoryAtomically(folder, fill, /*replace_existing=*/true);
+  EXPECT_EQ(ReadBytes(folder / "a.txt"), "new a.txt");
+  EXPECT_EQ(ReadBytes(folder / "new" / "d.txt"), "new new/d.txt");
+  EXPECT_EQ(ReadBytes(folder / "sub" / "e.txt"), "new sub/e.txt");
+}
+
+// Issue 29 item 9: the temporary name fits whenever the final name does, and
+// is recognised as the temporary file of that name.
+TEST_F(OutputDestinationTest, TemporaryNamesFitWheneverTheNameDoes) {
+  for (const std::size_t length : {1u, 200u, 233u, 234u, 250u, 255u}) {
+    const std::string name(length, 'x');
+    const std::string temporary = TemporaryNameFor(name);
+    EXPECT_LE(temporary.size(), 255u) << length;
+    EXPECT_TRUE(IsTemporaryNameOf(temporary, name)) << length;
+    EXPECT_FALSE(IsTemporaryNameOf(temporary, name + "y")) << length;
+    EXPECT_FALSE(IsTemporaryNameOf(name, name)) << length;
+  }
+  std::string accented;
+  while (accented.size() < 254) accented += "\xc3\xa9";
+  const std::string temporary = TemporaryNameFor(accented);
+  EXPECT_LE(temporary.size(), 255u);
+  EXPECT_TRUE(IsTemporaryNameOf(temporary, accented));
+  // No character is cut in two: what is kept of the name ends on a whole "é".
+  const std::string kept = temporary.substr(1, temporary.find(".tmp-") - 1);
+  EXPECT_EQ(kept.size() % 2, 0u);
+}
+
+// Issue 29 item 3: an empty path names no file.
+TEST_F(OutputDestinationTest, AnEmptyPathIsRefused) {
+  ExpectInputError([&] { ResolveOutputDestination(""); }, {"an empty path names no file"});
+  ExpectInputError([&] { WriteDirectoryAtomically("", [](const fs::path&) {}); },
+                   {"an empty path names no folder"});
+}
+
 }  // namespace
 }  // namespace napkin::util
