@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Named(const fs::path& path) { return "'" + path.string() + "'"; }
+std::string QuotedPath(const fs::path& path) { return "'" + path.string() + "'"; }
 
 std::string ErrnoText(int error) { return std::strerror(error); }
 
@@ -47,7 +47,7 @@ std::string KindOf(mode_t mode) {
 }
 
 [[noreturn]] void ChangedMeanwhile(const fs::path& destination, const std::string& now) {
-  throw InputError(Named(destination) + " changed while napkin was writing it (it is now " + now +
+  throw InputError(QuotedPath(destination) + " changed while napkin was writing it (it is now " + now +
                    "); nothing was written over it (try again).");
 }
 
@@ -91,7 +91,7 @@ AtomicFile::AtomicFile(std::filesystem::path destination)
         const fs::path where =
             target_.path.parent_path().empty() ? fs::path(".") : target_.path.parent_path();
         throw InputError(destination_.string() + ": cannot create the output file in the folder " +
-                         Named(where) + " (" + ErrnoText(error) + ").");
+                         QuotedPath(where) + " (" + ErrnoText(error) + ").");
       }
       if (replacing) {
         // The replaced file's owner, group and mode (a private file stays
@@ -258,17 +258,17 @@ void PlanMoves(const std::shared_ptr<UniqueFd>& from, const std::shared_ptr<Uniq
       auto inner =
           std::make_shared<UniqueFd>(::openat(to->get(), name.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
       if (!inner->valid())
-        throw InputError(Named(target) + " exists and is not a folder; napkin does not replace it.");
+        throw InputError(QuotedPath(target) + " exists and is not a folder; napkin does not replace it.");
       struct stat opened {};
       if (::fstat(inner->get(), &opened) != 0 || opened.st_dev != plan.device)
-        throw InputError(Named(target) +
+        throw InputError(QuotedPath(target) +
                          " is on another file system than the export's folder (a link to elsewhere?): napkin "
                          "moves an export's files into place by renaming them, which cannot cross file "
                          "systems; nothing was exported (export into a folder on that file system).");
       auto staged_inner = std::make_shared<UniqueFd>(
           ::openat(from->get(), name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
       if (!staged_inner->valid())
-        throw InputError(Named(target) + ": cannot open the staged folder (" + ErrnoText(errno) + ").");
+        throw InputError(QuotedPath(target) + ": cannot open the staged folder (" + ErrnoText(errno) + ").");
       PlanMoves(staged_inner, inner, target, replace_existing, plan);
       continue;
     }
@@ -279,9 +279,9 @@ void PlanMoves(const std::shared_ptr<UniqueFd>& from, const std::shared_ptr<Uniq
     CheckNotProtected(entry, target.string());
     if (exists) {
       if (!S_ISREG(existing.st_mode))
-        throw InputError(Named(target) + " exists and is not a regular file; napkin does not replace it.");
+        throw InputError(QuotedPath(target) + " exists and is not a regular file; napkin does not replace it.");
       if (!replace_existing)
-        throw InputError(Named(target) +
+        throw InputError(QuotedPath(target) +
                          " already exists; napkin does not replace it unless --force is given.");
     }
     Move move = MoveOf(from, to, name, target);

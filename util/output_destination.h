@@ -118,7 +118,8 @@ void CheckDistinctOutputs(const std::initializer_list<std::pair<std::string, std
 // whenever `name` does.
 std::string TemporaryNameFor(const std::string& name);
 // Whether `candidate` is such a temporary name of `name` (a stale one left by
-// a killed writer).
+// a killed writer). For a name cut short, any name with the same first bytes
+// matches too.
 bool IsTemporaryNameOf(const std::string& candidate, const std::string& name);
 
 }  // namespace napkin::util

@@ -347,7 +347,9 @@ class DestinationRace : public OutputDestinations {
       const RunResult run = Napkin(args);
       succeeded += run.exit_code == 0;
       // Any refusal is one sentence, never an internal error.
-      if (run.exit_code != 0) EXPECT_EQ(run.err.find("internal error"), std::string::npos) << run.err;
+      if (run.exit_code != 0) {
+        EXPECT_EQ(run.err.find("internal error"), std::string::npos) << run.err;
+      }
     }
     ::kill(flipper, SIGKILL);
     ::waitpid(flipper, nullptr, 0);
@@ -500,7 +502,9 @@ TEST_F(OutputDestinations, AReplacedFileKeepsItsModeAndOwner) {
   ASSERT_EQ(::chmod((dir_ / "private.csv").c_str(), 0600), 0);
   const bool root = ::geteuid() == 0;
   const uid_t nobody = 65534;
-  if (root) ASSERT_EQ(::chown((dir_ / "private.csv").c_str(), nobody, nobody), 0);
+  if (root) {
+    ASSERT_EQ(::chown((dir_ / "private.csv").c_str(), nobody, nobody), 0);
+  }
   const RunResult run = Napkin({"export", "--test", "e1", "--format", "csv", "--out", "private.csv"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   struct stat replaced {};
@@ -546,6 +550,19 @@ TEST_F(OutputDestinations, TheLongestLegalNamesCanBeWritten) {
     EXPECT_EQ(ReadText(dir_ / name), reference);
     // Again, over the file now there.
     ASSERT_EQ(Napkin({"export", "--test", "e1", "--format", "csv", "--out", name}).exit_code, 0);
+  }
+  // A 246-byte test id names the files of the folder exports: "<id>.mme" (250
+  // bytes), "F<id>AM00.00X" (UDS, 255 bytes).
+  const std::string long_id(246, 'L');
+  ASSERT_EQ(Napkin({"import", "--array", "denton-3222", "--test-id", long_id, "e1.csv"}).exit_code, 0);
+  const RunResult processed = Napkin({"run", "--test", long_id});
+  ASSERT_EQ(processed.exit_code, 0) << processed.err;
+  for (const std::string format : {"isomme", "uds"}) {
+    const RunResult run = Napkin({"export", "--test", long_id, "--format", format, "--out", format});
+    ASSERT_EQ(run.exit_code, 0) << format << ": " << run.err;
+    EXPECT_TRUE(
+        fs::exists(dir_ / format / (format == "isomme" ? long_id + ".mme" : "F" + long_id + "AM00.00X")))
+        << format;
   }
   // A UTF-8 name cut for the temporary name is cut between characters: "é" is 2 bytes.
   std::string accented;
