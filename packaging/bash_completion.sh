@@ -9,7 +9,9 @@
 #   - the values of options whose help names a preset (--array, --channel-map, --config): the
 #     preset names installed beside napkin (<bindir>/../share/napkin/config/<kind>/*.json) and files;
 #   - the words a positional may be where its type lists them (query's KIND);
-#   - everything else (inputs, outputs, other option values): file names.
+#   - everything else (inputs, outputs, other option values): file names, one completion a file
+#     (a name with spaces stays one word, also when the word typed is escaped or quoted);
+#   - an option's value also in the --option=value form.
 # Usage: bash_completion.sh <path to napkin> <output file>
 set -euo pipefail
 NAPKIN=$1
@@ -44,6 +46,7 @@ global_options=$(options_words "" | tr '\n' ' ' | sed 's/ $//')
 {
   echo "# bash completion for napkin: generated from \`napkin --help\` of $("$NAPKIN" --version) by"
   echo "# packaging/bash_completion.sh (subcommands, their options, preset names, files)."
+  echo "# shellcheck shell=bash"
   echo
   # The helpers do not depend on napkin's options: written as they are.
   cat << 'HELPERS'

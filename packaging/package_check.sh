@@ -24,7 +24,7 @@ step() { echo "napkin package-check: $*"; }
 shopt -s nullglob
 debs=("$build_dir"/napkin_*.deb)
 [ ${#debs[@]} = 1 ] || fail "expected one napkin_*.deb in $build_dir (run make package), found ${#debs[@]}."
-deb=${debs[0]}
+deb=$(realpath "${debs[0]}")  # absolute: the checks below run in a temporary folder
 version=$(dpkg-deb -f "$deb" Version)
 arch=$(dpkg-deb -f "$deb" Architecture)
 [ "$arch" = "$(dpkg --print-architecture)" ] || fail "$deb is for $arch, not this machine's $(dpkg --print-architecture)."
@@ -58,7 +58,7 @@ done
 # lintian, Debian's package checker: no errors (E:). The warnings that remain, and why, are in
 # packaging/README.md. --fail-on none: its exit status then says only whether lintian itself ran.
 step "lintian $deb"
-lintian_output=$(lintian --fail-on none --no-tag-display-limit "$deb" 2>&1) ||
+lintian_output=$(lintian --fail-on none --tag-display-limit 0 "$deb" 2>&1) ||
   fail "lintian could not check $deb: $lintian_output"
 [ -z "$lintian_output" ] || echo "$lintian_output"
 ! grep -q '^E: ' <<< "$lintian_output" || fail "lintian reports errors (E:) on $deb (above)."
@@ -138,7 +138,8 @@ touch "$dpkg_root/var/lib/dpkg/status"
 private_dpkg=(dpkg --root="$dpkg_root" --force-script-chrootless --force-depends --force-not-root --log=/dev/null)
 "${private_dpkg[@]}" --install "$deb" > dpkg-install.log 2>&1 ||
   { cat dpkg-install.log; fail "dpkg --install $deb into $dpkg_root failed (its output above)."; }
-PYTHONPATH=$dpkg_root/usr/lib/python3/dist-packages "$python" -c 'import napkin'
+# (PYTHONDONTWRITEBYTECODE, if the caller's environment sets it, would keep python3 from writing.)
+env -u PYTHONDONTWRITEBYTECODE PYTHONPATH="$dpkg_root/usr/lib/python3/dist-packages" "$python" -c 'import napkin'
 [ -d "$dpkg_root/usr/lib/python3/dist-packages/napkin/__pycache__" ] ||
   fail "import napkin wrote no __pycache__ into $dpkg_root/usr/lib/python3/dist-packages/napkin: the purge below would prove nothing."
 "${private_dpkg[@]}" --purge napkin > dpkg-purge.log 2>&1 ||
