@@ -26,8 +26,9 @@ FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev \
   clang-tidy clang
 # What `make package` adds: the Python module's build and tests; help2man writes the man page;
-# dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page.
-PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db
+# dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page;
+# lintian checks the package (make package-check).
+PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db lintian
 
 .PHONY: deps program-deps fuzz-deps tidy-deps package-deps demo test build release bench fuzz tidy format format-check \
   package package-check clean

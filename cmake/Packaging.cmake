@@ -41,10 +41,30 @@ add_custom_command(
   WORKING_DIRECTORY ${_packaging_dir}
   COMMENT "bash completion of napkin's subcommands and options from napkin --help"
   VERBATIM)
+# The package's changelog (Debian policy 12.7), packaging/changelog in Debian's format: napkin is
+# a native package (its version has no Debian revision), so lintian wants it as
+# /usr/share/doc/napkin/changelog.gz, not changelog.Debian.gz. Its latest entry must be this
+# version: dpkg and lintian read the package's version from it.
+file(STRINGS ${PROJECT_SOURCE_DIR}/packaging/changelog _changelog_head LIMIT_COUNT 1)
+string(REGEX REPLACE "^napkin \\(([^)]*)\\) .*" "\\1" _changelog_version "${_changelog_head}")
+if(NOT _changelog_version STREQUAL PROJECT_VERSION)
+  message(FATAL_ERROR "packaging/changelog: its latest entry is \"${_changelog_head}\", not napkin (${PROJECT_VERSION}); add an entry for the version in project().")
+endif()
+set(_changelog ${_packaging_dir}/changelog)
+add_custom_command(
+  OUTPUT ${_changelog}.gz
+  COMMAND ${CMAKE_COMMAND} -E copy ${PROJECT_SOURCE_DIR}/packaging/changelog ${_changelog}
+  COMMAND ${NAPKIN_GZIP} -n -9 -f ${_changelog}
+  DEPENDS ${PROJECT_SOURCE_DIR}/packaging/changelog
+  WORKING_DIRECTORY ${_packaging_dir}
+  COMMENT "gzip: the package's changelog.gz"
+  VERBATIM)
 file(MAKE_DIRECTORY ${_packaging_dir})
-add_custom_target(napkin_package_docs ALL DEPENDS ${_man_page}.gz ${_completion})
+add_custom_target(napkin_package_docs ALL DEPENDS ${_man_page}.gz ${_completion} ${_changelog}.gz)
 install(FILES ${_man_page}.gz DESTINATION share/man/man1)
 install(FILES ${_completion} DESTINATION share/bash-completion/completions RENAME napkin)
+# Debian policy 12.5: the copyright file, uncompressed, in machine-readable DEP-5 format.
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/copyright ${_changelog}.gz DESTINATION share/doc/napkin)
 
 # The package: napkin_<version>_<arch>.deb (Debian's file naming), version from project().
 set(CPACK_GENERATOR DEB)
@@ -53,6 +73,10 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_STRIP_FILES ON)  # Debian policy 10.1: binaries are stripped
+# The maintainer script: prerm removes the bytecode python3 wrote beside the module, which dpkg
+# does not know (packaging/prerm); mode 0755 as lintian wants.
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/packaging/prerm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(NAPKIN_PACKAGE_MAINTAINER "napkin maintainers <maintainers@users.noreply.h-seed-27ac8218.example>"
     CACHE STRING "The Debian package's Maintainer field")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${NAPKIN_PACKAGE_MAINTAINER}")

@@ -9,7 +9,11 @@
 #   - the man page renders without warnings (man -l), the bash completion completes;
 #   - `import napkin` loads the packaged module, and the pytest suite python/tests passes against
 #     the packaged napkin and module;
-#   - Depends names the runtime libraries (TBB, SQLite, spdlog/fmt, libzip; dpkg-shlibdeps).
+#   - Depends names the runtime libraries (TBB, SQLite, spdlog/fmt, libzip; dpkg-shlibdeps);
+#   - lintian reports no errors (E:);
+#   - the completion completes file names with spaces and --option=value;
+#   - dpkg installs it into a private root (never /) and purges it without leaving a file behind,
+#     although python3 wrote bytecode beside the module in between.
 # Usage: package_check.sh <build dir of `make package`>
 set -euo pipefail
 build_dir=$1
@@ -20,7 +24,7 @@ step() { echo "napkin package-check: $*"; }
 shopt -s nullglob
 debs=("$build_dir"/napkin_*.deb)
 [ ${#debs[@]} = 1 ] || fail "expected one napkin_*.deb in $build_dir (run make package), found ${#debs[@]}."
-deb=${debs[0]}
+deb=$(realpath "${debs[0]}")  # absolute: the checks below run in a temporary folder
 version=$(dpkg-deb -f "$deb" Version)
 arch=$(dpkg-deb -f "$deb" Architecture)
 [ "$arch" = "$(dpkg --print-architecture)" ] || fail "$deb is for $arch, not this machine's $(dpkg --print-architecture)."
@@ -50,6 +54,14 @@ for library in 'libtbb' 'libsqlite3' 'libspdlog|libfmt' 'libzip' 'python3-numpy'
   grep -qE "(^|[ ,])($library)" <<< "$depends" || missing="${missing:+$missing, }${library//|/ or }"
 done
 [ -z "$missing" ] || fail "Depends of $deb does not name $missing."
+
+# lintian, Debian's package checker: no errors (E:). The warnings that remain, and why, are in
+# packaging/README.md. --fail-on none: its exit status then says only whether lintian itself ran.
+step "lintian $deb"
+lintian_output=$(lintian --fail-on none --tag-display-limit 0 "$deb" 2>&1) ||
+  fail "lintian could not check $deb: $lintian_output"
+[ -z "$lintian_output" ] || echo "$lintian_output"
+! grep -q '^E: ' <<< "$lintian_output" || fail "lintian reports errors (E:) on $deb (above)."
 
 cd "$work"  # nothing below may pick up the source or build tree by accident
 unset NAPKIN_CONFIG_DIR
@@ -86,6 +98,23 @@ completion=$(PATH="$root/usr/bin:$PATH" bash -c '
 ' bash "$root/usr/share/bash-completion/completions/napkin")
 [ "$completion" = $'transform\n--array\ndenton-3222' ] ||
   fail "the bash completion completes \"napkin tran\", \"napkin transform --arr\", \"--array denton\" as \"${completion//$'\n'/ | }\"."
+# The words as bash hands them over (COMP_WORDBREAKS holds "="): "--format=" is "--format" "=", and
+# "--format=c" is "--format" "=" "c". A file name with a space is one completion, whether the word
+# typed so far is plain, escaped or quoted. Each COMPREPLY is printed as its elements between [].
+touch "my data.csv"
+completion=$(PATH="$root/usr/bin:$PATH" bash -c '
+  . "$1"
+  complete_line() {
+    COMP_WORDS=("$@"); COMP_CWORD=$((${#COMP_WORDS[@]} - 1)); COMPREPLY=(); _napkin
+    printf "[%s]" "${COMPREPLY[@]}"; echo
+  }
+  complete_line napkin query tests --format =; complete_line napkin query tests --format = c
+  complete_line napkin transform --array denton-3222 my; complete_line napkin transform --array denton-3222 "my\ d"
+  complete_line napkin transform --array denton-3222 "\"my d"; complete_line napkin transform --out = my
+' bash "$root/usr/share/bash-completion/completions/napkin")
+expected=$'[table][csv][json]\n[csv]\n[my data.csv]\n[my data.csv]\n[my data.csv]\n[my data.csv]'
+[ "$completion" = "$expected" ] ||
+  fail "the bash completion completes \"query tests --format=\", \"--format=c\", \"transform ... my\", \"my\\ d\", \"\\\"my d\", \"--out=my\" as \"${completion//$'\n'/ | }\", not \"${expected//$'\n'/ | }\"."
 
 # Debian's interpreter, the one the package's module is for (Depends: python3), whatever comes first in PATH.
 python=/usr/bin/python3
@@ -98,4 +127,25 @@ step "pytest python/tests against the package"
 NAPKIN_BIN=$napkin PYTHONPATH=$site NAPKIN_NHTSA_FRONTAL_DIR=${NAPKIN_NHTSA_FRONTAL_DIR:-$source_dir/../shared/data/nhtsa-frontal} \
   "$python" -m pytest -q -p no:cacheprovider "$source_dir/python/tests" ||
   fail "the pytest suite python/tests fails against the package (above)."
+# Install and purge with dpkg itself, into a private root under $work (dpkg --root: its own
+# database; the maintainer scripts run outside a chroot with DPKG_ROOT set), never into /.
+# Between the two, python3 imports the module as root would: it writes __pycache__ beside it,
+# which the package's prerm must remove for the purge to leave nothing behind.
+step "dpkg --install, import napkin, dpkg --purge in $work/dpkg-root"
+dpkg_root=$work/dpkg-root
+mkdir -p "$dpkg_root/var/lib/dpkg/info" "$dpkg_root/var/lib/dpkg/updates"
+touch "$dpkg_root/var/lib/dpkg/status"
+private_dpkg=(dpkg --root="$dpkg_root" --force-script-chrootless --force-depends --force-not-root --log=/dev/null)
+"${private_dpkg[@]}" --install "$deb" > dpkg-install.log 2>&1 ||
+  { cat dpkg-install.log; fail "dpkg --install $deb into $dpkg_root failed (its output above)."; }
+# (PYTHONDONTWRITEBYTECODE, if the caller's environment sets it, would keep python3 from writing.)
+env -u PYTHONDONTWRITEBYTECODE PYTHONPATH="$dpkg_root/usr/lib/python3/dist-packages" "$python" -c 'import napkin'
+[ -d "$dpkg_root/usr/lib/python3/dist-packages/napkin/__pycache__" ] ||
+  fail "import napkin wrote no __pycache__ into $dpkg_root/usr/lib/python3/dist-packages/napkin: the purge below would prove nothing."
+"${private_dpkg[@]}" --purge napkin > dpkg-purge.log 2>&1 ||
+  { cat dpkg-purge.log; fail "dpkg --purge napkin in $dpkg_root failed (its output above)."; }
+! grep -i 'warning' dpkg-purge.log || fail "dpkg --purge napkin warns (above)."
+left=$(find "$dpkg_root" -path "$dpkg_root/var/lib/dpkg" -prune -o -type f -print)
+[ -z "$left" ] || fail "dpkg --purge napkin left files behind: $left"
+
 step "ok: $deb"
