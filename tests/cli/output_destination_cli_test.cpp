@@ -526,14 +526,11 @@ TEST_F(OutputDestinations, AReplacedFileKeepsItsModeAndOwner) {
 
 // Issue 29 item 8: a missing temporary folder is a sentence naming it.
 TEST_F(OutputDestinations, AMissingTemporaryFolderIsNamed) {
-  const char* previous = std::getenv("TMPDIR");
-  const std::string saved = previous != nullptr ? previous : "";
-  ::setenv("TMPDIR", "/nonexistent-napkin-tmp", 1);
-  const RunResult run = Napkin({"report", "--out", "r.html"});
-  if (previous != nullptr)
-    ::setenv("TMPDIR", saved.c_str(), 1);
-  else
-    ::unsetenv("TMPDIR");
+  // Set for napkin only (the test's own helpers use TMPDIR too).
+  const RunResult run = napkin::test_support::RunProgram(
+      "/usr/bin/env",
+      {"TMPDIR=/nonexistent-napkin-tmp", NAPKIN_BINARY, "--db", Db(), "report", "--out", "r.html"},
+      dir_.path());
   EXPECT_EQ(run.exit_code, 1) << run.err;
   ExpectOneSentenceError(run, {"the temporary folder '/nonexistent-napkin-tmp' (TMPDIR)"});
   EXPECT_FALSE(fs::exists(dir_ / "r.html"));
@@ -554,7 +551,8 @@ TEST_F(OutputDestinations, TheLongestLegalNamesCanBeWritten) {
   // A 246-byte test id names the files of the folder exports: "<id>.mme" (250
   // bytes), "F<id>AM00.00X" (UDS, 255 bytes).
   const std::string long_id(246, 'L');
-  ASSERT_EQ(Napkin({"import", "--array", "denton-3222", "--test-id", long_id, "e1.csv"}).exit_code, 0);
+  formats::WriteSignalsCsv(SynthNapTest(13, 0.03).signals, dir_ / "long.csv");
+  ASSERT_EQ(Napkin({"import", "--array", "denton-3222", "--test-id", long_id, "long.csv"}).exit_code, 0);
   const RunResult processed = Napkin({"run", "--test", long_id});
   ASSERT_EQ(processed.exit_code, 0) << processed.err;
   for (const std::string format : {"isomme", "uds"}) {
