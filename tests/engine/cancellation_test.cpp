@@ -55,7 +55,7 @@ TEST(Cancellation, AnUnsetFlagChangesNothing) {
     const synth::SyntheticTest test = RandomTest(array);
     const ProcessedTest with_flag = ProcessTest(test.array, test.signals, test.initial, {}, &cancel);
     const ProcessedTest without = ProcessTest(test.array, test.signals, test.initial, {});
-    EXPECT_EQ(with_flag.summary.hic15, without.summary.hic15) << array.name;
+    EXPECT_EQ(with_flag.summary.hic15.value, without.summary.hic15.value) << array.name;
     EXPECT_EQ(with_flag.kinematics.acc_body, without.kinematics.acc_body) << array.name;
   }
 }
