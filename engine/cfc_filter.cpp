@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "engine/cancellation.h"
 #include "engine/units.h"
 
 namespace napkin::engine {
@@ -66,7 +67,8 @@ void RunPass(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward) 
 using LaneVector = double __attribute__((vector_size(2 * sizeof(double))));
 constexpr Eigen::Index kLanes = 4;
 
-void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward) {
+void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward,
+                        const std::atomic<bool>* cancel) {
   const LaneVector a0 = {c.a0, c.a0}, a1 = {c.a1, c.a1}, a2 = {c.a2, c.a2};
   const LaneVector b1 = {c.b1, c.b1}, b2 = {c.b2, c.b2};
   Eigen::Index k = forward ? 0 : n - 1;
@@ -77,6 +79,7 @@ void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, boo
   LaneVector x1_lo = first_lo, x2_lo = first_lo, y1_lo = first_lo, y2_lo = first_lo;
   LaneVector x1_hi = first_hi, x2_hi = first_hi, y1_hi = first_hi, y2_hi = first_hi;
   for (Eigen::Index count = 0; count < n; ++count, k += step) {
+    ThrowIfCancelled(cancel, count);
     double* row = w + k * kLanes;
     LaneVector x_lo, x_hi;
     std::memcpy(&x_lo, row, sizeof x_lo);
@@ -196,7 +199,8 @@ void CfcFilter::Apply(const Eigen::Ref<const Eigen::VectorXd>& input, Eigen::Ref
 }
 
 void CfcFilter::ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples,
-                                      const std::vector<Eigen::Index>& columns) {
+                                      const std::vector<Eigen::Index>& columns,
+                                      const std::atomic<bool>* cancel) {
   const Eigen::Index n = samples.rows();
   if (n < 2) return;  // fewer than 2 samples stay as they are
   const Eigen::Index pad = PaddingSamples(n);
@@ -218,8 +222,8 @@ void CfcFilter::ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples,
       }
       for (Eigen::Index k = 0; k < n; ++k) w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)] = input[k];
     }
-    RunPassInterleaved(coefficients_, w, total, /*forward=*/true);
-    RunPassInterleaved(coefficients_, w, total, /*forward=*/false);
+    RunPassInterleaved(coefficients_, w, total, /*forward=*/true, cancel);
+    RunPassInterleaved(coefficients_, w, total, /*forward=*/false, cancel);
     for (std::size_t lane = 0; lane < lanes; ++lane) {
       auto output = samples.col(columns[group + lane]);
       for (Eigen::Index k = 0; k < n; ++k)

@@ -19,6 +19,7 @@
 // value, so constants and straight lines pass unchanged, ends included.
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -111,8 +112,10 @@ class CfcFilter {
   // abreast: each output waits on the channel's previous output (a chain of
   // multiply-adds), and interleaving channels fills the pipeline meanwhile
   // (twice the speed of one at a time on nine channels:
-  // napkin_bench --benchmark_filter=NineChannels).
-  void ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples, const std::vector<Eigen::Index>& columns);
+  // napkin_bench --benchmark_filter=NineChannels). Throws Cancelled once
+  // `cancel` is set (engine/cancellation.h).
+  void ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples, const std::vector<Eigen::Index>& columns,
+                             const std::atomic<bool>* cancel = nullptr);
 
  private:
   double cfc_hz_;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "engine/cancellation.h"
 #include "engine/injury_risk.h"
 #include "engine/units.h"
 
@@ -264,7 +265,8 @@ namespace {
 // window is the same, since every window that could beat or tie it is still
 // visited.
 HicBest SearchHic(const HicProblem& problem, const HicSegmentTree& tree, double max_abs_step,
-                  Eigen::Index max_steps, double dt_s, const HicBest& seed) {
+                  Eigen::Index max_steps, double dt_s, const HicBest& seed,
+                  const std::atomic<bool>* cancel = nullptr) {
   const Eigen::Index count = problem.count;
   HicBest best = seed;
   if (count < 2) return best;
@@ -327,7 +329,8 @@ HicBest SearchHic(const HicProblem& problem, const HicSegmentTree& tree, double 
   std::vector<BlockPair> stack;
   stack.reserve(256);
   stack.push_back({1, 1, 0, 0, tree.leaves});
-  while (!stack.empty()) {
+  for (Eigen::Index visited = 0; !stack.empty(); ++visited) {
+    ThrowIfCancelled(cancel, visited);
     const BlockPair pair = stack.back();
     stack.pop_back();
     if (pair.q_lo >= count) continue;
@@ -384,7 +387,8 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
 }
 
 std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
-                                     const std::vector<double>& windows_s, bool from_time_zero) {
+                                     const std::vector<double>& windows_s, bool from_time_zero,
+                                     const std::atomic<bool>* cancel) {
   for (const double window_s : windows_s) CheckHicWindow(window_s);
   HicOptions options;
   options.from_time_zero = from_time_zero;
@@ -395,6 +399,7 @@ std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& ac
     return windows;
   }
   const double* integral = problem.integral.data();
+  ThrowIfCancelled(cancel);
   const HicSegmentTree tree = BuildHicSegmentTree(integral, problem.count);
   const double max_abs_step = MaxAbsStep(integral, problem.count);
   // Shortest limit first: its best window is a window of every longer limit.
@@ -406,7 +411,8 @@ std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& ac
   for (const std::size_t w : order) {
     const Eigen::Index max_steps = HicMaxSteps(windows_s[w], dt_s, problem.count);
     if (seed.i >= 0 && seed.j - seed.i > max_steps) seed = HicBest{};
-    seed = SearchHic(problem, tree, max_abs_step, max_steps, dt_s, seed);
+    ThrowIfCancelled(cancel);
+    seed = SearchHic(problem, tree, max_abs_step, max_steps, dt_s, seed, cancel);
     windows[w] = MakeHicWindow(problem, seed, dt_s, t0_s);
   }
   return windows;
@@ -531,7 +537,8 @@ double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, c
 
 // ---------------------------------------------------------------------------
 
-void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary) {
+void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary,
+                  const std::atomic<bool>* cancel) {
   const Eigen::Index n = kinematics.size();
   if (n < 2) throw InputError("injury criteria need at least 2 samples of kinematics.");
   // Windows are found on sample indices and their length is steps x dt, so
@@ -548,16 +555,20 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
       rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / kStandardGravity)
                : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / kStandardGravity);
 
+  ThrowIfCancelled(cancel);
   const std::vector<HicWindow> hic = HicForWindows(
-      acc_g, dt, t0, {kHic15Window, kHic36Window, kUnlimitedHicWindow}, config.hic.from_time_zero);
+      acc_g, dt, t0, {kHic15Window, kHic36Window, kUnlimitedHicWindow}, config.hic.from_time_zero, cancel);
   summary.hic15 = hic[0];
   summary.hic36 = hic[1];
   summary.hic_d = HicD(summary.hic36.value);
   summary.hic = hic[2];
+  ThrowIfCancelled(cancel);
   summary.a3ms_g =
       config.a3ms.definition == A3msDefinition::kContinuous ? A3msContinuous(acc_g, dt) : A3ms(acc_g, dt);
   constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
+  ThrowIfCancelled(cancel);
   summary.bric = rotation ? Bric(kinematics.omega_body, config.bric.critical_radps) : kUndetermined;
+  ThrowIfCancelled(cancel);
   summary.damage = rotation ? Damage(kinematics.alpha_body, dt) : kUndetermined;
   FillInjuryRisks(summary);
 }

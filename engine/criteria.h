@@ -2,6 +2,7 @@
 // Head injury criteria (docs/algorithms.md "Injury criteria"): HIC (with its
 // window), a3ms, BrIC and DAMAGE.
 #include <Eigen/Core>
+#include <atomic>
 #include <limits>
 #include <vector>
 
@@ -52,8 +53,10 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
 // integral and the search tree are built once, and each limit's search
 // starts from the best window of the next shorter limit (a window of every
 // longer limit), so the answers are Hic's, bit for bit.
+// Throws Cancelled once `cancel` is set (engine/cancellation.h).
 std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
-                                     const std::vector<double>& windows_s, bool from_time_zero = false);
+                                     const std::vector<double>& windows_s, bool from_time_zero = false,
+                                     const std::atomic<bool>* cancel = nullptr);
 
 // The reference: every window, O(n * W / dt).
 HicWindow HicExhaustive(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
@@ -125,7 +128,9 @@ double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, c
 // time base must be uniform (dt: kinematics.dt_s, else from the first and
 // last samples; windows are found on sample indices, so a record starting
 // far from t = 0 gets the windows of one starting at 0); throws
-// InputError when there are fewer than 2 samples.
-void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary);
+// InputError when there are fewer than 2 samples, Cancelled once `cancel`
+// is set (engine/cancellation.h).
+void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary,
+                  const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace napkin::engine

@@ -6,6 +6,7 @@
 
 #include "common/error.h"
 #include "engine/array_analysis.h"
+#include "engine/cancellation.h"
 #include "engine/integration.h"
 #include "engine/rotation.h"
 #include "engine/rotation_angles.h"
@@ -96,8 +97,9 @@ MatrixXd MeasurementsBySample(const ArrayGeometry& array, const std::vector<std:
 class KinematicsCompleter {
  public:
   KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                      Kinematics& kin)
+                      Kinematics& kin, const std::atomic<bool>* cancel)
       : kin_(kin),
+        cancel_(cancel),
         gravity_(gravity),
         initial_(initial),
         fixed_from_body_0_(InitialFixedFromBody(initial.orientation_rad)),
@@ -173,7 +175,9 @@ class KinematicsCompleter {
   // Hermite rule, the slope of acc_fixed taken on the fly, in one pass.
   // The angles follow in a loop of their own (engine/rotation_angles.h).
   void Finish() {
+    ThrowIfCancelled(cancel_);
     OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad);
+    ThrowIfCancelled(cancel_);
     const Index n = kin_.size();
     if (n == 0) return;
     const Series3& acc = kin_.acc_fixed;
@@ -214,6 +218,7 @@ class KinematicsCompleter {
       }
     };
     for (Index k = 1; k + 1 < n; ++k) {
+      ThrowIfCancelled(cancel_, k);
       for (int c = 0; c < 3; ++c) rate[c] = (acc_col[c][k + 1] - acc_col[c][k - 1]) * inv_2dt;
       advance(k);
     }
@@ -224,6 +229,7 @@ class KinematicsCompleter {
 
  private:
   Kinematics& kin_;
+  const std::atomic<bool>* cancel_;
   const GravityOptions& gravity_;
   const InitialState& initial_;
   const Eigen::Matrix3d fixed_from_body_0_;
@@ -380,7 +386,7 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
     return residual.squaredNorm();
   };
 
-  KinematicsCompleter completer(options.initial, options.gravity, dt, out);
+  KinematicsCompleter completer(options.initial, options.gravity, dt, out, options.cancel);
   const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0, inv_2dt = 0.5 / dt;
   const int passes = options.corrector_passes;
   // P m of samples k - 2 .. k + 1 (k + 1 while it exists), and P_alpha m' at k.
@@ -400,6 +406,7 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   Vector3d alpha_measured_rate;
   Vector3d omega = options.initial.omega_body_radps, acc, alpha, alpha_rate;
   for (Index k = 0; k < n; ++k) {
+    ThrowIfCancelled(options.cancel, k);
     if (k > 0) {
       alpha_projected_km2 = alpha_projected_km1;
       alpha_projected_km1 = alpha_projected_k;
@@ -484,7 +491,8 @@ void OmegaFromRates(const ArrayGeometry& array, const TestSignals& signals, Kine
 // kSixAOmega: omega and alpha known, the linear sensors give
 //   n.a = m - (r x n).alpha - c(omega),
 // least squares over their (spanning) sense axes.
-void SolveSixAOmega(const ArrayGeometry& array, const TestSignals& signals, Kinematics& out) {
+void SolveSixAOmega(const ArrayGeometry& array, const TestSignals& signals, Kinematics& out,
+                    const std::atomic<bool>* cancel) {
   OmegaFromRates(array, signals, out);
   LinearSensors sensors(array, array.LinearIndices());
   const Index count = sensors.size(), n = signals.size();
@@ -495,6 +503,7 @@ void SolveSixAOmega(const ArrayGeometry& array, const TestSignals& signals, Kine
   VectorXd centripetal(count), rhs(count), fitted(count), tangential(count);
   Vector3d acc;
   for (Index k = 0; k < n; ++k) {
+    ThrowIfCancelled(cancel, k);
     const Vector3d omega = out.omega_body.row(k).transpose();
     const Vector3d alpha = out.alpha_body.row(k).transpose();
     sensors.Centripetal(omega, centripetal);
@@ -513,7 +522,8 @@ void SolveSixAOmega(const ArrayGeometry& array, const TestSignals& signals, Kine
 //   rate rows     alpha = d omega/dt (five-point)         weight 1/sigma_alpha
 // with the nominal sigmas of exact_solver.h. The residual is the weighted
 // residual norm times sigma_linear, i.e. in m/s^2 of a linear channel.
-void SolveFused(const ArrayGeometry& array, const TestSignals& signals, Kinematics& out) {
+void SolveFused(const ArrayGeometry& array, const TestSignals& signals, Kinematics& out,
+                const std::atomic<bool>* cancel) {
   OmegaFromRates(array, signals, out);
   LinearSensors sensors(array, array.LinearIndices());
   const Index count = sensors.size(), n = signals.size();
@@ -527,6 +537,7 @@ void SolveFused(const ArrayGeometry& array, const TestSignals& signals, Kinemati
   VectorXd centripetal(count), rhs(count + 3), fitted(count + 3);
   Vector6d solution;
   for (Index k = 0; k < n; ++k) {
+    ThrowIfCancelled(cancel, k);
     const Vector3d omega = out.omega_body.row(k).transpose();
     sensors.Centripetal(omega, centripetal);
     rhs.head(count) = (measured.col(k) - centripetal) / sigma_linear;
@@ -561,9 +572,12 @@ ExactPath ClassifyArray(const ArrayGeometry& array) {
 }
 
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                        Kinematics& kin) {
-  KinematicsCompleter completer(initial, gravity, dt_s, kin);
-  for (Index k = 0; k < kin.size(); ++k) completer.Step(k);
+                        Kinematics& kin, const std::atomic<bool>* cancel) {
+  KinematicsCompleter completer(initial, gravity, dt_s, kin, cancel);
+  for (Index k = 0; k < kin.size(); ++k) {
+    ThrowIfCancelled(cancel, k);
+    completer.Step(k);
+  }
   completer.Finish();
 }
 
@@ -593,20 +607,22 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
       return kin;
     }
     case ExactPath::kSixAOmega:
-      SolveSixAOmega(array, signals, kin);
+      SolveSixAOmega(array, signals, kin, options.cancel);
       break;
     case ExactPath::kFused:
-      SolveFused(array, signals, kin);
+      SolveFused(array, signals, kin, options.cancel);
       break;
     case ExactPath::kAccelerationOnly:
       if (options.gravity.compensate)
         throw InputError("array '" + array.name +
                          "' cannot determine rotation, so gravity compensation (which needs the head's "
                          "orientation) is impossible; set gravity.compensate to false.");
+      ThrowIfCancelled(options.cancel);
       SolveAccelerationOnly(array, signals, kin);
       return kin;
   }
-  CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin);
+  ThrowIfCancelled(options.cancel);
+  CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
   return kin;
 }
 

@@ -54,8 +54,9 @@ Kinematics SolveExact(const ArrayGeometry& validated_array, const TestSignals& s
 // R0 = InitialFixedFromBody(initial.orientation_rad), applies the gravity
 // compensation a_body += (R^T - R0^T) g_fixed when asked, rotates to fixed
 // axes and integrates velocity (from initial.velocity_fixed_mps) and position
-// (from 0) with the Hermite rule.
+// (from 0) with the Hermite rule. Throws Cancelled once `cancel` is set
+// (engine/cancellation.h).
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                        Kinematics& kinematics);
+                        Kinematics& kinematics, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace napkin::engine

@@ -5,7 +5,9 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "engine/cancellation.h"
 #include "engine/criteria.h"
+#include "engine/exact_solver.h"
 #include "engine/screening.h"
 #include "engine/solver.h"
 
@@ -84,22 +86,28 @@ void CheckTimeBaseAndInitialState(const TestSignals& signals, const InitialState
 }  // namespace
 
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
-                          const InitialState& initial, const ProcessingConfig& config) {
+                          const InitialState& initial, const ProcessingConfig& config,
+                          const std::atomic<bool>* cancel) {
   config.Check();
   CheckTimeBaseAndInitialState(raw_signals, initial, config);
+  ThrowIfCancelled(cancel);
   // Screening runs on the raw signals first (report section 2.2: check the
   // data before using them). A missing channel or a non-finite sample makes
   // the test unusable: stop with the finding's sentence (slot, sample, time).
   std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
   const auto fatal = std::find_if(findings.begin(), findings.end(), IsFatal);
   if (fatal != findings.end()) throw InputError(fatal->detail);
+  ThrowIfCancelled(cancel);
 
   TestSignals signals = raw_signals;
   ProcessedTest processed;
-  processed.summary.conditioning = ApplyConditioning(array, signals, config);
+  processed.summary.conditioning = ApplyConditioning(array, signals, config, cancel);
   AppendFindings(ConditioningFindings(processed.summary.conditioning), findings);
-  const SolveOptions options = MakeSolveOptions(config, initial);
+  ThrowIfCancelled(cancel);
+  SolveOptions options = MakeSolveOptions(config, initial);
+  options.cancel = cancel;
   processed.kinematics = Solve(array, signals, options);
+  ThrowIfCancelled(cancel);
 
   // Rigid-body consistency is judged by the exact solver's residual, also
   // when the result comes from the seed solver. Without rotation there is
@@ -120,6 +128,7 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
     AppendFindings(ScreenConsistency(array, signals, exact, exact_options, config.screening), findings);
     exact_residual = exact.residual;
   }
+  ThrowIfCancelled(cancel);
 
   // Signals far from a rigid body (a flipped or swapped channel of a
   // linear-only array) can make the integrated angular velocity diverge:
@@ -144,11 +153,64 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   // computes": screening): it fails the test like any error finding.
   if (!exact_residual.allFinite()) exact_residual.resize(0);
   AppendFindings(ScreenPlausibility(processed.kinematics, exact_residual, config), findings);
+  ThrowIfCancelled(cancel);
 
   SummarizeKinematics(processed.kinematics, processed.summary);
-  FillCriteria(processed.kinematics, config, processed.summary);
+  ThrowIfCancelled(cancel);
+  FillCriteria(processed.kinematics, config, processed.summary, cancel);
   processed.summary.findings = std::move(findings);
   return processed;
+}
+
+std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,
+                               const ProcessingConfig& config) {
+  if (samples <= 0) return 0;
+  // Counted in columns of `samples` doubles (one series component each).
+  ArrayGeometry validated = array;
+  bool rotation = true;  // an array that cannot be validated: assume the larger kinematics
+  ExactPath path = ExactPath::kLinear;
+  try {
+    ValidateArray(validated);
+    rotation = DeterminesRotation(validated);
+    path = ClassifyArray(validated);
+  } catch (const InputError&) {
+  }
+  const auto slots = static_cast<double>(array.sensors.size());
+  std::size_t linear = 0, rates = 0;
+  for (const Sensor& sensor : array.sensors) (sensor.kind == SensorKind::kLinear ? linear : rates) += 1;
+  const double n = static_cast<double>(samples);
+
+  // Held to the end: the conditioned copy of the signals and the kinematics
+  // (engine/kinematics.h: 1 + 10 x 3 + 4 + 1 series; time and acc_body only
+  // without rotation).
+  const double kinematics = rotation ? 36.0 : 4.0;
+  const double held = slots + kinematics;
+  // Conditioning: each filter in use pads its channels by up to
+  // max(padding_s, 1 / CFC) at both ends and runs four channels abreast.
+  double filtering = 0.0;
+  const auto filter_columns = [&](std::size_t count, const std::optional<double>& cfc) {
+    if (count == 0 || !cfc || !(dt_s > 0.0)) return 0.0;
+    const double pad = std::min(std::ceil(std::max(config.filter.padding_s, 1.0 / *cfc) / dt_s), n - 1.0);
+    return 4.0 * (n + 2.0 * pad) / n;
+  };
+  filtering += filter_columns(linear, config.filter.linear_cfc);
+  filtering += filter_columns(rates, config.filter.angular_rate_cfc);
+  // The solver's own series: the channels sample by sample (rates and
+  // linear), omega and its derivative; the seed solver's REAL*4 listing
+  // (about 20 columns) and, alongside its result, the exact solve that
+  // judges its consistency.
+  double solving = 3.0 * slots + 12.0;
+  if (path == ExactPath::kSixAOmega || path == ExactPath::kFused) solving += slots + 9.0;
+  if (config.solver == SolverKind::kSeed) solving += 20.0 + kinematics;
+  // Criteria: the resultant, the HIC integral and its segment tree (three
+  // arrays of twice the next power of two), DAMAGE's displacement.
+  const double leaves = std::exp2(std::ceil(std::log2(std::max(n, 1.0))));
+  const double criteria = 2.0 + 6.0 * leaves / n + 9.0;
+  const double columns = held + std::max({filtering, solving, criteria});
+  // Plus a fixed allowance for the findings, the summary and the allocator.
+  constexpr double kFixedBytes = 16.0 * (1 << 20);
+  return static_cast<std::uint64_t>(
+      std::ceil(columns * n * static_cast<double>(sizeof(double)) + kFixedBytes));
 }
 
 const Finding* FailingFinding(const ProcessedTest& processed) {

@@ -4,6 +4,9 @@
 // `napkin transform` and the batch scheduler (jobs/) both call ProcessTest
 // and FailingFinding, so a catalogue result (or failure) equals the
 // single-test result (or error) for the same input and configuration.
+#include <atomic>
+#include <cstdint>
+
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
 #include "engine/processing.h"
@@ -23,8 +26,24 @@ struct ProcessedTest {
 // InputError naming the slot, sample or setting at fault: on a missing
 // channel or a non-finite sample (the screening sentence), and when the
 // solved kinematics diverge (quoting the screening error that explains it).
+// `cancel` (null: never) stops it: read between the stages and every
+// kCancellationStride samples of the long loops (filters, solvers, HIC
+// search), it makes ProcessTest throw Cancelled within milliseconds of being
+// set (engine/cancellation.h).
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
-                          const InitialState& initial, const ProcessingConfig& config);
+                          const InitialState& initial, const ProcessingConfig& config,
+                          const std::atomic<bool>* cancel = nullptr);
+
+// An upper estimate of the memory ProcessTest takes at its peak for `samples`
+// samples (sampling interval dt_s) of `array` under `config`, besides its
+// input: the conditioned copy of the signals, the filters' padded work
+// columns, the solver's working series (the seed solver's and the exact
+// solve that judges it), the kinematics it returns (36 series, 4 for an
+// acceleration-only array) and the HIC search's integral and tree. A caller
+// compares it (plus what it holds itself) with the memory available before
+// starting work that cannot fit (python/ transform; util/available_memory.h).
+std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,
+                               const ProcessingConfig& config);
 
 // The verdict on a processed test: it fails on its first error-severity
 // finding (README "What it computes": data screening: a flipped or swapped

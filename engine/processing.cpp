@@ -193,7 +193,7 @@ BiasSamples FindBiasSamples(const TestSignals& signals, const BiasConfig& bias) 
 // are, and so do columns the file records as filtered at the requested class
 // or a narrower one. Records the class applied in `conditioning`.
 void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const FilterConfig& config,
-                    std::vector<ChannelConditioning>& conditioning) {
+                    std::vector<ChannelConditioning>& conditioning, const std::atomic<bool>* cancel) {
   std::optional<CfcFilter> linear_filter, rate_filter;
   if (config.linear_cfc)
     linear_filter.emplace(*config.linear_cfc, signals.dt_s, config.variant, config.padding_s);
@@ -218,8 +218,8 @@ void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const Filt
     record.filter_cfc = *requested;
   }
   // Several channels at once (CfcFilter::ApplyInPlaceToColumns).
-  if (!linear_columns.empty()) linear_filter->ApplyInPlaceToColumns(signals.samples, linear_columns);
-  if (!rate_columns.empty()) rate_filter->ApplyInPlaceToColumns(signals.samples, rate_columns);
+  if (!linear_columns.empty()) linear_filter->ApplyInPlaceToColumns(signals.samples, linear_columns, cancel);
+  if (!rate_columns.empty()) rate_filter->ApplyInPlaceToColumns(signals.samples, rate_columns, cancel);
 }
 
 // Keeps the samples within [start_s, end_s] (either end optional).
@@ -252,7 +252,8 @@ bool PrefilterCovers(double prefiltered_cfc, double requested_cfc) {
 }
 
 std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
-                                                   const ProcessingConfig& config) {
+                                                   const ProcessingConfig& config,
+                                                   const std::atomic<bool>* cancel) {
   config.Check();
   CheckConditionable(signals);
   std::vector<ChannelConditioning> conditioning(static_cast<std::size_t>(signals.samples.cols()));
@@ -280,7 +281,7 @@ std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, T
   }
 
   // 3. CFC filtering per sensor kind.
-  FilterChannels(array, signals, config.filter, conditioning);
+  FilterChannels(array, signals, config.filter, conditioning, cancel);
 
   // 4. Crop.
   Crop(signals, config.time);

@@ -6,6 +6,7 @@
 // the configuration of stored results.
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string_view>
 
@@ -171,9 +172,11 @@ SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState
 //     sees real data rather than padding at the crop edges).
 // Returns what it did to each column, in column order. Throws InputError
 // naming the slot and sample on a non-finite value, and on an empty bias
-// window or a crop that leaves fewer than 2 samples.
+// window or a crop that leaves fewer than 2 samples; Cancelled once `cancel`
+// is set (engine/cancellation.h).
 std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
-                                                   const ProcessingConfig& config);
+                                                   const ProcessingConfig& config,
+                                                   const std::atomic<bool>* cancel = nullptr);
 
 // Whether a channel already filtered at `prefiltered_cfc` needs no filter of
 // class `requested_cfc`: the same or a narrower class was applied (1e-9

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "engine/cancellation.h"
 #include "engine/rotation.h"
 #include "engine/units.h"
 
@@ -206,7 +207,8 @@ void TrapInt(const float* z, float* w, Eigen::Index n, float w0, float wfac) {
 
 SeedGeometry SeedGeometryOf(const ArrayGeometry& array) { return GeometryOf(array, NapSensors(array)); }
 
-ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial) {
+ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial,
+                        const std::atomic<bool>* cancel) {
   const std::array<const Sensor*, 9> nap = NapSensors(array);
   const SeedGeometry geometry = GeometryOf(array, nap);
   const Eigen::Index npts = signals.size();
@@ -313,6 +315,7 @@ ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, 
   float bomegz = static_cast<float>(initial.omega_body_radps.z());
 
   for (Eigen::Index k = 0; k < npts; ++k) {
+    ThrowIfCancelled(cancel, k);
     const int i = static_cast<int>(k) + 1;  // listing sample index
     float bacc1 = bacc(k, 0), bacc2 = bacc(k, 1), bacc3 = bacc(k, 2);
     const float bacc4 = bacc(k, 3), bacc5 = bacc(k, 4), bacc6 = bacc(k, 5);
@@ -379,8 +382,9 @@ ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, 
 
 }  // namespace seed_detail
 
-Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial) {
-  const seed_detail::ListingTrace trace = seed_detail::RunListing(array, signals, initial);
+Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial,
+                     const std::atomic<bool>* cancel) {
+  const seed_detail::ListingTrace trace = seed_detail::RunListing(array, signals, initial, cancel);
   const Eigen::Index n = trace.time.size();
   Kinematics kin;
   kin.Resize(n);
@@ -408,6 +412,7 @@ Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, con
   // 1.5 rad rotation); the orientation outputs use its nearest rotation.
   Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
   for (Eigen::Index k = 0; k < n; ++k) {
+    ThrowIfCancelled(cancel, k);
     Eigen::Matrix3d t;
     for (int e = 0; e < 9; ++e) t(e / 3, e % 3) = trace.t_rowmajor(k, e);
     const Eigen::Matrix3d fixed_from_body = NearestRotation(t);

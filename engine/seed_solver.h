@@ -7,6 +7,7 @@
 // trapezoidal velocity). Its purpose is to reproduce legacy results, not
 // accuracy. Only for 3-2-2-2 arrays (the nine slots of kNapSlots).
 #include <Eigen/Core>
+#include <atomic>
 
 #include "engine/array_geometry.h"
 #include "engine/kinematics.h"
@@ -18,7 +19,10 @@ namespace napkin::engine {
 // Table 2-1 sense axes, InputError when the signals lack one of the nine
 // slots or hold a non-finite sample. Sensors other than the nine NAP slots
 // (e.g. angular-rate sensors) are ignored: LC_COMP has no use for them.
-Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial);
+// Throws Cancelled once `cancel` is set (read every kCancellationStride
+// samples; engine/cancellation.h).
+Kinematics SolveSeed(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial,
+                     const std::atomic<bool>* cancel = nullptr);
 
 namespace seed_detail {
 
@@ -56,7 +60,8 @@ struct ListingTrace {
 };
 
 // Runs the listing on the nine NAP channels of `signals`.
-ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial);
+ListingTrace RunListing(const ArrayGeometry& array, const TestSignals& signals, const InitialState& initial,
+                        const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace seed_detail
 }  // namespace napkin::engine

@@ -59,7 +59,7 @@ Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const S
     if (options.corrector_passes != kDefaultCorrectorPasses)
       throw InputError(
           "corrector_passes is not supported by the seed solver (LC_COMP integrates in one pass).");
-    return SolveSeed(validated, signals, options.initial);
+    return SolveSeed(validated, signals, options.initial, options.cancel);
   }
   if (options.corrector_passes < 1)
     throw InputError("corrector_passes must be at least 1 (got " + std::to_string(options.corrector_passes) +

@@ -2,6 +2,7 @@
 // From the signals of a head accelerometer array to six-degree-of-freedom
 // kinematics. See docs/algorithms.md "Solvers".
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string_view>
 
@@ -40,13 +41,15 @@ struct SolveOptions {
   InitialState initial;
   GravityOptions gravity;
   int corrector_passes = kDefaultCorrectorPasses;  // predictor-corrector passes per sample (exact solver)
+  // Set from elsewhere to stop the solve: Solve throws Cancelled (engine/cancellation.h).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Solves one test. Throws InputError naming the slot when `signals` lacks a
 // channel of `array`, or the data are unusable (fewer than 2 samples,
 // non-finite values, non-positive dt), and when `options` asks the seed
 // solver for what it cannot do (gravity compensation, corrector passes)
-// rather than ignore it.
+// rather than ignore it. Throws Cancelled once options.cancel is set.
 Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options);
 
 }  // namespace napkin::engine

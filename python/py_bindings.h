@@ -8,8 +8,10 @@
 
 #include <Eigen/Core>
 #include <exception>
+#include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "cli/diagnostics.h"
 #include "engine/kinematics.h"
@@ -33,9 +35,38 @@ py::array_t<double> ToNumpy(Eigen::VectorXd values);
 py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics);
 
 // `object` as a contiguous float64 numpy array (a view when it already is
-// one); throws ValueError naming it `what` when it is no array of numbers.
+// one) of real numbers (integers or floats: numpy's kinds i, u, f, or objects
+// that are such numbers). Throws TypeError naming it `what` otherwise: for
+// complex numbers (never cut to their real part), text (never parsed),
+// booleans, dates, and what is no array of numbers at all.
 py::array_t<double, py::array::c_style | py::array::forcecast> AsFloatArray(const py::handle& object,
                                                                             const std::string& what);
+
+// Arguments of the wrong type raise TypeError with a sentence that names the
+// argument (`what`, e.g. "napkin.transform: dt") and says what it got and what
+// it takes: "napkin.transform: dt is '0.0001' (a str), not a number (the
+// sampling interval in s)." `meaning` (may be empty) is that parenthesis.
+
+// What `object` is, for such a sentence: its repr (abbreviated) and type.
+std::string Described(const py::handle& object);
+
+// A real number: int, float, numpy's integer and floating scalars (and 0-d
+// arrays of them); not bool, str or complex.
+double AsReal(const py::handle& object, const std::string& what, const std::string& meaning = "");
+
+// None or a real number.
+std::optional<double> AsOptionalReal(const py::handle& object, const std::string& what,
+                                     const std::string& meaning = "");
+
+// A sequence (list, tuple, 1-D array) of real numbers.
+std::vector<double> AsReals(const py::handle& object, const std::string& what,
+                            const std::string& meaning = "");
+
+// A str (`expected` says what it names, e.g. "a solver name").
+std::string AsText(const py::handle& object, const std::string& what, const std::string& expected);
+
+// A str or an os.PathLike (pathlib.Path): a preset name or a file path.
+std::string AsNameOrPath(const py::handle& object, const std::string& what);
 
 // Runs `work`, turning a napkin exception into the Python exception with the
 // CLI's sentence (cli/diagnostics.h DescribeFailure): bad input (InputError,

@@ -84,11 +84,21 @@ double Bric(const py::handle& omega_body_radps, const std::optional<std::vector<
 }  // namespace
 
 void RegisterCriteria(py::module_& module) {
+  // Arguments are taken as Python objects and converted here, so that one of
+  // the wrong type is a TypeError naming it (py_bindings.h AsReal, ...).
   module.def(
       "hic",
-      [](const py::handle& resultant_g, double dt, const std::optional<double>& max_window_s,
-         bool from_time_zero, double t0_s) {
-        return Translated("", [&] { return Hic(resultant_g, dt, max_window_s, from_time_zero, t0_s); });
+      [](const py::handle& resultant_g, const py::handle& dt, const py::handle& max_window_s,
+         const py::handle& from_time_zero, const py::handle& t0_s) {
+        return Translated("", [&] {
+          if (!py::isinstance<py::bool_>(from_time_zero))
+            throw py::type_error("napkin.hic: from_time_zero is " + Described(from_time_zero) +
+                                 ", not True or False.");
+          return Hic(
+              resultant_g, AsReal(dt, "napkin.hic: dt", "the sampling interval in s"),
+              AsOptionalReal(max_window_s, "napkin.hic: max_window_s", "the longest window in s, or None"),
+              from_time_zero.cast<bool>(), AsReal(t0_s, "napkin.hic: t0_s", "the first sample's time in s"));
+        });
       },
       py::arg("resultant_g"), py::arg("dt"), py::arg("max_window_s") = engine::kHic15Window,
       py::arg("from_time_zero") = false, py::arg("t0_s") = 0.0,
@@ -97,16 +107,25 @@ void RegisterCriteria(py::module_& module) {
       "up to max_window_s (None: no limit), times in s from the first sample (plus t0_s).");
   module.def(
       "cfc",
-      [](const py::handle& x, double dt, double cfc, const std::string& variant) {
-        return Translated("", [&] { return Cfc(x, dt, cfc, variant); });
+      [](const py::handle& x, const py::handle& dt, const py::handle& cfc, const py::handle& variant) {
+        return Translated("", [&] {
+          return Cfc(x, AsReal(dt, "napkin.cfc: dt", "the sampling interval in s"),
+                     AsReal(cfc, "napkin.cfc: cfc", "the channel frequency class"),
+                     AsText(variant, "napkin.cfc: variant", "\"sae\" or \"iso\""));
+        });
       },
       py::arg("x"), py::arg("dt"), py::arg("cfc") = engine::kCfc1000, py::arg("variant") = "sae",
       "x filtered by the two-pass channel frequency class filter of SAE J211 (variant 'sae') or ISO 6487 "
       "('iso').");
   module.def(
       "bric",
-      [](const py::handle& omega, const std::optional<std::vector<double>>& critical) {
-        return Translated("", [&] { return Bric(omega, critical); });
+      [](const py::handle& omega, const py::handle& critical) {
+        return Translated("", [&] {
+          std::optional<std::vector<double>> critical_radps;
+          if (!critical.is_none())
+            critical_radps = AsReals(critical, "napkin.bric: critical_radps", "3 critical values in rad/s");
+          return Bric(omega, critical_radps);
+        });
       },
       py::arg("omega_body_radps"), py::arg("critical_radps") = py::none(),
       "BrIC (Takhounts 2013) of body angular velocity (samples x 3, rad/s); critical values default to "
@@ -115,7 +134,25 @@ void RegisterCriteria(py::module_& module) {
   for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
     const std::string doc = std::string("P(AIS ") + std::to_string(curve.ais) + "+) from " + curve.criterion +
                             " (docs/algorithms.md \"Injury risk\"); element-wise on arrays.";
-    module.def(curve.field, py::vectorize(curve.risk), py::arg(curve.criterion), doc.c_str());
+    const std::string what = std::string("napkin.") + curve.field + ": " + curve.criterion;
+    module.def(
+        curve.field,
+        [risk = curve.risk, what](const py::handle& values) -> py::object {
+          return Translated("", [&]() -> py::object {
+            // A number gives a float; anything else is an array of them, whose shape the result keeps.
+            if (py::isinstance<py::str>(values) ||
+                (!py::isinstance<py::array>(values) && !py::isinstance<py::sequence>(values)))
+              return py::float_(risk(AsReal(values, what)));
+            const auto array = AsFloatArray(values, what);
+            py::array_t<double> result(std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()));
+            const double* in = array.data();
+            double* out = result.mutable_data();
+            for (py::ssize_t k = 0; k < array.size(); ++k) out[k] = risk(in[k]);
+            if (array.ndim() == 0) return py::float_(out[0]);
+            return result;
+          });
+        },
+        py::arg(curve.criterion), doc.c_str());
   }
 }
 

@@ -2,6 +2,7 @@
 // (python/napkin/__init__.py is the other; docs/python.md).
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "common/version.h"
@@ -42,12 +43,100 @@ py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics) {
 py::array_t<double, py::array::c_style | py::array::forcecast> AsFloatArray(const py::handle& object,
                                                                             const std::string& what) {
   using FloatArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-  FloatArray array = FloatArray::ensure(object);
+  // Its own dtype first (no conversion): numpy's cast to float64 would drop
+  // an imaginary part (with a warning only) and parse text.
+  const py::array as_given = py::array::ensure(object);
+  if (!as_given) {
+    PyErr_Clear();
+    throw py::type_error(what + " is not an array of numbers.");
+  }
+  const char kind = as_given.dtype().kind();
+  if (kind == 'c')
+    throw py::type_error(what +
+                         " holds complex numbers; napkin takes real samples (pass .real if the "
+                         "imaginary part is to be dropped).");
+  if (kind != 'i' && kind != 'u' && kind != 'f' && kind != 'O')
+    throw py::type_error(what + " is not an array of numbers (its elements are of numpy dtype " +
+                         py::str(as_given.dtype()).cast<std::string>() + ").");
+  FloatArray array = FloatArray::ensure(as_given);
   if (!array) {
     PyErr_Clear();
-    throw py::value_error(what + " is not an array of numbers.");
+    throw py::type_error(what + " is not an array of numbers.");
   }
   return array;
+}
+
+std::string Described(const py::handle& object) {
+  std::string text = py::repr(object).cast<std::string>();
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  const std::string type = py::str(py::type::handle_of(object).attr("__name__")).cast<std::string>();
+  const bool vowel =
+      !type.empty() && std::string_view("aeiouAEIOU").find(type.front()) != std::string_view::npos;
+  return text + " (" + (vowel ? "an " : "a ") + type + ")";
+}
+
+namespace {
+
+std::string Meaning(const std::string& meaning) { return meaning.empty() ? "" : " (" + meaning + ")"; }
+
+bool IsReal(const py::handle& object) {
+  if (PyBool_Check(object.ptr())) return false;
+  if (py::isinstance(object, py::module_::import("numbers").attr("Real"))) return true;
+  if (py::isinstance<py::array>(object)) {  // a 0-d array of a real kind
+    const auto array = py::reinterpret_borrow<py::array>(object);
+    const char kind = array.dtype().kind();
+    return array.ndim() == 0 && (kind == 'i' || kind == 'u' || kind == 'f');
+  }
+  return false;
+}
+
+}  // namespace
+
+double AsReal(const py::handle& object, const std::string& what, const std::string& meaning) {
+  if (!IsReal(object))
+    throw py::type_error(what + " is " + Described(object) + ", not a number" + Meaning(meaning) + ".");
+  return py::float_(py::reinterpret_borrow<py::object>(object)).cast<double>();
+}
+
+std::optional<double> AsOptionalReal(const py::handle& object, const std::string& what,
+                                     const std::string& meaning) {
+  if (object.is_none()) return std::nullopt;
+  return AsReal(object, what, meaning);
+}
+
+std::vector<double> AsReals(const py::handle& object, const std::string& what, const std::string& meaning) {
+  const bool sequence =
+      (py::isinstance<py::sequence>(object) && !py::isinstance<py::str>(object) &&
+       !py::isinstance<py::bytes>(object)) ||
+      (py::isinstance<py::array>(object) && py::reinterpret_borrow<py::array>(object).ndim() == 1);
+  if (!sequence)
+    throw py::type_error(what + " is " + Described(object) + ", not a sequence of numbers" +
+                         Meaning(meaning) + ".");
+  std::vector<double> values;
+  for (const py::handle item : py::iter(object)) {
+    if (!IsReal(item))
+      throw py::type_error(what + " holds " + Described(item) + ", which is not a number" + Meaning(meaning) +
+                           ".");
+    values.push_back(AsReal(item, what, meaning));
+  }
+  return values;
+}
+
+std::string AsText(const py::handle& object, const std::string& what, const std::string& expected) {
+  if (!py::isinstance<py::str>(object))
+    throw py::type_error(what + " is " + Described(object) + ", not " + expected + " (a str).");
+  return object.cast<std::string>();
+}
+
+std::string AsNameOrPath(const py::handle& object, const std::string& what) {
+  if (py::isinstance<py::str>(object)) return object.cast<std::string>();
+  if (py::hasattr(object, "__fspath__")) {
+    const py::object path = py::module_::import("os").attr("fsdecode")(object);
+    if (py::isinstance<py::str>(path)) return path.cast<std::string>();
+  }
+  throw py::type_error(what + " is " + Described(object) +
+                       ", not a preset name or a file path (a str or a "
+                       "pathlib.Path).");
 }
 
 }  // namespace napkin::python

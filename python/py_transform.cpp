@@ -3,22 +3,31 @@
 // to its summary JSON and derived channels (docs/python.md "transform").
 #include <pybind11/stl.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.h"
 #include "common/joined.h"
+#include "engine/cancellation.h"
 #include "engine/pipeline.h"
 #include "engine/solver.h"
 #include "formats/array_json.h"
 #include "formats/csv.h"
+#include "formats/json_file.h"
 #include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
+#include "jobs/watched_call.h"
 #include "python/py_bindings.h"
 #include "records/config_record.h"
+#include "util/available_memory.h"
 #include "util/malloc_tuning.h"
 #include "util/text.h"
 
@@ -29,27 +38,40 @@ namespace {
 // (as the CLI names the input file), else the function.
 std::string Source(const std::string& test_id) { return test_id.empty() ? "napkin.transform" : test_id; }
 
-// A preset or JSON file read once per version of the file (its modification
-// time and size): a loop over thousands of tests must not read, parse and
-// check the same array and config for each (bench/run_python.sh). Called with
-// the GIL held, which serialises the callers.
+// A preset or JSON file parsed once per content: a loop over thousands of
+// tests must not parse and check the same array and config for each
+// (bench/run_python.sh), but a file rewritten in place is read again however
+// little time passed and whatever its size (a modification time has a coarse
+// tick). The bytes are read every call (a few KiB) and compared with those
+// the cached value was parsed from; a value is only cached when the file
+// still holds the bytes it was parsed from. Called with the GIL held, which
+// serialises the callers.
 template <typename Value>
 Value ReadOnce(const std::filesystem::path& path, Value (*read)(const std::filesystem::path&)) {
   struct Entry {
-    std::filesystem::file_time_type modified;
-    std::uintmax_t size = 0;
+    std::string content;
     Value value;
   };
   static std::map<std::filesystem::path, Entry> cache;
+  std::string content;
+  try {
+    content = formats::ReadWholeFile(path, formats::kMaxJsonFileBytes);
+  } catch (const InputError&) {
+    return read(path);  // read() says what is wrong with it, in its own words
+  }
   std::error_code error;
   const std::filesystem::path key = std::filesystem::absolute(path, error);
-  const auto modified = std::filesystem::last_write_time(path, error);
-  const std::uintmax_t size = error ? 0 : std::filesystem::file_size(path, error);
-  if (error) return read(path);  // read() says what is wrong with it
   const auto found = cache.find(key);
-  if (found != cache.end() && found->second.modified == modified && found->second.size == size)
-    return found->second.value;
-  return cache.insert_or_assign(key, Entry{modified, size, read(path)}).first->second.value;
+  if (found != cache.end() && found->second.content == content) return found->second.value;
+  Value value = read(path);
+  std::string after;
+  try {
+    after = formats::ReadWholeFile(path, formats::kMaxJsonFileBytes);
+  } catch (const InputError&) {
+    return value;  // changed (or gone) while it was read: not cached
+  }
+  if (after != content) return value;
+  return cache.insert_or_assign(key, Entry{std::move(content), std::move(value)}).first->second.value;
 }
 
 std::string SlotList(const engine::ArrayGeometry& array) {
@@ -113,13 +135,13 @@ Eigen::MatrixXd ReadChannels(const py::handle& channels, const engine::ArrayGeom
 }
 
 // t0 and dt from time_s (checked as the CSV reader checks its time column) or dt.
-formats::TimeBase ReadTimeBase(const py::object& time_s, const py::object& dt, Eigen::Index samples,
-                               const std::string& source) {
-  if (time_s.is_none() == dt.is_none())
+formats::TimeBase ReadTimeBase(const py::object& time_s, const std::optional<double>& dt,
+                               Eigen::Index samples, const std::string& source) {
+  if (time_s.is_none() == !dt)
     throw InputError(source + ": give either time_s (the sample times, s) or dt (the sampling interval, s)" +
                      (time_s.is_none() ? std::string(", neither was given.") : ", not both."));
-  if (!dt.is_none()) {
-    const double step = dt.cast<double>();
+  if (dt) {
+    const double step = *dt;
     if (!(std::isfinite(step) && step > 0.0))
       throw InputError(source + ": dt " + util::FormatNumber(step) +
                        " s is not a finite positive sampling interval.");
@@ -148,15 +170,96 @@ Eigen::Vector3d Triple(const std::vector<double>& values, const char* name, cons
   return {values[0], values[1], values[2]};
 }
 
+// The sample count of `channels` (a dict slot -> 1-D array, or a 2-D array)
+// without converting or copying anything, and the sampling interval from dt or
+// time_s (0 when unknown): what the memory estimate needs before the samples
+// are copied. 0 samples when it cannot tell (ReadChannels then says why).
+std::pair<Eigen::Index, double> SizeOf(const py::handle& channels, const engine::ArrayGeometry& array,
+                                       const std::optional<double>& dt, const py::handle& time_s) {
+  py::array first;
+  if (py::isinstance<py::dict>(channels)) {
+    const auto dict = py::reinterpret_borrow<py::dict>(channels);
+    for (const engine::Sensor& sensor : array.sensors)
+      if (dict.contains(sensor.slot)) {
+        first = py::array::ensure(dict[py::str(sensor.slot)]);
+        break;
+      }
+  } else {
+    first = py::array::ensure(channels);
+  }
+  PyErr_Clear();
+  if (!first || first.ndim() < 1) return {0, 0.0};
+  const auto samples = static_cast<Eigen::Index>(first.shape(0));
+  double dt_s = dt.value_or(0.0);
+  if (!dt && samples > 1) {
+    try {
+      const double t0 = py::float_(time_s[py::int_(0)]).cast<double>();
+      const double t1 = py::float_(time_s[py::int_(samples - 1)]).cast<double>();
+      dt_s = (t1 - t0) / static_cast<double>(samples - 1);
+    } catch (const py::error_already_set&) {
+      dt_s = 0.0;  // ReadTimeBase says what is wrong with it
+    }
+  }
+  return {samples, std::isfinite(dt_s) && dt_s > 0.0 ? dt_s : 0.0};
+}
+
+// The memory a transform takes: this module's copy of the samples plus
+// engine::ProcessTestBytes.
+std::uint64_t TransformBytes(const engine::ArrayGeometry& array, Eigen::Index samples, double dt_s,
+                             const engine::ProcessingConfig& config) {
+  if (samples <= 0) return 0;
+  const std::uint64_t copy = static_cast<std::uint64_t>(samples) * array.sensors.size() * sizeof(double);
+  return copy + engine::ProcessTestBytes(array, samples, dt_s, config);
+}
+
+// Refuses, before anything is copied, a test whose processing cannot fit in
+// the memory available (util/available_memory.h): a MemoryError in one
+// sentence saying both, rather than std::bad_alloc minutes into the work (or
+// the OOM killer).
+void CheckMemory(const engine::ArrayGeometry& array, Eigen::Index samples, double dt_s,
+                 const engine::ProcessingConfig& config, const std::string& source) {
+  if (samples <= 0) return;
+  const std::uint64_t needed = TransformBytes(array, samples, dt_s, config);
+  if (const auto sentence = util::MemoryShortfall(source + ": processing " + std::to_string(samples) +
+                                                      " samples of array " + util::Quoted(array.name),
+                                                  needed, util::FindAvailableMemory())) {
+    PyErr_SetString(PyExc_MemoryError, sentence->c_str());
+    throw py::error_already_set();
+  }
+}
+
+// Whether this is the interpreter's main thread, the one thread that runs
+// Python's signal handlers (so the one that can see Ctrl-C).
+bool OnMainThread() {
+  const py::module_ threading = py::module_::import("threading");
+  return threading.attr("main_thread")().is(threading.attr("current_thread")());
+}
+
+// How often the main thread looks for a signal while a test is computed.
+constexpr std::chrono::milliseconds kSignalPollInterval{50};
+
 // (summary JSON text, {derived channel name: array}); napkin/__init__.py
-// makes the TransformResult.
-py::tuple Transform(const py::object& channels, const py::object& time_s, const py::object& dt,
-                    const std::string& array_name, const std::string& config_name,
-                    const std::vector<double>& orientation_rad,
-                    const std::vector<double>& initial_velocity_mps,
-                    const std::vector<double>& initial_omega_body_radps,
-                    const std::optional<std::string>& solver, const std::string& test_id,
-                    const std::string& config_dir) {
+// makes the TransformResult. Arguments arrive as Python objects and are
+// converted here, so that one of the wrong type raises TypeError naming it.
+py::tuple Transform(const py::object& channels, const py::object& time_s, const py::object& dt_object,
+                    const py::object& array_object, const py::object& config_object,
+                    const py::object& orientation_object, const py::object& initial_velocity_object,
+                    const py::object& initial_omega_body_object, const py::object& solver_object,
+                    const py::object& test_id_object, const std::string& config_dir) {
+  const std::string function = "napkin.transform: ";
+  const std::string test_id = AsText(test_id_object, function + "test_id", "a test id");
+  const std::optional<double> dt = AsOptionalReal(dt_object, function + "dt", "the sampling interval in s");
+  const std::string array_name = AsNameOrPath(array_object, function + "array");
+  const std::string config_name = AsNameOrPath(config_object, function + "config");
+  const std::vector<double> orientation_rad =
+      AsReals(orientation_object, function + "orientation", "phi, theta, psi in rad");
+  const std::vector<double> initial_velocity_mps =
+      AsReals(initial_velocity_object, function + "initial_velocity", "3 components in m/s");
+  const std::vector<double> initial_omega_body_radps =
+      AsReals(initial_omega_body_object, function + "initial_omega_body", "3 components in rad/s");
+  std::optional<std::string> solver;
+  if (!solver_object.is_none()) solver = AsText(solver_object, function + "solver", "a solver name or None");
+
   const std::string source = Source(test_id);
   const std::filesystem::path presets =
       config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
@@ -174,6 +277,9 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
     config.solver = *kind;
     config.Check();
   }
+  const auto [samples, dt_estimate] = SizeOf(channels, array, dt, time_s);
+  CheckMemory(array, samples, dt_estimate, config, source);
+
   engine::TestSignals signals;
   signals.samples = ReadChannels(channels, array, source);
   // As the CSV reader refuses a cell that is no finite number (its row and column).
@@ -199,17 +305,43 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   // A loop over tests reuses the memory freed by the previous one, as `napkin run` does.
   util::KeepFreedMemoryForReuse();
   engine::ProcessedTest processed;
+  const auto compute = [&](const std::atomic<bool>* cancel) {
+    processed = engine::ProcessTest(array, signals, initial, config, cancel);
+    // A test that fails `napkin run` fails here, with the same sentence.
+    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
+  };
+  // Ctrl-C: Python's handler only notes the signal, and only the main
+  // thread runs the Python-level handler (KeyboardInterrupt), when it calls
+  // PyErr_CheckSignals. So on the main thread the test is computed on a
+  // thread of its own while this one checks for signals every 50 ms, and a
+  // signal whose handler raises stops the computation (engine::Cancelled)
+  // and raises here. Elsewhere Ctrl-C is the main thread's business, as for
+  // any Python code: compute in place.
+  bool interrupted = false;
+  const bool watch = OnMainThread();
   {
     const py::gil_scoped_release computing;
     try {
-      processed = engine::ProcessTest(array, signals, initial, config);
-      // A test that fails `napkin run` fails here, with the same sentence.
-      if (const engine::Finding* failing = engine::FailingFinding(processed))
-        throw InputError(failing->detail);
+      if (watch) {
+        jobs::RunWatched([&](const std::atomic<bool>& cancel) { compute(&cancel); },
+                         [&] {
+                           const py::gil_scoped_acquire checking;
+                           interrupted = PyErr_CheckSignals() != 0;
+                           return interrupted;
+                         },
+                         kSignalPollInterval);
+      } else {
+        compute(nullptr);
+      }
+    } catch (const engine::Cancelled&) {
+      if (!interrupted) throw;
     } catch (const InputError& error) {
-      throw InputError(source + ": " + error.what());
+      if (!interrupted) throw InputError(source + ": " + error.what());
     }
   }
+  // The handler's exception (KeyboardInterrupt) is set: raise it, whether or
+  // not the computation ended first.
+  if (interrupted) throw py::error_already_set();
   const std::string summary_json =
       formats::SummaryToJson(processed.summary, test_id, "", "")
           .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
@@ -221,10 +353,9 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
 void RegisterTransform(py::module_& module) {
   module.def(
       "transform",
-      [](const py::object& channels, const py::object& time_s, const py::object& dt, const std::string& array,
-         const std::string& config, const std::vector<double>& orientation,
-         const std::vector<double>& initial_velocity, const std::vector<double>& initial_omega_body,
-         const std::optional<std::string>& solver, const std::string& test_id,
+      [](const py::object& channels, const py::object& time_s, const py::object& dt, const py::object& array,
+         const py::object& config, const py::object& orientation, const py::object& initial_velocity,
+         const py::object& initial_omega_body, const py::object& solver, const py::object& test_id,
          const std::string& config_dir) {
         return Translated("", [&] {
           return Transform(channels, time_s, dt, array, config, orientation, initial_velocity,
@@ -234,6 +365,22 @@ void RegisterTransform(py::module_& module) {
       py::arg("channels"), py::arg("time_s"), py::arg("dt"), py::arg("array"), py::arg("config"),
       py::arg("orientation"), py::arg("initial_velocity"), py::arg("initial_omega_body"), py::arg("solver"),
       py::arg("test_id"), py::arg("config_dir"));
+  // The estimate CheckMemory compares with the memory available, for the
+  // tests that hold it to a transform's measured peak (python/tests/).
+  module.def(
+      "_transform_bytes",
+      [](const std::string& array_name, Eigen::Index samples, double dt_s, const std::string& config_name,
+         const std::string& config_dir) {
+        return Translated("", [&] {
+          const std::filesystem::path presets =
+              config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
+          return TransformBytes(
+              formats::ReadArrayJson(formats::ResolvePreset(array_name, "arrays", presets)), samples, dt_s,
+              formats::ReadProcessingConfig(records::ProcessingConfigPath(config_name, presets)));
+        });
+      },
+      py::arg("array"), py::arg("samples"), py::arg("dt"), py::arg("config") = "default",
+      py::arg("config_dir") = "");
 }
 
 }  // namespace napkin::python

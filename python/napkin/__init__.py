@@ -11,8 +11,11 @@ libraries as the ``napkin`` command, so a result here is the command's result
 - ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
   ``query_frame()``, ``channels()``, ``compare()``.
 
-Bad input raises ValueError with the sentence the command prints; anything
-else that goes wrong raises RuntimeError.
+Bad input raises ValueError with the sentence the command prints, an argument
+of the wrong type TypeError naming it; anything else that goes wrong raises
+RuntimeError. Ctrl-C stops a transform within a fraction of a second
+(KeyboardInterrupt), and one that cannot fit in memory is refused up front
+(MemoryError).
 """
 
 import json as _json
@@ -85,19 +88,56 @@ def transform(channels, time_s=None, dt=None, array="denton-3222", config="defau
     test_id  -- the summary's test_id, and the start of error sentences
 
     Raises ValueError for bad input and for a test that fails screening (the
-    sentence ``napkin transform`` exits 1 with); the computation runs without
-    the GIL.
+    sentence ``napkin transform`` exits 1 with), TypeError naming an argument
+    of the wrong type (complex samples included), MemoryError when the test
+    cannot fit in the memory available (checked before anything is copied);
+    the computation runs without the GIL, and Ctrl-C stops it
+    (KeyboardInterrupt).
     """
     summary_json, derived = _napkin.transform(
-        channels, time_s, dt, _os.fspath(array), _os.fspath(config), list(orientation),
-        list(initial_velocity), list(initial_omega_body), solver, str(test_id), _config_dir())
+        channels, time_s, dt, array, config, orientation, initial_velocity, initial_omega_body, solver,
+        test_id, _config_dir())
     return TransformResult(_json.loads(summary_json), derived)
 
 
-def _names(value):
+def _described(value):
+    text = repr(value)
+    if len(text) > 60:
+        text = text[:57] + "..."
+    kind = type(value).__name__
+    return "{} ({} {})".format(text, "an" if kind[:1].lower() in "aeiou" else "a", kind)
+
+
+def _names(value, what, meaning):
+    """None, or a list of str from a str or a list (tuple, ...) of them; any
+    other type raises TypeError naming `what`."""
     if value is None:
         return None
-    return [value] if isinstance(value, str) else [str(v) for v in value]
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, (list, tuple)):
+        for item in value:
+            if not isinstance(item, str):
+                raise TypeError("{} holds {}, which is not {} (a str).".format(what, _described(item), meaning))
+        return list(value)
+    raise TypeError("{} is {}, not {} (a str) or a list of them.".format(what, _described(value), meaning))
+
+
+def _metric_names(metrics):
+    """compare's metrics as ``--metrics`` takes them: a list, and any item (or
+    the one str) may be the command's comma-separated spelling "hic15,bric"."""
+    names = _names(metrics, "napkin.Catalogue.compare: metrics", "a summary field")
+    return None if names is None else [name for item in names for name in item.split(",")]
+
+
+def _path(value, what):
+    if isinstance(value, str):
+        return value
+    if hasattr(value, "__fspath__"):
+        path = _os.fsdecode(value)
+        if isinstance(path, str):
+            return path
+    raise TypeError("{} is {}, not a file path (a str or a pathlib.Path).".format(what, _described(value)))
 
 
 class Catalogue:
@@ -108,7 +148,7 @@ class Catalogue:
     """
 
     def __init__(self, path):
-        self._catalogue = _napkin.Catalogue(_os.fspath(path))
+        self._catalogue = _napkin.Catalogue(_path(path, "napkin.Catalogue: path"))
 
     @property
     def path(self):
@@ -124,9 +164,14 @@ class Catalogue:
     def _query(self, kind, where, sort, limit, config, series, variant):
         if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int)):
             raise ValueError("limit is a whole number of rows, not {!r}.".format(limit))
+        what = "napkin.Catalogue.query: "
+        if config is not None and not isinstance(config, str):
+            raise TypeError("{}config is {}, not a stored config's name or hash prefix (a str).".format(
+                what, _described(config)))
         return self._catalogue.query_json(
-            str(kind), _names(where), _names(sort), None if limit is None else str(limit),
-            config, _names(series), _names(variant))
+            str(kind), _names(where, what + "where", "a filter expression"),
+            _names(sort, what + "sort", "a sort key"), None if limit is None else str(limit), config,
+            _names(series, what + "series", "a series name"), _names(variant, what + "variant", "a variant name"))
 
     def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
         """``napkin query KIND`` as a list of dicts.
@@ -171,6 +216,15 @@ class Catalogue:
         return self._catalogue.test_inputs(str(test_id))
 
     def compare(self, series, by="variant", baseline=None, metrics=None, config=None):
-        """``napkin compare --series S --format json`` as a list of dicts."""
+        """``napkin compare --series S --format json`` as a list of dicts.
+
+        metrics -- summary fields, as a list or as ``--metrics`` spells them
+                   ("hic15,bric"); default: the command's
+        config  -- a stored config's name or hash prefix, or a list of them
+        """
+        if baseline is not None and not isinstance(baseline, str):
+            raise TypeError("napkin.Catalogue.compare: baseline is {}, not a group name (a str).".format(
+                _described(baseline)))
         return _json.loads(self._catalogue.compare_json(
-            str(series), str(by), baseline, _names(metrics), _names(config)))
+            str(series), str(by), baseline, _metric_names(metrics),
+            _names(config, "napkin.Catalogue.compare: config", "a stored config's name or hash prefix")))

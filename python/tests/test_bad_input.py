@@ -51,7 +51,7 @@ def test_wrong_shapes():
         transform(dict(good_channels(), cg_z=np.zeros(199)))
     with pytest.raises(ValueError, match=r"time_s has 10 values but the channels have 200 samples"):
         transform(good_channels(), dt=None, time_s=np.arange(10) * 1e-4)
-    with pytest.raises(ValueError, match="not an array of numbers"):
+    with pytest.raises(TypeError, match='channel "cg_x" is not an array of numbers'):
         transform(dict(good_channels(), cg_x=["a"] * 200))
     with pytest.raises(ValueError, match="give either time_s .* or dt .*, not both"):
         transform(good_channels(), time_s=np.arange(200) * 1e-4)

@@ -2,6 +2,7 @@
 the summary JSON as parsed, every derived-channel CSV cell."""
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -152,3 +153,22 @@ def test_a_changed_config_file_is_read_again(tmp_path):
     cfc60 = napkin.transform(channels, time_s=time_s, array="3a-cg", config=config).summary["peak_acc_g"]
     assert cfc60 < cfc1000 - 1.0  # CFC 60 rounds the 10 ms pulse's peak off
     assert cfc1000 == napkin.transform(channels, time_s=time_s, array="3a-cg").summary["peak_acc_g"]
+
+
+def test_a_config_rewritten_within_one_timestamp_tick_is_read_again(tmp_path):
+    # A file rewritten in place at the same size and within the same tick of its
+    # modification time (restored here with os.utime, as a fast editor or a
+    # coarse filesystem clock would leave it) is its new content, not the cache's.
+    time_s = np.arange(0, 0.05, 1e-4)
+    pulse = 60.0 * np.sin(np.pi * np.clip(time_s / 0.01, 0, 1)) ** 2
+    channels = {"cg_x": pulse, "cg_y": np.zeros_like(pulse), "cg_z": np.zeros_like(pulse)}
+    config = tmp_path / "filter.json"
+    config.write_text(json.dumps({"name": "filter", "filter": {"linear_cfc": 1000.0}}))
+    before = os.stat(config)
+    cfc1000 = napkin.transform(channels, time_s=time_s, array="3a-cg", config=config).summary["peak_acc_g"]
+    config.write_text(json.dumps({"name": "filter", "filter": {"linear_cfc": 60.000}}).replace("60.0", "60.000"))
+    os.utime(config, ns=(before.st_atime_ns, before.st_mtime_ns))
+    after = os.stat(config)
+    assert (after.st_size, after.st_mtime_ns) == (before.st_size, before.st_mtime_ns)
+    cfc60 = napkin.transform(channels, time_s=time_s, array="3a-cg", config=config).summary["peak_acc_g"]
+    assert cfc60 < cfc1000 - 1.0  # CFC 60 rounds the 10 ms pulse's peak off

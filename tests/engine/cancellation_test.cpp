@@ -1,0 +1,101 @@
+// Issue 29, point 13: a computation can be stopped. ProcessTest reads a
+// cancellation flag between its stages and every kCancellationStride samples
+// of its long loops, and stops with engine::Cancelled (not an InputError: the
+// test's input is not at fault) once it is set; an unset flag changes nothing.
+#include "engine/cancellation.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "common/error.h"
+#include "engine/pipeline.h"
+#include "synth/synthetic_tests.h"
+#include "tests/support/reference_arrays.h"
+
+namespace napkin::engine {
+namespace {
+
+synth::SyntheticTest RandomTest(const ArrayGeometry& array, double duration_s = 0.2) {
+  synth::RandomMotionOptions options;
+  options.seed = 7;
+  options.duration_s = duration_s;
+  return synth::SynthRandomMotion(array, options);
+}
+
+// Every solver path (linear, six accelerometers and rates, fused, acceleration
+// only) with both solvers where the seed solver applies.
+TEST(Cancellation, ASetFlagStopsProcessTestWithCancelled) {
+  const std::atomic<bool> cancel{true};
+  for (const ArrayGeometry& array : {test_support::Ideal3222(), test_support::SixAOmegaCg(),
+                                     test_support::NapArs12(), test_support::ThreeACg()}) {
+    const synth::SyntheticTest test = RandomTest(array);
+    EXPECT_THROW(ProcessTest(test.array, test.signals, test.initial, ProcessingConfig{}, &cancel), Cancelled)
+        << array.name;
+  }
+  ProcessingConfig seed;
+  seed.solver = SolverKind::kSeed;
+  const synth::SyntheticTest test = RandomTest(test_support::Ideal3222());
+  EXPECT_THROW(ProcessTest(test.array, test.signals, test.initial, seed, &cancel), Cancelled);
+  // Recognisable: neither bad input nor anything a caller would report as the test's failure.
+  try {
+    ProcessTest(test.array, test.signals, test.initial, seed, &cancel);
+  } catch (const InputError&) {
+    FAIL() << "a cancellation is no InputError";
+  } catch (const Cancelled& cancelled) {
+    EXPECT_STREQ(cancelled.what(), "the computation was cancelled.");
+  }
+}
+
+TEST(Cancellation, AnUnsetFlagChangesNothing) {
+  const std::atomic<bool> cancel{false};
+  for (const ArrayGeometry& array : {test_support::Ideal3222(), test_support::ThreeACg()}) {
+    const synth::SyntheticTest test = RandomTest(array);
+    const ProcessedTest with_flag = ProcessTest(test.array, test.signals, test.initial, {}, &cancel);
+    const ProcessedTest without = ProcessTest(test.array, test.signals, test.initial, {});
+    EXPECT_EQ(with_flag.summary.hic15.value, without.summary.hic15.value) << array.name;
+    EXPECT_EQ(with_flag.kinematics.acc_body, without.kinematics.acc_body) << array.name;
+  }
+}
+
+// The flag is read inside the long loops, not only between stages: set from
+// another thread while one long recording is processed, it stops the work
+// well before the end. The recording takes `full` to process; the flag is
+// set a quarter of the way in and must be honoured within a tenth of `full`
+// (and within half a second): a check only between stages would let the
+// solver, which takes most of it, run to its end.
+TEST(Cancellation, AFlagSetMidwayIsHonouredInsideTheLongLoops) {
+  const synth::SyntheticTest test = RandomTest(test_support::Ideal3222(), 10.0);  // 100,000 samples
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  static_cast<void>(ProcessTest(test.array, test.signals, test.initial, {}));
+  const Clock::duration full = Clock::now() - start;
+  ASSERT_GT(full, std::chrono::milliseconds(100)) << "too short to interrupt midway";
+
+  std::atomic<bool> cancel{false};
+  std::atomic<Clock::rep> set_at{0};
+  std::thread setter([&] {
+    std::this_thread::sleep_for(full / 4);
+    set_at.store(Clock::now().time_since_epoch().count());
+    cancel.store(true);
+  });
+  Clock::time_point stopped;
+  bool cancelled = false;
+  try {
+    static_cast<void>(ProcessTest(test.array, test.signals, test.initial, {}, &cancel));
+  } catch (const Cancelled&) {
+    cancelled = true;
+  }
+  stopped = Clock::now();
+  setter.join();
+  ASSERT_TRUE(cancelled) << "ProcessTest ran to its end with the flag set";
+  const Clock::duration latency = stopped - Clock::time_point(Clock::duration(set_at.load()));
+  EXPECT_LT(latency, std::min<Clock::duration>(full / 10 + std::chrono::milliseconds(5),
+                                               std::chrono::milliseconds(500)))
+      << "full run " << std::chrono::duration<double>(full).count() << " s";
+}
+
+}  // namespace
+}  // namespace napkin::engine
