@@ -1,9 +1,9 @@
 // ingest::TemporaryFolder's signal handler (issue 29 point 19): what it
 // reads stays valid whichever thread the signal is delivered to. A thread
-// started after the folder was made takes the signal while the folder's
-// owner replaces its plan again and again: the handler must never read a
-// plan being freed (AddressSanitizer reports a heap-use-after-free if it
-// does), and it removes the folder.
+// started after the folder was made takes the signal, and while its
+// handler removes the planned files the folder's owner replaces the plan:
+// the handler must never read the plan being freed (AddressSanitizer reports
+// a heap-use-after-free if it does), and it removes the folder.
 #include "ingest/temporary_folder.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -44,9 +45,13 @@ TEST(TemporaryFolderSignals, ASignalToAnotherThreadNeverReadsAFreedPlan) {
   {
     TemporaryFolder temporary("napkin-signal-test-", "the test");
     folder = temporary.path();
-    // Many declared files (none exist): the handler takes a while over them.
+    // Many files: the handler takes a while to remove them, in order.
     std::vector<std::string> files;
-    for (int i = 0; i < 20000; ++i) files.push_back("sub/file-" + std::to_string(i) + ".txt");
+    fs::create_directory(folder / "sub");
+    for (int i = 0; i < 5000; ++i) {
+      files.push_back("sub/file-" + std::to_string(i) + ".txt");
+      std::ofstream(folder / files.back()) << i;
+    }
     temporary.Plan(files);
 
     std::atomic<bool> ready{false};
@@ -58,10 +63,13 @@ TEST(TemporaryFolderSignals, ASignalToAnotherThreadNeverReadsAFreedPlan) {
     });
     while (!ready) std::this_thread::yield();
     ASSERT_EQ(pthread_kill(receiver.native_handle(), SIGTERM), 0);
-    // Meanwhile the owner replaces its plan, freeing the one it had published.
+    // Once the handler is at work on the plan (its first file is gone), the
+    // owner replaces the plan by a small one, freeing the one the handler reads.
+    while (fs::exists(folder / files.front()) && g_passed_on.load() == 0) {
+    }
     int replans = 0;
     while (g_passed_on.load() == 0) {
-      temporary.Plan(files);
+      temporary.Plan({"other.txt"});
       ++replans;
     }
     receiver.join();
