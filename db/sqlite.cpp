@@ -152,7 +152,7 @@ namespace {
 // The catalogue (and a results file, a shard) must be a regular file or a
 // name not yet taken (docs/formats.md "The catalogue file"). The decision is
 // taken on what is opened, not on a path looked at before: napkin opens the
-// name itself (O_NONBLOCK: a named pipe does not block) and refuses what
+// name itself (O_PATH: a named pipe does not block) and refuses what
 // fstat says is no regular file before SQLite sees it; then SQLite opens the
 // name, and the descriptor *SQLite* opened is checked again, so a name
 // swapped in between (for a pipe, a device, another file) is refused before
@@ -258,11 +258,12 @@ FileIdentity IdentityOf(const struct stat& status) {
   return {static_cast<std::uint64_t>(status.st_dev), static_cast<std::uint64_t>(status.st_ino)};
 }
 
-// Opens `path` for a look at what it is: read-only, never blocking, closed
-// on exec, links followed as SQLite follows them.
-int OpenToIdentify(const std::string& path) {
-  return ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-}
+// Opens `path` for a look at what it is, links followed as SQLite follows
+// them. O_PATH: the open never blocks (a named pipe) and reads nothing, and
+// closing the descriptor releases none of this process's POSIX locks on the
+// file (closing any other descriptor of a file drops them all, those of
+// SQLite's connections to it included: fcntl(2), "Advisory record locking").
+int OpenToIdentify(const std::string& path) { return ::open(path.c_str(), O_PATH | O_CLOEXEC); }
 
 // Whether the file exists and nobody may write it. Checked in addition to
 // sqlite3_db_readonly because a privileged user (root in a container) can

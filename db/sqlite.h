@@ -176,7 +176,8 @@ struct FileIdentity {
 };
 
 // The file `path` leads to (links followed), as the descriptor open(2)
-// returns for it tells (opened O_NONBLOCK: a named pipe never blocks);
+// returns for it tells (opened O_PATH: a named pipe never blocks, and no
+// POSIX lock of this process is released when it is closed);
 // nullopt when it cannot be opened (e.g. it does not exist). For checks made
 // before SQLite opens a file (MergeShard refuses the catalogue itself before
 // anything is created beside it).
