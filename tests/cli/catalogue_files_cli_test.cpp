@@ -47,7 +47,8 @@ class CatalogueFiles : public ::testing::Test {
   // Runs napkin in dir_, killing it after `seconds` (a blocked open): the
   // result's exit_code is then -2.
   RunResult NapkinWithin(const std::vector<std::string>& args, int seconds = 30) {
-    const pid_t pid = test_support::StartNapkin(args, dir_ / "stdout.txt", dir_ / "stderr.txt");
+    const pid_t pid = test_support::StartProgram(NAPKIN_BINARY, args, logs_ / "stdout.txt",
+                                                 logs_ / "stderr.txt", dir_.path());
     RunResult result;
     int status = 0;
     bool exited = false;
@@ -61,14 +62,13 @@ class CatalogueFiles : public ::testing::Test {
     } else {
       result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     }
-    result.out = ReadText(dir_ / "stdout.txt");
-    result.err = ReadText(dir_ / "stderr.txt");
-    fs::remove(dir_ / "stdout.txt");
-    fs::remove(dir_ / "stderr.txt");
+    result.out = ReadText(logs_ / "stdout.txt");
+    result.err = ReadText(logs_ / "stderr.txt");
     return result;
   }
 
   napkin::test_support::TempDir dir_;
+  napkin::test_support::TempDir logs_;  // napkin's stdout and stderr
 };
 
 // `mkfifo f; napkin --db f query tests` blocked for ever in open(2).
@@ -86,7 +86,7 @@ TEST_F(CatalogueFiles, ANamedPipeIsRefusedAtOnce) {
     ExpectOneSentenceError(run, {"catalogue 'f' is a named pipe (FIFO), not a file"});
     EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
   }
-  EXPECT_EQ(FilesIn(dir_), std::vector<std::string>{"f"});
+  EXPECT_EQ(FilesIn(dir_.path()), std::vector<std::string>{"f"});
 }
 
 // `--db /dev/null init` said "SQLite error 'disk I/O error'" and left a
@@ -113,11 +113,12 @@ TEST_F(CatalogueFiles, ADeviceIsRefusedAndNothingIsCreatedBesideIt) {
     GTEST_SKIP() << "cannot make a device node (needs root): " << std::strerror(errno);
   for (const char* command : {"init", "import"}) {
     std::vector<std::string> args = {"--db", "null", command};
-    if (std::string(command) == "import") args.push_back(dir_.path().string());
+    if (std::string(command) == "import")
+      args.insert(args.end(), {"--array", "denton-3222", dir_.path().string()});
     const RunResult run = NapkinWithin(args);
     EXPECT_EQ(run.exit_code, 1) << run.err;
     ExpectOneSentenceError(run, {"catalogue 'null' is a character device, not a file"});
-    EXPECT_EQ(FilesIn(dir_), std::vector<std::string>{"null"});
+    EXPECT_EQ(FilesIn(dir_.path()), std::vector<std::string>{"null"});
   }
 }
 
@@ -151,7 +152,7 @@ TEST_F(CatalogueFiles, AResultsFileThatIsNoFileIsRefusedNamingIt) {
     ExpectOneSentenceError(run, {"results file '" + results + "' is " + kind + ", not a file"});
     EXPECT_EQ(run.err.find("lab.db"), std::string::npos) << run.err;
   }
-  EXPECT_EQ(FilesIn(dir_), (std::vector<std::string>{"lab.db", "pipe.db"}));
+  EXPECT_EQ(FilesIn(dir_.path()), (std::vector<std::string>{"lab.db", "pipe.db"}));
   if (!journal_before) {
     EXPECT_FALSE(fs::exists("/dev/null-journal"));
     if (fs::is_regular_file(fs::symlink_status("/dev/null-journal"))) fs::remove("/dev/null-journal");

@@ -486,7 +486,7 @@ TEST_F(CliCompare, UsageErrorsExitTwoWithOneLineListingTheChoices) {
 // matcher): a hash prefix in any case, and a name two configs share is
 // ambiguous, not unknown.
 TEST_F(CliCompare, BaselineAndConfigMatchAConfigByOneRule) {
-  for (const std::string& prefix : {"D0A1B2", "d0a1b2"}) {
+  for (const std::string prefix : {"D0A1B2", "d0a1b2"}) {
     const nlohmann::json rows =
         CompareJson({"--series", "sled", "--by", "config", "--baseline", prefix, "--metrics", "hic15"});
     ASSERT_EQ(rows.size(), 2u) << prefix;
