@@ -253,13 +253,20 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
     if (results_by_group.count(*request.baseline) != 0) {
       found = *request.baseline;
     } else if (request.by == CompareBy::kConfig) {
-      // A config name or hash prefix naming exactly one of the groups.
-      std::set<std::string> matches;
-      for (const auto& [group, members] : results_by_group)
-        if (members.front()->config_name == *request.baseline ||
-            (!request.baseline->empty() && members.front()->config_hash.rfind(*request.baseline, 0) == 0))
-          matches.insert(group);
-      if (matches.size() == 1) found = *matches.begin();
+      // The config of one of the groups, by the rule of --config
+      // (MatchConfigSelector: a name, else a hash prefix in any case; a name
+      // two configs share is ambiguous). Each group holds one config.
+      std::vector<std::string> groups;
+      std::vector<db::ConfigRow> configs;
+      for (const auto& [group, members] : results_by_group) {
+        groups.push_back(group);
+        db::ConfigRow& config = configs.emplace_back();
+        config.id = members.front()->config_id;
+        config.name = members.front()->config_name;
+        config.config_hash = members.front()->config_hash;
+      }
+      found = groups[MatchConfigSelector(configs, "--baseline", *request.baseline,
+                                         "the configs of series '" + request.series + "' with results are")];
     }
     if (!found) {
       std::vector<std::string> names;

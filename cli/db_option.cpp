@@ -1,7 +1,5 @@
 #include "cli/db_option.h"
 
-#include <algorithm>
-#include <iterator>
 #include <utility>
 
 #include "common/error.h"
@@ -43,25 +41,40 @@ db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string&
   if (configs.empty())
     throw UsageError("--config '" + selector +
                      "': the catalogue has no processing configs yet; run `napkin run` first.");
-  std::vector<db::ConfigRow> named;
-  std::copy_if(configs.begin(), configs.end(), std::back_inserter(named),
-               [&](const db::ConfigRow& config) { return config.name == selector; });
+  return configs[MatchConfigSelector(configs, "--config", selector)];
+}
+
+std::size_t MatchConfigSelector(const std::vector<db::ConfigRow>& configs, const std::string& option,
+                                const std::string& selector, const std::string& listed) {
+  if (selector.empty()) throw UsageError(option + " must not be empty; give a config's name or hash prefix.");
+  // The indexes of the configs `matches` accepts.
+  const auto matching = [&](const auto& matches) {
+    std::vector<std::size_t> found;
+    for (std::size_t i = 0; i < configs.size(); ++i)
+      if (matches(configs[i])) found.push_back(i);
+    return found;
+  };
+  const auto listing = [&](const std::vector<std::size_t>& indexes) {
+    std::vector<db::ConfigRow> rows;
+    rows.reserve(indexes.size());
+    for (const std::size_t i : indexes) rows.push_back(configs[i]);
+    return ConfigList(rows);
+  };
+  const std::vector<std::size_t> named =
+      matching([&](const db::ConfigRow& config) { return config.name == selector; });
   if (named.size() == 1) return named.front();
   if (named.size() > 1)
-    throw UsageError("--config '" + selector + "' names " + std::to_string(named.size()) +
-                     " configs: " + ConfigList(named) + "; give a hash prefix instead.");
+    throw UsageError(option + " '" + selector + "' names " + std::to_string(named.size()) +
+                     " configs: " + listing(named) + "; give a hash prefix instead.");
   const std::string prefix = util::ToLower(selector);
-  std::vector<db::ConfigRow> hashed;
-  std::copy_if(configs.begin(), configs.end(), std::back_inserter(hashed), [&](const db::ConfigRow& config) {
-    return util::ToLower(config.config_hash).rfind(prefix, 0) == 0;
-  });
+  const std::vector<std::size_t> hashed = matching(
+      [&](const db::ConfigRow& config) { return util::ToLower(config.config_hash).rfind(prefix, 0) == 0; });
   if (hashed.size() == 1) return hashed.front();
   if (hashed.empty())
-    throw UsageError("--config '" + selector +
-                     "' is neither the name nor a hash prefix of a config; the configs are " +
-                     ConfigList(configs) + ".");
-  throw UsageError("--config '" + selector + "' starts the hashes of " + std::to_string(hashed.size()) +
-                   " configs: " + ConfigList(hashed) + "; give more of the hash.");
+    throw UsageError(option + " '" + selector + "' is neither the name nor a hash prefix of a config; " +
+                     listed + " " + ConfigList(configs) + ".");
+  throw UsageError(option + " '" + selector + "' starts the hashes of " + std::to_string(hashed.size()) +
+                   " configs: " + listing(hashed) + "; give more of the hash.");
 }
 
 }  // namespace napkin::cli

@@ -2,7 +2,9 @@
 // What the catalogue commands share: opening the --db catalogue,
 // resolving the --config processing configuration to its catalogue record
 // (records::ResolveConfig), and reading a result's kinematics.
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "cli/command.h"
 #include "db/catalogue.h"
@@ -21,6 +23,16 @@ db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false)
 // Throws UsageError listing the catalogue's configs (name and hash) when none
 // or several match.
 db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector);
+
+// The one rule every config selector follows (`--config`, `compare
+// --baseline` by config): the index in `configs` of the config named
+// `selector`, else of the one whose hash starts with it (case-insensitive).
+// Throws UsageError naming `option` when the selector is empty, when two or
+// more configs have that name ("give a hash prefix instead") or start with
+// that prefix, or when none matches (listing `configs`, introduced by
+// `listed`, e.g. "the configs are").
+std::size_t MatchConfigSelector(const std::vector<db::ConfigRow>& configs, const std::string& option,
+                                const std::string& selector, const std::string& listed = "the configs are");
 
 // The kinematics of the test's result under `config` (the caller knows the
 // result exists), for every reader of derived channels (export, report,

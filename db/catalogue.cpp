@@ -204,6 +204,7 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
   connection_options.immutable = options.immutable;
   connection_options.durable = options.durable;
   connection_options.busy_timeout_ms = options.busy_timeout_ms;
+  connection_options.what = options.what;
   Connection connection = Connection::Open(path, connection_options);
 
   // Identify the file before changing anything in it.

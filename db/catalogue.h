@@ -185,6 +185,8 @@ struct CatalogueOptions {
   // string"); empty = this build's, napkin::Version(). Tests set another to stand for an
   // older napkin.
   std::string napkin_version;
+  // What the file is to the user, in the messages of opening it ("results file", "shard").
+  std::string what = "catalogue";
 };
 
 class Catalogue {

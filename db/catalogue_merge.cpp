@@ -328,16 +328,21 @@ MergeReport Catalogue::MergeShard(const std::string& shard_path) {
   try {
     // Same checks and one-sentence errors as opening it; read-only also
     // refuses a shard of an older schema version.
+    // The file each name leads to, compared by device and inode, so no
+    // spelling of the name (relative, "./", links, a hard link, a "file:"
+    // URI) gets the catalogue attached to itself, where the merge would wait
+    // on its own lock: before the shard is opened, since SQLite would make a
+    // -wal file of the shard's name beside it, and again on the file SQLite
+    // opened.
+    const InputError itself("shard '" + shard_path + "' is the catalogue '" + connection_.path() +
+                            "' itself; merge other catalogues into it.");
+    const std::optional<FileIdentity> catalogue_file = connection_.FileIdentityOf();
+    if (catalogue_file && IdentifyFile(shard_path) == catalogue_file) throw itself;
     CatalogueOptions options;
     options.read_only = true;
+    options.what = "shard";
     Catalogue shard = Catalogue::Open(shard_path, options);
-    // The file SQLite opened for each, compared by device and inode, so no
-    // spelling of the name (relative, "./", links, a "file:" URI) gets the
-    // catalogue attached to itself, where the merge would wait on its own lock.
-    const std::optional<FileIdentity> shard_file = shard.connection_.FileIdentityOf();
-    if (shard_file && shard_file == connection_.FileIdentityOf())
-      throw InputError("shard '" + shard_path + "' is the catalogue '" + connection_.path() +
-                       "' itself; merge other catalogues into it.");
+    if (catalogue_file && shard.connection_.FileIdentityOf() == catalogue_file) throw itself;
     if (shard.schema_version() != schema_version_)
       throw InputError("shard '" + shard_path + "' has schema version " +
                        std::to_string(shard.schema_version()) + ", the catalogue " +

@@ -123,6 +123,7 @@ Catalogue ResultsFile::Open(const std::string& results_path, const Catalogue& ca
     try {
       ConnectionOptions probe_options;
       probe_options.read_only = true;
+      probe_options.what = "results file";
       Connection probe = Connection::Open(results_path, probe_options);
       if (!internal::PassesQuickCheck(probe)) throw damaged;
     } catch (const DatabaseError& failure) {
@@ -130,7 +131,9 @@ Catalogue ResultsFile::Open(const std::string& results_path, const Catalogue& ca
       throw;
     }
   }
-  Catalogue results = Catalogue::Open(results_path, options);
+  CatalogueOptions results_options = options;
+  results_options.what = "results file";
+  Catalogue results = Catalogue::Open(results_path, results_options);
   if (results.schema_version() != catalogue.schema_version())
     throw InputError("results file '" + results_path + "' has schema version " +
                      std::to_string(results.schema_version()) + ", the catalogue '" +

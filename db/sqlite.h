@@ -164,6 +164,8 @@ struct ConnectionOptions {
   // Refused (InputError) when a non-empty -wal or -journal file is beside it:
   // an immutable reader would not see those changes.
   bool immutable = false;
+  // What the file is to the user, for messages: "catalogue", "results file", "shard".
+  std::string what = "catalogue";
 };
 
 // Which file a name leads to, after links and URI parsing.
@@ -173,14 +175,27 @@ struct FileIdentity {
   bool operator==(const FileIdentity&) const = default;
 };
 
+// The file `path` leads to (links followed), as the descriptor open(2)
+// returns for it tells (opened O_PATH: a named pipe never blocks, and no
+// POSIX lock of this process is released when it is closed);
+// nullopt when it cannot be opened (e.g. it does not exist). For checks made
+// before SQLite opens a file (MergeShard refuses the catalogue itself before
+// anything is created beside it).
+std::optional<FileIdentity> IdentifyFile(const std::string& path);
+
 // An open SQLite database. ":memory:" opens a private in-memory database.
 // Not thread-safe: use one connection per thread (WAL lets several
 // connections, threads or processes, share one file).
 class Connection {
  public:
   // Throws InputError (one sentence naming `path`) when the file cannot be
-  // opened, is not an SQLite database, or is read-only while write access
-  // was asked for.
+  // opened, is not a regular file (a folder, named pipe, device or socket:
+  // refused before SQLite opens it, and again on the descriptor SQLite
+  // opened, so nothing is ever created beside it), is not an SQLite
+  // database, or is read-only while write access was asked for. A read-only
+  // connection to a file this process may write is opened read-write with
+  // PRAGMA query_only, so that closing the last connection removes the -wal
+  // and -shm files (db/README.md "Opening").
   static Connection Open(const std::string& path, const ConnectionOptions& options = {});
   ~Connection();
   Connection(Connection&& other) noexcept;
@@ -192,8 +207,8 @@ class Connection {
   const std::string& path() const { return path_; }
   bool in_memory() const { return path_ == ":memory:" || path_.empty(); }
   bool read_only() const { return read_only_; }
-  // Device and inode of the main database file SQLite opened; nullopt for
-  // an in-memory database.
+  // Device and inode of the main database file SQLite opened (its
+  // descriptor, seen as it was opened); nullopt for an in-memory database.
   std::optional<FileIdentity> FileIdentityOf() const;
 
   // Runs SQL without parameters (one or more statements: DDL, PRAGMA).
@@ -214,6 +229,7 @@ class Connection {
   sqlite3* db_ = nullptr;
   std::string path_;
   bool read_only_ = false;
+  std::optional<FileIdentity> identity_;  // of the main file SQLite opened
   std::unordered_map<std::string, std::unique_ptr<Statement>> statements_;
 };
 

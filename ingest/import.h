@@ -73,8 +73,11 @@ using ImportProgress = std::function<void(std::size_t done, std::size_t total, c
 // throw InputError before anything is stored. Then each input is read fully
 // (before any write) and stored in its own transaction, or refused with its
 // error recorded in the report (the catalogue keeps nothing of it); the
-// others still go ahead. A database failure (disk full, lock timeout) throws
-// after keeping the tests finished so far.
+// others still go ahead. Only input errors (InputError, an input file that
+// cannot be read) fail a test: a database failure (disk full, lock timeout)
+// and anything else (std::logic_error and the like, a bug in napkin;
+// std::bad_alloc) throw after keeping the tests finished so far (the CLI
+// reports an internal error, as for `run`).
 ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string>& paths,
                          const ImportOptions& options, const ImportProgress& progress = {});
 

@@ -2,6 +2,7 @@
 
 #include <errno.h>
 #include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -27,6 +28,14 @@ constexpr std::array<int, 2> kSignals = {SIGINT, SIGTERM};
 constexpr int kSlots = 16;
 std::array<std::atomic<const TemporaryFolder::Removal*>, kSlots> g_removals{};
 static_assert(std::atomic<const TemporaryFolder::Removal*>::is_always_lock_free, "read by a signal handler");
+// The handlers running now, in any thread. A signal is delivered to any
+// thread that does not block it (threads started later included), so a
+// Removal taken out of g_removals is freed only once no handler runs: one
+// that started before it was taken out may still be reading it
+// (WaitForHandlers). A handler that starts after it was taken out reads the
+// new one (sequentially consistent: the handler counts itself, then loads).
+std::atomic<int> g_running_handlers{0};
+static_assert(std::atomic<int>::is_always_lock_free, "changed by a signal handler");
 
 // Installation of the handler (under g_mutex): the dispositions it replaced.
 std::mutex g_mutex;
@@ -37,18 +46,28 @@ std::array<bool, kSignals.size()> g_installed{};
 
 void RemoveTemporaryFoldersOnSignal(int signal_number) {
   const int saved_errno = errno;
+  g_running_handlers.fetch_add(1);
   for (const auto& slot : g_removals) {
     const TemporaryFolder::Removal* removal = slot.load();
     if (removal == nullptr) continue;
     for (const std::string& file : removal->files) unlink(file.c_str());
     for (const std::string& folder : removal->folders) rmdir(folder.c_str());
   }
+  g_running_handlers.fetch_sub(1);
   // Hand the signal on to the disposition before ours: raised now, it is
   // delivered when this handler returns (the signal is blocked meanwhile).
   for (std::size_t i = 0; i < kSignals.size(); ++i)
     if (kSignals[i] == signal_number && g_installed[i]) sigaction(signal_number, &g_previous[i], nullptr);
   raise(signal_number);
   errno = saved_errno;
+}
+
+// Returns once no signal handler runs in another thread: a Removal no longer
+// published may then be freed. The calling thread blocks the signals (a
+// handler of its own would have finished before this call resumed), and a
+// handler only removes files, so the wait is short.
+void WaitForHandlers() {
+  while (g_running_handlers.load() != 0) sched_yield();
 }
 
 void InstallHandler() {
@@ -69,6 +88,7 @@ void InstallHandler() {
 void RestoreHandler() {
   for (std::size_t i = 0; i < kSignals.size(); ++i)
     if (g_installed[i]) sigaction(kSignals[i], &g_previous[i], nullptr);
+  WaitForHandlers();  // one started before may still read g_installed and g_previous
   g_installed = {};
 }
 
@@ -133,8 +153,9 @@ void TemporaryFolder::Plan(const std::vector<std::string>& relative_files) {
 
 void TemporaryFolder::Publish(std::unique_ptr<const Removal> removal) {
   if (slot_ < 0) return;         // more live folders than slots: removed on scope exit only
-  const BlockedSignals blocked;  // the handler never sees a Removal being freed (this thread)
+  const BlockedSignals blocked;  // no handler of this thread runs while the old one is freed
   g_removals[static_cast<std::size_t>(slot_)].store(removal.get());
+  WaitForHandlers();  // nor one of another thread that may hold the old one
   removal_ = std::move(removal);
 }
 
@@ -144,6 +165,7 @@ TemporaryFolder::~TemporaryFolder() {
   if (slot_ < 0) return;
   const BlockedSignals blocked;
   g_removals[static_cast<std::size_t>(slot_)].store(nullptr);
+  WaitForHandlers();  // removal_ is freed with this object
   const std::lock_guard<std::mutex> lock(g_mutex);
   g_slot_taken[static_cast<std::size_t>(slot_)] = false;
   if (--g_live_folders == 0) RestoreHandler();

@@ -8,7 +8,10 @@
 // written; after removing them the handler gives the signal to the handler
 // that was there before (by default the process ends by the signal, the
 // conventional status: 130 for SIGINT, 143 for SIGTERM in a shell). A signal
-// that was ignored when the folder was made stays ignored.
+// that was ignored when the folder was made stays ignored. The signal may be
+// delivered to any thread, one started later included: what the handler
+// reads (the published Removal) is freed only when no handler runs in any
+// thread (a count of running handlers, lock-free atomics).
 #include <filesystem>
 #include <memory>
 #include <string>

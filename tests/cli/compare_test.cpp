@@ -482,6 +482,39 @@ TEST_F(CliCompare, UsageErrorsExitTwoWithOneLineListingTheChoices) {
   EXPECT_EQ(by.out, "");
 }
 
+// Issue 29 point 18: --baseline names a config by the rule of --config (one
+// matcher): a hash prefix in any case, and a name two configs share is
+// ambiguous, not unknown.
+TEST_F(CliCompare, BaselineAndConfigMatchAConfigByOneRule) {
+  for (const std::string prefix : {"D0A1B2", "d0a1b2"}) {
+    const nlohmann::json rows =
+        CompareJson({"--series", "sled", "--by", "config", "--baseline", prefix, "--metrics", "hic15"});
+    ASSERT_EQ(rows.size(), 2u) << prefix;
+    for (const auto& row : rows) EXPECT_EQ(row["baseline"], "default") << prefix;
+    const nlohmann::json chosen = CompareJson({"--series", "sled", "--config", prefix, "--metrics", "hic15"});
+    EXPECT_FALSE(chosen.empty()) << prefix;
+  }
+  {
+    db::Catalogue catalogue = db::Catalogue::Open((dir_ / "napkin.db").string());
+    const db::ConfigId other =
+        catalogue.WriteConfig({{}, "default", R"({"gravity":true,"cfc":60})", "f00dfeed00112233aabb", {}});
+    catalogue.WriteResult(*catalogue.FindTestByExternalId("s01"), other, Summary(0, 7.0), "exact");
+  }
+  const RunResult baseline = Compare({"--series", "sled", "--by", "config", "--baseline", "default"});
+  EXPECT_EQ(baseline.exit_code, 2);
+  ExpectOneSentenceError(baseline, {"--baseline 'default' names 2 configs", "default (hash d0a1b2c3d4e5)",
+                                    "default (hash f00dfeed0011)", "give a hash prefix instead"});
+  const RunResult config = Compare({"--series", "sled", "--config", "default"});
+  EXPECT_EQ(config.exit_code, 2);
+  ExpectOneSentenceError(config, {"--config 'default' names 2 configs", "default (hash d0a1b2c3d4e5)",
+                                  "default (hash f00dfeed0011)", "give a hash prefix instead"});
+  // A hash prefix tells them apart.
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--by", "config", "--baseline", "F00D", "--metrics", "hic15"});
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.front()["baseline"], "default@f00dfeed");
+}
+
 TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {
   const RunResult run = Compare({"--series", "drop"});
   EXPECT_EQ(run.exit_code, 1);

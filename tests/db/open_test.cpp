@@ -2,10 +2,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <thread>
 
@@ -143,6 +145,59 @@ TEST(CatalogueOpen, MissingFileInReadOnlyModeIsReported) {
               ThrowsMessage<InputError>(
                   StrEq("cannot open catalogue '" + path + "' (unable to open database file).")));
   EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+// Issue 29 point 12: a read-only Catalogue (the read commands, the Python
+// Catalogue) leaves the folder as it found it: no -wal or -shm file after it
+// closes, and the file unchanged; those of a writer still open stay.
+TEST(CatalogueOpen, ReadingLeavesNoLogOrIndexBehind) {
+  napkin::test_support::TempDir dir;
+  const std::string path = dir / "c.db";
+  Catalogue::Open(path).WriteSeries("sled", "");
+  ASSERT_FALSE(std::filesystem::exists(path + "-wal"));
+  CatalogueOptions read_only;
+  read_only.read_only = true;
+  {
+    Catalogue reader = Catalogue::Open(path, read_only);
+    EXPECT_TRUE(reader.ReadSeries("sled").has_value());
+    EXPECT_THROW(reader.WriteSeries("other", ""), DatabaseError);
+  }
+  EXPECT_FALSE(std::filesystem::exists(path + "-wal"));
+  EXPECT_FALSE(std::filesystem::exists(path + "-shm"));
+  {
+    Catalogue writer = Catalogue::Open(path);
+    writer.WriteSeries("other", "");
+    {
+      Catalogue reader = Catalogue::Open(path, read_only);
+      EXPECT_TRUE(reader.ReadSeries("other").has_value());
+    }
+    EXPECT_TRUE(std::filesystem::exists(path + "-wal"));
+    EXPECT_TRUE(std::filesystem::exists(path + "-shm"));
+  }
+  Catalogue reader = Catalogue::Open(path, read_only);
+  EXPECT_FALSE(reader.ReadSeries("nope").has_value());
+}
+
+// Issue 29 point 7: a named pipe, a folder or a device is refused at once
+// (the pipe's open does not block), in one sentence naming it.
+TEST(CatalogueOpen, ANamedPipeFolderOrDeviceIsRefused) {
+  napkin::test_support::TempDir dir;
+  const std::string fifo = dir / "f";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  CatalogueOptions read_only;
+  read_only.read_only = true;
+  for (const CatalogueOptions& options : {CatalogueOptions{}, read_only}) {
+    EXPECT_THAT([&] { Catalogue::Open(fifo, options); },
+                ThrowsMessage<InputError>(StrEq(
+                    "catalogue '" + fifo +
+                    "' is a named pipe (FIFO), not a file; give the name of a regular file, or a name not "
+                    "yet taken.")));
+    EXPECT_THAT([&] { Catalogue::Open(dir.path().string(), options); },
+                ThrowsMessage<InputError>(::testing::HasSubstr("is a directory, not a file")));
+    EXPECT_THAT([&] { Catalogue::Open("/dev/null", options); },
+                ThrowsMessage<InputError>(::testing::HasSubstr("is a character device, not a file")));
+  }
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 1);
 }
 
 // While another connection reads, the automatic checkpoint cannot start the

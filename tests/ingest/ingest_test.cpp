@@ -1,9 +1,12 @@
 // Ingest: the content hashes existing catalogues hold (pinned byte for
 // byte), the one store sequence, and synthetic scenarios into the catalogue.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <new>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "db/catalogue.h"
@@ -220,6 +223,53 @@ TEST(ImportTestsTest, AnAbsurdSampleCountFailsOnlyItsOwnTest) {
   EXPECT_EQ(failures, 1);
   EXPECT_FALSE(catalogue.FindTestByExternalId("m0001"));
   EXPECT_EQ(report.SummaryLine(), "imported 2 tests, skipped 0 already present, 1 failed.");
+}
+
+// Issue 29 point 20: only input errors are a test's fault. A programmer error
+// (here std::logic_error, and std::bad_alloc) while a test is stored is no
+// property of the test: it stops the import (the CLI reports an internal
+// error), the tests stored before it are kept, and a rerun imports the rest.
+TEST(ImportTestsTest, AProgrammerErrorStopsTheImportKeepingTheTestsBeforeIt) {
+  napkin::test_support::TempDir dir;
+  const engine::ArrayGeometry array = formats::LoadArray("denton-3222");
+  const fs::path folder = dir / "series";
+  fs::create_directories(folder);
+  for (int i = 1; i <= 3; ++i)
+    formats::WriteSignalsCsv(test_support::MakeSignals(array, 50 + 10 * i, 1e-4, 0.0),
+                             folder / ("a000" + std::to_string(i) + ".csv"));
+  ImportOptions options;
+  options.array = "denton-3222";
+  const std::string path = (dir / "c.db").string();
+  for (const bool out_of_memory : {false, true}) {
+    fs::remove(path);
+    // The catalogue's clock runs once per test stored; its second call in
+    // the import (storing a0002) fails.
+    bool importing = false;
+    int calls = 0;
+    db::CatalogueOptions broken;
+    broken.clock = [&]() -> double {
+      if (importing && ++calls == 2) {
+        if (out_of_memory) throw std::bad_alloc();
+        throw std::logic_error("injected: a broken invariant");
+      }
+      return 1.7e9;
+    };
+    {
+      db::Catalogue catalogue = db::Catalogue::Open(path, broken);
+      importing = true;
+      if (out_of_memory)
+        EXPECT_THROW(ImportTests(catalogue, {folder.string()}, options, {}), std::bad_alloc);
+      else
+        EXPECT_THAT(
+            [&] { ImportTests(catalogue, {folder.string()}, options, {}); },
+            ::testing::ThrowsMessage<std::logic_error>(::testing::StrEq("injected: a broken invariant")));
+      EXPECT_TRUE(catalogue.FindTestByExternalId("a0001"));
+      EXPECT_FALSE(catalogue.FindTestByExternalId("a0002"));
+    }
+    db::Catalogue catalogue = db::Catalogue::Open(path);
+    const ImportReport again = ImportTests(catalogue, {folder.string()}, options, {});
+    EXPECT_EQ(again.SummaryLine(), "imported 2 tests, skipped 1 already present.");
+  }
 }
 
 }  // namespace
