@@ -279,7 +279,8 @@ void PlanMoves(const std::shared_ptr<UniqueFd>& from, const std::shared_ptr<Uniq
     CheckNotProtected(entry, target.string());
     if (exists) {
       if (!S_ISREG(existing.st_mode))
-        throw InputError(QuotedPath(target) + " exists and is not a regular file; napkin does not replace it.");
+        throw InputError(QuotedPath(target) +
+                         " exists and is not a regular file; napkin does not replace it.");
       if (!replace_existing)
         throw InputError(QuotedPath(target) +
                          " already exists; napkin does not replace it unless --force is given.");
