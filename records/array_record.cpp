@@ -19,6 +19,9 @@ db::ArrayRow MakeArrayRecord(const engine::ArrayGeometry& array) {
 db::ArrayRow MakeImportedArrayRecord(const engine::ArrayGeometry& array,
                                      const std::filesystem::path& config_dir) {
   db::ArrayRow record = MakeArrayRecord(array);
+  // A name that is no file name names no preset (import refuses it later).
+  if (array.name.empty() || array.name.find('/') != std::string::npos || array.name.starts_with('.'))
+    return record;
   const std::filesystem::path preset = config_dir / "arrays" / (array.name + ".json");
   std::error_code error;
   if (!std::filesystem::is_regular_file(preset, error)) return record;
