@@ -111,11 +111,12 @@ struct HashKeyedTable {
   const char* definition_what;  // "definition of array": "... '<name>' is not valid JSON."
   const char* other_what;       // "array definition": "... the hash of a different array definition ..."
   bool created_at;              // the row records when it was written (configs)
+  bool distinct_names;          // a new row's name taken by another row gets its hash (arrays)
 };
 constexpr HashKeyedTable kArrayTable{"arrays",           "definition", "array", "definition of array",
-                                     "array definition", false};
-constexpr HashKeyedTable kConfigTable{"configs",           "config", "processing config",
-                                      "processing config", "config", true};
+                                     "array definition", false,        true};
+constexpr HashKeyedTable kConfigTable{"configs", "config", "processing config", "processing config", "config",
+                                      true,      false};
 
 // In one transaction: checks that `json` is valid JSON, inserts the row
 // unless one with `hash` is there, and returns the id of the row holding
@@ -132,13 +133,25 @@ std::int64_t InsertByHash(Connection& connection, const HashKeyedTable& table, c
     if (valid->ColumnInt64(0) == 0)
       throw InputError(std::string(table.definition_what) + " '" + name + "' is not valid JSON.");
   }
+  std::string stored_name = name;
+  if (table.distinct_names) {
+    // Issue 29 point 6: two geometries under one name were shown alike by
+    // `query tests`. The first keeps the name; a later one (not yet stored
+    // under its hash) takes the name qualified by its hash.
+    auto taken = connection.Prepare(
+        std::string("SELECT EXISTS (SELECT 1 FROM ") + table.table + " WHERE name = ?1 AND " + column +
+        "_hash != ?2) AND NOT EXISTS (SELECT 1 FROM " + table.table + " WHERE " + column + "_hash = ?2)");
+    taken->BindAll(name, hash);
+    taken->Step();
+    if (taken->ColumnInt64(0) != 0) stored_name = HashQualifiedArrayName(name, hash);
+  }
   {
     auto insert =
         connection.Prepare(std::string("INSERT INTO ") + table.table + " (name, " + column + "_json, " +
                            column + "_hash" + (table.created_at ? ", created_at" : "") +
                            ") VALUES (?1, ?2, ?3" + (table.created_at ? ", " + IsoTimestampSql("?4") : "") +
                            ") ON CONFLICT (" + column + "_hash) DO NOTHING");
-    insert->BindAll(name, json, hash);
+    insert->BindAll(stored_name, json, hash);
     if (table.created_at) insert->Bind(4, clock());
     insert->Execute();
   }
@@ -284,6 +297,10 @@ std::vector<SeriesRow> Catalogue::ReadAllSeries() {
 }
 
 // ------------------------------------------------------------------- arrays
+
+std::string HashQualifiedArrayName(const std::string& name, const std::string& definition_hash) {
+  return name + "@" + definition_hash.substr(0, 12);
+}
 
 ArrayId Catalogue::WriteArray(const ArrayRow& array) {
   return ArrayId{InsertByHash(connection_, kArrayTable, array.name, array.definition_json,

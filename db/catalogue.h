@@ -40,12 +40,18 @@ struct SeriesRow {
 };
 
 // An accelerometer array definition (docs/formats.md), deduplicated by hash.
+// Its name tells one geometry: a second definition under a name already
+// taken is stored as HashQualifiedArrayName (WriteArray).
 struct ArrayRow {
   ArrayId id{};                 // set by WriteArray / ReadArray
   std::string name;             // e.g. "denton-3222"
   std::string definition_json;  // canonical JSON
   std::string definition_hash;  // hash of definition_json (computed by the caller)
 };
+
+// "NAME@HASH12": an array's name followed by the first 12 hex digits of its
+// definition hash, the name of a geometry whose plain name is another's.
+std::string HashQualifiedArrayName(const std::string& name, const std::string& definition_hash);
 
 // A processing configuration, deduplicated by hash.
 struct ConfigRow {
@@ -224,7 +230,10 @@ class Catalogue {
   std::vector<SeriesRow> ReadAllSeries();
 
   // ---- arrays
-  // Returns the key of the array with this hash, inserting it if new.
+  // Returns the key of the array with this hash, inserting it if new. A new
+  // array whose name another definition of the catalogue already has is
+  // stored as HashQualifiedArrayName(name, hash), so that `query tests`
+  // tells the two apart (docs/formats.md "Array names in the catalogue").
   ArrayId WriteArray(const ArrayRow& array);
   ArrayRow ReadArray(ArrayId id);
 

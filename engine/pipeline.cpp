@@ -83,22 +83,10 @@ void CheckTimeBaseAndInitialState(const TestSignals& signals, const InitialState
   throw InputError(message.str());
 }
 
-}  // namespace
-
-ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
-                          const InitialState& initial, const ProcessingConfig& config,
-                          const std::atomic<bool>* cancel) {
-  config.Check();
-  CheckTimeBaseAndInitialState(raw_signals, initial, config);
-  ThrowIfCancelled(cancel);
-  // Screening runs on the raw signals first (report section 2.2: check the
-  // data before using them). A missing channel or a non-finite sample makes
-  // the test unusable: stop with the finding's sentence (slot, sample, time).
-  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
-  const auto fatal = std::find_if(findings.begin(), findings.end(), IsFatal);
-  if (fatal != findings.end()) throw InputError(fatal->detail);
-  ThrowIfCancelled(cancel);
-
+// ProcessTest after the raw-signal screening that found `findings`.
+ProcessedTest ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
+                              const InitialState& initial, const ProcessingConfig& config,
+                              std::vector<Finding> findings, const std::atomic<bool>* cancel) {
   TestSignals signals = raw_signals;
   ProcessedTest processed;
   processed.summary.conditioning = ApplyConditioning(array, signals, config, cancel);
@@ -160,6 +148,41 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
   FillCriteria(processed.kinematics, config, processed.summary, cancel);
   processed.summary.findings = std::move(findings);
   return processed;
+}
+
+}  // namespace
+
+ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
+                          const InitialState& initial, const ProcessingConfig& config,
+                          const std::atomic<bool>* cancel) {
+  config.Check();
+  CheckTimeBaseAndInitialState(raw_signals, initial, config);
+  ThrowIfCancelled(cancel);
+  // Screening runs on the raw signals first (report section 2.2: check the
+  // data before using them). A missing channel or a non-finite sample makes
+  // the test unusable: stop with the finding's sentence (slot, sample, time).
+  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
+  const auto fatal = std::find_if(findings.begin(), findings.end(), IsFatal);
+  if (fatal != findings.end()) throw InputError(fatal->detail);
+  ThrowIfCancelled(cancel);
+
+  // A raw sample beyond the plausibility limits fails the test with its
+  // finding (FailingFinding). Should the computation stop on it first
+  // (1e300 g overflows once squared), the sentence would name a sample of
+  // the filtered signal, hundreds of samples and milliseconds away from the
+  // recorded one (issue 29 point 11): the test stops with the raw finding,
+  // which names the recorded sample, its time and its file row.
+  const auto implausible = std::find_if(findings.begin(), findings.end(), [](const Finding& finding) {
+    return finding.severity == Severity::kError && finding.check == NameOf(Check::kImplausible);
+  });
+  if (implausible == findings.end())
+    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel);
+  const std::string cause = implausible->detail;
+  try {
+    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel);
+  } catch (const InputError&) {
+    throw InputError(cause);
+  }
 }
 
 std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,

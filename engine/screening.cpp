@@ -131,9 +131,12 @@ std::optional<Finding> CheckPlausible(const Sensor& sensor, const TestSignals& s
   const double limit = linear ? limits.max_acceleration_g : limits.max_angular_velocity_radps;
   if (!(std::abs(value) > limit)) return std::nullopt;
   const char* unit = linear ? " g" : " rad/s";
+  // Read from a file, the sample's row too (issue 29 point 11).
+  const std::optional<std::int64_t> row = signals.FileRowOf(worst);
   return MakeFinding(Check::kImplausible, sensor.slot, Severity::kError,
                      "channel " + sensor.slot + " reads " + Number(value, 6) + unit + " at sample " +
-                         std::to_string(worst) + " (t = " + Number(signals.TimeAt(worst), 6) +
+                         std::to_string(worst) + " (" + (row ? "row " + std::to_string(*row) + ", " : "") +
+                         "t = " + Number(signals.TimeAt(worst), 6) +
                          " s), beyond the plausibility limit of " + Number(limit, 6) + unit +
                          ": a corrupt sample or a wrong unit; correct the data (or raise "
                          "plausibility limits in the processing config).");

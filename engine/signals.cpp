@@ -13,4 +13,10 @@ std::optional<double> TestSignals::PrefilteredCfc(Eigen::Index column) const {
   return column >= 0 && index < prefiltered_cfc.size() ? prefiltered_cfc[index] : std::nullopt;
 }
 
+std::optional<std::int64_t> TestSignals::FileRowOf(Eigen::Index k) const {
+  if (k < 0 || static_cast<std::size_t>(samples.rows()) != file_rows.size() || k >= samples.rows())
+    return std::nullopt;
+  return file_rows[static_cast<std::size_t>(k)];
+}
+
 }  // namespace napkin::engine

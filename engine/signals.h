@@ -1,6 +1,7 @@
 #pragma once
 // Raw signals of one test: uniformly sampled channels, one column per slot.
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,11 +26,18 @@ struct TestSignals {
   // (a UDS-1992 FCUT that is no SAE J211 cut-off). Empty (the usual case,
   // e.g. CSV) = no channel recorded as filtered.
   std::vector<std::optional<double>> prefiltered_cfc;
+  // Per sample, the line of the file it was read from (the CSV reader sets
+  // it), so that a sentence about a sample names the row the user can open;
+  // empty where not known (other formats, signals read back from the
+  // catalogue). Used only when it has one entry per sample.
+  std::vector<std::int64_t> file_rows;
 
   Eigen::Index size() const { return samples.rows(); }
   // prefiltered_cfc of column `column`, nullopt when not recorded.
   std::optional<double> PrefilteredCfc(Eigen::Index column) const;
   double TimeAt(Eigen::Index k) const { return t0_s + static_cast<double>(k) * dt_s; }
+  // The file line of sample `k` (file_rows), or nullopt.
+  std::optional<std::int64_t> FileRowOf(Eigen::Index k) const;
   // Column index of `slot`, or -1.
   int FindSlot(const std::string& slot) const;
 };

@@ -30,7 +30,10 @@ std::string Canonical(std::string_view unit) {
   for (const char* seconds : {"SECONDS", "SECOND", "SECS", "SEC"}) ReplaceAll(u, seconds, "S");
   for (const char* metres : {"METERS", "METRES", "METER", "METRE"}) ReplaceAll(u, metres, "M");
   for (const char* radians : {"RADIANS", "RADIAN"}) ReplaceAll(u, radians, "RAD");
-  for (const char* degrees : {"DEGREES", "DEGREE", "DEGS"}) ReplaceAll(u, degrees, "DEG");
+  for (const char* degrees : {"DEGREES", "DEGREE"}) ReplaceAll(u, degrees, "DEG");
+  // Plural "degs" only before a '/': in "DEGS^-1" (deg s^-1, blanks gone)
+  // the S is the second (issue 29 point 16).
+  ReplaceAll(u, "DEGS/", "DEG/");
   ReplaceAll(u, "INCHES", "IN");
   ReplaceAll(u, "INCH", "IN");
   ReplaceAll(u, "FEET", "FT");

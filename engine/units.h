@@ -25,8 +25,9 @@ struct SignalUnit {
 // Unit spellings are read case-insensitively, blanks and parentheses
 // ignored, "**" or "^" for powers, long or short names and the degree sign:
 // "g", "G'S", "m/s^2", "m/s2", "M/SEC**2", "ft/s^2", "IN/SEC**2", "rad/s",
-// "RADIANS/SECOND", "deg/s", "DEG/SEC", "°/s", ... nullopt for an unknown
-// (or blank) spelling.
+// "RADIANS/SECOND", "deg/s", "DEG/SEC", "deg s^-1", "°/s", ... (the full
+// list: docs/formats.md "Unit spellings"); nullopt for an unknown (or blank)
+// spelling.
 std::optional<SignalUnit> SignalUnitToSi(std::string_view unit);
 // Factor from a length unit (m, mm, cm, in, ft; same spellings) to metres.
 std::optional<double> LengthUnitToMetres(std::string_view unit);

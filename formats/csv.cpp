@@ -239,6 +239,7 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
   engine::TestSignals& signals = result.signals;
   signals.t0_s = time_base.t0_s;
   signals.dt_s = time_base.dt_s;
+  signals.file_rows.assign(row_lines.begin(), row_lines.end());
   signals.samples.resize(static_cast<Eigen::Index>(time.size()), static_cast<Eigen::Index>(columns.size()));
   for (std::size_t c = 0; c < columns.size(); ++c)
     signals.samples.col(static_cast<Eigen::Index>(c)) =

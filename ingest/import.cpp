@@ -229,7 +229,7 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
                          const ImportOptions& options, const ImportProgress& progress) {
   PreparedImport prepared;
   prepared.array = formats::LoadArray(options.array);
-  prepared.array_record = records::MakeArrayRecord(prepared.array);
+  prepared.array_record = records::MakeImportedArrayRecord(prepared.array);
   if (!options.channel_map.empty()) prepared.channel_map = formats::LoadChannelMap(options.channel_map);
   prepared.default_map = formats::LoadChannelMap("default");
   if (prepared.channel_map) prepared.csv_columns = prepared.channel_map->CsvColumns();

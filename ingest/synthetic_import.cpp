@@ -25,7 +25,7 @@ SynthPlan PlanSynth(const SynthRequest& request) {
   }
   SynthPlan plan;
   plan.array = formats::LoadArray(request.array);
-  plan.array_record = records::MakeArrayRecord(plan.array);
+  plan.array_record = records::MakeImportedArrayRecord(plan.array);
   const std::string name = synth::SynthScenarioName(request.scenario);
   plan.series = request.series.empty() ? name : request.series;
   synth::ScenarioOptions& scenario = plan.scenario;

@@ -95,7 +95,9 @@ class ReadOnlyCatalogue {
     auto triple = [](const Eigen::Vector3d& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
     py::dict result;
     result["test_id"] = inputs.external_id;
-    result["array"] = inputs.array->name;
+    // The stored definition itself, not its name: a name may be a preset's
+    // while the geometry is an edited copy (issue 29 point 6).
+    result["array"] = py::module_::import("json").attr("loads")(inputs.array_record->definition_json);
     result["time_s"] = ToNumpy(std::move(time));
     result["channels"] = channels;
     result["orientation"] = triple(inputs.initial.orientation_rad);

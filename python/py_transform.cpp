@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -72,6 +73,20 @@ Value ReadOnce(const std::filesystem::path& path, Value (*read)(const std::files
   }
   if (after != content) return value;
   return cache.insert_or_assign(key, Entry{std::move(content), std::move(value)}).first->second.value;
+}
+
+// The array `array` names: an array definition's JSON text (what
+// napkin/__init__.py makes of a dict, e.g. Catalogue.test_inputs' stored
+// definition; it starts with '{', which no preset name does), a preset name
+// or a JSON file's path.
+engine::ArrayGeometry ResolveArray(const std::string& array, const std::filesystem::path& presets) {
+  if (array.starts_with('{')) {
+    const std::string source = "the array definition given to napkin.transform";
+    const nlohmann::json json = nlohmann::json::parse(array, nullptr, /*allow_exceptions=*/false);
+    if (json.is_discarded()) throw InputError(source + " is not valid JSON.");
+    return formats::ParseArrayJson(json, source);
+  }
+  return ReadOnce(formats::ResolvePreset(array, "arrays", presets), formats::ReadArrayJson);
 }
 
 std::string SlotList(const engine::ArrayGeometry& array) {
@@ -263,8 +278,7 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   const std::string source = Source(test_id);
   const std::filesystem::path presets =
       config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
-  const engine::ArrayGeometry array =
-      ReadOnce(formats::ResolvePreset(array_name, "arrays", presets), formats::ReadArrayJson);
+  const engine::ArrayGeometry array = ResolveArray(array_name, presets);
   engine::ProcessingConfig config =
       ReadOnce(records::ProcessingConfigPath(config_name, presets), formats::ReadProcessingConfig);
   if (solver) {

@@ -15,9 +15,9 @@ TestInputs TestInputReader::Read(db::TestId test) {
   auto found = arrays_.find(record.array_id);
   if (found == arrays_.end()) {
     DecodedArray decoded;
+    decoded.record = std::make_shared<const db::ArrayRow>(catalogue_.ReadArray(record.array_id));
     try {
-      decoded.geometry = std::make_shared<const engine::ArrayGeometry>(
-          DecodeArrayRecord(catalogue_.ReadArray(record.array_id)));
+      decoded.geometry = std::make_shared<const engine::ArrayGeometry>(DecodeArrayRecord(*decoded.record));
     } catch (const InputError& error) {
       decoded.error = error.what();
     }
@@ -25,6 +25,7 @@ TestInputs TestInputReader::Read(db::TestId test) {
   }
   inputs.array = found->second.geometry;
   inputs.array_error = found->second.error;
+  inputs.array_record = found->second.record;
   return inputs;
 }
 

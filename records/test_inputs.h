@@ -23,6 +23,10 @@ struct TestInputs {
   engine::TestSignals signals;                         // the raw channels
   std::shared_ptr<const engine::ArrayGeometry> array;  // null when its record cannot be decoded:
   std::string array_error;                             // ... then the InputError sentence why
+  // The stored array record `array` is decoded from (name, canonical JSON,
+  // hash): what every recomputation of the test uses, the Python
+  // Catalogue.test_inputs included (issue 29 point 6).
+  std::shared_ptr<const db::ArrayRow> array_record;
 };
 
 // Reads tests' inputs from one catalogue, decoding each array once (the
@@ -38,6 +42,7 @@ class TestInputReader {
 
  private:
   struct DecodedArray {
+    std::shared_ptr<const db::ArrayRow> record;
     std::shared_ptr<const engine::ArrayGeometry> geometry;
     std::string error;
   };

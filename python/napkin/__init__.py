@@ -79,7 +79,9 @@ def transform(channels, time_s=None, dt=None, array="denton-3222", config="defau
                 the array's slot order
     time_s   -- the sample times (s), uniformly spaced; or give dt (s) and the
                 first sample is at t = 0
-    array    -- array preset name ("denton-3222", "3a-cg", ...) or array JSON path
+    array    -- array preset name ("denton-3222", "3a-cg", ...), array JSON path,
+                or an array definition as a dict (the JSON file's content, e.g.
+                the stored definition ``Catalogue.test_inputs`` returns)
     config   -- processing config preset name or JSON path
     orientation      -- initial orientation phi, theta, psi (rad)
     initial_velocity -- initial CG velocity in the fixed frame (m/s)
@@ -95,8 +97,8 @@ def transform(channels, time_s=None, dt=None, array="denton-3222", config="defau
     (KeyboardInterrupt).
     """
     summary_json, derived = _napkin.transform(
-        channels, time_s, dt, array, config, orientation, initial_velocity, initial_omega_body, solver,
-        test_id, _config_dir())
+        channels, time_s, dt, _json.dumps(array) if isinstance(array, dict) else array, config, orientation,
+        initial_velocity, initial_omega_body, solver, test_id, _config_dir())
     return TransformResult(_json.loads(summary_json), derived)
 
 
@@ -208,8 +210,9 @@ class Catalogue:
 
     def test_inputs(self, test_id):
         """What ``napkin run`` computes the test's result from, as ``transform``'s
-        keyword arguments: test_id, array (the name of the test's stored array
-        definition, a preset name when it was imported with one), time_s,
+        keyword arguments: test_id, array (the test's stored array definition
+        as a dict, the JSON its record holds: the geometry it was imported
+        with, even where its name is a preset's), time_s,
         channels (slot -> raw samples), orientation, initial_velocity,
         initial_omega_body. ``transform(**catalogue.test_inputs(t), config=c)``
         computes what ``napkin run --config c`` stores for it."""

@@ -26,8 +26,10 @@ def cli_transform(tmp_path, inputs, *extra):
     signals = tmp_path / "input.csv"
     write_signals_csv(signals, inputs["time_s"], inputs["channels"])
     out, summary = tmp_path / "out.csv", tmp_path / "summary.json"
+    array = tmp_path / "array.json"  # test_inputs gives the stored definition
+    array.write_text(json.dumps(inputs["array"]))
     triple = lambda values: ",".join(repr(float(v)) for v in values)  # noqa: E731
-    run_napkin("transform", "--array", inputs["array"], "--orientation=" + triple(inputs["orientation"]),
+    run_napkin("transform", "--array", array, "--orientation=" + triple(inputs["orientation"]),
                "--initial-velocity=" + triple(inputs["initial_velocity"]), *extra, signals, "--out", out,
                "--summary", summary)
     return json.loads(summary.read_text()), read_csv_cells(out)

@@ -83,6 +83,50 @@ TEST(HostileInputCli, AMillionGSampleFailsRunAndTransformNamingChannelTimeAndVal
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
 }
 
+// Issue 29 point 11: a 1e300 g cell at t = 0.02 s (the record starting at
+// t = -0.05 s) was blamed on "HIC: sample 296 (t = -0.0204 s) is not finite",
+// where the filtered signal's square overflowed. The sentence names the
+// cell: its row (file line), time and value.
+TEST(HostileInputCli, AnOverflowingSampleIsNamedByItsRowAndTime) {
+  test_support::TempDir dir;
+  synth::SyntheticTest corrupt = test_support::SynthNapTest(7, 0.1);
+  corrupt.signals.t0_s = -0.05;
+  const Eigen::Index k = 700;  // t = -0.05 + 700 * 1e-4 = 0.02 s
+  ASSERT_DOUBLE_EQ(corrupt.signals.dt_s, 1e-4);
+  corrupt.signals.samples(k, corrupt.signals.FindSlot("cg_x")) = 1e300;  // g
+  const fs::path csv = dir / "corrupt.csv";
+  formats::WriteSignalsCsv(corrupt.signals, csv);
+  const std::string row = "row " + std::to_string(k + 2);  // line 1 is the header
+  const test_support::CommandResult transform = test_support::RunProgram(
+      NAPKIN_BINARY, {"transform", "--array", "denton-3222",
+                      test_support::TripleFlag("--orientation", corrupt.initial.orientation_rad),
+                      test_support::TripleFlag("--initial-velocity", corrupt.initial.velocity_fixed_mps),
+                      "--out", (dir / "out.csv").string(), csv.string()});
+  EXPECT_EQ(transform.exit_code, 1);
+  test_support::ExpectOneSentenceError(
+      transform, {"corrupt.csv: ", "channel cg_x reads 1e+300 g", row, "t = 0.02 s", "2000 g"});
+  EXPECT_EQ(transform.err.find("not finite"), std::string::npos) << transform.err;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
+
+  // Imported and run, the stored raw channels keep no file lines: the
+  // sample's index and time.
+  const std::string db = (dir / "h.db").string();
+  std::vector<std::string> import = ImportArgs(db, corrupt);
+  import.push_back(csv.string());
+  const test_support::CommandResult imported = test_support::RunNapkin(dir.path(), import);
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const test_support::CommandResult run = test_support::RunNapkin(dir.path(), {"--db", db, "run"});
+  EXPECT_NE(run.exit_code, 0) << run.err;
+  const test_support::CommandResult status =
+      test_support::RunNapkin(dir.path(), {"--db", db, "status", "--format", "json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const nlohmann::json counts = nlohmann::json::parse(status.out);
+  ASSERT_EQ(counts.at("failures").size(), 1u) << status.out;
+  const std::string stored = counts.at("failures")[0].at("error").get<std::string>();
+  EXPECT_NE(stored.find("channel cg_x reads 1e+300 g at sample 700 (t = 0.02 s)"), std::string::npos)
+      << stored;
+}
+
 // Issue 11, item 5: a FIFO named *.csv made `import` block forever.
 TEST(HostileInputCli, FifoNamedCsvDoesNotBlockImport) {
   test_support::TempDir dir;

@@ -58,6 +58,10 @@ TEST(CsvTest, ColumnsInAnyOrderCommentsCrlfAndExtraColumns) {
     for (int c = 0; c < 6; ++c) EXPECT_EQ(read.signals.samples(k, c), 10.0 * k + c + 1);
   EXPECT_DOUBLE_EQ(read.signals.dt_s, 0.001);
   EXPECT_EQ(read.signals.t0_s, 0.0);
+  // Each sample's file line, comment lines counted (issue 29 point 11).
+  EXPECT_EQ(read.signals.file_rows, (std::vector<std::int64_t>{4, 5, 6}));
+  EXPECT_EQ(read.signals.FileRowOf(2), 6);
+  EXPECT_FALSE(read.signals.FileRowOf(3));
 }
 
 TEST(CsvTest, WithoutArrayEveryColumnInFileOrder) {
