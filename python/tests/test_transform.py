@@ -143,11 +143,16 @@ def test_threads_transform_side_by_side(tmp_path):
     assert threaded == serial
 
 
-def test_a_changed_config_file_is_read_again(tmp_path):
-    # Presets and config files are read once per version of the file, never served stale.
+def _pulse_on_3a_cg():
+    """A 10 ms, 60 g half-sine along x on the 3a-cg array: its peak shows the filter class."""
     time_s = np.arange(0, 0.05, 1e-4)
     pulse = 60.0 * np.sin(np.pi * np.clip(time_s / 0.01, 0, 1)) ** 2
-    channels = {"cg_x": pulse, "cg_y": np.zeros_like(pulse), "cg_z": np.zeros_like(pulse)}
+    return time_s, {"cg_x": pulse, "cg_y": np.zeros_like(pulse), "cg_z": np.zeros_like(pulse)}
+
+
+def test_a_changed_config_file_is_read_again(tmp_path):
+    # Presets and config files are read once per version of the file, never served stale.
+    time_s, channels = _pulse_on_3a_cg()
     config = tmp_path / "filter.json"
     config.write_text(json.dumps({"name": "filter", "filter": {"linear_cfc": 1000.0}}))
     cfc1000 = napkin.transform(channels, time_s=time_s, array="3a-cg", config=config).summary["peak_acc_g"]
@@ -161,9 +166,7 @@ def test_a_config_rewritten_within_one_timestamp_tick_is_read_again(tmp_path):
     # A file rewritten in place at the same size and within the same tick of its
     # modification time (restored here with os.utime, as a fast editor or a
     # coarse filesystem clock would leave it) is its new content, not the cache's.
-    time_s = np.arange(0, 0.05, 1e-4)
-    pulse = 60.0 * np.sin(np.pi * np.clip(time_s / 0.01, 0, 1)) ** 2
-    channels = {"cg_x": pulse, "cg_y": np.zeros_like(pulse), "cg_z": np.zeros_like(pulse)}
+    time_s, channels = _pulse_on_3a_cg()
     config = tmp_path / "filter.json"
     config.write_text(json.dumps({"name": "filter", "filter": {"linear_cfc": 1000.0}}))
     before = os.stat(config)
