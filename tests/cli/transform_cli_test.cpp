@@ -11,6 +11,7 @@
 #include "engine/report_known_answers.h"
 #include "formats/csv.h"
 #include "synth/synthetic_tests.h"
+#include "tests/cli/cli_test_util.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
@@ -19,8 +20,6 @@ namespace napkin::test_support {
 namespace {
 
 namespace fs = std::filesystem;
-
-void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 class TransformCliTest : public ::testing::Test {
  protected:
