@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "util/unique_fd.h"
 
 namespace napkin::db {
 
@@ -224,21 +225,6 @@ class RecordOpens {
   std::vector<OpenedFile> opened_;
 };
 
-// A descriptor closed when it goes out of scope.
-class Descriptor {
- public:
-  explicit Descriptor(int fd) : fd_(fd) {}
-  ~Descriptor() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  Descriptor(const Descriptor&) = delete;
-  Descriptor& operator=(const Descriptor&) = delete;
-  int get() const { return fd_; }
-
- private:
-  int fd_;
-};
-
 // "a directory", "a named pipe (FIFO)", ... for a file that is no regular file.
 std::string KindOf(mode_t mode) {
   if (S_ISDIR(mode)) return "a directory";
@@ -308,7 +294,7 @@ std::string ImmutableUri(const std::string& path) {
 }  // namespace
 
 std::optional<FileIdentity> IdentifyFile(const std::string& path) {
-  const Descriptor file(OpenToIdentify(path));
+  const util::UniqueFd file(OpenToIdentify(path));
   struct stat status {};
   if (file.get() < 0 || ::fstat(file.get(), &status) != 0) return std::nullopt;
   return IdentityOf(status);
@@ -323,7 +309,7 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
   // above), kept open until SQLite has opened the file so its identity
   // cannot pass to another file meanwhile. A name not yet taken is created
   // by SQLite (for writing) or refused by it (for reading).
-  const Descriptor named(plain_file ? OpenToIdentify(path) : -1);
+  const util::UniqueFd named(plain_file ? OpenToIdentify(path) : -1);
   std::optional<struct stat> named_status;
   if (named.get() >= 0) {
     struct stat status {};
