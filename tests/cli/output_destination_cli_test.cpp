@@ -375,7 +375,7 @@ TEST_F(DestinationRace, ADeviceFlippedToALinkToTheCatalogueIsNeverWrittenThrough
   const std::string hash = util::Sha256Hex(ReadText(Db()));
   const std::map<std::string, std::string> lab_before = Listing(lab_);
   const int succeeded = RaceExports({"export", "--test", "e1", "--format", "csv", "--out", "out"},
-                                    dir_ / "out", dir_ / "other", 300, 60);
+                                    dir_ / "out", dir_ / "other", 150, 30);
   EXPECT_GT(succeeded, 0);
   EXPECT_EQ(util::Sha256Hex(ReadText(Db())), hash);
   EXPECT_EQ(Listing(lab_), lab_before);
@@ -399,7 +399,7 @@ TEST_F(DestinationRace, AFolderFlippedToALinkToTheCataloguesFolderIsNeverWritten
   const std::string hash = util::Sha256Hex(ReadText(Db()));
   const std::map<std::string, std::string> lab_before = Listing(lab_);
   const int succeeded = RaceExports({"export", "--test", "e1", "--format", "csv", "--out", "sub/lab.db"},
-                                    dir_ / "sub", dir_ / "other", 300, 60);
+                                    dir_ / "sub", dir_ / "other", 150, 30);
   EXPECT_GT(succeeded, 0);
   EXPECT_EQ(util::Sha256Hex(ReadText(Db())), hash);
   EXPECT_EQ(Listing(lab_), lab_before);
