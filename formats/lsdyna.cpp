@@ -84,7 +84,6 @@ void WriteLsDynaKeyword(const engine::Kinematics& kinematics, util::AtomicFile& 
 
 void WriteLsDynaKeyword(const engine::Kinematics& kinematics, const std::filesystem::path& path,
                         const LsDynaOptions& options) {
-  RequireSamples(kinematics, path);
   util::WriteFileAtomically(path,
                             [&](util::AtomicFile& file) { WriteLsDynaKeyword(kinematics, file, options); });
 }
