@@ -220,14 +220,19 @@ void CfcFilter::ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples,
         w[(pad - k) * kLanes + static_cast<Eigen::Index>(lane)] = 2.0 * first - input[k];
         w[(pad + n - 1 + k) * kLanes + static_cast<Eigen::Index>(lane)] = 2.0 * last - input[n - 1 - k];
       }
-      for (Eigen::Index k = 0; k < n; ++k) w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)] = input[k];
+      for (Eigen::Index k = 0; k < n; ++k) {
+        ThrowIfCancelled(cancel, k);
+        w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)] = input[k];
+      }
     }
     RunPassInterleaved(coefficients_, w, total, /*forward=*/true, cancel);
     RunPassInterleaved(coefficients_, w, total, /*forward=*/false, cancel);
     for (std::size_t lane = 0; lane < lanes; ++lane) {
       auto output = samples.col(columns[group + lane]);
-      for (Eigen::Index k = 0; k < n; ++k)
+      for (Eigen::Index k = 0; k < n; ++k) {
+        ThrowIfCancelled(cancel, k);
         output[k] = w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)];
+      }
     }
   }
 }

@@ -491,7 +491,7 @@ Eigen::Matrix3d DamageModel::Stiffness() const {
 }
 
 Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
-                           const DamageModel& model) {
+                           const DamageModel& model, const std::atomic<bool>* cancel) {
   CheckInterval(dt_s, "DAMAGE");
   if (!alpha_body_radps2.allFinite())
     throw InputError("DAMAGE: the angular acceleration has a non-finite sample.");
@@ -521,6 +521,7 @@ Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, d
 
   Eigen::Matrix<double, 6, 1> state = Eigen::Matrix<double, 6, 1>::Zero();
   for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    ThrowIfCancelled(cancel, k);
     const Eigen::Vector3d alpha_k = alpha_body_radps2.row(k).transpose();
     const Eigen::Vector3d alpha_next = alpha_body_radps2.row(k + 1).transpose();
     state = phi * state + gamma_value * alpha_k + gamma_slope * (alpha_next - alpha_k);
@@ -529,8 +530,9 @@ Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, d
   return displacement;
 }
 
-double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model) {
-  const Series3 displacement = DamageDisplacement(alpha_body_radps2, dt_s, model);
+double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model,
+              const std::atomic<bool>* cancel) {
+  const Series3 displacement = DamageDisplacement(alpha_body_radps2, dt_s, model, cancel);
   if (displacement.rows() == 0) return 0.0;
   return model.beta_per_m * displacement.rowwise().norm().maxCoeff();
 }
@@ -569,7 +571,7 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   ThrowIfCancelled(cancel);
   summary.bric = rotation ? Bric(kinematics.omega_body, config.bric.critical_radps) : kUndetermined;
   ThrowIfCancelled(cancel);
-  summary.damage = rotation ? Damage(kinematics.alpha_body, dt) : kUndetermined;
+  summary.damage = rotation ? Damage(kinematics.alpha_body, dt, {}, cancel) : kUndetermined;
   FillInjuryRisks(summary);
 }
 

@@ -116,10 +116,12 @@ struct DamageModel {
   Eigen::Matrix3d Stiffness() const;
 };
 
-// Displacement d(t_k) (m) of the DAMAGE model at every sample.
+// Displacement d(t_k) (m) of the DAMAGE model at every sample. Throws
+// Cancelled once `cancel` is set (engine/cancellation.h).
 Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
-                           const DamageModel& model = {});
-double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model = {});
+                           const DamageModel& model = {}, const std::atomic<bool>* cancel = nullptr);
+double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model = {},
+              const std::atomic<bool>* cancel = nullptr);
 
 // ---------------------------------------------------------------------------
 // Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), hic_d, a3ms_g (config.a3ms),

@@ -176,7 +176,8 @@ class KinematicsCompleter {
   // The angles follow in a loop of their own (engine/rotation_angles.h).
   void Finish() {
     ThrowIfCancelled(cancel_);
-    OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad);
+    OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad,
+                      BestAnglesImplementation(), cancel_);
     ThrowIfCancelled(cancel_);
     const Index n = kin_.size();
     if (n == 0) return;

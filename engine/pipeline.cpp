@@ -83,11 +83,30 @@ void CheckTimeBaseAndInitialState(const TestSignals& signals, const InitialState
   throw InputError(message.str());
 }
 
+// The signals to condition: a copy of `raw` made a channel at a time,
+// looking at `cancel` between two (copying a long record's channels into
+// fresh memory takes most of a second). Every field of TestSignals
+// (engine/signals.h) is copied.
+TestSignals CopyToCondition(const TestSignals& raw, const std::atomic<bool>* cancel) {
+  TestSignals copy;
+  copy.dt_s = raw.dt_s;
+  copy.t0_s = raw.t0_s;
+  copy.slots = raw.slots;
+  copy.prefiltered_cfc = raw.prefiltered_cfc;
+  copy.file_rows = raw.file_rows;
+  copy.samples.resize(raw.samples.rows(), raw.samples.cols());
+  for (Eigen::Index c = 0; c < raw.samples.cols(); ++c) {
+    ThrowIfCancelled(cancel);
+    copy.samples.col(c) = raw.samples.col(c);
+  }
+  return copy;
+}
+
 // ProcessTest after the raw-signal screening that found `findings`.
 ProcessedTest ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
                               const InitialState& initial, const ProcessingConfig& config,
                               std::vector<Finding> findings, const std::atomic<bool>* cancel) {
-  TestSignals signals = raw_signals;
+  TestSignals signals = CopyToCondition(raw_signals, cancel);
   ProcessedTest processed;
   processed.summary.conditioning = ApplyConditioning(array, signals, config, cancel);
   AppendFindings(ConditioningFindings(processed.summary.conditioning), findings);

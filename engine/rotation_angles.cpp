@@ -1,5 +1,8 @@
 #include "engine/rotation_angles.h"
 
+#include <algorithm>
+
+#include "engine/cancellation.h"
 #include "engine/rotation.h"
 #include "engine/rotation_angles_lanes.h"
 
@@ -54,32 +57,41 @@ AnglesImplementation BestAnglesImplementation() {
 }
 
 void OrientationAngles(const Series4& quat_fixed_from_body, Series3& roll_pitch_yaw_rad, Series3& dcos_rad,
-                       AnglesImplementation implementation) {
+                       AnglesImplementation implementation, const std::atomic<bool>* cancel) {
   const Eigen::Index n = quat_fixed_from_body.rows();
   roll_pitch_yaw_rad.resize(n, 3);
   dcos_rad.resize(n, 3);
-  const internal::AngleColumns columns{
-      n,
-      quat_fixed_from_body.col(0).data(),
-      quat_fixed_from_body.col(1).data(),
-      quat_fixed_from_body.col(2).data(),
-      quat_fixed_from_body.col(3).data(),
-      roll_pitch_yaw_rad.col(0).data(),
-      roll_pitch_yaw_rad.col(1).data(),
-      roll_pitch_yaw_rad.col(2).data(),
-      {dcos_rad.col(0).data(), dcos_rad.col(1).data(), dcos_rad.col(2).data()}};
-  std::ptrdiff_t done = 0;
+  // In blocks of rows, looking at `cancel` between two (a long record's
+  // angles take most of a second); each block a multiple of the eight lanes,
+  // so that the samples left to the scalar loop are those of the last block
+  // only, as in one pass.
+  constexpr Eigen::Index kBlockRows = 8 * kCancellationStride;
+  for (Eigen::Index begin = 0; begin < n; begin += kBlockRows) {
+    ThrowIfCancelled(cancel);
+    const Eigen::Index rows = std::min(kBlockRows, n - begin);
+    const internal::AngleColumns columns{
+        rows,
+        quat_fixed_from_body.col(0).data() + begin,
+        quat_fixed_from_body.col(1).data() + begin,
+        quat_fixed_from_body.col(2).data() + begin,
+        quat_fixed_from_body.col(3).data() + begin,
+        roll_pitch_yaw_rad.col(0).data() + begin,
+        roll_pitch_yaw_rad.col(1).data() + begin,
+        roll_pitch_yaw_rad.col(2).data() + begin,
+        {dcos_rad.col(0).data() + begin, dcos_rad.col(1).data() + begin, dcos_rad.col(2).data() + begin}};
+    std::ptrdiff_t done = 0;
 #if NAPKIN_ANGLES_AVX2
-  // Per-sample atan2 and acos were about 30 % of the exact solver's time
-  // (perf); libmvec computes four (eight) of each in about the time of one.
-  if (implementation == AnglesImplementation::kAvx512 && ProcessorHasAvx512())
-    done = internal::Avx512AngleRows(columns);
-  else if (implementation != AnglesImplementation::kScalar && ProcessorHasAvx2())
-    done = internal::Avx2AngleRows(columns);
+    // Per-sample atan2 and acos were about 30 % of the exact solver's time
+    // (perf); libmvec computes four (eight) of each in about the time of one.
+    if (implementation == AnglesImplementation::kAvx512 && ProcessorHasAvx512())
+      done = internal::Avx512AngleRows(columns);
+    else if (implementation != AnglesImplementation::kScalar && ProcessorHasAvx2())
+      done = internal::Avx2AngleRows(columns);
 #else
-  (void)implementation;
+    (void)implementation;
 #endif
-  internal::ScalarAngleRows(columns, done, n);
+    internal::ScalarAngleRows(columns, done, rows);
+  }
 }
 
 }  // namespace napkin::engine

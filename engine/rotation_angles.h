@@ -5,6 +5,7 @@
 // unit quaternion series, in one loop that uses SIMD atan2 and acos where
 // the processor has them.
 #include <Eigen/Core>
+#include <atomic>
 
 #include "engine/kinematics.h"
 
@@ -40,8 +41,10 @@ AnglesImplementation BestAnglesImplementation();
 // ulp (libm's to one): the angles equal the scalar ones within round-off,
 // with the same gimbal-lock branch, clamping and NaN propagation. An
 // implementation this processor or build lacks falls back to the best one
-// below it that it has (kAvx512 -> kAvx2 -> kScalar).
+// below it that it has (kAvx512 -> kAvx2 -> kScalar). Throws Cancelled once
+// `cancel` is set (engine/cancellation.h).
 void OrientationAngles(const Series4& quat_fixed_from_body, Series3& roll_pitch_yaw_rad, Series3& dcos_rad,
-                       AnglesImplementation implementation = BestAnglesImplementation());
+                       AnglesImplementation implementation = BestAnglesImplementation(),
+                       const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace napkin::engine

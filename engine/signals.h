@@ -12,6 +12,7 @@ namespace napkin::engine {
 // as filtered, at a class it does not name (docs/formats.md "UDS-1992 input").
 inline constexpr double kPrefilteredClassUnknown = 0.0;
 
+// A field added here is copied by engine/pipeline.cpp's CopyToCondition too.
 struct TestSignals {
   double dt_s = 1e-4;              // sampling interval
   double t0_s = 0.0;               // time of the first sample
