@@ -229,52 +229,81 @@ double Iso18571MagnitudeError(std::span<const double> reference, std::span<const
     const double d = candidate[k] - reference[k];
     upper_bound += d * d;
   }
-  // Rows are candidate samples i, columns reference samples j.
+  // Rows are candidate samples i, columns reference samples j. Entries of
+  // the previous row outside [prev_first, prev_last] are never read but the
+  // two just outside it, which are kept infinite.
   std::vector<double> cost_prev(n, kIsoInfinity), cost_cur(n, kIsoInfinity);
   std::vector<double> num_prev(n, 0.0), num_cur(n, 0.0), den_prev(n, 0.0), den_cur(n, 0.0);
-  long prev_first = 0, prev_last = -1;  // the previous row's cells <= UB lie in [prev_first, prev_last]
-  for (long i = 0; i < n; ++i) {
+  const double* t = reference.data();
+  long prev_first = 0, prev_last = -1;
+  {
+    // Row 0: the run along the reference from (0, 0).
+    double cost = 0.0, num = 0.0, den = 0.0;
+    for (long j = 0; j <= std::min(n - 1, w); ++j) {
+      const double d = candidate[0] - t[j];
+      cost += d * d;
+      if (!(cost <= upper_bound)) break;
+      num += std::abs(d);
+      den += std::abs(t[j]);
+      cost_prev[j] = cost;
+      num_prev[j] = num;
+      den_prev[j] = den;
+      prev_last = j;
+    }
+  }
+  for (long i = 1; i < n; ++i) {
+    const double c = candidate[i];
     const long band_first = std::max(0L, i - w);
     const long band_last = std::min(n - 1, i + w);
-    const long start = i == 0 ? 0 : std::max(band_first, prev_first);
+    const long start = std::max(band_first, prev_first);
+    if (start > 0 && start - 1 < prev_first) cost_prev[start - 1] = kIsoInfinity;
+    if (prev_last + 1 < n) cost_prev[prev_last + 1] = kIsoInfinity;
     long first = -1, last = -1;
-    for (long j = start; j <= band_last; ++j) {
-      const double d = candidate[i] - reference[j];
-      double best = kIsoInfinity, num = 0.0, den = 0.0;
-      if (i == 0 && j == 0) {
-        best = 0.0;
-      } else {
-        // Ties prefer the diagonal, then the horizontal step (the reference
-        // advances), then the vertical one.
-        if (i > 0 && j > 0 && j - 1 >= prev_first && j - 1 <= prev_last && cost_prev[j - 1] < best) {
-          best = cost_prev[j - 1];
-          num = num_prev[j - 1];
-          den = den_prev[j - 1];
-        }
-        if (j > start && cost_cur[j - 1] < best) {
-          best = cost_cur[j - 1];
-          num = num_cur[j - 1];
-          den = den_cur[j - 1];
-        }
-        if (i > 0 && j >= prev_first && j <= prev_last && cost_prev[j] < best) {
-          best = cost_prev[j];
-          num = num_prev[j];
-          den = den_prev[j];
-        }
+    double left = kIsoInfinity, left_num = 0.0, left_den = 0.0;
+    // Cells with the previous row above them (and the one after it).
+    const long supported = std::min(band_last, prev_last + 1);
+    for (long j = start; j <= supported; ++j) {
+      // Ties prefer the diagonal, then the horizontal step (the reference
+      // advances), then the vertical one.
+      double best = j > 0 ? cost_prev[j - 1] : kIsoInfinity;
+      double num = j > 0 ? num_prev[j - 1] : 0.0;
+      double den = j > 0 ? den_prev[j - 1] : 0.0;
+      if (left < best) {
+        best = left;
+        num = left_num;
+        den = left_den;
       }
+      if (cost_prev[j] < best) {
+        best = cost_prev[j];
+        num = num_prev[j];
+        den = den_prev[j];
+      }
+      const double d = c - t[j];
       const double total = best + d * d;
       if (total <= upper_bound) {
-        cost_cur[j] = total;
-        num_cur[j] = num + std::abs(d);
-        den_cur[j] = den + std::abs(reference[j]);
+        left = total;
+        left_num = num + std::abs(d);
+        left_den = den + std::abs(t[j]);
         if (first < 0) first = j;
         last = j;
       } else {
-        cost_cur[j] = kIsoInfinity;
-        // Past the previous row's last cell <= UB only the run from the
-        // left continues; once it breaks, the rest of the row is out.
-        if (j > prev_last && i > 0) break;
+        left = kIsoInfinity;
       }
+      cost_cur[j] = left;
+      num_cur[j] = left_num;
+      den_cur[j] = left_den;
+    }
+    // Past it only the run from the left continues, until it exceeds UB.
+    for (long j = supported + 1; j <= band_last && left <= upper_bound; ++j) {
+      const double d = c - t[j];
+      left += d * d;
+      if (!(left <= upper_bound)) break;
+      left_num += std::abs(d);
+      left_den += std::abs(t[j]);
+      cost_cur[j] = left;
+      num_cur[j] = left_num;
+      den_cur[j] = left_den;
+      last = j;
     }
     // The diagonal cell is always <= UB, so every row has one.
     std::swap(cost_prev, cost_cur);
