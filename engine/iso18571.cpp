@@ -207,19 +207,73 @@ double Iso18571Corridor(std::span<const double> reference, std::span<const doubl
   return sum / static_cast<double>(reference.size());
 }
 
-// Dynamic time warping in one pass over the band, two rows of memory: each
-// cell carries, beside its accumulated cost D, the sums sum |C - T| and
-// sum |T| along its best path, so the optimal path's sums arrive at the last
-// cell without a backtrack (the backtrack would take at each cell the
-// predecessor taken here: the same path).
+// Dynamic time warping in one pass over the band, three anti-diagonals of
+// memory: each cell carries, beside its accumulated cost D, the sums
+// sum |C - T| and sum |T| along its best path, so the optimal path's sums
+// arrive at the last cell without a backtrack (the backtrack would take at
+// each cell the predecessor taken here: the same path).
+// Order: anti-diagonal by anti-diagonal (s = i + j). A cell's predecessors
+// lie on the two previous anti-diagonals, so the cells of one are
+// independent: IsoWarpDiagonal has no loop-carried dependency and
+// vectorises (engine/CMakeLists.txt: the dynamic vectoriser cost model).
 // Pruning (PrunedDTW, Silva and Batista 2016): the unwarped alignment (the
 // diagonal) costs UB, and its prefix is a path to each diagonal cell, so the
 // optimal path costs at most UB and every cell on it has D <= UB (costs only
 // grow along a path, also in floating point). A cell with D > UB is never on
 // it nor decides a minimum on it (its successors then exceed UB too), so it
-// is left out: the cells before the first and after the last cell <= UB of
-// the previous row are not visited, except a run reached from the left. For
-// curves that match, few cells per row survive: near-linear time.
+// is set infinite, and an anti-diagonal spans only the cells reachable from
+// the survivors of the two before it. Where both curves are flat (a quiet
+// stretch before or after an impact) every warping costs alike and nothing
+// can be pruned: there the work is the band's.
+namespace {
+
+// Anti-diagonal buffers indexed by i + 1 (index 0 and n + 1 are margins).
+struct IsoDiagonal {
+  std::vector<double> cost, num, den;
+  long lo = 0, hi = -1;  // surviving cells (D <= UB): i in [lo, hi], none when hi < lo
+  long a = 0, b = -1;    // cells written: i in [a, b]
+  explicit IsoDiagonal(long n)
+      : cost(static_cast<std::size_t>(n + 2), kIsoInfinity), num(cost.size()), den(cost.size()) {}
+  // Makes cost[i] infinite for i in [from, to] outside the written cells.
+  void Clear(long from, long to) {
+    for (long i = from; i <= std::min(to, a - 1); ++i) cost[static_cast<std::size_t>(i + 1)] = kIsoInfinity;
+    for (long i = std::max(from, b + 1); i <= to; ++i) cost[static_cast<std::size_t>(i + 1)] = kIsoInfinity;
+  }
+};
+
+// Cells i in [from, to] of one anti-diagonal (buffers indexed by i + 1):
+// predecessors diagonal (i - 1, j - 1) from `diag` at i, horizontal (i, j - 1)
+// from `prev` at i + 1 and vertical (i - 1, j) from `prev` at i; ties prefer
+// the diagonal, then the horizontal step (the reference advances), then the
+// vertical one. c[i] and t[i] are the candidate and reference samples of
+// the cell.
+void IsoWarpDiagonal(long from, long to, const double* __restrict dc, const double* __restrict dn,
+                     const double* __restrict dd, const double* __restrict pc, const double* __restrict pn,
+                     const double* __restrict pd, const double* __restrict c, const double* __restrict t,
+                     double upper_bound, double* __restrict oc, double* __restrict on,
+                     double* __restrict od) {
+  for (long i = from; i <= to; ++i) {
+    double best = dc[i], num = dn[i], den = dd[i];
+    const double hc = pc[i + 1], hn = pn[i + 1], hd = pd[i + 1];
+    const bool h = hc < best;
+    best = h ? hc : best;
+    num = h ? hn : num;
+    den = h ? hd : den;
+    const double vc = pc[i], vn = pn[i], vd = pd[i];
+    const bool v = vc < best;
+    best = v ? vc : best;
+    num = v ? vn : num;
+    den = v ? vd : den;
+    const double d = c[i] - t[i];
+    const double total = best + d * d;
+    oc[i + 1] = total <= upper_bound ? total : kIsoInfinity;
+    on[i + 1] = num + std::fabs(d);
+    od[i + 1] = den + std::fabs(t[i]);
+  }
+}
+
+}  // namespace
+
 double Iso18571MagnitudeError(std::span<const double> reference, std::span<const double> candidate,
                               std::optional<long> window) {
   const long n = static_cast<long>(reference.size());
@@ -229,91 +283,49 @@ double Iso18571MagnitudeError(std::span<const double> reference, std::span<const
     const double d = candidate[k] - reference[k];
     upper_bound += d * d;
   }
-  // Rows are candidate samples i, columns reference samples j. Entries of
-  // the previous row outside [prev_first, prev_last] are never read but the
-  // two just outside it, which are kept infinite.
-  std::vector<double> cost_prev(n, kIsoInfinity), cost_cur(n, kIsoInfinity);
-  std::vector<double> num_prev(n, 0.0), num_cur(n, 0.0), den_prev(n, 0.0), den_cur(n, 0.0);
-  const double* t = reference.data();
-  long prev_first = 0, prev_last = -1;
+  // The reference reversed, so T(s - i) = reversed[n - 1 - s + i] runs forward with i.
+  const std::vector<double> reversed(reference.rbegin(), reference.rend());
+  IsoDiagonal d0(n), d1(n), d2(n);  // s, s - 1, s - 2
   {
-    // Row 0: the run along the reference from (0, 0).
-    double cost = 0.0, num = 0.0, den = 0.0;
-    for (long j = 0; j <= std::min(n - 1, w); ++j) {
-      const double d = candidate[0] - t[j];
-      cost += d * d;
-      if (!(cost <= upper_bound)) break;
-      num += std::abs(d);
-      den += std::abs(t[j]);
-      cost_prev[j] = cost;
-      num_prev[j] = num;
-      den_prev[j] = den;
-      prev_last = j;
-    }
+    // s = 0: the cell (0, 0).
+    const double d = candidate[0] - reference[0];
+    d1.cost[1] = d * d;
+    d1.num[1] = std::abs(d);
+    d1.den[1] = std::abs(reference[0]);
+    d1.a = d1.b = d1.lo = d1.hi = 0;
   }
-  for (long i = 1; i < n; ++i) {
-    const double c = candidate[i];
-    const long band_first = std::max(0L, i - w);
-    const long band_last = std::min(n - 1, i + w);
-    const long start = std::max(band_first, prev_first);
-    if (start > 0 && start - 1 < prev_first) cost_prev[start - 1] = kIsoInfinity;
-    if (prev_last + 1 < n) cost_prev[prev_last + 1] = kIsoInfinity;
-    long first = -1, last = -1;
-    double left = kIsoInfinity, left_num = 0.0, left_den = 0.0;
-    // Cells with the previous row above them (and the one after it).
-    const long supported = std::min(band_last, prev_last + 1);
-    for (long j = start; j <= supported; ++j) {
-      // Ties prefer the diagonal, then the horizontal step (the reference
-      // advances), then the vertical one.
-      double best = j > 0 ? cost_prev[j - 1] : kIsoInfinity;
-      double num = j > 0 ? num_prev[j - 1] : 0.0;
-      double den = j > 0 ? den_prev[j - 1] : 0.0;
-      if (left < best) {
-        best = left;
-        num = left_num;
-        den = left_den;
-      }
-      if (cost_prev[j] < best) {
-        best = cost_prev[j];
-        num = num_prev[j];
-        den = den_prev[j];
-      }
-      const double d = c - t[j];
-      const double total = best + d * d;
-      if (total <= upper_bound) {
-        left = total;
-        left_num = num + std::abs(d);
-        left_den = den + std::abs(t[j]);
-        if (first < 0) first = j;
-        last = j;
-      } else {
-        left = kIsoInfinity;
-      }
-      cost_cur[j] = left;
-      num_cur[j] = left_num;
-      den_cur[j] = left_den;
+  for (long s = 1; s <= 2 * (n - 1); ++s) {
+    // The band |2 i - s| <= w, and the cells reachable from the survivors of
+    // s - 1 (at i and i - 1) and s - 2 (at i - 1).
+    long from = std::max({0L, s - (n - 1), s - w > 0 ? (s - w + 1) / 2 : 0L});
+    long to = std::min({n - 1, s, (s + w) / 2});
+    long reach_from = n, reach_to = -1;
+    if (d1.hi >= d1.lo) {
+      reach_from = std::min(reach_from, d1.lo);
+      reach_to = std::max(reach_to, d1.hi + 1);
     }
-    // Past it only the run from the left continues, until it exceeds UB.
-    for (long j = supported + 1; j <= band_last && left <= upper_bound; ++j) {
-      const double d = c - t[j];
-      left += d * d;
-      if (!(left <= upper_bound)) break;
-      left_num += std::abs(d);
-      left_den += std::abs(t[j]);
-      cost_cur[j] = left;
-      num_cur[j] = left_num;
-      den_cur[j] = left_den;
-      last = j;
+    if (d2.hi >= d2.lo) {
+      reach_from = std::min(reach_from, d2.lo + 1);
+      reach_to = std::max(reach_to, d2.hi + 1);
     }
-    // The diagonal cell is always <= UB, so every row has one.
-    std::swap(cost_prev, cost_cur);
-    std::swap(num_prev, num_cur);
-    std::swap(den_prev, den_cur);
-    prev_first = first;
-    prev_last = last;
+    from = std::max(from, reach_from);
+    to = std::min(to, reach_to);
+    d1.Clear(from - 1, to);
+    d2.Clear(from - 1, to - 1);
+    IsoWarpDiagonal(from, to, d2.cost.data(), d2.num.data(), d2.den.data(), d1.cost.data(), d1.num.data(),
+                    d1.den.data(), candidate.data(), reversed.data() + (n - 1 - s), upper_bound,
+                    d0.cost.data(), d0.num.data(), d0.den.data());
+    d0.a = d0.lo = from;
+    d0.b = d0.hi = to;
+    const double* cost = d0.cost.data() + 1;
+    while (d0.lo <= d0.hi && !(cost[d0.lo] <= upper_bound)) ++d0.lo;
+    while (d0.hi >= d0.lo && !(cost[d0.hi] <= upper_bound)) --d0.hi;
+    std::swap(d2, d1);  // d2: s - 1
+    std::swap(d1, d0);  // d1: s; d0: free for s + 1
   }
-  const double num = num_prev[n - 1];
-  const double den = den_prev[n - 1];
+  // The last anti-diagonal, s = 2 (n - 1), is the cell (n - 1, n - 1) alone.
+  const double num = d1.num[static_cast<std::size_t>(n)];
+  const double den = d1.den[static_cast<std::size_t>(n)];
   if (den == 0.0) return num == 0.0 ? 0.0 : kIsoInfinity;
   return num / den;
 }
