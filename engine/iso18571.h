@@ -9,6 +9,7 @@
 // Pure functions, no I/O: the commands (`napkin correlate`), the Python
 // module (napkin.iso18571) and the report call these.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -24,6 +25,7 @@ enum class Iso18571Edition {
 };
 inline constexpr std::array<NamedValue<Iso18571Edition>, 2> kIso18571EditionNames{
     {{Iso18571Edition::k2014, "2014"}, {Iso18571Edition::k2024, "2024"}}};
+inline constexpr std::array<Iso18571Edition, 2> kIso18571Editions = ValuesOf(kIso18571EditionNames);
 constexpr const auto& NamesOf(Iso18571Edition) { return kIso18571EditionNames; }
 
 // Every parameter of the metric (docs/algorithms.md, table "Parameters").
@@ -73,6 +75,7 @@ inline constexpr std::array<NamedValue<Iso18571Grade>, 4> kIso18571GradeNames{
      {Iso18571Grade::kGood, "good"},
      {Iso18571Grade::kFair, "fair"},
      {Iso18571Grade::kPoor, "poor"}}};
+inline constexpr std::array<Iso18571Grade, 4> kIso18571Grades = ValuesOf(kIso18571GradeNames);
 constexpr const auto& NamesOf(Iso18571Grade) { return kIso18571GradeNames; }
 Iso18571Grade GradeOf(double overall);
 

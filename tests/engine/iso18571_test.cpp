@@ -158,6 +158,9 @@ TEST(Iso18571, Grades) {
   EXPECT_STREQ(NameOf(Iso18571Grade::kGood), "good");
   EXPECT_EQ(ParseName<Iso18571Edition>("2014"), Iso18571Edition::k2014);
   EXPECT_EQ(ParseName<Iso18571Edition>("2024"), Iso18571Edition::k2024);
+  EXPECT_FALSE(ParseName<Iso18571Edition>("2020"));
+  for (Iso18571Edition edition : kIso18571Editions)
+    EXPECT_EQ(ParseName<Iso18571Edition>(NameOf(edition)), edition);
 }
 
 TEST(Iso18571, EditionsDifferInTheWarpingWindowOnly) {
