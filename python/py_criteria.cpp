@@ -1,5 +1,6 @@
 // The criteria and filters of the engine on numpy arrays: napkin.hic,
-// napkin.cfc, napkin.bric and the injury-risk curves (docs/python.md).
+// napkin.cfc, napkin.bric, the injury-risk curves and napkin.iso18571
+// (docs/python.md).
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "engine/cfc_filter.h"
 #include "engine/criteria.h"
 #include "engine/injury_risk.h"
+#include "engine/iso18571.h"
 #include "engine/processing.h"
 #include "python/py_bindings.h"
 
@@ -81,6 +83,40 @@ double Bric(const py::handle& omega_body_radps, const std::optional<std::vector<
   return engine::Bric(omega, critical_radps);
 }
 
+// engine::Iso18571RateCurves on two arrays sampled every dt_s from t = 0,
+// over [start_s, end_s] (None: the arrays' common span), rated at their own
+// sampling: (corridor, phase, magnitude, slope, overall, grade, shift_s).
+py::tuple Iso18571(const py::handle& reference, const py::handle& candidate, double dt_s,
+                   const std::optional<double>& start_s, const std::optional<double>& end_s,
+                   const std::string& edition_name) {
+  const std::optional<engine::Iso18571Edition> edition =
+      engine::ParseName<engine::Iso18571Edition>(edition_name);
+  if (!edition)
+    throw InputError("napkin.iso18571: edition \"" + edition_name + "\" is neither \"2014\" nor \"2024\".");
+  if (!(std::isfinite(dt_s) && dt_s > 0.0))
+    throw InputError("napkin.iso18571: dt_s " + std::to_string(dt_s) +
+                     " s is not a finite positive sampling interval.");
+  auto series = [&](const py::handle& values, const std::string& what) {
+    const auto array = AsFloatArray(values, what);
+    const Eigen::Map<const Eigen::VectorXd> samples = Samples(array, what);
+    engine::TimeSeries s{Eigen::VectorXd(samples.size()), samples};
+    for (Eigen::Index k = 0; k < samples.size(); ++k) s.time_s(k) = static_cast<double>(k) * dt_s;
+    return s;
+  };
+  const engine::TimeSeries t = series(reference, "napkin.iso18571: reference");
+  const engine::TimeSeries c = series(candidate, "napkin.iso18571: candidate");
+  engine::Iso18571Parameters parameters = engine::Iso18571Parameters::ForEdition(*edition);
+  parameters.rate_hz = 1.0 / dt_s;
+  engine::Iso18571Rating r;
+  {
+    const py::gil_scoped_release computing;
+    r = engine::Iso18571RateCurves(t, c, {start_s, end_s}, parameters, "napkin.iso18571: reference",
+                                   "napkin.iso18571: candidate");
+  }
+  return py::make_tuple(r.corridor, r.phase, r.magnitude, r.slope, r.overall, engine::NameOf(r.grade),
+                        r.shift_s);
+}
+
 }  // namespace
 
 void RegisterCriteria(py::module_& module) {
@@ -130,6 +166,21 @@ void RegisterCriteria(py::module_& module) {
       py::arg("omega_body_radps"), py::arg("critical_radps") = py::none(),
       "BrIC (Takhounts 2013) of body angular velocity (samples x 3, rad/s); critical values default to "
       "66.25, 56.45, 42.87 rad/s.");
+  module.def(
+      "_iso18571",
+      [](const py::handle& reference, const py::handle& candidate, const py::handle& dt_s,
+         const py::handle& start_s, const py::handle& end_s, const py::handle& edition) {
+        return Translated("", [&] {
+          return Iso18571(
+              reference, candidate, AsReal(dt_s, "napkin.iso18571: dt_s", "the sampling interval in s"),
+              AsOptionalReal(start_s, "napkin.iso18571: start_s", "the interval's start in s, or None"),
+              AsOptionalReal(end_s, "napkin.iso18571: end_s", "the interval's end in s, or None"),
+              AsText(edition, "napkin.iso18571: edition", "\"2014\" or \"2024\""));
+        });
+      },
+      py::arg("reference"), py::arg("candidate"), py::arg("dt_s"), py::arg("start_s") = py::none(),
+      py::arg("end_s") = py::none(), py::arg("edition") = "2024",
+      "ISO/TS 18571 rating as a plain tuple; napkin.iso18571 wraps it in a named tuple.");
   // One function per curve of the summary-field table, named as its field.
   for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
     const std::string doc = std::string("P(AIS ") + std::to_string(curve.ais) + "+) from " + curve.criterion +

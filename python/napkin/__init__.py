@@ -8,6 +8,8 @@ libraries as the ``napkin`` command, so a result here is the command's result
   summary (the ``summary.json`` of ``napkin transform``) and derived channels;
 - ``hic``, ``cfc``, ``bric`` and the injury-risk curves ``hic15_p_ais3``,
   ``hic36_p_ais4``, ``bric_p_ais3``, ``bric_p_ais4`` on numpy arrays;
+- ``iso18571(reference, candidate, dt_s, ...)`` -- the ISO/TS 18571 rating of
+  a model's (or another test's) curve against a test's, a named tuple;
 - ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
   ``query_frame()``, ``channels()``, ``compare()``.
 
@@ -18,6 +20,7 @@ RuntimeError. Ctrl-C stops a transform within a fraction of a second
 (MemoryError).
 """
 
+import collections as _collections
 import json as _json
 import os as _os
 
@@ -31,7 +34,36 @@ RISK_CURVES = tuple(name for name in dir(_napkin) if "_p_ais" in name)
 for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
-__all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", *RISK_CURVES]
+__all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", "iso18571", "ISO18571Rating",
+           *RISK_CURVES]
+
+
+ISO18571Rating = _collections.namedtuple(
+    "ISO18571Rating", ["corridor", "phase", "magnitude", "slope", "overall", "grade", "shift_s"])
+ISO18571Rating.__doc__ = """An ISO/TS 18571 rating (docs/algorithms.md "Test against model: ISO/TS 18571").
+
+corridor, phase, magnitude, slope -- the four scores in [0, 1]
+overall -- 0.4 corridor + 0.2 (phase + magnitude + slope)
+grade   -- "excellent" (overall > 0.94), "good" (> 0.80), "fair" (> 0.58) or "poor"
+shift_s -- the shift of the candidate that correlates best with the reference
+           (s; positive when the candidate lags)"""
+
+
+def iso18571(reference, candidate, dt_s, start_s=None, end_s=None, edition="2024"):
+    """ISO/TS 18571 rating of ``candidate`` against ``reference``.
+
+    reference, candidate -- 1-D arrays sampled every ``dt_s`` seconds from t = 0
+                            (e.g. a test's channel and a model's, in one unit)
+    start_s, end_s       -- the evaluation interval (s; None: the arrays' common span)
+    edition              -- "2024" (default, dynamic time warping within 10 % of the
+                            interval) or "2014" (warping without a window)
+
+    The curves are rated at their own sampling (the standard asks for 10 kHz:
+    resample first when they are not). Returns an ``ISO18571Rating``; bad input
+    (too few samples, a non-finite sample, a reference that is zero throughout,
+    an interval outside the arrays) raises ValueError.
+    """
+    return ISO18571Rating(*_napkin._iso18571(reference, candidate, dt_s, start_s, end_s, edition))
 
 
 def _config_dir():

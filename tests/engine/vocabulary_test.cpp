@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "engine/array_geometry.h"
 #include "engine/cfc_filter.h"
+#include "engine/iso18571.h"
 #include "engine/processing.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
@@ -46,6 +47,7 @@ TEST(Vocabulary, EveryNameParsesBackToItsValue) {
   ExpectRoundTrip(kCfcVariants);
   ExpectRoundTrip(kSeverities);
   ExpectRoundTrip(kSensorKinds);
+  ExpectRoundTrip(kIso18571Grades);
 }
 
 // Also: every enumerator has its table entry (a missing one would fall back
