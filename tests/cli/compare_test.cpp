@@ -278,7 +278,10 @@ TEST_F(CliCompare, ByVariantNumbersEqualAnIndependentRecomputationFromTheStoredR
   const nlohmann::json stored = nlohmann::json::parse(query.out);
   ASSERT_EQ(stored.size(), kTests.size());
 
-  const nlohmann::json rows = CompareJson({"--series", "sled", "--metrics", "hic15,peak_acc_g,a3ms_g"});
+  // The difference of means (the log scale is checked against scipy:
+  // python/tests/test_compare_statistics.py).
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--metrics", "hic15,peak_acc_g,a3ms_g", "--scale", "linear"});
   ASSERT_EQ(rows.size(), 9u);
   std::size_t checked = 0;
   for (const std::string metric : {"hic15", "peak_acc_g", "a3ms_g"}) {
@@ -370,8 +373,8 @@ TEST_F(CliCompare, ByConfigNumbersEqualAnIndependentPairedRecomputation) {
   db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
   std::map<std::string, db::ConfigId> configs;
   for (const db::ConfigRow& config : catalogue.ReadAllConfigs()) configs[config.name] = config.id;
-  const nlohmann::json rows =
-      CompareJson({"--series", "sled", "--by", "config", "--baseline", "d0a1b2", "--metrics", "hic15,bric"});
+  const nlohmann::json rows = CompareJson({"--series", "sled", "--by", "config", "--baseline", "d0a1b2",
+                                           "--metrics", "hic15,bric", "--scale", "linear"});
   ASSERT_EQ(rows.size(), 4u);
   for (const auto& row : rows) {
     EXPECT_EQ(row["baseline"], "default");
@@ -408,9 +411,29 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
       nlohmann::ordered_json::parse(Compare({"--series", "sled", "--format", "json"}).out);
   const std::vector<std::string> metrics = DefaultComparisonMetrics();
   ASSERT_EQ(rows.size(), 3 * metrics.size());
-  const std::vector<std::string> keys = {"metric",   "group",  "n",       "mean",     "sd",
-                                         "median",   "min",    "max",     "baseline", "diff",
-                                         "diff_pct", "ci_low", "ci_high", "p_value",  "n_for_80pct_power"};
+  const std::vector<std::string> keys = {"metric",
+                                         "group",
+                                         "n",
+                                         "mean",
+                                         "sd",
+                                         "median",
+                                         "min",
+                                         "max",
+                                         "baseline",
+                                         "scale",
+                                         "diff",
+                                         "diff_pct",
+                                         "ci_low",
+                                         "ci_high",
+                                         "ratio",
+                                         "ratio_ci_low",
+                                         "ratio_ci_high",
+                                         "p_value",
+                                         "n_for_80pct_power",
+                                         "mdd_low_pct",
+                                         "mdd_high_pct",
+                                         "equivalence_pct",
+                                         "tost_p_value"};
   for (std::size_t i = 0; i < rows.size(); ++i) {
     std::vector<std::string> row_keys;
     for (const auto& item : rows[i].items()) row_keys.push_back(item.key());
@@ -419,11 +442,17 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
     EXPECT_EQ(rows[i]["group"], (std::array<const char*, 3>{"foam-a", "foam-b", "production"}[i % 3]));
   }
   // Baseline row and the n < 2 group: the difference fields are null.
-  for (const char* key : {"diff", "diff_pct", "ci_low", "ci_high", "p_value", "n_for_80pct_power"}) {
+  for (const char* key : {"diff", "diff_pct", "ratio", "ratio_ci_low", "ratio_ci_high", "p_value",
+                          "n_for_80pct_power", "mdd_low_pct", "mdd_high_pct", "tost_p_value"}) {
     EXPECT_TRUE(rows[0][key].is_null()) << key;
     EXPECT_TRUE(rows[1][key].is_null()) << key;
     EXPECT_TRUE(rows[2][key].is_number()) << key;
   }
+  // hic15 on the log scale: the interval is the ratio's.
+  EXPECT_EQ(rows[2]["scale"], "log");
+  EXPECT_TRUE(rows[2]["ci_low"].is_null());
+  EXPECT_TRUE(rows[2]["ci_high"].is_null());
+  EXPECT_EQ(rows[2]["equivalence_pct"], 10.0);
   EXPECT_TRUE(rows[1]["sd"].is_null());
 
   const RunResult csv = Compare({"--series", "sled", "--metrics", "hic15", "--format", "csv"});
@@ -513,6 +542,54 @@ TEST_F(CliCompare, BaselineAndConfigMatchAConfigByOneRule) {
       CompareJson({"--series", "sled", "--by", "config", "--baseline", "F00D", "--metrics", "hic15"});
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows.front()["baseline"], "default@f00dfeed");
+}
+
+TEST_F(CliCompare, BadScaleEquivalenceOrLimitsAreUsageErrorsNamingTheOption) {
+  const RunResult scale = Compare({"--series", "sled", "--scale", "cubic"});
+  EXPECT_EQ(scale.exit_code, 2);
+  EXPECT_EQ(scale.out, "");
+  ExpectOneSentenceError(scale, {"--scale", "log or linear", "cubic"});
+  for (const std::string bad : {"0", "100", "-5", "ten", "nan"}) {
+    const RunResult equivalence = Compare({"--series", "sled", "--equivalence", bad});
+    EXPECT_EQ(equivalence.exit_code, 2) << bad;
+    EXPECT_EQ(equivalence.out, "") << bad;
+    ExpectOneSentenceError(equivalence, {"--equivalence '" + bad + "' is not a margin in percent"});
+  }
+  const RunResult limits = Compare({"--series", "sled", "--limits", "fmvss999"});
+  EXPECT_EQ(limits.exit_code, 2);
+  ExpectOneSentenceError(limits, {"--limits 'fmvss999' is neither a file nor a preset", "fmvss201u"});
+  const RunResult empty = Compare({"--series", "sled", "--limits", ""});
+  EXPECT_EQ(empty.exit_code, 2);
+}
+
+TEST_F(CliCompare, LimitsCountTheTestsWithinAndNameTheWorst) {
+  // FMVSS 208: HIC15 <= 700. production 871..1004 (none within), foam-a 688.5..745 (1 of 5), foam-b 640.
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--metrics", "peak_acc_g", "--limits", "fmvss208"});
+  ASSERT_EQ(rows.size(), 6u);  // peak_acc_g, then hic15 the limit compares
+  for (const auto& row : rows) {
+    if (row["metric"] == "peak_acc_g") {
+      EXPECT_TRUE(row["limit"].is_null()) << row;
+      continue;
+    }
+    EXPECT_EQ(row["limit"], 700.0);
+    if (row["group"] == "foam-a") {
+      EXPECT_EQ(row["tests_within_limit"], 1);
+      EXPECT_EQ(row["worst_test"], "s07");
+      EXPECT_NEAR(row["limit_margin_pct"].get<double>(), 100.0 * (700.0 - 745.0) / 700.0, 1e-12);
+    } else if (row["group"] == "production") {
+      EXPECT_EQ(row["tests_within_limit"], 0);
+      EXPECT_EQ(row["worst_test"], "s02");
+    } else {
+      EXPECT_EQ(row["tests_within_limit"], 1);
+      EXPECT_EQ(row["worst_test"], "s12");
+    }
+  }
+  const RunResult table = Compare({"--series", "sled", "--metrics", "hic15", "--limits", "fmvss208"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("  FMVSS 208 limit 700: foam-a 1 of 5 within (worst s07 745, margin -6.4 %)"),
+            std::string::npos)
+      << table.out;
 }
 
 TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {

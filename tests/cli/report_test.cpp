@@ -377,8 +377,8 @@ std::vector<std::string> LegendLabels(const std::string& legend_html) {
   return labels;
 }
 
-// The series' overlays: each drawn, each a trace per test plus two corridor
-// bounds per variant as dygraphs holds them (its legend), no script error.
+// The series' overlays: each drawn, a legend entry per variant (not per
+// trace), no script error.
 TEST_F(ReportInChromium, OverlaysHaveATracePerTestAndTwoCorridorBoundsPerVariant) {
   const fs::path page = browser_dir_ / "report.html";
   test_support::WriteText(page, html_);
@@ -404,9 +404,25 @@ TEST_F(ReportInChromium, OverlaysHaveATracePerTestAndTwoCorridorBoundsPerVariant
     EXPECT_NE(element.find("<canvas"), std::string::npos) << id;
     const std::size_t legend = element.find("<div class=\"legend\"");
     ASSERT_NE(legend, std::string::npos) << id;
-    const std::vector<std::string> labels = LegendLabels(element.substr(legend));
-    EXPECT_EQ(labels.size(), 12u) << id;  // 6 tests + 3 variants x 2 bounds
-    EXPECT_EQ(std::set<std::string>(labels.begin(), labels.end()), expected) << id;
+    // The legend (issue 30 point 7): one entry per variant with its corridor,
+    // no test ids (those show on hover).
+    const std::string legend_html = element.substr(legend);
+    std::vector<std::string> entries;
+    const std::string marker = "<span class=\"variant-legend\"";
+    for (std::size_t at = legend_html.find(marker); at != std::string::npos;
+         at = legend_html.find(marker, at + 1)) {
+      const std::size_t end = legend_html.find("mean ± 1 sd</span>", at);
+      ASSERT_NE(end, std::string::npos) << legend_html;
+      entries.push_back(VisibleText(legend_html.substr(at, end + std::string("mean ± 1 sd").size() - at)));
+    }
+    EXPECT_EQ(entries,
+              (std::vector<std::string>{"foam-a (2 tests) mean ± 1 sd", "foam-b (2 tests) mean ± 1 sd",
+                                        "production (2 tests) mean ± 1 sd"}))
+        << id;
+    for (const std::string& label : expected)
+      if (label.find(" mean ") == std::string::npos)
+        EXPECT_EQ(VisibleText(legend_html).find(label), std::string::npos) << id << " lists test " << label;
+    EXPECT_TRUE(LegendLabels(legend_html).empty()) << id;  // not dygraphs' one entry per trace
   }
 }
 
