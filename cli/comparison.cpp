@@ -207,7 +207,12 @@ std::string DifferenceText(const ComparisonRow& row, CompareBy by) {
 // "-33/+49 %": the smallest fall and rise these tests detect with 80 % power.
 std::string DetectableText(const ComparisonRow& row) {
   if (!std::isfinite(row.mdd_low_pct) || !std::isfinite(row.mdd_high_pct)) return "-";
-  return fmt::format("{:.0f}/{:+.0f} %", row.mdd_low_pct, row.mdd_high_pct);
+  // Whole percent from 0.95 %, two significant digits below: a small change never reads 0.
+  const auto magnitude = [](double pct) {
+    return std::abs(pct) >= 0.95 ? fmt::format("{:.0f}", std::abs(pct))
+                                 : util::FormatNumber(std::abs(pct), 2);
+  };
+  return "-" + magnitude(row.mdd_low_pct) + "/+" + magnitude(row.mdd_high_pct) + " %";
 }
 
 // "yes p=0.003" where equivalence within the margin is shown (TOST p < 0.05), "no p=0.41" where not.

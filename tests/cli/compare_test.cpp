@@ -125,20 +125,21 @@ TEST_F(CliCompare, TableByVariantIsTheGoldenText) {
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(run.out, R"(series sled: variants compared with variant 'production'
-difference of means in % of the baseline mean, [95 % confidence interval] (Welch's t), two-sided p
+change in % of the baseline, [95 % confidence interval] (Welch's t), two-sided p: of the geometric mean on the log scale, of the mean on the linear
 n80: tests per variant that would detect the observed difference with 80 % power (two-sided t, alpha 0.05)
+detects: the smallest fall/rise these tests detect with 80 % power; equiv: equivalence within ±10 % shown by two one-sided tests (p < 0.05)
 
-hic15
-  variant     n   mean       sd  median    min      max  n80  vs production
-  production  5  946.8  55.2549  955.75    871  1004.25    -  (baseline)
-  foam-a      5  715.5  22.6226     712  688.5      745    3  -24.4 % [-31.6, -17.3]  p=0.00025
-  foam-b      1    640        -     640    640      640    -  n < 2: no difference (1)
+hic15 (log scale: ratio of geometric means)
+  variant     n   mean       sd  median    min      max  n80   detects   equiv  vs production
+  production  5  946.8  55.2549  955.75    871  1004.25    -         -       -  (baseline)
+  foam-a      5  715.5  22.6226     712  688.5      745    3  -9/+10 %  no p=1  -24.4 % [-29.7, -18.6]  p<0.0001
+  foam-b      1    640        -     640    640      640    -         -       -  n < 2: no difference (1)
 
-peak_acc_g
-  variant     n   mean       sd  median    min   max  n80  vs production
-  production  5   99.7   3.3326      99  95.25   104    -  (baseline)
-  foam-a      6  81.75  1.93649  81.875  79.25  84.5    3  -18.0 % [-22.1, -13.9]  p<0.0001
-  foam-b      1     75        -      75     75    75    -  n < 2: no difference (1)
+peak_acc_g (log scale: ratio of geometric means)
+  variant     n   mean       sd  median    min   max  n80  detects   equiv  vs production
+  production  5   99.7   3.3326      99  95.25   104    -        -       -  (baseline)
+  foam-a      6  81.75  1.93649  81.875  79.25  84.5    2  -5/+6 %  no p=1  -18.0 % [-21.4, -14.5]  p<0.0001
+  foam-b      1     75        -      75     75    75    -        -       -  n < 2: no difference (1)
 
 (1) n < 2: with fewer than 2 tests in the group or the baseline there is no difference, interval or p-value (null in --format json and csv).
 )");
@@ -159,12 +160,20 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "min": 688.5,
     "max": 745.0,
     "baseline": "foam-a",
+    "scale": "log",
     "diff": null,
     "diff_pct": null,
     "ci_low": null,
     "ci_high": null,
+    "ratio": null,
+    "ratio_ci_low": null,
+    "ratio_ci_high": null,
     "p_value": null,
-    "n_for_80pct_power": null
+    "n_for_80pct_power": null,
+    "mdd_low_pct": null,
+    "mdd_high_pct": null,
+    "equivalence_pct": null,
+    "tost_p_value": null
   },
   {
     "metric": "hic15",
@@ -176,12 +185,20 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "min": 640.0,
     "max": 640.0,
     "baseline": "foam-a",
+    "scale": "log",
     "diff": null,
     "diff_pct": null,
     "ci_low": null,
     "ci_high": null,
+    "ratio": null,
+    "ratio_ci_low": null,
+    "ratio_ci_high": null,
     "p_value": null,
-    "n_for_80pct_power": null
+    "n_for_80pct_power": null,
+    "mdd_low_pct": null,
+    "mdd_high_pct": null,
+    "equivalence_pct": 10.0,
+    "tost_p_value": null
   },
   {
     "metric": "hic15",
@@ -193,12 +210,20 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "min": 871.0,
     "max": 1004.25,
     "baseline": "foam-a",
+    "scale": "log",
     "diff": 231.29999999999995,
-    "diff_pct": 32.32704402515723,
-    "ci_low": 163.82910040032897,
-    "ci_high": 298.77089959967094,
-    "p_value": 0.0002509509818844315,
-    "n_for_80pct_power": 3
+    "diff_pct": 32.1971063938523,
+    "ci_low": null,
+    "ci_high": null,
+    "ratio": 1.321971063938523,
+    "ratio_ci_low": 1.229087588423804,
+    "ratio_ci_high": 1.4218738439397165,
+    "p_value": 7.654560300180584e-05,
+    "n_for_80pct_power": 3,
+    "mdd_low_pct": -9.130557409300808,
+    "mdd_high_pct": 10.04799539755882,
+    "equivalence_pct": 10.0,
+    "tost_p_value": 0.999604876210941
   }
 ]
 )");
@@ -210,13 +235,14 @@ TEST_F(CliCompare, TableByConfigIsTheGoldenText) {
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(run.out, R"(series sled: processing configs compared with config 'default'
-mean of the per-test differences in % of the baseline's mean over the same tests, [95 % confidence interval] (paired t), two-sided p
+mean per-test change in % of the baseline over the same tests, [95 % confidence interval] (paired t), two-sided p: of the ratio on the log scale, of the difference on the linear
 n80: tests that would detect the observed mean difference with 80 % power (two-sided paired t, alpha 0.05)
+detects: the smallest fall/rise these tests detect with 80 % power; equiv: equivalence within ±10 % shown by two one-sided tests (p < 0.05)
 
-hic15
-  config       n     mean       sd   median  min      max  n80  vs default
-  default     11  813.773   134.62      745  640  1004.25    -  (baseline)
-  no-gravity  10    832.4  128.712  808.625  691  1006.25    9  +0.2 % [+0.1, +0.2]  p=0.0062 (10 pairs)
+hic15 (log scale: ratio of geometric means)
+  config       n     mean       sd   median  min      max  n80        detects         equiv  vs default
+  default     11  813.773   134.62      745  640  1004.25    -              -             -  (baseline)
+  no-gravity  10    832.4  128.712  808.625  691  1006.25    9  -0.13/+0.13 %  yes p<0.0001  +0.1 % [+0.1, +0.2]  p=0.0071 (10 pairs)
 )");
 }
 
@@ -460,10 +486,11 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
   EXPECT_EQ(csv.err, "");
   const std::vector<std::string> lines = Lines(csv.out);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[0],
-            "metric,group,n,mean,sd,median,min,max,baseline,diff,diff_pct,ci_low,ci_high,p_value,"
-            "n_for_80pct_power");
-  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,,,,,,");
+  EXPECT_EQ(
+      lines[0],
+      "metric,group,n,mean,sd,median,min,max,baseline,scale,diff,diff_pct,ci_low,ci_high,ratio,ratio_ci_low,"
+      "ratio_ci_high,p_value,n_for_80pct_power,mdd_low_pct,mdd_high_pct,equivalence_pct,tost_p_value");
+  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,log,,,,,,,,,,,,10,");
   const nlohmann::json json = CompareJson({"--series", "sled", "--metrics", "hic15"});
   EXPECT_EQ(
       lines[3].rfind("hic15,production,5," + util::FormatNumber(json[2]["mean"].get<double>()) + ",", 0), 0u)

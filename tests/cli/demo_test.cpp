@@ -109,8 +109,9 @@ TEST(DemoCli, BuildsAndRunsItsCatalogueAndPrintsTheValidationTable) {
                          0),
               0u)
         << line;
-    if (sentences > 1)
+    if (sentences > 1) {
       EXPECT_NE(line.find("tests meet FMVSS 201U (highest HIC(d) "), std::string::npos) << line;
+    }
     EXPECT_EQ(line.find("unchanged"), std::string::npos) << line;
     EXPECT_NE(report_html.find("<li>" + formats::EscapeHtml(line.substr(2)) + "</li>"), std::string::npos)
         << line;

@@ -253,8 +253,8 @@ TEST_F(ReportCli, BaselineOptionComparesWithTheNamedVariant) {
   ASSERT_EQ(report.exit_code, 0) << report.err;
   const std::string html = test_support::ReadText(dir_->path() / "production.html");
   EXPECT_THAT(html, HasSubstr("<h3>Verdict against production</h3>"));
-  EXPECT_THAT(html, HasSubstr("<li>foam-a "));
-  EXPECT_THAT(html, HasSubstr("<li>foam-b "));
+  EXPECT_THAT(html, HasSubstr("<li>foam-a: "));
+  EXPECT_THAT(html, HasSubstr("<li>foam-b: "));
   // The compare table's note and the overlays' variant order follow it.
   EXPECT_THAT(html, HasSubstr("napkin compare --series padding-series --baseline production shows them; "
                               "baseline production;"));
@@ -264,7 +264,19 @@ TEST_F(ReportCli, BaselineOptionComparesWithTheNamedVariant) {
   ASSERT_EQ(by_name.exit_code, 0) << by_name.err;
   const std::string by_name_html = test_support::ReadText(dir_->path() / "by-name.html");
   EXPECT_THAT(by_name_html, HasSubstr("<h3>Verdict against foam-a</h3>"));
-  EXPECT_THAT(by_name_html, HasSubstr("<li>production "));
+  EXPECT_THAT(by_name_html, HasSubstr("<li>production: "));
+
+  // --limits: the baseline's sentence, each variant's limits clause and the table's column.
+  const RunResult limits = Napkin({"report", "--series", "padding-series", "--baseline", "production",
+                                   "--limits", "fmvss208", "--out", "limits.html"});
+  ASSERT_EQ(limits.exit_code, 0) << limits.err;
+  const std::string limits_html = test_support::ReadText(dir_->path() / "limits.html");
+  EXPECT_THAT(limits_html, HasSubstr("<li>production (baseline): "));
+  EXPECT_THAT(limits_html, HasSubstr(" FMVSS 208 (highest HIC15 "));
+  EXPECT_THAT(limits_html, HasSubstr("<th>meet FMVSS 208</th>"));
+  const RunResult bad = Napkin({"report", "--limits", "nope", "--out", "nope.html"});
+  EXPECT_EQ(bad.exit_code, 2);
+  test_support::ExpectOneSentenceError(bad, {"--limits 'nope' is neither a file nor a preset"});
 }
 
 TEST_F(ReportCli, ExplainsWhatIsMissing) {
@@ -419,9 +431,10 @@ TEST_F(ReportInChromium, OverlaysHaveATracePerTestAndTwoCorridorBoundsPerVariant
               (std::vector<std::string>{"foam-a (2 tests) mean ± 1 sd", "foam-b (2 tests) mean ± 1 sd",
                                         "production (2 tests) mean ± 1 sd"}))
         << id;
-    for (const std::string& label : expected)
-      if (label.find(" mean ") == std::string::npos)
-        EXPECT_EQ(VisibleText(legend_html).find(label), std::string::npos) << id << " lists test " << label;
+    for (const std::string& label : expected) {
+      if (label.find(" mean ") != std::string::npos) continue;  // the corridors' labels
+      EXPECT_EQ(VisibleText(legend_html).find(label), std::string::npos) << id << " lists test " << label;
+    }
     EXPECT_TRUE(LegendLabels(legend_html).empty()) << id;  // not dygraphs' one entry per trace
   }
 }
