@@ -38,8 +38,9 @@ class CompareCommand : public Command {
     sub->add_option("--equivalence", equivalence_,
                     "equivalence margin in % (two one-sided tests): a change within ±PCT is shown equivalent")
         ->capture_default_str();
-    sub->add_option("--limits", request_.limits,
-                    "limits to check per variant: a preset of config/limits (e.g. fmvss201u) or a JSON file")
+    sub->add_option(
+           "--limits", request_.limits,
+           "limits to check per variant: a limits preset (config/limits, e.g. fmvss201u) or a JSON file")
         ->check(PathCheck("--limits"));
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))

@@ -31,8 +31,8 @@ class QueryCommand : public Command {
         ->check(OneOfCheck("the query KIND", kinds));
     filters_.Register(*sub);
     sub->add_option("--limits", limits_,
-                    "query limits: the limits each test is checked against, a preset of config/limits "
-                    "(e.g. fmvss201u) or a JSON file")
+                    "query limits: the limits each test is checked against, a limits preset (config/limits, "
+                    "e.g. fmvss201u) or a JSON file")
         ->check(PathCheck("--limits"));
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))

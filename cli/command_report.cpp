@@ -38,8 +38,8 @@ class ReportCommand : public Command {
         ->check(PositiveNumberCheck("--onset-threshold"))
         ->capture_default_str();
     sub->add_option("--limits", options_.limits,
-                    "limits the verdict checks per variant: a preset of config/limits (e.g. fmvss201u) or a "
-                    "JSON file")
+                    "limits the verdict checks per variant: a limits preset (config/limits, e.g. "
+                    "fmvss201u) or a JSON file")
         ->check(PathCheck("--limits"));
     return sub;
   }
