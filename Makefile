@@ -15,10 +15,13 @@ BUILD_PACKAGE ?= build/package
 # the reprocess test on a private single-node cluster (tests/slurm).
 # The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame.
 PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3-pandas
+# An independent implementation of compare's statistics for its tests (python/tests/
+# test_compare_statistics.py): scipy's t distributions, statsmodels' TOST and power.
+STATISTICS_TEST_PACKAGES := python3-scipy python3-statsmodels
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
-  chromium time slurm-wlm munge $(PYTHON_PACKAGES)
+  chromium time slurm-wlm munge $(PYTHON_PACKAGES) $(STATISTICS_TEST_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 # What `make tidy` adds: clang-tidy and clang (its configuration's compiler), and the headers of

@@ -30,6 +30,18 @@ class CompareCommand : public Command {
     sub->add_option("--config", request_.configs,
                     "stored config NAME or HASH-PREFIX: by variant, whose results (default: each test's "
                     "latest); by config, the configs compared (repeatable; default: all)");
+    sub->add_option("--scale", scale_,
+                    "log: HIC, BrIC, DAMAGE, accelerations and angular rates as ratios of geometric means; "
+                    "linear: every metric as a difference of means")
+        ->check(OneOfCheck("--scale", {"log", "linear"}))
+        ->capture_default_str();
+    sub->add_option("--equivalence", equivalence_,
+                    "equivalence margin in % (two one-sided tests): a change within ±PCT is shown equivalent")
+        ->capture_default_str();
+    sub->add_option(
+           "--limits", request_.limits,
+           "limits to check per variant: a limits preset (config/limits, e.g. fmvss201u) or a JSON file")
+        ->check(PathCheck("--limits"));
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))
         ->capture_default_str();
@@ -39,6 +51,8 @@ class CompareCommand : public Command {
   int Run() override {
     request_.by = ParseCompareBy(by_);
     request_.baseline = baseline_;
+    request_.scale = ParseCompareScale(scale_);
+    request_.equivalence_pct = ParseEquivalencePct(equivalence_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     const Comparison comparison = BuildComparison(catalogue, request_);
     fmt::print("{}", FormatComparison(comparison, ParseTableFormat(format_)));
@@ -57,6 +71,8 @@ class CompareCommand : public Command {
   std::string by_ = "variant";
   std::optional<std::string> baseline_;
   std::string format_ = "table";
+  std::string scale_ = "log";
+  std::string equivalence_ = "10";
 };
 
 }  // namespace

@@ -22,6 +22,10 @@ class DemoCommand : public Command {
         ->check(PathCheck("--out"));
     sub->add_option("--threads", request_.threads, "worker threads (default: all cores)")
         ->check(WholeNumberCheck("--threads", 1));
+    sub->add_option("--limits", request_.limits,
+                    "limits the padding verdict checks: a limits preset (config/limits) or a JSON file")
+        ->capture_default_str()
+        ->check(PathCheck("--limits"));
     return sub;
   }
 

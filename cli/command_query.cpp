@@ -1,4 +1,4 @@
-// `napkin query {tests,hic,rotation,criteria,quality,conditioning}`: summaries across
+// `napkin query {tests,hic,rotation,criteria,risk,quality,conditioning,limits}`: summaries across
 // tests from the catalogue's query views (each test's latest result, or the
 // results of --config), filtered by --series, --variant and --where, ordered
 // by --sort, cut by --limit (docs/formats.md "Query filters"), as an aligned
@@ -7,9 +7,12 @@
 
 #include "cli/command.h"
 #include "cli/db_option.h"
+#include "cli/limits.h"
 #include "cli/option_checks.h"
 #include "cli/query_filters.h"
 #include "cli/table_output.h"
+#include "common/error.h"
+#include "common/joined.h"
 
 namespace napkin::cli {
 namespace {
@@ -22,10 +25,15 @@ class QueryCommand : public Command {
     std::vector<std::string> kinds;
     kinds.reserve(db::kQueryKindNames.size());
     for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
-    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality or conditioning")
+    kinds.emplace_back("limits");  // `query criteria` against --limits (cli/limits.h)
+    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality, conditioning or limits")
         ->required()
         ->check(OneOfCheck("the query KIND", kinds));
     filters_.Register(*sub);
+    sub->add_option("--limits", limits_,
+                    "query limits: the limits each test is checked against, a limits preset (config/limits, "
+                    "e.g. fmvss201u) or a JSON file")
+        ->check(PathCheck("--limits"));
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))
         ->capture_default_str();
@@ -33,12 +41,20 @@ class QueryCommand : public Command {
   }
 
   int Run() override {
-    const db::QueryKind kind = *engine::ParseName<db::QueryKind>(what_);
+    const bool limits = what_ == "limits";
+    if (limits && !limits_)
+      throw UsageError("`napkin query limits` needs --limits NAME (presets: " + Joined(LimitPresets()) +
+                       ").");
+    if (!limits && limits_) throw UsageError("--limits applies to `napkin query limits` only.");
+    const std::optional<LimitSet> limit_set =
+        limits ? std::optional<LimitSet>(LoadLimits(*limits_)) : std::nullopt;
+    // query limits: the rows of query criteria, filtered and sorted as it does, each against each limit.
+    const db::QueryKind kind = limits ? db::QueryKind::kCriteria : *engine::ParseName<db::QueryKind>(what_);
     db::QueryRequest request = filters_.Request(kind);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     request.config = filters_.Config(catalogue);
     const db::Table table = catalogue.Query(kind, request);
-    fmt::print("{}", FormatTable(table, ParseTableFormat(format_)));
+    fmt::print("{}", FormatTable(limits ? LimitsTable(table, *limit_set) : table, ParseTableFormat(format_)));
     return kExitOk;
   }
 
@@ -47,6 +63,7 @@ class QueryCommand : public Command {
   std::string what_;
   QueryFilterOptions filters_;
   std::string format_ = "table";
+  std::optional<std::string> limits_;
 };
 
 }  // namespace

@@ -37,6 +37,10 @@ class ReportCommand : public Command {
                     "resultant CG acceleration (g) that marks the impact onset for --align onset")
         ->check(PositiveNumberCheck("--onset-threshold"))
         ->capture_default_str();
+    sub->add_option("--limits", options_.limits,
+                    "limits the verdict checks per variant: a limits preset (config/limits, e.g. "
+                    "fmvss201u) or a JSON file")
+        ->check(PathCheck("--limits"));
     return sub;
   }
 

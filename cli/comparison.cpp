@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "cli/db_option.h"
+#include "cli/limits.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "engine/summary_fields.h"
@@ -52,32 +53,117 @@ std::string GroupOf(const db::LabelledResult& result, CompareBy by,
   return result.config_name + "@" + result.config_hash.substr(0, 8);
 }
 
-// Paired t of `group` against `baseline` over the tests both have.
-engine::MeanDifference PairedDifference(const GroupValues& group, const GroupValues& baseline,
-                                        ComparisonRow& row) {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+engine::MeanDifference NoDifference() { return {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN}; }
+
+std::vector<double> Logs(const std::vector<double>& values) {
+  std::vector<double> logs;
+  logs.reserve(values.size());
+  for (const double value : values) logs.push_back(std::log(value));
+  return logs;
+}
+
+// A change on the row's scale in % of the baseline: 100 (e^x - 1) on the
+// log scale (expm1 keeps small changes exact), 100 x / baseline mean on the
+// linear one (NaN for a baseline mean of 0).
+double PercentOf(double x, CompareScale scale, double baseline_mean) {
+  if (!std::isfinite(x)) return kNaN;
+  if (scale == CompareScale::kLog) return 100.0 * std::expm1(x);
+  return baseline_mean != 0.0 ? 100.0 * x / baseline_mean : kNaN;
+}
+
+// The percentages, the equivalence and the smallest detectable change of a
+// row from its difference on the row's scale (`pooled_sd`: the pooled sd,
+// by config the sd of the differences; `effect_size` the detectable d).
+void FillScaleFigures(ComparisonRow& row, double pooled_sd, double effect_size, double equivalence_pct) {
+  const engine::MeanDifference& d = row.difference;
+  const double base = row.baseline_mean;
+  const bool log = row.scale == CompareScale::kLog;
+  row.pct = PercentOf(d.diff, row.scale, base);
+  row.pct_ci_low = PercentOf(d.ci_low, row.scale, base);
+  row.pct_ci_high = PercentOf(d.ci_high, row.scale, base);
+  if (log) row.difference.diff_pct = row.pct;
+  const double m = equivalence_pct / 100.0;
+  const double low = log ? std::log1p(-m) : (base != 0.0 ? -m * std::abs(base) : kNaN);
+  const double high = log ? std::log1p(m) : (base != 0.0 ? m * std::abs(base) : kNaN);
+  row.equivalence_pct = equivalence_pct;
+  row.equivalence = engine::TwoOneSidedTests(d, low, high);
+  row.equivalence_ci_low_pct = PercentOf(row.equivalence.ci_low, row.scale, base);
+  row.equivalence_ci_high_pct = PercentOf(row.equivalence.ci_high, row.scale, base);
+  const double detectable = effect_size * pooled_sd;
+  if (std::isfinite(detectable) && detectable > 0.0) {
+    row.mdd_low_pct =
+        log ? 100.0 * std::expm1(-detectable) : PercentOf(-detectable, row.scale, std::abs(base));
+    row.mdd_high_pct =
+        log ? 100.0 * std::expm1(detectable) : PercentOf(detectable, row.scale, std::abs(base));
+  }
+}
+
+// Welch's t of `group` against `baseline` on the row's scale.
+void IndependentDifference(const GroupValues& group, const GroupValues& baseline, ComparisonRow& row,
+                           double equivalence_pct) {
+  const bool log = row.scale == CompareScale::kLog;
+  const std::vector<double> a = log ? Logs(group.values) : group.values;
+  const std::vector<double> b = log ? Logs(baseline.values) : baseline.values;
+  row.difference = engine::WelchComparison(a, b);
+  if (!std::isfinite(row.difference.diff)) return;
+  const engine::Description da = engine::Describe(a), db = engine::Describe(b);
+  row.baseline_mean = engine::Describe(baseline.values).mean;
+  row.mean_diff = row.description.mean - row.baseline_mean;
+  row.n_for_80pct_power =
+      engine::WholeRepeatsForPower(engine::WelchPowerModel(row.difference.diff, da.sd, db.sd));
+  FillScaleFigures(row, engine::PooledStandardDeviation(da, db),
+                   engine::DetectableEffectSize(static_cast<double>(da.n), static_cast<double>(db.n)),
+                   equivalence_pct);
+}
+
+// Paired t of `group` against `baseline` over the tests both have, on the row's scale.
+void PairedDifference(const GroupValues& group, const GroupValues& baseline, ComparisonRow& row,
+                      double equivalence_pct) {
   std::map<std::string, double> baseline_by_test;
   for (std::size_t i = 0; i < baseline.test_ids.size(); ++i)
     baseline_by_test.emplace(baseline.test_ids[i], baseline.values[i]);
-  std::vector<double> differences;
-  std::vector<double> baseline_values;
+  const bool log = row.scale == CompareScale::kLog;
+  std::vector<double> differences, linear_differences, baseline_values;
   for (std::size_t i = 0; i < group.test_ids.size(); ++i) {
     const auto found = baseline_by_test.find(group.test_ids[i]);
     if (found == baseline_by_test.end()) continue;
-    differences.push_back(group.values[i] - found->second);
+    differences.push_back(log ? std::log(group.values[i]) - std::log(found->second)
+                              : group.values[i] - found->second);
+    linear_differences.push_back(group.values[i] - found->second);
     baseline_values.push_back(found->second);
   }
   row.pairs = differences.size();
   row.baseline_mean = engine::Describe(baseline_values).mean;
-  const engine::MeanDifference difference = engine::PairedComparison(differences, row.baseline_mean);
-  if (std::isfinite(difference.diff))
-    row.n_for_80pct_power = engine::WholeRepeatsForPower(
-        engine::PairedPowerModel(difference.diff, engine::Describe(differences).sd));
-  return difference;
+  row.difference = engine::PairedComparison(differences, row.baseline_mean);
+  if (!std::isfinite(row.difference.diff)) return;
+  row.mean_diff = engine::Describe(linear_differences).mean;
+  const double sd = engine::Describe(differences).sd;
+  row.n_for_80pct_power = engine::WholeRepeatsForPower(engine::PairedPowerModel(row.difference.diff, sd));
+  FillScaleFigures(row, sd, engine::PairedDetectableEffectSize(static_cast<double>(row.pairs)),
+                   equivalence_pct);
 }
 
-engine::MeanDifference NoDifference() {
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  return {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+// The check of the limit of `limits` on the metric, if it has one, per group.
+void CheckLimit(const LimitSet& limits, MetricComparison& metric) {
+  for (const Limit& limit : limits.limits) {
+    if (limit.metric != metric.metric) continue;
+    metric.limit = limit.max;
+    for (const GroupValues& group : metric.groups) {
+      GroupLimitCheck& check = metric.limit_checks.emplace_back();
+      check.tests = group.values.size();
+      for (std::size_t i = 0; i < group.values.size(); ++i) {
+        if (group.values[i] <= limit.max) ++check.within;
+        if (!(group.values[i] <= check.worst_value)) {  // the first of the highest (NaN at first)
+          check.worst_value = group.values[i];
+          check.worst_test = group.test_ids[i];
+        }
+      }
+      if (check.tests > 0) check.margin_pct = LimitMarginPct(check.worst_value, limit.max);
+    }
+    return;
+  }
 }
 
 // ---------------------------------------------------------------- the table
@@ -100,23 +186,49 @@ std::string PValue(double p) {
   return fmt::format("p={:.2g}", p);
 }
 
-// "-23.1 % [-31.0, -15.2] p=0.0004": the difference and its interval in % of
-// the baseline mean, or in the metric's unit when that mean is 0.
+// "-23.1 % [-31.0, -15.2] p=0.0004": the change and its interval in % of
+// the baseline (on the log scale: of its geometric mean), or the difference
+// in the metric's unit when the baseline mean is 0.
 std::string DifferenceText(const ComparisonRow& row, CompareBy by) {
   if (row.is_baseline) return "(baseline)";
   const engine::MeanDifference& d = row.difference;
   const std::string paired = by == CompareBy::kConfig ? fmt::format(" ({} pairs)", row.pairs) : "";
   if (!std::isfinite(d.diff)) return "n < 2: no difference (1)" + paired;
-  const bool percent = std::isfinite(d.diff_pct);
-  std::string text = percent ? fmt::format("{:+.1f} %", d.diff_pct) : fmt::format("{:+.4g}", d.diff);
+  const bool percent = std::isfinite(row.pct);
+  std::string text = percent ? fmt::format("{:+.1f} %", row.pct) : fmt::format("{:+.4g}", d.diff);
   if (!std::isfinite(d.ci_low)) return text + " (no scatter: no interval)" + paired;
-  if (percent) {
-    const double scale = 100.0 / row.baseline_mean;
-    text += fmt::format(" [{:+.1f}, {:+.1f}]", d.ci_low * scale, d.ci_high * scale);
-  } else {
+  if (percent)
+    text += fmt::format(" [{:+.1f}, {:+.1f}]", row.pct_ci_low, row.pct_ci_high);
+  else
     text += fmt::format(" [{:+.4g}, {:+.4g}]", d.ci_low, d.ci_high);
-  }
   return text + "  " + PValue(d.p_value) + paired;
+}
+
+// "-33/+49 %": the smallest fall and rise these tests detect with 80 % power.
+std::string DetectableText(const ComparisonRow& row) {
+  if (!std::isfinite(row.mdd_low_pct) || !std::isfinite(row.mdd_high_pct)) return "-";
+  // Whole percent from 0.95 %, two significant digits below: a small change never reads 0.
+  const auto magnitude = [](double pct) {
+    return std::abs(pct) >= 0.95 ? fmt::format("{:.0f}", std::abs(pct))
+                                 : util::FormatNumber(std::abs(pct), 2);
+  };
+  return "-" + magnitude(row.mdd_low_pct) + "/+" + magnitude(row.mdd_high_pct) + " %";
+}
+
+// "yes p=0.003" where equivalence within the margin is shown (TOST p < 0.05), "no p=0.41" where not.
+std::string EquivalenceText(const ComparisonRow& row) {
+  const double p = row.equivalence.p_value;
+  if (row.is_baseline || !std::isfinite(p)) return "-";
+  return (p < engine::kEquivalenceAlpha ? "yes " : "no ") + PValue(p);
+}
+
+// What the block of a metric compares: its scale.
+std::string ScaleNote(const MetricComparison& metric) {
+  for (const ComparisonRow& row : metric.rows) {
+    if (row.log_fallback) return " (difference of means: a value <= 0 rules out the log scale)";
+    if (!row.is_baseline && row.scale == CompareScale::kLog) return " (log scale: ratio of geometric means)";
+  }
+  return "";
 }
 
 std::string HumanComparison(const Comparison& comparison) {
@@ -126,34 +238,40 @@ std::string HumanComparison(const Comparison& comparison) {
       fmt::format("series {}: {} compared with {} '{}'\n", util::EscapeControl(comparison.series),
                   by_variant ? "variants" : "processing configs", by_variant ? "variant" : "config",
                   util::EscapeControl(comparison.baseline));
-  out += by_variant ? "difference of means in % of the baseline mean, [95 % confidence interval] "
-                      "(Welch's t), two-sided p\n"
-                    : "mean of the per-test differences in % of the baseline's mean over the same tests, "
-                      "[95 % confidence interval] (paired t), two-sided p\n";
+  out += by_variant ? "change in % of the baseline, [95 % confidence interval] (Welch's t), two-sided p: "
+                      "of the geometric mean on the log scale, of the mean on the linear\n"
+                    : "mean per-test change in % of the baseline over the same tests, [95 % confidence "
+                      "interval] (paired t), two-sided p: of the ratio on the log scale, of the "
+                      "difference on the linear\n";
   out += by_variant ? "n80: tests per variant that would detect the observed difference with 80 % power "
                       "(two-sided t, alpha 0.05)\n"
                     : "n80: tests that would detect the observed mean difference with 80 % power "
                       "(two-sided paired t, alpha 0.05)\n";
+  out += fmt::format(
+      "detects: the smallest fall/rise these tests detect with 80 % power; equiv: equivalence within "
+      "±{} % shown by two one-sided tests (p < 0.05)\n",
+      util::FormatNumber(comparison.equivalence_pct, 6));
   bool small_group = false;
   for (const MetricComparison& metric : comparison.metrics) {
     std::vector<std::vector<std::string>> cells;
     cells.push_back({by_variant ? "variant" : "config", "n", "mean", "sd", "median", "min", "max", "n80",
-                     "vs " + util::EscapeControl(comparison.baseline)});
+                     "detects", "equiv", "vs " + util::EscapeControl(comparison.baseline)});
     for (const ComparisonRow& row : metric.rows) {
       const engine::Description& d = row.description;
       cells.push_back({util::EscapeControl(row.group), std::to_string(d.n), Number(d.mean), Number(d.sd),
                        Number(d.median), Number(d.min), Number(d.max), PowerText(row.n_for_80pct_power),
-                       DifferenceText(row, comparison.by)});
+                       DetectableText(row), EquivalenceText(row), DifferenceText(row, comparison.by)});
       if (!row.is_baseline && !std::isfinite(row.difference.diff)) small_group = true;
     }
     std::vector<std::size_t> width(cells.front().size(), 0);
+    const auto length = [](const std::string& text) { return text.size(); };
     for (const auto& line : cells)
-      for (std::size_t c = 0; c < line.size(); ++c) width[c] = std::max(width[c], line[c].size());
-    out += "\n" + metric.metric + "\n";
+      for (std::size_t c = 0; c < line.size(); ++c) width[c] = std::max(width[c], length(line[c]));
+    out += "\n" + metric.metric + ScaleNote(metric) + "\n";
     for (const auto& line : cells) {
       std::string text = "  ";
       for (std::size_t c = 0; c < line.size(); ++c) {
-        const std::string pad(width[c] - line[c].size(), ' ');
+        const std::string pad(width[c] - length(line[c]), ' ');
         if (c == 0)
           text += line[c] + pad;
         else if (c + 1 == line.size())
@@ -162,6 +280,18 @@ std::string HumanComparison(const Comparison& comparison) {
           text += "  " + pad + line[c];
       }
       out += text + "\n";
+    }
+    if (metric.limit && comparison.limits_name) {
+      out += fmt::format("  {} limit {}: ", *comparison.limits_name, util::FormatNumber(*metric.limit, 6));
+      for (std::size_t g = 0; g < metric.limit_checks.size(); ++g) {
+        const GroupLimitCheck& check = metric.limit_checks[g];
+        out += (g == 0 ? "" : "; ") + util::EscapeControl(comparison.groups[g]) +
+               fmt::format(" {} of {} within", check.within, check.tests);
+        if (check.tests > 0)
+          out += fmt::format(" (worst {} {}, margin {:+.1f} %)", util::EscapeControl(check.worst_test),
+                             util::FormatNumber(check.worst_value, 4), check.margin_pct);
+      }
+      out += "\n";
     }
   }
   if (small_group)
@@ -192,6 +322,30 @@ CompareBy ParseCompareBy(const std::string& text) {
   throw UsageError("unknown --by '" + text + "' (use variant or config).");
 }
 
+CompareScale ParseCompareScale(const std::string& text) {
+  if (text == "log") return CompareScale::kLog;
+  if (text == "linear") return CompareScale::kLinear;
+  throw UsageError("unknown --scale '" + text + "' (use log or linear).");
+}
+
+std::string_view ScaleName(CompareScale scale) { return scale == CompareScale::kLog ? "log" : "linear"; }
+
+bool IsRatioMetric(std::string_view metric) {
+  for (const char* name :
+       {"hic15", "hic36", "hic", "hic_d", "bric", "damage", "peak_acc_g", "a3ms_g", "peak_omega_x_radps",
+        "peak_omega_y_radps", "peak_omega_z_radps", "peak_omega_radps", "peak_alpha_radps2"})
+    if (metric == name) return true;
+  return false;
+}
+
+double ParseEquivalencePct(const std::string& text) {
+  const std::optional<double> value = util::ParseDouble(text);
+  if (!value || !(*value > 0.0) || !(*value < 100.0))
+    throw UsageError("--equivalence '" + text +
+                     "' is not a margin in percent between 0 and 100 (exclusive), e.g. 10 for ±10 %.");
+  return *value;
+}
+
 std::vector<std::string> DefaultComparisonMetrics() {
   std::vector<std::string> metrics;
   for (const char* name :
@@ -209,7 +363,16 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
         "unknown series '" + request.series + "' (" +
         (names.empty() ? std::string("the catalogue has no series") : "series: " + Joined(names)) + ").");
   }
-  const std::vector<const engine::SummaryField*> fields = ResolveMetrics(request.metrics);
+  std::vector<const engine::SummaryField*> fields = ResolveMetrics(request.metrics);
+  std::optional<LimitSet> limits;
+  if (request.limits) {
+    limits = LoadLimits(*request.limits);
+    for (const Limit& limit : limits->limits) {  // a limit's metric is compared too
+      const engine::SummaryField* field = FindField(limit.metric);
+      if (field != nullptr && std::find(fields.begin(), fields.end(), field) == fields.end())
+        fields.push_back(field);
+    }
+  }
   if (request.by == CompareBy::kVariant && request.configs.size() > 1)
     throw UsageError(
         "--by variant compares the results of one config; give --config once (or use --by config).");
@@ -282,6 +445,9 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
   for (const auto& [group, members] : results_by_group)
     if (group != comparison.baseline) comparison.groups.push_back(group);
 
+  comparison.scale = request.scale;
+  comparison.equivalence_pct = request.equivalence_pct;
+  if (limits) comparison.limits_name = limits->name;
   for (const engine::SummaryField* field : fields) {
     MetricComparison& metric = comparison.metrics.emplace_back();
     metric.metric = field->name;
@@ -295,43 +461,129 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
         values.values.push_back(value);
       }
     }
-    const GroupValues& baseline = metric.groups.front();
-    for (const GroupValues& values : metric.groups) {
-      ComparisonRow& row = metric.rows.emplace_back();
-      row.metric = metric.metric;
-      row.group = values.group;
-      row.description = engine::Describe(values.values);
-      row.baseline = comparison.baseline;
-      row.is_baseline = &values == &baseline;
-      if (row.is_baseline) {
-        row.difference = NoDifference();
-      } else if (request.by == CompareBy::kVariant) {
-        row.difference = engine::WelchComparison(values.values, baseline.values);
-        row.baseline_mean = metric.rows.front().description.mean;
-        if (std::isfinite(row.difference.diff))
-          row.n_for_80pct_power = engine::WholeRepeatsForPower(engine::WelchPowerModel(
-              row.difference.diff, row.description.sd, metric.rows.front().description.sd));
-      } else {
-        row.difference = PairedDifference(values, baseline, row);
-      }
-      if (!std::isfinite(row.difference.diff)) row.baseline_mean = std::numeric_limits<double>::quiet_NaN();
-    }
+  }
+  // The default metrics leave out those no test of the series has (the
+  // rotation of acceleration-only tests); named ones stay.
+  if (request.metrics.empty())
+    std::erase_if(comparison.metrics, [](const MetricComparison& metric) {
+      return std::all_of(metric.groups.begin(), metric.groups.end(),
+                         [](const GroupValues& values) { return values.values.empty(); });
+    });
+  for (MetricComparison& metric : comparison.metrics) {
+    metric = CompareMetric(metric.metric, std::move(metric.groups), request.by, request.scale,
+                           request.equivalence_pct);
+    if (limits) CheckLimit(*limits, metric);
   }
   return comparison;
 }
 
+MetricComparison CompareMetric(const std::string& name, std::vector<GroupValues> groups, CompareBy by,
+                               CompareScale scale, double equivalence_pct) {
+  MetricComparison metric;
+  metric.metric = name;
+  metric.groups = std::move(groups);
+  // The log scale for a ratio metric whose values are all > 0; else the
+  // linear scale, and a ratio metric says why.
+  const bool ratio = scale == CompareScale::kLog && IsRatioMetric(name);
+  const bool positive = std::all_of(metric.groups.begin(), metric.groups.end(), [](const GroupValues& g) {
+    return std::all_of(g.values.begin(), g.values.end(), [](double v) { return v > 0.0; });
+  });
+  if (metric.groups.empty()) return metric;
+  const GroupValues& baseline = metric.groups.front();
+  for (const GroupValues& values : metric.groups) {
+    ComparisonRow& row = metric.rows.emplace_back();
+    row.metric = metric.metric;
+    row.group = values.group;
+    row.description = engine::Describe(values.values);
+    row.baseline = baseline.group;
+    row.is_baseline = &values == &baseline;
+    row.scale = ratio && positive ? CompareScale::kLog : CompareScale::kLinear;
+    row.log_fallback = ratio && !positive;
+    row.equivalence_pct = equivalence_pct;
+    row.equivalence = engine::TwoOneSidedTests(NoDifference(), kNaN, kNaN);
+    if (row.is_baseline)
+      row.difference = NoDifference();
+    else if (by == CompareBy::kVariant)
+      IndependentDifference(values, baseline, row, equivalence_pct);
+    else
+      PairedDifference(values, baseline, row, equivalence_pct);
+    if (!std::isfinite(row.difference.diff)) row.baseline_mean = kNaN;
+  }
+  return metric;
+}
+
 db::Table ComparisonTable(const Comparison& comparison) {
   db::Table table;
-  table.columns = {"metric",   "group",  "n",       "mean",     "sd",
-                   "median",   "min",    "max",     "baseline", "diff",
-                   "diff_pct", "ci_low", "ci_high", "p_value",  "n_for_80pct_power"};
+  table.columns = {"metric",
+                   "group",
+                   "n",
+                   "mean",
+                   "sd",
+                   "median",
+                   "min",
+                   "max",
+                   "baseline",
+                   "scale",
+                   "diff",
+                   "diff_pct",
+                   "ci_low",
+                   "ci_high",
+                   "ratio",
+                   "ratio_ci_low",
+                   "ratio_ci_high",
+                   "p_value",
+                   "n_for_80pct_power",
+                   "mdd_low_pct",
+                   "mdd_high_pct",
+                   "equivalence_pct",
+                   "tost_p_value"};
+  const bool limits = comparison.limits_name.has_value();
+  if (limits)
+    table.columns.insert(table.columns.end(),
+                         {"limit", "tests_within_limit", "worst_test", "limit_margin_pct"});
   for (const MetricComparison& metric : comparison.metrics) {
-    for (const ComparisonRow& row : metric.rows) {
+    for (std::size_t g = 0; g < metric.rows.size(); ++g) {
+      const ComparisonRow& row = metric.rows[g];
       const engine::Description& d = row.description;
       const engine::MeanDifference& m = row.difference;
-      table.rows.push_back({row.metric, row.group, static_cast<std::int64_t>(d.n), d.mean, d.sd, d.median,
-                            d.min, d.max, row.baseline, m.diff, m.diff_pct, m.ci_low, m.ci_high, m.p_value,
-                            PowerCell(row.n_for_80pct_power)});
+      const bool log = row.scale == CompareScale::kLog;
+      // On the log scale the interval is the ratio's; diff stays the plain difference of means.
+      const double diff = log ? row.mean_diff : m.diff;
+      const auto exp_or_nan = [&](double x) { return log && std::isfinite(x) ? std::exp(x) : kNaN; };
+      std::vector<db::Cell> cells = {row.metric,
+                                     row.group,
+                                     static_cast<std::int64_t>(d.n),
+                                     d.mean,
+                                     d.sd,
+                                     d.median,
+                                     d.min,
+                                     d.max,
+                                     row.baseline,
+                                     std::string(ScaleName(row.scale)),
+                                     diff,
+                                     m.diff_pct,
+                                     log ? kNaN : m.ci_low,
+                                     log ? kNaN : m.ci_high,
+                                     exp_or_nan(m.diff),
+                                     exp_or_nan(m.ci_low),
+                                     exp_or_nan(m.ci_high),
+                                     m.p_value,
+                                     PowerCell(row.n_for_80pct_power),
+                                     row.mdd_low_pct,
+                                     row.mdd_high_pct,
+                                     row.is_baseline ? kNaN : row.equivalence_pct,
+                                     row.equivalence.p_value};
+      if (limits) {
+        if (metric.limit && g < metric.limit_checks.size()) {
+          const GroupLimitCheck& check = metric.limit_checks[g];
+          cells.insert(cells.end(),
+                       {*metric.limit, static_cast<std::int64_t>(check.within),
+                        check.tests > 0 ? db::Cell(check.worst_test) : db::Cell(), check.margin_pct});
+        } else {
+          cells.insert(cells.end(), {db::Cell(), db::Cell(), db::Cell(), db::Cell()});
+        }
+      }
+      table.rows.push_back(std::move(cells));
     }
   }
   return table;

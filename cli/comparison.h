@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/table_output.h"
@@ -22,6 +23,28 @@ enum class CompareBy { kVariant, kConfig };
 
 // "variant" or "config"; throws UsageError otherwise.
 CompareBy ParseCompareBy(const std::string& text);
+
+// The scale a metric's groups are compared on (docs/formats.md "napkin
+// compare", docs/algorithms.md "Ratios of positive criteria"): kLog, the
+// ratio of geometric means (Welch's t, by config the paired t, on the
+// natural logs), for the positive, right-skewed criteria (IsRatioMetric);
+// kLinear, the difference of means.
+enum class CompareScale { kLog, kLinear };
+
+// "log" or "linear"; throws UsageError naming --scale otherwise.
+CompareScale ParseCompareScale(const std::string& text);
+std::string_view ScaleName(CompareScale scale);
+
+// HIC (every window), HIC(d), BrIC, DAMAGE, peak and 3 ms accelerations,
+// peak angular velocities and acceleration: compared as ratios under
+// --scale log. Every other metric is compared on the linear scale.
+bool IsRatioMetric(std::string_view metric);
+
+// The default equivalence margin, ±10 % (--equivalence PCT).
+inline constexpr double kDefaultEquivalencePct = 10.0;
+
+// --equivalence PCT: a number in (0, 100); throws UsageError naming the option otherwise.
+double ParseEquivalencePct(const std::string& text);
 
 struct ComparisonRequest {
   std::string series;
@@ -36,6 +59,13 @@ struct ComparisonRequest {
   // latest result, as `napkin query`). By config: the configs compared
   // (default: every config with results in the series).
   std::vector<std::string> configs;
+  // kLog: ratio metrics on the log scale; kLinear: every metric linear.
+  CompareScale scale = CompareScale::kLog;
+  // The equivalence margin in % (two one-sided tests).
+  double equivalence_pct = kDefaultEquivalencePct;
+  // Limits to check (cli/limits.h), a preset name of config/limits or a
+  // file; their metrics are compared too.
+  std::optional<std::string> limits;
 };
 
 // The group of a test of `variant` when comparing by variant: the name, or
@@ -76,33 +106,93 @@ struct ComparisonRow {
   // power at two-sided alpha 0.05 (engine::WholeRepeatsForPower: Welch by
   // variant, paired by config; docs/algorithms.md "Planning a series"); NaN
   // on the baseline's row, where the difference is undefined or 0, and where
-  // both spreads are 0.
+  // both spreads are 0. On the row's scale.
   double n_for_80pct_power = std::numeric_limits<double>::quiet_NaN();
+
+  // The scale of `difference`, `equivalence` and the power figures: kLog
+  // (difference of the natural logs, ratio = exp(diff)) for a ratio metric
+  // under --scale log whose values are all > 0 in both groups (by config:
+  // in every pair), else kLinear.
+  CompareScale scale = CompareScale::kLinear;
+  // A ratio metric under --scale log compared on the linear scale because a
+  // value is <= 0 (docs/formats.md: "and says so").
+  bool log_fallback = false;
+  // The plain difference of means (by config: the mean per-test difference),
+  // whatever the scale; NaN where `difference` is undefined.
+  double mean_diff = std::numeric_limits<double>::quiet_NaN();
+  // The change in % of the baseline on the row's scale and its 95 %
+  // interval: 100 (ratio - 1) on the log scale, 100 diff / baseline_mean on
+  // the linear; NaN where undefined.
+  double pct = std::numeric_limits<double>::quiet_NaN();
+  double pct_ci_low = std::numeric_limits<double>::quiet_NaN();
+  double pct_ci_high = std::numeric_limits<double>::quiet_NaN();
+  // Equivalence within ±margin (engine::TwoOneSidedTests) on the row's
+  // scale: log bounds ln(1 - m), ln(1 + m); linear ±m baseline_mean. Its
+  // 90 % interval in % as pct above.
+  engine::Equivalence equivalence;
+  double equivalence_pct = kDefaultEquivalencePct;
+  double equivalence_ci_low_pct = std::numeric_limits<double>::quiet_NaN();
+  double equivalence_ci_high_pct = std::numeric_limits<double>::quiet_NaN();
+  // The smallest change (in % of the baseline, a fall and a rise) that these
+  // tests detect with 80 % power at two-sided alpha 0.05
+  // (engine::DetectableEffectSize times the pooled sd on the row's scale;
+  // by config the paired form); NaN where a side has n < 2 or no scatter.
+  double mdd_low_pct = std::numeric_limits<double>::quiet_NaN();
+  double mdd_high_pct = std::numeric_limits<double>::quiet_NaN();
+};
+
+// A limit's check for one group (cli/limits.h): how many of its tests with a
+// value are within it, and the worst (highest) test.
+struct GroupLimitCheck {
+  std::size_t tests = 0;   // with a value of the limit's metric
+  std::size_t within = 0;  // value <= the limit
+  std::string worst_test;
+  double worst_value = std::numeric_limits<double>::quiet_NaN();
+  double margin_pct = std::numeric_limits<double>::quiet_NaN();  // 100 (limit - worst) / limit
 };
 
 struct MetricComparison {
   std::string metric;
   std::vector<GroupValues> groups;  // in Comparison::groups order
   std::vector<ComparisonRow> rows;  // one per group, same order
+  // The limit of the request's limits on this metric, if any, and its check
+  // per group (same order).
+  std::optional<double> limit;
+  std::vector<GroupLimitCheck> limit_checks;
 };
 
 struct Comparison {
   std::string series;
   CompareBy by = CompareBy::kVariant;
+  CompareScale scale = CompareScale::kLog;
+  double equivalence_pct = kDefaultEquivalencePct;
   std::string baseline;
   std::vector<std::string> groups;  // the baseline, then the others in name order
   std::vector<MetricComparison> metrics;
+  // The short name of the limits checked ("FMVSS 201U"), when asked for.
+  std::optional<std::string> limits_name;
 };
 
 // Reads the series' results and compares them. Throws UsageError (one line
 // listing the valid choices) for an unknown series, metric, config or
 // baseline, or more than one config by variant; InputError "... run `napkin
 // run` first." when the series has no results (under the chosen configs).
+// With the default metrics (request.metrics empty) a metric no test of the
+// series has a value of is left out (the rotation of acceleration-only
+// tests); metrics named in request.metrics are always kept.
 Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request);
 
+// The comparison of one metric from each group's values (baseline first),
+// as BuildComparison makes it; by config the groups' test ids pair the values.
+MetricComparison CompareMetric(const std::string& metric, std::vector<GroupValues> groups, CompareBy by,
+                               CompareScale scale, double equivalence_pct);
+
 // The rows as the compare contract's table: columns metric, group, n, mean,
-// sd, median, min, max, baseline, diff, diff_pct, ci_low, ci_high, p_value
-// (NaN cells become null in JSON and empty fields in CSV via FormatTable).
+// sd, median, min, max, baseline, scale, diff, diff_pct, ci_low, ci_high,
+// ratio, ratio_ci_low, ratio_ci_high, p_value, n_for_80pct_power,
+// mdd_low_pct, mdd_high_pct, equivalence_pct, tost_p_value, and with limits
+// limit, tests_within_limit, worst_test, limit_margin_pct (NaN cells become
+// null in JSON and empty fields in CSV via FormatTable).
 db::Table ComparisonTable(const Comparison& comparison);
 
 // kJson and kCsv: FormatTable(ComparisonTable(comparison)). kTable: one

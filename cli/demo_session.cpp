@@ -13,6 +13,7 @@
 #include "cli/comparison.h"
 #include "cli/db_option.h"
 #include "cli/demo_folder.h"
+#include "cli/limits.h"
 #include "cli/report_builder.h"
 #include "cli/table_output.h"
 #include "cli/transform.h"
@@ -133,10 +134,11 @@ fs::path WritePaddingCsvFiles(const fs::path& dir) {
 // `napkin compare --series padding-series --baseline production --metrics ...`
 // prints it, for the metrics that tell the story: HIC, the CG acceleration, and
 // the rotation that the padding barely changes.
-void PrintPaddingComparison(db::Catalogue& catalogue) {
+void PrintPaddingComparison(db::Catalogue& catalogue, const std::string& limits) {
   ComparisonRequest request;
   request.series = kPaddingSeries;
   request.baseline = kPaddingBaseline;
+  request.limits = limits;
   // The verdict first, from compare's default metrics, as the report words it.
   fmt::print("{}\n", FormatVerdict(BuildVerdict(BuildComparison(catalogue, request))));
   request.metrics = {"hic15", "hic_d", "peak_acc_g", "peak_omega_radps", "peak_alpha_radps2", "bric"};
@@ -258,6 +260,7 @@ void PrintNextSteps(const std::string& db, const fs::path& csv_dir) {
 
 void RunDemo(const DemoRequest& request) {
   const fs::path dir(request.dir);
+  LoadLimits(request.limits);  // an unknown or malformed --limits stops the demo before it builds anything
   const bool replaced = PrepareDemoFolder(dir, kDemoDb);
   WriteDemoStamp(dir, DemoFiles());
   const fs::path db_path = dir / kDemoDb;
@@ -280,7 +283,7 @@ void RunDemo(const DemoRequest& request) {
   read_only.read_only = true;
   db::Catalogue catalogue = db::Catalogue::Open(db, read_only);
   fmt::print("padding series: HIC and rotation of production trim vs foam A and foam B\n");
-  PrintPaddingComparison(catalogue);
+  PrintPaddingComparison(catalogue, request.limits);
   fmt::print("\n");
   PrintValidationTable(catalogue, run.config);
   PrintSeedSolverTable(dir);
@@ -289,6 +292,7 @@ void RunDemo(const DemoRequest& request) {
   fmt::print("\n");
   ReportOptions report_options;
   report_options.baseline = kPaddingBaseline;
+  report_options.limits = request.limits;
   fmt::print("{}", WrittenReportText(WriteCatalogueReport(db, {}, report_path.string(), report_options)));
   PrintNextSteps(db, csv_dir);
 }

@@ -50,16 +50,11 @@ std::string CellText(const db::Cell& cell) {
   return "—";
 }
 
-// The verdict of a comparison as the page shows it (cli/verdict.h).
+// The verdict of a comparison as the page shows it (cli/verdict.h), with
+// the note its rules table words.
 formats::ReportVerdict VerdictOf(const Comparison& comparison) {
   const SeriesVerdict verdict = BuildVerdict(comparison);
-  formats::ReportVerdict report{verdict.baseline, verdict.columns, verdict.rows, verdict.sentences, {}};
-  report.notes.push_back(
-      "Each variant against " + verdict.baseline +
-      ": difference of means in % of the baseline mean with its 95 % confidence interval (Welch's t) and "
-      "two-sided p, n = tests of the variant vs the baseline; \"lowers\" or \"raises\" where p < 0.05, "
-      "\"unchanged\" where not. Risks (P(AIS n+)): mean probability of the baseline, then of the variant.");
-  return report;
+  return {verdict.baseline, verdict.columns, verdict.rows, verdict.sentences, {VerdictNote(comparison)}};
 }
 
 // At most this many points on the overlays' common time base
@@ -208,13 +203,10 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
   request.series = series;
   request.by = CompareBy::kVariant;
   request.baseline = options.baseline;
-  Comparison comparison = BuildComparison(catalogue, request);
+  request.limits = options.limits;
   // Metrics no test of the series has (the rotation of acceleration-only
-  // tests) say nothing: no table rows, no plots.
-  std::erase_if(comparison.metrics, [](const MetricComparison& metric) {
-    return std::all_of(metric.groups.begin(), metric.groups.end(),
-                       [](const GroupValues& values) { return values.values.empty(); });
-  });
+  // tests) are left out by BuildComparison: no table rows, no plots.
+  const Comparison comparison = BuildComparison(catalogue, request);
 
   formats::ReportComparison report;
   report.series = series;
@@ -230,8 +222,10 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
       "Every test of series " + series + " with a result (its latest), as napkin compare --series " + series +
       (options.baseline ? " --baseline " + *options.baseline : std::string()) + " shows them; baseline " +
       comparison.baseline +
-      "; diff = mean − baseline mean with its 95 % confidence interval (Welch's t) and the "
-      "two-sided p-value.");
+      "; scale log: ratio of geometric means with its 95 % interval (Welch's t on the logs), diff_pct = "
+      "100 (ratio − 1); scale linear: diff = mean − baseline mean with its 95 % interval (Welch's t); the "
+      "two-sided p-value of that scale; mdd: the smallest fall and rise these tests detect with 80 % power; "
+      "tost_p_value < 0.05: equivalent within ±equivalence_pct %.");
   std::set<std::string> small_groups;
   for (const MetricComparison& metric : comparison.metrics) {
     formats::ReportDistribution& distribution = report.distributions.emplace_back();

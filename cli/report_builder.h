@@ -39,6 +39,9 @@ struct ReportOptions {
   // kOnset: t = 0 at each test's first sample whose resultant CG
   // acceleration exceeds this many g.
   double onset_threshold_g = kDefaultOnsetThresholdG;
+  // Limits the verdict and the compare table check (cli/limits.h): a preset
+  // name of config/limits or a file.
+  std::optional<std::string> limits;
 };
 
 struct WrittenReport {

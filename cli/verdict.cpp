@@ -5,13 +5,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <set>
 
+#include "common/joined.h"
+#include "engine/injury_risk.h"
+#include "engine/summary_fields.h"
 #include "util/text.h"
 
 namespace napkin::cli {
 namespace {
 
-// U+2212, the minus sign of the wording ("−9 % [−27, +8]").
+// U+2212, the minus sign of the wording ("−9 % [−27, +8]").
 constexpr std::string_view kMinus = "\xE2\x88\x92";
 
 struct CriterionLabel {
@@ -31,59 +36,30 @@ constexpr CriterionLabel kLabels[] = {
     {"max_rotation_deg", "max rotation"},
 };
 
-std::vector<std::string> Parts(std::string_view name) {
-  std::vector<std::string> parts;
-  std::size_t begin = 0;
-  for (std::size_t at = 0; at <= name.size(); ++at) {
-    if (at == name.size() || name[at] == '_') {
-      parts.emplace_back(name.substr(begin, at - begin));
-      begin = at + 1;
-    }
-  }
-  return parts;
+// "+8", "−9", "0": a signed percentage (PercentText's digits).
+std::string Signed(double pct) {
+  const std::string magnitude = PercentText(std::abs(pct));
+  if (magnitude == "0") return magnitude;
+  return (pct < 0 ? std::string(kMinus) : std::string("+")) + magnitude;
 }
 
-// The criterion a risk of no verdict criterion belongs to: "HIC36" for
-// "hic36_p_ais4" (a part with a label), else the field's name.
-std::string OwnerLabel(std::string_view risk) {
-  for (const std::string& part : Parts(risk))
-    for (const CriterionLabel& known : kLabels)
-      if (known.name == part) return std::string(known.label);
-  return std::string(risk);
-}
-
-// A percentage, rounded to whole percent (one decimal below 1 %, so a small
-// change does not read 0 %): `decimals` from the clause's main number.
-int PercentDecimals(double main) { return std::abs(main) < 0.95 ? 1 : 0; }
-
-std::string Fixed(double value, int decimals) { return fmt::format("{:.{}f}", value, decimals); }
-
-// "44", "0.12" (3 significant digits where the difference is in the metric's unit).
-std::string Magnitude(double value, bool percent, int decimals) {
-  return percent ? Fixed(std::abs(value), decimals) : util::FormatNumber(std::abs(value), 3);
-}
-
-// "−9", "+8", "0".
-std::string Signed(double value, bool percent, int decimals) {
-  std::string magnitude = Magnitude(value, percent, decimals);
-  if (magnitude.find_first_not_of("0.") == std::string::npos) return magnitude;
-  return (value < 0 ? std::string(kMinus) : std::string("+")) + magnitude;
-}
+// A difference in the metric's unit (where the baseline mean is 0): 3 significant digits.
+std::string Units(double value) { return util::FormatNumber(value, 3); }
 
 // A probability (0..1) in %: one decimal from 1 %, two significant digits below.
 std::string Probability(double p) {
   if (!std::isfinite(p)) return "—";
   const double percent = 100.0 * p;
   if (percent == 0.0) return "0 %";
-  if (std::abs(percent) >= 1.0) return Fixed(percent, 1) + " %";
+  if (std::abs(percent) >= 1.0) return fmt::format("{:.1f} %", percent);
   return util::FormatNumber(percent, 2) + " %";
 }
 
-std::string Counts(const ComparisonRow& row, const engine::Description& baseline) {
-  return fmt::format("n = {} vs {}", row.description.n, baseline.n);
+std::string Counts(const ComparisonRow& row, const ComparisonRow& baseline) {
+  return fmt::format("n = {} vs {}", row.description.n, baseline.description.n);
 }
 
-bool Significant(double p) { return std::isfinite(p) && p < kVerdictAlpha; }
+bool Below(double p) { return std::isfinite(p) && p < kVerdictAlpha; }
 
 const MetricComparison* FindMetric(const Comparison& comparison, std::string_view name) {
   for (const MetricComparison& metric : comparison.metrics)
@@ -96,64 +72,91 @@ bool HasValues(const MetricComparison& metric) {
                      [](const GroupValues& values) { return !values.values.empty(); });
 }
 
-// A metric of the verdict, in sentence order.
+bool IsRotationCriterion(std::string_view name) {
+  for (const engine::SummaryField& field : engine::SummaryFields())
+    if (name == field.name) return field.group == engine::SummaryGroup::kRotation;
+  return false;
+}
+
+// The parenthetical's last words for a ratio metric compared linearly.
+std::string FallbackNote(const ComparisonRow& row) {
+  return row.log_fallback ? ", difference of means: a value ≤ 0" : "";
+}
+
+// A criterion of the verdict and the risks computed from it.
 struct VerdictMetric {
   const MetricComparison* metric;
-  bool risk;
-  std::string label;         // in a sentence
-  std::string column_label;  // in the table
+  std::string label;
+  bool rotation;
+  std::vector<std::pair<const MetricComparison*, std::string>> risks;  // with their labels
 };
 
 std::vector<VerdictMetric> VerdictMetrics(const Comparison& comparison) {
-  const std::vector<std::string> criteria = VerdictCriteria();
   std::vector<VerdictMetric> metrics;
-  std::vector<const MetricComparison*> placed;
-  auto risks_of = [&](const std::optional<std::string>& criterion) {
-    for (const MetricComparison& metric : comparison.metrics) {
-      const std::optional<RiskMetric> risk = IsRiskMetric(metric.metric, criteria);
-      if (!risk || risk->criterion != criterion || !HasValues(metric)) continue;
-      if (std::find(placed.begin(), placed.end(), &metric) != placed.end()) continue;
-      placed.push_back(&metric);
-      const std::string label = MetricLabel(metric.metric);
-      const std::string owner = criterion ? MetricLabel(*criterion) : OwnerLabel(metric.metric);
-      // Next to its criterion the risk's label is enough; elsewhere it names it.
-      metrics.push_back({&metric, true,
-                         criterion ? label : label.substr(0, label.size() - 1) + ", " + owner + ")",
-                         fmt::format("{} {}", label, owner)});
-    }
-  };
-  for (const std::string& criterion : criteria) {
+  for (const std::string& criterion : VerdictCriteria()) {
     const MetricComparison* metric = FindMetric(comparison, criterion);
     if (metric == nullptr || !HasValues(*metric)) continue;
-    metrics.push_back({metric, false, MetricLabel(criterion), MetricLabel(criterion)});
-    risks_of(criterion);
+    VerdictMetric& entry = metrics.emplace_back(
+        VerdictMetric{metric, MetricLabel(criterion), IsRotationCriterion(criterion), {}});
+    for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
+      const MetricComparison* risk = FindMetric(comparison, curve.field);
+      if (curve.criterion == criterion && risk != nullptr && HasValues(*risk))
+        entry.risks.emplace_back(risk, MetricLabel(curve.field));
+    }
   }
-  risks_of(std::nullopt);
   return metrics;
+}
+
+// The limits' clause of group g: how many of its tests meet every limit
+// they have a value for, and per limit its highest value and margin.
+std::string LimitsClause(const Comparison& comparison, std::size_t g) {
+  std::set<std::string> tested, failing;
+  std::vector<std::string> parts, labels;
+  for (const MetricComparison& metric : comparison.metrics) {
+    if (!metric.limit || g >= metric.limit_checks.size()) continue;
+    labels.push_back(MetricLabel(metric.metric));
+    const GroupValues& values = metric.groups[g];
+    for (std::size_t i = 0; i < values.values.size(); ++i) {
+      tested.insert(values.test_ids[i]);
+      if (!(values.values[i] <= *metric.limit)) failing.insert(values.test_ids[i]);
+    }
+    const GroupLimitCheck& check = metric.limit_checks[g];
+    if (check.tests == 0) continue;
+    const std::string margin = check.margin_pct < 0 ? PercentText(-check.margin_pct) + " % over"
+                                                    : "margin " + PercentText(check.margin_pct) + " %";
+    parts.push_back("highest " + MetricLabel(metric.metric) + " " + util::FormatNumber(check.worst_value, 4) +
+                    ", " + margin);
+  }
+  const std::string& name = *comparison.limits_name;
+  const std::string& group = comparison.groups[g];
+  if (tested.empty()) return "no test of " + group + " has " + Joined(labels) + ": " + name + " not checked";
+  const std::size_t meet = tested.size() - failing.size();
+  std::string head;
+  if (meet == tested.size())
+    head = tested.size() == 1 ? "the 1 " + group + " test meets "
+                              : fmt::format("all {} {} tests meet ", tested.size(), group);
+  else
+    head = fmt::format("{} of {} {} tests {} ", meet, tested.size(), group, meet == 1 ? "meets" : "meet");
+  std::string joined;
+  for (const std::string& part : parts) joined += (joined.empty() ? "" : "; ") + part;
+  return head + name + " (" + joined + ")";
 }
 
 }  // namespace
 
-std::vector<std::string> VerdictCriteria() { return {"hic15", "bric"}; }
-
-std::optional<RiskMetric> IsRiskMetric(std::string_view name, const std::vector<std::string>& criteria) {
-  std::optional<RiskMetric> risk;
-  const std::vector<std::string> parts = Parts(name);
-  for (const std::string& part : parts)
-    if (part.size() > 3 && part.compare(0, 3, "ais") == 0 && part[3] >= '0' && part[3] <= '9')
-      risk = RiskMetric{part[3] - '0', std::nullopt};
-  if (!risk) return risk;
-  for (const std::string& part : parts)
-    if (std::find(criteria.begin(), criteria.end(), part) != criteria.end()) risk->criterion = part;
-  return risk;
+const VerdictRule& RuleOf(ClauseKind kind) {
+  for (const VerdictRule& rule : kVerdictRules)
+    if (rule.kind == kind) return rule;
+  return kVerdictRules[0];  // every kind has a rule (tests/cli/verdict_test.cpp)
 }
+
+std::vector<std::string> VerdictCriteria() { return {"hic15", "bric"}; }
 
 std::string MetricLabel(std::string_view name) {
   for (const CriterionLabel& known : kLabels)
     if (known.name == name) return std::string(known.label);
-  const std::vector<std::string> criteria = VerdictCriteria();
-  if (const std::optional<RiskMetric> risk = IsRiskMetric(name, criteria))
-    return fmt::format("P(AIS {}+)", risk->ais_level);
+  if (const engine::InjuryRiskCurve* curve = engine::FindInjuryRiskCurve(name))
+    return fmt::format("P(AIS {}+ | {})", curve->ais, MetricLabel(curve->criterion));
   return std::string(name);
 }
 
@@ -168,57 +171,112 @@ std::string PValueText(double p) {
   return "p = " + util::FormatNumber(p);
 }
 
-std::string CriterionClause(std::string_view label, const ComparisonRow& row,
-                            const engine::Description& baseline, bool first, bool with_counts) {
-  const engine::MeanDifference& d = row.difference;
-  const std::string name(label);
-  const std::string counts = Counts(row, baseline);
-  if (!std::isfinite(d.diff))
-    return (first ? "has no " : "no ") + name + " comparison (" + counts + ": fewer than 2 tests)";
-  const bool percent = std::isfinite(d.diff_pct) && std::isfinite(row.baseline_mean);
-  const double main = percent ? d.diff_pct : d.diff;
-  const int decimals = PercentDecimals(main);
-  const std::string unit = percent ? " %" : "";
-  const std::string verb = d.diff < 0 ? "lowers " : "raises ";
-  const std::string tail = with_counts ? ", " + counts : "";
-  if (!std::isfinite(d.ci_low) || !std::isfinite(d.p_value)) {
-    if (d.diff == 0.0)
-      return (first ? "has the same " : "the same ") + name + " in every test (" + counts + ")";
-    return verb + name + " by " + Magnitude(main, percent, decimals) + unit + " (no interval: no scatter, " +
-           counts + ")";
-  }
-  const double scale = percent ? 100.0 / row.baseline_mean : 1.0;
-  const double low = d.ci_low * scale;
-  const double high = d.ci_high * scale;
-  if (Significant(d.p_value)) {
-    // A lowering's interval as reductions: [−high, −low], both positive.
-    const double from = d.diff < 0 ? -high : low;
-    const double to = d.diff < 0 ? -low : high;
-    return verb + name + " by " + Magnitude(main, percent, decimals) + unit + " [" +
-           (percent ? Fixed(from, decimals) : util::FormatNumber(from, 3)) + ", " +
-           (percent ? Fixed(to, decimals) : util::FormatNumber(to, 3)) + "] (" + PValueText(d.p_value) +
-           tail + ")";
-  }
-  return (first ? "leaves " + name + " unchanged (" : name + " unchanged (") +
-         Signed(main, percent, decimals) + unit + " [" + Signed(low, percent, decimals) + ", " +
-         Signed(high, percent, decimals) + "], " + PValueText(row.difference.p_value) + tail + ")";
+std::string PercentText(double pct) {
+  if (!std::isfinite(pct)) return "—";
+  if (pct == 0.0) return "0";
+  const std::string sign = pct < 0 ? std::string(kMinus) : std::string();
+  const double magnitude = std::abs(pct);
+  if (magnitude >= 0.95) return sign + fmt::format("{:.0f}", magnitude);
+  return sign + util::FormatNumber(magnitude, 2);  // 0.3, 0.042: never "0"
 }
 
-std::string RiskClause(std::string_view label, const ComparisonRow& row, const engine::Description& baseline,
-                       bool with_counts) {
+ClauseKind ClassifyClause(const ComparisonRow& row, const ComparisonRow& baseline, bool rotation_criterion) {
+  const engine::Description& a = row.description;
+  const engine::Description& b = baseline.description;
+  if (rotation_criterion && (a.n == 0 || b.n == 0)) return ClauseKind::kNotMeasured;
+  if (a.n < 2 || b.n < 2 || !std::isfinite(row.difference.diff)) return ClauseKind::kTooFew;
+  if (a.min == a.max && b.min == b.max && a.min == b.min) return ClauseKind::kIdentical;
+  if (!std::isfinite(row.difference.ci_low) || !std::isfinite(row.difference.p_value))
+    return ClauseKind::kNoScatter;
+  if (Below(row.difference.p_value)) return ClauseKind::kSignificant;
+  if (Below(row.equivalence.p_value)) return ClauseKind::kEquivalent;
+  return ClauseKind::kInconclusive;
+}
+
+std::string CriterionClause(std::string_view label, const ComparisonRow& row, const ComparisonRow& baseline,
+                            bool rotation_criterion, bool with_counts) {
   const std::string name(label);
-  const std::string from = Probability(baseline.mean);
-  const std::string to = Probability(row.description.mean);
   const std::string counts = Counts(row, baseline);
-  const double p = row.difference.p_value;
-  if (Significant(p)) return name + " from " + from + " to " + to + (with_counts ? " (" + counts + ")" : "");
-  if (std::isfinite(p))
-    return name + " unchanged (" + from + " vs " + to + ", " + PValueText(p) +
-           (with_counts ? ", " + counts : "") + ")";
-  if (from == to) return name + " " + from + " in both (" + counts + ")";
-  return name + " " + from + " vs " + to +
-         " (no p-value: " + (std::isfinite(row.difference.diff) ? "no scatter" : "fewer than 2 tests") +
-         ", " + counts + ")";
+  const std::string tail = (with_counts ? ", " + counts : "") + FallbackNote(row);
+  const engine::MeanDifference& d = row.difference;
+  const bool percent = std::isfinite(row.pct);
+  const double main = percent ? row.pct : d.diff;
+  const std::string unit = percent ? " %" : "";
+  const auto magnitude = [&](double value) {
+    return percent ? PercentText(std::abs(value)) : Units(std::abs(value));
+  };
+  const auto signed_value = [&](double value) {
+    return percent ? Signed(value) : (value > 0 ? "+" : "") + Units(value);
+  };
+  const std::string verb = main < 0 ? "lowers " : "raises ";
+  switch (ClassifyClause(row, baseline, rotation_criterion)) {
+    case ClauseKind::kNotMeasured:
+      return row.description.n == 0
+                 ? name + " not measured (acceleration-only heads)"
+                 : name + " not measured in " + baseline.group + " (acceleration-only heads)";
+    case ClauseKind::kTooFew:
+      return "no " + name + " comparison (" + counts + ": fewer than 2 tests)";
+    case ClauseKind::kIdentical:
+      return fmt::format("{} identical in all {} tests", name, row.description.n + baseline.description.n);
+    case ClauseKind::kNoScatter:
+      return verb + name + " by " + magnitude(main) + unit + " (no scatter: no interval, " + counts +
+             FallbackNote(row) + ")";
+    case ClauseKind::kSignificant: {
+      // A lowering's interval as reductions: [−high, −low], both positive.
+      const double low = percent ? row.pct_ci_low : d.ci_low;
+      const double high = percent ? row.pct_ci_high : d.ci_high;
+      const double from = main < 0 ? -high : low;
+      const double to = main < 0 ? -low : high;
+      std::string text = verb + name + " by " + magnitude(main) + unit + " [" +
+                         (percent ? PercentText(from) : Units(from)) + ", " +
+                         (percent ? PercentText(to) : Units(to)) + "] (" + PValueText(d.p_value) + tail + ")";
+      if (Below(row.equivalence.p_value))
+        text += ", a change within ±" + util::FormatNumber(row.equivalence_pct, 6) + " %";
+      return text;
+    }
+    case ClauseKind::kEquivalent: {
+      const double low = percent ? row.equivalence_ci_low_pct : row.equivalence.ci_low;
+      const double high = percent ? row.equivalence_ci_high_pct : row.equivalence.ci_high;
+      return name + " equivalent within ±" + util::FormatNumber(row.equivalence_pct, 6) +
+             " % (90 % interval " + signed_value(low) + unit + " to " + signed_value(high) + unit + tail +
+             ")";
+    }
+    case ClauseKind::kInconclusive: {
+      const double low = percent ? row.pct_ci_low : d.ci_low;
+      const double high = percent ? row.pct_ci_high : d.ci_high;
+      std::string text = "no significant difference in " + name + " (" + signed_value(main) + unit + " [" +
+                         signed_value(low) + ", " + signed_value(high) + "], " + PValueText(d.p_value);
+      if (std::isfinite(row.mdd_low_pct) && std::isfinite(row.mdd_high_pct)) {
+        const bool symmetric = PercentText(-row.mdd_low_pct) == PercentText(row.mdd_high_pct);
+        text += fmt::format("; {} vs {} tests detect ", row.description.n, baseline.description.n) +
+                (symmetric ? "±" + PercentText(row.mdd_high_pct) + " %"
+                           : Signed(row.mdd_low_pct) + " % or " + Signed(row.mdd_high_pct) + " %") +
+                " with 80 % power";
+      }
+      return text + FallbackNote(row) + ")";
+    }
+  }
+  return name;
+}
+
+std::string RiskConsequence(std::string_view label, ClauseKind criterion_clause, const ComparisonRow& row,
+                            const ComparisonRow& baseline) {
+  const std::string from = Probability(baseline.description.mean);
+  const std::string to = Probability(row.description.mean);
+  switch (criterion_clause) {
+    case ClauseKind::kNotMeasured:
+    case ClauseKind::kTooFew:
+      return "";
+    case ClauseKind::kIdentical:
+      return std::string(label) + " " + to + " in both";
+    case ClauseKind::kSignificant:
+    case ClauseKind::kNoScatter:
+      return std::string(label) + " " + from + " → " + to;
+    case ClauseKind::kEquivalent:
+    case ClauseKind::kInconclusive:
+      return std::string(label) + " " + from + " vs " + to;
+  }
+  return "";
 }
 
 SeriesVerdict BuildVerdict(const Comparison& comparison) {
@@ -226,9 +284,15 @@ SeriesVerdict BuildVerdict(const Comparison& comparison) {
   verdict.series = comparison.series;
   verdict.baseline = comparison.baseline;
   const std::vector<VerdictMetric> metrics = VerdictMetrics(comparison);
+  const bool limits = comparison.limits_name &&
+                      std::any_of(comparison.metrics.begin(), comparison.metrics.end(),
+                                  [](const MetricComparison& metric) { return metric.limit.has_value(); });
   verdict.columns = {"variant", "tests"};
-  for (const VerdictMetric& metric : metrics)
-    verdict.columns.push_back(metric.risk ? metric.column_label : metric.column_label + " mean ± sd");
+  for (const VerdictMetric& metric : metrics) {
+    verdict.columns.push_back(metric.label + " mean ± sd");
+    for (const auto& [risk, label] : metric.risks) verdict.columns.push_back(label);
+  }
+  if (limits) verdict.columns.push_back("meet " + *comparison.limits_name);
 
   for (std::size_t g = 0; g < comparison.groups.size(); ++g) {
     std::vector<std::string>& cells = verdict.rows.emplace_back();
@@ -237,41 +301,94 @@ SeriesVerdict BuildVerdict(const Comparison& comparison) {
     for (const VerdictMetric& metric : metrics) {
       const engine::Description& d = metric.metric->rows[g].description;
       tests = std::max(tests, d.n);
-      if (metric.risk)
-        cells.push_back(Probability(d.mean));
-      else if (d.n == 0)
-        cells.push_back("—");
-      else
-        cells.push_back(util::FormatNumber(d.mean, 4) +
-                        (std::isfinite(d.sd) ? " ± " + util::FormatNumber(d.sd, 3) : std::string()));
+      cells.push_back(d.n == 0
+                          ? "—"
+                          : util::FormatNumber(d.mean, 4) +
+                                (std::isfinite(d.sd) ? " ± " + util::FormatNumber(d.sd, 3) : std::string()));
+      for (const auto& [risk, label] : metric.risks)
+        cells.push_back(Probability(risk->rows[g].description.mean));
+    }
+    if (limits) {
+      std::set<std::string> tested, failing;
+      for (const MetricComparison& metric : comparison.metrics) {
+        if (!metric.limit) continue;
+        const GroupValues& values = metric.groups[g];
+        for (std::size_t i = 0; i < values.values.size(); ++i) {
+          tested.insert(values.test_ids[i]);
+          if (!(values.values[i] <= *metric.limit)) failing.insert(values.test_ids[i]);
+        }
+      }
+      cells.push_back(fmt::format("{} of {}", tested.size() - failing.size(), tested.size()));
     }
     cells.insert(cells.begin() + 1, std::to_string(tests));
-    if (g == 0) continue;  // the baseline
+    if (g == 0) {  // the baseline: its limits, when asked for
+      if (limits)
+        verdict.sentences.push_back(comparison.groups[0] + " (baseline): " + LimitsClause(comparison, 0));
+      continue;
+    }
 
-    std::string sentence = comparison.groups[g];
+    std::vector<std::string> clauses;
     std::optional<std::pair<std::size_t, std::size_t>> first_counts;
     for (const VerdictMetric& metric : metrics) {
       const ComparisonRow& row = metric.metric->rows[g];
-      const engine::Description& baseline = metric.metric->rows.front().description;
-      const std::pair<std::size_t, std::size_t> counts{row.description.n, baseline.n};
-      const bool first = !first_counts;
-      const bool with_counts = first || counts != *first_counts;
-      if (first) first_counts = counts;
-      const std::string clause = metric.risk
-                                     ? RiskClause(metric.label, row, baseline, with_counts)
-                                     : CriterionClause(metric.label, row, baseline, first, with_counts);
-      sentence += (first ? (metric.risk ? ": " : " ") : "; ") + clause;
+      const ComparisonRow& baseline = metric.metric->rows.front();
+      const std::pair<std::size_t, std::size_t> counts{row.description.n, baseline.description.n};
+      const bool with_counts = !first_counts || counts != *first_counts;
+      if (!first_counts) first_counts = counts;
+      std::string clause = CriterionClause(metric.label, row, baseline, metric.rotation, with_counts);
+      const ClauseKind kind = ClassifyClause(row, baseline, metric.rotation);
+      std::string risks;  // " → P(AIS 3+ | BrIC) 21.9 % vs 20.6 %, P(AIS 4+ | BrIC) ..."
+      for (const auto& [risk, label] : metric.risks) {
+        const std::string consequence = RiskConsequence(label, kind, risk->rows[g], risk->rows.front());
+        if (!consequence.empty()) risks += (risks.empty() ? " → " : ", ") + consequence;
+      }
+      clause += risks;
+      clauses.push_back(std::move(clause));
     }
-    if (!first_counts) sentence += ": none of the verdict's criteria has a value";
+    if (limits) clauses.push_back(LimitsClause(comparison, g));
+    if (clauses.empty()) clauses.push_back("none of the verdict's criteria has a value");
+    std::string sentence = comparison.groups[g] + ": ";
+    for (std::size_t c = 0; c < clauses.size(); ++c) sentence += (c == 0 ? "" : "; ") + clauses[c];
     verdict.sentences.push_back(sentence);
   }
   return verdict;
 }
 
+std::string VerdictNote(const Comparison& comparison) {
+  std::string note = "Each variant against " + comparison.baseline +
+                     ", criterion by criterion, by the first rule that applies: ";
+  bool first = true;
+  for (const VerdictRule& rule : kVerdictRules) {
+    note += (first ? "" : "; ") + std::string(rule.when) + " (\"" + std::string(rule.example) + "\")";
+    first = false;
+  }
+  note += fmt::format(
+      ". Changes are in % of the baseline with their 95 % confidence interval (Welch's t) and two-sided p; "
+      "{}; "
+      "the equivalence margin is ±{} % (90 % interval). Risks P(AIS n+ | criterion) are functions of their "
+      "criterion and follow its clause (mean risk of the baseline, then of the variant: → where the "
+      "criterion "
+      "changed significantly, vs where not); they are not tested separately.",
+      comparison.scale == CompareScale::kLog
+          ? "positive criteria (HIC, BrIC, DAMAGE, accelerations, angular rates) as the ratio of geometric "
+            "means "
+            "(Welch's t on the logs), 100 (ratio − 1); others, and any with a value ≤ 0, as the difference "
+            "of "
+            "means in % of the baseline mean"
+          : "every criterion as the difference of means in % of the baseline mean (--scale linear)",
+      util::FormatNumber(comparison.equivalence_pct, 6));
+  if (comparison.limits_name)
+    note +=
+        " " + *comparison.limits_name +
+        ": the tests whose every limited criterion is within its limit, and per criterion the highest value "
+        "and its margin, 100 (limit − highest) / limit.";
+  return note;
+}
+
 std::string FormatVerdict(const SeriesVerdict& verdict) {
   std::string text = fmt::format(
-      "verdict on series {} against '{}' (mean differences, 95 % confidence intervals, Welch's t; "
-      "significant where p < {}):\n",
+      "verdict on series {} against '{}' (positive criteria as ratios of geometric means, 95 % confidence "
+      "intervals, Welch's t; significant where p < {}; equivalent only where two one-sided tests show it):\n",
       util::EscapeControl(verdict.series), util::EscapeControl(verdict.baseline), kVerdictAlpha);
   for (const std::string& sentence : verdict.sentences) text += "  " + util::EscapeControl(sentence) + "\n";
   return text;

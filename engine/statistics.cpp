@@ -219,6 +219,80 @@ double RepeatsForPower(const PowerModel& model, double power, double alpha) {
   return left + (right - left) / 2.0;
 }
 
+Equivalence TwoOneSidedTests(const MeanDifference& difference, double low, double high, double alpha) {
+  Equivalence result;
+  result.low = low;
+  result.high = high;
+  if (!(difference.se > 0.0) || !(difference.df > 0.0) || !std::isfinite(difference.diff) ||
+      !std::isfinite(low) || !std::isfinite(high)) {
+    result.ci_low = result.ci_high = result.p_low = result.p_high = result.p_value = kNaN;
+    return result;
+  }
+  const boost::math::students_t distribution(difference.df);
+  const double t_critical = boost::math::quantile(boost::math::complement(distribution, alpha));
+  result.ci_low = difference.diff - t_critical * difference.se;
+  result.ci_high = difference.diff + t_critical * difference.se;
+  result.p_low =
+      boost::math::cdf(boost::math::complement(distribution, (difference.diff - low) / difference.se));
+  result.p_high = boost::math::cdf(distribution, (difference.diff - high) / difference.se);
+  result.p_value = std::max(result.p_low, result.p_high);
+  return result;
+}
+
+namespace {
+
+// P(|T'| > t_{1 - alpha/2, df}) for T' non-central t (both tails), as
+// statsmodels' ttest_power with alternative "two-sided".
+double TwoSidedPower(double df, double noncentrality, double alpha) {
+  const boost::math::students_t central(df);
+  const double upper = boost::math::quantile(boost::math::complement(central, alpha / 2.0));
+  const boost::math::non_central_t shifted(df, noncentrality);
+  return boost::math::cdf(boost::math::complement(shifted, upper)) + boost::math::cdf(shifted, -upper);
+}
+
+// The d >= 0 at which power(d) reaches `power`: power grows with d from
+// alpha at d = 0, so double the upper end until it is reached, then TOMS 748.
+template <typename Power>
+double SolveEffectSize(const Power& power_at, double power) {
+  const auto shortfall = [&](double d) { return power_at(d) - power; };
+  double low = 0.0, high = 1.0;
+  while (shortfall(high) < 0.0) {
+    low = high;
+    high *= 2.0;
+    if (high > 1e6) return kNaN;
+  }
+  std::uintmax_t iterations = 200;
+  const auto [left, right] = boost::math::tools::toms748_solve(
+      shortfall, low, high, boost::math::tools::eps_tolerance<double>(52), iterations);
+  return left + (right - left) / 2.0;
+}
+
+}  // namespace
+
+double TwoSamplePower(double d, double n_a, double n_b, double alpha) {
+  return TwoSidedPower(n_a + n_b - 2.0, d * std::sqrt(n_a * n_b / (n_a + n_b)), alpha);
+}
+
+double PairedPower(double d, double n, double alpha) {
+  return TwoSidedPower(n - 1.0, d * std::sqrt(n), alpha);
+}
+
+double DetectableEffectSize(double n_a, double n_b, double power, double alpha) {
+  if (!(n_a >= 2.0) || !(n_b >= 2.0)) return kNaN;
+  return SolveEffectSize([&](double d) { return TwoSamplePower(d, n_a, n_b, alpha); }, power);
+}
+
+double PairedDetectableEffectSize(double n, double power, double alpha) {
+  if (!(n >= 2.0)) return kNaN;
+  return SolveEffectSize([&](double d) { return PairedPower(d, n, alpha); }, power);
+}
+
+double PooledStandardDeviation(const Description& a, const Description& b) {
+  if (a.n < 2 || b.n < 2) return kNaN;
+  const double na = static_cast<double>(a.n), nb = static_cast<double>(b.n);
+  return std::sqrt(((na - 1.0) * a.sd * a.sd + (nb - 1.0) * b.sd * b.sd) / (na + nb - 2.0));
+}
+
 double WholeRepeatsForPower(const PowerModel& model) {
   const double n = RepeatsForPower(model);
   return std::isnan(n) ? n : std::max(2.0, std::ceil(n));

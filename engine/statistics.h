@@ -74,6 +74,27 @@ struct PowerModel {
 PowerModel WelchPowerModel(double diff, double sd_a, double sd_b);
 PowerModel PairedPowerModel(double diff, double sd_differences);
 
+// Equivalence by two one-sided tests (TOST, Schuirmann 1987;
+// docs/algorithms.md "Equivalence and the smallest detectable difference"):
+// given a comparison's diff, se and df (Welch or paired), the hypotheses
+// diff <= low and diff >= high are each tested one-sided at level alpha;
+// equivalence within (low, high) is shown when both are rejected, that is
+// when p_value = max(p_low, p_high) < alpha, which is when the
+// (1 - 2 alpha) interval lies inside (low, high). As statsmodels'
+// ttost_ind (usevar "unequal") and ttost_paired. NaN where the comparison
+// has no se (n < 2, or no scatter) or a bound is not finite.
+struct Equivalence {
+  double low = 0.0, high = 0.0;  // the margin, in the units of diff
+  double ci_low = 0.0;           // diff -+ t_{1 - alpha, df} se: the 90 % interval at alpha 0.05
+  double ci_high = 0.0;
+  double p_low = 0.0;   // P(T >= (diff - low) / se)
+  double p_high = 0.0;  // P(T <= (diff - high) / se)
+  double p_value = 0.0;
+};
+inline constexpr double kEquivalenceAlpha = 0.05;
+Equivalence TwoOneSidedTests(const MeanDifference& difference, double low, double high,
+                             double alpha = kEquivalenceAlpha);
+
 inline constexpr double kPlanningPower = 0.8;
 inline constexpr double kPlanningAlpha = 0.05;
 
@@ -83,6 +104,28 @@ double TTestPower(const PowerModel& model, double n, double alpha = kPlanningAlp
 // TTestPower reaches `power`; NaN where no n does: diff 0, variance 0, or
 // either not finite.
 double RepeatsForPower(const PowerModel& model, double power = kPlanningPower, double alpha = kPlanningAlpha);
+
+// The smallest standardized difference (Cohen's d: difference / sd) that
+// the two-sided t test at level alpha detects with `power` given the
+// tests already made (docs/algorithms.md "Equivalence and the smallest
+// detectable difference"), power counting both tails as statsmodels'
+// TTestIndPower and TTestPower do:
+//  * two groups of n_a and n_b tests, pooled-variance t: df = n_a + n_b - 2,
+//    non-centrality d sqrt(n_a n_b / (n_a + n_b)) (TTestIndPower);
+//  * paired, n pairs: df = n - 1, non-centrality d sqrt(n) (TTestPower).
+// NaN where a group has fewer than 2 tests. Multiply by the pooled sd (the
+// sd of the differences) for the difference in the metric's unit.
+double DetectableEffectSize(double n_a, double n_b, double power = kPlanningPower,
+                            double alpha = kPlanningAlpha);
+double PairedDetectableEffectSize(double n, double power = kPlanningPower, double alpha = kPlanningAlpha);
+
+// The power of those tests at standardized difference d (both tails).
+double TwoSamplePower(double d, double n_a, double n_b, double alpha = kPlanningAlpha);
+double PairedPower(double d, double n, double alpha = kPlanningAlpha);
+
+// The pooled standard deviation of two groups: sqrt(((n_a - 1) s_a^2 +
+// (n_b - 1) s_b^2) / (n_a + n_b - 2)); NaN where a group has n < 2.
+double PooledStandardDeviation(const Description& a, const Description& b);
 
 // What `napkin compare` shows: the whole number of repeats per group,
 // ceil(RepeatsForPower) (at least 2); NaN where that is NaN.

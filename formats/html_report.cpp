@@ -272,7 +272,9 @@ Html ComparisonSection(json& overlays, json& distributions, const ReportComparis
                  Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
                  Markup("\n") + VerdictBlock(comparison.verdict) +
                  OverlayFigures(overlays, comparison, index) + Element("h3", Markup("Every metric")) +
-                 Markup("\n") + Element("table class=\"compare\"", table) + Markup("\n");
+                 Markup("\n") +
+                 // Scrolls sideways where its columns (compare's contract) are wider than the page.
+                 Element("div class=\"wide\"", Element("table class=\"compare\"", table)) + Markup("\n");
   for (const std::string& note : comparison.notes)
     section += Element("p class=\"note\"", Text(note)) + Markup("\n");
   if (!comparison.distributions.empty()) {

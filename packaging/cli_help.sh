@@ -19,7 +19,7 @@ napkin_subcommands() {
 # One line per option of `napkin $1` ($1 empty: the top level): "NAMES<TAB>TAKES_VALUE<TAB>VALUES",
 # NAMES comma-separated (-q,--quiet), TAKES_VALUE 1 when a value type follows the names, VALUES
 # what the value may be: "presets:<config/ folder>" when the description says it names a preset
-# ("array preset", "channel map preset", "processing config preset"), "choices:<words>" when the
+# ("array preset", "channel map preset", "processing config preset", "limits preset"), "choices:<words>" when the
 # type lists them (CLI11's IsMember: "TEXT:one of table, csv or json"), else empty.
 napkin_options() {
   napkin_help ${1:+"$1"} | awk '
@@ -43,6 +43,7 @@ napkin_options() {
       if (text ~ /array preset/) values = "presets:arrays"
       else if (text ~ /channel map preset/) values = "presets:channel-maps"
       else if (text ~ /processing config preset/) values = "presets:processing"
+      else if (text ~ /limits preset/) values = "presets:limits"
     }'
 }
 

@@ -151,9 +151,32 @@
         : { strokeWidth: 1.6, strokePattern: [6, 3] };
       return ink;
     });
+    // The legend: one entry per variant (its tests' line and its corridor's
+    // dash), not one per test; hovering a trace names its test and value.
+    var counts = chart.groups.map(function () { return 0; });
+    chart.kind.forEach(function (kind, k) { if (kind === 'test') ++counts[chart.group[k]]; });
+    function legend(data) {
+      var html = chart.groups.map(function (name, g) {
+        var ink = groupColors[g % groupColors.length];
+        return '<span class="variant-legend" data-variant="' + esc(name) + '">' +
+          '<span class="swatch" style="border-top: 2px solid ' + ink + '"></span>' + esc(name) +
+          ' (' + counts[g] + (counts[g] === 1 ? ' test' : ' tests') + ')' +
+          ' <span class="swatch" style="border-top: 2px dashed ' + ink + '"></span>mean ± 1 sd</span>';
+      }).join(' ');
+      if (data.x !== undefined && data.x !== null) {
+        data.series.forEach(function (entry) {
+          if (!entry.isHighlighted) return;
+          html += ' <span class="hover-test">' + entry.labelHTML + ' at ' + data.xHTML + ' ms: ' +
+            (entry.yHTML === undefined ? '—' : entry.yHTML) + '</span>';
+        });
+      }
+      return html;
+    }
     new Dygraph(element, rows, Object.assign(timeAxes(element, chart), {
       colors: colors,
       series: series,
+      legendFormatter: legend,
+      highlightSeriesOpts: { strokeWidth: 2.2, highlightCircleSize: 3 },
       underlayCallback: function (canvas, area, graph) {
         chart.groups.forEach(function (name, g) {
           var low = -1, high = -1;

@@ -125,20 +125,21 @@ TEST_F(CliCompare, TableByVariantIsTheGoldenText) {
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(run.out, R"(series sled: variants compared with variant 'production'
-difference of means in % of the baseline mean, [95 % confidence interval] (Welch's t), two-sided p
+change in % of the baseline, [95 % confidence interval] (Welch's t), two-sided p: of the geometric mean on the log scale, of the mean on the linear
 n80: tests per variant that would detect the observed difference with 80 % power (two-sided t, alpha 0.05)
+detects: the smallest fall/rise these tests detect with 80 % power; equiv: equivalence within ±10 % shown by two one-sided tests (p < 0.05)
 
-hic15
-  variant     n   mean       sd  median    min      max  n80  vs production
-  production  5  946.8  55.2549  955.75    871  1004.25    -  (baseline)
-  foam-a      5  715.5  22.6226     712  688.5      745    3  -24.4 % [-31.6, -17.3]  p=0.00025
-  foam-b      1    640        -     640    640      640    -  n < 2: no difference (1)
+hic15 (log scale: ratio of geometric means)
+  variant     n   mean       sd  median    min      max  n80   detects   equiv  vs production
+  production  5  946.8  55.2549  955.75    871  1004.25    -         -       -  (baseline)
+  foam-a      5  715.5  22.6226     712  688.5      745    3  -9/+10 %  no p=1  -24.4 % [-29.7, -18.6]  p<0.0001
+  foam-b      1    640        -     640    640      640    -         -       -  n < 2: no difference (1)
 
-peak_acc_g
-  variant     n   mean       sd  median    min   max  n80  vs production
-  production  5   99.7   3.3326      99  95.25   104    -  (baseline)
-  foam-a      6  81.75  1.93649  81.875  79.25  84.5    3  -18.0 % [-22.1, -13.9]  p<0.0001
-  foam-b      1     75        -      75     75    75    -  n < 2: no difference (1)
+peak_acc_g (log scale: ratio of geometric means)
+  variant     n   mean       sd  median    min   max  n80  detects   equiv  vs production
+  production  5   99.7   3.3326      99  95.25   104    -        -       -  (baseline)
+  foam-a      6  81.75  1.93649  81.875  79.25  84.5    2  -5/+6 %  no p=1  -18.0 % [-21.4, -14.5]  p<0.0001
+  foam-b      1     75        -      75     75    75    -        -       -  n < 2: no difference (1)
 
 (1) n < 2: with fewer than 2 tests in the group or the baseline there is no difference, interval or p-value (null in --format json and csv).
 )");
@@ -159,12 +160,20 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "min": 688.5,
     "max": 745.0,
     "baseline": "foam-a",
+    "scale": "log",
     "diff": null,
     "diff_pct": null,
     "ci_low": null,
     "ci_high": null,
+    "ratio": null,
+    "ratio_ci_low": null,
+    "ratio_ci_high": null,
     "p_value": null,
-    "n_for_80pct_power": null
+    "n_for_80pct_power": null,
+    "mdd_low_pct": null,
+    "mdd_high_pct": null,
+    "equivalence_pct": null,
+    "tost_p_value": null
   },
   {
     "metric": "hic15",
@@ -176,12 +185,20 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "min": 640.0,
     "max": 640.0,
     "baseline": "foam-a",
+    "scale": "log",
     "diff": null,
     "diff_pct": null,
     "ci_low": null,
     "ci_high": null,
+    "ratio": null,
+    "ratio_ci_low": null,
+    "ratio_ci_high": null,
     "p_value": null,
-    "n_for_80pct_power": null
+    "n_for_80pct_power": null,
+    "mdd_low_pct": null,
+    "mdd_high_pct": null,
+    "equivalence_pct": 10.0,
+    "tost_p_value": null
   },
   {
     "metric": "hic15",
@@ -193,12 +210,20 @@ TEST_F(CliCompare, JsonByVariantIsTheGoldenText) {
     "min": 871.0,
     "max": 1004.25,
     "baseline": "foam-a",
+    "scale": "log",
     "diff": 231.29999999999995,
-    "diff_pct": 32.32704402515723,
-    "ci_low": 163.82910040032897,
-    "ci_high": 298.77089959967094,
-    "p_value": 0.0002509509818844315,
-    "n_for_80pct_power": 3
+    "diff_pct": 32.1971063938523,
+    "ci_low": null,
+    "ci_high": null,
+    "ratio": 1.321971063938523,
+    "ratio_ci_low": 1.229087588423804,
+    "ratio_ci_high": 1.4218738439397165,
+    "p_value": 7.654560300180584e-05,
+    "n_for_80pct_power": 3,
+    "mdd_low_pct": -9.130557409300808,
+    "mdd_high_pct": 10.04799539755882,
+    "equivalence_pct": 10.0,
+    "tost_p_value": 0.999604876210941
   }
 ]
 )");
@@ -210,13 +235,14 @@ TEST_F(CliCompare, TableByConfigIsTheGoldenText) {
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_EQ(run.err, "");
   EXPECT_EQ(run.out, R"(series sled: processing configs compared with config 'default'
-mean of the per-test differences in % of the baseline's mean over the same tests, [95 % confidence interval] (paired t), two-sided p
+mean per-test change in % of the baseline over the same tests, [95 % confidence interval] (paired t), two-sided p: of the ratio on the log scale, of the difference on the linear
 n80: tests that would detect the observed mean difference with 80 % power (two-sided paired t, alpha 0.05)
+detects: the smallest fall/rise these tests detect with 80 % power; equiv: equivalence within ±10 % shown by two one-sided tests (p < 0.05)
 
-hic15
-  config       n     mean       sd   median  min      max  n80  vs default
-  default     11  813.773   134.62      745  640  1004.25    -  (baseline)
-  no-gravity  10    832.4  128.712  808.625  691  1006.25    9  +0.2 % [+0.1, +0.2]  p=0.0062 (10 pairs)
+hic15 (log scale: ratio of geometric means)
+  config       n     mean       sd   median  min      max  n80        detects         equiv  vs default
+  default     11  813.773   134.62      745  640  1004.25    -              -             -  (baseline)
+  no-gravity  10    832.4  128.712  808.625  691  1006.25    9  -0.13/+0.13 %  yes p<0.0001  +0.1 % [+0.1, +0.2]  p=0.0071 (10 pairs)
 )");
 }
 
@@ -278,7 +304,10 @@ TEST_F(CliCompare, ByVariantNumbersEqualAnIndependentRecomputationFromTheStoredR
   const nlohmann::json stored = nlohmann::json::parse(query.out);
   ASSERT_EQ(stored.size(), kTests.size());
 
-  const nlohmann::json rows = CompareJson({"--series", "sled", "--metrics", "hic15,peak_acc_g,a3ms_g"});
+  // The difference of means (the log scale is checked against scipy:
+  // python/tests/test_compare_statistics.py).
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--metrics", "hic15,peak_acc_g,a3ms_g", "--scale", "linear"});
   ASSERT_EQ(rows.size(), 9u);
   std::size_t checked = 0;
   for (const std::string metric : {"hic15", "peak_acc_g", "a3ms_g"}) {
@@ -370,8 +399,8 @@ TEST_F(CliCompare, ByConfigNumbersEqualAnIndependentPairedRecomputation) {
   db::Catalogue catalogue = OpenForReading(dir_ / "napkin.db");
   std::map<std::string, db::ConfigId> configs;
   for (const db::ConfigRow& config : catalogue.ReadAllConfigs()) configs[config.name] = config.id;
-  const nlohmann::json rows =
-      CompareJson({"--series", "sled", "--by", "config", "--baseline", "d0a1b2", "--metrics", "hic15,bric"});
+  const nlohmann::json rows = CompareJson({"--series", "sled", "--by", "config", "--baseline", "d0a1b2",
+                                           "--metrics", "hic15,bric", "--scale", "linear"});
   ASSERT_EQ(rows.size(), 4u);
   for (const auto& row : rows) {
     EXPECT_EQ(row["baseline"], "default");
@@ -408,9 +437,29 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
       nlohmann::ordered_json::parse(Compare({"--series", "sled", "--format", "json"}).out);
   const std::vector<std::string> metrics = DefaultComparisonMetrics();
   ASSERT_EQ(rows.size(), 3 * metrics.size());
-  const std::vector<std::string> keys = {"metric",   "group",  "n",       "mean",     "sd",
-                                         "median",   "min",    "max",     "baseline", "diff",
-                                         "diff_pct", "ci_low", "ci_high", "p_value",  "n_for_80pct_power"};
+  const std::vector<std::string> keys = {"metric",
+                                         "group",
+                                         "n",
+                                         "mean",
+                                         "sd",
+                                         "median",
+                                         "min",
+                                         "max",
+                                         "baseline",
+                                         "scale",
+                                         "diff",
+                                         "diff_pct",
+                                         "ci_low",
+                                         "ci_high",
+                                         "ratio",
+                                         "ratio_ci_low",
+                                         "ratio_ci_high",
+                                         "p_value",
+                                         "n_for_80pct_power",
+                                         "mdd_low_pct",
+                                         "mdd_high_pct",
+                                         "equivalence_pct",
+                                         "tost_p_value"};
   for (std::size_t i = 0; i < rows.size(); ++i) {
     std::vector<std::string> row_keys;
     for (const auto& item : rows[i].items()) row_keys.push_back(item.key());
@@ -419,11 +468,17 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
     EXPECT_EQ(rows[i]["group"], (std::array<const char*, 3>{"foam-a", "foam-b", "production"}[i % 3]));
   }
   // Baseline row and the n < 2 group: the difference fields are null.
-  for (const char* key : {"diff", "diff_pct", "ci_low", "ci_high", "p_value", "n_for_80pct_power"}) {
+  for (const char* key : {"diff", "diff_pct", "ratio", "ratio_ci_low", "ratio_ci_high", "p_value",
+                          "n_for_80pct_power", "mdd_low_pct", "mdd_high_pct", "tost_p_value"}) {
     EXPECT_TRUE(rows[0][key].is_null()) << key;
     EXPECT_TRUE(rows[1][key].is_null()) << key;
     EXPECT_TRUE(rows[2][key].is_number()) << key;
   }
+  // hic15 on the log scale: the interval is the ratio's.
+  EXPECT_EQ(rows[2]["scale"], "log");
+  EXPECT_TRUE(rows[2]["ci_low"].is_null());
+  EXPECT_TRUE(rows[2]["ci_high"].is_null());
+  EXPECT_EQ(rows[2]["equivalence_pct"], 10.0);
   EXPECT_TRUE(rows[1]["sd"].is_null());
 
   const RunResult csv = Compare({"--series", "sled", "--metrics", "hic15", "--format", "csv"});
@@ -431,10 +486,11 @@ TEST_F(CliCompare, DefaultMetricsJsonKeysAndCsvColumns) {
   EXPECT_EQ(csv.err, "");
   const std::vector<std::string> lines = Lines(csv.out);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[0],
-            "metric,group,n,mean,sd,median,min,max,baseline,diff,diff_pct,ci_low,ci_high,p_value,"
-            "n_for_80pct_power");
-  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,,,,,,");
+  EXPECT_EQ(
+      lines[0],
+      "metric,group,n,mean,sd,median,min,max,baseline,scale,diff,diff_pct,ci_low,ci_high,ratio,ratio_ci_low,"
+      "ratio_ci_high,p_value,n_for_80pct_power,mdd_low_pct,mdd_high_pct,equivalence_pct,tost_p_value");
+  EXPECT_EQ(lines[2], "hic15,foam-b,1,640,,640,640,640,foam-a,log,,,,,,,,,,,,10,");
   const nlohmann::json json = CompareJson({"--series", "sled", "--metrics", "hic15"});
   EXPECT_EQ(
       lines[3].rfind("hic15,production,5," + util::FormatNumber(json[2]["mean"].get<double>()) + ",", 0), 0u)
@@ -513,6 +569,54 @@ TEST_F(CliCompare, BaselineAndConfigMatchAConfigByOneRule) {
       CompareJson({"--series", "sled", "--by", "config", "--baseline", "F00D", "--metrics", "hic15"});
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows.front()["baseline"], "default@f00dfeed");
+}
+
+TEST_F(CliCompare, BadScaleEquivalenceOrLimitsAreUsageErrorsNamingTheOption) {
+  const RunResult scale = Compare({"--series", "sled", "--scale", "cubic"});
+  EXPECT_EQ(scale.exit_code, 2);
+  EXPECT_EQ(scale.out, "");
+  ExpectOneSentenceError(scale, {"--scale", "log or linear", "cubic"});
+  for (const std::string bad : {"0", "100", "-5", "ten", "nan"}) {
+    const RunResult equivalence = Compare({"--series", "sled", "--equivalence", bad});
+    EXPECT_EQ(equivalence.exit_code, 2) << bad;
+    EXPECT_EQ(equivalence.out, "") << bad;
+    ExpectOneSentenceError(equivalence, {"--equivalence '" + bad + "' is not a margin in percent"});
+  }
+  const RunResult limits = Compare({"--series", "sled", "--limits", "fmvss999"});
+  EXPECT_EQ(limits.exit_code, 2);
+  ExpectOneSentenceError(limits, {"--limits 'fmvss999' is neither a file nor a preset", "fmvss201u"});
+  const RunResult empty = Compare({"--series", "sled", "--limits", ""});
+  EXPECT_EQ(empty.exit_code, 2);
+}
+
+TEST_F(CliCompare, LimitsCountTheTestsWithinAndNameTheWorst) {
+  // FMVSS 208: HIC15 <= 700. production 871..1004 (none within), foam-a 688.5..745 (1 of 5), foam-b 640.
+  const nlohmann::json rows =
+      CompareJson({"--series", "sled", "--metrics", "peak_acc_g", "--limits", "fmvss208"});
+  ASSERT_EQ(rows.size(), 6u);  // peak_acc_g, then hic15 the limit compares
+  for (const auto& row : rows) {
+    if (row["metric"] == "peak_acc_g") {
+      EXPECT_TRUE(row["limit"].is_null()) << row;
+      continue;
+    }
+    EXPECT_EQ(row["limit"], 700.0);
+    if (row["group"] == "foam-a") {
+      EXPECT_EQ(row["tests_within_limit"], 1);
+      EXPECT_EQ(row["worst_test"], "s07");
+      EXPECT_NEAR(row["limit_margin_pct"].get<double>(), 100.0 * (700.0 - 745.0) / 700.0, 1e-12);
+    } else if (row["group"] == "production") {
+      EXPECT_EQ(row["tests_within_limit"], 0);
+      EXPECT_EQ(row["worst_test"], "s02");
+    } else {
+      EXPECT_EQ(row["tests_within_limit"], 1);
+      EXPECT_EQ(row["worst_test"], "s12");
+    }
+  }
+  const RunResult table = Compare({"--series", "sled", "--metrics", "hic15", "--limits", "fmvss208"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("  FMVSS 208 limit 700: foam-a 1 of 5 within (worst s07 745, margin -6.4 %)"),
+            std::string::npos)
+      << table.out;
 }
 
 TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {

@@ -83,30 +83,40 @@ TEST(DemoCli, BuildsAndRunsItsCatalogueAndPrintsTheValidationTable) {
 
   // The padding series compared against production trim: both foams lower
   // in HIC15, the whole 95 % interval of the difference below zero.
-  EXPECT_TRUE(
-      std::regex_search(out, std::regex("\nhic15\n[^\n]*vs production\n  production +5 [^\n]*\\(baseline\\)\n"
-                                        "  foam-a +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\][^\n]*\n"
-                                        "  foam-b +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\]")))
+  EXPECT_TRUE(std::regex_search(
+      out,
+      std::regex("\nhic15 \\(log scale[^\n]*\n[^\n]*vs production\n  production +5 [^\n]*\\(baseline\\)\n"
+                 "  foam-a +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\][^\n]*\n"
+                 "  foam-b +5 [^\n]* -[0-9.]+ % \\[-[0-9.]+, -[0-9.]+\\]")))
       << out;
-  // The verdict first, one sentence per foam, and the same sentences in the
-  // report (compared with production there too).
+  // The verdict first: production's FMVSS 201U sentence (the demo's
+  // --limits), one sentence per foam, and the same sentences in the report
+  // (compared with production there too).
   const std::size_t verdict = out.find("verdict on series padding-series against 'production'");
   ASSERT_NE(verdict, std::string::npos) << out;
   EXPECT_LT(verdict, out.find("series padding-series: variants compared with variant 'production'"));
   const std::string report_html = ReadText(dir.path() / "d" / "report.html");
   std::size_t sentences = 0;
   for (const std::string& line : Lines(out.substr(verdict))) {
-    if (line.rfind("  foam-", 0) != 0) {
+    if (line.rfind("  foam-", 0) != 0 && line.rfind("  production", 0) != 0) {
       if (sentences > 0) break;
       continue;
     }
     ++sentences;
-    EXPECT_EQ(line.rfind(sentences == 1 ? "  foam-a lowers HIC15 by " : "  foam-b lowers HIC15 by ", 0), 0u)
+    EXPECT_EQ(line.rfind(sentences == 1 ? "  production (baseline): all 5 production tests meet FMVSS 201U ("
+                         : sentences == 2 ? "  foam-a: lowers HIC15 by "
+                                          : "  foam-b: lowers HIC15 by ",
+                         0),
+              0u)
         << line;
+    if (sentences > 1) {
+      EXPECT_NE(line.find("tests meet FMVSS 201U (highest HIC(d) "), std::string::npos) << line;
+    }
+    EXPECT_EQ(line.find("unchanged"), std::string::npos) << line;
     EXPECT_NE(report_html.find("<li>" + formats::EscapeHtml(line.substr(2)) + "</li>"), std::string::npos)
         << line;
   }
-  EXPECT_EQ(sentences, 2u) << out;
+  EXPECT_EQ(sentences, 3u) << out;
   EXPECT_NE(report_html.find("<h3>Verdict against production</h3>"), std::string::npos);
 
   // The report of the whole catalogue, and what to try next.

@@ -245,6 +245,33 @@ TEST(NhtsaFrontal, AccelerationOnlyImportsInEveryFormatMatchNhtsasPrograms) {
     EXPECT_EQ(html.find(std::string("<tr><td>") + rotation_metric + "</td>"), std::string::npos)
         << rotation_metric;
   EXPECT_NE(html.find("<tr><td>hic15</td>"), std::string::npos);
+
+  // CLI compare with the default metrics prints no n = 0 block (issue 30
+  // point 5): the rotation metrics no test has are left out, in every format;
+  // a metric named in --metrics is still shown.
+  const RunResult compare = RunNapkin(dir.path(), {"compare", "--series", "nhtsa"});
+  ASSERT_EQ(compare.exit_code, 0) << compare.err;
+  for (const std::string& line : Lines(compare.out)) {
+    std::istringstream cells(line);
+    std::string group, n;
+    cells >> group >> n;
+    EXPECT_NE(n, "0") << line << "\n" << compare.out;
+  }
+  for (const char* rotation_metric : {"peak_omega_radps", "peak_alpha_radps2", "bric", "damage",
+                                      "max_rotation_deg", "bric_p_ais3", "bric_p_ais4"}) {
+    EXPECT_EQ(compare.out.find(std::string("\n") + rotation_metric + "\n"), std::string::npos)
+        << rotation_metric;
+    EXPECT_EQ(compare.out.find(std::string("\n") + rotation_metric + " ("), std::string::npos)
+        << rotation_metric;
+  }
+  EXPECT_NE(compare.out.find("\nhic15 (log scale"), std::string::npos) << compare.out;
+  const RunResult json = RunNapkin(dir.path(), {"compare", "--series", "nhtsa", "--format", "json"});
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  for (const nlohmann::json& row : nlohmann::json::parse(json.out)) EXPECT_NE(row.at("n"), 0) << row.dump();
+  const RunResult named =
+      RunNapkin(dir.path(), {"compare", "--series", "nhtsa", "--metrics", "hic15,bric", "--format", "json"});
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_EQ(nlohmann::json::parse(named.out).size(), 6u);
 }
 
 }  // namespace

@@ -39,9 +39,10 @@ TEST_F(CliOptionErrors, BadValuesAreOneSentenceNamingTheOption) {
                 "--threads must be at most 2147483647; it is 99999999999.");
   ExpectRefused({"demo", "--threads", "-2"}, "--threads must be at least 1; it is -2.");
   ExpectRefused({"query", "hic", "--format", "xml"}, "--format must be table, csv or json; it is 'xml'.");
-  ExpectRefused({"query", "everything"},
-                "the query KIND must be tests, hic, rotation, criteria, risk, quality or conditioning; it is "
-                "'everything'.");
+  ExpectRefused(
+      {"query", "everything"},
+      "the query KIND must be tests, hic, rotation, criteria, risk, quality, conditioning or limits; it is "
+      "'everything'.");
   ExpectRefused({"run", "--shard", "5/3"}, "--shard takes I/N with 0 <= I < N, e.g. 0/3; it is '5/3'.");
   ExpectRefused({"compare", "--series", "s", "--by", "colour"},
                 "--by must be variant or config; it is 'colour'.");

@@ -271,6 +271,20 @@ TEST_F(CliQueryGolden, SqlLikeTextIsAValue) {
   EXPECT_EQ(DumpCatalogue(dir_->path() / "napkin.db"), before) << "the catalogue is unchanged";
 }
 
+// `query limits` (issue 30 point 6): query criteria's rows, filtered and
+// sorted as it does, each against each limit of a config/limits preset.
+TEST_F(CliQueryGolden, LimitsListEachTestAgainstEachLimit) {
+  ExpectGolden("limits_fmvss201u_table", {"limits", "--limits", "fmvss201u"});
+  ExpectGolden("limits_euro_ncap_where_sort_json",
+               {"limits", "--limits", "euro-ncap-frontal-head", "--where", "series = sled", "--sort",
+                "hic15:desc", "--format", "json"});
+  ExpectGolden("limits_fmvss208_csv", {"limits", "--limits", "fmvss208", "--format", "csv"});
+  ExpectUsageError({"limits"}, {"`napkin query limits` needs --limits NAME", "fmvss201u"});
+  ExpectUsageError({"hic", "--limits", "fmvss208"}, {"--limits applies to `napkin query limits` only"});
+  ExpectUsageError({"limits", "--limits", "fmvss999"}, {"--limits 'fmvss999' is neither a file nor a preset",
+                                                        "euro-ncap-frontal-head, fmvss201u, fmvss208"});
+}
+
 TEST_F(CliQueryGolden, UsageErrorsAreOneLineExitTwo) {
   ExpectUsageError(
       {"hic", "--where", "hic16>700"},

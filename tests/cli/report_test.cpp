@@ -253,8 +253,8 @@ TEST_F(ReportCli, BaselineOptionComparesWithTheNamedVariant) {
   ASSERT_EQ(report.exit_code, 0) << report.err;
   const std::string html = test_support::ReadText(dir_->path() / "production.html");
   EXPECT_THAT(html, HasSubstr("<h3>Verdict against production</h3>"));
-  EXPECT_THAT(html, HasSubstr("<li>foam-a "));
-  EXPECT_THAT(html, HasSubstr("<li>foam-b "));
+  EXPECT_THAT(html, HasSubstr("<li>foam-a: "));
+  EXPECT_THAT(html, HasSubstr("<li>foam-b: "));
   // The compare table's note and the overlays' variant order follow it.
   EXPECT_THAT(html, HasSubstr("napkin compare --series padding-series --baseline production shows them; "
                               "baseline production;"));
@@ -264,7 +264,19 @@ TEST_F(ReportCli, BaselineOptionComparesWithTheNamedVariant) {
   ASSERT_EQ(by_name.exit_code, 0) << by_name.err;
   const std::string by_name_html = test_support::ReadText(dir_->path() / "by-name.html");
   EXPECT_THAT(by_name_html, HasSubstr("<h3>Verdict against foam-a</h3>"));
-  EXPECT_THAT(by_name_html, HasSubstr("<li>production "));
+  EXPECT_THAT(by_name_html, HasSubstr("<li>production: "));
+
+  // --limits: the baseline's sentence, each variant's limits clause and the table's column.
+  const RunResult limits = Napkin({"report", "--series", "padding-series", "--baseline", "production",
+                                   "--limits", "fmvss208", "--out", "limits.html"});
+  ASSERT_EQ(limits.exit_code, 0) << limits.err;
+  const std::string limits_html = test_support::ReadText(dir_->path() / "limits.html");
+  EXPECT_THAT(limits_html, HasSubstr("<li>production (baseline): "));
+  EXPECT_THAT(limits_html, HasSubstr(" FMVSS 208 (highest HIC15 "));
+  EXPECT_THAT(limits_html, HasSubstr("<th>meet FMVSS 208</th>"));
+  const RunResult bad = Napkin({"report", "--limits", "nope", "--out", "nope.html"});
+  EXPECT_EQ(bad.exit_code, 2);
+  test_support::ExpectOneSentenceError(bad, {"--limits 'nope' is neither a file nor a preset"});
 }
 
 TEST_F(ReportCli, ExplainsWhatIsMissing) {
@@ -377,8 +389,8 @@ std::vector<std::string> LegendLabels(const std::string& legend_html) {
   return labels;
 }
 
-// The series' overlays: each drawn, each a trace per test plus two corridor
-// bounds per variant as dygraphs holds them (its legend), no script error.
+// The series' overlays: each drawn, a legend entry per variant (not per
+// trace), no script error.
 TEST_F(ReportInChromium, OverlaysHaveATracePerTestAndTwoCorridorBoundsPerVariant) {
   const fs::path page = browser_dir_ / "report.html";
   test_support::WriteText(page, html_);
@@ -404,9 +416,26 @@ TEST_F(ReportInChromium, OverlaysHaveATracePerTestAndTwoCorridorBoundsPerVariant
     EXPECT_NE(element.find("<canvas"), std::string::npos) << id;
     const std::size_t legend = element.find("<div class=\"legend\"");
     ASSERT_NE(legend, std::string::npos) << id;
-    const std::vector<std::string> labels = LegendLabels(element.substr(legend));
-    EXPECT_EQ(labels.size(), 12u) << id;  // 6 tests + 3 variants x 2 bounds
-    EXPECT_EQ(std::set<std::string>(labels.begin(), labels.end()), expected) << id;
+    // The legend (issue 30 point 7): one entry per variant with its corridor,
+    // no test ids (those show on hover).
+    const std::string legend_html = element.substr(legend);
+    std::vector<std::string> entries;
+    const std::string marker = "<span class=\"variant-legend\"";
+    for (std::size_t at = legend_html.find(marker); at != std::string::npos;
+         at = legend_html.find(marker, at + 1)) {
+      const std::size_t end = legend_html.find("mean ± 1 sd</span>", at);
+      ASSERT_NE(end, std::string::npos) << legend_html;
+      entries.push_back(VisibleText(legend_html.substr(at, end + std::string("mean ± 1 sd").size() - at)));
+    }
+    EXPECT_EQ(entries,
+              (std::vector<std::string>{"foam-a (2 tests) mean ± 1 sd", "foam-b (2 tests) mean ± 1 sd",
+                                        "production (2 tests) mean ± 1 sd"}))
+        << id;
+    for (const std::string& label : expected) {
+      if (label.find(" mean ") != std::string::npos) continue;  // the corridors' labels
+      EXPECT_EQ(VisibleText(legend_html).find(label), std::string::npos) << id << " lists test " << label;
+    }
+    EXPECT_TRUE(LegendLabels(legend_html).empty()) << id;  // not dygraphs' one entry per trace
   }
 }
 

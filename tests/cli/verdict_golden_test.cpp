@@ -57,25 +57,30 @@ TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
   // The sentences are those of cli::BuildVerdict on compare's rows: the
   // baseline's row first, then foam-a and foam-b, each sentence naming its variant.
   EXPECT_NE(block.find("<h3>Verdict against production</h3>"), std::string::npos);
-  EXPECT_NE(block.find("<li>foam-a "), std::string::npos) << block;
-  EXPECT_NE(block.find("<li>foam-b "), std::string::npos) << block;
+  EXPECT_NE(block.find("<li>foam-a: "), std::string::npos) << block;
+  EXPECT_NE(block.find("<li>foam-b: "), std::string::npos) << block;
   EXPECT_EQ(block.find("<li>production"), std::string::npos) << block;
+  EXPECT_EQ(block.find("unchanged"), std::string::npos) << block;
 
-  // The HIC15 clause agrees with `napkin compare`'s numbers: a variant whose
-  // 95 % interval excludes 0 is said to lower or raise HIC15, else unchanged.
-  const RunResult compare = RunNapkin(dir.path(), {"compare", "--series", "padding-series", "--baseline",
-                                                   "production", "--metrics", "hic15", "--format", "json"});
+  // Each clause agrees with `napkin compare`'s numbers: p < 0.05 lowers or
+  // raises, else equivalence where the two one-sided tests show it, else
+  // no significant difference.
+  const RunResult compare =
+      RunNapkin(dir.path(), {"compare", "--series", "padding-series", "--baseline", "production", "--metrics",
+                             "hic15,bric", "--format", "json"});
   ASSERT_EQ(compare.exit_code, 0) << compare.err;
   for (const nlohmann::json& row : nlohmann::json::parse(compare.out)) {
     if (row.at("group") == "production") continue;
+    const std::string label = row.at("metric") == "hic15" ? "HIC15" : "BrIC";
     const double p = row.at("p_value").get<double>();
-    const double diff = row.at("diff").get<double>();
-    const std::string verb = p >= kVerdictAlpha ? "leaves HIC15 unchanged"
-                             : diff < 0         ? "lowers HIC15"
-                                                : "raises HIC15";
-    EXPECT_NE(block.find("<li>" + row.at("group").get<std::string>() + " " + verb), std::string::npos)
-        << row.dump() << "\n"
-        << block;
+    const double tost = row.at("tost_p_value").get<double>();
+    const double change = row.at("diff_pct").get<double>();
+    const std::string clause = p < kVerdictAlpha      ? (change < 0 ? "lowers " : "raises ") + label + " by "
+                               : tost < kVerdictAlpha ? label + " equivalent within ±10 %"
+                                                      : "no significant difference in " + label + " (";
+    const std::size_t sentence = block.find("<li>" + row.at("group").get<std::string>() + ": ");
+    ASSERT_NE(sentence, std::string::npos);
+    EXPECT_LT(block.find(clause, sentence), block.find("</li>", sentence)) << row.dump() << "\n" << block;
   }
 }
 

@@ -1,39 +1,82 @@
 // The wording rules of the verdict (cli/verdict.h, docs/formats.md
-// "Verdict"): significant or not at 0.05, the sign, the p-value's text,
-// risks, and the sentences BuildVerdict assembles from compare's rows.
+// "Verdict"), on series with known answers compared as BuildComparison
+// compares them (cli::CompareMetric): a large reduction, a non-significant
+// difference, an equivalent one, the base/soft series of issue 30, identical
+// values, a bound near zero, acceleration-only variants beside full ones,
+// limits; and the rules table as docs/formats.md states it.
 #include "cli/verdict.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <regex>
 #include <string>
 #include <vector>
 
+#include "engine/injury_risk.h"
 #include "engine/statistics.h"
+#include "tests/support/run_command.h"
 
 namespace napkin::cli {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// A variant's row with the given difference (percent of `baseline_mean`),
-// interval and p; n tests.
-ComparisonRow Row(std::size_t n, double baseline_mean, double diff, double ci_low, double ci_high, double p) {
-  ComparisonRow row;
-  row.description.n = n;
-  row.description.mean = baseline_mean + diff;
-  row.baseline_mean = baseline_mean;
-  const double pct = baseline_mean != 0.0 ? 100.0 * diff / baseline_mean : kNaN;
-  row.difference = {diff, pct, kNaN, kNaN, kNaN, ci_low, ci_high, p};
-  return row;
+// Groups named g0, g1, ... with test ids gN-K, values as given (baseline first).
+std::vector<GroupValues> Groups(const std::vector<std::string>& names,
+                                const std::vector<std::vector<double>>& values) {
+  std::vector<GroupValues> groups;
+  for (std::size_t g = 0; g < names.size(); ++g) {
+    GroupValues& group = groups.emplace_back();
+    group.group = names[g];
+    group.values = values[g];
+    for (std::size_t k = 0; k < values[g].size(); ++k)
+      group.test_ids.push_back(names[g] + "-" + std::to_string(k + 1));
+  }
+  return groups;
 }
 
-engine::Description Baseline(std::size_t n, double mean) {
-  engine::Description d;
-  d.n = n;
-  d.mean = mean;
-  return d;
+// A comparison of the given metrics (name, values per group), baseline first.
+Comparison Series(const std::vector<std::string>& groups,
+                  const std::vector<std::pair<std::string, std::vector<std::vector<double>>>>& metrics) {
+  Comparison comparison;
+  comparison.series = "sled";
+  comparison.baseline = groups.front();
+  comparison.groups = groups;
+  for (const auto& [name, values] : metrics)
+    comparison.metrics.push_back(CompareMetric(name, Groups(groups, values), CompareBy::kVariant,
+                                               CompareScale::kLog, kDefaultEquivalencePct));
+  return comparison;
+}
+
+// HIC15 with its NCAP risk computed from each value, as the engine stores them.
+std::vector<std::pair<std::string, std::vector<std::vector<double>>>> HicWithRisk(
+    const std::vector<std::vector<double>>& hic15) {
+  std::vector<std::vector<double>> risk;
+  for (const auto& group : hic15) {
+    std::vector<double>& values = risk.emplace_back();
+    for (const double hic : group) values.push_back(engine::NcapHic15Ais3Risk(hic));
+  }
+  return {{"hic15", hic15}, {"hic15_p_ais3", risk}};
+}
+
+// The percentages inside the first "[a, b]" of `text`, as numbers.
+std::pair<double, double> Bracket(const std::string& text) {
+  std::smatch match;
+  EXPECT_TRUE(std::regex_search(text, match, std::regex(R"(\[([^,\]]+), ([^\]]+)\])"))) << text;
+  const auto number = [](std::string s) {
+    const std::string minus = "\xE2\x88\x92";
+    if (s.rfind(minus, 0) == 0) s = "-" + s.substr(minus.size());
+    return std::stod(s);
+  };
+  return {number(match[1]), number(match[2])};
+}
+
+void ExpectNoUnchanged(const SeriesVerdict& verdict) {
+  for (const std::string& sentence : verdict.sentences)
+    EXPECT_EQ(sentence.find("unchanged"), std::string::npos) << sentence;
 }
 
 TEST(VerdictWording, PValues) {
@@ -44,172 +87,203 @@ TEST(VerdictWording, PValues) {
   // Two digits would read 0.05 for a significant p: more digits instead.
   EXPECT_EQ(PValueText(0.0496), "p = 0.0496");
   EXPECT_EQ(PValueText(0.0504), "p = 0.05");
-  EXPECT_EQ(PValueText(0.5), "p = 0.5");
 }
 
-TEST(VerdictWording, SignificantLoweringReadsAsReductions) {
-  // HIC15 1000 -> 560: -44 %, interval [-49, -40] % of the baseline mean.
-  const ComparisonRow row = Row(5, 1000.0, -440.0, -490.0, -400.0, 3e-6);
-  EXPECT_EQ(CriterionClause("HIC15", row, Baseline(5, 1000.0), true, true),
-            "lowers HIC15 by 44 % [40, 49] (p < 0.0001, n = 5 vs 5)");
-  EXPECT_EQ(CriterionClause("HIC15", row, Baseline(5, 1000.0), false, false),
-            "lowers HIC15 by 44 % [40, 49] (p < 0.0001)");
+TEST(VerdictWording, PercentagesNeverRoundANonZeroBoundToZero) {
+  EXPECT_EQ(PercentText(44.4), "44");
+  EXPECT_EQ(PercentText(0.3), "0.3");
+  EXPECT_EQ(PercentText(0.042), "0.042");
+  EXPECT_EQ(PercentText(0.96), "1");
+  EXPECT_EQ(PercentText(0.0), "0");
+  EXPECT_EQ(PercentText(-4.4),
+            "\xE2\x88\x92"
+            "4");
 }
 
-TEST(VerdictWording, SignificantRaise) {
-  const ComparisonRow row = Row(4, 100.0, 12.3, 4.4, 20.2, 0.0049);
-  EXPECT_EQ(CriterionClause("peak acceleration", row, Baseline(5, 100.0), false, true),
-            "raises peak acceleration by 12 % [4, 20] (p = 0.0049, n = 4 vs 5)");
-}
-
-TEST(VerdictWording, NotSignificantIsUnchangedWithSignedNumbers) {
-  const ComparisonRow row = Row(5, 1.0, -0.09, -0.27, 0.08, 0.24);
-  EXPECT_EQ(CriterionClause("BrIC", row, Baseline(5, 1.0), false, false),
-            "BrIC unchanged (−9 % [−27, +8], p = 0.24)");
-  EXPECT_EQ(CriterionClause("BrIC", row, Baseline(5, 1.0), true, true),
-            "leaves BrIC unchanged (−9 % [−27, +8], p = 0.24, n = 5 vs 5)");
-  // The same difference with a p just below 0.05 is a lowering, never "unchanged".
-  const ComparisonRow just = Row(5, 1.0, -0.09, -0.17, -0.001, 0.0496);
-  EXPECT_EQ(CriterionClause("BrIC", just, Baseline(5, 1.0), false, false),
-            "lowers BrIC by 9 % [0, 17] (p = 0.0496)");
-}
-
-TEST(VerdictWording, SmallPercentagesKeepADecimal) {
-  const ComparisonRow row = Row(5, 100.0, -0.42, -0.61, -0.23, 0.003);
-  EXPECT_EQ(CriterionClause("HIC15", row, Baseline(5, 100.0), false, false),
-            "lowers HIC15 by 0.4 % [0.2, 0.6] (p = 0.003)");
-}
-
-TEST(VerdictWording, BaselineMeanZeroUsesTheMetricsUnit) {
-  const ComparisonRow row = Row(5, 0.0, 0.125, 0.05, 0.2, 0.01);
-  EXPECT_EQ(CriterionClause("DAMAGE", row, Baseline(5, 0.0), false, false),
-            "raises DAMAGE by 0.125 [0.05, 0.2] (p = 0.01)");
-}
-
-TEST(VerdictWording, NoDifferenceOrNoScatterIsNeverUnchanged) {
-  const ComparisonRow small = Row(1, 1000.0, kNaN, kNaN, kNaN, kNaN);
-  EXPECT_EQ(CriterionClause("HIC15", small, Baseline(5, 1000.0), true, true),
-            "has no HIC15 comparison (n = 1 vs 5: fewer than 2 tests)");
-  const ComparisonRow flat = Row(3, 100.0, -10.0, kNaN, kNaN, kNaN);
-  EXPECT_EQ(CriterionClause("HIC15", flat, Baseline(3, 100.0), false, false),
-            "lowers HIC15 by 10 % (no interval: no scatter, n = 3 vs 3)");
-}
-
-TEST(VerdictWording, Risks) {
-  EXPECT_EQ(
-      RiskClause("P(AIS 3+)", Row(5, 0.113, 0.021 - 0.113, -0.12, -0.06, 0.001), Baseline(5, 0.113), false),
-      "P(AIS 3+) from 11.3 % to 2.1 %");
-  EXPECT_EQ(RiskClause("P(AIS 3+)", Row(5, 0.113, -0.004, -0.03, 0.02, 0.41), Baseline(5, 0.113), false),
-            "P(AIS 3+) unchanged (11.3 % vs 10.9 %, p = 0.41)");
-  EXPECT_EQ(RiskClause("P(AIS 4+)", Row(4, 0.0042, 0.0, -0.001, 0.001, 0.9), Baseline(5, 0.0042), true),
-            "P(AIS 4+) unchanged (0.42 % vs 0.42 %, p = 0.9, n = 4 vs 5)");
-}
-
-TEST(VerdictWording, RiskMetricsByName) {
-  const std::vector<std::string> criteria = VerdictCriteria();
-  ASSERT_EQ(criteria, (std::vector<std::string>{"hic15", "bric"}));
-  const auto hic = IsRiskMetric("hic15_p_ais3", criteria);
-  ASSERT_TRUE(hic);
-  EXPECT_EQ(hic->ais_level, 3);
-  EXPECT_EQ(hic->criterion, "hic15");
-  const auto bric = IsRiskMetric("p_ais4_bric", criteria);
-  ASSERT_TRUE(bric);
-  EXPECT_EQ(bric->ais_level, 4);
-  EXPECT_EQ(bric->criterion, "bric");
-  const auto other = IsRiskMetric("hic36_ais4plus", criteria);
-  ASSERT_TRUE(other);
-  EXPECT_EQ(other->ais_level, 4);
-  EXPECT_FALSE(other->criterion);
-  EXPECT_FALSE(IsRiskMetric("hic15", criteria));
-  EXPECT_FALSE(IsRiskMetric("aisle_bric", criteria));
-  EXPECT_EQ(MetricLabel("hic15_p_ais3"), "P(AIS 3+)");
-  EXPECT_EQ(MetricLabel("bric"), "BrIC");
-}
-
-// A by-variant metric comparison of `values` (baseline first), made as
-// BuildComparison makes it.
-MetricComparison Metric(const std::string& name, const std::vector<std::string>& groups,
-                        const std::vector<std::vector<double>>& values) {
-  MetricComparison metric;
-  metric.metric = name;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    metric.groups.push_back({groups[g], {}, values[g]});
-    ComparisonRow& row = metric.rows.emplace_back();
-    row.metric = name;
-    row.group = groups[g];
-    row.baseline = groups[0];
-    row.is_baseline = g == 0;
-    row.description = engine::Describe(values[g]);
-    if (g == 0) {
-      row.difference = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-      continue;
-    }
-    row.difference = engine::WelchComparison(values[g], values[0]);
-    row.baseline_mean = engine::Describe(values[0]).mean;
+TEST(VerdictWording, EveryClauseKindHasARuleThatTheDocsState) {
+  const std::string docs =
+      test_support::ReadText(std::filesystem::path(NAPKIN_SOURCE_DIR) / "docs" / "formats.md");
+  for (const ClauseKind kind :
+       {ClauseKind::kNotMeasured, ClauseKind::kTooFew, ClauseKind::kIdentical, ClauseKind::kNoScatter,
+        ClauseKind::kSignificant, ClauseKind::kEquivalent, ClauseKind::kInconclusive}) {
+    const VerdictRule& rule = RuleOf(kind);
+    EXPECT_EQ(rule.kind, kind);
+    EXPECT_NE(docs.find(std::string(rule.when)), std::string::npos) << "docs/formats.md lacks: " << rule.when;
+    EXPECT_NE(docs.find(std::string(rule.example)), std::string::npos)
+        << "docs/formats.md lacks: " << rule.example;
   }
-  return metric;
 }
 
-TEST(Verdict, SentencesFollowTheCriteriaWithTheirRisks) {
-  const std::vector<std::string> groups = {"production", "foam-b"};
-  Comparison comparison;
-  comparison.series = "sled";
-  comparison.baseline = "production";
-  comparison.groups = groups;
-  // bric listed before its risk and hic15 after: the verdict orders them itself.
-  comparison.metrics.push_back(Metric("bric", groups, {{0.70, 0.80, 0.75, 0.72}, {0.69, 0.71, 0.81, 0.74}}));
-  comparison.metrics.push_back(
-      Metric("hic15_p_ais3", groups, {{0.10, 0.12, 0.11, 0.13}, {0.020, 0.022, 0.020, 0.022}}));
-  comparison.metrics.push_back(Metric("hic15", groups, {{900, 950, 1000, 975}, {500, 540, 520, 530}}));
-  comparison.metrics.push_back(Metric("peak_omega_radps", groups, {{}, {}}));  // not a verdict criterion
-  comparison.metrics.push_back(Metric("hic36_p_ais4", groups, {{0.05, 0.06}, {0.01, 0.015}}));
-
+TEST(Verdict, LargeReductionIsARatioWithItsRiskAsConsequence) {
+  const Comparison comparison =
+      Series({"production", "foam-b"}, HicWithRisk({{900, 950, 1000, 975, 925}, {500, 540, 520, 530, 510}}));
   const SeriesVerdict verdict = BuildVerdict(comparison);
-  const MetricComparison& bric = comparison.metrics[0];
-  const MetricComparison& risk = comparison.metrics[1];
-  const MetricComparison& hic = comparison.metrics[2];
-  const MetricComparison& other = comparison.metrics[4];
   ASSERT_EQ(verdict.sentences.size(), 1u);
-  EXPECT_EQ(verdict.sentences[0],
-            "foam-b " + CriterionClause("HIC15", hic.rows[1], hic.rows[0].description, true, true) + "; " +
-                RiskClause("P(AIS 3+)", risk.rows[1], risk.rows[0].description, false) + "; " +
-                CriterionClause("BrIC", bric.rows[1], bric.rows[0].description, false, false) + "; " +
-                RiskClause("P(AIS 4+, HIC36)", other.rows[1], other.rows[0].description, true));
-  // The parts, as the rules word them from these numbers.
-  EXPECT_EQ(verdict.sentences[0].rfind("foam-b lowers HIC15 by 45 % [", 0), 0u) << verdict.sentences[0];
-  EXPECT_NE(verdict.sentences[0].find("; P(AIS 3+) from 11.5 % to 2.1 %; BrIC unchanged ("),
-            std::string::npos)
-      << verdict.sentences[0];
-  EXPECT_NE(verdict.sentences[0].find("n = 2 vs 2)"), std::string::npos) << verdict.sentences[0];
-
+  const std::string& s = verdict.sentences[0];
+  // Ratio of geometric means: exp(mean log b - mean log a) - 1.
+  const ComparisonRow& row = comparison.metrics[0].rows[1];
+  EXPECT_EQ(row.scale, CompareScale::kLog);
+  EXPECT_NEAR(
+      row.pct,
+      100.0 *
+          (std::exp((std::log(500.) + std::log(540.) + std::log(520.) + std::log(530.) + std::log(510.)) / 5 -
+                    (std::log(900.) + std::log(950.) + std::log(1000.) + std::log(975.) + std::log(925.)) /
+                        5) -
+           1.0),
+      1e-9);
+  EXPECT_EQ(s.rfind("foam-b: lowers HIC15 by 45 % [", 0), 0u) << s;
+  const auto [from, to] = Bracket(s);
+  EXPECT_GT(from, 0.0);
+  EXPECT_LT(to, 100.0);
+  EXPECT_NE(s.find("(p < 0.0001, n = 5 vs 5) → P(AIS 3+ | HIC15) "), std::string::npos) << s;
+  EXPECT_EQ(s.find("P(AIS 3+ | HIC15)"), s.rfind("P(AIS 3+ | HIC15)")) << "the risk once: " << s;
   EXPECT_EQ(verdict.columns,
-            (std::vector<std::string>{"variant", "tests", "HIC15 mean ± sd", "P(AIS 3+) HIC15",
-                                      "BrIC mean ± sd", "P(AIS 4+) HIC36"}));
-  ASSERT_EQ(verdict.rows.size(), 2u);
-  EXPECT_EQ(verdict.rows[0][0], "production");
-  EXPECT_EQ(verdict.rows[0][1], "4");
-  EXPECT_EQ(verdict.rows[0][2], "956.2 ± 42.7");  // mean 956.25, sd 42.696...
-  EXPECT_EQ(verdict.rows[1][3], "2.1 %");         // mean 0.021
+            (std::vector<std::string>{"variant", "tests", "HIC15 mean ± sd", "P(AIS 3+ | HIC15)"}));
+  ExpectNoUnchanged(verdict);
+}
 
+TEST(Verdict, NonSignificantIsWhatTheSeriesCannotTell) {
+  const Comparison comparison = Series(
+      {"production", "foam-a"}, {{"bric", {{0.70, 0.80, 0.55, 0.62, 0.75}, {0.66, 0.85, 0.50, 0.72, 0.60}}}});
+  const ComparisonRow& row = comparison.metrics[0].rows[1];
+  ASSERT_GT(row.difference.p_value, 0.05);
+  ASSERT_GT(row.equivalence.p_value, 0.05);
+  const SeriesVerdict verdict = BuildVerdict(comparison);
+  const std::string& s = verdict.sentences.at(0);
+  EXPECT_EQ(s.rfind("foam-a: no significant difference in BrIC (", 0), 0u) << s;
+  EXPECT_NE(s.find(PValueText(row.difference.p_value) + "; 5 vs 5 tests detect "), std::string::npos) << s;
+  EXPECT_NE(s.find(" with 80 % power)"), std::string::npos) << s;
+  ExpectNoUnchanged(verdict);
+}
+
+TEST(Verdict, EquivalentOnlyWhenTheTwoOneSidedTestsShowIt) {
+  const Comparison comparison = Series(
+      {"production", "foam-a"}, HicWithRisk({{1000, 1010, 990, 1005, 995}, {1002, 998, 1008, 992, 1001}}));
+  const ComparisonRow& row = comparison.metrics[0].rows[1];
+  ASSERT_GT(row.difference.p_value, 0.05);
+  ASSERT_LT(row.equivalence.p_value, 0.05);
+  const std::string s = BuildVerdict(comparison).sentences.at(0);
+  EXPECT_EQ(s.rfind("foam-a: HIC15 equivalent within ±10 % (90 % interval ", 0), 0u) << s;
+  EXPECT_NE(s.find(" → P(AIS 3+ | HIC15) "), std::string::npos) << s;
+  EXPECT_NE(s.find(" vs "), std::string::npos) << "a risk after an equivalence reads 'vs': " << s;
+}
+
+TEST(Verdict, BaseAndSoftOfTheIssueNeitherExceedAHundredPercentNorContradict) {
+  // Issue 30: "soft lowers HIC15 by 70 % [8, 132] (p = 0.036); P(AIS 3+) unchanged".
+  const std::vector<double> base = {720, 551, 1000}, soft = {153, 370, 162};
+  for (const bool reverse : {false, true}) {
+    const Comparison comparison = reverse ? Series({"soft", "base"}, HicWithRisk({soft, base}))
+                                          : Series({"base", "soft"}, HicWithRisk({base, soft}));
+    const SeriesVerdict verdict = BuildVerdict(comparison);
+    const std::string& s = verdict.sentences.at(0);
+    const ComparisonRow& row = comparison.metrics[0].rows[1];
+    ExpectNoUnchanged(verdict);
+    if (!reverse) {
+      const auto [from, to] = Bracket(s);
+      EXPECT_LT(to, 100.0) << s;  // a reduction is bounded by 100 %
+      EXPECT_GT(from, 0.0) << s;
+    }
+    // The risk follows the criterion's clause: "→" after a significant one, "vs" otherwise.
+    const bool significant = row.difference.p_value < 0.05;
+    EXPECT_EQ(s.find(significant ? (reverse ? "base: raises HIC15 by " : "soft: lowers HIC15 by ")
+                                 : (reverse ? "base: no significant difference in HIC15"
+                                            : "soft: no significant difference in HIC15")),
+              0u)
+        << s;
+    const std::size_t risk = s.find("P(AIS 3+ | HIC15) ");
+    ASSERT_NE(risk, std::string::npos) << s;
+    EXPECT_EQ(s.find(significant ? " → " : " vs ", risk) != std::string::npos, true) << s;
+    EXPECT_EQ(s.find("P(AIS 3+)"), std::string::npos) << s;
+  }
+}
+
+TEST(Verdict, IdenticalValuesSaySo) {
+  const SeriesVerdict verdict =
+      BuildVerdict(Series({"a", "b"}, HicWithRisk({{700, 700, 700}, {700, 700, 700}})));
+  const std::string& s = verdict.sentences.at(0);
+  EXPECT_EQ(s.rfind("b: HIC15 identical in all 6 tests → P(AIS 3+ | HIC15) ", 0), 0u) << s;
+  EXPECT_NE(s.find(" in both"), std::string::npos) << s;
+  EXPECT_EQ(s.find("0.0 %"), std::string::npos) << s;
+}
+
+TEST(Verdict, ABoundNearZeroShowsItsDigits) {
+  // A significant lowering whose interval reaches to within 0.3 % of no change.
+  ComparisonRow baseline;
+  baseline.group = "production";
+  baseline.description = engine::Describe(std::vector<double>{900, 950, 1000});
+  ComparisonRow row;
+  row.group = "foam-a";
+  row.description = engine::Describe(std::vector<double>{500, 620, 560});
+  row.scale = CompareScale::kLog;
+  row.difference = {std::log(0.62), kNaN, 0.1, 4.0, -4.0, std::log(0.25), std::log(0.997), 0.049};
+  row.pct = -38.0;
+  row.pct_ci_low = -75.0;
+  row.pct_ci_high = -0.3;
+  row.equivalence = engine::TwoOneSidedTests(row.difference, kNaN, kNaN);
+  EXPECT_EQ(CriterionClause("HIC15", row, baseline, false, false),
+            "lowers HIC15 by 38 % [0.3, 75] (p = 0.049)");
+}
+
+TEST(Verdict, AccelerationOnlyVariantsBesideFullOnesAreNotMeasured) {
+  const Comparison comparison = Series(
+      {"full", "accel"}, {{"hic15", {{600, 650, 700}, {610, 640, 690}}}, {"bric", {{0.6, 0.7, 0.65}, {}}}});
+  const std::string s = BuildVerdict(comparison).sentences.at(0);
+  EXPECT_NE(s.find("; BrIC not measured (acceleration-only heads)"), std::string::npos) << s;
+  EXPECT_EQ(s.find("fewer than 2"), std::string::npos) << s;
+  const Comparison reverse = Series(
+      {"accel", "full"}, {{"hic15", {{610, 640, 690}, {600, 650, 700}}}, {"bric", {{}, {0.6, 0.7, 0.65}}}});
+  EXPECT_NE(
+      BuildVerdict(reverse).sentences.at(0).find("BrIC not measured in accel (acceleration-only heads)"),
+      std::string::npos);
+  // One test is fewer than 2, not "not measured".
+  const Comparison one = Series({"a", "b"}, {{"hic15", {{600, 650, 700}, {610}}}});
+  EXPECT_NE(BuildVerdict(one).sentences.at(0).find("no HIC15 comparison (n = 1 vs 3: fewer than 2 tests)"),
+            std::string::npos);
+}
+
+TEST(Verdict, LimitsClauseCountsTheTestsWithinAndTheWorstMargin) {
+  Comparison comparison = Series({"production", "foam-b"}, {{"hic_d", {{820, 1040, 990}, {515, 563, 540}}}});
+  comparison.limits_name = "FMVSS 201U";
+  for (MetricComparison& metric : comparison.metrics) {
+    metric.limit = 1000.0;
+    for (const GroupValues& group : metric.groups) {
+      GroupLimitCheck& check = metric.limit_checks.emplace_back();
+      check.tests = group.values.size();
+      for (std::size_t i = 0; i < group.values.size(); ++i) {
+        check.within += group.values[i] <= 1000.0;
+        if (!(group.values[i] <= check.worst_value)) {
+          check.worst_value = group.values[i];
+          check.worst_test = group.test_ids[i];
+        }
+      }
+      check.margin_pct = 100.0 * (1000.0 - check.worst_value) / 1000.0;
+    }
+  }
+  const SeriesVerdict verdict = BuildVerdict(comparison);
+  ASSERT_EQ(verdict.sentences.size(), 2u);
+  EXPECT_EQ(verdict.sentences[0],
+            "production (baseline): 2 of 3 production tests meet FMVSS 201U (highest HIC(d) 1040, 4 % over)");
+  EXPECT_EQ(verdict.sentences[1],
+            "foam-b: all 3 foam-b tests meet FMVSS 201U (highest HIC(d) 563, margin 44 %)");
+  EXPECT_EQ(verdict.columns.back(), "meet FMVSS 201U");
+  EXPECT_EQ(verdict.rows[0].back(), "2 of 3");
+}
+
+TEST(Verdict, ANegativeValueFallsBackToTheDifferenceOfMeansAndSaysSo) {
+  const Comparison comparison = Series({"a", "b"}, {{"hic15", {{0.0, 650, 700}, {300, 320, 310}}}});
+  const ComparisonRow& row = comparison.metrics[0].rows[1];
+  EXPECT_EQ(row.scale, CompareScale::kLinear);
+  EXPECT_TRUE(row.log_fallback);
+  const std::string s = BuildVerdict(comparison).sentences.at(0);
+  EXPECT_NE(s.find("difference of means: a value ≤ 0"), std::string::npos) << s;
+}
+
+TEST(Verdict, FormatVerdictHeadsAndIndentsTheSentences) {
+  const SeriesVerdict verdict =
+      BuildVerdict(Series({"production", "foam-b"}, HicWithRisk({{900, 950, 1000}, {500, 540, 520}})));
   const std::string text = FormatVerdict(verdict);
   EXPECT_EQ(text.rfind("verdict on series sled against 'production' (", 0), 0u) << text;
   EXPECT_NE(text.find("\n  " + verdict.sentences[0] + "\n"), std::string::npos) << text;
-}
-
-TEST(Verdict, MetricsNoTestHasAreLeftOut) {
-  // An acceleration-only series: BrIC has no value anywhere.
-  const std::vector<std::string> groups = {"a", "b"};
-  Comparison comparison;
-  comparison.series = "nhtsa";
-  comparison.baseline = "a";
-  comparison.groups = groups;
-  comparison.metrics.push_back(Metric("hic15", groups, {{400, 420, 410}, {405, 430, 415}}));
-  comparison.metrics.push_back(Metric("bric", groups, {{}, {}}));
-  const SeriesVerdict verdict = BuildVerdict(comparison);
-  ASSERT_EQ(verdict.sentences.size(), 1u);
-  EXPECT_EQ(verdict.sentences[0].find("BrIC"), std::string::npos) << verdict.sentences[0];
-  EXPECT_EQ(verdict.sentences[0].rfind("b leaves HIC15 unchanged (+", 0), 0u) << verdict.sentences[0];
-  EXPECT_EQ(verdict.columns, (std::vector<std::string>{"variant", "tests", "HIC15 mean ± sd"}));
 }
 
 }  // namespace
