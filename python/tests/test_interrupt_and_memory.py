@@ -160,3 +160,43 @@ def test_a_transform_that_cannot_fit_is_refused_at_once(as_dict):
     # 36 kinematics series; what is available is at most MemAvailable.
     assert needed >= samples * 8 * (len(DENTON_SLOTS) + 36)
     assert available <= mem_available() * 1.1 and needed > available
+
+
+# A transform's measured peak, in a process of its own: the growth of its
+# resident set (VmHWM, reset through /proc/self/clear_refs just before) over
+# what it held with the channels made, and the module's estimate.
+PEAK_SCRIPT = """
+import sys
+sys.path[:0] = {path!r}
+import napkin
+from napkin import _napkin
+from test_interrupt_and_memory import head_channels
+
+def resident(key):
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith(key + ":"):
+                return int(line.split()[1]) * 1024
+
+channels = head_channels({samples})
+with open("/proc/self/clear_refs", "w") as clear_refs:
+    clear_refs.write("5")
+before = resident("VmRSS")
+result = napkin.transform(channels, dt=1e-4, array="denton-3222")
+assert result.summary["hic15"] is not None
+print(resident("VmHWM") - before, _napkin._transform_bytes("denton-3222", {samples}, 1e-4))
+"""
+
+
+@pytest.mark.skipif(SANITIZED, reason="the sanitizers' allocator (redzones, quarantine) is not the one users run")
+@pytest.mark.parametrize("samples", [500_000, 2_000_000])
+def test_the_memory_estimate_bounds_the_measured_peak(samples):
+    # The estimate decides whether a transform is refused: it must not be
+    # below what the transform takes (1.46 to 1.53 times the measured peak
+    # on 2026-11-27), nor so far above it that a transform that fits is refused.
+    script = PEAK_SCRIPT.format(path=[os.path.dirname(os.path.abspath(__file__))] + sys.path, samples=samples)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    measured, estimate = (int(value) for value in done.stdout.split())
+    assert measured < estimate < 2 * measured, \
+        "estimate {:.0f} MB against a measured peak of {:.0f} MB".format(estimate / 1e6, measured / 1e6)

@@ -64,11 +64,12 @@ TEST(Cancellation, AnUnsetFlagChangesNothing) {
 
 // The flag is read inside the long loops of every stage, not only between
 // stages: set from another thread while one long recording is processed, at
-// two, five and eight tenths of the way, it stops the work within
-// a tenth of the full run `full` (and within half a second) each time. A
-// stage without checks longer than that (the copy of the signals to
-// condition, the orientation angles, DAMAGE's integration were) fails it.
-TEST(Cancellation, AFlagSetAnywhereIsHonouredWithinATenthOfTheRun) {
+// two, five and eight tenths of the way, it stops the work within half a
+// second each time. (The stages that once had no checks, the copy of the
+// signals to condition, the orientation angles and DAMAGE's integration, show
+// at this size only in a plain build: python/tests/test_interrupt_and_memory.py
+// interrupts a 2.5-million-sample transform, which package-check runs.)
+TEST(Cancellation, AFlagSetAnywhereIsHonouredWithinHalfASecond) {
   const synth::SyntheticTest test = RandomTest(test_support::Ideal3222(), 10.0);  // 100,000 samples
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
@@ -98,10 +99,10 @@ TEST(Cancellation, AFlagSetAnywhereIsHonouredWithinATenthOfTheRun) {
       continue;
     }
     const Clock::duration latency = stopped - Clock::time_point(Clock::duration(set_at.load()));
-    EXPECT_LT(latency, std::min<Clock::duration>(full / 10 + std::chrono::milliseconds(5),
-                                                 std::chrono::milliseconds(500)))
-        << "set at " << tenths << " tenths of the full run, " << std::chrono::duration<double>(full).count()
-        << " s";
+    // Half a second, the bound asked of Ctrl-C (issue 29): a tenth of the run
+    // was asked here once, and a thread preempted on a loaded machine missed it.
+    EXPECT_LT(latency, std::chrono::milliseconds(500)) << "set at " << tenths << " tenths of the full run, "
+                                                       << std::chrono::duration<double>(full).count() << " s";
   }
 }
 
