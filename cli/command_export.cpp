@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "app/db_protection.h"
+#include "app/result_selection.h"
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
-#include "cli/db_protection.h"
 #include "cli/option_checks.h"
 #include "common/error.h"
 #include "engine/kinematics.h"
@@ -83,8 +84,8 @@ class ExportCommand : public Command {
     // "Output destinations"); an unknown preset is reported where it is used.
     if (!config_.empty()) {
       try {
-        ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
-                               "the --config file");
+        app::ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
+                                    "the --config file");
       } catch (const InputError&) {
       }
     }
@@ -97,14 +98,14 @@ class ExportCommand : public Command {
       config = catalogue.ReadLatestResultConfig(*test);
       if (!config) throw InputError("test '" + test_id_ + "' has no results yet; run `napkin run` first.");
     } else {
-      const ResolvedConfig resolved = ResolveConfig(config_);
+      const records::ResolvedConfig resolved = records::ResolveConfig(config_);
       config = catalogue.FindConfigByHash(resolved.record.config_hash);
       if (!config || !catalogue.ReadSummary(*test, *config))
         throw InputError("test '" + test_id_ + "' has no results for config '" + config_ +
                          "' yet; run `napkin run --config " + config_ + "` first.");
     }
     // Stored, or recomputed (storage "none"; docs/formats.md "Derived-channel storage").
-    const std::optional<engine::Kinematics> kinematics = ReadResultKinematics(catalogue, *test, *config);
+    const std::optional<engine::Kinematics> kinematics = app::ReadResultKinematics(catalogue, *test, *config);
 
     // docs/formats.md "Derived channels": an acceleration-only test exports as csv or isomme only.
     if (format_ != "csv" && format_ != "isomme" && !engine::HasRotation(*kinematics))

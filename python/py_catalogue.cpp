@@ -8,10 +8,10 @@
 #include <optional>
 #include <vector>
 
-#include "cli/comparison.h"
-#include "cli/db_option.h"
-#include "cli/query_filters.h"
-#include "cli/table_output.h"
+#include "app/comparison.h"
+#include "app/query.h"
+#include "app/result_selection.h"
+#include "app/table_output.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "formats/csv.h"
@@ -29,7 +29,7 @@ class ReadOnlyCatalogue {
 
   // (JSON text of `napkin query KIND --format json`, its column names).
   std::pair<std::string, std::vector<std::string>> Query(const std::string& kind_name,
-                                                         const cli::QueryFilterOptions& filters) {
+                                                         const app::QueryFilterOptions& filters) {
     const std::optional<db::QueryKind> kind = engine::ParseName<db::QueryKind>(kind_name);
     if (!kind)
       throw UsageError(
@@ -38,12 +38,12 @@ class ReadOnlyCatalogue {
     db::QueryRequest request = filters.Request(*kind);
     request.config = filters.Config(catalogue_);
     const db::Table table = catalogue_.Query(*kind, request);
-    return {cli::FormatTable(table, cli::TableFormat::kJson), table.columns};
+    return {app::FormatTable(table, app::TableFormat::kJson), table.columns};
   }
 
   // JSON text of `napkin compare --format json`.
-  std::string Compare(const cli::ComparisonRequest& request) {
-    return cli::FormatComparison(cli::BuildComparison(catalogue_, request), cli::TableFormat::kJson);
+  std::string Compare(const app::ComparisonRequest& request) {
+    return app::FormatComparison(app::BuildComparison(catalogue_, request), app::TableFormat::kJson);
   }
 
   // The derived channels of the test's result under the stored config
@@ -62,7 +62,7 @@ class ReadOnlyCatalogue {
     }
     std::optional<db::ConfigId> config_id;
     if (config) {
-      config_id = cli::ResolveConfigSelector(catalogue_, *config).id;
+      config_id = app::ResolveConfigSelector(catalogue_, *config).id;
       if (!catalogue_.ReadSummary(*test, *config_id))
         throw InputError("test '" + test_id + "' has no results for config '" + *config +
                          "' yet; run `napkin run --config " + *config + "` first.");
@@ -70,7 +70,7 @@ class ReadOnlyCatalogue {
       config_id = catalogue_.ReadLatestResultConfig(*test);
       if (!config_id) throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
     }
-    return DerivedChannelsToNumpy(cli::ReadResultKinematics(catalogue_, *test, *config_id));
+    return DerivedChannelsToNumpy(app::ReadResultKinematics(catalogue_, *test, *config_id));
   }
 
   // What `napkin run` computes the test's result from, as napkin.transform's
@@ -141,7 +141,7 @@ void RegisterCatalogue(py::module_& module) {
              const std::optional<std::string>& config, const std::optional<std::vector<std::string>>& series,
              const std::optional<std::vector<std::string>>& variant) {
             return Translated(self.path(), [&] {
-              cli::QueryFilterOptions filters;
+              app::QueryFilterOptions filters;
               filters.where = AsList(where);
               filters.sort = AsList(sort);
               filters.limit = limit.value_or("");
@@ -160,9 +160,9 @@ void RegisterCatalogue(py::module_& module) {
              const std::optional<std::vector<std::string>>& metrics,
              const std::optional<std::vector<std::string>>& configs) {
             return Translated(self.path(), [&] {
-              cli::ComparisonRequest request;
+              app::ComparisonRequest request;
               request.series = series;
-              request.by = cli::ParseCompareBy(by);
+              request.by = app::ParseCompareBy(by);
               request.baseline = baseline;
               request.metrics = AsList(metrics);
               request.configs = AsList(configs);

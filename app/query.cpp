@@ -1,32 +1,15 @@
-#include "cli/query_filters.h"
+#include "app/query.h"
 
 #include <algorithm>
 #include <charconv>
 #include <system_error>
 
-#include "cli/db_option.h"
-#include "cli/where_parser.h"
+#include "app/result_selection.h"
+#include "app/where_parser.h"
 #include "common/error.h"
 #include "util/text.h"
 
-namespace napkin::cli {
-
-void QueryFilterOptions::Register(CLI::App& command) {
-  command.add_option("--series", series, "only tests of this series (repeatable: any of them)")
-      ->allow_extra_args(false);
-  command.add_option("--variant", variants, "only tests of this variant (repeatable: any of them)")
-      ->allow_extra_args(false);
-  command
-      .add_option(
-          "--where", where,
-          "only rows where EXPR holds, e.g. \"hic15>700 and variant=foam-a\" (repeatable: all of them)")
-      ->allow_extra_args(false);
-  command.add_option("--sort", sort, "order by FIELD[:desc] (repeatable; ties: by test_id)")
-      ->allow_extra_args(false);
-  command.add_option("--limit", limit, "at most N rows");
-  command.add_option("--config", config,
-                     "results of this processing config (name or hash prefix; default: each test's latest)");
-}
+namespace napkin::app {
 
 db::QueryRequest QueryFilterOptions::Request(db::QueryKind kind) const {
   const std::vector<db::QueryField> fields = db::QueryFields(kind);
@@ -72,4 +55,4 @@ std::int64_t ParseRowLimit(std::string_view text) {
   return limit;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

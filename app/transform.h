@@ -6,7 +6,7 @@
 #include "engine/kinematics.h"
 #include "engine/summary.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 struct TransformOptions {
   std::string array;                         // preset name or array JSON path
@@ -32,4 +32,4 @@ struct TransformReport {
 // InputError with one sentence naming the file, channel or row at fault.
 TransformReport RunTransform(const TransformOptions& options);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

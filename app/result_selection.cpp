@@ -1,4 +1,4 @@
-#include "cli/db_option.h"
+#include "app/result_selection.h"
 
 #include <utility>
 
@@ -7,7 +7,7 @@
 #include "records/test_inputs.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // "name (hash 0123456789ab), ..." of `configs`.
@@ -18,14 +18,6 @@ std::string ConfigList(const std::vector<db::ConfigRow>& configs) {
 }
 
 }  // namespace
-
-db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only) {
-  db::CatalogueOptions options;
-  options.read_only = read_only;
-  // Never write into a damaged catalogue (init, import, synth, run, merge).
-  options.check_integrity = !read_only;
-  return db::Catalogue::Open(global.db_path, options);
-}
 
 engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
   if (std::optional<engine::Kinematics> stored = catalogue.ReadKinematics(test, config))
@@ -77,4 +69,4 @@ std::size_t MatchConfigSelector(const std::vector<db::ConfigRow>& configs, const
                    " configs: " + listing(hashed) + "; give more of the hash.");
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

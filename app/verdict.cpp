@@ -1,4 +1,4 @@
-#include "cli/verdict.h"
+#include "app/verdict.h"
 
 #include <fmt/core.h>
 
@@ -13,7 +13,7 @@
 #include "engine/summary_fields.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // U+2212, the minus sign of the wording ("−9 % [−27, +8]").
@@ -394,4 +394,4 @@ std::string FormatVerdict(const SeriesVerdict& verdict) {
   return text;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

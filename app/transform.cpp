@@ -1,11 +1,11 @@
-#include "cli/transform.h"
+#include "app/transform.h"
 
 #include <cmath>
 #include <filesystem>
 #include <optional>
 
-#include "cli/db_option.h"
-#include "cli/db_protection.h"
+#include "app/db_protection.h"
+#include "app/result_selection.h"
 #include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
@@ -18,7 +18,7 @@
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace fs = std::filesystem;
 
 namespace {
@@ -113,4 +113,4 @@ TransformReport RunTransform(const TransformOptions& options) {
   return report;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,4 +1,4 @@
-#include "cli/comparison.h"
+#include "app/comparison.h"
 
 #include <fmt/core.h>
 
@@ -9,15 +9,15 @@
 #include <set>
 #include <string_view>
 
-#include "cli/db_option.h"
-#include "cli/limits.h"
+#include "app/limits.h"
+#include "app/result_selection.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "engine/summary_fields.h"
 #include "ingest/import.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // The group of the tests without a variant; import refuses it as a variant name.
@@ -594,4 +594,4 @@ std::string FormatComparison(const Comparison& comparison, TableFormat format) {
   return FormatTable(ComparisonTable(comparison), format);
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,19 +1,17 @@
 #pragma once
-// The row-selection options of `napkin query` (docs/formats.md "Query
-// filters"): --series, --variant (repeatable: any of the names), --where
-// (repeatable: all must hold), --sort, --limit and --config, turned into a
-// db::QueryRequest. Other commands that select tests the same way may
-// register the same options.
+// The row selection of a query (docs/formats.md "Query filters"), as
+// `napkin query` takes it (--series, --variant: repeatable, any of the
+// names; --where: repeatable, all must hold; --sort, --limit and --config)
+// and napkin.Catalogue.query: text turned into a db::QueryRequest.
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "cli/command.h"
 #include "db/catalogue.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 struct QueryFilterOptions {
   std::vector<std::string> series;
@@ -23,8 +21,6 @@ struct QueryFilterOptions {
   std::string limit;   // text, so that a bad value is napkin's one-line usage error
   std::string config;  // NAME or HASH-PREFIX; empty: each test's latest result
 
-  // Registers the options on `command`.
-  void Register(CLI::App& command);
   // The request for query `kind` without its config (needs no catalogue, so
   // a malformed option is reported first); throws UsageError (one line) for
   // a bad --where, --sort or --limit.
@@ -39,4 +35,4 @@ db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField
 // `--limit N`: a whole number >= 0; throws UsageError.
 std::int64_t ParseRowLimit(std::string_view text);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

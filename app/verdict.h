@@ -2,10 +2,10 @@
 // The engineer's verdict on a series' variants (docs/formats.md "Verdict"):
 // a short table of the headline criteria and one sentence per variant
 // against the baseline, worded from `napkin compare`'s numbers
-// (cli/comparison.h: ratios on the log scale for the positive criteria,
+// (app/comparison.h: ratios on the log scale for the positive criteria,
 // Welch's t, 95 % interval, two-sided p, equivalence by two one-sided tests,
 // the smallest detectable change). The one place the sentences are made:
-// the HTML report (cli/report_builder.cpp) shows them and `napkin demo`
+// the HTML report (app/report_builder.cpp) shows them and `napkin demo`
 // prints them. Plain functions over data (no command line), with the rules
 // as a table beside them (kVerdictRules), which the report's note and
 // docs/formats.md "Verdict" state.
@@ -14,9 +14,9 @@
 #include <string_view>
 #include <vector>
 
-#include "cli/comparison.h"
+#include "app/comparison.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 // The significance level of the verdict's wording (two-sided), and of the
 // two one-sided tests of equivalence.
@@ -130,4 +130,4 @@ std::string VerdictNote(const Comparison& comparison);
 // two spaces (names escaped as `napkin compare` prints them).
 std::string FormatVerdict(const SeriesVerdict& verdict);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,21 +1,17 @@
 #pragma once
-// What the catalogue commands share: opening the --db catalogue,
-// resolving the --config processing configuration to its catalogue record
-// (records::ResolveConfig), and reading a result's kinematics.
+// Which result of a test: resolving a stored config selector (`--config
+// NAME|HASH-PREFIX` of query, compare and Python) or a processing config file
+// (records::ResolveConfig, `--config` of run and export) to its catalogue
+// record, and reading a result's kinematics.
 #include <cstddef>
 #include <string>
 #include <vector>
 
-#include "cli/command.h"
 #include "db/catalogue.h"
 #include "engine/kinematics.h"
 #include "records/config_record.h"
 
-namespace napkin::cli {
-
-// Opens --db; for writing (read_only false) after SQLite's quick_check, so a
-// damaged catalogue is refused before anything is written into it.
-db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only = false);
+namespace napkin::app {
 
 // A stored processing config named by a `--config NAME|HASH-PREFIX` selector
 // (query, compare, report): the config whose name is `selector` (exactly
@@ -49,4 +45,4 @@ engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId tes
 using records::ResolveConfig;
 using records::ResolvedConfig;
 
-}  // namespace napkin::cli
+}  // namespace napkin::app
