@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/limits.h"
 #include "db/catalogue.h"
 
 namespace napkin::app {
@@ -25,9 +26,38 @@ struct QueryFilterOptions {
   // a malformed option is reported first); throws UsageError (one line) for
   // a bad --where, --sort or --limit.
   db::QueryRequest Request(db::QueryKind kind) const;
-  // The --config's key (ResolveConfigSelector), or none without --config.
-  std::optional<db::ConfigId> Config(db::Catalogue& catalogue) const;
 };
+
+// The kinds of query, in this order: db::kQueryKindNames (tests, hic, ...,
+// conditioning), then "limits": the rows of `criteria` checked against a
+// limit set (LimitsTable).
+std::vector<std::string> QueryKindNames();
+
+// A query as `napkin query KIND` and napkin.Catalogue.query ask it.
+struct Query {
+  std::string kind;  // one of QueryKindNames()
+  QueryFilterOptions filters;
+  std::optional<std::string> limits;  // kind "limits": a limits preset name or JSON file (LoadLimits)
+};
+
+// A query checked without a catalogue, so that a malformed one is reported
+// before a catalogue is opened.
+struct PreparedQuery {
+  db::QueryKind kind;        // of the rows read: kCriteria for "limits"
+  db::QueryRequest request;  // without its config
+  std::string config;        // QueryFilterOptions::config
+  std::optional<LimitSet> limits;
+};
+
+// Throws UsageError for an unknown kind ("unknown query kind ..."), "limits"
+// without `limits` or `limits` with another kind, and QueryFilterOptions::Request's
+// errors; LoadLimits' errors.
+PreparedQuery PrepareQuery(const Query& query);
+
+// The query's rows: db::Catalogue::Query under the query's config (Stored,
+// app/result_selection.h; each test's latest result without one), for
+// "limits" checked against the limits.
+db::Table RunQuery(db::Catalogue& catalogue, const PreparedQuery& query);
 
 // `--sort FIELD[:asc|:desc]` against `fields`; throws UsageError.
 db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField>& fields);

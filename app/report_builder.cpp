@@ -319,7 +319,7 @@ class CatalogueReport {
     std::map<db::ConfigId, db::ConfigRow> configs;
     std::map<std::string, std::set<std::string>> variants_by_series;
     for (const db::TestRow& record : selected_) {
-      const std::optional<db::ConfigId> config_id = catalogue_.ReadLatestResultConfig(record.id);
+      const std::optional<db::ConfigId> config_id = FindResult(catalogue_, record.id, Latest{});
       if (!config_id) {
         without_results_.push_back(record.external_id);
         continue;

@@ -19,6 +19,33 @@ std::string ConfigList(const std::vector<db::ConfigRow>& configs) {
 
 }  // namespace
 
+std::optional<db::ConfigId> FindResult(db::Catalogue& catalogue, db::TestId test,
+                                       const ResultChoice& choice) {
+  if (std::holds_alternative<Latest>(choice)) return catalogue.ReadLatestResultConfig(test);
+  std::optional<db::ConfigId> config;
+  if (const auto* stored = std::get_if<Stored>(&choice))
+    config = ResolveConfigSelector(catalogue, stored->selector).id;
+  else
+    config =
+        catalogue.FindConfigByHash(ResolveConfig(std::get<Preset>(choice).name_or_path).record.config_hash);
+  if (!config || !catalogue.ReadSummary(test, *config)) return std::nullopt;
+  return config;
+}
+
+TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
+                    const std::string& db_path) {
+  const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id);
+  if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + db_path + "'.");
+  const std::optional<db::ConfigId> config = FindResult(catalogue, *test, choice);
+  if (config) return {*test, *config};
+  if (std::holds_alternative<Latest>(choice))
+    throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
+  const std::string& named = std::holds_alternative<Stored>(choice) ? std::get<Stored>(choice).selector
+                                                                    : std::get<Preset>(choice).name_or_path;
+  throw InputError("test '" + test_id + "' has no results for config '" + named +
+                   "' yet; run `napkin run --config " + named + "` first.");
+}
+
 engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
   if (std::optional<engine::Kinematics> stored = catalogue.ReadKinematics(test, config))
     return std::move(*stored);

@@ -1,10 +1,23 @@
 #pragma once
-// Which result of a test: resolving a stored config selector (`--config
-// NAME|HASH-PREFIX` of query, compare and Python) or a processing config file
-// (records::ResolveConfig, `--config` of run and export) to its catalogue
-// record, and reading a result's kinematics.
+// Which result of a test (docs/architecture.md "Which result of a test"):
+// a test has one result per processing config it was run under, and every
+// front end names the one it means in one of three ways, each with one
+// meaning:
+//
+//   Latest          the result written last (db::Catalogue::ReadLatestResultConfig;
+//                   what the query views show without --config)
+//   Stored{NAME}    the result under a config stored in the catalogue, named
+//                   by its name or a hash prefix (ResolveConfigSelector; the
+//                   `--config` of query and compare, napkin.Catalogue's config=)
+//   Preset{PATH}    the result under the config a preset name or JSON file
+//                   holds, found by its content hash (records::ResolveConfig;
+//                   the `--config` of run, status, transform and export)
+//
+// Also: reading a result's kinematics.
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "db/catalogue.h"
@@ -12,6 +25,35 @@
 #include "records/config_record.h"
 
 namespace napkin::app {
+
+struct Latest {};
+struct Stored {
+  std::string selector;  // a stored config's name or hash prefix
+};
+struct Preset {
+  std::string name_or_path;  // a processing config preset name or JSON file; empty: the default preset
+};
+using ResultChoice = std::variant<Latest, Stored, Preset>;
+
+// The config of `test`'s result that `choice` names, if the test has that
+// result. Throws UsageError for a Stored selector that names no config or
+// several (ResolveConfigSelector), InputError for a Preset that is no preset
+// or readable file.
+std::optional<db::ConfigId> FindResult(db::Catalogue& catalogue, db::TestId test, const ResultChoice& choice);
+
+// A test's result: the test's key and the config of the result.
+struct TestResult {
+  db::TestId test;
+  db::ConfigId config;
+};
+
+// The result of the test whose id is `test_id` that `choice` names. Throws
+// InputError "test 'T' is not in catalogue 'F'." (`db_path` names it), "test
+// 'T' has no results yet; run `napkin run` first." (Latest) or "test 'T' has
+// no results for config 'C' yet; run `napkin run --config C` first." (Stored,
+// Preset), and FindResult's errors.
+TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
+                    const std::string& db_path);
 
 // A stored processing config named by a `--config NAME|HASH-PREFIX` selector
 // (query, compare, report): the config whose name is `selector` (exactly

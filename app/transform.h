@@ -1,12 +1,53 @@
 #pragma once
-// The work of `napkin transform` as a function tests and `napkin demo` call.
+// The transform of one test without a catalogue (docs/architecture.md "A
+// test's life"): signals from a file (`napkin transform`, RunTransform) or
+// from samples in memory (napkin.transform, SignalsFromSamples), checked as
+// the CSV reader checks them, processed as `napkin run` processes a stored
+// test (ProcessSignals: engine::ProcessTest, and engine::FailingFinding's
+// sentence for a failing test).
+#include <Eigen/Core>
+#include <atomic>
+#include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "engine/kinematics.h"
+#include "engine/pipeline.h"
+#include "engine/processing.h"
 #include "engine/summary.h"
 
 namespace napkin::app {
+
+// Sets the solver named `name` (engine::SolverKind's names); throws
+// InputError listing the solvers for an unknown name, and what
+// ProcessingConfig::Check finds when the config's other settings do not
+// suit that solver.
+void SetSolver(engine::ProcessingConfig& config, const std::string& name);
+
+// The sample times of signals in memory: the sampling interval dt in s
+// (the first sample at t = 0), or one time per sample in s.
+using SampleTimes = std::variant<double, std::span<const double>>;
+
+// The signals of one test from samples in memory: `samples` holds one row per
+// sample and one column per sensor of `array`, in its order. Checks every
+// value is a finite number and there are at least two samples
+// (formats::RefuseNonFiniteSample, CheckSampleCount: the CSV reader's
+// sentences, a sample named "sample K, channel \"SLOT\"") and the times:
+// dt finite and positive, or one finite time per sample, uniformly spaced
+// (formats::UniformTimeBase, a time named "time_s[K]"). Throws InputError
+// starting with `source`.
+engine::TestSignals SignalsFromSamples(Eigen::MatrixXd samples, const engine::ArrayGeometry& array,
+                                       const SampleTimes& times, const std::string& source);
+
+// One test processed as `napkin run` processes a stored one
+// (engine::ProcessTest); a test that fails there (engine::FailingFinding)
+// fails here with the same sentence. Every InputError starts with `source`.
+// `cancel` as engine::ProcessTest's.
+engine::ProcessedTest ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
+                                     const engine::InitialState& initial,
+                                     const engine::ProcessingConfig& config, const std::string& source,
+                                     const std::atomic<bool>* cancel = nullptr);
 
 struct TransformOptions {
   std::string array;                         // preset name or array JSON path

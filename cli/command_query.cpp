@@ -5,14 +5,11 @@
 // table, CSV or JSON (one object per row, docs/formats.md field names).
 #include <fmt/core.h>
 
-#include "app/limits.h"
 #include "app/query.h"
 #include "app/table_output.h"
 #include "cli/catalogue_option.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
-#include "common/error.h"
-#include "common/joined.h"
 
 namespace napkin::cli {
 namespace {
@@ -40,15 +37,12 @@ class QueryCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    std::vector<std::string> kinds;
-    kinds.reserve(db::kQueryKindNames.size());
-    for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
-    kinds.emplace_back("limits");  // `query criteria` against --limits (cli/limits.h)
-    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality, conditioning or limits")
+    sub->add_option("KIND", query_.kind,
+                    "tests, hic, rotation, criteria, risk, quality, conditioning or limits")
         ->required()
-        ->check(OneOfCheck("the query KIND", kinds));
-    RegisterQueryFilters(*sub, filters_);
-    sub->add_option("--limits", limits_,
+        ->check(OneOfCheck("the query KIND", napkin::app::QueryKindNames()));
+    RegisterQueryFilters(*sub, query_.filters);
+    sub->add_option("--limits", query_.limits,
                     "query limits: the limits each test is checked against, a limits preset (config/limits, "
                     "e.g. fmvss201u) or a JSON file")
         ->check(PathCheck("--limits"));
@@ -59,30 +53,17 @@ class QueryCommand : public Command {
   }
 
   int Run() override {
-    const bool limits = what_ == "limits";
-    if (limits && !limits_)
-      throw UsageError("`napkin query limits` needs --limits NAME (presets: " + Joined(app::LimitPresets()) +
-                       ").");
-    if (!limits && limits_) throw UsageError("--limits applies to `napkin query limits` only.");
-    const std::optional<app::LimitSet> limit_set =
-        limits ? std::optional<app::LimitSet>(app::LoadLimits(*limits_)) : std::nullopt;
-    // query limits: the rows of query criteria, filtered and sorted as it does, each against each limit.
-    const db::QueryKind kind = limits ? db::QueryKind::kCriteria : *engine::ParseName<db::QueryKind>(what_);
-    db::QueryRequest request = filters_.Request(kind);
+    // The query is checked before the catalogue is opened (app/query.h).
+    const app::PreparedQuery query = app::PrepareQuery(query_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    request.config = filters_.Config(catalogue);
-    const db::Table table = catalogue.Query(kind, request);
-    fmt::print("{}", app::FormatTable(limits ? app::LimitsTable(table, *limit_set) : table,
-                                      app::ParseTableFormat(format_)));
+    fmt::print("{}", app::FormatTable(app::RunQuery(catalogue, query), app::ParseTableFormat(format_)));
     return kExitOk;
   }
 
  private:
   const GlobalOptions* global_ = nullptr;
-  std::string what_;
-  app::QueryFilterOptions filters_;
+  app::Query query_;
   std::string format_ = "table";
-  std::optional<std::string> limits_;
 };
 
 }  // namespace

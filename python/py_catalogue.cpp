@@ -13,7 +13,6 @@
 #include "app/result_selection.h"
 #include "app/table_output.h"
 #include "common/error.h"
-#include "common/joined.h"
 #include "formats/csv.h"
 #include "python/py_bindings.h"
 #include "records/test_inputs.h"
@@ -28,16 +27,8 @@ class ReadOnlyCatalogue {
   const std::string& path() const { return path_; }
 
   // (JSON text of `napkin query KIND --format json`, its column names).
-  std::pair<std::string, std::vector<std::string>> Query(const std::string& kind_name,
-                                                         const app::QueryFilterOptions& filters) {
-    const std::optional<db::QueryKind> kind = engine::ParseName<db::QueryKind>(kind_name);
-    if (!kind)
-      throw UsageError(
-          "unknown query kind \"" + kind_name + "\" (use " +
-          Joined(db::kQueryKindNames, [](const auto& entry) { return std::string(entry.name); }) + ").");
-    db::QueryRequest request = filters.Request(*kind);
-    request.config = filters.Config(catalogue_);
-    const db::Table table = catalogue_.Query(*kind, request);
+  std::pair<std::string, std::vector<std::string>> Query(const app::Query& query) {
+    const db::Table table = app::RunQuery(catalogue_, app::PrepareQuery(query));
     return {app::FormatTable(table, app::TableFormat::kJson), table.columns};
   }
 
@@ -50,27 +41,18 @@ class ReadOnlyCatalogue {
   // `config` (NAME or HASH-PREFIX; default: its latest result), as `napkin
   // export --format csv` writes them; or (derived false) its raw channels.
   py::dict Channels(const std::string& test_id, bool derived, const std::optional<std::string>& config) {
-    const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
-    if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
-    if (!derived) {
-      py::dict inputs = TestInputs(*test);
-      const auto channels = inputs["channels"].cast<py::dict>();
-      py::dict raw;
-      raw["time_s"] = inputs["time_s"];
-      for (const auto& [slot, values] : channels) raw[slot] = values;
-      return raw;
+    if (derived) {
+      // config= names a stored config (app/result_selection.h "Stored").
+      const app::TestResult result = config ? app::ResultOf(catalogue_, test_id, app::Stored{*config}, path_)
+                                            : app::ResultOf(catalogue_, test_id, app::Latest{}, path_);
+      return DerivedChannelsToNumpy(app::ReadResultKinematics(catalogue_, result.test, result.config));
     }
-    std::optional<db::ConfigId> config_id;
-    if (config) {
-      config_id = app::ResolveConfigSelector(catalogue_, *config).id;
-      if (!catalogue_.ReadSummary(*test, *config_id))
-        throw InputError("test '" + test_id + "' has no results for config '" + *config +
-                         "' yet; run `napkin run --config " + *config + "` first.");
-    } else {
-      config_id = catalogue_.ReadLatestResultConfig(*test);
-      if (!config_id) throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
-    }
-    return DerivedChannelsToNumpy(app::ReadResultKinematics(catalogue_, *test, *config_id));
+    py::dict inputs = TestInputs(test_id);
+    const auto channels = inputs["channels"].cast<py::dict>();
+    py::dict raw;
+    raw["time_s"] = inputs["time_s"];
+    for (const auto& [slot, values] : channels) raw[slot] = values;
+    return raw;
   }
 
   // What `napkin run` computes the test's result from, as napkin.transform's
@@ -141,14 +123,15 @@ void RegisterCatalogue(py::module_& module) {
              const std::optional<std::string>& config, const std::optional<std::vector<std::string>>& series,
              const std::optional<std::vector<std::string>>& variant) {
             return Translated(self.path(), [&] {
-              app::QueryFilterOptions filters;
-              filters.where = AsList(where);
-              filters.sort = AsList(sort);
-              filters.limit = limit.value_or("");
-              filters.config = config.value_or("");
-              filters.series = AsList(series);
-              filters.variants = AsList(variant);
-              return self.Query(kind, filters);
+              app::Query query;
+              query.kind = kind;
+              query.filters.where = AsList(where);
+              query.filters.sort = AsList(sort);
+              query.filters.limit = limit.value_or("");
+              query.filters.config = config.value_or("");
+              query.filters.series = AsList(series);
+              query.filters.variants = AsList(variant);
+              return self.Query(query);
             });
           },
           py::arg("kind"), py::arg("where"), py::arg("sort"), py::arg("limit"), py::arg("config"),
