@@ -74,7 +74,8 @@ std::string VariantGroup(const std::optional<std::string>& variant);
 
 // The metrics `napkin compare` shows by default: hic15, hic36, hic_d (when
 // this build has it), peak_acc_g, a3ms_g, peak_omega_radps, peak_alpha_radps2,
-// bric, damage, max_rotation_deg, hic15_p_ais3, bric_p_ais3, bric_p_ais4.
+// bric, damage, max_rotation_deg, then the risks read from hic15 and bric
+// (engine::RiskFields(): P(AIS 3+ | HIC15), P(AIS 3+ | BrIC), P(AIS 4+ | BrIC)).
 std::vector<std::string> DefaultComparisonMetrics();
 
 // A group's values of one metric, one per test with a result (tests whose

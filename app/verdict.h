@@ -69,12 +69,12 @@ inline constexpr VerdictRule kVerdictRules[] = {
 const VerdictRule& RuleOf(ClauseKind kind);
 
 // The criteria a verdict speaks of, in its order: HIC15 and BrIC (each
-// followed by the risks computed from it, engine::InjuryRiskCurves()),
+// followed by the risks computed from it, engine::RiskFields()),
 // where the comparison has them and some test of the series has a value.
 std::vector<std::string> VerdictCriteria();
 
-// "HIC15", "BrIC", "HIC(d)", "P(AIS 3+ | HIC15)" (a risk names its
-// criterion); other names as they are.
+// A summary field's label (engine::FieldLabel): "HIC15", "BrIC", "HIC(d)",
+// "P(AIS 3+ | HIC15)" (a risk names its criterion); other names as they are.
 std::string MetricLabel(std::string_view name);
 
 // "p < 0.0001"; else "p = " and two significant digits, more where two
