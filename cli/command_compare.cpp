@@ -1,6 +1,6 @@
 // `napkin compare --series S --by variant|config`: each group's statistics of
 // the chosen metrics and their differences from a baseline group with 95 %
-// confidence intervals and p-values (cli/comparison.h; docs/formats.md
+// confidence intervals and p-values (app/comparison.h; docs/formats.md
 // "napkin compare").
 #include <fmt/core.h>
 

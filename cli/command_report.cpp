@@ -1,5 +1,5 @@
 // `napkin report`: one self-contained HTML file of the selected tests
-// (cli/report_builder.h; docs/formats.md "HTML report").
+// (app/report_builder.h; docs/formats.md "HTML report").
 #include <fmt/core.h>
 
 #include <string>

@@ -215,7 +215,7 @@ using TraceKind = ReportOverlay::Trace::Kind;  // its names as report.js reads t
 constexpr std::array<engine::NamedValue<TraceKind>, 3> kTraceKindNames{
     {{TraceKind::kTest, "test"}, {TraceKind::kLow, "low"}, {TraceKind::kHigh, "high"}}};
 
-// The verdict: its table and one sentence per variant (cli/verdict.h).
+// The verdict: its table and one sentence per variant (app/verdict.h).
 Html VerdictBlock(const ReportVerdict& verdict) {
   if (verdict.sentences.empty()) return {};
   Html table = Markup("\n") + TextRow("th", verdict.columns);

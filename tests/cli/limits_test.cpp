@@ -1,4 +1,4 @@
-// The limits files (config/limits/*.json, cli/limits.h, docs/formats.md
+// The limits files (config/limits/*.json, app/limits.h, docs/formats.md
 // "Limits"): each file's values and its cited source, the docs citing the
 // same, and the refusals of a bad --limits (usage) or a malformed file (input).
 #include "app/limits.h"

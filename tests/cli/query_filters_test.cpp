@@ -1,4 +1,4 @@
-// The --sort and --limit values of `napkin query` (cli/query_filters.h).
+// The --sort and --limit values of `napkin query` (app/query.h).
 #include <gtest/gtest.h>
 
 #include "app/query.h"

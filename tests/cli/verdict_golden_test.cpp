@@ -1,4 +1,4 @@
-// The verdict's wording (cli/verdict.h, docs/formats.md "Verdict") on the
+// The verdict's wording (app/verdict.h, docs/formats.md "Verdict") on the
 // fixed synthetic padding series (`napkin synth --scenario padding-series`:
 // fixed seeds, 5 repeats of production, foam-a and foam-b), run and
 // reported against production: the report's verdict block is compared with

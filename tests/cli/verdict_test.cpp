@@ -1,4 +1,4 @@
-// The wording rules of the verdict (cli/verdict.h, docs/formats.md
+// The wording rules of the verdict (app/verdict.h, docs/formats.md
 // "Verdict"), on series with known answers compared as BuildComparison
 // compares them (app::CompareMetric): a large reduction, a non-significant
 // difference, an equivalent one, the base/soft series of issue 30, identical

@@ -1,4 +1,4 @@
-// The --where parser (cli/where_parser.h, docs/formats.md "Query
+// The --where parser (app/where_parser.h, docs/formats.md "Query
 // filters"): precedence, parentheses, quoting, value types, and every error
 // with its one-line message.
 #include "app/where_parser.h"
