@@ -1,12 +1,12 @@
 // `napkin compare --series S --by variant|config`: each group's statistics of
 // the chosen metrics and their differences from a baseline group with 95 %
-// confidence intervals and p-values (cli/comparison.h; docs/formats.md
+// confidence intervals and p-values (app/comparison.h; docs/formats.md
 // "napkin compare").
 #include <fmt/core.h>
 
+#include "app/comparison.h"
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/comparison.h"
-#include "cli/db_option.h"
 #include "cli/option_checks.h"
 
 namespace napkin::cli {
@@ -49,25 +49,26 @@ class CompareCommand : public Command {
   }
 
   int Run() override {
-    request_.by = ParseCompareBy(by_);
+    request_.by = app::ParseCompareBy(by_);
     request_.baseline = baseline_;
-    request_.scale = ParseCompareScale(scale_);
-    request_.equivalence_pct = ParseEquivalencePct(equivalence_);
+    request_.scale = app::ParseCompareScale(scale_);
+    request_.equivalence_pct = app::ParseEquivalencePct(equivalence_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    const Comparison comparison = BuildComparison(catalogue, request_);
-    fmt::print("{}", FormatComparison(comparison, ParseTableFormat(format_)));
+    const app::Comparison comparison = app::BuildComparison(catalogue, request_);
+    fmt::print("{}", app::FormatComparison(comparison, app::ParseTableFormat(format_)));
     return kExitOk;
   }
 
  private:
   static std::string DefaultMetricsText() {
     std::string text;
-    for (const std::string& metric : DefaultComparisonMetrics()) text += (text.empty() ? "" : ",") + metric;
+    for (const std::string& metric : app::DefaultComparisonMetrics())
+      text += (text.empty() ? "" : ",") + metric;
     return text;
   }
 
   const GlobalOptions* global_ = nullptr;
-  ComparisonRequest request_;
+  app::ComparisonRequest request_;
   std::string by_ = "variant";
   std::optional<std::string> baseline_;
   std::string format_ = "table";

@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "app/db_protection.h"
+#include "app/result_selection.h"
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
-#include "cli/db_protection.h"
 #include "cli/option_checks.h"
 #include "common/error.h"
 #include "engine/kinematics.h"
@@ -83,28 +84,20 @@ class ExportCommand : public Command {
     // "Output destinations"); an unknown preset is reported where it is used.
     if (!config_.empty()) {
       try {
-        ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
-                               "the --config file");
+        app::ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
+                                    "the --config file");
       } catch (const InputError&) {
       }
     }
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id_);
-    if (!test) throw InputError("test '" + test_id_ + "' is not in catalogue '" + global_->db_path + "'.");
-
-    std::optional<db::ConfigId> config;
-    if (config_.empty()) {
-      config = catalogue.ReadLatestResultConfig(*test);
-      if (!config) throw InputError("test '" + test_id_ + "' has no results yet; run `napkin run` first.");
-    } else {
-      const ResolvedConfig resolved = ResolveConfig(config_);
-      config = catalogue.FindConfigByHash(resolved.record.config_hash);
-      if (!config || !catalogue.ReadSummary(*test, *config))
-        throw InputError("test '" + test_id_ + "' has no results for config '" + config_ +
-                         "' yet; run `napkin run --config " + config_ + "` first.");
-    }
+    // --config is a preset or file here, as for `napkin run` (app/result_selection.h "Preset").
+    const app::TestResult result =
+        config_.empty() ? app::ResultOf(catalogue, test_id_, app::Latest{}, global_->db_path)
+                        : app::ResultOf(catalogue, test_id_, app::Preset{config_}, global_->db_path);
+    const db::TestId test = result.test;
+    const db::ConfigId config = result.config;
     // Stored, or recomputed (storage "none"; docs/formats.md "Derived-channel storage").
-    const std::optional<engine::Kinematics> kinematics = ReadResultKinematics(catalogue, *test, *config);
+    const std::optional<engine::Kinematics> kinematics = app::ReadResultKinematics(catalogue, test, config);
 
     // docs/formats.md "Derived channels": an acceleration-only test exports as csv or isomme only.
     if (format_ != "csv" && format_ != "isomme" && !engine::HasRotation(*kinematics))
@@ -127,12 +120,12 @@ class ExportCommand : public Command {
                                           : numform_ == "sun" ? formats::UdsNumberForm::kSun
                                                               : formats::UdsNumberForm::kIeee;
       // FCUT: the class the result's channels are filtered at (docs/formats.md "UDS-1992 export").
-      const db::TestRow record = catalogue.ReadTest(*test);
-      const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(*test, *config);
+      const db::TestRow record = catalogue.ReadTest(test);
+      const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(test, config);
       const formats::UdsExportFilters filters = formats::UdsFiltersOfResult(
           summary ? summary->conditioning : std::vector<engine::ChannelConditioning>{},
           records::DecodeArrayRecord(catalogue.ReadArray(record.array_id)),
-          records::DecodeConfigRecord(catalogue.ReadConfig(*config)).filter);
+          records::DecodeConfigRecord(catalogue.ReadConfig(config)).filter);
       // The files appear beside what --out holds, none replaced unless --force
       // (util/atomic_file.h WriteDirectoryAtomically).
       util::WriteDirectoryAtomically(
@@ -144,7 +137,7 @@ class ExportCommand : public Command {
     } else {
       // The test id names the files: made safe (no separator, control
       // character, "." or ".."; docs/formats.md "Names, limits and escaping").
-      const formats::IsoMmeExportOptions options = IsoMmeOptions(catalogue, *test, *config);
+      const formats::IsoMmeExportOptions options = IsoMmeOptions(catalogue, test, config);
       util::WriteDirectoryAtomically(
           out_,
           [&](const std::filesystem::path& staging) {

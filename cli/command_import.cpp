@@ -11,8 +11,8 @@
 #include <memory>
 #include <optional>
 
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "cli/progress.h"
 #include "cli/triple_option.h"

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <optional>
 
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
 #include "db/sqlite.h"
 
 namespace napkin::cli {

@@ -2,8 +2,8 @@
 // (processed on other machines) into the --db catalogue.
 #include <fmt/core.h>
 
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
 #include "cli/option_checks.h"
 
 namespace napkin::cli {

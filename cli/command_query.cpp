@@ -5,32 +5,44 @@
 // table, CSV or JSON (one object per row, docs/formats.md field names).
 #include <fmt/core.h>
 
+#include "app/query.h"
+#include "app/table_output.h"
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
-#include "cli/limits.h"
 #include "cli/option_checks.h"
-#include "cli/query_filters.h"
-#include "cli/table_output.h"
-#include "common/error.h"
-#include "common/joined.h"
 
 namespace napkin::cli {
 namespace {
+
+// The row-selection options (app/query.h) on `command`.
+void RegisterQueryFilters(CLI::App& command, app::QueryFilterOptions& filters) {
+  command.add_option("--series", filters.series, "only tests of this series (repeatable: any of them)")
+      ->allow_extra_args(false);
+  command.add_option("--variant", filters.variants, "only tests of this variant (repeatable: any of them)")
+      ->allow_extra_args(false);
+  command
+      .add_option(
+          "--where", filters.where,
+          "only rows where EXPR holds, e.g. \"hic15>700 and variant=foam-a\" (repeatable: all of them)")
+      ->allow_extra_args(false);
+  command.add_option("--sort", filters.sort, "order by FIELD[:desc] (repeatable; ties: by test_id)")
+      ->allow_extra_args(false);
+  command.add_option("--limit", filters.limit, "at most N rows");
+  command.add_option("--config", filters.config,
+                     "results of this processing config (name or hash prefix; default: each test's latest)");
+}
 
 class QueryCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    std::vector<std::string> kinds;
-    kinds.reserve(db::kQueryKindNames.size());
-    for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
-    kinds.emplace_back("limits");  // `query criteria` against --limits (cli/limits.h)
-    sub->add_option("KIND", what_, "tests, hic, rotation, criteria, risk, quality, conditioning or limits")
+    sub->add_option("KIND", query_.kind,
+                    "tests, hic, rotation, criteria, risk, quality, conditioning or limits")
         ->required()
-        ->check(OneOfCheck("the query KIND", kinds));
-    filters_.Register(*sub);
-    sub->add_option("--limits", limits_,
+        ->check(OneOfCheck("the query KIND", napkin::app::QueryKindNames()));
+    RegisterQueryFilters(*sub, query_.filters);
+    sub->add_option("--limits", query_.limits,
                     "query limits: the limits each test is checked against, a limits preset (config/limits, "
                     "e.g. fmvss201u) or a JSON file")
         ->check(PathCheck("--limits"));
@@ -41,29 +53,17 @@ class QueryCommand : public Command {
   }
 
   int Run() override {
-    const bool limits = what_ == "limits";
-    if (limits && !limits_)
-      throw UsageError("`napkin query limits` needs --limits NAME (presets: " + Joined(LimitPresets()) +
-                       ").");
-    if (!limits && limits_) throw UsageError("--limits applies to `napkin query limits` only.");
-    const std::optional<LimitSet> limit_set =
-        limits ? std::optional<LimitSet>(LoadLimits(*limits_)) : std::nullopt;
-    // query limits: the rows of query criteria, filtered and sorted as it does, each against each limit.
-    const db::QueryKind kind = limits ? db::QueryKind::kCriteria : *engine::ParseName<db::QueryKind>(what_);
-    db::QueryRequest request = filters_.Request(kind);
+    // The query is checked before the catalogue is opened (app/query.h).
+    const app::PreparedQuery query = app::PrepareQuery(query_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    request.config = filters_.Config(catalogue);
-    const db::Table table = catalogue.Query(kind, request);
-    fmt::print("{}", FormatTable(limits ? LimitsTable(table, *limit_set) : table, ParseTableFormat(format_)));
+    fmt::print("{}", app::FormatTable(app::RunQuery(catalogue, query), app::ParseTableFormat(format_)));
     return kExitOk;
   }
 
  private:
   const GlobalOptions* global_ = nullptr;
-  std::string what_;
-  QueryFilterOptions filters_;
+  app::Query query_;
   std::string format_ = "table";
-  std::optional<std::string> limits_;
 };
 
 }  // namespace

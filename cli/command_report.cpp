@@ -1,12 +1,12 @@
 // `napkin report`: one self-contained HTML file of the selected tests
-// (cli/report_builder.h; docs/formats.md "HTML report").
+// (app/report_builder.h; docs/formats.md "HTML report").
 #include <fmt/core.h>
 
 #include <string>
 
+#include "app/report_builder.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
-#include "cli/report_builder.h"
 #include "util/output_destination.h"
 
 namespace napkin::cli {
@@ -45,9 +45,9 @@ class ReportCommand : public Command {
   }
 
   int Run() override {
-    options_.align = ParseOverlayAlignment(align_);
+    options_.align = app::ParseOverlayAlignment(align_);
     const std::string written =
-        WrittenReportText(WriteCatalogueReport(global_->db_path, selection_, out_, options_));
+        app::WrittenReportText(app::WriteCatalogueReport(global_->db_path, selection_, out_, options_));
     // With --out - the report is standard output; what was written goes to stderr.
     fmt::print(out_ == util::kStandardOutputName ? stderr : stdout, "{}", written);
     return kExitOk;
@@ -55,9 +55,9 @@ class ReportCommand : public Command {
 
  private:
   const GlobalOptions* global_ = nullptr;
-  ReportSelection selection_;
+  app::ReportSelection selection_;
   std::string out_;
-  ReportOptions options_;
+  app::ReportOptions options_;
   std::string align_ = "recorded";
 };
 

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <optional>
 
+#include "app/db_protection.h"
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
-#include "cli/db_protection.h"
 #include "cli/option_checks.h"
 #include "cli/progress.h"
 #include "common/error.h"
@@ -91,12 +91,12 @@ class RunCommand : public Command {
     // The results file is a catalogue of its own, never the --db one's side
     // files (db::ResultsFile::Open refuses the catalogue itself).
     // Nor the --config file this command reads (docs/formats.md "Output destinations").
-    ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
-                           "the --config file");
+    app::ProtectInputFromOutput(records::ProcessingConfigPath(config_, formats::DefaultConfigDir()),
+                                "the --config file");
     if (!options_.results_path.empty()) util::CheckNotProtected(options_.results_path);
     CheckScope();
 
-    const ResolvedConfig processing = ResolveConfig(config_);
+    const records::ResolvedConfig processing = records::ResolveConfig(config_);
     InstallStopHandlers();
     RunProgressReporter reporter(global_->quiet);
     const jobs::RunReport report = jobs::RunScheduler(

@@ -9,11 +9,12 @@
 #include <utility>
 #include <vector>
 
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "common/version.h"
 #include "db/job_queue.h"
+#include "records/config_record.h"
 
 namespace napkin::cli {
 namespace {
@@ -55,7 +56,7 @@ class StatusCommand : public Command {
   }
 
   int Run() override {
-    const ResolvedConfig resolved = ResolveConfig(config_);
+    const records::ResolvedConfig resolved = records::ResolveConfig(config_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     // A config never run on this catalogue has no key: every test is pending.
     const db::ConfigId config =

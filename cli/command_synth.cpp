@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "cli/catalogue_option.h"
 #include "cli/command.h"
-#include "cli/db_option.h"
 #include "cli/option_checks.h"
 #include "ingest/synthetic_import.h"
 #include "synth/synthetic_tests.h"

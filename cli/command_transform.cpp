@@ -2,9 +2,9 @@
 // non-interactive.
 #include <spdlog/spdlog.h>
 
+#include "app/transform.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
-#include "cli/transform.h"
 #include "cli/triple_option.h"
 #include "engine/solver.h"
 
@@ -49,13 +49,13 @@ class TransformCommand : public Command {
   }
 
   int Run() override {
-    const TransformReport report = RunTransform(options_);
+    const app::TransformReport report = app::RunTransform(options_);
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
     return kExitOk;
   }
 
  private:
-  TransformOptions options_;
+  app::TransformOptions options_;
 };
 
 }  // namespace

@@ -10,14 +10,15 @@
 #include <thread>
 #include <vector>
 
-#include "cli/comparison.h"
-#include "cli/db_option.h"
+#include "app/comparison.h"
+#include "app/limits.h"
+#include "app/report_builder.h"
+#include "app/result_selection.h"
+#include "app/table_output.h"
+#include "app/transform.h"
+#include "app/verdict.h"
+#include "cli/catalogue_option.h"
 #include "cli/demo_folder.h"
-#include "cli/limits.h"
-#include "cli/report_builder.h"
-#include "cli/table_output.h"
-#include "cli/transform.h"
-#include "cli/verdict.h"
 #include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/rotation.h"
@@ -26,6 +27,7 @@
 #include "formats/csv.h"
 #include "ingest/synthetic_import.h"
 #include "jobs/scheduler.h"
+#include "records/config_record.h"
 #include "synth/synthetic_tests.h"
 
 namespace napkin::cli {
@@ -135,14 +137,14 @@ fs::path WritePaddingCsvFiles(const fs::path& dir) {
 // prints it, for the metrics that tell the story: HIC, the CG acceleration, and
 // the rotation that the padding barely changes.
 void PrintPaddingComparison(db::Catalogue& catalogue, const std::string& limits) {
-  ComparisonRequest request;
+  app::ComparisonRequest request;
   request.series = kPaddingSeries;
   request.baseline = kPaddingBaseline;
   request.limits = limits;
   // The verdict first, from compare's default metrics, as the report words it.
-  fmt::print("{}\n", FormatVerdict(BuildVerdict(BuildComparison(catalogue, request))));
+  fmt::print("{}\n", app::FormatVerdict(app::BuildVerdict(app::BuildComparison(catalogue, request))));
   request.metrics = {"hic15", "hic_d", "peak_acc_g", "peak_omega_radps", "peak_alpha_radps2", "bric"};
-  fmt::print("{}", FormatComparison(BuildComparison(catalogue, request), TableFormat::kTable));
+  fmt::print("{}", app::FormatComparison(app::BuildComparison(catalogue, request), app::TableFormat::kTable));
 }
 
 // Report section 4.5, from the catalogue's results of the validation tests.
@@ -150,8 +152,8 @@ void PrintValidationTable(db::Catalogue& catalogue, db::ConfigId config) {
   ScenarioNumbers numbers[3];
   for (int g = 0; g < 3; ++g) {
     const db::TestId test = catalogue.FindTestByExternalId(ValidationTestId(kGeometries[g])).value();
-    numbers[g] =
-        Measure(ReadResultKinematics(catalogue, test, config), catalogue.ReadSummary(test, config).value());
+    numbers[g] = Measure(app::ReadResultKinematics(catalogue, test, config),
+                         catalogue.ReadSummary(test, config).value());
   }
   fmt::print(
       "report section 4.5: rotation about an axis parallel to fixed Y, 10 in from the CG, head initially at\n"
@@ -198,13 +200,13 @@ void PrintSeedSolverTable(const fs::path& dir) {
   fmt::print("{:<40} {:>16} {:>16} {:>18}\n", "processed as", "peak |omega_X|", "peak |omega_Z|",
              "final orient. err");
   for (const char* as : {"ideal-3222", "volpe-table4-2"}) {
-    TransformOptions options;
+    app::TransformOptions options;
     options.array = as;
     options.solver = "seed";
     options.orientation_rad = {0.5, 0.5, 0.5};
     options.input = input;
     options.out = (dir / SeedOutput(as)).string();
-    const TransformReport report = RunTransform(options);
+    const app::TransformReport report = app::RunTransform(options);
     const engine::Kinematics& k = report.kinematics;
     const Eigen::Index last = k.size() - 1;
     const Eigen::Quaterniond q(k.quat_fixed_from_body(last, 0), k.quat_fixed_from_body(last, 1),
@@ -226,7 +228,7 @@ void PrintSeedSolverTable(const fs::path& dir) {
 // with the default config and prints one line about it. Throws InputError
 // when a test failed.
 jobs::RunReport ProcessDemoTests(const std::string& db, int threads) {
-  const ResolvedConfig processing = ResolveConfig("");
+  const records::ResolvedConfig processing = records::ResolveConfig("");
   jobs::RunOptions options;
   options.threads =
       threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -260,7 +262,8 @@ void PrintNextSteps(const std::string& db, const fs::path& csv_dir) {
 
 void RunDemo(const DemoRequest& request) {
   const fs::path dir(request.dir);
-  LoadLimits(request.limits);  // an unknown or malformed --limits stops the demo before it builds anything
+  app::LoadLimits(
+      request.limits);  // an unknown or malformed --limits stops the demo before it builds anything
   const bool replaced = PrepareDemoFolder(dir, kDemoDb);
   WriteDemoStamp(dir, DemoFiles());
   const fs::path db_path = dir / kDemoDb;
@@ -290,10 +293,11 @@ void RunDemo(const DemoRequest& request) {
   const fs::path csv_dir = WritePaddingCsvFiles(dir);
 
   fmt::print("\n");
-  ReportOptions report_options;
+  app::ReportOptions report_options;
   report_options.baseline = kPaddingBaseline;
   report_options.limits = request.limits;
-  fmt::print("{}", WrittenReportText(WriteCatalogueReport(db, {}, report_path.string(), report_options)));
+  fmt::print("{}",
+             app::WrittenReportText(app::WriteCatalogueReport(db, {}, report_path.string(), report_options)));
   PrintNextSteps(db, csv_dir);
 }
 

@@ -12,7 +12,7 @@ namespace napkin::cli {
 struct DemoRequest {
   std::string dir = "napkin-demo";  // the demo's folder (cli/demo_folder.h)
   int threads = 0;                  // worker threads; 0: all cores
-  // The limits of the padding verdict (cli/limits.h): FMVSS 201U, the
+  // The limits of the padding verdict (app/limits.h): FMVSS 201U, the
   // free-motion headform's upper-interior limit, the padding case.
   std::string limits = "fmvss201u";
 };

@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 
+#include "app/db_protection.h"
 #include "cli/command.h"
-#include "cli/db_protection.h"
 #include "cli/diagnostics.h"
 #include "cli/option_checks.h"
 #include "common/version.h"
@@ -41,7 +41,7 @@ int RunNapkin(int argc, char** argv) {
   if (global.quiet) SetQuietLogging();
   try {
     // No command writes its output over the catalogue (docs/formats.md "Output destinations").
-    ProtectCatalogueFromOutput(global.db_path);
+    napkin::app::ProtectCatalogueFromOutput(global.db_path);
     for (auto& [sub, command] : parsed)
       if (sub->parsed()) return command->Run();
   } catch (...) {

@@ -4,20 +4,21 @@
 #include <string>
 #include <string_view>
 
-#include "engine/injury_risk.h"
+#include "engine/summary_fields.h"
 
 namespace napkin::db {
 namespace {
 
-// napkin_injury_risk(field, criterion): the risk of the curve whose summary
-// field is `field` (engine/injury_risk.h) at `criterion`; NULL for a NULL
+// napkin_injury_risk(field, criterion): the risk of the curve of summary
+// field `field` (engine/summary_fields.h RiskCurve) at `criterion`; NULL for a NULL
 // criterion or an unknown field. Migrations call it to give results computed
 // before a curve existed the risk their stored criterion stands for, by the
 // engine's own function (schema/008_injury_risk.sql).
 void InjuryRiskFunction(sqlite3_context* context, int, sqlite3_value** arguments) {
   const unsigned char* field = sqlite3_value_text(arguments[0]);
-  const engine::InjuryRiskCurve* curve =
-      field == nullptr ? nullptr : engine::FindInjuryRiskCurve(reinterpret_cast<const char*>(field));
+  const engine::SummaryField* risk =
+      field == nullptr ? nullptr : engine::FindSummaryField(reinterpret_cast<const char*>(field));
+  const engine::RiskCurve* curve = risk == nullptr ? nullptr : risk->curve;
   if (curve == nullptr || sqlite3_value_type(arguments[1]) == SQLITE_NULL) {
     sqlite3_result_null(context);
     return;

@@ -1,7 +1,7 @@
 #pragma once
 // The filter of `napkin query --where` as a tree (docs/formats.md "Query
 // filters"): comparisons of one query field with one value, joined by `and`
-// and `or`. No SQL here: cli::ParseWhereExpression builds it from text,
+// and `or`. No SQL here: app::ParseWhereExpression builds it from text,
 // Catalogue::Query turns it into SQL with every value bound as a parameter.
 #include <cstddef>
 #include <string>

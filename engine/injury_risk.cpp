@@ -3,19 +3,14 @@
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
 
+#include "engine/summary_fields.h"
+
 namespace napkin::engine {
 namespace {
 
 // The curves are probabilities of a non-negative criterion: at or below 0
 // every one of them is 0 (their limit), and a NaN stays NaN.
 bool AtOrBelowZero(double criterion) { return criterion <= 0.0; }
-
-constexpr InjuryRiskCurve kCurves[] = {
-    {"hic15_p_ais3", "hic15", 3, NcapHic15Ais3Risk},
-    {"hic36_p_ais4", "hic36", 4, PrasadMertzHic36Ais4Risk},
-    {"bric_p_ais3", "bric", 3, TakhountsBricAis3Risk},
-    {"bric_p_ais4", "bric", 4, TakhountsBricAis4Risk},
-};
 
 double Weibull(double x, double scale, double shape) {
   if (std::isnan(x)) return x;
@@ -46,19 +41,9 @@ double TakhountsBricAis4Risk(double bric) {
   return Weibull(bric, kTakhountsBricAis4Scale, kTakhountsBricShape);
 }
 
-std::span<const InjuryRiskCurve> InjuryRiskCurves() { return kCurves; }
-
-const InjuryRiskCurve* FindInjuryRiskCurve(std::string_view field) {
-  for (const InjuryRiskCurve& curve : kCurves)
-    if (field == curve.field) return &curve;
-  return nullptr;
-}
-
 void FillInjuryRisks(TestSummary& summary) {
-  summary.hic15_p_ais3 = NcapHic15Ais3Risk(summary.hic15.value);
-  summary.hic36_p_ais4 = PrasadMertzHic36Ais4Risk(summary.hic36.value);
-  summary.bric_p_ais3 = TakhountsBricAis3Risk(summary.bric);
-  summary.bric_p_ais4 = TakhountsBricAis4Risk(summary.bric);
+  for (const SummaryField* field : RiskFields())
+    field->Set(summary, field->curve->risk(FindSummaryField(field->curve->criterion)->Get(summary)));
 }
 
 }  // namespace napkin::engine

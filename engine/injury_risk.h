@@ -2,13 +2,12 @@
 // Injury risk curves: the probability of a head injury of at least a given
 // AIS level that a criterion value stands for (docs/algorithms.md "Injury
 // risk", where each curve's form, parameters, source and applicability are).
-// Each curve is a summary field (engine/summary_fields.h, group kRisk).
+// Each curve belongs to a summary field of group kRisk, which names it once:
+// its field, criterion, AIS level and source (engine/summary_fields.h
+// RiskCurve).
 //
 // A NaN criterion (BrIC of an acceleration-only array) gives a NaN risk; a
 // criterion <= 0 gives risk 0 (the curves' limit there).
-#include <span>
-#include <string_view>
-
 #include "engine/summary.h"
 
 namespace napkin::engine {
@@ -38,22 +37,7 @@ inline constexpr double kTakhountsBricAis4Scale = 1.204;
 double TakhountsBricAis3Risk(double bric);
 double TakhountsBricAis4Risk(double bric);
 
-// One named curve of the table: the summary field that holds its risk, the
-// criterion it reads and the AIS level it is for.
-struct InjuryRiskCurve {
-  const char* field;      // summary field name, e.g. "hic15_p_ais3"
-  const char* criterion;  // summary field it reads, e.g. "hic15"
-  int ais;                // the risk is P(AIS >= ais)
-  double (*risk)(double criterion);
-};
-
-// The curves napkin computes, in the order of their summary fields.
-std::span<const InjuryRiskCurve> InjuryRiskCurves();
-
-// The curve whose field is `field`, or nullptr.
-const InjuryRiskCurve* FindInjuryRiskCurve(std::string_view field);
-
-// Fills the risk fields of `summary` from its criteria (hic15, hic36, bric).
+// Fills the risk fields of `summary` from their criteria, each by its curve.
 void FillInjuryRisks(TestSummary& summary);
 
 }  // namespace napkin::engine

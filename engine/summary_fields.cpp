@@ -2,76 +2,96 @@
 
 #include <cmath>
 
+#include "engine/injury_risk.h"
+
 namespace napkin::engine {
 namespace {
 
 using G = SummaryGroup;
 using S = TestSummary;
 
+// The curves of the risk fields (engine/injury_risk.h), each named here once.
+constexpr RiskCurve kNcapHic15Ais3{"hic15", 3, "NCAP", NcapHic15Ais3Risk};
+constexpr RiskCurve kPrasadMertzHic36Ais4{"hic36", 4, "Prasad–Mertz", PrasadMertzHic36Ais4Risk};
+constexpr RiskCurve kTakhountsBricAis3{"bric", 3, "Takhounts", TakhountsBricAis3Risk};
+constexpr RiskCurve kTakhountsBricAis4{"bric", 4, "Takhounts", TakhountsBricAis4Risk};
+
 constexpr SummaryField kSummaryFields[] = {
-    {"hic15", G::kHic, "HIC, windows up to 15 ms", [](S& s) -> double& { return s.hic15.value; }},
-    {"hic15_t1_s", G::kHic, "HIC15 window start (s)", [](S& s) -> double& { return s.hic15.t1_s; }},
-    {"hic15_t2_s", G::kHic, "HIC15 window end (s)", [](S& s) -> double& { return s.hic15.t2_s; }},
-    {"hic36", G::kHic, "HIC, windows up to 36 ms", [](S& s) -> double& { return s.hic36.value; }},
-    {"hic36_t1_s", G::kHic, "HIC36 window start (s)", [](S& s) -> double& { return s.hic36.t1_s; }},
-    {"hic36_t2_s", G::kHic, "HIC36 window end (s)", [](S& s) -> double& { return s.hic36.t2_s; }},
-    {"hic", G::kHic, "HIC, no window limit", [](S& s) -> double& { return s.hic.value; }},
-    {"hic_t1_s", G::kHic, "HIC window start (s)", [](S& s) -> double& { return s.hic.t1_s; }},
-    {"hic_t2_s", G::kHic, "HIC window end (s)", [](S& s) -> double& { return s.hic.t2_s; }},
-    {"peak_acc_g", G::kHic, "peak resultant CG acceleration, fixed frame (g)",
+    {"hic15", G::kHic, "HIC15", "", "HIC, windows up to 15 ms",
+     [](S& s) -> double& { return s.hic15.value; }},
+    {"hic15_t1_s", G::kHic, "HIC15 window start", "s", "HIC15 window start (s)",
+     [](S& s) -> double& { return s.hic15.t1_s; }},
+    {"hic15_t2_s", G::kHic, "HIC15 window end", "s", "HIC15 window end (s)",
+     [](S& s) -> double& { return s.hic15.t2_s; }},
+    {"hic36", G::kHic, "HIC36", "", "HIC, windows up to 36 ms",
+     [](S& s) -> double& { return s.hic36.value; }},
+    {"hic36_t1_s", G::kHic, "HIC36 window start", "s", "HIC36 window start (s)",
+     [](S& s) -> double& { return s.hic36.t1_s; }},
+    {"hic36_t2_s", G::kHic, "HIC36 window end", "s", "HIC36 window end (s)",
+     [](S& s) -> double& { return s.hic36.t2_s; }},
+    {"hic", G::kHic, "HIC", "", "HIC, no window limit", [](S& s) -> double& { return s.hic.value; }, nullptr,
+     "no window limit"},
+    {"hic_t1_s", G::kHic, "HIC window start", "s", "HIC window start (s)",
+     [](S& s) -> double& { return s.hic.t1_s; }},
+    {"hic_t2_s", G::kHic, "HIC window end", "s", "HIC window end (s)",
+     [](S& s) -> double& { return s.hic.t2_s; }},
+    {"peak_acc_g", G::kHic, "peak acceleration", "g", "peak resultant CG acceleration, fixed frame (g)",
      [](S& s) -> double& { return s.peak_acc_g; }},
-    {"a3ms_g", G::kHic, "3 ms clip acceleration (g)", [](S& s) -> double& { return s.a3ms_g; }},
-    {"peak_omega_x_radps", G::kRotation, "peak |omega_x|, body axes (rad/s)",
+    {"a3ms_g", G::kHic, "a3ms", "g", "3 ms clip acceleration (g)", [](S& s) -> double& { return s.a3ms_g; }},
+    {"peak_omega_x_radps", G::kRotation, "peak |ω_x|", "rad/s", "peak |omega_x|, body axes (rad/s)",
      [](S& s) -> double& { return s.peak_omega_body_radps[0]; }},
-    {"peak_omega_y_radps", G::kRotation, "peak |omega_y|, body axes (rad/s)",
+    {"peak_omega_y_radps", G::kRotation, "peak |ω_y|", "rad/s", "peak |omega_y|, body axes (rad/s)",
      [](S& s) -> double& { return s.peak_omega_body_radps[1]; }},
-    {"peak_omega_z_radps", G::kRotation, "peak |omega_z|, body axes (rad/s)",
+    {"peak_omega_z_radps", G::kRotation, "peak |ω_z|", "rad/s", "peak |omega_z|, body axes (rad/s)",
      [](S& s) -> double& { return s.peak_omega_body_radps[2]; }},
-    {"peak_omega_radps", G::kRotation, "peak resultant angular velocity (rad/s)",
-     [](S& s) -> double& { return s.peak_omega_radps; }},
-    {"peak_alpha_radps2", G::kRotation, "peak resultant angular acceleration (rad/s^2)",
-     [](S& s) -> double& { return s.peak_alpha_radps2; }},
-    {"bric", G::kRotation, "BrIC (dimensionless)", [](S& s) -> double& { return s.bric; }},
-    {"damage", G::kRotation, "DAMAGE (dimensionless)", [](S& s) -> double& { return s.damage; }},
-    {"final_quat_w", G::kRotation, "final orientation quaternion, fixed from body, w",
+    {"peak_omega_radps", G::kRotation, "peak angular velocity", "rad/s",
+     "peak resultant angular velocity (rad/s)", [](S& s) -> double& { return s.peak_omega_radps; }},
+    {"peak_alpha_radps2", G::kRotation, "peak angular acceleration", "rad/s²",
+     "peak resultant angular acceleration (rad/s^2)", [](S& s) -> double& { return s.peak_alpha_radps2; }},
+    {"bric", G::kRotation, "BrIC", "", "BrIC (dimensionless)", [](S& s) -> double& { return s.bric; }},
+    {"damage", G::kRotation, "DAMAGE", "", "DAMAGE (dimensionless)",
+     [](S& s) -> double& { return s.damage; }},
+    {"final_quat_w", G::kRotation, "final quaternion w", "",
+     "final orientation quaternion, fixed from body, w",
      [](S& s) -> double& { return s.final_quat_wxyz[0]; }},
-    {"final_quat_x", G::kRotation, "final orientation quaternion, x",
+    {"final_quat_x", G::kRotation, "final quaternion x", "", "final orientation quaternion, x",
      [](S& s) -> double& { return s.final_quat_wxyz[1]; }},
-    {"final_quat_y", G::kRotation, "final orientation quaternion, y",
+    {"final_quat_y", G::kRotation, "final quaternion y", "", "final orientation quaternion, y",
      [](S& s) -> double& { return s.final_quat_wxyz[2]; }},
-    {"final_quat_z", G::kRotation, "final orientation quaternion, z",
+    {"final_quat_z", G::kRotation, "final quaternion z", "", "final orientation quaternion, z",
      [](S& s) -> double& { return s.final_quat_wxyz[3]; }},
-    {"final_roll_deg", G::kRotation, "final roll (deg)",
+    {"final_roll_deg", G::kRotation, "final roll", "deg", "final roll (deg)",
      [](S& s) -> double& { return s.final_roll_pitch_yaw_deg[0]; }},
-    {"final_pitch_deg", G::kRotation, "final pitch (deg)",
+    {"final_pitch_deg", G::kRotation, "final pitch", "deg", "final pitch (deg)",
      [](S& s) -> double& { return s.final_roll_pitch_yaw_deg[1]; }},
-    {"final_yaw_deg", G::kRotation, "final yaw (deg)",
+    {"final_yaw_deg", G::kRotation, "final yaw", "deg", "final yaw (deg)",
      [](S& s) -> double& { return s.final_roll_pitch_yaw_deg[2]; }},
-    {"final_pos_x_m", G::kRotation, "final CG position, fixed frame, x (m)",
+    {"final_pos_x_m", G::kRotation, "final position x", "m", "final CG position, fixed frame, x (m)",
      [](S& s) -> double& { return s.final_pos_fixed_m[0]; }},
-    {"final_pos_y_m", G::kRotation, "final CG position, fixed frame, y (m)",
+    {"final_pos_y_m", G::kRotation, "final position y", "m", "final CG position, fixed frame, y (m)",
      [](S& s) -> double& { return s.final_pos_fixed_m[1]; }},
-    {"final_pos_z_m", G::kRotation, "final CG position, fixed frame, z (m)",
+    {"final_pos_z_m", G::kRotation, "final position z", "m", "final CG position, fixed frame, z (m)",
      [](S& s) -> double& { return s.final_pos_fixed_m[2]; }},
-    {"max_rotation_deg", G::kRotation, "largest angle from the initial orientation (deg)",
-     [](S& s) -> double& { return s.max_rotation_deg; }},
+    {"max_rotation_deg", G::kRotation, "max rotation", "deg",
+     "largest angle from the initial orientation (deg)", [](S& s) -> double& { return s.max_rotation_deg; }},
     // A screening measure (beside the findings), not a result of the contract's views.
-    {"max_residual_mps2", G::kQuality, "largest solver residual (m/s^2)",
+    {"max_residual_mps2", G::kQuality, "max residual", "m/s²", "largest solver residual (m/s^2)",
      [](S& s) -> double& { return s.max_residual_mps2; }},
     // Added by schema 3 (a column appended to the results table, hence last);
     // the views list it after the other HIC fields.
-    {"hic_d", G::kHic, "FMVSS 201 free-motion headform HIC(d) = 0.75446 HIC36 + 166.4",
+    {"hic_d", G::kHic, "HIC(d)", "", "FMVSS 201 free-motion headform HIC(d) = 0.75446 HIC36 + 166.4",
      [](S& s) -> double& { return s.hic_d; }},
     // Added by schema 8 (columns appended to the results table); the curves
     // are engine/injury_risk.h, docs/algorithms.md "Injury risk".
-    {"hic15_p_ais3", G::kRisk, "P(AIS 3+ head injury) from HIC15, NHTSA NCAP lognormal curve (0..1)",
-     [](S& s) -> double& { return s.hic15_p_ais3; }},
-    {"hic36_p_ais4", G::kRisk, "P(AIS 4+ brain injury) from HIC36, Prasad-Mertz curve (0..1)",
-     [](S& s) -> double& { return s.hic36_p_ais4; }},
-    {"bric_p_ais3", G::kRisk, "P(AIS 3+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
-     [](S& s) -> double& { return s.bric_p_ais3; }},
-    {"bric_p_ais4", G::kRisk, "P(AIS 4+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
-     [](S& s) -> double& { return s.bric_p_ais4; }},
+    {"hic15_p_ais3", G::kRisk, nullptr, "",
+     "P(AIS 3+ head injury) from HIC15, NHTSA NCAP lognormal curve (0..1)",
+     [](S& s) -> double& { return s.hic15_p_ais3; }, &kNcapHic15Ais3},
+    {"hic36_p_ais4", G::kRisk, nullptr, "", "P(AIS 4+ brain injury) from HIC36, Prasad-Mertz curve (0..1)",
+     [](S& s) -> double& { return s.hic36_p_ais4; }, &kPrasadMertzHic36Ais4},
+    {"bric_p_ais3", G::kRisk, nullptr, "", "P(AIS 3+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
+     [](S& s) -> double& { return s.bric_p_ais3; }, &kTakhountsBricAis3},
+    {"bric_p_ais4", G::kRisk, nullptr, "", "P(AIS 4+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
+     [](S& s) -> double& { return s.bric_p_ais4; }, &kTakhountsBricAis4},
 };
 
 bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
@@ -79,6 +99,34 @@ bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::is
 }  // namespace
 
 std::span<const SummaryField> SummaryFields() { return kSummaryFields; }
+
+const SummaryField* FindSummaryField(std::string_view name) {
+  for (const SummaryField& field : kSummaryFields)
+    if (name == field.name) return &field;
+  return nullptr;
+}
+
+std::vector<const SummaryField*> RiskFields() {
+  std::vector<const SummaryField*> fields;
+  for (const SummaryField& field : kSummaryFields)
+    if (field.curve != nullptr) fields.push_back(&field);
+  return fields;
+}
+
+std::string FieldLabel(const SummaryField& field) {
+  if (field.curve == nullptr) return field.label;
+  return "P(AIS " + std::to_string(field.curve->ais) + "+ | " +
+         FieldLabel(*FindSummaryField(field.curve->criterion)) + ")";
+}
+
+std::string FieldTableLabel(const SummaryField& field) {
+  if (field.curve != nullptr)
+    return "P(AIS " + std::to_string(field.curve->ais) + "+) from " +
+           FieldLabel(*FindSummaryField(field.curve->criterion)) + " (" + field.curve->source + ")";
+  const std::string detail =
+      std::string(field.detail) + (*field.detail && *field.unit ? ", " : "") + field.unit;
+  return detail.empty() ? std::string(field.label) : std::string(field.label) + " (" + detail + ")";
+}
 
 std::vector<const SummaryField*> SummaryFieldsOf(std::initializer_list<SummaryGroup> groups) {
   std::vector<const SummaryField*> fields;

@@ -1,12 +1,15 @@
 #pragma once
 // The one list of a test's numeric summary fields (docs/formats.md "Per-test
-// summary fields"): their query-contract names, order and query group. The
-// results table and the views of schema/, the summary JSON, the catalogue's
-// column lists and summary equality all follow it; tests/db/schema_test.cpp
-// proves that the schema agrees with it.
+// summary fields"): their query-contract names, order and query group, their
+// labels and units, and for each injury risk its curve. The results table and
+// the views of schema/, the summary JSON, the catalogue's column lists and
+// summary equality follow it, and so do the labels of the HTML report, the
+// verdict and the Python module; tests/db/schema_test.cpp proves that the
+// schema agrees with it.
 #include <initializer_list>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/summary.h"
@@ -21,12 +24,29 @@ enum class SummaryGroup {
   kQuality,   // stored with the result, shown by no view and not in the JSON
 };
 
+// The curve an injury risk is computed with (engine/injury_risk.h,
+// docs/algorithms.md "Injury risk").
+struct RiskCurve {
+  const char* criterion;  // the summary field it reads, e.g. "hic15"
+  int ais;                // the risk is P(AIS >= ais)
+  const char* source;     // its source in a word or two, e.g. "NCAP"
+  double (*risk)(double criterion);
+};
+
 struct SummaryField {
   const char* name;  // column name of the query contract
   SummaryGroup group;
+  // Short, for sentences and tables ("HIC15", "peak acceleration"); a risk's
+  // is made from its curve (FieldLabel).
+  const char* label;
+  const char* unit;     // "g", "rad/s", ...; "" for a number without unit
   const char* meaning;  // one line, with the unit
   // The field in a summary. Get and Set go through it.
   double& (*field)(TestSummary&);
+  // A risk's curve; nullptr for every other field.
+  const RiskCurve* curve = nullptr;
+  // What a table adds to the label besides the unit ("no window limit").
+  const char* detail = "";
 
   double Get(const TestSummary& summary) const {
     return field(const_cast<TestSummary&>(summary));  // the accessor only forms a reference
@@ -38,6 +58,21 @@ struct SummaryField {
 // added by later schema versions come last, as their columns do; the table's
 // napkin_version column, schema 7, sits between hic_d and the risks).
 std::span<const SummaryField> SummaryFields();
+
+// The field named `name`, or nullptr.
+const SummaryField* FindSummaryField(std::string_view name);
+
+// The fields with a risk curve (group kRisk), in table order.
+std::vector<const SummaryField*> RiskFields();
+
+// The label of a sentence: the field's label; a risk's names its AIS level
+// and criterion, "P(AIS 3+ | HIC15)".
+std::string FieldLabel(const SummaryField& field);
+
+// The label of a table row: the label with its detail and unit, "HIC (no
+// window limit)", "peak acceleration (g)"; a risk's names its criterion and
+// its curve's source, "P(AIS 3+) from HIC15 (NCAP)".
+std::string FieldTableLabel(const SummaryField& field);
 
 // The fields of `groups` in contract order: group by group, each in the order
 // above. The order of the views' columns, of `napkin query` and of the

@@ -90,6 +90,16 @@ CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options) {
   return columns;
 }
 
+void RefuseNonFiniteSample(const std::string& where, std::string_view written) {
+  throw InputError(where + ": " + util::Quoted(written) + " is not a finite number.");
+}
+
+void CheckSampleCount(std::size_t samples, const std::string& source, std::string_view unit) {
+  if (samples < 2)
+    throw InputError(source + ": has " + std::to_string(samples) + " " + std::string(unit) +
+                     (samples == 1 ? "" : "s") + ", at least two are needed.");
+}
+
 TimeBase UniformTimeBase(std::span<const double> time_s, const std::string& source,
                          const std::function<std::string(std::size_t)>& sample_name, std::string_view noun) {
   // Strictly increasing, then uniformly spaced around the mean interval.
@@ -220,8 +230,8 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
         throw InputError(file + ": row " + std::to_string(line_number) + ", column " + util::Quoted(column) +
                          ": " + util::Quoted(value) + " is not a number.");
       if (!std::isfinite(*number))
-        throw InputError(file + ": row " + std::to_string(line_number) + ", column " + util::Quoted(column) +
-                         ": " + util::Quoted(value) + " is not a finite number.");
+        RefuseNonFiniteSample(
+            file + ": row " + std::to_string(line_number) + ", column " + util::Quoted(column), value);
       return *number;
     };
     time.push_back(parse(time_field));
@@ -230,9 +240,7 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
   }
 
   if (header.empty()) throw InputError(file + ": no header line (expected time_s and one column per slot).");
-  if (time.size() < 2)
-    throw InputError(file + ": has " + std::to_string(time.size()) + " data row" +
-                     (time.size() == 1 ? "" : "s") + ", at least two are needed.");
+  CheckSampleCount(time.size(), file, "data row");
 
   const TimeBase time_base = UniformTimeBase(
       time, file, [&](std::size_t k) { return "row " + std::to_string(row_lines[k]); }, "row");

@@ -41,13 +41,24 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
 // input"). Returns the first time and the mean step. Throws InputError
 // starting with `source` and naming the sample at fault by `sample_name(k)`
 // ("row 12": its file line; the previous one is "the previous `noun`'s").
-// The CSV reader and the Python module's transform (python/) check time alike.
+// The CSV reader and app::SignalsFromSamples (napkin.transform) check time alike.
 struct TimeBase {
   double t0_s = 0.0;
   double dt_s = 0.0;
 };
 TimeBase UniformTimeBase(std::span<const double> time_s, const std::string& source,
                          const std::function<std::string(std::size_t)>& sample_name, std::string_view noun);
+
+// The other checks of a test's samples that the CSV reader and samples given
+// in memory (app::SignalsFromSamples: napkin.transform's arrays) share, each
+// refusal one sentence. A value that is no finite number, `where` naming its
+// row and column ("in.csv: row 19, column \"cg_y\"", "in: sample 17, channel
+// \"cg_y\"") and `written` the value as written: "<where>: \"nan\" is not a
+// finite number."
+[[noreturn]] void RefuseNonFiniteSample(const std::string& where, std::string_view written);
+// Fewer than two samples (`unit`: what a sample is called, "data row",
+// "sample"): "<source>: has 1 data row, at least two are needed."
+void CheckSampleCount(std::size_t samples, const std::string& source, std::string_view unit);
 
 // Parses `--column SLOT=NAME` values into a CsvColumnMap; throws UsageError
 // for a value without '=' or with an empty side, or a slot given twice.

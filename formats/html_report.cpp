@@ -215,7 +215,7 @@ using TraceKind = ReportOverlay::Trace::Kind;  // its names as report.js reads t
 constexpr std::array<engine::NamedValue<TraceKind>, 3> kTraceKindNames{
     {{TraceKind::kTest, "test"}, {TraceKind::kLow, "low"}, {TraceKind::kHigh, "high"}}};
 
-// The verdict: its table and one sentence per variant (cli/verdict.h).
+// The verdict: its table and one sentence per variant (app/verdict.h).
 Html VerdictBlock(const ReportVerdict& verdict) {
   if (verdict.sentences.empty()) return {};
   Html table = Markup("\n") + TextRow("th", verdict.columns);
@@ -302,14 +302,8 @@ Html ComparisonSection(json& overlays, json& distributions, const ReportComparis
 
 // ---- a test's summary tables
 
-const engine::SummaryField* FindField(std::string_view name) {
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (field.name == name) return &field;
-  return nullptr;
-}
-
 const engine::SummaryField& Field(std::string_view name) {
-  const engine::SummaryField* field = FindField(name);
+  const engine::SummaryField* field = engine::FindSummaryField(name);
   if (field == nullptr) throw std::logic_error("html report: no summary field '" + std::string(name) + "'");
   return *field;
 }
@@ -338,23 +332,6 @@ constexpr FieldRow kPoseRows[] = {
     {"position x, y, z (mm)", {"final_pos_x_m", "final_pos_y_m", "final_pos_z_m"}, 1, 1000.0},
 };
 
-// The criteria table's label of a criterion; one not named here shows its
-// meaning (engine/summary_fields.cpp).
-constexpr std::pair<std::string_view, std::string_view> kCriterionLabels[] = {
-    {"hic15", "HIC15"},
-    {"hic36", "HIC36"},
-    {"hic", "HIC (no window limit)"},
-    {"peak_acc_g", "peak acceleration (g)"},
-    {"a3ms_g", "a3ms (g)"},
-    {"hic_d", "HIC(d)"},
-    {"bric", "BrIC"},
-    {"damage", "DAMAGE"},
-    {"hic15_p_ais3", "P(AIS 3+) from HIC15 (NCAP)"},
-    {"hic36_p_ais4", "P(AIS 4+) from HIC36 (Prasad–Mertz)"},
-    {"bric_p_ais3", "P(AIS 3+) from BrIC (Takhounts)"},
-    {"bric_p_ais4", "P(AIS 4+) from BrIC (Takhounts)"},
-};
-
 Html FieldRowHtml(const FieldRow& row, const engine::TestSummary& summary) {
   std::string values;
   for (const std::string_view name : row.fields) {
@@ -381,7 +358,7 @@ bool InFieldRows(std::string_view name, std::span<const FieldRow> rows) {
 // A HIC window's start or end (its HIC's cell shows it).
 bool IsWindowBound(std::string_view name) {
   return (name.ends_with("_t1_s") || name.ends_with("_t2_s")) &&
-         FindField(name.substr(0, name.size() - 5)) != nullptr;
+         engine::FindSummaryField(name.substr(0, name.size() - 5)) != nullptr;
 }
 
 // The criteria table: every field of `napkin query criteria` and `napkin
@@ -393,12 +370,10 @@ Html CriteriaTable(const engine::TestSummary& summary) {
            {engine::SummaryGroup::kHic, engine::SummaryGroup::kRotation, engine::SummaryGroup::kRisk})) {
     const std::string_view name = field->name;
     if (IsWindowBound(name) || InFieldRows(name, kRotationRows) || InFieldRows(name, kPoseRows)) continue;
-    std::string_view label = field->meaning;
-    for (const auto& [criterion, criterion_label] : kCriterionLabels)
-      if (criterion == name) label = criterion_label;
+    const std::string label = engine::FieldTableLabel(*field);  // "peak acceleration (g)"
     Html value = Markup(Display(field->Get(summary)));
-    const engine::SummaryField* t1 = FindField(std::string(name) + "_t1_s");
-    const engine::SummaryField* t2 = FindField(std::string(name) + "_t2_s");
+    const engine::SummaryField* t1 = engine::FindSummaryField(std::string(name) + "_t1_s");
+    const engine::SummaryField* t2 = engine::FindSummaryField(std::string(name) + "_t2_s");
     if (t1 != nullptr && t2 != nullptr)
       value += Markup(" ") +
                Element("span class=\"note\"", Markup("(" + Fixed(t1->Get(summary) * 1000.0, 2) + "–" +

@@ -10,7 +10,7 @@
 //
 // The writer takes plain data and streams the page: the commands `report`
 // and `demo` (cli/command_report.cpp, cli/demo_session.cpp) call
-// cli::WriteCatalogueReport (cli/report_builder.cpp), which reads the
+// app::WriteCatalogueReport (app/report_builder.cpp), which reads the
 // catalogue one test at a time, turns it into a ReportTest with
 // MakeReportTest (which keeps only the reduced traces) and hands it to an
 // HtmlReportWriter, which writes its section through a sink at once, so the
@@ -100,7 +100,7 @@ struct ReportDistribution {
   std::vector<Group> groups;
 };
 
-// The verdict that opens a series' comparison (cli/verdict.h): a short
+// The verdict that opens a series' comparison (app/verdict.h): a short
 // table and one sentence per variant against the baseline, as text.
 struct ReportVerdict {
   std::string baseline;

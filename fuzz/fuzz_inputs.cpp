@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli/where_parser.h"
+#include "app/where_parser.h"
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "engine/array_geometry.h"
@@ -210,7 +210,7 @@ Outcome RunWhere(std::string_view input) {
         db::QueryKind::kQuality, db::QueryKind::kConditioning}) {
     try {
       db::QueryRequest request;
-      request.where.push_back(cli::ParseWhereExpression(input, db::QueryFields(kind)));
+      request.where.push_back(app::ParseWhereExpression(input, db::QueryFields(kind)));
       catalogue.Query(kind, request);
       outcome = Outcome::kAccepted;
     } catch (const UsageError&) {
@@ -231,7 +231,7 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"array_json", "formats::ReadArrayJson", RunArrayJson},
       {"processing_config_json", "formats::ReadProcessingConfig", RunProcessingConfigJson},
       {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},
-      {"where", "cli::ParseWhereExpression and db::Catalogue::Query (query --where, every kind)", RunWhere},
+      {"where", "app::ParseWhereExpression and db::Catalogue::Query (query --where, every kind)", RunWhere},
   };
   return kTargets;
 }

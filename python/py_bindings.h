@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "cli/diagnostics.h"
+#include "app/failure.h"
 #include "engine/kinematics.h"
 
 namespace napkin::python {
@@ -69,7 +69,7 @@ std::string AsText(const py::handle& object, const std::string& what, const std:
 std::string AsNameOrPath(const py::handle& object, const std::string& what);
 
 // Runs `work`, turning a napkin exception into the Python exception with the
-// CLI's sentence (cli/diagnostics.h DescribeFailure): bad input (InputError,
+// CLI's sentence (app/failure.h DescribeFailure): bad input (InputError,
 // UsageError) raises ValueError, anything else RuntimeError; `db_path` names
 // the catalogue in database errors. Python's own exceptions pass unchanged.
 template <typename Work>
@@ -83,8 +83,8 @@ auto Translated(const std::string& db_path, Work&& work) -> decltype(work()) {
   } catch (const std::bad_alloc&) {
     throw;  // MemoryError
   } catch (...) {
-    const cli::Failure failure = cli::DescribeFailure(std::current_exception(), db_path);
-    if (failure.bad_input) throw py::value_error(failure.sentence);
+    const app::Failure failure = app::DescribeFailure(std::current_exception(), db_path);
+    if (failure.BadInput()) throw py::value_error(failure.sentence);
     throw std::runtime_error(failure.sentence);  // RuntimeError
   }
 }

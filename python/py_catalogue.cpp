@@ -8,12 +8,11 @@
 #include <optional>
 #include <vector>
 
-#include "cli/comparison.h"
-#include "cli/db_option.h"
-#include "cli/query_filters.h"
-#include "cli/table_output.h"
+#include "app/comparison.h"
+#include "app/query.h"
+#include "app/result_selection.h"
+#include "app/table_output.h"
 #include "common/error.h"
-#include "common/joined.h"
 #include "formats/csv.h"
 #include "python/py_bindings.h"
 #include "records/test_inputs.h"
@@ -28,49 +27,32 @@ class ReadOnlyCatalogue {
   const std::string& path() const { return path_; }
 
   // (JSON text of `napkin query KIND --format json`, its column names).
-  std::pair<std::string, std::vector<std::string>> Query(const std::string& kind_name,
-                                                         const cli::QueryFilterOptions& filters) {
-    const std::optional<db::QueryKind> kind = engine::ParseName<db::QueryKind>(kind_name);
-    if (!kind)
-      throw UsageError(
-          "unknown query kind \"" + kind_name + "\" (use " +
-          Joined(db::kQueryKindNames, [](const auto& entry) { return std::string(entry.name); }) + ").");
-    db::QueryRequest request = filters.Request(*kind);
-    request.config = filters.Config(catalogue_);
-    const db::Table table = catalogue_.Query(*kind, request);
-    return {cli::FormatTable(table, cli::TableFormat::kJson), table.columns};
+  std::pair<std::string, std::vector<std::string>> Query(const app::Query& query) {
+    const db::Table table = app::RunQuery(catalogue_, app::PrepareQuery(query));
+    return {app::FormatTable(table, app::TableFormat::kJson), table.columns};
   }
 
   // JSON text of `napkin compare --format json`.
-  std::string Compare(const cli::ComparisonRequest& request) {
-    return cli::FormatComparison(cli::BuildComparison(catalogue_, request), cli::TableFormat::kJson);
+  std::string Compare(const app::ComparisonRequest& request) {
+    return app::FormatComparison(app::BuildComparison(catalogue_, request), app::TableFormat::kJson);
   }
 
   // The derived channels of the test's result under the stored config
   // `config` (NAME or HASH-PREFIX; default: its latest result), as `napkin
   // export --format csv` writes them; or (derived false) its raw channels.
   py::dict Channels(const std::string& test_id, bool derived, const std::optional<std::string>& config) {
-    const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
-    if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
-    if (!derived) {
-      py::dict inputs = TestInputs(*test);
-      const auto channels = inputs["channels"].cast<py::dict>();
-      py::dict raw;
-      raw["time_s"] = inputs["time_s"];
-      for (const auto& [slot, values] : channels) raw[slot] = values;
-      return raw;
+    if (derived) {
+      // config= names a stored config (app/result_selection.h "Stored").
+      const app::TestResult result = config ? app::ResultOf(catalogue_, test_id, app::Stored{*config}, path_)
+                                            : app::ResultOf(catalogue_, test_id, app::Latest{}, path_);
+      return DerivedChannelsToNumpy(app::ReadResultKinematics(catalogue_, result.test, result.config));
     }
-    std::optional<db::ConfigId> config_id;
-    if (config) {
-      config_id = cli::ResolveConfigSelector(catalogue_, *config).id;
-      if (!catalogue_.ReadSummary(*test, *config_id))
-        throw InputError("test '" + test_id + "' has no results for config '" + *config +
-                         "' yet; run `napkin run --config " + *config + "` first.");
-    } else {
-      config_id = catalogue_.ReadLatestResultConfig(*test);
-      if (!config_id) throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
-    }
-    return DerivedChannelsToNumpy(cli::ReadResultKinematics(catalogue_, *test, *config_id));
+    py::dict inputs = TestInputs(test_id);
+    const auto channels = inputs["channels"].cast<py::dict>();
+    py::dict raw;
+    raw["time_s"] = inputs["time_s"];
+    for (const auto& [slot, values] : channels) raw[slot] = values;
+    return raw;
   }
 
   // What `napkin run` computes the test's result from, as napkin.transform's
@@ -141,14 +123,15 @@ void RegisterCatalogue(py::module_& module) {
              const std::optional<std::string>& config, const std::optional<std::vector<std::string>>& series,
              const std::optional<std::vector<std::string>>& variant) {
             return Translated(self.path(), [&] {
-              cli::QueryFilterOptions filters;
-              filters.where = AsList(where);
-              filters.sort = AsList(sort);
-              filters.limit = limit.value_or("");
-              filters.config = config.value_or("");
-              filters.series = AsList(series);
-              filters.variants = AsList(variant);
-              return self.Query(kind, filters);
+              app::Query query;
+              query.kind = kind;
+              query.filters.where = AsList(where);
+              query.filters.sort = AsList(sort);
+              query.filters.limit = limit.value_or("");
+              query.filters.config = config.value_or("");
+              query.filters.series = AsList(series);
+              query.filters.variants = AsList(variant);
+              return self.Query(query);
             });
           },
           py::arg("kind"), py::arg("where"), py::arg("sort"), py::arg("limit"), py::arg("config"),
@@ -160,9 +143,9 @@ void RegisterCatalogue(py::module_& module) {
              const std::optional<std::vector<std::string>>& metrics,
              const std::optional<std::vector<std::string>>& configs) {
             return Translated(self.path(), [&] {
-              cli::ComparisonRequest request;
+              app::ComparisonRequest request;
               request.series = series;
-              request.by = cli::ParseCompareBy(by);
+              request.by = app::ParseCompareBy(by);
               request.baseline = baseline;
               request.metrics = AsList(metrics);
               request.configs = AsList(configs);

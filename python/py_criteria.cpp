@@ -9,9 +9,9 @@
 #include "common/error.h"
 #include "engine/cfc_filter.h"
 #include "engine/criteria.h"
-#include "engine/injury_risk.h"
 #include "engine/iso18571.h"
 #include "engine/processing.h"
+#include "engine/summary_fields.h"
 #include "python/py_bindings.h"
 
 namespace napkin::python {
@@ -181,13 +181,14 @@ void RegisterCriteria(py::module_& module) {
       py::arg("reference"), py::arg("candidate"), py::arg("dt_s"), py::arg("start_s") = py::none(),
       py::arg("end_s") = py::none(), py::arg("edition") = "2024",
       "ISO/TS 18571 rating as a plain tuple; napkin.iso18571 wraps it in a named tuple.");
-  // One function per curve of the summary-field table, named as its field.
-  for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
-    const std::string doc = std::string("P(AIS ") + std::to_string(curve.ais) + "+) from " + curve.criterion +
-                            " (docs/algorithms.md \"Injury risk\"); element-wise on arrays.";
-    const std::string what = std::string("napkin.") + curve.field + ": " + curve.criterion;
+  // One function per risk of the summary-field table, named as its field.
+  for (const engine::SummaryField* field : engine::RiskFields()) {
+    const engine::RiskCurve& curve = *field->curve;
+    const std::string doc = engine::FieldTableLabel(*field) + " (docs/algorithms.md \"Injury risk\"); " +
+                            "element-wise on arrays.";
+    const std::string what = std::string("napkin.") + field->name + ": " + curve.criterion;
     module.def(
-        curve.field,
+        field->name,
         [risk = curve.risk, what](const py::handle& values) -> py::object {
           return Translated("", [&]() -> py::object {
             // A number gives a float; anything else is an array of them, whose shape the result keeps.
@@ -205,6 +206,27 @@ void RegisterCriteria(py::module_& module) {
         },
         py::arg(curve.criterion), doc.c_str());
   }
+  // The summary-field table (engine/summary_fields.h): name, group, label,
+  // unit, meaning, and for a risk its criterion, AIS level and source.
+  module.def(
+      "_summary_fields",
+      [] {
+        py::list fields;
+        for (const engine::SummaryField& field : engine::SummaryFields()) {
+          const char* group = field.group == engine::SummaryGroup::kHic        ? "hic"
+                              : field.group == engine::SummaryGroup::kRotation ? "rotation"
+                              : field.group == engine::SummaryGroup::kRisk     ? "risk"
+                                                                               : "quality";
+          const engine::RiskCurve* curve = field.curve;
+          fields.append(py::make_tuple(field.name, group, engine::FieldLabel(field), field.unit,
+                                       field.meaning,
+                                       curve ? py::object(py::str(curve->criterion)) : py::object(py::none()),
+                                       curve ? py::object(py::int_(curve->ais)) : py::object(py::none()),
+                                       curve ? py::object(py::str(curve->source)) : py::object(py::none())));
+        }
+        return fields;
+      },
+      "The summary fields as tuples (name, group, label, unit, meaning, criterion, ais, source).");
 }
 
 }  // namespace napkin::python

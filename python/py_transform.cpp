@@ -1,6 +1,7 @@
 // napkin.transform: one test's raw signals from numpy arrays through the
-// pipeline `napkin transform` runs (engine::ProcessTest, engine::FailingFinding)
-// to its summary JSON and derived channels (docs/python.md "transform").
+// path `napkin transform` takes (app/transform.h: SignalsFromSamples, the CSV
+// reader's checks, and ProcessSignals) to its summary JSON and derived
+// channels (docs/python.md "transform").
 #include <pybind11/stl.h>
 
 #include <atomic>
@@ -15,13 +16,12 @@
 #include <utility>
 #include <vector>
 
+#include "app/transform.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "engine/cancellation.h"
 #include "engine/pipeline.h"
-#include "engine/solver.h"
 #include "formats/array_json.h"
-#include "formats/csv.h"
 #include "formats/json_file.h"
 #include "formats/processing_config_json.h"
 #include "formats/summary_json.h"
@@ -149,31 +149,24 @@ Eigen::MatrixXd ReadChannels(const py::handle& channels, const engine::ArrayGeom
   return Eigen::Map<const RowMajor>(values.data(), values.shape(0), values.shape(1));
 }
 
-// t0 and dt from time_s (checked as the CSV reader checks its time column) or dt.
-formats::TimeBase ReadTimeBase(const py::object& time_s, const std::optional<double>& dt,
-                               Eigen::Index samples, const std::string& source) {
+// The sample times: dt, or time_s as a 1-D array (app::SignalsFromSamples checks them).
+struct Times {
+  std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>
+      time_s;  // keeps the span alive
+  app::SampleTimes times;
+};
+Times ReadTimes(const py::object& time_s, const std::optional<double>& dt, const std::string& source) {
   if (time_s.is_none() == !dt)
     throw InputError(source + ": give either time_s (the sample times, s) or dt (the sampling interval, s)" +
                      (time_s.is_none() ? std::string(", neither was given.") : ", not both."));
-  if (dt) {
-    const double step = *dt;
-    if (!(std::isfinite(step) && step > 0.0))
-      throw InputError(source + ": dt " + util::FormatNumber(step) +
-                       " s is not a finite positive sampling interval.");
-    return {0.0, step};
-  }
-  const auto times = AsFloatArray(time_s, source + ": time_s");
-  if (times.ndim() != 1 || times.shape(0) != samples)
-    throw InputError(source + ": time_s has " +
-                     std::to_string(times.ndim() == 1 ? times.shape(0) : times.size()) +
-                     " values but the channels have " + std::to_string(samples) + " samples.");
-  const std::span<const double> values(times.data(), static_cast<std::size_t>(times.shape(0)));
-  for (std::size_t k = 0; k < values.size(); ++k)
-    if (!std::isfinite(values[k]))
-      throw InputError(source + ": time_s[" + std::to_string(k) + "] is " + util::FormatNumber(values[k]) +
-                       ", not a finite number.");
-  return formats::UniformTimeBase(
-      values, source, [](std::size_t k) { return "time_s[" + std::to_string(k) + "]"; }, "sample");
+  if (dt) return {std::nullopt, *dt};
+  Times times{AsFloatArray(time_s, source + ": time_s"), 0.0};
+  if (times.time_s->ndim() != 1)
+    throw InputError(source + ": time_s is an array of " + std::to_string(times.time_s->ndim()) +
+                     " dimensions; it is a 1-D array, one time per sample.");
+  times.times =
+      std::span<const double>(times.time_s->data(), static_cast<std::size_t>(times.time_s->shape(0)));
+  return times;
 }
 
 Eigen::Vector3d Triple(const std::vector<double>& values, const char* name, const std::string& source) {
@@ -281,36 +274,13 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   const engine::ArrayGeometry array = ResolveArray(array_name, presets);
   engine::ProcessingConfig config =
       ReadOnce(records::ProcessingConfigPath(config_name, presets), formats::ReadProcessingConfig);
-  if (solver) {
-    const std::optional<engine::SolverKind> kind = engine::ParseName<engine::SolverKind>(*solver);
-    if (!kind)
-      throw InputError(
-          source + ": unknown solver " + util::Quoted(*solver) + " (use " +
-          Joined(engine::kSolverKinds, [](engine::SolverKind k) { return std::string(engine::NameOf(k)); }) +
-          ").");
-    config.solver = *kind;
-    config.Check();
-  }
+  if (solver) app::SetSolver(config, *solver);
   const auto [samples, dt_estimate] = SizeOf(channels, array, dt, time_s);
   CheckMemory(array, samples, dt_estimate, config, source);
 
-  engine::TestSignals signals;
-  signals.samples = ReadChannels(channels, array, source);
-  // As the CSV reader refuses a cell that is no finite number (its row and column).
-  for (Eigen::Index c = 0; c < signals.samples.cols(); ++c)
-    for (Eigen::Index k = 0; k < signals.samples.rows(); ++k)
-      if (!std::isfinite(signals.samples(k, c)))
-        throw InputError(source + ": sample " + std::to_string(k) + ", channel " +
-                         util::Quoted(array.sensors[static_cast<std::size_t>(c)].slot) + ": " +
-                         util::Quoted(util::FormatNumber(signals.samples(k, c))) +
-                         " is not a finite number.");
-  if (signals.samples.rows() < 2)
-    throw InputError(source + ": the channels have " + std::to_string(signals.samples.rows()) +
-                     " samples, at least two are needed.");
-  const formats::TimeBase time_base = ReadTimeBase(time_s, dt, signals.samples.rows(), source);
-  signals.t0_s = time_base.t0_s;
-  signals.dt_s = time_base.dt_s;
-  for (const engine::Sensor& sensor : array.sensors) signals.slots.push_back(sensor.slot);
+  Eigen::MatrixXd values = ReadChannels(channels, array, source);
+  const Times times = ReadTimes(time_s, dt, source);
+  const engine::TestSignals signals = app::SignalsFromSamples(std::move(values), array, times.times, source);
   engine::InitialState initial;
   initial.orientation_rad = Triple(orientation_rad, "orientation", source);
   initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity", source);
@@ -320,9 +290,7 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   util::KeepFreedMemoryForReuse();
   engine::ProcessedTest processed;
   const auto compute = [&](const std::atomic<bool>* cancel) {
-    processed = engine::ProcessTest(array, signals, initial, config, cancel);
-    // A test that fails `napkin run` fails here, with the same sentence.
-    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
+    processed = app::ProcessSignals(array, signals, initial, config, source, cancel);
   };
   // Ctrl-C: Python's handler only notes the signal, and only the main
   // thread runs the Python-level handler (KeyboardInterrupt), when it calls
@@ -349,8 +317,8 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
       }
     } catch (const engine::Cancelled&) {
       if (!interrupted) throw;
-    } catch (const InputError& error) {
-      if (!interrupted) throw InputError(source + ": " + error.what());
+    } catch (const InputError&) {
+      if (!interrupted) throw;  // app::ProcessSignals' sentence, naming the source
     }
   }
   // The handler's exception (KeyboardInterrupt) is set: raise it, whether or

@@ -8,6 +8,8 @@ libraries as the ``napkin`` command, so a result here is the command's result
   summary (the ``summary.json`` of ``napkin transform``) and derived channels;
 - ``hic``, ``cfc``, ``bric`` and the injury-risk curves ``hic15_p_ais3``,
   ``hic36_p_ais4``, ``bric_p_ais3``, ``bric_p_ais4`` on numpy arrays;
+- ``SUMMARY_FIELDS`` -- each summary field's label, unit and meaning (and a
+  risk's curve), as the report and the verdict label them;
 - ``iso18571(reference, candidate, dt_s, ...)`` -- the ISO/TS 18571 rating of
   a model's (or another test's) curve against a test's, a named tuple;
 - ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
@@ -29,13 +31,29 @@ from ._napkin import bric, cfc, hic  # noqa: F401  (the public API)
 
 __version__ = _napkin.__version__
 
-# The injury-risk curves, one function per summary field (hic15_p_ais3, ...).
-RISK_CURVES = tuple(name for name in dir(_napkin) if "_p_ais" in name)
+SummaryField = _collections.namedtuple(
+    "SummaryField", ["name", "group", "label", "unit", "meaning", "criterion", "ais", "source"])
+SummaryField.__doc__ = """A per-test summary field (docs/formats.md "Per-test summary fields").
+
+name     -- its key in a summary and its column in queries, e.g. "hic15"
+group    -- the query that shows it: "hic", "rotation", "risk" or "quality"
+label    -- short, for text and plots, e.g. "HIC15", "P(AIS 3+ | HIC15)"
+unit     -- e.g. "g", "rad/s"; "" for a number without unit
+meaning  -- one line, with the unit
+criterion, ais, source -- for an injury risk: the field it is read from, the AIS
+                          level of P(AIS >= ais) and its curve's source; else None"""
+
+# The summary fields in the order of the results table, by name: napkin's own table
+# (engine/summary_fields.h), so labels and units are those of the report and the verdict.
+SUMMARY_FIELDS = {field[0]: SummaryField(*field) for field in _napkin._summary_fields()}
+
+# The injury-risk curves, one function per risk field (hic15_p_ais3, ...).
+RISK_CURVES = tuple(name for name, field in SUMMARY_FIELDS.items() if field.criterion is not None)
 for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
 __all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", "iso18571", "ISO18571Rating",
-           *RISK_CURVES]
+           "SummaryField", "SUMMARY_FIELDS", *RISK_CURVES]
 
 
 ISO18571Rating = _collections.namedtuple(

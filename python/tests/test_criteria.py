@@ -68,3 +68,19 @@ def test_risk_curves():
     values = napkin.bric_p_ais3(np.array([0.5, 0.987, 2.0]))
     assert values.shape == (3,) and values[1] == pytest.approx(1 - math.exp(-1))
     assert set(napkin.RISK_CURVES) == {"hic15_p_ais3", "hic36_p_ais4", "bric_p_ais3", "bric_p_ais4"}
+
+
+def test_summary_fields_carry_the_labels_and_units_of_the_report():
+    fields = napkin.SUMMARY_FIELDS
+    assert list(fields)[:3] == ["hic15", "hic15_t1_s", "hic15_t2_s"]
+    assert fields["peak_acc_g"] == napkin.SummaryField(
+        "peak_acc_g", "hic", "peak acceleration", "g", "peak resultant CG acceleration, fixed frame (g)",
+        None, None, None)
+    assert fields["bric_p_ais3"].label == "P(AIS 3+ | BrIC)"
+    assert (fields["bric_p_ais3"].criterion, fields["bric_p_ais3"].ais, fields["bric_p_ais3"].source) == \
+        ("bric", 3, "Takhounts")
+    assert napkin.RISK_CURVES == tuple(name for name, field in fields.items() if field.group == "risk")
+    # Each risk function is its field's curve at its criterion.
+    for name in napkin.RISK_CURVES:
+        assert fields[fields[name].criterion].criterion is None
+        assert callable(getattr(napkin, name))

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "cli/db_option.h"
 #include "db/catalogue.h"
 #include "engine/pipeline.h"
 #include "formats/array_json.h"
 #include "records/array_record.h"
+#include "records/config_record.h"
 #include "synth/synthetic_tests.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/run_command.h"
@@ -95,7 +95,7 @@ inline engine::ProcessedTest ProcessAndStore(const fs::path& db_path, const std:
   if (!key) throw std::runtime_error("no test " + test_id);
   const db::TestRow test = catalogue.ReadTest(*key);
   const engine::ArrayGeometry array = records::DecodeArrayRecord(catalogue.ReadArray(test.array_id));
-  const cli::ResolvedConfig config = cli::ResolveConfig("");
+  const records::ResolvedConfig config = records::ResolveConfig("");
   engine::ProcessedTest processed =
       engine::ProcessTest(array, catalogue.ReadTestSignals(*key), test.initial_state, config.config);
   const db::ConfigId config_id = catalogue.WriteConfig(config.record);

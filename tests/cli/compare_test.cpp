@@ -13,13 +13,13 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "cli/comparison.h"
+#include "app/comparison.h"
 #include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 using namespace napkin::test_support;
 namespace {
@@ -627,4 +627,4 @@ TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

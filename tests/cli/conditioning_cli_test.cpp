@@ -39,7 +39,7 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
   const db::TestRow record = catalogue.ReadTest(marked_id);
   EXPECT_EQ(catalogue.ReadTestSignals(marked_id).prefiltered_cfc,
             std::vector<std::optional<double>>(9, engine::kCfc1000));
-  engine::ProcessingConfig unfiltered = cli::ResolveConfig("").config;
+  engine::ProcessingConfig unfiltered = records::ResolveConfig("").config;
   unfiltered.filter.linear_cfc.reset();
   engine::TestSignals plain = catalogue.ReadTestSignals(marked_id);
   plain.prefiltered_cfc.clear();

@@ -1,7 +1,7 @@
-// The limits files (config/limits/*.json, cli/limits.h, docs/formats.md
+// The limits files (config/limits/*.json, app/limits.h, docs/formats.md
 // "Limits"): each file's values and its cited source, the docs citing the
 // same, and the refusals of a bad --limits (usage) or a malformed file (input).
-#include "cli/limits.h"
+#include "app/limits.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 namespace fs = std::filesystem;
@@ -88,4 +88,4 @@ TEST(LimitsFiles, UnknownNamesAreUsageErrorsAndMalformedFilesInputErrors) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,11 +1,10 @@
-// The --sort and --limit values of `napkin query` (cli/query_filters.h).
-#include "cli/query_filters.h"
-
+// The --sort and --limit values of `napkin query` (app/query.h).
 #include <gtest/gtest.h>
 
+#include "app/query.h"
 #include "common/error.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 TEST(QueryFilters, SortKeysNameAFieldAndADirection) {
@@ -30,4 +29,4 @@ TEST(QueryFilters, LimitsAreWholeNumbersFromZero) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

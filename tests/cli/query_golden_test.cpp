@@ -224,15 +224,16 @@ TEST_F(CliQueryGolden, RiskIsTheCurveOfTheStoredCriterion) {
   ASSERT_EQ(risks.size(), tests.size());
   for (std::size_t i = 0; i < risks.size(); ++i) {
     ASSERT_EQ(risks[i]["test_id"], tests[i]["test_id"]);
-    for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
+    for (const engine::SummaryField* field : engine::RiskFields()) {
+      const engine::RiskCurve& curve = *field->curve;
       const nlohmann::json& criterion = tests[i][curve.criterion];
-      const nlohmann::json& value = risks[i][curve.field];
+      const nlohmann::json& value = risks[i][field->name];
       if (criterion.is_null()) {
         EXPECT_TRUE(value.is_null()) << risks[i];
         continue;
       }
       EXPECT_EQ(value.get<double>(), curve.risk(criterion.get<double>()))
-          << risks[i]["test_id"] << curve.field;
+          << risks[i]["test_id"] << field->name;
     }
   }
 }

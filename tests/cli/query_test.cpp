@@ -4,7 +4,7 @@
 
 #include <limits>
 
-#include "cli/table_output.h"
+#include "app/table_output.h"
 #include "common/error.h"
 #include "engine/summary_fields.h"
 #include "formats/csv.h"
@@ -183,12 +183,13 @@ TEST(TableOutput, NullsQuotingAndNonFiniteNumbers) {
   table.rows.push_back({std::monostate{}, std::int64_t{-12}, std::numeric_limits<double>::quiet_NaN()});
   table.rows.push_back({std::string("plain"), std::monostate{}, 1e-300});
 
-  EXPECT_EQ(FormatTable(table, TableFormat::kCsv),
+  EXPECT_EQ(app::FormatTable(table, app::TableFormat::kCsv),
             "name,count,value\n"
             "\"a, \"\"b\"\"\",3,0.1\n"
             ",-12,\n"
             "plain,,1e-300\n");
-  const nlohmann::ordered_json json = nlohmann::ordered_json::parse(FormatTable(table, TableFormat::kJson));
+  const nlohmann::ordered_json json =
+      nlohmann::ordered_json::parse(app::FormatTable(table, app::TableFormat::kJson));
   ASSERT_EQ(json.size(), 3u);
   EXPECT_EQ(json[0]["name"], "a, \"b\"");
   EXPECT_TRUE(json[0]["count"].is_number_integer());
@@ -196,14 +197,14 @@ TEST(TableOutput, NullsQuotingAndNonFiniteNumbers) {
   EXPECT_TRUE(json[1]["name"].is_null());
   EXPECT_TRUE(json[1]["value"].is_null());
   EXPECT_EQ(json[2]["value"].get<double>(), 1e-300);
-  EXPECT_EQ(FormatTable(table, TableFormat::kTable),
+  EXPECT_EQ(app::FormatTable(table, app::TableFormat::kTable),
             "name    count   value\n"
             "------  -----  ------\n"
             "a, \"b\"      3     0.1\n"
             "-         -12     nan\n"
             "plain       -  1e-300\n");
-  EXPECT_EQ(FormatTable(db::Table{{"x"}, {}}, TableFormat::kTable), "x\n-\n(no rows)\n");
-  EXPECT_THROW(ParseTableFormat("xml"), napkin::InputError);
+  EXPECT_EQ(app::FormatTable(db::Table{{"x"}, {}}, app::TableFormat::kTable), "x\n-\n(no rows)\n");
+  EXPECT_THROW(app::ParseTableFormat("xml"), napkin::InputError);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "cli/comparison.h"
+#include "app/comparison.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/run_command.h"
@@ -80,7 +80,7 @@ TEST_F(ReportCli, ReportsTheSelectedTestsWithFourChartsEach) {
   EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"chart-"), 24u);
   // The series has three variants: the compare table and one distribution plot per metric.
   EXPECT_EQ(Count(html, "<section class=\"comparison\">"), 1u);
-  EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"dist-"), cli::DefaultComparisonMetrics().size());
+  EXPECT_EQ(Count(html, "<div class=\"chart\" id=\"dist-"), app::DefaultComparisonMetrics().size());
   EXPECT_EQ(Count(html, "<tr><td>hic15</td><td>"), 3u);  // one compare row per variant
   for (const char* variant : {"production", "foam-a", "foam-b"})
     EXPECT_THAT(html, HasSubstr(std::string("variant ") + variant));
@@ -358,7 +358,7 @@ TEST_F(ReportInChromium, DrawsEveryChartWithoutScriptErrors) {
   ASSERT_EQ(dump.exit_code, 0) << dump.err;
   const std::vector<bool> drawn = ChartsWithCanvas(dump.out);
   // 4 per test, a distribution per metric, and the acceleration and angular velocity overlays.
-  ASSERT_EQ(drawn.size(), 24u + cli::DefaultComparisonMetrics().size() + 2u) << dump.out.substr(0, 2000);
+  ASSERT_EQ(drawn.size(), 24u + app::DefaultComparisonMetrics().size() + 2u) << dump.out.substr(0, 2000);
   for (std::size_t i = 0; i < drawn.size(); ++i) EXPECT_TRUE(drawn[i]) << "chart " << i << " not drawn";
   EXPECT_THAT(dump.out, HasSubstr("dygraph-legend"));  // dygraphs wrote its legends
   EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)
@@ -568,7 +568,7 @@ TEST(ReportNamesInChromium, LegendsAndAxesShowVariantNamesAsTyped) {
     EXPECT_EQ(legend_text.find("&amp;"), std::string::npos) << "plot " << plots << " legend: " << legend_text;
     EXPECT_EQ(legend_text.find("&lt;"), std::string::npos) << "plot " << plots << " legend: " << legend_text;
   }
-  EXPECT_EQ(plots, cli::DefaultComparisonMetrics().size());
+  EXPECT_EQ(plots, app::DefaultComparisonMetrics().size());
 }
 
 }  // namespace

@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "cli/db_option.h"
 #include "db/job_queue.h"
 #include "formats/channel_map.h"
 #include "formats/csv.h"
 #include "formats/uds1992.h"
+#include "records/config_record.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
@@ -158,7 +158,7 @@ TEST_F(TextEncodingCli, StoredTextThatIsNotUtf8NeverBreaksAnAnswer) {
     db::Catalogue catalogue = db::Catalogue::Open((dir_ / "t.db").string());
     const db::ArrayId array = catalogue.WriteArray(
         {{}, "ideal-3222", R"({"name":"ideal-3222","length_unit":"in","sensors":[]})", "array-hash-ideal"});
-    const cli::ResolvedConfig config = cli::ResolveConfig("");
+    const records::ResolvedConfig config = records::ResolveConfig("");
     const db::ConfigId config_id = catalogue.WriteConfig(config.record);
     int index = 0;
     for (const char* variant : {"v\xfe", "v\xfe", "w", "w"}) {

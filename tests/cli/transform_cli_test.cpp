@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cli/transform.h"
+#include "app/transform.h"
 #include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "formats/csv.h"
@@ -122,14 +122,14 @@ TEST_F(TransformCliTest, UnknownSolverIsRefusedNotTakenForExact) {
   EXPECT_EQ(usage.exit_code, 2) << usage.err;
   EXPECT_NE(usage.err.find("fast"), std::string::npos) << usage.err;
   // RunTransform itself (as `napkin demo` calls it) refuses it too.
-  cli::TransformOptions options;
+  app::TransformOptions options;
   options.array = "denton-3222";
   options.solver = "fast";
   options.orientation_rad = {0.5, 0.5, 0.5};
   options.input = input_.string();
   options.out = (dir_ / "fast.csv").string();
   try {
-    cli::RunTransform(options);
+    app::RunTransform(options);
     ADD_FAILURE() << "an unknown solver was accepted";
   } catch (const InputError& error) {
     const std::string message = error.what();

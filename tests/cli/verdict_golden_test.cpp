@@ -1,4 +1,4 @@
-// The verdict's wording (cli/verdict.h, docs/formats.md "Verdict") on the
+// The verdict's wording (app/verdict.h, docs/formats.md "Verdict") on the
 // fixed synthetic padding series (`napkin synth --scenario padding-series`:
 // fixed seeds, 5 repeats of production, foam-a and foam-b), run and
 // reported against production: the report's verdict block is compared with
@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "cli/verdict.h"
+#include "app/verdict.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 using namespace napkin::test_support;
@@ -54,7 +54,7 @@ TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
   const std::string block = html.substr(begin, end + 6 - begin) + "\n";
   ExpectGolden("padding_series_production.html", block);
 
-  // The sentences are those of cli::BuildVerdict on compare's rows: the
+  // The sentences are those of app::BuildVerdict on compare's rows: the
   // baseline's row first, then foam-a and foam-b, each sentence naming its variant.
   EXPECT_NE(block.find("<h3>Verdict against production</h3>"), std::string::npos);
   EXPECT_NE(block.find("<li>foam-a: "), std::string::npos) << block;
@@ -85,4 +85,4 @@ TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

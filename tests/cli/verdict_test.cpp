@@ -1,10 +1,10 @@
-// The wording rules of the verdict (cli/verdict.h, docs/formats.md
+// The wording rules of the verdict (app/verdict.h, docs/formats.md
 // "Verdict"), on series with known answers compared as BuildComparison
-// compares them (cli::CompareMetric): a large reduction, a non-significant
+// compares them (app::CompareMetric): a large reduction, a non-significant
 // difference, an equivalent one, the base/soft series of issue 30, identical
 // values, a bound near zero, acceleration-only variants beside full ones,
 // limits; and the rules table as docs/formats.md states it.
-#include "cli/verdict.h"
+#include "app/verdict.h"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +19,7 @@
 #include "engine/statistics.h"
 #include "tests/support/run_command.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -287,4 +287,4 @@ TEST(Verdict, FormatVerdictHeadsAndIndentsTheSentences) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -13,14 +13,14 @@
 #include <random>
 #include <set>
 
-#include "cli/where_parser.h"
+#include "app/where_parser.h"
 #include "common/error.h"
 #include "db/sqlite.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 using namespace napkin::test_support;
 namespace {
@@ -328,4 +328,4 @@ TEST(SqliteErrorText, NamesTheSqliteErrorTheFunctionAndTheSqlButNoSourceCode) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,13 +1,13 @@
-// The --where parser (cli/where_parser.h, docs/formats.md "Query
+// The --where parser (app/where_parser.h, docs/formats.md "Query
 // filters"): precedence, parentheses, quoting, value types, and every error
 // with its one-line message.
-#include "cli/where_parser.h"
+#include "app/where_parser.h"
 
 #include <gtest/gtest.h>
 
 #include "common/error.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 const std::vector<db::QueryField>& HicFields() {
@@ -196,4 +196,4 @@ TEST(WhereExpression, ErrorsAreOneLine) {
 }
 
 }  // namespace
-}  // namespace napkin::cli
+}  // namespace napkin::app

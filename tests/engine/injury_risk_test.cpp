@@ -66,10 +66,10 @@ TEST(TakhountsBricRisk, WeibullCurvesOfTheMpsBasedBric) {
 }
 
 TEST(InjuryRisk, ZeroCriterionIsNoRiskAndNaNStaysUndetermined) {
-  for (const InjuryRiskCurve& curve : InjuryRiskCurves()) {
-    EXPECT_EQ(curve.risk(0.0), 0.0) << curve.field;
-    EXPECT_TRUE(std::isnan(curve.risk(kNaN))) << curve.field;
-    EXPECT_NEAR(curve.risk(1e7), 1.0, 1e-12) << curve.field;
+  for (const SummaryField* field : RiskFields()) {
+    EXPECT_EQ(field->curve->risk(0.0), 0.0) << field->name;
+    EXPECT_TRUE(std::isnan(field->curve->risk(kNaN))) << field->name;
+    EXPECT_NEAR(field->curve->risk(1e7), 1.0, 1e-12) << field->name;
   }
 }
 
@@ -83,15 +83,20 @@ TEST(InjuryRisk, EveryCurveIsARiskSummaryFieldReadingItsCriterion) {
   for (const SummaryField& field : SummaryFields()) {
     if (field.group != SummaryGroup::kRisk) continue;
     ++risks;
-    const InjuryRiskCurve* curve = FindInjuryRiskCurve(field.name);
+    const RiskCurve* curve = field.curve;
     ASSERT_NE(curve, nullptr) << field.name;
     double criterion = kNaN;
     for (const SummaryField& read : SummaryFields())
       if (std::string(read.name) == curve->criterion) criterion = read.Get(summary);
     EXPECT_EQ(field.Get(summary), curve->risk(criterion)) << field.name;
   }
-  EXPECT_EQ(risks, InjuryRiskCurves().size());
-  EXPECT_EQ(FindInjuryRiskCurve("hic15"), nullptr);
+  EXPECT_EQ(risks, RiskFields().size());
+  EXPECT_EQ(FindSummaryField("hic15")->curve, nullptr);
+  // The table's curves are the engine's functions (engine/injury_risk.h), each once.
+  EXPECT_EQ(FindSummaryField("hic15_p_ais3")->curve->risk, &NcapHic15Ais3Risk);
+  EXPECT_EQ(FindSummaryField("hic36_p_ais4")->curve->risk, &PrasadMertzHic36Ais4Risk);
+  EXPECT_EQ(FindSummaryField("bric_p_ais3")->curve->risk, &TakhountsBricAis3Risk);
+  EXPECT_EQ(FindSummaryField("bric_p_ais4")->curve->risk, &TakhountsBricAis4Risk);
   // An acceleration-only array: BrIC undetermined, so are its risks.
   summary.bric = kNaN;
   FillInjuryRisks(summary);

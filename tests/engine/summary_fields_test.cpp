@@ -81,5 +81,55 @@ TEST(SummaryFields, FindingsCompareMemberByMember) {
   EXPECT_THAT(DifferingSummaryFields(base, changed), ElementsAre("hic", "findings"));
 }
 
+// Labels and units are the table's (issue 31 point 2): the HTML report's
+// criteria table and the verdict read them from here; these are the words
+// they printed before the table carried them.
+TEST(SummaryFields, LabelsAndUnitsOfTheReportAndTheVerdict) {
+  struct Labels {
+    const char* field;
+    const char* label;        // FieldLabel: the verdict's
+    const char* table_label;  // FieldTableLabel: the report's criteria table
+  };
+  for (const Labels& expected : {
+           Labels{"hic15", "HIC15", "HIC15"},
+           Labels{"hic", "HIC", "HIC (no window limit)"},
+           Labels{"hic_d", "HIC(d)", "HIC(d)"},
+           Labels{"peak_acc_g", "peak acceleration", "peak acceleration (g)"},
+           Labels{"a3ms_g", "a3ms", "a3ms (g)"},
+           Labels{"peak_alpha_radps2", "peak angular acceleration", "peak angular acceleration (rad/s²)"},
+           Labels{"bric", "BrIC", "BrIC"},
+           Labels{"hic15_p_ais3", "P(AIS 3+ | HIC15)", "P(AIS 3+) from HIC15 (NCAP)"},
+           Labels{"hic36_p_ais4", "P(AIS 4+ | HIC36)", "P(AIS 4+) from HIC36 (Prasad–Mertz)"},
+           Labels{"bric_p_ais4", "P(AIS 4+ | BrIC)", "P(AIS 4+) from BrIC (Takhounts)"},
+       }) {
+    const SummaryField* field = FindSummaryField(expected.field);
+    ASSERT_NE(field, nullptr) << expected.field;
+    EXPECT_EQ(FieldLabel(*field), expected.label);
+    EXPECT_EQ(FieldTableLabel(*field), expected.table_label);
+  }
+  EXPECT_STREQ(FindSummaryField("peak_omega_radps")->unit, "rad/s");
+  EXPECT_STREQ(FindSummaryField("damage")->unit, "");
+  EXPECT_EQ(FindSummaryField("no_such_field"), nullptr);
+}
+
+// Every field has a label; exactly the risks have a curve, reading a field
+// that is no risk itself.
+TEST(SummaryFields, EveryRiskHasItsCurveAndNothingElseHasOne) {
+  std::vector<std::string> risks;
+  for (const SummaryField& field : SummaryFields()) {
+    EXPECT_FALSE(FieldLabel(field).empty()) << field.name;
+    EXPECT_EQ(field.curve != nullptr, field.group == SummaryGroup::kRisk) << field.name;
+    if (field.curve == nullptr) continue;
+    risks.emplace_back(field.name);
+    const SummaryField* criterion = FindSummaryField(field.curve->criterion);
+    ASSERT_NE(criterion, nullptr) << field.name;
+    EXPECT_EQ(criterion->curve, nullptr) << field.name;
+  }
+  std::vector<std::string> listed;
+  for (const SummaryField* field : RiskFields()) listed.emplace_back(field->name);
+  EXPECT_EQ(listed, risks);
+  EXPECT_THAT(listed, ElementsAre("hic15_p_ais3", "hic36_p_ais4", "bric_p_ais3", "bric_p_ais4"));
+}
+
 }  // namespace
 }  // namespace napkin::engine

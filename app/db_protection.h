@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-namespace napkin::cli {
+namespace napkin::app {
 
 // Marks the --db catalogue and its SQLite side files (-wal, -shm, -journal,
 // also under the name the catalogue's symbolic links resolve to, which SQLite
@@ -18,4 +18,4 @@ void ProtectCatalogueFromOutput(const std::string& db_path);
 // refused as a usage error (exit 2) naming `what`, e.g. "the --array file". An empty path is skipped.
 void ProtectInputFromOutput(const std::filesystem::path& input, const std::string& what);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,4 +1,4 @@
-#include "cli/table_output.h"
+#include "app/table_output.h"
 
 #include <fmt/core.h>
 
@@ -11,7 +11,7 @@
 #include "common/error.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 bool IsNumber(const db::Cell& cell) {
@@ -157,4 +157,4 @@ std::string FormatTable(const db::Table& table, TableFormat format) {
   return {};
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

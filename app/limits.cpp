@@ -1,4 +1,4 @@
-#include "cli/limits.h"
+#include "app/limits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "common/error.h"
 #include "common/joined.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 namespace fs = std::filesystem;
@@ -126,4 +126,4 @@ db::Table LimitsTable(const db::Table& criteria, const LimitSet& limits) {
   return table;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,11 +1,11 @@
-#include "cli/transform.h"
+#include "app/transform.h"
 
 #include <cmath>
 #include <filesystem>
 #include <optional>
 
-#include "cli/db_option.h"
-#include "cli/db_protection.h"
+#include "app/db_protection.h"
+#include "app/result_selection.h"
 #include "common/error.h"
 #include "engine/pipeline.h"
 #include "engine/processing.h"
@@ -17,8 +17,9 @@
 #include "records/config_record.h"
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
+#include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace fs = std::filesystem;
 
 namespace {
@@ -30,11 +31,71 @@ std::string SolverNames(const std::string& separator) {
   return names;
 }
 
+// t0 and dt from the sampling interval or the sample times.
+formats::TimeBase CheckedTimeBase(const SampleTimes& times, Eigen::Index samples, const std::string& source) {
+  if (const double* dt = std::get_if<double>(&times)) {
+    if (!(std::isfinite(*dt) && *dt > 0.0))
+      throw InputError(source + ": dt " + util::FormatNumber(*dt) +
+                       " s is not a finite positive sampling interval.");
+    return {0.0, *dt};
+  }
+  const std::span<const double> values = std::get<std::span<const double>>(times);
+  if (static_cast<Eigen::Index>(values.size()) != samples)
+    throw InputError(source + ": time_s has " + std::to_string(values.size()) +
+                     " values but the channels have " + std::to_string(samples) + " samples.");
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (!std::isfinite(values[k]))
+      throw InputError(source + ": time_s[" + std::to_string(k) + "] is " + util::FormatNumber(values[k]) +
+                       ", not a finite number.");
+  return formats::UniformTimeBase(
+      values, source, [](std::size_t k) { return "time_s[" + std::to_string(k) + "]"; }, "sample");
+}
+
 Eigen::Vector3d Vector3OrZero(const std::vector<double>& values) {
   return values.size() == 3 ? Eigen::Vector3d(values[0], values[1], values[2]) : Eigen::Vector3d::Zero();
 }
 
 }  // namespace
+
+void SetSolver(engine::ProcessingConfig& config, const std::string& name) {
+  const std::optional<engine::SolverKind> solver = engine::ParseName<engine::SolverKind>(name);
+  if (!solver) throw InputError("unknown solver \"" + name + "\" (use " + SolverNames(" or ") + ").");
+  config.solver = *solver;
+  config.Check();  // the config's other settings may not suit this solver
+}
+
+engine::TestSignals SignalsFromSamples(Eigen::MatrixXd samples, const engine::ArrayGeometry& array,
+                                       const SampleTimes& times, const std::string& source) {
+  for (Eigen::Index c = 0; c < samples.cols(); ++c)
+    for (Eigen::Index k = 0; k < samples.rows(); ++k)
+      if (!std::isfinite(samples(k, c)))
+        formats::RefuseNonFiniteSample(source + ": sample " + std::to_string(k) + ", channel " +
+                                           util::Quoted(array.sensors[static_cast<std::size_t>(c)].slot),
+                                       util::FormatNumber(samples(k, c)));
+  formats::CheckSampleCount(static_cast<std::size_t>(samples.rows()), source, "sample");
+  const formats::TimeBase time_base = CheckedTimeBase(times, samples.rows(), source);
+  engine::TestSignals signals;
+  signals.t0_s = time_base.t0_s;
+  signals.dt_s = time_base.dt_s;
+  for (const engine::Sensor& sensor : array.sensors) signals.slots.push_back(sensor.slot);
+  signals.samples = std::move(samples);
+  return signals;
+}
+
+engine::ProcessedTest ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
+                                     const engine::InitialState& initial,
+                                     const engine::ProcessingConfig& config, const std::string& source,
+                                     const std::atomic<bool>* cancel) {
+  try {
+    engine::ProcessedTest processed = engine::ProcessTest(array, signals, initial, config, cancel);
+    // The verdict `napkin run` records: a test that fails there fails here,
+    // with the same sentence.
+    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
+    return processed;
+  } catch (const InputError& error) {
+    throw InputError(source + ": " + error.what());
+  }
+}
 
 TransformReport RunTransform(const TransformOptions& options) {
   // One stream cannot carry two files (docs/formats.md "Output destinations").
@@ -61,29 +122,17 @@ TransformReport RunTransform(const TransformOptions& options) {
   // The same resolution as `napkin run` (empty: the "default" preset), so a
   // catalogue result equals the transform of the same input.
   engine::ProcessingConfig config = ResolveConfig(options.config).config;
-  if (!options.solver.empty()) {
-    const std::optional<engine::SolverKind> solver = engine::ParseName<engine::SolverKind>(options.solver);
-    if (!solver)
-      throw InputError("unknown solver \"" + options.solver + "\" (use " + SolverNames(" or ") + ").");
-    config.solver = *solver;
-    config.Check();  // the config's other settings may not suit this solver
-  }
+  if (!options.solver.empty()) SetSolver(config, options.solver);
   engine::InitialState initial;
   initial.orientation_rad = Vector3OrZero(options.orientation_rad);
   initial.velocity_fixed_mps = Vector3OrZero(options.initial_velocity_mps);
 
   TransformReport report;
   report.warnings = std::move(csv.warnings);
-  try {
-    engine::ProcessedTest processed = engine::ProcessTest(array, csv.signals, initial, config);
-    // The verdict `napkin run` records: a test that fails there fails here,
-    // with the same sentence, before any output is written.
-    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
-    report.kinematics = std::move(processed.kinematics);
-    report.summary = std::move(processed.summary);
-  } catch (const InputError& error) {
-    throw InputError(options.input + ": " + error.what());
-  }
+  // A failing test fails before any output is written.
+  engine::ProcessedTest processed = ProcessSignals(array, csv.signals, initial, config, options.input);
+  report.kinematics = std::move(processed.kinematics);
+  report.summary = std::move(processed.summary);
 
   if (!options.lsdyna.empty() && !engine::HasRotation(report.kinematics))
     throw InputError(options.input + ": array '" + array.name +
@@ -113,4 +162,4 @@ TransformReport RunTransform(const TransformOptions& options) {
   return report;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,32 +1,16 @@
-#include "cli/query_filters.h"
+#include "app/query.h"
 
 #include <algorithm>
 #include <charconv>
 #include <system_error>
 
-#include "cli/db_option.h"
-#include "cli/where_parser.h"
+#include "app/result_selection.h"
+#include "app/where_parser.h"
 #include "common/error.h"
+#include "common/joined.h"
 #include "util/text.h"
 
-namespace napkin::cli {
-
-void QueryFilterOptions::Register(CLI::App& command) {
-  command.add_option("--series", series, "only tests of this series (repeatable: any of them)")
-      ->allow_extra_args(false);
-  command.add_option("--variant", variants, "only tests of this variant (repeatable: any of them)")
-      ->allow_extra_args(false);
-  command
-      .add_option(
-          "--where", where,
-          "only rows where EXPR holds, e.g. \"hic15>700 and variant=foam-a\" (repeatable: all of them)")
-      ->allow_extra_args(false);
-  command.add_option("--sort", sort, "order by FIELD[:desc] (repeatable; ties: by test_id)")
-      ->allow_extra_args(false);
-  command.add_option("--limit", limit, "at most N rows");
-  command.add_option("--config", config,
-                     "results of this processing config (name or hash prefix; default: each test's latest)");
-}
+namespace napkin::app {
 
 db::QueryRequest QueryFilterOptions::Request(db::QueryKind kind) const {
   const std::vector<db::QueryField> fields = db::QueryFields(kind);
@@ -40,9 +24,34 @@ db::QueryRequest QueryFilterOptions::Request(db::QueryKind kind) const {
   return request;
 }
 
-std::optional<db::ConfigId> QueryFilterOptions::Config(db::Catalogue& catalogue) const {
-  if (config.empty()) return std::nullopt;
-  return ResolveConfigSelector(catalogue, config).id;
+std::vector<std::string> QueryKindNames() {
+  std::vector<std::string> kinds;
+  kinds.reserve(db::kQueryKindNames.size() + 1);
+  for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
+  kinds.emplace_back("limits");  // `query criteria` against limits (app/limits.h)
+  return kinds;
+}
+
+PreparedQuery PrepareQuery(const Query& query) {
+  const bool limits = query.kind == "limits";
+  const std::optional<db::QueryKind> kind =
+      limits ? db::QueryKind::kCriteria : engine::ParseName<db::QueryKind>(query.kind);
+  if (!kind)
+    throw UsageError("unknown query kind \"" + query.kind + "\" (use " + Joined(QueryKindNames()) + ").");
+  if (limits && !query.limits)
+    throw UsageError("`napkin query limits` needs --limits NAME (presets: " + Joined(LimitPresets()) + ").");
+  if (!limits && query.limits) throw UsageError("--limits applies to `napkin query limits` only.");
+  PreparedQuery prepared{*kind, {}, query.filters.config, std::nullopt};
+  if (limits) prepared.limits = LoadLimits(*query.limits);
+  prepared.request = query.filters.Request(*kind);
+  return prepared;
+}
+
+db::Table RunQuery(db::Catalogue& catalogue, const PreparedQuery& query) {
+  db::QueryRequest request = query.request;
+  if (!query.config.empty()) request.config = ResolveConfigSelector(catalogue, query.config).id;
+  const db::Table table = catalogue.Query(query.kind, request);
+  return query.limits ? LimitsTable(table, *query.limits) : table;
 }
 
 db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField>& fields) {
@@ -72,4 +81,4 @@ std::int64_t ParseRowLimit(std::string_view text) {
   return limit;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,10 +1,10 @@
 // The report `napkin report` and `napkin demo` write: one self-contained HTML file (docs/formats.md "HTML
-// report"): the comparison of each series' variants (cli/comparison.h, as
+// report"): the comparison of each series' variants (app/comparison.h, as
 // `napkin compare`), then each selected test's latest result: criteria, time
 // histories, screening findings and final pose. Reads the catalogue one test
 // at a time and streams the page (formats/html_report.h HtmlReportWriter):
 // its memory does not grow with the number of tests.
-#include "cli/report_builder.h"
+#include "app/report_builder.h"
 
 #include <fmt/core.h>
 
@@ -19,10 +19,10 @@
 #include <tuple>
 #include <vector>
 
-#include "cli/comparison.h"
-#include "cli/db_option.h"
-#include "cli/verdict.h"
-#include "cli/where_parser.h"
+#include "app/comparison.h"
+#include "app/result_selection.h"
+#include "app/verdict.h"
+#include "app/where_parser.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "common/version.h"
@@ -35,7 +35,7 @@
 #include "util/output_destination.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // "1 test", "6 tests".
@@ -50,7 +50,7 @@ std::string CellText(const db::Cell& cell) {
   return "—";
 }
 
-// The verdict of a comparison as the page shows it (cli/verdict.h), with
+// The verdict of a comparison as the page shows it (app/verdict.h), with
 // the note its rules table words.
 formats::ReportVerdict VerdictOf(const Comparison& comparison) {
   const SeriesVerdict verdict = BuildVerdict(comparison);
@@ -319,7 +319,7 @@ class CatalogueReport {
     std::map<db::ConfigId, db::ConfigRow> configs;
     std::map<std::string, std::set<std::string>> variants_by_series;
     for (const db::TestRow& record : selected_) {
-      const std::optional<db::ConfigId> config_id = catalogue_.ReadLatestResultConfig(record.id);
+      const std::optional<db::ConfigId> config_id = FindResult(catalogue_, record.id, Latest{});
       if (!config_id) {
         without_results_.push_back(record.external_id);
         continue;
@@ -427,4 +427,4 @@ std::string WrittenReportText(const WrittenReport& written) {
   return text;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,4 +1,4 @@
-#include "cli/verdict.h"
+#include "app/verdict.h"
 
 #include <fmt/core.h>
 
@@ -9,32 +9,14 @@
 #include <set>
 
 #include "common/joined.h"
-#include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // U+2212, the minus sign of the wording ("−9 % [−27, +8]").
 constexpr std::string_view kMinus = "\xE2\x88\x92";
-
-struct CriterionLabel {
-  std::string_view name, label;
-};
-constexpr CriterionLabel kLabels[] = {
-    {"hic15", "HIC15"},
-    {"hic36", "HIC36"},
-    {"hic", "HIC"},
-    {"hic_d", "HIC(d)"},
-    {"bric", "BrIC"},
-    {"damage", "DAMAGE"},
-    {"a3ms_g", "a3ms"},
-    {"peak_acc_g", "peak acceleration"},
-    {"peak_omega_radps", "peak angular velocity"},
-    {"peak_alpha_radps2", "peak angular acceleration"},
-    {"max_rotation_deg", "max rotation"},
-};
 
 // "+8", "−9", "0": a signed percentage (PercentText's digits).
 std::string Signed(double pct) {
@@ -73,9 +55,8 @@ bool HasValues(const MetricComparison& metric) {
 }
 
 bool IsRotationCriterion(std::string_view name) {
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (name == field.name) return field.group == engine::SummaryGroup::kRotation;
-  return false;
+  const engine::SummaryField* field = engine::FindSummaryField(name);
+  return field != nullptr && field->group == engine::SummaryGroup::kRotation;
 }
 
 // The parenthetical's last words for a ratio metric compared linearly.
@@ -98,10 +79,10 @@ std::vector<VerdictMetric> VerdictMetrics(const Comparison& comparison) {
     if (metric == nullptr || !HasValues(*metric)) continue;
     VerdictMetric& entry = metrics.emplace_back(
         VerdictMetric{metric, MetricLabel(criterion), IsRotationCriterion(criterion), {}});
-    for (const engine::InjuryRiskCurve& curve : engine::InjuryRiskCurves()) {
-      const MetricComparison* risk = FindMetric(comparison, curve.field);
-      if (curve.criterion == criterion && risk != nullptr && HasValues(*risk))
-        entry.risks.emplace_back(risk, MetricLabel(curve.field));
+    for (const engine::SummaryField* field : engine::RiskFields()) {  // the risks read from it
+      const MetricComparison* risk = FindMetric(comparison, field->name);
+      if (field->curve->criterion == criterion && risk != nullptr && HasValues(*risk))
+        entry.risks.emplace_back(risk, MetricLabel(field->name));
     }
   }
   return metrics;
@@ -153,11 +134,8 @@ const VerdictRule& RuleOf(ClauseKind kind) {
 std::vector<std::string> VerdictCriteria() { return {"hic15", "bric"}; }
 
 std::string MetricLabel(std::string_view name) {
-  for (const CriterionLabel& known : kLabels)
-    if (known.name == name) return std::string(known.label);
-  if (const engine::InjuryRiskCurve* curve = engine::FindInjuryRiskCurve(name))
-    return fmt::format("P(AIS {}+ | {})", curve->ais, MetricLabel(curve->criterion));
-  return std::string(name);
+  const engine::SummaryField* field = engine::FindSummaryField(name);
+  return field != nullptr ? engine::FieldLabel(*field) : std::string(name);
 }
 
 std::string PValueText(double p) {
@@ -394,4 +372,4 @@ std::string FormatVerdict(const SeriesVerdict& verdict) {
   return text;
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -1,4 +1,4 @@
-#include "cli/db_option.h"
+#include "app/result_selection.h"
 
 #include <utility>
 
@@ -7,7 +7,7 @@
 #include "records/test_inputs.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // "name (hash 0123456789ab), ..." of `configs`.
@@ -19,12 +19,31 @@ std::string ConfigList(const std::vector<db::ConfigRow>& configs) {
 
 }  // namespace
 
-db::Catalogue OpenCatalogue(const GlobalOptions& global, bool read_only) {
-  db::CatalogueOptions options;
-  options.read_only = read_only;
-  // Never write into a damaged catalogue (init, import, synth, run, merge).
-  options.check_integrity = !read_only;
-  return db::Catalogue::Open(global.db_path, options);
+std::optional<db::ConfigId> FindResult(db::Catalogue& catalogue, db::TestId test,
+                                       const ResultChoice& choice) {
+  if (std::holds_alternative<Latest>(choice)) return catalogue.ReadLatestResultConfig(test);
+  std::optional<db::ConfigId> config;
+  if (const auto* stored = std::get_if<Stored>(&choice))
+    config = ResolveConfigSelector(catalogue, stored->selector).id;
+  else
+    config =
+        catalogue.FindConfigByHash(ResolveConfig(std::get<Preset>(choice).name_or_path).record.config_hash);
+  if (!config || !catalogue.ReadSummary(test, *config)) return std::nullopt;
+  return config;
+}
+
+TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
+                    const std::string& db_path) {
+  const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id);
+  if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + db_path + "'.");
+  const std::optional<db::ConfigId> config = FindResult(catalogue, *test, choice);
+  if (config) return {*test, *config};
+  if (std::holds_alternative<Latest>(choice))
+    throw InputError("test '" + test_id + "' has no results yet; run `napkin run` first.");
+  const std::string& named = std::holds_alternative<Stored>(choice) ? std::get<Stored>(choice).selector
+                                                                    : std::get<Preset>(choice).name_or_path;
+  throw InputError("test '" + test_id + "' has no results for config '" + named +
+                   "' yet; run `napkin run --config " + named + "` first.");
 }
 
 engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
@@ -77,4 +96,4 @@ std::size_t MatchConfigSelector(const std::vector<db::ConfigRow>& configs, const
                    " configs: " + listing(hashed) + "; give more of the hash.");
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

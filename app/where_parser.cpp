@@ -1,4 +1,4 @@
-#include "cli/where_parser.h"
+#include "app/where_parser.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,7 +11,7 @@
 #include "common/error.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 struct Token {
@@ -226,4 +226,4 @@ db::WhereExpression ParseWhereExpression(std::string_view text, const std::vecto
   return Parser(text, fields).Parse();
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

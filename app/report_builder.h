@@ -8,7 +8,7 @@
 
 #include "formats/html_report.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 // Which tests the report shows; empty members do not filter. A test matches
 // every member (within one member any of the names); `where` holds
@@ -39,7 +39,7 @@ struct ReportOptions {
   // kOnset: t = 0 at each test's first sample whose resultant CG
   // acceleration exceeds this many g.
   double onset_threshold_g = kDefaultOnsetThresholdG;
-  // Limits the verdict and the compare table check (cli/limits.h): a preset
+  // Limits the verdict and the compare table check (app/limits.h): a preset
   // name of config/limits or a file.
   std::optional<std::string> limits;
 };
@@ -54,7 +54,7 @@ struct WrittenReport {
 // Writes the report of the selected tests of the catalogue at `db_path`
 // (opened read-only) to `out`: each test's latest result, and the
 // comparison of each series with more than one variant (its verdict,
-// cli/verdict.h, and overlaid curves, as `options` say). Throws UsageError
+// app/verdict.h, and overlaid curves, as `options` say). Throws UsageError
 // for a malformed `where` (before the catalogue is opened) or a baseline a
 // compared series does not have, InputError (one
 // sentence) for an unknown test id, a selection matching no test, or no test
@@ -73,4 +73,4 @@ WrittenReport WriteCatalogueReport(const std::string& db_path, const ReportSelec
 // naming them; each line ends with a newline.
 std::string WrittenReportText(const WrittenReport& written);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

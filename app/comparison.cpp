@@ -1,4 +1,4 @@
-#include "cli/comparison.h"
+#include "app/comparison.h"
 
 #include <fmt/core.h>
 
@@ -9,31 +9,25 @@
 #include <set>
 #include <string_view>
 
-#include "cli/db_option.h"
-#include "cli/limits.h"
+#include "app/limits.h"
+#include "app/result_selection.h"
 #include "common/error.h"
 #include "common/joined.h"
 #include "engine/summary_fields.h"
 #include "ingest/import.h"
 #include "util/text.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 namespace {
 
 // The group of the tests without a variant; import refuses it as a variant name.
 constexpr std::string_view kNoVariant = ingest::kNoVariantGroup;
 
-const engine::SummaryField* FindField(const std::string& name) {
-  for (const engine::SummaryField& field : engine::SummaryFields())
-    if (name == field.name) return &field;
-  return nullptr;
-}
-
 std::vector<const engine::SummaryField*> ResolveMetrics(const std::vector<std::string>& requested) {
   const std::vector<std::string> names = requested.empty() ? DefaultComparisonMetrics() : requested;
   std::vector<const engine::SummaryField*> fields;
   for (const std::string& name : names) {
-    const engine::SummaryField* field = FindField(name);
+    const engine::SummaryField* field = engine::FindSummaryField(name);
     if (field == nullptr) {
       std::vector<std::string> valid;
       for (const engine::SummaryField& known : engine::SummaryFields()) valid.emplace_back(known.name);
@@ -348,10 +342,14 @@ double ParseEquivalencePct(const std::string& text) {
 
 std::vector<std::string> DefaultComparisonMetrics() {
   std::vector<std::string> metrics;
-  for (const char* name :
-       {"hic15", "hic36", "hic_d", "peak_acc_g", "a3ms_g", "peak_omega_radps", "peak_alpha_radps2", "bric",
-        "damage", "max_rotation_deg", "hic15_p_ais3", "bric_p_ais3", "bric_p_ais4"})
-    if (FindField(name) != nullptr) metrics.emplace_back(name);
+  for (const char* name : {"hic15", "hic36", "hic_d", "peak_acc_g", "a3ms_g", "peak_omega_radps",
+                           "peak_alpha_radps2", "bric", "damage", "max_rotation_deg"})
+    if (engine::FindSummaryField(name) != nullptr) metrics.emplace_back(name);
+  // The risks read from HIC15 and BrIC, the verdict's criteria (app/verdict.h), in table order.
+  for (const engine::SummaryField* risk : engine::RiskFields())
+    if (std::string_view(risk->curve->criterion) == "hic15" ||
+        std::string_view(risk->curve->criterion) == "bric")
+      metrics.emplace_back(risk->name);
   return metrics;
 }
 
@@ -368,7 +366,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
   if (request.limits) {
     limits = LoadLimits(*request.limits);
     for (const Limit& limit : limits->limits) {  // a limit's metric is compared too
-      const engine::SummaryField* field = FindField(limit.metric);
+      const engine::SummaryField* field = engine::FindSummaryField(limit.metric);
       if (field != nullptr && std::find(fields.begin(), fields.end(), field) == fields.end())
         fields.push_back(field);
     }
@@ -594,4 +592,4 @@ std::string FormatComparison(const Comparison& comparison, TableFormat format) {
   return FormatTable(ComparisonTable(comparison), format);
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -19,7 +19,7 @@
 #include "db/catalogue.h"
 #include "db/where_expression.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 // Throws UsageError, one line naming the offending token (and its column)
 // and listing `fields`, when `text` is malformed, names a field not in
@@ -29,4 +29,4 @@ namespace napkin::cli {
 // quoted cut (util::Abbreviated).
 db::WhereExpression ParseWhereExpression(std::string_view text, const std::vector<db::QueryField>& fields);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

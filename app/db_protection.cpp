@@ -1,4 +1,4 @@
-#include "cli/db_protection.h"
+#include "app/db_protection.h"
 
 #include <filesystem>
 #include <system_error>
@@ -6,7 +6,7 @@
 
 #include "util/output_destination.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 void ProtectCatalogueFromOutput(const std::string& db_path) {
   const std::string catalogue = "the catalogue '" + db_path + "'";
@@ -28,4 +28,4 @@ void ProtectInputFromOutput(const std::filesystem::path& input, const std::strin
                           util::Refusal::kUsage);
 }
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -13,11 +13,11 @@
 #include <string_view>
 #include <vector>
 
-#include "cli/table_output.h"
+#include "app/table_output.h"
 #include "db/catalogue.h"
 #include "engine/statistics.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 enum class CompareBy { kVariant, kConfig };
 
@@ -54,7 +54,7 @@ struct ComparisonRequest {
   std::optional<std::string> baseline;
   // Summary field names (engine::SummaryFields()); empty: DefaultComparisonMetrics().
   std::vector<std::string> metrics;
-  // Processing configs as NAME or HASH-PREFIX (ResolveConfigSelector, cli/db_option.h). By
+  // Processing configs as NAME or HASH-PREFIX (ResolveConfigSelector, app/result_selection.h). By
   // variant: at most one, whose results are compared (default: each test's
   // latest result, as `napkin query`). By config: the configs compared
   // (default: every config with results in the series).
@@ -63,7 +63,7 @@ struct ComparisonRequest {
   CompareScale scale = CompareScale::kLog;
   // The equivalence margin in % (two one-sided tests).
   double equivalence_pct = kDefaultEquivalencePct;
-  // Limits to check (cli/limits.h), a preset name of config/limits or a
+  // Limits to check (app/limits.h), a preset name of config/limits or a
   // file; their metrics are compared too.
   std::optional<std::string> limits;
 };
@@ -74,7 +74,8 @@ std::string VariantGroup(const std::optional<std::string>& variant);
 
 // The metrics `napkin compare` shows by default: hic15, hic36, hic_d (when
 // this build has it), peak_acc_g, a3ms_g, peak_omega_radps, peak_alpha_radps2,
-// bric, damage, max_rotation_deg, hic15_p_ais3, bric_p_ais3, bric_p_ais4.
+// bric, damage, max_rotation_deg, then the risks read from hic15 and bric
+// (engine::RiskFields(): P(AIS 3+ | HIC15), P(AIS 3+ | BrIC), P(AIS 4+ | BrIC)).
 std::vector<std::string> DefaultComparisonMetrics();
 
 // A group's values of one metric, one per test with a result (tests whose
@@ -141,7 +142,7 @@ struct ComparisonRow {
   double mdd_high_pct = std::numeric_limits<double>::quiet_NaN();
 };
 
-// A limit's check for one group (cli/limits.h): how many of its tests with a
+// A limit's check for one group (app/limits.h): how many of its tests with a
 // value are within it, and the worst (highest) test.
 struct GroupLimitCheck {
   std::size_t tests = 0;   // with a value of the limit's metric
@@ -199,4 +200,4 @@ db::Table ComparisonTable(const Comparison& comparison);
 // aligned block per metric, for people (docs/formats.md "napkin compare").
 std::string FormatComparison(const Comparison& comparison, TableFormat format);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

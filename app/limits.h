@@ -11,7 +11,7 @@
 #include "db/catalogue.h"
 #include "formats/array_json.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 // One limit: the summary field (of `query criteria`) must not exceed `max`.
 struct Limit {
@@ -50,4 +50,4 @@ double LimitMarginPct(double value, double limit);
 // margin_pct, meets ("yes", "no", or null without a value).
 db::Table LimitsTable(const db::Table& criteria, const LimitSet& limits);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

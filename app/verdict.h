@@ -2,10 +2,10 @@
 // The engineer's verdict on a series' variants (docs/formats.md "Verdict"):
 // a short table of the headline criteria and one sentence per variant
 // against the baseline, worded from `napkin compare`'s numbers
-// (cli/comparison.h: ratios on the log scale for the positive criteria,
+// (app/comparison.h: ratios on the log scale for the positive criteria,
 // Welch's t, 95 % interval, two-sided p, equivalence by two one-sided tests,
 // the smallest detectable change). The one place the sentences are made:
-// the HTML report (cli/report_builder.cpp) shows them and `napkin demo`
+// the HTML report (app/report_builder.cpp) shows them and `napkin demo`
 // prints them. Plain functions over data (no command line), with the rules
 // as a table beside them (kVerdictRules), which the report's note and
 // docs/formats.md "Verdict" state.
@@ -14,9 +14,9 @@
 #include <string_view>
 #include <vector>
 
-#include "cli/comparison.h"
+#include "app/comparison.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 // The significance level of the verdict's wording (two-sided), and of the
 // two one-sided tests of equivalence.
@@ -69,12 +69,12 @@ inline constexpr VerdictRule kVerdictRules[] = {
 const VerdictRule& RuleOf(ClauseKind kind);
 
 // The criteria a verdict speaks of, in its order: HIC15 and BrIC (each
-// followed by the risks computed from it, engine::InjuryRiskCurves()),
+// followed by the risks computed from it, engine::RiskFields()),
 // where the comparison has them and some test of the series has a value.
 std::vector<std::string> VerdictCriteria();
 
-// "HIC15", "BrIC", "HIC(d)", "P(AIS 3+ | HIC15)" (a risk names its
-// criterion); other names as they are.
+// A summary field's label (engine::FieldLabel): "HIC15", "BrIC", "HIC(d)",
+// "P(AIS 3+ | HIC15)" (a risk names its criterion); other names as they are.
 std::string MetricLabel(std::string_view name);
 
 // "p < 0.0001"; else "p = " and two significant digits, more where two
@@ -130,4 +130,4 @@ std::string VerdictNote(const Comparison& comparison);
 // two spaces (names escaped as `napkin compare` prints them).
 std::string FormatVerdict(const SeriesVerdict& verdict);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app

@@ -7,7 +7,7 @@
 
 #include "db/catalogue.h"
 
-namespace napkin::cli {
+namespace napkin::app {
 
 enum class TableFormat { kTable, kCsv, kJson };
 
@@ -27,4 +27,4 @@ TableFormat ParseTableFormat(std::string_view text);
 // them as JSON does. Every form ends with a newline.
 std::string FormatTable(const db::Table& table, TableFormat format);
 
-}  // namespace napkin::cli
+}  // namespace napkin::app
