@@ -82,19 +82,28 @@ engine::TestSignals SignalsFromSamples(Eigen::MatrixXd samples, const engine::Ar
   return signals;
 }
 
+void ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
+                    const engine::InitialState& initial, const engine::ProcessingConfig& config,
+                    const std::string& source, engine::Workspace& workspace, engine::ProcessedTest& processed,
+                    const std::atomic<bool>* cancel) {
+  try {
+    engine::ProcessTest(array, signals, initial, config, workspace, processed, cancel);
+    // The verdict `napkin run` records: a test that fails there fails here,
+    // with the same sentence.
+    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
+  } catch (const InputError& error) {
+    throw InputError(source + ": " + error.what());
+  }
+}
+
 engine::ProcessedTest ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
                                      const engine::InitialState& initial,
                                      const engine::ProcessingConfig& config, const std::string& source,
                                      const std::atomic<bool>* cancel) {
-  try {
-    engine::ProcessedTest processed = engine::ProcessTest(array, signals, initial, config, cancel);
-    // The verdict `napkin run` records: a test that fails there fails here,
-    // with the same sentence.
-    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
-    return processed;
-  } catch (const InputError& error) {
-    throw InputError(source + ": " + error.what());
-  }
+  engine::Workspace workspace;
+  engine::ProcessedTest processed;
+  ProcessSignals(array, signals, initial, config, source, workspace, processed, cancel);
+  return processed;
 }
 
 TransformReport RunTransform(const TransformOptions& options) {

@@ -48,6 +48,13 @@ engine::ProcessedTest ProcessSignals(const engine::ArrayGeometry& array, const e
                                      const engine::InitialState& initial,
                                      const engine::ProcessingConfig& config, const std::string& source,
                                      const std::atomic<bool>* cancel = nullptr);
+// The same in the caller's memory (engine::ProcessTest's workspace form): a
+// loop over tests of one length maps no new pages (docs/architecture.md
+// "Memory").
+void ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
+                    const engine::InitialState& initial, const engine::ProcessingConfig& config,
+                    const std::string& source, engine::Workspace& workspace, engine::ProcessedTest& processed,
+                    const std::atomic<bool>* cancel = nullptr);
 
 struct TransformOptions {
   std::string array;                         // preset name or array JSON path

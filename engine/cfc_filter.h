@@ -117,6 +117,11 @@ class CfcFilter {
   void ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples, const std::vector<Eigen::Index>& columns,
                              const std::atomic<bool>* cancel = nullptr);
 
+  // Exchanges the work buffer with `buffer`: a caller that filters test
+  // after test lends the filter its buffer and takes it back, so the padded
+  // channels land in memory already mapped (engine/pipeline.h Workspace).
+  void SwapWork(Eigen::VectorXd& buffer) { work_.swap(buffer); }
+
  private:
   double cfc_hz_;
   double dt_s_;

@@ -66,13 +66,16 @@ Eigen::Index HicMaxSteps(double window_s, double dt_s, Eigen::Index count) {
   return steps >= static_cast<double>(longest) ? longest : static_cast<Eigen::Index>(steps);
 }
 
+// `storage`: memory for the integral kept from an earlier problem (no new
+// pages when it is as long; CriteriaWork).
 HicProblem PrepareHic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
-                      const HicOptions& options) {
+                      const HicOptions& options, Eigen::VectorXd storage = {}) {
   CheckInterval(dt_s, "HIC");
   if (!std::isfinite(t0_s)) throw InputError("HIC: the time of the first sample is not finite.");
   CheckHicWindow(options.window_s);
   CheckFiniteSamples(acc_g, dt_s, t0_s, "HIC");
   HicProblem problem;
+  problem.integral = std::move(storage);
   const Eigen::Index n = acc_g.size();
   if (options.from_time_zero) {
     const double tolerance = 1e-9 * dt_s;
@@ -141,9 +144,9 @@ struct HicSegmentTree {
   std::vector<double> max_step;
 };
 
-HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count) {
+// `tree`: an earlier tree whose vectors are reused (assign keeps their capacity).
+HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count, HicSegmentTree tree = {}) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  HicSegmentTree tree;
   const auto leaves = static_cast<Eigen::Index>(std::bit_ceil(static_cast<std::size_t>(count)));
   tree.leaves = leaves;
   tree.max_integral.assign(static_cast<std::size_t>(2 * leaves), -kInf);
@@ -386,21 +389,28 @@ HicWindow Hic(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, doubl
   return MakeHicWindow(problem, best, dt_s, t0_s);
 }
 
-std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
-                                     const std::vector<double>& windows_s, bool from_time_zero,
-                                     const std::atomic<bool>* cancel) {
+namespace {
+
+// HicForWindows with the integral and the tree in `work`'s memory, handed
+// back when done (on a throw it is lost, and allocated again next time).
+std::vector<HicWindow> HicForWindowsIn(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s,
+                                       double t0_s, const std::vector<double>& windows_s, bool from_time_zero,
+                                       const std::atomic<bool>* cancel, CriteriaWork& work) {
   for (const double window_s : windows_s) CheckHicWindow(window_s);
   HicOptions options;
   options.from_time_zero = from_time_zero;
-  const HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options);
+  HicProblem problem = PrepareHic(acc_g, dt_s, t0_s, options, std::move(work.hic_integral));
   std::vector<HicWindow> windows(windows_s.size());
   if (problem.count < 2) {
     for (HicWindow& window : windows) window = MakeHicWindow(problem, HicBest{}, dt_s, t0_s);
+    work.hic_integral = std::move(problem.integral);
     return windows;
   }
   const double* integral = problem.integral.data();
   ThrowIfCancelled(cancel);
-  const HicSegmentTree tree = BuildHicSegmentTree(integral, problem.count);
+  HicSegmentTree tree = BuildHicSegmentTree(
+      integral, problem.count,
+      {0, std::move(work.hic_max_integral), std::move(work.hic_min_integral), std::move(work.hic_max_step)});
   const double max_abs_step = MaxAbsStep(integral, problem.count);
   // Shortest limit first: its best window is a window of every longer limit.
   std::vector<std::size_t> order(windows_s.size());
@@ -415,7 +425,20 @@ std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& ac
     seed = SearchHic(problem, tree, max_abs_step, max_steps, dt_s, seed, cancel);
     windows[w] = MakeHicWindow(problem, seed, dt_s, t0_s);
   }
+  work.hic_integral = std::move(problem.integral);
+  work.hic_max_integral = std::move(tree.max_integral);
+  work.hic_min_integral = std::move(tree.min_integral);
+  work.hic_max_step = std::move(tree.max_step);
   return windows;
+}
+
+}  // namespace
+
+std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double t0_s,
+                                     const std::vector<double>& windows_s, bool from_time_zero,
+                                     const std::atomic<bool>* cancel) {
+  CriteriaWork work;
+  return HicForWindowsIn(acc_g, dt_s, t0_s, windows_s, from_time_zero, cancel, work);
 }
 
 // ---------------------------------------------------------------------------
@@ -459,12 +482,23 @@ double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_
   return best;
 }
 
-double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
+namespace {
+
+// A3ms, partially sorting a copy of acc_g in `values` (its capacity kept).
+double A3msIn(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s,
+              std::vector<double>& values) {
   const auto rank =
       static_cast<std::ptrdiff_t>(A3msSamples(acc_g, dt_s, duration_s)) - 1;  // 0-based, descending
-  std::vector<double> values(acc_g.data(), acc_g.data() + acc_g.size());
+  values.assign(acc_g.data(), acc_g.data() + acc_g.size());
   std::nth_element(values.begin(), values.begin() + rank, values.end(), std::greater<>());
   return values[static_cast<std::size_t>(rank)];
+}
+
+}  // namespace
+
+double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s) {
+  std::vector<double> values;
+  return A3msIn(acc_g, dt_s, duration_s, values);
 }
 
 double Bric(const Eigen::Ref<const Series3>& omega_body_radps, const Eigen::Vector3d& critical_radps) {
@@ -490,16 +524,19 @@ Eigen::Matrix3d DamageModel::Stiffness() const {
   return k;
 }
 
-Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
-                           const DamageModel& model, const std::atomic<bool>* cancel) {
+namespace {
+
+// DamageDisplacement into `displacement` (its memory reused when as long).
+void DamageDisplacementIn(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
+                          const DamageModel& model, const std::atomic<bool>* cancel, Series3& displacement) {
   CheckInterval(dt_s, "DAMAGE");
   if (!alpha_body_radps2.allFinite())
     throw InputError("DAMAGE: the angular acceleration has a non-finite sample.");
   if (!(std::isfinite(model.mass_kg) && model.mass_kg > 0.0))
     throw InputError("DAMAGE: the mass is not positive.");
   const Eigen::Index n = alpha_body_radps2.rows();
-  Series3 displacement = Series3::Zero(n, 3);
-  if (n < 2) return displacement;
+  displacement.setZero(n, 3);
+  if (n < 2) return;
 
   // x = [d; d'],  x' = A x + B alpha,  A = [[0, I], [-K/m, -C/m]],  B = [0; I].
   const Eigen::Matrix3d stiffness_per_mass = model.Stiffness() / model.mass_kg;
@@ -527,20 +564,37 @@ Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, d
     state = phi * state + gamma_value * alpha_k + gamma_slope * (alpha_next - alpha_k);
     displacement.row(k + 1) = state.head<3>().transpose();
   }
+}
+
+// Damage with the displacement in `displacement`.
+double DamageIn(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model,
+                const std::atomic<bool>* cancel, Series3& displacement) {
+  DamageDisplacementIn(alpha_body_radps2, dt_s, model, cancel, displacement);
+  if (displacement.rows() == 0) return 0.0;
+  return model.beta_per_m * displacement.rowwise().norm().maxCoeff();
+}
+
+}  // namespace
+
+Series3 DamageDisplacement(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
+                           const DamageModel& model, const std::atomic<bool>* cancel) {
+  Series3 displacement;
+  DamageDisplacementIn(alpha_body_radps2, dt_s, model, cancel, displacement);
   return displacement;
 }
 
 double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, const DamageModel& model,
               const std::atomic<bool>* cancel) {
-  const Series3 displacement = DamageDisplacement(alpha_body_radps2, dt_s, model, cancel);
-  if (displacement.rows() == 0) return 0.0;
-  return model.beta_per_m * displacement.rowwise().norm().maxCoeff();
+  Series3 displacement;
+  return DamageIn(alpha_body_radps2, dt_s, model, cancel, displacement);
 }
 
 // ---------------------------------------------------------------------------
 
 void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary,
-                  const std::atomic<bool>* cancel) {
+                  const std::atomic<bool>* cancel, CriteriaWork* work) {
+  CriteriaWork local;
+  CriteriaWork& scratch = work != nullptr ? *work : local;
   const Eigen::Index n = kinematics.size();
   if (n < 2) throw InputError("injury criteria need at least 2 samples of kinematics.");
   // Windows are found on sample indices and their length is steps x dt, so
@@ -553,25 +607,30 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   // An acceleration-only array's CG acceleration is known in body axes only
   // (docs/algorithms.md "Acceleration-only arrays"): its resultant is the same.
   const bool rotation = HasRotation(kinematics);
-  const Eigen::VectorXd acc_g =
-      rotation ? Eigen::VectorXd(kinematics.acc_fixed.rowwise().norm() / kStandardGravity)
-               : Eigen::VectorXd(kinematics.acc_body.rowwise().norm() / kStandardGravity);
+  Eigen::VectorXd& acc_g = scratch.resultant_g;
+  if (rotation)
+    acc_g = kinematics.acc_fixed.rowwise().norm() / kStandardGravity;
+  else
+    acc_g = kinematics.acc_body.rowwise().norm() / kStandardGravity;
 
   ThrowIfCancelled(cancel);
-  const std::vector<HicWindow> hic = HicForWindows(
-      acc_g, dt, t0, {kHic15Window, kHic36Window, kUnlimitedHicWindow}, config.hic.from_time_zero, cancel);
+  const std::vector<HicWindow> hic =
+      HicForWindowsIn(acc_g, dt, t0, {kHic15Window, kHic36Window, kUnlimitedHicWindow},
+                      config.hic.from_time_zero, cancel, scratch);
   summary.hic15 = hic[0];
   summary.hic36 = hic[1];
   summary.hic_d = HicD(summary.hic36.value);
   summary.hic = hic[2];
   ThrowIfCancelled(cancel);
-  summary.a3ms_g =
-      config.a3ms.definition == A3msDefinition::kContinuous ? A3msContinuous(acc_g, dt) : A3ms(acc_g, dt);
+  summary.a3ms_g = config.a3ms.definition == A3msDefinition::kContinuous
+                       ? A3msContinuous(acc_g, dt)
+                       : A3msIn(acc_g, dt, kA3msDurationS, scratch.a3ms_values);
   constexpr double kUndetermined = std::numeric_limits<double>::quiet_NaN();
   ThrowIfCancelled(cancel);
   summary.bric = rotation ? Bric(kinematics.omega_body, config.bric.critical_radps) : kUndetermined;
   ThrowIfCancelled(cancel);
-  summary.damage = rotation ? Damage(kinematics.alpha_body, dt, {}, cancel) : kUndetermined;
+  summary.damage =
+      rotation ? DamageIn(kinematics.alpha_body, dt, {}, cancel, scratch.damage_displacement) : kUndetermined;
   FillInjuryRisks(summary);
 }
 

@@ -78,14 +78,16 @@ inline double HicD(double hic36) { return kHicDSlope * hic36 + kHicDOffset; }
 // N = ceil(duration / dt) (1e-9 relative tolerance) it is the largest L such
 // that at least N samples are >= L, i.e. the N-th largest sample.
 // Throws InputError when the record has fewer than N samples.
-double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = 0.003);
+inline constexpr double kA3msDurationS = 0.003;
+double A3ms(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = kA3msDurationS);
 
 // a3ms, continuous definition (processing config "a3ms": {"definition":
 // "continuous"}): the highest level the signal stays at or above for an
 // unbroken 3 ms, i.e. the largest minimum over N consecutive samples (N as
 // above). Never above A3ms(); equal to it for a pulse with one peak. Throws
 // InputError as A3ms() does.
-double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s, double duration_s = 0.003);
+double A3msContinuous(const Eigen::Ref<const Eigen::VectorXd>& acc_g, double dt_s,
+                      double duration_s = kA3msDurationS);
 
 // ---------------------------------------------------------------------------
 // BrIC (Takhounts et al. 2013) = sqrt(sum_i (max_t |omega_i| / omega_iC)^2),
@@ -132,7 +134,19 @@ double Damage(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s, c
 // far from t = 0 gets the windows of one starting at 0); throws
 // InputError when there are fewer than 2 samples, Cancelled once `cancel`
 // is set (engine/cancellation.h).
+// `work` (null: memory of its own) keeps what the criteria compute along the
+// way for the next test, so a loop over tests of one length maps no new
+// pages (engine/pipeline.h Workspace).
+struct CriteriaWork {
+  Eigen::VectorXd resultant_g;           // |acc| in g (HIC, a3ms)
+  Eigen::VectorXd hic_integral;          // HIC's cumulative integral
+  std::vector<double> hic_max_integral;  // HIC's segment tree
+  std::vector<double> hic_min_integral;
+  std::vector<double> hic_max_step;
+  std::vector<double> a3ms_values;  // a3ms's partial sort
+  Series3 damage_displacement;      // DAMAGE's model response
+};
 void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, TestSummary& summary,
-                  const std::atomic<bool>* cancel = nullptr);
+                  const std::atomic<bool>* cancel = nullptr, CriteriaWork* work = nullptr);
 
 }  // namespace napkin::engine

@@ -582,9 +582,9 @@ void CompleteKinematics(const InitialState& initial, const GravityOptions& gravi
   completer.Finish();
 }
 
-Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+void SolveExact(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
+                Kinematics& kin) {
   const ExactPath path = ClassifyArray(array);
-  Kinematics kin;
   // Acceleration-only kinematics hold no series that needs the rotation
   // (engine/kinematics.h HasRotation): a long recording of a 3-channel head
   // holds 4 series rather than 36 (docs/formats.md "Derived-channel storage").
@@ -605,7 +605,7 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
         SolveLinear<kMaxFixedSizeSensors>(array, signals, options, kin);
       else
         SolveLinear<Eigen::Dynamic>(array, signals, options, kin);
-      return kin;
+      return;
     }
     case ExactPath::kSixAOmega:
       SolveSixAOmega(array, signals, kin, options.cancel);
@@ -620,11 +620,10 @@ Kinematics SolveExact(const ArrayGeometry& array, const TestSignals& signals, co
                          "orientation) is impossible; set gravity.compensate to false.");
       ThrowIfCancelled(options.cancel);
       SolveAccelerationOnly(array, signals, kin);
-      return kin;
+      return;
   }
   ThrowIfCancelled(options.cancel);
   CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
-  return kin;
 }
 
 }  // namespace napkin::engine

@@ -44,9 +44,10 @@ inline constexpr double kFusedLinearSigmaMps2 = 0.05 * kStandardGravity;
 inline constexpr double kFusedRateSigmaRadps = 0.01;
 
 // Solves one test with a validated array and checked signals (Solve() does
-// both checks and then calls this).
-Kinematics SolveExact(const ArrayGeometry& validated_array, const TestSignals& signals,
-                      const SolveOptions& options);
+// both checks and then calls this), into `out` (its memory reused where a
+// series is as long; every series overwritten).
+void SolveExact(const ArrayGeometry& validated_array, const TestSignals& signals, const SolveOptions& options,
+                Kinematics& out);
 
 // Fills orientation, fixed-frame series, velocity, position and angles from
 // kinematics whose time_s, omega_body, alpha_body, acc_body and residual

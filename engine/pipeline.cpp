@@ -83,12 +83,12 @@ void CheckTimeBaseAndInitialState(const TestSignals& signals, const InitialState
   throw InputError(message.str());
 }
 
-// The signals to condition: a copy of `raw` made a channel at a time,
-// looking at `cancel` between two (copying a long record's channels into
-// fresh memory takes most of a second). Every field of TestSignals
-// (engine/signals.h) is copied.
-TestSignals CopyToCondition(const TestSignals& raw, const std::atomic<bool>* cancel) {
-  TestSignals copy;
+// The signals to condition: a copy of `raw` into `copy` (the workspace's:
+// its memory reused when as large) made a channel at a time, looking at
+// `cancel` between two (copying a long record's channels into fresh memory
+// takes most of a second). Every field of TestSignals (engine/signals.h) is
+// copied.
+void CopyToCondition(const TestSignals& raw, TestSignals& copy, const std::atomic<bool>* cancel) {
   copy.dt_s = raw.dt_s;
   copy.t0_s = raw.t0_s;
   copy.slots = raw.slots;
@@ -99,27 +99,28 @@ TestSignals CopyToCondition(const TestSignals& raw, const std::atomic<bool>* can
     ThrowIfCancelled(cancel);
     copy.samples.col(c) = raw.samples.col(c);
   }
-  return copy;
 }
 
-// ProcessTest after the raw-signal screening that found `findings`.
-ProcessedTest ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
-                              const InitialState& initial, const ProcessingConfig& config,
-                              std::vector<Finding> findings, const std::atomic<bool>* cancel) {
-  TestSignals signals = CopyToCondition(raw_signals, cancel);
-  ProcessedTest processed;
-  processed.summary.conditioning = ApplyConditioning(array, signals, config, cancel);
+// ProcessTest after the raw-signal screening that found `findings`, into
+// `processed` (in `workspace`'s memory).
+void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+                     const ProcessingConfig& config, std::vector<Finding> findings,
+                     const std::atomic<bool>* cancel, Workspace& workspace, ProcessedTest& processed) {
+  TestSignals& signals = workspace.signals;
+  CopyToCondition(raw_signals, signals, cancel);
+  processed.summary = TestSummary{};
+  processed.summary.conditioning = ApplyConditioning(array, signals, config, cancel, &workspace.filter_work);
   AppendFindings(ConditioningFindings(processed.summary.conditioning), findings);
   ThrowIfCancelled(cancel);
   SolveOptions options = MakeSolveOptions(config, initial);
   options.cancel = cancel;
-  processed.kinematics = Solve(array, signals, options);
+  Solve(array, signals, options, processed.kinematics);
   ThrowIfCancelled(cancel);
 
   // Rigid-body consistency is judged by the exact solver's residual, also
   // when the result comes from the seed solver. Without rotation there is
   // nothing to judge it by (docs/algorithms.md "Acceleration-only arrays").
-  Eigen::VectorXd exact_residual;
+  const Eigen::VectorXd* exact_residual = nullptr;
   ArrayGeometry validated = array;
   ValidateArray(validated);
   if (!DeterminesRotation(validated)) {
@@ -127,13 +128,14 @@ ProcessedTest ProcessScreened(const ArrayGeometry& array, const TestSignals& raw
   } else if (options.solver == SolverKind::kExact) {
     AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening),
                    findings);
-    exact_residual = processed.kinematics.residual;
+    exact_residual = &processed.kinematics.residual;
   } else {
     SolveOptions exact_options = options;
     exact_options.solver = SolverKind::kExact;
-    const Kinematics exact = Solve(array, signals, exact_options);
-    AppendFindings(ScreenConsistency(array, signals, exact, exact_options, config.screening), findings);
-    exact_residual = exact.residual;
+    Solve(array, signals, exact_options, workspace.exact);
+    AppendFindings(ScreenConsistency(array, signals, workspace.exact, exact_options, config.screening),
+                   findings);
+    exact_residual = &workspace.exact.residual;
   }
   ThrowIfCancelled(cancel);
 
@@ -158,15 +160,18 @@ ProcessedTest ProcessScreened(const ArrayGeometry& array, const TestSignals& raw
 
   // A finite but physically absurd result is no result (README "What it
   // computes": screening): it fails the test like any error finding.
-  if (!exact_residual.allFinite()) exact_residual.resize(0);
-  AppendFindings(ScreenPlausibility(processed.kinematics, exact_residual, config), findings);
+  const Eigen::VectorXd no_residual;
+  AppendFindings(
+      ScreenPlausibility(
+          processed.kinematics,
+          exact_residual != nullptr && exact_residual->allFinite() ? *exact_residual : no_residual, config),
+      findings);
   ThrowIfCancelled(cancel);
 
   SummarizeKinematics(processed.kinematics, processed.summary);
   ThrowIfCancelled(cancel);
-  FillCriteria(processed.kinematics, config, processed.summary, cancel);
+  FillCriteria(processed.kinematics, config, processed.summary, cancel, &workspace.criteria);
   processed.summary.findings = std::move(findings);
-  return processed;
 }
 
 }  // namespace
@@ -174,6 +179,15 @@ ProcessedTest ProcessScreened(const ArrayGeometry& array, const TestSignals& raw
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
                           const InitialState& initial, const ProcessingConfig& config,
                           const std::atomic<bool>* cancel) {
+  Workspace workspace;
+  ProcessedTest processed;
+  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel);
+  return processed;
+}
+
+void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+                 const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
+                 const std::atomic<bool>* cancel) {
   config.Check();
   CheckTimeBaseAndInitialState(raw_signals, initial, config);
   ThrowIfCancelled(cancel);
@@ -195,10 +209,10 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
     return finding.severity == Severity::kError && finding.check == NameOf(Check::kImplausible);
   });
   if (implausible == findings.end())
-    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel);
+    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
   const std::string cause = implausible->detail;
   try {
-    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel);
+    ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
   } catch (const InputError&) {
     throw InputError(cause);
   }

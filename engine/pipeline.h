@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "engine/array_geometry.h"
+#include "engine/criteria.h"
 #include "engine/kinematics.h"
 #include "engine/processing.h"
 #include "engine/signals.h"
@@ -18,6 +19,20 @@ namespace napkin::engine {
 struct ProcessedTest {
   Kinematics kinematics;
   TestSummary summary;
+};
+
+// The memory ProcessTest works in, kept from one test to the next by its
+// caller (one per thread: a workspace is used by one computation at a time).
+// With it, and a ProcessedTest kept too, a loop over tests of one length
+// allocates and frees no large block, so it maps no new page whatever
+// glibc's malloc does with freed memory (docs/architecture.md "Memory"): a
+// page fault costs about as much as the arithmetic on the page's samples.
+// Holds no result: its contents between two calls mean nothing.
+struct Workspace {
+  TestSignals signals;          // the conditioned copy of the raw signals
+  Eigen::VectorXd filter_work;  // the CFC filters' padded channels
+  Kinematics exact;             // the exact solve that judges a seed solver's result
+  CriteriaWork criteria;        // the resultant, HIC's integral and tree, a3ms, DAMAGE
 };
 
 // Screening of the raw signals (engine/screening.h) -> conditioning (time
@@ -33,6 +48,14 @@ struct ProcessedTest {
 ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
                           const InitialState& initial, const ProcessingConfig& config,
                           const std::atomic<bool>* cancel = nullptr);
+
+// ProcessTest in the caller's memory: `workspace` for what it computes along
+// the way, `out` for the result (its series overwritten in place, the
+// summary replaced). The same result, bit for bit; on a throw `out` holds
+// no result.
+void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+                 const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
+                 const std::atomic<bool>* cancel = nullptr);
 
 // An upper estimate of the memory ProcessTest takes at its peak for `samples`
 // samples (sampling interval dt_s) of `array` under `config`, besides its

@@ -193,7 +193,8 @@ BiasSamples FindBiasSamples(const TestSignals& signals, const BiasConfig& bias) 
 // are, and so do columns the file records as filtered at the requested class
 // or a narrower one. Records the class applied in `conditioning`.
 void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const FilterConfig& config,
-                    std::vector<ChannelConditioning>& conditioning, const std::atomic<bool>* cancel) {
+                    std::vector<ChannelConditioning>& conditioning, const std::atomic<bool>* cancel,
+                    Eigen::VectorXd* filter_work) {
   std::optional<CfcFilter> linear_filter, rate_filter;
   if (config.linear_cfc)
     linear_filter.emplace(*config.linear_cfc, signals.dt_s, config.variant, config.padding_s);
@@ -217,9 +218,15 @@ void FilterChannels(const ArrayGeometry& array, TestSignals& signals, const Filt
     (linear ? linear_columns : rate_columns).push_back(c);
     record.filter_cfc = *requested;
   }
-  // Several channels at once (CfcFilter::ApplyInPlaceToColumns).
-  if (!linear_columns.empty()) linear_filter->ApplyInPlaceToColumns(signals.samples, linear_columns, cancel);
-  if (!rate_columns.empty()) rate_filter->ApplyInPlaceToColumns(signals.samples, rate_columns, cancel);
+  // Several channels at once (CfcFilter::ApplyInPlaceToColumns), in the
+  // caller's buffer when it lends one (taken back after each filter).
+  const auto filter_columns = [&](CfcFilter& filter, const std::vector<Eigen::Index>& columns) {
+    if (filter_work != nullptr) filter.SwapWork(*filter_work);
+    filter.ApplyInPlaceToColumns(signals.samples, columns, cancel);
+    if (filter_work != nullptr) filter.SwapWork(*filter_work);
+  };
+  if (!linear_columns.empty()) filter_columns(*linear_filter, linear_columns);
+  if (!rate_columns.empty()) filter_columns(*rate_filter, rate_columns);
 }
 
 // Keeps the samples within [start_s, end_s] (either end optional).
@@ -253,7 +260,8 @@ bool PrefilterCovers(double prefiltered_cfc, double requested_cfc) {
 
 std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
                                                    const ProcessingConfig& config,
-                                                   const std::atomic<bool>* cancel) {
+                                                   const std::atomic<bool>* cancel,
+                                                   Eigen::VectorXd* filter_work) {
   config.Check();
   CheckConditionable(signals);
   std::vector<ChannelConditioning> conditioning(static_cast<std::size_t>(signals.samples.cols()));
@@ -281,7 +289,7 @@ std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, T
   }
 
   // 3. CFC filtering per sensor kind.
-  FilterChannels(array, signals, config.filter, conditioning, cancel);
+  FilterChannels(array, signals, config.filter, conditioning, cancel, filter_work);
 
   // 4. Crop.
   Crop(signals, config.time);

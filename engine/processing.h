@@ -173,10 +173,13 @@ SolveOptions MakeSolveOptions(const ProcessingConfig& config, const InitialState
 // Returns what it did to each column, in column order. Throws InputError
 // naming the slot and sample on a non-finite value, and on an empty bias
 // window or a crop that leaves fewer than 2 samples; Cancelled once `cancel`
-// is set (engine/cancellation.h).
+// is set (engine/cancellation.h). `filter_work` (null: the filters' own)
+// lends the CFC filters their padded work buffer, kept for the next test
+// (engine/pipeline.h Workspace).
 std::vector<ChannelConditioning> ApplyConditioning(const ArrayGeometry& array, TestSignals& signals,
                                                    const ProcessingConfig& config,
-                                                   const std::atomic<bool>* cancel = nullptr);
+                                                   const std::atomic<bool>* cancel = nullptr,
+                                                   Eigen::VectorXd* filter_work = nullptr);
 
 // Whether a channel already filtered at `prefiltered_cfc` needs no filter of
 // class `requested_cfc`: the same or a narrower class was applied (1e-9

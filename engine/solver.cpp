@@ -48,6 +48,13 @@ void CheckSignals(const ArrayGeometry& array, const TestSignals& signals) {
 }  // namespace
 
 Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options) {
+  Kinematics kinematics;
+  Solve(array, signals, options, kinematics);
+  return kinematics;
+}
+
+void Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
+           Kinematics& out) {
   ArrayGeometry validated = array;
   ValidateArray(validated);
   CheckSignals(validated, signals);
@@ -59,12 +66,13 @@ Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const S
     if (options.corrector_passes != kDefaultCorrectorPasses)
       throw InputError(
           "corrector_passes is not supported by the seed solver (LC_COMP integrates in one pass).");
-    return SolveSeed(validated, signals, options.initial, options.cancel);
+    out = SolveSeed(validated, signals, options.initial, options.cancel);
+    return;
   }
   if (options.corrector_passes < 1)
     throw InputError("corrector_passes must be at least 1 (got " + std::to_string(options.corrector_passes) +
                      ").");
-  return SolveExact(validated, signals, options);
+  SolveExact(validated, signals, options, out);
 }
 
 }  // namespace napkin::engine

@@ -52,4 +52,12 @@ struct SolveOptions {
 // rather than ignore it. Throws Cancelled once options.cancel is set.
 Kinematics Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options);
 
+// Solve into `out`, the caller's storage: a series as long as the one it
+// had keeps its memory, so a loop over tests of one length that keeps its
+// Kinematics maps no new pages whatever the allocator does with freed memory
+// (docs/architecture.md "Memory"). Every series is overwritten (the seed
+// solver's result is moved in); on a throw `out` holds no result.
+void Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
+           Kinematics& out);
+
 }  // namespace napkin::engine

@@ -20,6 +20,14 @@
 
 namespace napkin::jobs {
 
+engine::ProcessedTest ComputeInThreadWorkspace(const records::TestInputs& inputs,
+                                               const engine::ProcessingConfig& config) {
+  thread_local engine::Workspace workspace;
+  engine::ProcessedTest processed;
+  records::ComputeResult(inputs, config, workspace, processed);
+  return processed;
+}
+
 void RunOptions::Check() const {
   auto require = [](bool ok, const char* what) {
     if (!ok) throw std::invalid_argument(std::string("RunOptions: ") + what);
@@ -42,8 +50,9 @@ RunReport RunScheduler(const std::string& db_path, const records::ResolvedConfig
   RunContext context(processing, options,
                      options.threads > 0 ? options.threads : tbb::info::default_concurrency(), progress,
                      stop);
-  // Freed series are reused by the next test (util/malloc_tuning.h).
-  if (!util::KeepFreedMemoryForReuse()) spdlog::debug("run: malloc tuning (mallopt) not applied");
+  // Freed results are reused by the next test (util/malloc_tuning.h; RunOptions::keep_freed_memory).
+  if (options.keep_freed_memory && !util::KeepFreedMemoryForReuse())
+    spdlog::debug("run: malloc tuning (mallopt) not applied");
 
   RunReport& report = context.report;
   report.owner = MakeOwnerId();

@@ -46,6 +46,13 @@
 
 namespace napkin::jobs {
 
+// records::ComputeResult in an engine::Workspace kept by the calling thread
+// (thread_local: one per compute thread of the run's arena, kept while the
+// thread lives), so a compute thread's tests reuse the memory of the one
+// before (engine/pipeline.h Workspace). The same result, bit for bit.
+engine::ProcessedTest ComputeInThreadWorkspace(const records::TestInputs& inputs,
+                                               const engine::ProcessingConfig& config);
+
 struct RunOptions {
   db::JobScope scope;                  // tests to process (--series, --test, --shard); empty: all
   bool force = false;                  // --force: recompute tests whose results are up to date
@@ -62,11 +69,18 @@ struct RunOptions {
   // many nodes may share it) and the jobs and results go to this results
   // file (db/results_file.h), created if missing; empty: both in the catalogue.
   std::string results_path;
-  // The computation of one test on a compute thread: records::ComputeResult.
+  // The computation of one test on a compute thread: ComputeInThreadWorkspace.
   // A test puts a failing one here to see how the run handles it
   // (tests/cli/run_internal_error_test.cpp).
   std::function<engine::ProcessedTest(const records::TestInputs&, const engine::ProcessingConfig&)> compute =
-      records::ComputeResult;
+      ComputeInThreadWorkspace;
+  // Whether RunScheduler raises glibc's malloc thresholds so freed memory is
+  // kept for reuse (util/malloc_tuning.h; jobs/README.md "Memory"): each
+  // test's result is allocated on a compute thread and freed on the writer
+  // thread once stored, which no workspace covers. Process-wide, so a
+  // program's choice: `napkin run` keeps the default; a host process that
+  // embeds the scheduler and tunes its allocator itself sets it to false.
+  bool keep_freed_memory = true;
 
   // Throws std::invalid_argument naming the field out of range.
   void Check() const;

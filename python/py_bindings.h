@@ -34,6 +34,12 @@ py::array_t<double> ToNumpy(Eigen::VectorXd values);
 // no channel is copied.
 py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics);
 
+// Kinematics whose arrays Python has let go (DerivedChannelsToNumpy keeps
+// up to two), for the next transform to solve into: its memory is mapped
+// already. Empty kinematics when there are none. Call with the GIL held
+// (it guards the spares).
+engine::Kinematics TakeSpareKinematics();
+
 // `object` as a contiguous float64 numpy array (a view when it already is
 // one) of real numbers (integers or floats: numpy's kinds i, u, f, or objects
 // that are such numbers). Throws TypeError naming it `what` otherwise: for

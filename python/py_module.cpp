@@ -8,6 +8,7 @@
 #include "common/version.h"
 #include "formats/csv.h"
 #include "python/py_bindings.h"
+#include "util/malloc_tuning.h"
 
 namespace napkin::python {
 
@@ -18,11 +19,33 @@ py::array_t<double> ToNumpy(Eigen::VectorXd values) {
                              {static_cast<py::ssize_t>(sizeof(double))}, owned->data(), owner);
 }
 
+namespace {
+
+// Kinematics whose arrays were released, guarded by the GIL (the capsule's
+// destructor and TakeSpareKinematics run with it held).
+std::vector<std::unique_ptr<engine::Kinematics>>& SpareKinematics() {
+  static auto* spares = new std::vector<std::unique_ptr<engine::Kinematics>>();  // never destroyed
+  return *spares;
+}
+
+}  // namespace
+
+engine::Kinematics TakeSpareKinematics() {
+  auto& spares = SpareKinematics();
+  if (spares.empty()) return {};
+  engine::Kinematics kinematics = std::move(*spares.back());
+  spares.pop_back();
+  return kinematics;
+}
+
 py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics) {
   auto owned = std::make_unique<engine::Kinematics>(std::move(kinematics));
   const std::vector<formats::DerivedChannelSource> sources = formats::DerivedChannelSources(*owned);
-  const py::capsule owner(owned.get(),
-                          [](void* pointer) { delete static_cast<engine::Kinematics*>(pointer); });
+  const py::capsule owner(owned.get(), [](void* pointer) {
+    std::unique_ptr<engine::Kinematics> released(static_cast<engine::Kinematics*>(pointer));
+    constexpr std::size_t kKeptSpares = 2;  // a result still held while the next is computed
+    if (SpareKinematics().size() < kKeptSpares) SpareKinematics().push_back(std::move(released));
+  });
   static_cast<void>(owned.release());  // the capsule deletes it now
   py::dict channels;
   for (const formats::DerivedChannelSource& source : sources) {
@@ -147,4 +170,9 @@ PYBIND11_MODULE(_napkin, module) {
   napkin::python::RegisterTransform(module);
   napkin::python::RegisterCriteria(module);
   napkin::python::RegisterCatalogue(module);
+  module.def(
+      "tune_memory", [] { return napkin::util::KeepFreedMemoryForReuse(); },
+      "Raises glibc's malloc thresholds for the whole process, as `napkin run` does (docs/python.md "
+      "\"Cost\"): freed memory is kept for reuse instead of handed back to the kernel. Never called "
+      "implicitly; napkin's own loops do not need it. Returns whether it was applied.");
 }

@@ -29,7 +29,6 @@
 #include "python/py_bindings.h"
 #include "records/config_record.h"
 #include "util/available_memory.h"
-#include "util/malloc_tuning.h"
 #include "util/text.h"
 
 namespace napkin::python {
@@ -286,11 +285,14 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity", source);
   initial.omega_body_radps = Triple(initial_omega_body_radps, "initial_omega_body", source);
 
-  // A loop over tests reuses the memory freed by the previous one, as `napkin run` does.
-  util::KeepFreedMemoryForReuse();
+  // A loop over tests works in the memory of the one before, without tuning
+  // the host's malloc (docs/python.md "Cost"): the calling thread's
+  // workspace, and the series of a result Python has let go.
+  thread_local engine::Workspace workspace;
   engine::ProcessedTest processed;
+  processed.kinematics = TakeSpareKinematics();
   const auto compute = [&](const std::atomic<bool>* cancel) {
-    processed = app::ProcessSignals(array, signals, initial, config, source, cancel);
+    app::ProcessSignals(array, signals, initial, config, source, workspace, processed, cancel);
   };
   // Ctrl-C: Python's handler only notes the signal, and only the main
   // thread runs the Python-level handler (KeyboardInterrupt), when it calls

@@ -34,6 +34,12 @@ engine::ProcessedTest ComputeResult(const TestInputs& inputs, const engine::Proc
   return engine::ProcessTest(*inputs.array, inputs.signals, inputs.initial, config);
 }
 
+void ComputeResult(const TestInputs& inputs, const engine::ProcessingConfig& config,
+                   engine::Workspace& workspace, engine::ProcessedTest& out) {
+  if (!inputs.array) throw InputError(inputs.array_error);
+  engine::ProcessTest(*inputs.array, inputs.signals, inputs.initial, config, workspace, out);
+}
+
 engine::ProcessedTest RecomputeResult(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
   const TestInputs inputs = TestInputReader(catalogue).Read(test);
   if (!inputs.array) throw InputError(inputs.array_error);

@@ -55,6 +55,11 @@ class TestInputReader {
 // ProcessTest throws.
 engine::ProcessedTest ComputeResult(const TestInputs& inputs, const engine::ProcessingConfig& config);
 
+// ComputeResult in the caller's memory (engine::ProcessTest with a
+// workspace and a kept result; engine/pipeline.h Workspace).
+void ComputeResult(const TestInputs& inputs, const engine::ProcessingConfig& config,
+                   engine::Workspace& workspace, engine::ProcessedTest& out);
+
 // The result of `test` under the stored config `config` computed again:
 // its inputs read (TestInputReader), the config decoded from its record
 // (DecodeConfigRecord), ComputeResult. Throws InputError when the test has

@@ -1,7 +1,8 @@
 #pragma once
-// How napkin asks glibc's malloc to keep freed memory for reuse: `napkin run`
-// (jobs/scheduler.cpp) and the Python module's transform (python/) process
-// test after test, each allocating and freeing the same few megabytes.
+// How napkin asks glibc's malloc to keep freed memory for reuse: the
+// `napkin run` program (jobs/scheduler.cpp, RunOptions::keep_freed_memory)
+// and, only when a user calls it, napkin.tune_memory() (python/). The
+// transform core itself needs it not (docs/architecture.md "Memory").
 
 namespace napkin::util {
 

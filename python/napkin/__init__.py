@@ -27,7 +27,7 @@ import json as _json
 import os as _os
 
 from . import _napkin
-from ._napkin import bric, cfc, hic  # noqa: F401  (the public API)
+from ._napkin import bric, cfc, hic, tune_memory  # noqa: F401  (the public API)
 
 __version__ = _napkin.__version__
 
@@ -53,7 +53,7 @@ for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
 __all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", *RISK_CURVES]
+           "SummaryField", "SUMMARY_FIELDS", "tune_memory", *RISK_CURVES]
 
 
 ISO18571Rating = _collections.namedtuple(

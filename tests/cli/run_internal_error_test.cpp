@@ -89,7 +89,7 @@ TEST(RunInternalError, AProgrammerErrorStopsTheRunUnrecordedAndTheNextRunResumes
   }
 
   // The next run (the bug fixed) processes the rest, the broken test included.
-  options.compute = records::ComputeResult;
+  options.compute = jobs::ComputeInThreadWorkspace;
   const jobs::RunReport rerun = jobs::RunScheduler(path, processing, options);
   EXPECT_EQ(rerun.failed, 0);
   EXPECT_EQ(rerun.skipped, done_before);
