@@ -1,5 +1,5 @@
 # Helpers in the spirit of COLMAP's CMakeHelper: one library per folder, one
-# test executable per folder, tests registered with CTest as "<folder>/<Suite>.<Test>".
+# test executable per folder, tests registered with CTest as "<folder>/<Suite>".
 
 set(NAPKIN_WARNING_FLAGS -Wall -Wextra -Wpedantic)
 # Compile options for the test code only (tests/: the GoogleTest files and their support), after
@@ -46,7 +46,7 @@ function(napkin_add_library name)
 endfunction()
 
 # napkin_add_tests(<folder> [DEPS <targets>...]) : tests/<folder>/*.cpp into one
-# GoogleTest executable, each test registered with CTest.
+# GoogleTest executable, each of its suites registered with CTest as "<folder>/<Suite>".
 function(napkin_add_tests folder)
   cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${folder}/*.cpp)
@@ -55,8 +55,23 @@ function(napkin_add_tests folder)
   set_target_properties(${exe} PROPERTIES UNITY_BUILD ${NAPKIN_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 14)
   target_compile_options(${exe} PRIVATE ${NAPKIN_WARNING_FLAGS} ${NAPKIN_TEST_CODE_OPTIONS})
   target_link_libraries(${exe} PRIVATE ${ARG_DEPS} napkin_test_support GTest::gtest GTest::gmock GTest::gtest_main)
-  gtest_discover_tests(${exe} TEST_PREFIX "${folder}/" DISCOVERY_TIMEOUT 60
-                       PROPERTIES ENVIRONMENT "NAPKIN_CONFIG_DIR=${PROJECT_SOURCE_DIR}/config")
+  # One CTest test per GoogleTest suite, listed from the program once it is linked
+  # (cmake/gtest_suites.cmake says why); a program not built yet is one failing test that says so.
+  set(suites_file "${CMAKE_CURRENT_BINARY_DIR}/${exe}_suites.cmake")
+  add_custom_command(
+    TARGET ${exe} POST_BUILD
+    COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:${exe}> -DPREFIX=${folder}/ -DOUT=${suites_file}
+            -DENVIRONMENT=NAPKIN_CONFIG_DIR=${PROJECT_SOURCE_DIR}/config -P ${PROJECT_SOURCE_DIR}/cmake/gtest_suites.cmake
+    BYPRODUCTS ${suites_file}
+    VERBATIM)
+  set(include_file "${CMAKE_CURRENT_BINARY_DIR}/${exe}_include.cmake")
+  file(WRITE "${include_file}"
+       "if(EXISTS [==[${suites_file}]==])\n"
+       "  include([==[${suites_file}]==])\n"
+       "else()\n"
+       "  add_test([==[${folder}/NOT_BUILT]==] [==[${exe}]==] was not built)\n"
+       "endif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${include_file}")
 endfunction()
 
 # napkin_embed_files(<output .inc> <comment> <file>...) : writes, at build time, the files' names and
