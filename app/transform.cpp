@@ -90,7 +90,10 @@ void ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignal
     engine::ProcessTest(array, signals, initial, config, workspace, processed, cancel);
     // The verdict `napkin run` records: a test that fails there fails here,
     // with the same sentence.
-    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
+    if (const engine::Finding* failing = engine::FailingFinding(processed))
+      throw engine::ScreeningFailure(failing->detail, processed.summary.findings);
+  } catch (const engine::ScreeningFailure& failure) {
+    throw engine::ScreeningFailure(source + ": " + failure.what(), failure.findings());
   } catch (const InputError& error) {
     throw InputError(source + ": " + error.what());
   }

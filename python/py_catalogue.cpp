@@ -59,7 +59,7 @@ class ReadOnlyCatalogue {
   // keyword arguments (napkin/__init__.py Catalogue.test_inputs).
   py::dict TestInputs(const std::string& test_id) {
     const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
-    if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
+    if (!test) throw NotFoundError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
     return TestInputs(*test);
   }
 
@@ -91,11 +91,18 @@ class ReadOnlyCatalogue {
   static db::Catalogue Open(const std::string& path) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error))
-      throw InputError("catalogue '" + path + "' does not exist (or is not a file); `napkin init --db " +
-                       path + "` creates one.");
+      throw NotFoundError("catalogue '" + path + "' does not exist (or is not a file); `napkin init --db " +
+                          path + "` creates one.");
     db::CatalogueOptions options;
     options.read_only = true;
-    return db::Catalogue::Open(path, options);
+    try {
+      return db::Catalogue::Open(path, options);
+    } catch (const InputError& error) {
+      // A file that is not a napkin catalogue (not SQLite, another
+      // application's, a newer schema): a catalogue problem, with the sentence
+      // the CLI prints.
+      RaiseCatalogueError(error.what());
+    }
   }
 
   std::string path_;

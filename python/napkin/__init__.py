@@ -15,19 +15,31 @@ libraries as the ``napkin`` command, so a result here is the command's result
 - ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
   ``query_frame()``, ``channels()``, ``compare()``.
 
-Bad input raises ValueError with the sentence the command prints, an argument
-of the wrong type TypeError naming it; anything else that goes wrong raises
-RuntimeError. Ctrl-C stops a transform within a fraction of a second
-(KeyboardInterrupt), and one that cannot fit in memory is refused up front
-(MemoryError).
+Errors (docs/python.md "Errors"): every error napkin raises is a
+``napkin.Error`` with the sentence the command prints --
+
+- ``InputError`` (also a ValueError): bad input the caller can correct;
+- ``ScreeningFailure`` (an InputError): a test that fails screening, its
+  ``.findings`` a list of ``Finding(check, channel, severity, detail)``;
+- ``CatalogueError`` (also a RuntimeError): a busy, damaged or closed
+  catalogue; ``NotFoundError`` (a CatalogueError and an InputError): a
+  catalogue file or a test that is not there;
+- ``InternalError`` (also a RuntimeError): a bug in napkin.
+
+An argument of the wrong type raises TypeError naming it. Ctrl-C stops a
+transform within a fraction of a second (KeyboardInterrupt), and one that
+cannot fit in memory is refused up front (MemoryError).
 """
 
 import collections as _collections
 import json as _json
+import numbers as _numbers
 import os as _os
 
 from . import _napkin
 from ._napkin import bric, cfc, hic, tune_memory  # noqa: F401  (the public API)
+from ._napkin import (  # noqa: F401  (the public API: napkin's exceptions, python/py_errors.cpp)
+    CatalogueError, Error, Finding, InputError, InternalError, NotFoundError, ScreeningFailure)
 
 __version__ = _napkin.__version__
 
@@ -53,7 +65,8 @@ for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
 __all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", "tune_memory", *RISK_CURVES]
+           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "tune_memory", "Error", "InputError",
+           "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
 
 
 ISO18571Rating = _collections.namedtuple(
@@ -139,7 +152,8 @@ def transform(channels, time_s=None, dt=None, array="denton-3222", config="defau
     solver   -- None (the config's), or a solver name as ``--solver``
     test_id  -- the summary's test_id, and the start of error sentences
 
-    Raises ValueError for bad input and for a test that fails screening (the
+    Raises InputError (a ValueError) for bad input, ScreeningFailure (an
+    InputError with ``.findings``) for a test that fails screening (the
     sentence ``napkin transform`` exits 1 with), TypeError naming an argument
     of the wrong type (complex samples included), MemoryError when the test
     cannot fit in the memory available (checked before anything is copied);
@@ -214,14 +228,16 @@ class Catalogue:
         return [row["test_id"] for row in self.query("tests")]
 
     def _query(self, kind, where, sort, limit, config, series, variant):
-        if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int)):
-            raise ValueError("limit is a whole number of rows, not {!r}.".format(limit))
         what = "napkin.Catalogue.query: "
+        if not isinstance(kind, str):
+            raise TypeError("{}kind is {}, not a query kind (a str).".format(what, _described(kind)))
+        if limit is not None and (isinstance(limit, bool) or not isinstance(limit, _numbers.Integral)):
+            raise TypeError("{}limit is {}, not a whole number of rows (an int).".format(what, _described(limit)))
         if config is not None and not isinstance(config, str):
             raise TypeError("{}config is {}, not a stored config's name or hash prefix (a str).".format(
                 what, _described(config)))
         return self._catalogue.query_json(
-            str(kind), _names(where, what + "where", "a filter expression"),
+            kind, _names(where, what + "where", "a filter expression"),
             _names(sort, what + "sort", "a sort key"), None if limit is None else str(limit), config,
             _names(series, what + "series", "a series name"), _names(variant, what + "variant", "a variant name"))
 
