@@ -181,6 +181,7 @@ void RegisterCriteria(py::module_& module) {
       py::arg("reference"), py::arg("candidate"), py::arg("dt_s"), py::arg("start_s") = py::none(),
       py::arg("end_s") = py::none(), py::arg("edition") = "2024",
       "ISO/TS 18571 rating as a plain tuple; napkin.iso18571 wraps it in a named tuple.");
+  module.attr("_HIC15_WINDOW_S") = engine::kHic15Window;  // hic's default window (napkin/__init__.py)
   // One function per risk of the summary-field table, named as its field.
   for (const engine::SummaryField* field : engine::RiskFields()) {
     const engine::RiskCurve& curve = *field->curve;

@@ -33,11 +33,12 @@ cannot fit in memory is refused up front (MemoryError).
 
 import collections as _collections
 import json as _json
+import math as _math
 import numbers as _numbers
 import os as _os
 
 from . import _napkin
-from ._napkin import bric, cfc, hic, tune_memory  # noqa: F401  (the public API)
+from ._napkin import bric, cfc, tune_memory  # noqa: F401  (the public API)
 from ._napkin import (  # noqa: F401  (the public API: napkin's exceptions, python/py_errors.cpp)
     CatalogueError, Error, Finding, InputError, InternalError, NotFoundError, ScreeningFailure)
 
@@ -64,9 +65,29 @@ RISK_CURVES = tuple(name for name, field in SUMMARY_FIELDS.items() if field.crit
 for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
-__all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", "iso18571", "ISO18571Rating",
+__all__ = ["transform", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
            "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "tune_memory", "Error", "InputError",
            "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
+
+
+HIC = _collections.namedtuple("HIC", ["hic", "t1_s", "t2_s"])
+HIC.__doc__ = """What ``hic`` finds (docs/algorithms.md "Injury criteria"); unpacks as
+``value, t1_s, t2_s = napkin.hic(...)``.
+
+hic        -- the largest HIC over the windows searched
+t1_s, t2_s -- its window (s, from the first sample plus t0_s)"""
+
+
+def hic(resultant_g, dt, max_window_s=_napkin._HIC15_WINDOW_S, from_time_zero=False, t0_s=0.0):
+    """HIC of a resultant acceleration ``resultant_g`` (g, a 1-D array) sampled
+    every ``dt`` seconds: a ``HIC(hic, t1_s, t2_s)``, the exact maximum over
+    windows up to ``max_window_s`` (0.015, HIC15; None: no limit), times in s
+    from the first sample plus ``t0_s``. ``from_time_zero`` (NHTSA's program)
+    integrates |a| and ignores samples before t = 0. Without a window of
+    positive integral the value is 0 and t1_s = t2_s = the first sample used.
+    Bad input (a non-positive dt or window, a non-finite sample) raises
+    InputError."""
+    return HIC(*_napkin.hic(resultant_g, dt, max_window_s, from_time_zero, t0_s))
 
 
 ISO18571Rating = _collections.namedtuple(
@@ -166,6 +187,18 @@ def transform(channels, time_s=None, dt=None, array="denton-3222", config="defau
     return TransformResult(_json.loads(summary_json), derived)
 
 
+_NAN = float("nan")
+
+
+def _json_cells(column):
+    """A typed query column as the values of ``--format json``'s rows: a
+    float64 array's NaN (and any non-finite number, which JSON cannot hold)
+    as None."""
+    if isinstance(column, list):
+        return column
+    return [value if _math.isfinite(value) else None for value in column.tolist()]
+
+
 def _described(value):
     text = repr(value)
     if len(text) > 60:
@@ -228,6 +261,8 @@ class Catalogue:
         return [row["test_id"] for row in self.query("tests")]
 
     def _query(self, kind, where, sort, limit, config, series, variant):
+        """(column names, one value per column: a float64 array for a numeric
+        column, NaN for NULL; else a list, None for NULL)."""
         what = "napkin.Catalogue.query: "
         if not isinstance(kind, str):
             raise TypeError("{}kind is {}, not a query kind (a str).".format(what, _described(kind)))
@@ -236,13 +271,14 @@ class Catalogue:
         if config is not None and not isinstance(config, str):
             raise TypeError("{}config is {}, not a stored config's name or hash prefix (a str).".format(
                 what, _described(config)))
-        return self._catalogue.query_json(
+        return self._catalogue.query(
             kind, _names(where, what + "where", "a filter expression"),
             _names(sort, what + "sort", "a sort key"), None if limit is None else str(limit), config,
             _names(series, what + "series", "a series name"), _names(variant, what + "variant", "a variant name"))
 
     def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
-        """``napkin query KIND`` as a list of dicts.
+        """``napkin query KIND`` as a list of dicts, the rows of ``--format json``
+        (None where the JSON has null).
 
         kind    -- tests, hic, rotation, criteria, risk, quality or conditioning
         where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
@@ -251,18 +287,27 @@ class Catalogue:
         config  -- results of this stored config (name or hash prefix; default: each test's latest)
         series, variant -- only tests of this series / variant (or any of a list)
         """
-        text, _ = self._query(kind, where, sort, limit, config, series, variant)
-        return _json.loads(text)
+        columns, values = self._query(kind, where, sort, limit, config, series, variant)
+        cells = [_json_cells(column) for column in values]
+        return [dict(zip(columns, row)) for row in zip(*cells)] if cells else []
 
     def query_frame(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
-        """``query`` as a pandas DataFrame (columns in the query's order)."""
+        """``query`` as a pandas DataFrame, columns in the query's order: each
+        numeric column float64 (also when every cell is missing), the others
+        of dtype object; a missing value is NaN in either."""
         try:
             import pandas
         except ImportError as error:
             raise ImportError("napkin.Catalogue.query_frame needs pandas: install it with "
                               "`sudo apt install python3-pandas` (or pip install pandas).") from error
-        text, columns = self._query(kind, where, sort, limit, config, series, variant)
-        return pandas.DataFrame(_json.loads(text), columns=columns)
+        import numpy
+        columns, values = self._query(kind, where, sort, limit, config, series, variant)
+        data = {}
+        for name, column in zip(columns, values):
+            if not isinstance(column, numpy.ndarray):
+                column = numpy.array([_NAN if cell is None else cell for cell in column], dtype=object)
+            data[name] = column
+        return pandas.DataFrame(data, columns=columns)
 
     def channels(self, test_id, derived=True, config=None):
         """One test's channels as a dict name -> numpy array.
