@@ -35,7 +35,7 @@ std::string SolverNames(const std::string& separator) {
 formats::TimeBase CheckedTimeBase(const SampleTimes& times, Eigen::Index samples, const std::string& source) {
   if (const double* dt = std::get_if<double>(&times)) {
     if (!(std::isfinite(*dt) && *dt > 0.0))
-      throw InputError(source + ": dt " + util::FormatNumber(*dt) +
+      throw InputError(source + ": dt_s " + util::FormatNumber(*dt) +
                        " s is not a finite positive sampling interval.");
     return {0.0, *dt};
   }

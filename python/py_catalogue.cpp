@@ -150,9 +150,9 @@ class ReadOnlyCatalogue {
     result["array"] = py::module_::import("json").attr("loads")(inputs.array_record->definition_json);
     result["time_s"] = ToNumpy(std::move(time));
     result["channels"] = channels;
-    result["orientation"] = triple(inputs.initial.orientation_rad);
-    result["initial_velocity"] = triple(inputs.initial.velocity_fixed_mps);
-    result["initial_omega_body"] = triple(inputs.initial.omega_body_radps);
+    result["orientation_rad"] = triple(inputs.initial.orientation_rad);
+    result["initial_velocity_mps"] = triple(inputs.initial.velocity_fixed_mps);
+    result["initial_omega_body_radps"] = triple(inputs.initial.omega_body_radps);
     return result;
   }
 

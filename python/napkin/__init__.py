@@ -36,13 +36,47 @@ import json as _json
 import math as _math
 import numbers as _numbers
 import os as _os
+import warnings as _warnings
 
 from . import _napkin
-from ._napkin import bric, cfc, tune_memory  # noqa: F401  (the public API)
+from ._napkin import bric, tune_memory  # noqa: F401  (the public API)
 from ._napkin import (  # noqa: F401  (the public API: napkin's exceptions, python/py_errors.cpp)
     CatalogueError, Error, Finding, InputError, InternalError, NotFoundError, ScreeningFailure)
 
 __version__ = _napkin.__version__
+
+# The keywords that were renamed to name their unit, old -> new, by function
+# (docs/python.md "Names and units"). The old ones still work for one release,
+# with a DeprecationWarning naming the new one.
+_RENAMED = {
+    "napkin.transform": {"dt": "dt_s", "orientation": "orientation_rad",
+                         "initial_velocity": "initial_velocity_mps",
+                         "initial_omega_body": "initial_omega_body_radps"},
+    "napkin.hic": {"dt": "dt_s"},
+    "napkin.cfc": {"dt": "dt_s"},
+}
+
+_AT_REST = (0.0, 0.0, 0.0)  # the initial state's default, compared by identity
+
+
+def _with_old_keywords(function, old_keywords, values, defaults):
+    """``values`` (new keyword -> value) with the value given under an old
+    keyword (``old_keywords``, what ``**`` collected) moved to its new name,
+    warning that the old name is deprecated. An unknown keyword, or a value
+    given under both names, raises TypeError."""
+    renamed = _RENAMED[function]
+    values = dict(values)
+    for old, value in old_keywords.items():
+        new = renamed.get(old)
+        if new is None:
+            raise TypeError("{}() got an unexpected keyword argument {!r}".format(function, old))
+        _warnings.warn("{}: the keyword {} is deprecated and will be removed in the next release; use {} (the "
+                       "same value).".format(function, old, new), DeprecationWarning, stacklevel=3)
+        if values[new] is not defaults.get(new):
+            raise TypeError("{}: give {} or its deprecated name {}, not both.".format(function, new, old))
+        values[new] = value
+    return values
+
 
 SummaryField = _collections.namedtuple(
     "SummaryField", ["name", "group", "label", "unit", "meaning", "criterion", "ais", "source"])
@@ -78,16 +112,34 @@ hic        -- the largest HIC over the windows searched
 t1_s, t2_s -- its window (s, from the first sample plus t0_s)"""
 
 
-def hic(resultant_g, dt, max_window_s=_napkin._HIC15_WINDOW_S, from_time_zero=False, t0_s=0.0):
+def hic(resultant_g, dt_s=None, max_window_s=_napkin._HIC15_WINDOW_S, from_time_zero=False, t0_s=0.0,
+        **deprecated):
     """HIC of a resultant acceleration ``resultant_g`` (g, a 1-D array) sampled
-    every ``dt`` seconds: a ``HIC(hic, t1_s, t2_s)``, the exact maximum over
+    every ``dt_s`` seconds: a ``HIC(hic, t1_s, t2_s)``, the exact maximum over
     windows up to ``max_window_s`` (0.015, HIC15; None: no limit), times in s
     from the first sample plus ``t0_s``. ``from_time_zero`` (NHTSA's program)
     integrates |a| and ignores samples before t = 0. Without a window of
     positive integral the value is 0 and t1_s = t2_s = the first sample used.
-    Bad input (a non-positive dt or window, a non-finite sample) raises
-    InputError."""
-    return HIC(*_napkin.hic(resultant_g, dt, max_window_s, from_time_zero, t0_s))
+    Bad input (a non-positive dt_s or window, a non-finite sample) raises
+    InputError. (``dt``, the old name of ``dt_s``, is deprecated.)"""
+    if deprecated:
+        dt_s = _with_old_keywords("napkin.hic", deprecated, {"dt_s": dt_s}, {"dt_s": None})["dt_s"]
+    if dt_s is None:
+        raise TypeError("napkin.hic() missing required argument: 'dt_s' (the sampling interval in s)")
+    return HIC(*_napkin.hic(resultant_g, dt_s, max_window_s, from_time_zero, t0_s))
+
+
+def cfc(x, dt_s=None, cfc=_napkin._CFC1000, variant="sae", **deprecated):
+    """``x`` (a 1-D array sampled every ``dt_s`` seconds, any unit) filtered by
+    the two-pass channel frequency class filter of SAE J211 (``variant``
+    "sae") or ISO 6487 ("iso") of class ``cfc`` (1000, 600, 180, 60: the class
+    number, in Hz as the standards write it); a new array. Bad input raises
+    InputError. (``dt``, the old name of ``dt_s``, is deprecated.)"""
+    if deprecated:
+        dt_s = _with_old_keywords("napkin.cfc", deprecated, {"dt_s": dt_s}, {"dt_s": None})["dt_s"]
+    if dt_s is None:
+        raise TypeError("napkin.cfc() missing required argument: 'dt_s' (the sampling interval in s)")
+    return _napkin.cfc(x, dt_s, cfc, variant)
 
 
 ISO18571Rating = _collections.namedtuple(
@@ -153,25 +205,28 @@ class TransformResult:
             self.summary.get("hic15"), len(self.channels))
 
 
-def transform(channels, time_s=None, dt=None, array="denton-3222", config="default",
-              orientation=(0.0, 0.0, 0.0), initial_velocity=(0.0, 0.0, 0.0),
-              initial_omega_body=(0.0, 0.0, 0.0), solver=None, test_id=""):
+def transform(channels, time_s=None, dt_s=None, array="denton-3222", config="default",
+              orientation_rad=_AT_REST, initial_velocity_mps=_AT_REST, initial_omega_body_radps=_AT_REST,
+              solver=None, test_id="", **deprecated):
     """Process one test as ``napkin transform`` does.
 
     channels -- dict slot name -> 1-D array of samples (in the unit the array
                 gives the slot: g, rad/s), or a 2-D array (samples x slots) in
                 the array's slot order
-    time_s   -- the sample times (s), uniformly spaced; or give dt (s) and the
-                first sample is at t = 0
+    time_s   -- the sample times (s), uniformly spaced; or give dt_s (the
+                sampling interval, s) and the first sample is at t = 0
     array    -- array preset name ("denton-3222", "3a-cg", ...), array JSON path,
                 or an array definition as a dict (the JSON file's content, e.g.
                 the stored definition ``Catalogue.test_inputs`` returns)
     config   -- processing config preset name or JSON path
-    orientation      -- initial orientation phi, theta, psi (rad)
-    initial_velocity -- initial CG velocity in the fixed frame (m/s)
-    initial_omega_body -- initial angular velocity in body axes (rad/s; usually at rest)
+    orientation_rad          -- initial orientation phi, theta, psi (rad)
+    initial_velocity_mps     -- initial CG velocity in the fixed frame (m/s)
+    initial_omega_body_radps -- initial angular velocity in body axes (rad/s; usually at rest)
     solver   -- None (the config's), or a solver name as ``--solver``
     test_id  -- the summary's test_id, and the start of error sentences
+
+    The old keywords dt, orientation, initial_velocity and initial_omega_body
+    still work, with a DeprecationWarning, until the next release.
 
     Raises InputError (a ValueError) for bad input, ScreeningFailure (an
     InputError with ``.findings``) for a test that fails screening (the
@@ -181,9 +236,19 @@ def transform(channels, time_s=None, dt=None, array="denton-3222", config="defau
     the computation runs without the GIL, and Ctrl-C stops it
     (KeyboardInterrupt).
     """
+    if deprecated:
+        values = _with_old_keywords(
+            "napkin.transform", deprecated,
+            {"dt_s": dt_s, "orientation_rad": orientation_rad, "initial_velocity_mps": initial_velocity_mps,
+             "initial_omega_body_radps": initial_omega_body_radps},
+            {"dt_s": None, "orientation_rad": _AT_REST, "initial_velocity_mps": _AT_REST,
+             "initial_omega_body_radps": _AT_REST})
+        dt_s, orientation_rad = values["dt_s"], values["orientation_rad"]
+        initial_velocity_mps = values["initial_velocity_mps"]
+        initial_omega_body_radps = values["initial_omega_body_radps"]
     summary_json, derived = _napkin.transform(
-        channels, time_s, dt, _json.dumps(array) if isinstance(array, dict) else array, config, orientation,
-        initial_velocity, initial_omega_body, solver, test_id, _config_dir())
+        channels, time_s, dt_s, _json.dumps(array) if isinstance(array, dict) else array, config,
+        orientation_rad, initial_velocity_mps, initial_omega_body_radps, solver, test_id, _config_dir())
     return TransformResult(_json.loads(summary_json), derived)
 
 
@@ -324,9 +389,9 @@ class Catalogue:
         keyword arguments: test_id, array (the test's stored array definition
         as a dict, the JSON its record holds: the geometry it was imported
         with, even where its name is a preset's), time_s,
-        channels (slot -> raw samples), orientation, initial_velocity,
-        initial_omega_body. ``transform(**catalogue.test_inputs(t), config=c)``
-        computes what ``napkin run --config c`` stores for it."""
+        channels (slot -> raw samples), orientation_rad, initial_velocity_mps,
+        initial_omega_body_radps. ``transform(**catalogue.test_inputs(t), config=c)``
+        computes what ``napkin run --config c`` stores for it, bit for bit."""
         return self._catalogue.test_inputs(str(test_id))
 
     def compare(self, series, by="variant", baseline=None, metrics=None, config=None):

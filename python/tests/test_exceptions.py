@@ -39,9 +39,9 @@ def test_the_classes_and_their_bases():
 
 def test_bad_input_is_an_input_error():
     with pytest.raises(napkin.InputError, match='no channel for slot "cg_y"'):
-        napkin.transform({"cg_x": np.ones(10), "cg_z": np.ones(10)}, dt=1e-4, array="3a-cg")
+        napkin.transform({"cg_x": np.ones(10), "cg_z": np.ones(10)}, dt_s=1e-4, array="3a-cg")
     with pytest.raises(napkin.InputError, match="is neither a file nor a preset"):
-        napkin.transform(failing_channels(), dt=1e-4, array="no-such-array")
+        napkin.transform(failing_channels(), dt_s=1e-4, array="no-such-array")
     with pytest.raises(napkin.InputError, match='variant "x" is neither'):
         napkin.cfc(np.ones(100), 1e-4, variant="x")
 
@@ -49,7 +49,7 @@ def test_bad_input_is_an_input_error():
 def test_a_failing_test_raises_screening_failure_with_the_findings_run_records(tmp_path):
     channels = failing_channels()
     with pytest.raises(napkin.ScreeningFailure) as raised:
-        napkin.transform(channels, dt=1e-4, array="3a-cg", test_id="bad")
+        napkin.transform(channels, dt_s=1e-4, array="3a-cg", test_id="bad")
     error = raised.value
     assert isinstance(error, ValueError)  # code that caught ValueError before still does
     findings = error.findings
@@ -77,7 +77,7 @@ def test_a_failing_test_raises_screening_failure_with_the_findings_run_records(t
 
 def test_a_passing_test_raises_nothing_and_its_findings_are_in_the_summary():
     channels = {slot: np.full(400, 1.0) for slot in SLOTS}
-    quality = napkin.transform(channels, dt=1e-4, array="3a-cg").summary["quality"]
+    quality = napkin.transform(channels, dt_s=1e-4, array="3a-cg").summary["quality"]
     assert {finding["severity"] for finding in quality} <= {"info", "warning"}
     assert all(set(finding) == set(napkin.Finding._fields) for finding in quality)
 
@@ -117,5 +117,5 @@ def test_wrong_types_are_type_errors(demo_catalogue):
         catalogue.query("hic", limit="4")
     with pytest.raises(TypeError, match="napkin.Catalogue.query: kind is 3"):
         catalogue.query(3)
-    with pytest.raises(TypeError, match="napkin.transform: dt"):
-        napkin.transform(failing_channels(), dt="1e-4", array="3a-cg")
+    with pytest.raises(TypeError, match="napkin.transform: dt_s"):
+        napkin.transform(failing_channels(), dt_s="1e-4", array="3a-cg")
