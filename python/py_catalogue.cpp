@@ -78,14 +78,20 @@ class ReadOnlyCatalogue {
   explicit ReadOnlyCatalogue(std::string path) : path_(std::move(path)), catalogue_(Open(path_)) {}
 
   const std::string& path() const { return path_; }
+  bool closed() const { return !catalogue_; }
+
+  // Closes the database connection (again: nothing); any use after it
+  // raises napkin.CatalogueError.
+  void Close() { catalogue_.reset(); }
 
   // The rows of `napkin query KIND` as typed columns: (column names, one
   // value per column): a float64 numpy array for a numeric column (NaN where
   // the cell is NULL), else a list of str (or the number a metadata field
   // holds), None where the cell is NULL.
   py::tuple Query(const app::Query& query) {
+    db::Catalogue& catalogue = Opened();
     const app::PreparedQuery prepared = app::PrepareQuery(query);
-    const db::Table table = app::RunQuery(catalogue_, prepared);
+    const db::Table table = app::RunQuery(catalogue, prepared);
     std::set<std::string> numeric;
     for (const db::QueryField& field : db::QueryFields(prepared.kind))
       if (field.numeric) numeric.insert(field.name);
@@ -102,7 +108,7 @@ class ReadOnlyCatalogue {
 
   // JSON text of `napkin compare --format json`.
   std::string Compare(const app::ComparisonRequest& request) {
-    return app::FormatComparison(app::BuildComparison(catalogue_, request), app::TableFormat::kJson);
+    return app::FormatComparison(app::BuildComparison(Opened(), request), app::TableFormat::kJson);
   }
 
   // The derived channels of the test's result under the stored config
@@ -111,9 +117,9 @@ class ReadOnlyCatalogue {
   py::dict Channels(const std::string& test_id, bool derived, const std::optional<std::string>& config) {
     if (derived) {
       // config= names a stored config (app/result_selection.h "Stored").
-      const app::TestResult result = config ? app::ResultOf(catalogue_, test_id, app::Stored{*config}, path_)
-                                            : app::ResultOf(catalogue_, test_id, app::Latest{}, path_);
-      return DerivedChannelsToNumpy(app::ReadResultKinematics(catalogue_, result.test, result.config));
+      const app::TestResult result = config ? app::ResultOf(Opened(), test_id, app::Stored{*config}, path_)
+                                            : app::ResultOf(Opened(), test_id, app::Latest{}, path_);
+      return DerivedChannelsToNumpy(app::ReadResultKinematics(Opened(), result.test, result.config));
     }
     py::dict inputs = TestInputs(test_id);
     const auto channels = inputs["channels"].cast<py::dict>();
@@ -126,14 +132,14 @@ class ReadOnlyCatalogue {
   // What `napkin run` computes the test's result from, as napkin.transform's
   // keyword arguments (napkin/__init__.py Catalogue.test_inputs).
   py::dict TestInputs(const std::string& test_id) {
-    const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
+    const std::optional<db::TestId> test = Opened().FindTestByExternalId(test_id);
     if (!test) throw NotFoundError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
     return TestInputs(*test);
   }
 
  private:
   py::dict TestInputs(db::TestId test) {
-    records::TestInputReader reader(catalogue_);
+    records::TestInputReader reader(Opened());
     records::TestInputs inputs = reader.Read(test);
     if (!inputs.array) throw InputError(inputs.array_error);
     const engine::TestSignals& signals = inputs.signals;
@@ -173,8 +179,16 @@ class ReadOnlyCatalogue {
     }
   }
 
+  // The open catalogue; napkin.CatalogueError once closed.
+  db::Catalogue& Opened() {
+    if (!catalogue_)
+      RaiseCatalogueError("catalogue '" + path_ +
+                          "' is closed; open it again with napkin.Catalogue(path) to read from it.");
+    return *catalogue_;
+  }
+
   std::string path_;
-  db::Catalogue catalogue_;
+  std::optional<db::Catalogue> catalogue_;
 };
 
 std::vector<std::string> AsList(const std::optional<std::vector<std::string>>& values) {
@@ -190,6 +204,8 @@ void RegisterCatalogue(py::module_& module) {
            }),
            py::arg("path"))
       .def_property_readonly("path", &ReadOnlyCatalogue::path)
+      .def_property_readonly("closed", &ReadOnlyCatalogue::closed)
+      .def("close", &ReadOnlyCatalogue::Close)
       .def(
           "query",
           [](ReadOnlyCatalogue& self, const std::string& kind,

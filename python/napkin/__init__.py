@@ -307,19 +307,44 @@ def _path(value, what):
 class Catalogue:
     """A napkin catalogue opened read-only (writing stays with the CLI).
 
-    Rows are those of ``napkin query|compare --format json``: the same keys,
-    numbers and nulls (None).
+    A context manager: ``with napkin.Catalogue(path) as catalogue: ...``
+    closes it at the end of the block; ``close()`` does so at any time, and
+    any use after that raises CatalogueError. ``query`` rows are those of
+    ``napkin query --format json`` (None for null), ``query_frame`` a pandas
+    DataFrame (float64 numbers, NaN for missing values).
     """
 
     def __init__(self, path):
+        self._catalogue = None
         self._catalogue = _napkin.Catalogue(_path(path, "napkin.Catalogue: path"))
 
     @property
     def path(self):
+        """The catalogue's file, as given."""
         return self._catalogue.path
 
+    @property
+    def closed(self):
+        """Whether ``close()`` was called."""
+        return self._catalogue.closed
+
+    def close(self):
+        """Closes the catalogue's database connection (a second call does
+        nothing); any use after it raises CatalogueError. Arrays read from it
+        stay valid."""
+        self._catalogue.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exception):
+        self.close()
+        return False
+
     def __repr__(self):
-        return "<napkin.Catalogue {!r}>".format(self.path)
+        if self._catalogue is None:
+            return "<napkin.Catalogue (not opened)>"
+        return "<napkin.Catalogue {!r}{}>".format(self.path, " (closed)" if self.closed else "")
 
     def tests(self):
         """The test ids, in order."""

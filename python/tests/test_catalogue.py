@@ -144,3 +144,55 @@ def test_catalogue_errors_are_the_cli_sentences(demo_catalogue, tmp_path):
     with pytest.raises(ValueError, match="does not exist"):
         napkin.Catalogue(tmp_path / "missing.db")
     assert not (tmp_path / "missing.db").exists()  # read-only: nothing created
+
+
+def open_files(path):
+    """How many of this process's file descriptors are open on `path`."""
+    import os
+    target = os.path.realpath(path)
+    count = 0
+    for fd in os.listdir("/proc/self/fd"):
+        try:
+            count += os.path.realpath(os.readlink("/proc/self/fd/" + fd)) == target
+        except OSError:
+            pass
+    return count
+
+
+def test_catalogue_is_a_context_manager(demo_catalogue, tmp_path):
+    # A copy no other connection of this process has open (SQLite keeps a closed
+    # connection's file open while another holds a lock on the same file).
+    import shutil
+    copy = tmp_path / "copy.db"
+    shutil.copyfile(demo_catalogue, copy)
+    with napkin.Catalogue(copy) as catalogue:
+        assert isinstance(catalogue, napkin.Catalogue) and not catalogue.closed
+        rows = catalogue.query("hic")
+        channels = catalogue.channels(rows[0]["test_id"])
+        assert open_files(copy) == 1
+    assert catalogue.closed and "(closed)" in repr(catalogue)
+    assert open_files(copy) == 0  # the database connection is closed
+    assert rows == cli_json("--db", demo_catalogue, "query", "hic")
+    assert np.isfinite(channels["time_s"]).all()  # what was read stays valid
+    calls = [lambda: catalogue.tests(), lambda: catalogue.query("hic"), lambda: catalogue.query("hic", where="x>>"),
+             lambda: catalogue.channels(rows[0]["test_id"]), lambda: catalogue.test_inputs(rows[0]["test_id"]),
+             lambda: catalogue.compare("padding-series")]
+    for call in calls:
+        with pytest.raises(napkin.CatalogueError) as error:
+            call()
+        assert str(error.value) == ("catalogue '{}' is closed; open it again with napkin.Catalogue(path) to read "
+                                    "from it.".format(copy))
+    catalogue.close()  # again: nothing
+    assert catalogue.path == str(copy)
+
+
+def test_a_with_block_that_raises_closes_the_catalogue(demo_catalogue):
+    with pytest.raises(KeyError):
+        with napkin.Catalogue(demo_catalogue) as catalogue:
+            raise KeyError("inside")
+    assert catalogue.closed
+    explicit = napkin.Catalogue(demo_catalogue)
+    explicit.close()
+    assert explicit.closed
+    with pytest.raises(napkin.CatalogueError, match="is closed"):
+        explicit.query_frame("hic")
