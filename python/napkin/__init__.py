@@ -4,16 +4,33 @@ A thin layer over the compiled module ``napkin._napkin``, built from the same
 libraries as the ``napkin`` command, so a result here is the command's result
 (docs/python.md):
 
-- ``transform(channels, ...)`` -- one test's raw signals (numpy arrays) to its
-  summary (the ``summary.json`` of ``napkin transform``) and derived channels;
-- ``hic``, ``cfc``, ``bric`` and the injury-risk curves ``hic15_p_ais3``,
-  ``hic36_p_ais4``, ``bric_p_ais3``, ``bric_p_ais4`` on numpy arrays;
-- ``SUMMARY_FIELDS`` -- each summary field's label, unit and meaning (and a
-  risk's curve), as the report and the verdict label them;
+- ``transform(channels, time_s=..., dt_s=..., array=..., ...)`` -- one test's
+  raw signals (numpy arrays) to a ``TransformResult``: its summary (the
+  ``summary.json`` of ``napkin transform``) and derived channels;
+- ``hic(resultant_g, dt_s)`` -- HIC and its window, a named tuple ``HIC(hic,
+  t1_s, t2_s)``; ``cfc(x, dt_s)`` -- the SAE J211 / ISO 6487 filter;
+  ``bric(omega_body_radps)`` -- BrIC;
+- the injury-risk curves ``hic15_p_ais3``, ``hic36_p_ais4``, ``bric_p_ais3``,
+  ``bric_p_ais4``, element-wise on numbers or numpy arrays; ``RISK_CURVES``
+  -- their names;
+- ``SUMMARY_FIELDS`` -- a dict name -> ``SummaryField``: each summary field's
+  label, unit and meaning (and a risk's curve), as the report and the verdict
+  label them;
 - ``iso18571(reference, candidate, dt_s, ...)`` -- the ISO/TS 18571 rating of
-  a model's (or another test's) curve against a test's, a named tuple;
-- ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
-  ``query_frame()``, ``channels()``, ``compare()``.
+  a model's (or another test's) curve against a test's, an ``ISO18571Rating``;
+- ``Catalogue(path)`` -- a catalogue read-only, a context manager
+  (``with napkin.Catalogue(path) as c:``): ``tests()``, ``query()``,
+  ``query_frame()``, ``channels()``, ``test_inputs()``, ``compare()``,
+  ``close()``;
+- ``tune_memory()`` -- raises glibc malloc's thresholds for the process, as
+  ``napkin run`` does (never called implicitly).
+
+Numbers: keywords name their unit (``dt_s``, ``orientation_rad``,
+``initial_velocity_mps``, ...; the old ``dt``, ``orientation``, ... still work
+for one release, with a DeprecationWarning). Arrays are float64; a missing
+value is NaN in arrays and in ``query_frame``'s columns (float64 also when all
+missing), None only in the dicts that mirror the command's JSON (``summary``,
+``query``).
 
 Errors (docs/python.md "Errors"): every error napkin raises is a
 ``napkin.Error`` with the sentence the command prints --
@@ -29,6 +46,9 @@ Errors (docs/python.md "Errors"): every error napkin raises is a
 An argument of the wrong type raises TypeError naming it. Ctrl-C stops a
 transform within a fraction of a second (KeyboardInterrupt), and one that
 cannot fit in memory is refused up front (MemoryError).
+
+Typing: the package ships type stubs and its PEP 561 marker (py.typed), so
+mypy and IDEs check code that uses it.
 """
 
 import collections as _collections
@@ -339,7 +359,6 @@ class Catalogue:
 
     def __exit__(self, *exception):
         self.close()
-        return False
 
     def __repr__(self):
         if self._catalogue is None:
