@@ -49,8 +49,8 @@ def test_report_4_5_scenario_equals_cli(tmp_path):
     _, inputs = synthetic_inputs(tmp_path, "--scenario", "seed-fixed-axis")
     assert inputs["orientation_rad"] == (0.5, 0.5, 0.5)  # report section 4.5.1
     result = napkin.transform(inputs["channels"], time_s=inputs["time_s"], array=inputs["array"],
-                              orientation_rad=inputs["orientation_rad"], initial_velocity_mps=inputs["initial_velocity_mps"],
-                              test_id="input")
+                              orientation_rad=inputs["orientation_rad"],
+                              initial_velocity_mps=inputs["initial_velocity_mps"], test_id="input")
     summary, cells = cli_transform(tmp_path, inputs)
     assert_same_as_cli(result, summary, cells)
     # Report section 4.5.2: 85.94 degrees about the fixed lateral axis, peak fixed omega_Y 50 rad/s.
