@@ -13,8 +13,9 @@ BUILD_PACKAGE ?= build/package
 # benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
 # gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
 # the reprocess test on a private single-node cluster (tests/slurm).
-# The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame.
-PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3-pandas
+# The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame; mypy
+# checks its type stubs (python/tests/test_typing.py).
+PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3-pandas mypy
 # An independent implementation of compare's statistics for its tests (python/tests/
 # test_compare_statistics.py): scipy's t distributions, statsmodels' TOST and power.
 STATISTICS_TEST_PACKAGES := python3-scipy python3-statsmodels

@@ -6,6 +6,7 @@
 
 #include "common/error.h"
 #include "db/sqlite.h"
+#include "engine/pipeline.h"
 
 namespace napkin::app {
 
@@ -14,6 +15,10 @@ Failure DescribeFailure(const std::exception_ptr& error, const std::string& db_p
     std::rethrow_exception(error);
   } catch (const UsageError& usage) {
     return {FailureCategory::kUsage, usage.what()};
+  } catch (const engine::ScreeningFailure& screening) {
+    return {FailureCategory::kScreening, screening.what(), screening.findings()};
+  } catch (const NotFoundError& missing) {
+    return {FailureCategory::kNotFound, missing.what()};
   } catch (const InputError& input) {
     return {FailureCategory::kInput, input.what()};
   } catch (const db::DatabaseError& database) {

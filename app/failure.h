@@ -6,6 +6,9 @@
 //
 //   exception                      category         sentence
 //   UsageError                     kUsage           <its sentence>
+//   engine::ScreeningFailure       kScreening       <its sentence> (and its findings)
+//   NotFoundError (no such         kNotFound        <its sentence>
+//     catalogue, test)
 //   InputError (bad data, files)   kInput           <its sentence>
 //   db::DatabaseError, busy        kCatalogueBusy   catalogue 'F' is busy: ... (hint: wait, retry)
 //   db::DatabaseError, disk full,  kCatalogue       catalogue 'F' could not be written: the disk ... is
@@ -17,17 +20,38 @@
 //   invalid_argument, ...)                          please report it with the command line that caused it.
 #include <exception>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/summary.h"
 
 namespace napkin::app {
 
-enum class FailureCategory { kUsage, kInput, kCatalogueBusy, kCatalogue, kOutOfMemory, kInternal };
+enum class FailureCategory {
+  kUsage,
+  kInput,
+  kScreening,
+  kNotFound,
+  kCatalogueBusy,
+  kCatalogue,
+  kOutOfMemory,
+  kInternal
+};
 
 struct Failure {
+  Failure(FailureCategory category_, std::string sentence_, std::vector<engine::Finding> findings_ = {})
+      : category(category_), sentence(std::move(sentence_)), findings(std::move(findings_)) {}
+
   FailureCategory category;
   std::string sentence;
+  std::vector<engine::Finding> findings;  // kScreening: what screening found
 
-  // Bad input: a request (kUsage) or data (kInput) the user can correct.
-  bool BadInput() const { return category == FailureCategory::kUsage || category == FailureCategory::kInput; }
+  // Bad input the user can correct: a request (kUsage), data (kInput, kScreening),
+  // a catalogue or test that is not there (kNotFound).
+  bool BadInput() const {
+    return category == FailureCategory::kUsage || category == FailureCategory::kInput ||
+           category == FailureCategory::kScreening || category == FailureCategory::kNotFound;
+  }
 };
 
 // What `error` means for the user, as described above; `db_path` names the

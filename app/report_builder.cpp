@@ -305,7 +305,7 @@ class CatalogueReport {
       : catalogue_(Open(db_path, selection)) {
     for (const std::string& id : selection.test_ids)
       if (!catalogue_.ExistsTestByExternalId(id))
-        throw InputError(fmt::format("test '{}' is not in catalogue '{}'.", id, db_path));
+        throw NotFoundError(fmt::format("test '{}' is not in catalogue '{}'.", id, db_path));
     selected_ = SelectedTests(catalogue_, selection, where_);
     if (selected_.empty() && Selection(selection).empty())
       throw InputError("catalogue '" + db_path +

@@ -35,7 +35,7 @@ std::optional<db::ConfigId> FindResult(db::Catalogue& catalogue, db::TestId test
 TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
                     const std::string& db_path) {
   const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id);
-  if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + db_path + "'.");
+  if (!test) throw NotFoundError("test '" + test_id + "' is not in catalogue '" + db_path + "'.");
   const std::optional<db::ConfigId> config = FindResult(catalogue, *test, choice);
   if (config) return {*test, *config};
   if (std::holds_alternative<Latest>(choice))

@@ -48,10 +48,10 @@ struct TestResult {
 };
 
 // The result of the test whose id is `test_id` that `choice` names. Throws
-// InputError "test 'T' is not in catalogue 'F'." (`db_path` names it), "test
-// 'T' has no results yet; run `napkin run` first." (Latest) or "test 'T' has
-// no results for config 'C' yet; run `napkin run --config C` first." (Stored,
-// Preset), and FindResult's errors.
+// NotFoundError "test 'T' is not in catalogue 'F'." (`db_path` names it);
+// InputError "test 'T' has no results yet; run `napkin run` first." (Latest)
+// or "test 'T' has no results for config 'C' yet; run `napkin run --config
+// C` first." (Stored, Preset), and FindResult's errors.
 TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
                     const std::string& db_path);
 

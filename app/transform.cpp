@@ -35,7 +35,7 @@ std::string SolverNames(const std::string& separator) {
 formats::TimeBase CheckedTimeBase(const SampleTimes& times, Eigen::Index samples, const std::string& source) {
   if (const double* dt = std::get_if<double>(&times)) {
     if (!(std::isfinite(*dt) && *dt > 0.0))
-      throw InputError(source + ": dt " + util::FormatNumber(*dt) +
+      throw InputError(source + ": dt_s " + util::FormatNumber(*dt) +
                        " s is not a finite positive sampling interval.");
     return {0.0, *dt};
   }
@@ -90,7 +90,10 @@ void ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignal
     engine::ProcessTest(array, signals, initial, config, workspace, processed, cancel);
     // The verdict `napkin run` records: a test that fails there fails here,
     // with the same sentence.
-    if (const engine::Finding* failing = engine::FailingFinding(processed)) throw InputError(failing->detail);
+    if (const engine::Finding* failing = engine::FailingFinding(processed))
+      throw engine::ScreeningFailure(failing->detail, processed.summary.findings);
+  } catch (const engine::ScreeningFailure& failure) {
+    throw engine::ScreeningFailure(source + ": " + failure.what(), failure.findings());
   } catch (const InputError& error) {
     throw InputError(source + ": " + error.what());
   }

@@ -42,7 +42,8 @@ engine::TestSignals SignalsFromSamples(Eigen::MatrixXd samples, const engine::Ar
 
 // One test processed as `napkin run` processes a stored one
 // (engine::ProcessTest); a test that fails there (engine::FailingFinding)
-// fails here with the same sentence. Every InputError starts with `source`.
+// fails here with the same sentence, as engine::ScreeningFailure carrying the
+// findings. Every InputError starts with `source`.
 // `cancel` as engine::ProcessTest's.
 engine::ProcessedTest ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
                                      const engine::InitialState& initial,

@@ -20,6 +20,14 @@ class UsageError : public InputError {
   using InputError::InputError;
 };
 
+// Something asked for that is not there: a catalogue file that does not
+// exist, a test the catalogue does not hold (exit status 1, as InputError;
+// the Python module raises napkin.NotFoundError, a napkin.CatalogueError).
+class NotFoundError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // An array definition that cannot be solved (duplicate slots, zero axis,
 // rank-deficient linear set, unknown unit).
 class InvalidArrayError : public InputError {

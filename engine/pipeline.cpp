@@ -155,7 +155,7 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
       message << " (screening: " << reason << ")";
     }
     message << ".";
-    throw InputError(message.str());
+    throw ScreeningFailure(message.str(), std::move(findings));
   }
 
   // A finite but physically absurd result is no result (README "What it
@@ -196,7 +196,10 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
   // the test unusable: stop with the finding's sentence (slot, sample, time).
   std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
   const auto fatal = std::find_if(findings.begin(), findings.end(), IsFatal);
-  if (fatal != findings.end()) throw InputError(fatal->detail);
+  if (fatal != findings.end()) {
+    std::string sentence = fatal->detail;
+    throw ScreeningFailure(sentence, std::move(findings));
+  }
   ThrowIfCancelled(cancel);
 
   // A raw sample beyond the plausibility limits fails the test with its
@@ -211,10 +214,11 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
   if (implausible == findings.end())
     return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
   const std::string cause = implausible->detail;
+  std::vector<Finding> screened = findings;  // what the failure carries should the computation stop
   try {
     ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
   } catch (const InputError&) {
-    throw InputError(cause);
+    throw ScreeningFailure(cause, std::move(screened));
   }
 }
 

@@ -6,7 +6,11 @@
 // single-test result (or error) for the same input and configuration.
 #include <atomic>
 #include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "common/error.h"
 #include "engine/array_geometry.h"
 #include "engine/criteria.h"
 #include "engine/kinematics.h"
@@ -38,9 +42,10 @@ struct Workspace {
 // Screening of the raw signals (engine/screening.h) -> conditioning (time
 // shift, bias, CFC filters, crop) -> solver -> rigid-body screening ->
 // summary -> injury criteria; summary.findings holds every finding. Throws
-// InputError naming the slot, sample or setting at fault: on a missing
-// channel or a non-finite sample (the screening sentence), and when the
-// solved kinematics diverge (quoting the screening error that explains it).
+// InputError naming the slot, sample or setting at fault: ScreeningFailure
+// (with the findings) on a missing channel or a non-finite sample (the
+// screening sentence), and when the solved kinematics diverge after an
+// implausible sample (quoting the screening error that explains it).
 // `cancel` (null: never) stops it: read between the stages and every
 // kCancellationStride samples of the long loops (filters, solvers, HIC
 // search), it makes ProcessTest throw Cancelled within milliseconds of being
@@ -74,5 +79,20 @@ std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples,
 // it passes. `napkin run` records that sentence as the test's failure (with
 // the findings), `napkin transform` exits 1 with it and writes nothing.
 const Finding* FailingFinding(const ProcessedTest& processed);
+
+// A test that fails screening: its what() is the failing finding's sentence
+// (FailingFinding's detail, or the fatal or implausible finding ProcessTest
+// stops on), findings() what screening found up to then, the failing finding
+// among them, so that a front end can show them (napkin.ScreeningFailure's
+// .findings) rather than the one sentence only.
+class ScreeningFailure : public InputError {
+ public:
+  ScreeningFailure(const std::string& sentence, std::vector<Finding> findings)
+      : InputError(sentence), findings_(std::move(findings)) {}
+  const std::vector<Finding>& findings() const { return findings_; }
+
+ private:
+  std::vector<Finding> findings_;
+};
 
 }  // namespace napkin::engine

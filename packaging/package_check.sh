@@ -3,7 +3,8 @@
 # `make package` built, as installed: it is extracted with `dpkg-deb -x` into a fresh temporary
 # root (removed afterwards) and everything runs from there, never from the build tree.
 #   - the file name is Debian's napkin_<version>_<arch>.deb, and napkin --version names <version>;
-#   - the files: napkin, the presets, the man page, the bash completion, the Python module;
+#   - the files: napkin, the presets, the man page, the bash completion, the Python module (with its
+#     type stubs and PEP 561 marker py.typed);
 #   - napkin finds its presets in the package (<root>/usr/share/napkin/config), not in the source
 #     tree it was built from; `napkin demo` writes its catalogue and report;
 #   - the man page renders without warnings (man -l), the bash completion completes;
@@ -40,7 +41,9 @@ napkin=$root/usr/bin/napkin
 site=$root/usr/lib/python3/dist-packages
 for file in usr/bin/napkin usr/share/napkin/config/arrays/denton-3222.json \
     usr/share/napkin/config/processing/default.json usr/share/man/man1/napkin.1.gz \
-    usr/share/bash-completion/completions/napkin usr/lib/python3/dist-packages/napkin/__init__.py; do
+    usr/share/bash-completion/completions/napkin usr/lib/python3/dist-packages/napkin/__init__.py \
+    usr/lib/python3/dist-packages/napkin/__init__.pyi usr/lib/python3/dist-packages/napkin/_napkin.pyi \
+    usr/lib/python3/dist-packages/napkin/py.typed; do
   [ -f "$root/$file" ] || fail "the package has no /$file."
 done
 python_extension=("$site"/napkin/_napkin*.so "$site"/_napkin*.so)

@@ -74,10 +74,28 @@ std::string AsText(const py::handle& object, const std::string& what, const std:
 // A str or an os.PathLike (pathlib.Path): a preset name or a file path.
 std::string AsNameOrPath(const py::handle& object, const std::string& what);
 
+// napkin's exception classes (napkin.Error and those derived from it) and
+// napkin.Finding, created in the module: RegisterErrors.
+void RegisterErrors(py::module_& module);
+
+// Raises the Python exception of `failure`: the one place that maps a
+// failure's category (app/failure.h) to an exception class
+// (docs/python.md "Errors"):
+//   kUsage, kInput           napkin.InputError (a ValueError)
+//   kScreening               napkin.ScreeningFailure (an InputError) with .findings
+//   kNotFound                napkin.NotFoundError (a CatalogueError and an InputError)
+//   kCatalogueBusy, kCatalogue  napkin.CatalogueError (a RuntimeError)
+//   kOutOfMemory             MemoryError
+//   kInternal                napkin.InternalError (a RuntimeError)
+[[noreturn]] void RaiseFailure(const app::Failure& failure);
+
+// napkin.CatalogueError with `sentence` (a closed catalogue, python/py_catalogue.cpp).
+[[noreturn]] void RaiseCatalogueError(const std::string& sentence);
+
 // Runs `work`, turning a napkin exception into the Python exception with the
-// CLI's sentence (app/failure.h DescribeFailure): bad input (InputError,
-// UsageError) raises ValueError, anything else RuntimeError; `db_path` names
-// the catalogue in database errors. Python's own exceptions pass unchanged.
+// CLI's sentence (app/failure.h DescribeFailure, RaiseFailure); `db_path`
+// names the catalogue in database errors. Python's own exceptions pass
+// unchanged.
 template <typename Work>
 auto Translated(const std::string& db_path, Work&& work) -> decltype(work()) {
   try {
@@ -89,9 +107,7 @@ auto Translated(const std::string& db_path, Work&& work) -> decltype(work()) {
   } catch (const std::bad_alloc&) {
     throw;  // MemoryError
   } catch (...) {
-    const app::Failure failure = app::DescribeFailure(std::current_exception(), db_path);
-    if (failure.BadInput()) throw py::value_error(failure.sentence);
-    throw std::runtime_error(failure.sentence);  // RuntimeError
+    RaiseFailure(app::DescribeFailure(std::current_exception(), db_path));
   }
 }
 

@@ -1,11 +1,17 @@
-// napkin.Catalogue: a catalogue opened read-only, its queries and
+// napkin.Catalogue: a catalogue opened read-only, its queries as typed
+// columns (app::RunQuery's rows: numbers as float64 arrays, text as str), its
 // comparisons as the CLI's `--format json` text (napkin/__init__.py parses
 // it, so a Python row is the CLI's row) and a test's channels as numpy arrays
 // (docs/python.md "Catalogue"). Writing stays with the CLI.
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <optional>
+#include <set>
+#include <variant>
 #include <vector>
 
 #include "app/comparison.h"
@@ -20,21 +26,89 @@
 namespace napkin::python {
 namespace {
 
+// Whether column `c` of `table` holds text in some row (SQLite's columns are
+// not typed: a numeric column of an odd catalogue might).
+bool HoldsText(const db::Table& table, std::size_t c) {
+  return std::any_of(table.rows.begin(), table.rows.end(), [c](const std::vector<db::Cell>& row) {
+    return std::holds_alternative<std::string>(row[c]);
+  });
+}
+
+// Column `c` of `table` as float64: NULL is NaN.
+py::array_t<double> NumericColumn(const db::Table& table, std::size_t c) {
+  Eigen::VectorXd column(static_cast<Eigen::Index>(table.rows.size()));
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const db::Cell& cell = table.rows[r][c];
+    const auto k = static_cast<Eigen::Index>(r);
+    if (const auto* value = std::get_if<double>(&cell))
+      column[k] = *value;
+    else if (const auto* whole = std::get_if<std::int64_t>(&cell))
+      column[k] = static_cast<double>(*whole);
+    else
+      column[k] = std::numeric_limits<double>::quiet_NaN();
+  }
+  return ToNumpy(std::move(column));
+}
+
+// Column `c` of `table` as a list of Python values: None for NULL; text that
+// an older napkin stored may not be UTF-8 (docs/formats.md "Text encoding"):
+// its bad bytes become U+FFFD, as in the CLI's JSON.
+py::list CellColumn(const db::Table& table, std::size_t c) {
+  py::list column;
+  for (const std::vector<db::Cell>& row : table.rows) {
+    const db::Cell& cell = row[c];
+    if (const auto* text = std::get_if<std::string>(&cell)) {
+      PyObject* decoded =
+          PyUnicode_DecodeUTF8(text->data(), static_cast<Py_ssize_t>(text->size()), "replace");
+      if (decoded == nullptr) throw py::error_already_set();
+      column.append(py::reinterpret_steal<py::object>(decoded));
+    } else if (const auto* value = std::get_if<double>(&cell)) {
+      column.append(py::float_(*value));
+    } else if (const auto* whole = std::get_if<std::int64_t>(&cell)) {
+      column.append(py::int_(*whole));
+    } else {
+      column.append(py::none());
+    }
+  }
+  return column;
+}
+
 class ReadOnlyCatalogue {
  public:
   explicit ReadOnlyCatalogue(std::string path) : path_(std::move(path)), catalogue_(Open(path_)) {}
 
   const std::string& path() const { return path_; }
+  bool closed() const { return !catalogue_; }
 
-  // (JSON text of `napkin query KIND --format json`, its column names).
-  std::pair<std::string, std::vector<std::string>> Query(const app::Query& query) {
-    const db::Table table = app::RunQuery(catalogue_, app::PrepareQuery(query));
-    return {app::FormatTable(table, app::TableFormat::kJson), table.columns};
+  // Closes the database connection (again: nothing); any use after it
+  // raises napkin.CatalogueError.
+  void Close() { catalogue_.reset(); }
+
+  // The rows of `napkin query KIND` as typed columns: (column names, one
+  // value per column): a float64 numpy array for a numeric column (NaN where
+  // the cell is NULL), else a list of str (or the number a metadata field
+  // holds), None where the cell is NULL.
+  py::tuple Query(const app::Query& query) {
+    db::Catalogue& catalogue = Opened();
+    const app::PreparedQuery prepared = app::PrepareQuery(query);
+    const db::Table table = app::RunQuery(catalogue, prepared);
+    std::set<std::string> numeric;
+    for (const db::QueryField& field : db::QueryFields(prepared.kind))
+      if (field.numeric) numeric.insert(field.name);
+    py::list columns, values;
+    for (std::size_t c = 0; c < table.columns.size(); ++c) {
+      columns.append(table.columns[c]);
+      if (numeric.contains(table.columns[c]) && !HoldsText(table, c))
+        values.append(NumericColumn(table, c));
+      else
+        values.append(CellColumn(table, c));
+    }
+    return py::make_tuple(columns, values);
   }
 
   // JSON text of `napkin compare --format json`.
   std::string Compare(const app::ComparisonRequest& request) {
-    return app::FormatComparison(app::BuildComparison(catalogue_, request), app::TableFormat::kJson);
+    return app::FormatComparison(app::BuildComparison(Opened(), request), app::TableFormat::kJson);
   }
 
   // The derived channels of the test's result under the stored config
@@ -43,9 +117,9 @@ class ReadOnlyCatalogue {
   py::dict Channels(const std::string& test_id, bool derived, const std::optional<std::string>& config) {
     if (derived) {
       // config= names a stored config (app/result_selection.h "Stored").
-      const app::TestResult result = config ? app::ResultOf(catalogue_, test_id, app::Stored{*config}, path_)
-                                            : app::ResultOf(catalogue_, test_id, app::Latest{}, path_);
-      return DerivedChannelsToNumpy(app::ReadResultKinematics(catalogue_, result.test, result.config));
+      const app::TestResult result = config ? app::ResultOf(Opened(), test_id, app::Stored{*config}, path_)
+                                            : app::ResultOf(Opened(), test_id, app::Latest{}, path_);
+      return DerivedChannelsToNumpy(app::ReadResultKinematics(Opened(), result.test, result.config));
     }
     py::dict inputs = TestInputs(test_id);
     const auto channels = inputs["channels"].cast<py::dict>();
@@ -58,14 +132,14 @@ class ReadOnlyCatalogue {
   // What `napkin run` computes the test's result from, as napkin.transform's
   // keyword arguments (napkin/__init__.py Catalogue.test_inputs).
   py::dict TestInputs(const std::string& test_id) {
-    const std::optional<db::TestId> test = catalogue_.FindTestByExternalId(test_id);
-    if (!test) throw InputError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
+    const std::optional<db::TestId> test = Opened().FindTestByExternalId(test_id);
+    if (!test) throw NotFoundError("test '" + test_id + "' is not in catalogue '" + path_ + "'.");
     return TestInputs(*test);
   }
 
  private:
   py::dict TestInputs(db::TestId test) {
-    records::TestInputReader reader(catalogue_);
+    records::TestInputReader reader(Opened());
     records::TestInputs inputs = reader.Read(test);
     if (!inputs.array) throw InputError(inputs.array_error);
     const engine::TestSignals& signals = inputs.signals;
@@ -82,24 +156,39 @@ class ReadOnlyCatalogue {
     result["array"] = py::module_::import("json").attr("loads")(inputs.array_record->definition_json);
     result["time_s"] = ToNumpy(std::move(time));
     result["channels"] = channels;
-    result["orientation"] = triple(inputs.initial.orientation_rad);
-    result["initial_velocity"] = triple(inputs.initial.velocity_fixed_mps);
-    result["initial_omega_body"] = triple(inputs.initial.omega_body_radps);
+    result["orientation_rad"] = triple(inputs.initial.orientation_rad);
+    result["initial_velocity_mps"] = triple(inputs.initial.velocity_fixed_mps);
+    result["initial_omega_body_radps"] = triple(inputs.initial.omega_body_radps);
     return result;
   }
 
   static db::Catalogue Open(const std::string& path) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error))
-      throw InputError("catalogue '" + path + "' does not exist (or is not a file); `napkin init --db " +
-                       path + "` creates one.");
+      throw NotFoundError("catalogue '" + path + "' does not exist (or is not a file); `napkin init --db " +
+                          path + "` creates one.");
     db::CatalogueOptions options;
     options.read_only = true;
-    return db::Catalogue::Open(path, options);
+    try {
+      return db::Catalogue::Open(path, options);
+    } catch (const InputError& error) {
+      // A file that is not a napkin catalogue (not SQLite, another
+      // application's, a newer schema): a catalogue problem, with the sentence
+      // the CLI prints.
+      RaiseCatalogueError(error.what());
+    }
+  }
+
+  // The open catalogue; napkin.CatalogueError once closed.
+  db::Catalogue& Opened() {
+    if (!catalogue_)
+      RaiseCatalogueError("catalogue '" + path_ +
+                          "' is closed; open it again with napkin.Catalogue(path) to read from it.");
+    return *catalogue_;
   }
 
   std::string path_;
-  db::Catalogue catalogue_;
+  std::optional<db::Catalogue> catalogue_;
 };
 
 std::vector<std::string> AsList(const std::optional<std::vector<std::string>>& values) {
@@ -115,8 +204,10 @@ void RegisterCatalogue(py::module_& module) {
            }),
            py::arg("path"))
       .def_property_readonly("path", &ReadOnlyCatalogue::path)
+      .def_property_readonly("closed", &ReadOnlyCatalogue::closed)
+      .def("close", &ReadOnlyCatalogue::Close)
       .def(
-          "query_json",
+          "query",
           [](ReadOnlyCatalogue& self, const std::string& kind,
              const std::optional<std::vector<std::string>>& where,
              const std::optional<std::vector<std::string>>& sort, const std::optional<std::string>& limit,

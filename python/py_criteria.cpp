@@ -48,7 +48,7 @@ py::array_t<double> Cfc(const py::handle& x, double dt_s, double cfc_hz, const s
   if (!variant)
     throw InputError("napkin.cfc: variant \"" + variant_name + "\" is neither \"sae\" nor \"iso\".");
   if (!(std::isfinite(dt_s) && dt_s > 0.0))
-    throw InputError("napkin.cfc: dt " + std::to_string(dt_s) +
+    throw InputError("napkin.cfc: dt_s " + std::to_string(dt_s) +
                      " s is not a finite positive sampling interval.");
   if (!(std::isfinite(cfc_hz) && cfc_hz > 0.0))
     throw InputError("napkin.cfc: cfc " + std::to_string(cfc_hz) +
@@ -131,26 +131,26 @@ void RegisterCriteria(py::module_& module) {
             throw py::type_error("napkin.hic: from_time_zero is " + Described(from_time_zero) +
                                  ", not True or False.");
           return Hic(
-              resultant_g, AsReal(dt, "napkin.hic: dt", "the sampling interval in s"),
+              resultant_g, AsReal(dt, "napkin.hic: dt_s", "the sampling interval in s"),
               AsOptionalReal(max_window_s, "napkin.hic: max_window_s", "the longest window in s, or None"),
               from_time_zero.cast<bool>(), AsReal(t0_s, "napkin.hic: t0_s", "the first sample's time in s"));
         });
       },
-      py::arg("resultant_g"), py::arg("dt"), py::arg("max_window_s") = engine::kHic15Window,
+      py::arg("resultant_g"), py::arg("dt_s"), py::arg("max_window_s") = engine::kHic15Window,
       py::arg("from_time_zero") = false, py::arg("t0_s") = 0.0,
-      "HIC of a resultant acceleration (g) sampled every dt s: (hic, t1_s, t2_s), the exact maximum over "
+      "HIC of a resultant acceleration (g) sampled every dt_s s: (hic, t1_s, t2_s), the exact maximum over "
       "windows "
       "up to max_window_s (None: no limit), times in s from the first sample (plus t0_s).");
   module.def(
       "cfc",
       [](const py::handle& x, const py::handle& dt, const py::handle& cfc, const py::handle& variant) {
         return Translated("", [&] {
-          return Cfc(x, AsReal(dt, "napkin.cfc: dt", "the sampling interval in s"),
+          return Cfc(x, AsReal(dt, "napkin.cfc: dt_s", "the sampling interval in s"),
                      AsReal(cfc, "napkin.cfc: cfc", "the channel frequency class"),
                      AsText(variant, "napkin.cfc: variant", "\"sae\" or \"iso\""));
         });
       },
-      py::arg("x"), py::arg("dt"), py::arg("cfc") = engine::kCfc1000, py::arg("variant") = "sae",
+      py::arg("x"), py::arg("dt_s"), py::arg("cfc") = engine::kCfc1000, py::arg("variant") = "sae",
       "x filtered by the two-pass channel frequency class filter of SAE J211 (variant 'sae') or ISO 6487 "
       "('iso').");
   module.def(
@@ -181,6 +181,9 @@ void RegisterCriteria(py::module_& module) {
       py::arg("reference"), py::arg("candidate"), py::arg("dt_s"), py::arg("start_s") = py::none(),
       py::arg("end_s") = py::none(), py::arg("edition") = "2024",
       "ISO/TS 18571 rating as a plain tuple; napkin.iso18571 wraps it in a named tuple.");
+  // The defaults of napkin.hic and napkin.cfc (napkin/__init__.py).
+  module.attr("_HIC15_WINDOW_S") = engine::kHic15Window;
+  module.attr("_CFC1000") = engine::kCfc1000;
   // One function per risk of the summary-field table, named as its field.
   for (const engine::SummaryField* field : engine::RiskFields()) {
     const engine::RiskCurve& curve = *field->curve;

@@ -167,6 +167,7 @@ std::string AsNameOrPath(const py::handle& object, const std::string& what) {
 PYBIND11_MODULE(_napkin, module) {
   module.doc() = "napkin's engine and catalogue from Python (docs/python.md)";
   module.attr("__version__") = napkin::Version();
+  napkin::python::RegisterErrors(module);
   napkin::python::RegisterTransform(module);
   napkin::python::RegisterCriteria(module);
   napkin::python::RegisterCatalogue(module);

@@ -148,7 +148,7 @@ Eigen::MatrixXd ReadChannels(const py::handle& channels, const engine::ArrayGeom
   return Eigen::Map<const RowMajor>(values.data(), values.shape(0), values.shape(1));
 }
 
-// The sample times: dt, or time_s as a 1-D array (app::SignalsFromSamples checks them).
+// The sample times: dt_s, or time_s as a 1-D array (app::SignalsFromSamples checks them).
 struct Times {
   std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>
       time_s;  // keeps the span alive
@@ -156,7 +156,8 @@ struct Times {
 };
 Times ReadTimes(const py::object& time_s, const std::optional<double>& dt, const std::string& source) {
   if (time_s.is_none() == !dt)
-    throw InputError(source + ": give either time_s (the sample times, s) or dt (the sampling interval, s)" +
+    throw InputError(source +
+                     ": give either time_s (the sample times, s) or dt_s (the sampling interval, s)" +
                      (time_s.is_none() ? std::string(", neither was given.") : ", not both."));
   if (dt) return {std::nullopt, *dt};
   Times times{AsFloatArray(time_s, source + ": time_s"), 0.0};
@@ -255,15 +256,15 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
                     const py::object& test_id_object, const std::string& config_dir) {
   const std::string function = "napkin.transform: ";
   const std::string test_id = AsText(test_id_object, function + "test_id", "a test id");
-  const std::optional<double> dt = AsOptionalReal(dt_object, function + "dt", "the sampling interval in s");
+  const std::optional<double> dt = AsOptionalReal(dt_object, function + "dt_s", "the sampling interval in s");
   const std::string array_name = AsNameOrPath(array_object, function + "array");
   const std::string config_name = AsNameOrPath(config_object, function + "config");
   const std::vector<double> orientation_rad =
-      AsReals(orientation_object, function + "orientation", "phi, theta, psi in rad");
+      AsReals(orientation_object, function + "orientation_rad", "phi, theta, psi in rad");
   const std::vector<double> initial_velocity_mps =
-      AsReals(initial_velocity_object, function + "initial_velocity", "3 components in m/s");
+      AsReals(initial_velocity_object, function + "initial_velocity_mps", "3 components in m/s");
   const std::vector<double> initial_omega_body_radps =
-      AsReals(initial_omega_body_object, function + "initial_omega_body", "3 components in rad/s");
+      AsReals(initial_omega_body_object, function + "initial_omega_body_radps", "3 components in rad/s");
   std::optional<std::string> solver;
   if (!solver_object.is_none()) solver = AsText(solver_object, function + "solver", "a solver name or None");
 
@@ -281,9 +282,9 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   const Times times = ReadTimes(time_s, dt, source);
   const engine::TestSignals signals = app::SignalsFromSamples(std::move(values), array, times.times, source);
   engine::InitialState initial;
-  initial.orientation_rad = Triple(orientation_rad, "orientation", source);
-  initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity", source);
-  initial.omega_body_radps = Triple(initial_omega_body_radps, "initial_omega_body", source);
+  initial.orientation_rad = Triple(orientation_rad, "orientation_rad", source);
+  initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity_mps", source);
+  initial.omega_body_radps = Triple(initial_omega_body_radps, "initial_omega_body_radps", source);
 
   // A loop over tests works in the memory of the one before, without tuning
   // the host's malloc (docs/python.md "Cost"): the calling thread's
@@ -346,9 +347,9 @@ void RegisterTransform(py::module_& module) {
                            initial_omega_body, solver, test_id, config_dir);
         });
       },
-      py::arg("channels"), py::arg("time_s"), py::arg("dt"), py::arg("array"), py::arg("config"),
-      py::arg("orientation"), py::arg("initial_velocity"), py::arg("initial_omega_body"), py::arg("solver"),
-      py::arg("test_id"), py::arg("config_dir"));
+      py::arg("channels"), py::arg("time_s"), py::arg("dt_s"), py::arg("array"), py::arg("config"),
+      py::arg("orientation_rad"), py::arg("initial_velocity_mps"), py::arg("initial_omega_body_radps"),
+      py::arg("solver"), py::arg("test_id"), py::arg("config_dir"));
   // The estimate CheckMemory compares with the memory available, for the
   // tests that hold it to a transform's measured peak (python/tests/).
   module.def(
@@ -363,7 +364,7 @@ void RegisterTransform(py::module_& module) {
               formats::ReadProcessingConfig(records::ProcessingConfigPath(config_name, presets)));
         });
       },
-      py::arg("array"), py::arg("samples"), py::arg("dt"), py::arg("config") = "default",
+      py::arg("array"), py::arg("samples"), py::arg("dt_s"), py::arg("config") = "default",
       py::arg("config_dir") = "");
 }
 

@@ -4,32 +4,99 @@ A thin layer over the compiled module ``napkin._napkin``, built from the same
 libraries as the ``napkin`` command, so a result here is the command's result
 (docs/python.md):
 
-- ``transform(channels, ...)`` -- one test's raw signals (numpy arrays) to its
-  summary (the ``summary.json`` of ``napkin transform``) and derived channels;
-- ``hic``, ``cfc``, ``bric`` and the injury-risk curves ``hic15_p_ais3``,
-  ``hic36_p_ais4``, ``bric_p_ais3``, ``bric_p_ais4`` on numpy arrays;
-- ``SUMMARY_FIELDS`` -- each summary field's label, unit and meaning (and a
-  risk's curve), as the report and the verdict label them;
+- ``transform(channels, time_s=..., dt_s=..., array=..., ...)`` -- one test's
+  raw signals (numpy arrays) to a ``TransformResult``: its summary (the
+  ``summary.json`` of ``napkin transform``) and derived channels;
+- ``hic(resultant_g, dt_s)`` -- HIC and its window, a named tuple ``HIC(hic,
+  t1_s, t2_s)``; ``cfc(x, dt_s)`` -- the SAE J211 / ISO 6487 filter;
+  ``bric(omega_body_radps)`` -- BrIC;
+- the injury-risk curves ``hic15_p_ais3``, ``hic36_p_ais4``, ``bric_p_ais3``,
+  ``bric_p_ais4``, element-wise on numbers or numpy arrays; ``RISK_CURVES``
+  -- their names;
+- ``SUMMARY_FIELDS`` -- a dict name -> ``SummaryField``: each summary field's
+  label, unit and meaning (and a risk's curve), as the report and the verdict
+  label them;
 - ``iso18571(reference, candidate, dt_s, ...)`` -- the ISO/TS 18571 rating of
-  a model's (or another test's) curve against a test's, a named tuple;
-- ``Catalogue(path)`` -- a catalogue read-only: ``tests()``, ``query()``,
-  ``query_frame()``, ``channels()``, ``compare()``.
+  a model's (or another test's) curve against a test's, an ``ISO18571Rating``;
+- ``Catalogue(path)`` -- a catalogue read-only, a context manager
+  (``with napkin.Catalogue(path) as c:``): ``tests()``, ``query()``,
+  ``query_frame()``, ``channels()``, ``test_inputs()``, ``compare()``,
+  ``close()``;
+- ``tune_memory()`` -- raises glibc malloc's thresholds for the process, as
+  ``napkin run`` does (never called implicitly).
 
-Bad input raises ValueError with the sentence the command prints, an argument
-of the wrong type TypeError naming it; anything else that goes wrong raises
-RuntimeError. Ctrl-C stops a transform within a fraction of a second
-(KeyboardInterrupt), and one that cannot fit in memory is refused up front
-(MemoryError).
+Numbers: keywords name their unit (``dt_s``, ``orientation_rad``,
+``initial_velocity_mps``, ...; the old ``dt``, ``orientation``, ... still work
+for one release, with a DeprecationWarning). Arrays are float64; a missing
+value is NaN in arrays and in ``query_frame``'s columns (float64 also when all
+missing), None only in the dicts that mirror the command's JSON (``summary``,
+``query``).
+
+Errors (docs/python.md "Errors"): every error napkin raises is a
+``napkin.Error`` with the sentence the command prints --
+
+- ``InputError`` (also a ValueError): bad input the caller can correct;
+- ``ScreeningFailure`` (an InputError): a test that fails screening, its
+  ``.findings`` a list of ``Finding(check, channel, severity, detail)``;
+- ``CatalogueError`` (also a RuntimeError): a busy, damaged or closed
+  catalogue; ``NotFoundError`` (a CatalogueError and an InputError): a
+  catalogue file or a test that is not there;
+- ``InternalError`` (also a RuntimeError): a bug in napkin.
+
+An argument of the wrong type raises TypeError naming it. Ctrl-C stops a
+transform within a fraction of a second (KeyboardInterrupt), and one that
+cannot fit in memory is refused up front (MemoryError).
+
+Typing: the package ships type stubs and its PEP 561 marker (py.typed), so
+mypy and IDEs check code that uses it.
 """
 
 import collections as _collections
 import json as _json
+import math as _math
+import numbers as _numbers
 import os as _os
+import warnings as _warnings
 
 from . import _napkin
-from ._napkin import bric, cfc, hic, tune_memory  # noqa: F401  (the public API)
+from ._napkin import bric, tune_memory  # noqa: F401  (the public API)
+from ._napkin import (  # noqa: F401  (the public API: napkin's exceptions, python/py_errors.cpp)
+    CatalogueError, Error, Finding, InputError, InternalError, NotFoundError, ScreeningFailure)
 
 __version__ = _napkin.__version__
+
+# The keywords that were renamed to name their unit, old -> new, by function
+# (docs/python.md "Names and units"). The old ones still work for one release,
+# with a DeprecationWarning naming the new one.
+_RENAMED = {
+    "napkin.transform": {"dt": "dt_s", "orientation": "orientation_rad",
+                         "initial_velocity": "initial_velocity_mps",
+                         "initial_omega_body": "initial_omega_body_radps"},
+    "napkin.hic": {"dt": "dt_s"},
+    "napkin.cfc": {"dt": "dt_s"},
+}
+
+_AT_REST = (0.0, 0.0, 0.0)  # the initial state's default, compared by identity
+
+
+def _with_old_keywords(function, old_keywords, values, defaults):
+    """``values`` (new keyword -> value) with the value given under an old
+    keyword (``old_keywords``, what ``**`` collected) moved to its new name,
+    warning that the old name is deprecated. An unknown keyword, or a value
+    given under both names, raises TypeError."""
+    renamed = _RENAMED[function]
+    values = dict(values)
+    for old, value in old_keywords.items():
+        new = renamed.get(old)
+        if new is None:
+            raise TypeError("{}() got an unexpected keyword argument {!r}".format(function, old))
+        _warnings.warn("{}: the keyword {} is deprecated and will be removed in the next release; use {} (the "
+                       "same value).".format(function, old, new), DeprecationWarning, stacklevel=3)
+        if values[new] is not defaults.get(new):
+            raise TypeError("{}: give {} or its deprecated name {}, not both.".format(function, new, old))
+        values[new] = value
+    return values
+
 
 SummaryField = _collections.namedtuple(
     "SummaryField", ["name", "group", "label", "unit", "meaning", "criterion", "ais", "source"])
@@ -52,8 +119,47 @@ RISK_CURVES = tuple(name for name, field in SUMMARY_FIELDS.items() if field.crit
 for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
-__all__ = ["transform", "TransformResult", "Catalogue", "hic", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", "tune_memory", *RISK_CURVES]
+__all__ = ["transform", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
+           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "tune_memory", "Error", "InputError",
+           "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
+
+
+HIC = _collections.namedtuple("HIC", ["hic", "t1_s", "t2_s"])
+HIC.__doc__ = """What ``hic`` finds (docs/algorithms.md "Injury criteria"); unpacks as
+``value, t1_s, t2_s = napkin.hic(...)``.
+
+hic        -- the largest HIC over the windows searched
+t1_s, t2_s -- its window (s, from the first sample plus t0_s)"""
+
+
+def hic(resultant_g, dt_s=None, max_window_s=_napkin._HIC15_WINDOW_S, from_time_zero=False, t0_s=0.0,
+        **deprecated):
+    """HIC of a resultant acceleration ``resultant_g`` (g, a 1-D array) sampled
+    every ``dt_s`` seconds: a ``HIC(hic, t1_s, t2_s)``, the exact maximum over
+    windows up to ``max_window_s`` (0.015, HIC15; None: no limit), times in s
+    from the first sample plus ``t0_s``. ``from_time_zero`` (NHTSA's program)
+    integrates |a| and ignores samples before t = 0. Without a window of
+    positive integral the value is 0 and t1_s = t2_s = the first sample used.
+    Bad input (a non-positive dt_s or window, a non-finite sample) raises
+    InputError. (``dt``, the old name of ``dt_s``, is deprecated.)"""
+    if deprecated:
+        dt_s = _with_old_keywords("napkin.hic", deprecated, {"dt_s": dt_s}, {"dt_s": None})["dt_s"]
+    if dt_s is None:
+        raise TypeError("napkin.hic() missing required argument: 'dt_s' (the sampling interval in s)")
+    return HIC(*_napkin.hic(resultant_g, dt_s, max_window_s, from_time_zero, t0_s))
+
+
+def cfc(x, dt_s=None, cfc=_napkin._CFC1000, variant="sae", **deprecated):
+    """``x`` (a 1-D array sampled every ``dt_s`` seconds, any unit) filtered by
+    the two-pass channel frequency class filter of SAE J211 (``variant``
+    "sae") or ISO 6487 ("iso") of class ``cfc`` (1000, 600, 180, 60: the class
+    number, in Hz as the standards write it); a new array. Bad input raises
+    InputError. (``dt``, the old name of ``dt_s``, is deprecated.)"""
+    if deprecated:
+        dt_s = _with_old_keywords("napkin.cfc", deprecated, {"dt_s": dt_s}, {"dt_s": None})["dt_s"]
+    if dt_s is None:
+        raise TypeError("napkin.cfc() missing required argument: 'dt_s' (the sampling interval in s)")
+    return _napkin.cfc(x, dt_s, cfc, variant)
 
 
 ISO18571Rating = _collections.namedtuple(
@@ -119,37 +225,63 @@ class TransformResult:
             self.summary.get("hic15"), len(self.channels))
 
 
-def transform(channels, time_s=None, dt=None, array="denton-3222", config="default",
-              orientation=(0.0, 0.0, 0.0), initial_velocity=(0.0, 0.0, 0.0),
-              initial_omega_body=(0.0, 0.0, 0.0), solver=None, test_id=""):
+def transform(channels, time_s=None, dt_s=None, array="denton-3222", config="default",
+              orientation_rad=_AT_REST, initial_velocity_mps=_AT_REST, initial_omega_body_radps=_AT_REST,
+              solver=None, test_id="", **deprecated):
     """Process one test as ``napkin transform`` does.
 
     channels -- dict slot name -> 1-D array of samples (in the unit the array
                 gives the slot: g, rad/s), or a 2-D array (samples x slots) in
                 the array's slot order
-    time_s   -- the sample times (s), uniformly spaced; or give dt (s) and the
-                first sample is at t = 0
+    time_s   -- the sample times (s), uniformly spaced; or give dt_s (the
+                sampling interval, s) and the first sample is at t = 0
     array    -- array preset name ("denton-3222", "3a-cg", ...), array JSON path,
                 or an array definition as a dict (the JSON file's content, e.g.
                 the stored definition ``Catalogue.test_inputs`` returns)
     config   -- processing config preset name or JSON path
-    orientation      -- initial orientation phi, theta, psi (rad)
-    initial_velocity -- initial CG velocity in the fixed frame (m/s)
-    initial_omega_body -- initial angular velocity in body axes (rad/s; usually at rest)
+    orientation_rad          -- initial orientation phi, theta, psi (rad)
+    initial_velocity_mps     -- initial CG velocity in the fixed frame (m/s)
+    initial_omega_body_radps -- initial angular velocity in body axes (rad/s; usually at rest)
     solver   -- None (the config's), or a solver name as ``--solver``
     test_id  -- the summary's test_id, and the start of error sentences
 
-    Raises ValueError for bad input and for a test that fails screening (the
+    The old keywords dt, orientation, initial_velocity and initial_omega_body
+    still work, with a DeprecationWarning, until the next release.
+
+    Raises InputError (a ValueError) for bad input, ScreeningFailure (an
+    InputError with ``.findings``) for a test that fails screening (the
     sentence ``napkin transform`` exits 1 with), TypeError naming an argument
     of the wrong type (complex samples included), MemoryError when the test
     cannot fit in the memory available (checked before anything is copied);
     the computation runs without the GIL, and Ctrl-C stops it
     (KeyboardInterrupt).
     """
+    if deprecated:
+        values = _with_old_keywords(
+            "napkin.transform", deprecated,
+            {"dt_s": dt_s, "orientation_rad": orientation_rad, "initial_velocity_mps": initial_velocity_mps,
+             "initial_omega_body_radps": initial_omega_body_radps},
+            {"dt_s": None, "orientation_rad": _AT_REST, "initial_velocity_mps": _AT_REST,
+             "initial_omega_body_radps": _AT_REST})
+        dt_s, orientation_rad = values["dt_s"], values["orientation_rad"]
+        initial_velocity_mps = values["initial_velocity_mps"]
+        initial_omega_body_radps = values["initial_omega_body_radps"]
     summary_json, derived = _napkin.transform(
-        channels, time_s, dt, _json.dumps(array) if isinstance(array, dict) else array, config, orientation,
-        initial_velocity, initial_omega_body, solver, test_id, _config_dir())
+        channels, time_s, dt_s, _json.dumps(array) if isinstance(array, dict) else array, config,
+        orientation_rad, initial_velocity_mps, initial_omega_body_radps, solver, test_id, _config_dir())
     return TransformResult(_json.loads(summary_json), derived)
+
+
+_NAN = float("nan")
+
+
+def _json_cells(column):
+    """A typed query column as the values of ``--format json``'s rows: a
+    float64 array's NaN (and any non-finite number, which JSON cannot hold)
+    as None."""
+    if isinstance(column, list):
+        return column
+    return [value if _math.isfinite(value) else None for value in column.tolist()]
 
 
 def _described(value):
@@ -195,38 +327,67 @@ def _path(value, what):
 class Catalogue:
     """A napkin catalogue opened read-only (writing stays with the CLI).
 
-    Rows are those of ``napkin query|compare --format json``: the same keys,
-    numbers and nulls (None).
+    A context manager: ``with napkin.Catalogue(path) as catalogue: ...``
+    closes it at the end of the block; ``close()`` does so at any time, and
+    any use after that raises CatalogueError. ``query`` rows are those of
+    ``napkin query --format json`` (None for null), ``query_frame`` a pandas
+    DataFrame (float64 numbers, NaN for missing values).
     """
 
     def __init__(self, path):
+        self._catalogue = None
         self._catalogue = _napkin.Catalogue(_path(path, "napkin.Catalogue: path"))
 
     @property
     def path(self):
+        """The catalogue's file, as given."""
         return self._catalogue.path
 
+    @property
+    def closed(self):
+        """Whether ``close()`` was called."""
+        return self._catalogue.closed
+
+    def close(self):
+        """Closes the catalogue's database connection (a second call does
+        nothing); any use after it raises CatalogueError. Arrays read from it
+        stay valid."""
+        self._catalogue.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exception):
+        self.close()
+
     def __repr__(self):
-        return "<napkin.Catalogue {!r}>".format(self.path)
+        if self._catalogue is None:
+            return "<napkin.Catalogue (not opened)>"
+        return "<napkin.Catalogue {!r}{}>".format(self.path, " (closed)" if self.closed else "")
 
     def tests(self):
         """The test ids, in order."""
         return [row["test_id"] for row in self.query("tests")]
 
     def _query(self, kind, where, sort, limit, config, series, variant):
-        if limit is not None and (isinstance(limit, bool) or not isinstance(limit, int)):
-            raise ValueError("limit is a whole number of rows, not {!r}.".format(limit))
+        """(column names, one value per column: a float64 array for a numeric
+        column, NaN for NULL; else a list, None for NULL)."""
         what = "napkin.Catalogue.query: "
+        if not isinstance(kind, str):
+            raise TypeError("{}kind is {}, not a query kind (a str).".format(what, _described(kind)))
+        if limit is not None and (isinstance(limit, bool) or not isinstance(limit, _numbers.Integral)):
+            raise TypeError("{}limit is {}, not a whole number of rows (an int).".format(what, _described(limit)))
         if config is not None and not isinstance(config, str):
             raise TypeError("{}config is {}, not a stored config's name or hash prefix (a str).".format(
                 what, _described(config)))
-        return self._catalogue.query_json(
-            str(kind), _names(where, what + "where", "a filter expression"),
+        return self._catalogue.query(
+            kind, _names(where, what + "where", "a filter expression"),
             _names(sort, what + "sort", "a sort key"), None if limit is None else str(limit), config,
             _names(series, what + "series", "a series name"), _names(variant, what + "variant", "a variant name"))
 
     def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
-        """``napkin query KIND`` as a list of dicts.
+        """``napkin query KIND`` as a list of dicts, the rows of ``--format json``
+        (None where the JSON has null).
 
         kind    -- tests, hic, rotation, criteria, risk, quality or conditioning
         where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
@@ -235,18 +396,27 @@ class Catalogue:
         config  -- results of this stored config (name or hash prefix; default: each test's latest)
         series, variant -- only tests of this series / variant (or any of a list)
         """
-        text, _ = self._query(kind, where, sort, limit, config, series, variant)
-        return _json.loads(text)
+        columns, values = self._query(kind, where, sort, limit, config, series, variant)
+        cells = [_json_cells(column) for column in values]
+        return [dict(zip(columns, row)) for row in zip(*cells)] if cells else []
 
     def query_frame(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
-        """``query`` as a pandas DataFrame (columns in the query's order)."""
+        """``query`` as a pandas DataFrame, columns in the query's order: each
+        numeric column float64 (also when every cell is missing), the others
+        of dtype object; a missing value is NaN in either."""
         try:
             import pandas
         except ImportError as error:
             raise ImportError("napkin.Catalogue.query_frame needs pandas: install it with "
                               "`sudo apt install python3-pandas` (or pip install pandas).") from error
-        text, columns = self._query(kind, where, sort, limit, config, series, variant)
-        return pandas.DataFrame(_json.loads(text), columns=columns)
+        import numpy
+        columns, values = self._query(kind, where, sort, limit, config, series, variant)
+        data = {}
+        for name, column in zip(columns, values):
+            if not isinstance(column, numpy.ndarray):
+                column = numpy.array([_NAN if cell is None else cell for cell in column], dtype=object)
+            data[name] = column
+        return pandas.DataFrame(data, columns=columns)
 
     def channels(self, test_id, derived=True, config=None):
         """One test's channels as a dict name -> numpy array.
@@ -263,9 +433,9 @@ class Catalogue:
         keyword arguments: test_id, array (the test's stored array definition
         as a dict, the JSON its record holds: the geometry it was imported
         with, even where its name is a preset's), time_s,
-        channels (slot -> raw samples), orientation, initial_velocity,
-        initial_omega_body. ``transform(**catalogue.test_inputs(t), config=c)``
-        computes what ``napkin run --config c`` stores for it."""
+        channels (slot -> raw samples), orientation_rad, initial_velocity_mps,
+        initial_omega_body_radps. ``transform(**catalogue.test_inputs(t), config=c)``
+        computes what ``napkin run --config c`` stores for it, bit for bit."""
         return self._catalogue.test_inputs(str(test_id))
 
     def compare(self, series, by="variant", baseline=None, metrics=None, config=None):

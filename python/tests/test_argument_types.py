@@ -19,7 +19,7 @@ def good_channels(n=200):
 
 
 def transform(channels=None, **options):
-    options.setdefault("dt", 1e-4)
+    options.setdefault("dt_s", 1e-4)
     options.setdefault("array", "3a-cg")
     return napkin.transform(good_channels() if channels is None else channels, **options)
 
@@ -35,10 +35,10 @@ def type_error(call):
 
 
 @pytest.mark.parametrize("name,value", [
-    ("dt", "0.0001"), ("dt", [1e-4]), ("dt", True), ("dt", 1e-4 + 0j),
+    ("dt_s", "0.0001"), ("dt_s", [1e-4]), ("dt_s", True), ("dt_s", 1e-4 + 0j),
     ("array", 5), ("config", 3.0), ("solver", 1), ("test_id", 7),
-    ("orientation", "abc"), ("orientation", 0.1), ("orientation", (0, "a", 0)),
-    ("initial_velocity", (0, 0, None)), ("initial_omega_body", {"x": 1}),
+    ("orientation_rad", "abc"), ("orientation_rad", 0.1), ("orientation_rad", (0, "a", 0)),
+    ("initial_velocity_mps", (0, 0, None)), ("initial_omega_body_radps", {"x": 1}),
 ])
 def test_transform_names_the_argument_of_the_wrong_type(name, value):
     text = type_error(lambda: transform(**{name: value}))
@@ -46,15 +46,15 @@ def test_transform_names_the_argument_of_the_wrong_type(name, value):
 
 
 def test_transform_dt_as_text_says_what_it_got():
-    assert type_error(lambda: transform(dt="0.0001")) == \
-        "napkin.transform: dt is '0.0001' (a str), not a number (the sampling interval in s)."
+    assert type_error(lambda: transform(dt_s="0.0001")) == \
+        "napkin.transform: dt_s is '0.0001' (a str), not a number (the sampling interval in s)."
 
 
 def test_numpy_numbers_are_numbers():
-    expected = transform(dt=1e-4).summary
-    assert transform(dt=np.float64(1e-4)).summary == expected
-    assert transform(dt=np.float32(1e-4)).summary["peak_acc_g"] == pytest.approx(expected["peak_acc_g"])
-    assert transform(orientation=np.zeros(3)).summary == expected
+    expected = transform(dt_s=1e-4).summary
+    assert transform(dt_s=np.float64(1e-4)).summary == expected
+    assert transform(dt_s=np.float32(1e-4)).summary["peak_acc_g"] == pytest.approx(expected["peak_acc_g"])
+    assert transform(orientation_rad=np.zeros(3)).summary == expected
 
 
 @pytest.mark.parametrize("where", ["dict", "matrix", "time_s"])
@@ -67,7 +67,7 @@ def test_complex_samples_are_refused(where):
         channels = np.column_stack([channels[s] for s in SLOTS]).astype(complex)
         name = "channels"
     else:
-        options = {"dt": None, "time_s": np.arange(200) * 1e-4 + 0j}
+        options = {"dt_s": None, "time_s": np.arange(200) * 1e-4 + 0j}
         name = "time_s"
     text = type_error(lambda: transform(channels, **options))
     assert name in text and "complex" in text, text
@@ -80,7 +80,7 @@ def test_text_samples_are_refused():
 
 
 @pytest.mark.parametrize("call,name", [
-    (lambda: napkin.hic(np.ones(100), "1e-4"), "dt"),
+    (lambda: napkin.hic(np.ones(100), "1e-4"), "dt_s"),
     (lambda: napkin.hic(np.ones(100), 1e-4, max_window_s="0.015"), "max_window_s"),
     (lambda: napkin.hic(np.ones(100) + 1j, 1e-4), "resultant_g"),
     (lambda: napkin.cfc(np.ones(100), 1e-4, cfc="1000"), "cfc"),

@@ -15,7 +15,7 @@ def good_channels(n=200):
 
 
 def transform(channels, **options):
-    options.setdefault("dt", 1e-4)
+    options.setdefault("dt_s", 1e-4)
     options.setdefault("array", "3a-cg")
     return napkin.transform(channels, **options)
 
@@ -50,10 +50,10 @@ def test_wrong_shapes():
     with pytest.raises(ValueError, match=r'channel "cg_z" has 199 samples but channel "cg_x" has 200'):
         transform(dict(good_channels(), cg_z=np.zeros(199)))
     with pytest.raises(ValueError, match=r"time_s has 10 values but the channels have 200 samples"):
-        transform(good_channels(), dt=None, time_s=np.arange(10) * 1e-4)
+        transform(good_channels(), dt_s=None, time_s=np.arange(10) * 1e-4)
     with pytest.raises(TypeError, match='channel "cg_x" is not an array of numbers'):
         transform(dict(good_channels(), cg_x=["a"] * 200))
-    with pytest.raises(ValueError, match="give either time_s .* or dt .*, not both"):
+    with pytest.raises(ValueError, match="give either time_s .* or dt_s .*, not both"):
         transform(good_channels(), time_s=np.arange(200) * 1e-4)
 
 
@@ -72,7 +72,7 @@ def test_nan_and_bad_time_raise_the_cli_sentence(tmp_path):
     write_signals_csv(tmp_path / "in.csv", time_s, good_channels())
     sentence = cli_error("transform", "--array", "3a-cg", tmp_path / "in.csv", "--out", tmp_path / "o.csv")
     with pytest.raises(ValueError) as error:
-        transform(good_channels(), dt=None, time_s=time_s)
+        transform(good_channels(), dt_s=None, time_s=time_s)
     # The same sentence, the sample named by its index instead of its file line.
     assert str(error.value) == sentence.replace(str(tmp_path / "in.csv"), "napkin.transform").replace(
         "row 52", "time_s[50]").replace("previous row's", "previous sample's")

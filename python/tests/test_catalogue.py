@@ -54,6 +54,40 @@ def test_query_frame_equals_cli_json(demo_catalogue):
     assert len(empty) == 0 and list(empty.columns) == hic_columns
 
 
+@pytest.mark.parametrize("kind", KINDS)
+def test_query_frame_numbers_are_float64_and_missing_values_nan(demo_catalogue, kind):
+    pytest.importorskip("pandas", reason="python3-pandas is not installed")
+    expected = cli_json("--db", demo_catalogue, "query", kind)
+    frame = napkin.Catalogue(demo_catalogue).query_frame(kind)
+    numeric = {name for name, field in napkin.SUMMARY_FIELDS.items()} | {
+        "filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s"}
+    for column in frame.columns:
+        if column in numeric:
+            assert frame[column].dtype == np.float64, (kind, column)
+        else:
+            assert frame[column].dtype == object, (kind, column)
+        # Missing is NaN, never None, where the JSON has null.
+        assert not any(cell is None for cell in frame[column]), (kind, column)
+        nulls = [row[column] is None for row in expected]
+        assert frame[column].isna().tolist() == nulls, (kind, column)
+        assert all(isinstance(cell, float) and np.isnan(cell)
+                   for cell, null in zip(frame[column], nulls) if null), (kind, column)
+
+
+def test_all_null_and_empty_columns_keep_their_dtype(demo_catalogue):
+    pytest.importorskip("pandas", reason="python3-pandas is not installed")
+    catalogue = napkin.Catalogue(demo_catalogue)
+    conditioning = catalogue.query_frame("conditioning")
+    # The demo's channels were not prefiltered and their bias window is unset: all null.
+    for column in ("prefiltered_cfc", "bias_t1_s", "bias_t2_s"):
+        assert conditioning[column].isna().all() and conditioning[column].dtype == np.float64, column
+    assert conditioning["prefiltered_cfc"].mean() != conditioning["prefiltered_cfc"].mean()  # NaN, no error
+    empty = catalogue.query_frame("hic", where="hic15>1e9")
+    assert len(empty) == 0
+    assert all(empty[name].dtype == np.float64 for name in empty.columns if name in napkin.SUMMARY_FIELDS)
+    assert empty["test_id"].dtype == object
+
+
 def test_query_frame_without_pandas_names_the_package(demo_catalogue, monkeypatch):
     import sys
     monkeypatch.setitem(sys.modules, "pandas", None)  # `import pandas` raises ImportError
@@ -110,3 +144,55 @@ def test_catalogue_errors_are_the_cli_sentences(demo_catalogue, tmp_path):
     with pytest.raises(ValueError, match="does not exist"):
         napkin.Catalogue(tmp_path / "missing.db")
     assert not (tmp_path / "missing.db").exists()  # read-only: nothing created
+
+
+def open_files(path):
+    """How many of this process's file descriptors are open on `path`."""
+    import os
+    target = os.path.realpath(path)
+    count = 0
+    for fd in os.listdir("/proc/self/fd"):
+        try:
+            count += os.path.realpath(os.readlink("/proc/self/fd/" + fd)) == target
+        except OSError:
+            pass
+    return count
+
+
+def test_catalogue_is_a_context_manager(demo_catalogue, tmp_path):
+    # A copy no other connection of this process has open (SQLite keeps a closed
+    # connection's file open while another holds a lock on the same file).
+    import shutil
+    copy = tmp_path / "copy.db"
+    shutil.copyfile(demo_catalogue, copy)
+    with napkin.Catalogue(copy) as catalogue:
+        assert isinstance(catalogue, napkin.Catalogue) and not catalogue.closed
+        rows = catalogue.query("hic")
+        channels = catalogue.channels(rows[0]["test_id"])
+        assert open_files(copy) == 1
+    assert catalogue.closed and "(closed)" in repr(catalogue)
+    assert open_files(copy) == 0  # the database connection is closed
+    assert rows == cli_json("--db", demo_catalogue, "query", "hic")
+    assert np.isfinite(channels["time_s"]).all()  # what was read stays valid
+    calls = [lambda: catalogue.tests(), lambda: catalogue.query("hic"), lambda: catalogue.query("hic", where="x>>"),
+             lambda: catalogue.channels(rows[0]["test_id"]), lambda: catalogue.test_inputs(rows[0]["test_id"]),
+             lambda: catalogue.compare("padding-series")]
+    for call in calls:
+        with pytest.raises(napkin.CatalogueError) as error:
+            call()
+        assert str(error.value) == ("catalogue '{}' is closed; open it again with napkin.Catalogue(path) to read "
+                                    "from it.".format(copy))
+    catalogue.close()  # again: nothing
+    assert catalogue.path == str(copy)
+
+
+def test_a_with_block_that_raises_closes_the_catalogue(demo_catalogue):
+    with pytest.raises(KeyError):
+        with napkin.Catalogue(demo_catalogue) as catalogue:
+            raise KeyError("inside")
+    assert catalogue.closed
+    explicit = napkin.Catalogue(demo_catalogue)
+    explicit.close()
+    assert explicit.closed
+    with pytest.raises(napkin.CatalogueError, match="is closed"):
+        explicit.query_frame("hic")

@@ -40,6 +40,18 @@ def test_hic_equals_an_exhaustive_search():
     assert (t1, t2) == pytest.approx(best[1:], abs=1e-12)
 
 
+def test_hic_is_a_named_tuple():
+    dt, a = 1e-4, 100.0
+    result = napkin.hic(np.full(201, a), dt, max_window_s=None, t0_s=-0.005)
+    assert isinstance(result, napkin.HIC) and isinstance(result, tuple)
+    assert result._fields == ("hic", "t1_s", "t2_s")
+    assert result.hic == pytest.approx(a ** 2.5 * 0.020, rel=1e-12)
+    assert (result.t1_s, result.t2_s) == pytest.approx((-0.005, 0.015), abs=1e-12)
+    value, t1_s, t2_s = result  # unpacks as before
+    assert (value, t1_s, t2_s) == (result.hic, result.t1_s, result.t2_s)
+    assert napkin.hic(np.full(201, a), dt) == napkin.hic(np.full(201, a), dt, max_window_s=0.015)
+
+
 def test_cfc_keeps_the_passband_and_removes_the_stopband():
     dt = 1e-5
     t = np.arange(0, 0.2, dt)

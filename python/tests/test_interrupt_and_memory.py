@@ -49,7 +49,7 @@ def seconds_per_sample():
     channels = head_channels(50_000)
     start = time.monotonic()
     try:
-        napkin.transform(channels, dt=1e-4, array="denton-3222")
+        napkin.transform(channels, dt_s=1e-4, array="denton-3222")
     except ValueError:
         pass  # a screening verdict at the end: the time is what counts
     return (time.monotonic() - start) / channels.shape[0]
@@ -66,7 +66,7 @@ def test_ctrl_c_stops_a_long_transform_within_half_a_second():
     # This size's own time, measured (a short run's time per sample overstates it).
     start = time.monotonic()
     try:
-        napkin.transform(channels, dt=1e-4, array="denton-3222")
+        napkin.transform(channels, dt_s=1e-4, array="denton-3222")
     except ValueError:
         pass  # a screening verdict at the end: the time is what counts
     expected_s = time.monotonic() - start
@@ -84,7 +84,7 @@ def test_ctrl_c_stops_a_long_transform_within_half_a_second():
         timer = threading.Timer(expected_s * tenths / 10, interrupt)
         timer.start()
         try:
-            napkin.transform(channels, dt=1e-4, array="denton-3222")
+            napkin.transform(channels, dt_s=1e-4, array="denton-3222")
             timer.cancel()
             timer.join()
             # Finished before the signal was sent (a faster run this time): no point measured.
@@ -112,7 +112,7 @@ def test_a_signal_whose_handler_does_not_raise_lets_the_transform_finish():
     try:
         timer.start()
         try:
-            result = napkin.transform(channels, dt=1e-4, array="denton-3222")
+            result = napkin.transform(channels, dt_s=1e-4, array="denton-3222")
             assert result.summary["hic15"] is not None
         except ValueError:
             pass  # a screening verdict is a result too
@@ -148,7 +148,7 @@ def test_a_transform_that_cannot_fit_is_refused_at_once(as_dict):
         channels = np.broadcast_to(np.float64(0.5), (samples, len(DENTON_SLOTS)))
     start = time.monotonic()
     with pytest.raises(MemoryError) as error:
-        napkin.transform(channels, dt=1e-4, array="denton-3222")
+        napkin.transform(channels, dt_s=1e-4, array="denton-3222")
     elapsed = time.monotonic() - start
     assert elapsed < 0.5, "refused after {:.2f} s".format(elapsed)
     match = SENTENCE.fullmatch(str(error.value))
@@ -182,7 +182,7 @@ channels = head_channels({samples})
 with open("/proc/self/clear_refs", "w") as clear_refs:
     clear_refs.write("5")
 before = resident("VmRSS")
-result = napkin.transform(channels, dt=1e-4, array="denton-3222")
+result = napkin.transform(channels, dt_s=1e-4, array="denton-3222")
 assert result.summary["hic15"] is not None
 print(resident("VmHWM") - before, _napkin._transform_bytes("denton-3222", {samples}, 1e-4))
 """

@@ -29,8 +29,8 @@ def cli_transform(tmp_path, inputs, *extra):
     array = tmp_path / "array.json"  # test_inputs gives the stored definition
     array.write_text(json.dumps(inputs["array"]))
     triple = lambda values: ",".join(repr(float(v)) for v in values)  # noqa: E731
-    run_napkin("transform", "--array", array, "--orientation=" + triple(inputs["orientation"]),
-               "--initial-velocity=" + triple(inputs["initial_velocity"]), *extra, signals, "--out", out,
+    run_napkin("transform", "--array", array, "--orientation=" + triple(inputs["orientation_rad"]),
+               "--initial-velocity=" + triple(inputs["initial_velocity_mps"]), *extra, signals, "--out", out,
                "--summary", summary)
     return json.loads(summary.read_text()), read_csv_cells(out)
 
@@ -47,10 +47,10 @@ def assert_same_as_cli(result, summary, cells):
 
 def test_report_4_5_scenario_equals_cli(tmp_path):
     _, inputs = synthetic_inputs(tmp_path, "--scenario", "seed-fixed-axis")
-    assert inputs["orientation"] == (0.5, 0.5, 0.5)  # report section 4.5.1
+    assert inputs["orientation_rad"] == (0.5, 0.5, 0.5)  # report section 4.5.1
     result = napkin.transform(inputs["channels"], time_s=inputs["time_s"], array=inputs["array"],
-                              orientation=inputs["orientation"], initial_velocity=inputs["initial_velocity"],
-                              test_id="input")
+                              orientation_rad=inputs["orientation_rad"],
+                              initial_velocity_mps=inputs["initial_velocity_mps"], test_id="input")
     summary, cells = cli_transform(tmp_path, inputs)
     assert_same_as_cli(result, summary, cells)
     # Report section 4.5.2: 85.94 degrees about the fixed lateral axis, peak fixed omega_Y 50 rad/s.
@@ -89,7 +89,7 @@ def test_array_forms_and_time_bases_agree(tmp_path):
     # dt instead of time_s: the first sample at 0 and the mean step of time_s.
     time_s = inputs["time_s"]
     dt = (time_s[-1] - time_s[0]) / (len(time_s) - 1)
-    by_dt = napkin.transform(**dict(inputs, time_s=None, dt=dt))
+    by_dt = napkin.transform(**dict(inputs, time_s=None, dt_s=dt))
     assert by_dt.summary["hic15"] == by_dict.summary["hic15"]
     np.testing.assert_allclose(by_dt.channels["time_s"], by_dict.channels["time_s"] - time_s[0], atol=1e-12)
 
