@@ -2,6 +2,9 @@
 # Debian 12 machine: they install missing Debian packages, configure and build.
 SHELL := /bin/bash
 JOBS ?= $(shell nproc)
+# CTest runs one test more than there are processors: many tests spend much of their time waiting
+# (on napkin processes they start, Chromium, the Slurm daemons, settle and lock timeouts).
+TEST_JOBS ?= $(shell echo $$(( $$(nproc) + 1 )))
 BUILD_RELEASE ?= build/release
 BUILD_TEST ?= build/test
 BUILD_BENCH ?= build/bench
@@ -84,7 +87,7 @@ format-check: deps
 	@clang-format --dry-run --Werror $(FORMAT_SOURCES)
 
 test: build format-check
-	cd $(BUILD_TEST) && ctest --output-on-failure -j$(JOBS) --timeout 1800
+	cd $(BUILD_TEST) && ctest --output-on-failure -j$(TEST_JOBS) --timeout 1800
 
 demo: release
 	$(BUILD_RELEASE)/cli/napkin demo

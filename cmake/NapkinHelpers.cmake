@@ -14,8 +14,8 @@ endif()
 if(NAPKIN_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
-  # The test build's programs start thousands of times (each GoogleTest test is a process of its
-  # own; the CLI tests run napkin once a case). Position-dependent, they start in half the time:
+  # The test build's programs start thousands of times (each GoogleTest suite is a process of its
+  # own; the CLI tests run napkin once a case or more). Position-dependent, they start in half the time:
   # the dynamic loader no longer relocates every pointer of a 100+ MB sanitized program, which was
   # half of a start (perf: _dl_relocate_object). The objects stay -fPIE (Debian's default), so
   # the libraries still link into the Python module; the Release build's programs stay PIE.
