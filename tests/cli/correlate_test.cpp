@@ -101,7 +101,7 @@ TEST_F(CorrelateCli, LsDynaExportReadBackAsModelRatesOne) {
   const RunResult exported =
       Napkin({"export", "--test", test, "--format", "lsdyna", "--units", "si", "--out", "head.k"});
   ASSERT_EQ(exported.exit_code, 0) << exported.err;
-  for (const std::string & [ curve, channel ] : std::vector<std::pair<std::string, std::string>>{
+  for (const auto& [curve, channel] : std::vector<std::pair<std::string, std::string>>{
            {"4", "omega_fixed_x_radps"}, {"5", "omega_fixed_y_radps"}, {"6", "omega_fixed_z_radps"}}) {
     const json row = RateOne(
         {"--test", test, "--channel", channel, "--model", "head.k:" + curve, "--model-units", "m,s,kg"});
@@ -118,12 +118,17 @@ TEST_F(CorrelateCli, LsDynaExportReadBackAsModelRatesOne) {
 }
 
 // The derived-channel CSV as the model: the column named like the channel is
-// taken; a model scaled by 3 lies outside the outer corridor (Z = 0) and
-// rates below, stored beside the others.
+// taken; a model scaled by 3 has the scores of the formulas and rates
+// below 0.8, stored beside the others.
 TEST_F(CorrelateCli, DerivedCsvReadBackAndScaledModelRateAsExpected) {
   const std::string& test = foam_a_[1];
   ASSERT_EQ(Napkin({"export", "--test", test, "--format", "csv", "--out", "derived.csv"}).exit_code, 0);
-  ExpectAllOne(RateOne({"--test", test, "--channel", "acc_body_x_g", "--model", "derived.csv"}));
+  // The CSV holds 12 significant digits of g: the same curve to 1e-12.
+  const json same = RateOne({"--test", test, "--channel", "acc_body_x_g", "--model", "derived.csv"});
+  for (const char* score : {"corridor", "phase", "magnitude", "slope", "overall"})
+    EXPECT_NEAR(same.at(score).get<double>(), 1.0, 1e-9) << score;
+  EXPECT_EQ(same.at("grade"), "excellent");
+  EXPECT_EQ(same.at("shift_s").get<double>(), 0.0);
 
   // time_s and acc_body_x_g times 3.
   std::ifstream in(dir_->path() / "derived.csv");
@@ -147,8 +152,14 @@ TEST_F(CorrelateCli, DerivedCsvReadBackAndScaledModelRateAsExpected) {
   }
   test_support::WriteText(dir_->path() / "scaled.csv", scaled.str());
   const json row = RateOne({"--test", test, "--channel", "acc_body_x_g", "--model", "scaled.csv"});
-  EXPECT_EQ(row.at("corridor").get<double>(), 0.0);
-  EXPECT_EQ(row.at("phase").get<double>(), 1.0);  // the same shape, not shifted
+  // Scaled by k = 3: the same shape, not shifted (phase 1); magnitude error
+  // |k - 1| = 2 and slope error 2 reach their limits 0.5 and 2 (scores 0);
+  // the corridor score is below 1 where 2|x| leaves the inner corridor.
+  EXPECT_EQ(row.at("phase").get<double>(), 1.0);
+  EXPECT_NEAR(row.at("magnitude").get<double>(), 0.0, 1e-9);
+  EXPECT_NEAR(row.at("slope").get<double>(), 0.0, 1e-9);
+  EXPECT_LT(row.at("corridor").get<double>(), 1.0);
+  EXPECT_NEAR(row.at("overall").get<double>(), 0.4 * row.at("corridor").get<double>() + 0.2, 1e-12);
   EXPECT_LT(row.at("overall").get<double>(), 0.8);
   EXPECT_EQ(row.at("reference"), "scaled.csv:model_x_g");
 }

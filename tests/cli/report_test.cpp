@@ -622,8 +622,8 @@ TEST(ReportCorrelationInChromium, RatingChartDrawsItsCorridorsWithoutScriptError
   EXPECT_NE(element.find("data-drawn=\"true\""), std::string::npos);
   EXPECT_NE(element.find("<canvas"), std::string::npos);
   const std::string legend = VisibleText(element.substr(element.find("<div class=\"legend\"")));
-  for (const std::string label : {test, std::string("late.csv:head_x_g"), std::string("inner corridor +"),
-                                  std::string("outer corridor −")})
+  for (const std::string& label : {test, std::string("late.csv:head_x_g"), std::string("inner corridor +"),
+                                   std::string("outer corridor −")})
     EXPECT_NE(legend.find(label), std::string::npos) << legend;
 
   // The screenshot: the chart's bands are there (the bands' shades of green
