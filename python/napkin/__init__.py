@@ -228,7 +228,7 @@ class Catalogue:
     def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
         """``napkin query KIND`` as a list of dicts.
 
-        kind    -- tests, hic, rotation, criteria, risk, quality or conditioning
+        kind    -- tests, hic, rotation, criteria, risk, quality, conditioning or correlation
         where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
         sort    -- "FIELD[:desc]" (or a list)
         limit   -- at most this many rows
