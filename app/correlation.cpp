@@ -74,7 +74,7 @@ ModelFormat SniffModelFormat(const std::string& path) {
 // Whether `name` (a curve's) is what `column` asks for: the name itself, or
 // it without its "curve " / "node " prefix ("4" for "curve 4 head x": the
 // LCID alone, "1234 x-accl" for "node 1234 x-accl").
-bool Names(const std::string& name, const std::string& column) {
+bool CurveNamed(const std::string& name, const std::string& column) {
   if (name == column) return true;
   for (const std::string_view prefix : {"curve ", "node "}) {
     if (!name.starts_with(prefix)) continue;
@@ -100,7 +100,7 @@ std::string CurveNames(const std::vector<formats::ModelCurve>& curves) {
   return Joined(names);
 }
 
-db::CorrelationRecord Record(const TestResult& result, const RatingRow& row) {
+db::CorrelationRecord RatingRecord(const TestResult& result, const RatingRow& row) {
   db::CorrelationRecord record;
   record.test = result.test;
   record.config = result.config;
@@ -121,9 +121,10 @@ db::CorrelationRecord Record(const TestResult& result, const RatingRow& row) {
 
 // Rates `candidate` against `reference` over the interval `options` give
 // (open ends: the common span), with the edition's parameters.
-RatingRow Rate(const std::string& test_id, const RatingOptions& options, const engine::TimeSeries& reference,
-               const engine::TimeSeries& candidate, const std::string& reference_name,
-               const std::string& candidate_name, std::string shown_reference) {
+RatingRow RateChannel(const std::string& test_id, const RatingOptions& options,
+                      const engine::TimeSeries& reference, const engine::TimeSeries& candidate,
+                      const std::string& reference_name, const std::string& candidate_name,
+                      std::string shown_reference) {
   RatingRow row{test_id, options.channel, std::move(shown_reference), options.edition, 0.0, 0.0, {}};
   const auto first = [](const engine::TimeSeries& s) { return s.time_s(0); };
   const auto last = [](const engine::TimeSeries& s) { return s.time_s(s.time_s.size() - 1); };
@@ -247,7 +248,7 @@ ModelReference LoadModelCurve(const std::string& spec, const ChannelCurve& chann
   const formats::ModelCurve* chosen = nullptr;
   if (!parsed.column.empty()) {
     for (const formats::ModelCurve& curve : curves)
-      if (Names(curve.name, parsed.column)) {
+      if (CurveNamed(curve.name, parsed.column)) {
         chosen = &curve;
         break;
       }
@@ -283,9 +284,9 @@ RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path,
   const ModelReference model = LoadModelCurve(model_spec, channel, model_units);
   const std::string shown = model.file_name + ":" + model.column;
   RatingRow row =
-      Rate(test_id, options, channel.series, model.series, TestChannelName(test_id, options.channel),
-           ModelFile(ParseModelSpec(model_spec).path) + " curve '" + model.column + "'", shown);
-  db::CorrelationRecord record = Record(result, row);
+      RateChannel(test_id, options, channel.series, model.series, TestChannelName(test_id, options.channel),
+                  ModelFile(ParseModelSpec(model_spec).path) + " curve '" + model.column + "'", shown);
+  db::CorrelationRecord record = RatingRecord(result, row);
   record.reference_kind = "model";
   record.reference_key = "model:" + model.sha256 + ":" + model.column;
   record.model_file = model.file_name;
@@ -305,10 +306,10 @@ RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& db_path, 
       ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
   const ChannelCurve candidate = ChannelOf(ReadResultKinematics(catalogue, other.test, other.config),
                                            options.channel, reference_test_id);
-  RatingRow row =
-      Rate(test_id, options, channel.series, candidate.series, TestChannelName(test_id, options.channel),
-           TestChannelName(reference_test_id, options.channel), reference_test_id);
-  db::CorrelationRecord record = Record(result, row);
+  RatingRow row = RateChannel(test_id, options, channel.series, candidate.series,
+                              TestChannelName(test_id, options.channel),
+                              TestChannelName(reference_test_id, options.channel), reference_test_id);
+  db::CorrelationRecord record = RatingRecord(result, row);
   record.reference_kind = "test";
   record.reference_key = "test:" + reference_test_id;
   record.reference_test = other.test;
@@ -363,11 +364,11 @@ std::vector<RatingRow> RateVariantRepeats(db::Catalogue& catalogue, const std::s
   const std::string shown = "mean of " + variant;
   std::vector<RatingRow> ratings;
   for (const Repeat& repeat : repeats) {
-    RatingRow row = Rate(repeat.test_id, options, mean, repeat.curve,
-                         "the mean curve of variant '" + variant + "' of series '" + series + "'",
-                         TestChannelName(repeat.test_id, options.channel), shown);
+    RatingRow row = RateChannel(repeat.test_id, options, mean, repeat.curve,
+                                "the mean curve of variant '" + variant + "' of series '" + series + "'",
+                                TestChannelName(repeat.test_id, options.channel), shown);
     if (store) {
-      db::CorrelationRecord record = Record(repeat.result, row);
+      db::CorrelationRecord record = RatingRecord(repeat.result, row);
       record.reference_kind = "variant-mean";
       record.reference_key = "variant-mean:" + series + "/" + variant;
       record.reference_series = series;
