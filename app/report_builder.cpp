@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "app/comparison.h"
+#include "app/correlation.h"
 #include "app/result_selection.h"
 #include "app/verdict.h"
 #include "app/where_parser.h"
@@ -30,6 +31,7 @@
 #include "engine/overlay.h"
 #include "engine/statistics.h"
 #include "engine/units.h"
+#include "formats/file_hash.h"
 #include "formats/html_report.h"
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
@@ -56,10 +58,6 @@ formats::ReportVerdict VerdictOf(const Comparison& comparison) {
   const SeriesVerdict verdict = BuildVerdict(comparison);
   return {verdict.baseline, verdict.columns, verdict.rows, verdict.sentences, {VerdictNote(comparison)}};
 }
-
-// At most this many points on the overlays' common time base
-// (engine::CommonTimeBase), which holds one column per test of the series.
-constexpr Eigen::Index kOverlayBasePoints = 10000;
 
 std::string Milliseconds(double seconds) { return util::FormatNumber(seconds * 1000.0, 4) + " ms"; }
 
@@ -192,6 +190,62 @@ void AddOverlays(db::Catalogue& catalogue, const Comparison& comparison, const R
                                    " g, so shown as recorded: " + Joined(without_onset) + ".");
 }
 
+// Ratings as the report's tables show them: 3 decimals, times in ms.
+std::string Score(double value) { return util::FormatNumber(std::round(value * 1000.0) / 1000.0, 6); }
+std::string IntervalMs(double start_s, double end_s) {
+  return util::FormatNumber(start_s * 1000.0, 4) + "–" + util::FormatNumber(end_s * 1000.0, 4);
+}
+const std::vector<std::string> kRatingColumns = {"corridor", "phase", "magnitude", "slope",
+                                                 "overall",  "grade", "shift (ms)"};
+std::vector<std::string> RatingCells(std::vector<std::string> cells, double corridor, double phase,
+                                     double magnitude, double slope, double overall, const std::string& grade,
+                                     double shift_s) {
+  for (const double score : {corridor, phase, magnitude, slope, overall}) cells.push_back(Score(score));
+  cells.push_back(grade);
+  cells.push_back(util::FormatNumber(shift_s * 1000.0, 4));
+  return cells;
+}
+
+// Each variant of the series with 2 or more tests with results: each repeat
+// rated against the variant's mean resultant CG acceleration, as `napkin
+// correlate --series S --variant V --channel acc_resultant_g` (not stored:
+// the report reads the catalogue only).
+void AddRepeatability(db::Catalogue& catalogue, const std::string& series,
+                      formats::ReportComparison& report) {
+  db::TestFilter filter;
+  filter.series = series;
+  std::map<std::string, std::size_t> variants;
+  for (const db::LabelledResult& result : catalogue.ReadResults(filter, db::ResultSelection::kLatest))
+    if (result.variant) ++variants[*result.variant];
+  RatingOptions options;
+  options.channel = "acc_resultant_g";
+  for (const auto& [variant, count] : variants) {
+    if (count < 2) continue;
+    formats::ReportTable& table = report.repeatability.emplace_back();
+    table.heading = "Repeatability of " + variant + ": each repeat against the variant's mean";
+    table.columns = {"test", "interval (ms)"};
+    table.columns.insert(table.columns.end(), kRatingColumns.begin(), kRatingColumns.end());
+    try {
+      for (const RatingRow& row : RateVariantRepeats(catalogue, series, variant, options, /*store=*/false)) {
+        const engine::Iso18571Rating& r = row.rating;
+        table.rows.push_back(RatingCells({row.test_id, IntervalMs(row.start_s, row.end_s)}, r.corridor,
+                                         r.phase, r.magnitude, r.slope, r.overall, engine::NameOf(r.grade),
+                                         r.shift_s));
+      }
+    } catch (const InputError& error) {
+      table.notes.push_back(error.what());
+    }
+    table.notes.push_back(
+        "ISO/TS 18571 (2024 edition) ratings of each repeat's resultant CG acceleration against the mean of "
+        "the "
+        "variant's " +
+        std::to_string(count) +
+        " repeats (their latest results, as recorded, on the overlays' common time base, where every repeat "
+        "has a sample), worst first; as napkin correlate --series " +
+        series + " --variant " + variant + " --channel acc_resultant_g shows them.");
+  }
+}
+
 // The series' variants compared as `napkin compare --series S [--baseline
 // V]` does (every test of the series with a result, its latest): the
 // verdict, the overlaid curves, the table, and each variant's values per
@@ -212,6 +266,7 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
   report.series = series;
   report.verdict = VerdictOf(comparison);
   AddOverlays(catalogue, comparison, options, report);
+  AddRepeatability(catalogue, series, report);
   const db::Table table = ComparisonTable(comparison);
   report.columns = table.columns;
   for (const std::vector<db::Cell>& row : table.rows) {
@@ -327,7 +382,7 @@ class CatalogueReport {
       auto config = configs.find(*config_id);
       if (config == configs.end())
         config = configs.emplace(*config_id, catalogue_.ReadConfig(*config_id)).first;
-      shown_.push_back({&record, *config_id, config->second.name});
+      shown_.push_back({&record, *config_id, config->second.name, {}});
       test_ids_.push_back(record.external_id);
       if (record.series && record.variant) variants_by_series[*record.series].insert(*record.variant);
     }
@@ -336,6 +391,7 @@ class CatalogueReport {
                        " has results with derived channels yet; run `napkin run` first.");
     for (const auto& [id, config] : configs)
       header_.configs.push_back({config.name, config.config_hash, config.config_json});
+    FindRatings(options);
     // Each series of the report with more than one variant is compared.
     for (const auto& [series, variants] : variants_by_series)
       if (variants.size() > 1) comparisons_.push_back(SeriesComparison(catalogue_, series, options));
@@ -355,9 +411,11 @@ class CatalogueReport {
         throw InputError("the result of test '" + test.record->external_id +
                          "' disappeared while the report was written; write the report again.");
       const engine::Kinematics kinematics = ReadResultKinematics(catalogue_, test.record->id, test.config);
-      writer.AddTest(formats::MakeReportTest(test.record->external_id, test.record->series,
-                                             test.record->variant, test.config_name, std::move(*summary),
-                                             kinematics));
+      formats::ReportTest section =
+          formats::MakeReportTest(test.record->external_id, test.record->series, test.record->variant,
+                                  test.config_name, std::move(*summary), kinematics);
+      AddRatings(test, kinematics, section);
+      writer.AddTest(section);
     }
     writer.Finish();
     written.tests = shown_.size();
@@ -370,7 +428,84 @@ class CatalogueReport {
     const db::TestRow* record;  // in selected_
     db::ConfigId config;        // of its latest result
     std::string config_name;
+    std::vector<db::CorrelationRecord> ratings;  // of that result
   };
+  // A --model file: its path and SHA-256, which stored ratings name.
+  struct GivenModel {
+    std::string path;
+    std::string sha256;
+  };
+
+  // Each shown test's stored ratings; every --model must match one.
+  void FindRatings(const ReportOptions& options) {
+    model_units_ = options.model_units;
+    for (const std::string& spec : options.models) {
+      const std::string path = ParseModelSpec(spec).path;
+      std::error_code error;
+      if (!std::filesystem::is_regular_file(path, error))
+        throw InputError("model file '" + path + "' does not exist or is not a regular file.");
+      models_.push_back({path, formats::HashPath(path)});
+    }
+    std::set<std::string> rated;
+    for (Shown& test : shown_) {
+      test.ratings = catalogue_.ReadCorrelations(test.record->id, test.config);
+      for (const db::CorrelationRecord& rating : test.ratings)
+        if (rating.model_sha256) rated.insert(*rating.model_sha256);
+    }
+    for (const GivenModel& model : models_)
+      if (!rated.count(model.sha256))
+        throw InputError("model file '" + model.path +
+                         "' has no stored rating against the report's tests (their latest results); rate it "
+                         "first with `napkin correlate --test T --channel CH --model " +
+                         model.path + "`.");
+  }
+
+  // The test's stored ratings as a table, and each against a --model drawn.
+  void AddRatings(const Shown& test, const engine::Kinematics& kinematics, formats::ReportTest& section) {
+    if (test.ratings.empty()) return;
+    formats::ReportTable& table = section.tables.emplace_back();
+    table.heading = "ISO/TS 18571 ratings";
+    table.columns = {"channel", "against", "edition", "interval (ms)"};
+    table.columns.insert(table.columns.end(), kRatingColumns.begin(), kRatingColumns.end());
+    for (const db::CorrelationRecord& r : test.ratings) {
+      table.rows.push_back(RatingCells({r.channel, r.reference, r.edition, IntervalMs(r.start_s, r.end_s)},
+                                       r.corridor, r.phase, r.magnitude, r.slope, r.overall, r.grade,
+                                       r.shift_s));
+      const auto model = std::find_if(models_.begin(), models_.end(), [&](const GivenModel& given) {
+        return r.model_sha256 && given.sha256 == *r.model_sha256;
+      });
+      if (model == models_.end()) continue;
+      const ChannelCurve channel = ChannelOf(kinematics, r.channel, test.record->external_id);
+      const ModelReference curve = LoadModelCurve(model->path + ":" + *r.model_column, channel, model_units_);
+      const std::string model_name = curve.file_name + ":" + curve.column;
+      const RatingPlot plot = PlotRating(channel, curve.series, r.start_s, r.end_s,
+                                         *engine::ParseName<engine::Iso18571Edition>(r.edition),
+                                         "test '" + test.record->external_id + "' channel " + r.channel,
+                                         "model file '" + model->path + "' curve '" + curve.column + "'");
+      Eigen::MatrixXd traces(plot.time_s.size(), 6);
+      traces << plot.test, plot.model, (plot.test.array() - plot.inner_half_width).matrix(),
+          (plot.test.array() + plot.inner_half_width).matrix(),
+          (plot.test.array() - plot.outer_half_width).matrix(),
+          (plot.test.array() + plot.outer_half_width).matrix();
+      formats::ReportChart chart = formats::MakeReportChart(
+          "rating-" + std::to_string(section.rating_charts.size() + 1),
+          r.channel + ": test against " + model_name + ", overall " + Score(plot.rating.overall) + " (" +
+              engine::NameOf(plot.rating.grade) + ")",
+          r.channel,
+          {test.record->external_id, model_name, "inner corridor −", "inner corridor +", "outer corridor −",
+           "outer corridor +"},
+          plot.time_s, traces);
+      chart.bands = {{2, 3}, {4, 5}};
+      section.rating_charts.push_back(std::move(chart));
+    }
+    table.notes.push_back(
+        "Each stored rating of this result (napkin correlate; napkin query correlation lists them): the "
+        "test's channel is the reference curve, the other the candidate; scores in [0, 1], overall = 0.4 "
+        "corridor + 0.2 (phase + magnitude + slope); grade excellent > 0.94, good > 0.80, fair > 0.58, poor; "
+        "shift: the candidate's lag the phase score found. Ratings against a model file given to --model are "
+        "drawn below: the test, the model, and the inner (±5 %) and outer (±50 % of the test's largest "
+        "|value|) corridors about the test, shaded.");
+  }
 
   // A malformed --where is a usage error before the catalogue is opened.
   db::Catalogue Open(const std::string& db_path, const ReportSelection& selection) {
@@ -389,6 +524,8 @@ class CatalogueReport {
   std::vector<std::string> without_results_;
   formats::ReportHeader header_;
   std::vector<formats::ReportComparison> comparisons_;
+  std::vector<GivenModel> models_;
+  std::optional<std::string> model_units_;
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // The HTML report of a catalogue's tests (docs/formats.md "HTML report"), as
 // `napkin report` and `napkin demo` write it.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -30,6 +31,11 @@ OverlayAlignment ParseOverlayAlignment(const std::string& text);
 // The default onset threshold: 5 g of resultant CG acceleration.
 inline constexpr double kDefaultOnsetThresholdG = 5.0;
 
+// At most this many points on the overlays' common time base
+// (engine::CommonTimeBase), which holds one column per test of the series;
+// also the base of a variant's mean curve (app/correlation.h).
+inline constexpr std::ptrdiff_t kOverlayBasePoints = 10000;
+
 // How the comparisons of the report are made and drawn.
 struct ReportOptions {
   // The variant every compared series is compared with (each must have it);
@@ -42,6 +48,11 @@ struct ReportOptions {
   // Limits the verdict and the compare table check (app/limits.h): a preset
   // name of config/limits or a file.
   std::optional<std::string> limits;
+  // Model files (FILE[:COLUMN], app/correlation.h) whose stored ratings
+  // against the report's tests are drawn: the test and the model with the
+  // ISO/TS 18571 corridors; each must match a stored rating of a shown test.
+  std::vector<std::string> models;
+  std::optional<std::string> model_units;  // LENGTH,TIME,MASS of LS-DYNA model files
 };
 
 struct WrittenReport {
@@ -54,7 +65,9 @@ struct WrittenReport {
 // Writes the report of the selected tests of the catalogue at `db_path`
 // (opened read-only) to `out`: each test's latest result, and the
 // comparison of each series with more than one variant (its verdict,
-// app/verdict.h, and overlaid curves, as `options` say). Throws UsageError
+// app/verdict.h, overlaid curves, as `options` say, and the repeatability
+// of each variant, app/correlation.h RateVariantRepeats), each test's stored
+// ISO/TS 18571 ratings and those against `options.models` drawn. Throws UsageError
 // for a malformed `where` (before the catalogue is opened) or a baseline a
 // compared series does not have, InputError (one
 // sentence) for an unknown test id, a selection matching no test, or no test

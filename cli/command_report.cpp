@@ -41,6 +41,14 @@ class ReportCommand : public Command {
                     "limits the verdict checks per variant: a limits preset (config/limits, e.g. "
                     "fmvss201u) or a JSON file")
         ->check(PathCheck("--limits"));
+    sub->add_option(
+           "--model", options_.models,
+           "a model file rated with `napkin correlate`: its stored ratings drawn with the ISO/TS 18571 "
+           "corridors (repeatable)")
+        ->check(PathCheck("--model"))
+        ->allow_extra_args(false);
+    sub->add_option("--model-units", options_.model_units,
+                    "LS-DYNA model files: the model's units LENGTH,TIME,MASS, e.g. mm,ms,kg");
     return sub;
   }
 

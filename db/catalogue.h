@@ -92,17 +92,19 @@ struct RawChannelInfo {
 
 // `napkin query` tables, read from the views v_tests, v_hic, v_rotation,
 // v_criteria, v_risk and v_quality; column names are the query contract.
-// v_conditioning (kConditioning: what conditioning did to each channel).
-enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning, kRisk };
+// v_conditioning (kConditioning: what conditioning did to each channel);
+// v_correlation (kCorrelation: the stored ISO/TS 18571 ratings, schema 9).
+enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning, kRisk, kCorrelation };
 // The query KINDs of `napkin query` and the Python module's Catalogue.query, in the order they are listed.
-inline constexpr std::array<engine::NamedValue<QueryKind>, 7> kQueryKindNames{
+inline constexpr std::array<engine::NamedValue<QueryKind>, 8> kQueryKindNames{
     {{QueryKind::kTests, "tests"},
      {QueryKind::kHic, "hic"},
      {QueryKind::kRotation, "rotation"},
      {QueryKind::kCriteria, "criteria"},
      {QueryKind::kRisk, "risk"},
      {QueryKind::kQuality, "quality"},
-     {QueryKind::kConditioning, "conditioning"}}};
+     {QueryKind::kConditioning, "conditioning"},
+     {QueryKind::kCorrelation, "correlation"}}};
 constexpr const auto& NamesOf(QueryKind) { return kQueryKindNames; }
 using Cell = std::variant<std::monostate, std::int64_t, double, std::string>;  // monostate: NULL
 struct Table {
@@ -160,6 +162,26 @@ struct QueryRequest {
   // The results (and findings) of this config; empty: each test's most
   // recently written result. `tests` then lists the tests with a result of it.
   std::optional<ConfigId> config;
+};
+
+// One ISO/TS 18571 rating of a channel of a test's result against a
+// reference curve (table correlations, schema/009_correlation.sql;
+// docs/formats.md "Correlation ratings").
+struct CorrelationRecord {
+  TestId test{};
+  ConfigId config{};  // the rated result is the test's under this config
+  std::string channel;
+  std::string reference_kind;  // "model", "test" or "variant-mean"
+  std::string reference;       // as shown
+  std::string reference_key;   // identity of the reference (one row per key and parameters)
+  std::optional<std::string> model_file, model_sha256, model_column;
+  std::optional<TestId> reference_test;
+  std::optional<std::string> reference_series, reference_variant;
+  std::string edition;  // "2014" or "2024"
+  double start_s = 0.0, end_s = 0.0;
+  double corridor = 0.0, phase = 0.0, magnitude = 0.0, slope = 0.0, overall = 0.0;
+  std::string grade;
+  double shift_s = 0.0;
 };
 
 // What MergeShard took from a shard catalogue.
@@ -303,6 +325,15 @@ class Catalogue {
   // UsageError when a field of `request` is not in QueryFields(kind) or a
   // text value is compared with a numeric field.
   Table Query(QueryKind kind, const QueryRequest& request);
+
+  // ---- ISO/TS 18571 ratings (db/catalogue_correlation.cpp)
+  // Stores a rating of the test's result under record.config, replacing one
+  // of the same result, channel, reference key, edition and interval.
+  // Throws InputError when the test has no result under that config.
+  void WriteCorrelation(const CorrelationRecord& record);
+  // The ratings of the test's result under `config`, by channel, reference
+  // and edition.
+  std::vector<CorrelationRecord> ReadCorrelations(TestId test, ConfigId config);
 
   // ---- jobs: db::JobQueue (db/job_queue.h) works on this connection.
 

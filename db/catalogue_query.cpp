@@ -35,6 +35,8 @@ const char* KindName(QueryKind kind) {
       return "quality";
     case QueryKind::kConditioning:
       return "conditioning";
+    case QueryKind::kCorrelation:
+      return "correlation";
   }
   return "?";
 }
@@ -183,6 +185,8 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
         return "v_quality";
       case QueryKind::kConditioning:
         return "v_conditioning";
+      case QueryKind::kCorrelation:
+        return "v_correlation";
     }
   }
   const std::string config_parameter = parameters.Add(static_cast<std::int64_t>(*config));
@@ -205,6 +209,8 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
              " LEFT JOIN raw_channels AS rc ON rc.test_id = c.test_id AND rc.slot = c.channel"
              " WHERE c.config_id = " +
              config_parameter + ")";
+    case QueryKind::kCorrelation:  // the ratings of that config's results
+      return "(SELECT * FROM v_correlation WHERE config_id = " + config_parameter + ")";
     default:
       return ResultsOfConfigSql(config_parameter);
   }
@@ -249,6 +255,15 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
          {"filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s"})
       fields.push_back({name, true});
   }
+  if (kind == QueryKind::kCorrelation) {
+    add_text({"channel", "reference_kind", "reference", "model_file", "model_sha256", "model_column",
+              "reference_test", "edition"});
+    for (const char* name : {"start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall"})
+      fields.push_back({name, true});
+    add_text({"grade"});
+    fields.push_back({"shift_s", true});
+    add_text({"config", "rated_at"});
+  }
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
   return fields;
 }
@@ -283,6 +298,7 @@ Table Catalogue::Query(QueryKind kind, const QueryRequest& request) {
   sql += "test_id";
   if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";
   if (kind == QueryKind::kConditioning) sql += ", position";
+  if (kind == QueryKind::kCorrelation) sql += ", channel, reference, edition, start_s, end_s, config";
   if (request.limit) {
     if (*request.limit < 0)
       throw UsageError("--limit must be a whole number of rows, 0 or more; it is " +

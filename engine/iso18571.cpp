@@ -444,6 +444,14 @@ Iso18571Rating Iso18571Rate(std::span<const double> reference, std::span<const d
   return rating;
 }
 
+Eigen::VectorXd Iso18571TimeBase(double start_s, double end_s, double rate_hz) {
+  const double dt_s = 1.0 / rate_hz;
+  const auto count = static_cast<Eigen::Index>(std::floor((end_s - start_s) * rate_hz + 1e-6)) + 1;
+  Eigen::VectorXd base(std::max<Eigen::Index>(count, 0));
+  for (Eigen::Index k = 0; k < base.size(); ++k) base(k) = start_s + static_cast<double>(k) * dt_s;
+  return base;
+}
+
 Iso18571Rating Iso18571RateCurves(const TimeSeries& reference, const TimeSeries& candidate,
                                   const Iso18571Interval& interval, const Iso18571Parameters& parameters,
                                   std::string_view reference_name, std::string_view candidate_name) {
@@ -477,9 +485,7 @@ Iso18571Rating Iso18571RateCurves(const TimeSeries& reference, const TimeSeries&
                        IsoNumber(first(*series)) + " s to " + IsoNumber(last(*series)) + " s).");
     }
   }
-  const auto count = static_cast<Eigen::Index>(std::floor((end - start) * parameters.rate_hz + 1e-6)) + 1;
-  Eigen::VectorXd base(count);
-  for (Eigen::Index k = 0; k < count; ++k) base(k) = start + static_cast<double>(k) * dt_s;
+  const Eigen::VectorXd base = Iso18571TimeBase(start, end, parameters.rate_hz);
   const Eigen::VectorXd t = ResampleOnto(reference, base);
   const Eigen::VectorXd c = ResampleOnto(candidate, base);
   return Iso18571Rate(std::span<const double>(t.data(), static_cast<std::size_t>(t.size())),

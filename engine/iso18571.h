@@ -131,6 +131,11 @@ Iso18571Rating Iso18571RateCurves(const TimeSeries& reference, const TimeSeries&
                                   std::string_view reference_name = "the reference",
                                   std::string_view candidate_name = "the candidate");
 
+// The time base Iso18571RateCurves resamples onto: start_s, start_s +
+// 1 / rate_hz, ... <= end_s (to 1e-6 of a step); what the report draws a
+// rating on.
+Eigen::VectorXd Iso18571TimeBase(double start_s, double end_s, double rate_hz);
+
 // The pieces, for tests and the report. Each takes curves of one length N.
 // Corridor score Z (mean over the samples of the corridor fit).
 double Iso18571Corridor(std::span<const double> reference, std::span<const double> candidate,

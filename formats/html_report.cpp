@@ -60,7 +60,7 @@ ReportChart MakeChart(std::string key, std::string title, std::string y_label,
                       std::vector<std::string> trace_labels, const Eigen::VectorXd& time_s,
                       const Eigen::MatrixXd& traces, Eigen::Index max_points) {
   ReportChart chart{
-      std::move(key), std::move(title), std::move(y_label), std::move(trace_labels), {}, {}, {}};
+      std::move(key), std::move(title), std::move(y_label), std::move(trace_labels), {}, {}, {}, {}};
   const std::vector<Eigen::Index> kept = engine::PeakPreservingSamples(traces, max_points);
   chart.time_ms.reserve(kept.size());
   for (const Eigen::Index row : kept) chart.time_ms.push_back(ForDisplay(time_s(row) * 1000.0));
@@ -159,6 +159,16 @@ Html LabelledRow(std::string_view label, const Html& value, bool numeric = true)
 Html Figure(const std::string& id, std::string_view caption) {
   return Markup("<figure>") + Element("figcaption", Text(caption)) +
          Markup("<div class=\"chart\" id=\"" + id + "\"></div><div class=\"legend\"></div></figure>\n");
+}
+
+// A ReportTable: its heading, the table (scrolling sideways when wide) and its notes.
+Html TableBlock(const ReportTable& table) {
+  Html rows = Markup("\n") + TextRow("th", table.columns);
+  for (const std::vector<std::string>& row : table.rows) rows += TextRow("td", row);
+  Html html = Element("h3", Text(table.heading)) + Markup("\n") +
+              Element("div class=\"wide\"", Element("table class=\"rating\"", rows)) + Markup("\n");
+  for (const std::string& note : table.notes) html += Element("p class=\"note\"", Text(note)) + Markup("\n");
+  return html;
 }
 
 // ---- the header
@@ -268,11 +278,13 @@ Html ComparisonSection(json& overlays, json& distributions, const ReportComparis
                        std::size_t index) {
   Html table = Markup("\n") + TextRow("th", comparison.columns);
   for (const std::vector<std::string>& row : comparison.rows) table += TextRow("td", row);
+  Html repeatability;
+  for (const ReportTable& variant : comparison.repeatability) repeatability += TableBlock(variant);
   Html section = Markup("\n") +
                  Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
                  Markup("\n") + VerdictBlock(comparison.verdict) +
-                 OverlayFigures(overlays, comparison, index) + Element("h3", Markup("Every metric")) +
-                 Markup("\n") +
+                 OverlayFigures(overlays, comparison, index) + repeatability +
+                 Element("h3", Markup("Every metric")) + Markup("\n") +
                  // Scrolls sideways where its columns (compare's contract) are wider than the page.
                  Element("div class=\"wide\"", Element("table class=\"compare\"", table)) + Markup("\n");
   for (const std::string& note : comparison.notes)
@@ -435,23 +447,35 @@ Html TestSection(json& charts, const ReportTest& test, std::size_t index) {
   const Html facts = Markup("\n") + Facts("Injury criteria", CriteriaTable(s)) +
                      Facts("Rotation", FieldTable("rotation", kRotationRows, s)) +
                      Facts("Final pose", FieldTable("pose", kPoseRows, s));
-  Html figures = Markup("\n");
-  for (const ReportChart& chart : test.charts) {
-    const std::string id = "chart-" + std::to_string(index + 1) + "-" + chart.key;
-    figures += Figure(id, chart.title);
-    json windows = json::array();
-    for (const ReportWindow& window : chart.windows)
-      windows.push_back({{"label", window.label}, {"t1", window.t1_ms}, {"t2", window.t2_ms}});
-    charts.push_back({{"id", id},
-                      {"ylabel", chart.y_label},
-                      {"labels", chart.trace_labels},
-                      {"t", chart.time_ms},
-                      {"y", chart.traces},
-                      {"windows", std::move(windows)}});
-  }
+  // Each chart's figure; its data appended to `charts`.
+  const auto chart_figures = [&](const std::vector<ReportChart>& shown) {
+    Html figures = Markup("\n");
+    for (const ReportChart& chart : shown) {
+      const std::string id = "chart-" + std::to_string(index + 1) + "-" + chart.key;
+      figures += Figure(id, chart.title);
+      json windows = json::array();
+      for (const ReportWindow& window : chart.windows)
+        windows.push_back({{"label", window.label}, {"t1", window.t1_ms}, {"t2", window.t2_ms}});
+      json bands = json::array();
+      for (const ReportBand& band : chart.bands) bands.push_back({band.low, band.high});
+      charts.push_back({{"id", id},
+                        {"ylabel", chart.y_label},
+                        {"labels", chart.trace_labels},
+                        {"t", chart.time_ms},
+                        {"y", chart.traces},
+                        {"windows", std::move(windows)},
+                        {"bands", std::move(bands)}});
+    }
+    return figures;
+  };
+  const Html figures = chart_figures(test.charts);
+  Html ratings;
+  for (const ReportTable& table : test.tables) ratings += TableBlock(table);
+  if (!test.rating_charts.empty())
+    ratings += Element("div class=\"charts\"", chart_figures(test.rating_charts)) + Markup("\n");
   const Html section = Markup("\n") + heading + Markup("\n") + Element("div class=\"facts\"", facts) +
                        Markup("\n") + Element("h3", Markup("Time histories")) + Markup("\n") +
-                       Element("div class=\"charts\"", figures) + Markup("\n") +
+                       Element("div class=\"charts\"", figures) + Markup("\n") + ratings +
                        Element("h3", Markup("Screening findings")) + Markup("\n") +
                        FindingsTable(s.findings) + ConditioningTable(s.conditioning);
   return Element("section class=\"test\" id=\"test-" + std::to_string(index + 1) + "\"", section) +
@@ -460,39 +484,18 @@ Html TestSection(json& charts, const ReportTest& test, std::size_t index) {
 
 }  // namespace
 
-std::string EscapeHtml(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series,
                           std::optional<std::string> variant, std::string config_name,
                           engine::TestSummary summary, const engine::Kinematics& kinematics,
                           Eigen::Index max_points) {
-  ReportTest test{std::move(test_id),     std::move(series),  std::move(variant),
-                  std::move(config_name), std::move(summary), {}};
+  ReportTest test{std::move(test_id),
+                  std::move(series),
+                  std::move(variant),
+                  std::move(config_name),
+                  std::move(summary),
+                  {},
+                  {},
+                  {}};
   const Eigen::VectorXd& t = kinematics.time_s;
 
   // An acceleration-only test (engine::HasRotation) has its CG acceleration
@@ -521,6 +524,13 @@ ReportTest MakeReportTest(std::string test_id, std::optional<std::string> series
                                   {"x", "y", "z", "resultant"}, t, WithResultant(kinematics.vel_fixed),
                                   max_points));
   return test;
+}
+
+ReportChart MakeReportChart(std::string key, std::string title, std::string y_label,
+                            std::vector<std::string> trace_labels, const Eigen::VectorXd& time_s,
+                            const Eigen::MatrixXd& traces, Eigen::Index max_points) {
+  return MakeChart(std::move(key), std::move(title), std::move(y_label), std::move(trace_labels), time_s,
+                   traces, max_points);
 }
 
 ReportOverlay MakeReportOverlay(std::string key, std::string title, std::string y_label,

@@ -54,6 +54,21 @@ struct ReportWindow {
   double t2_ms = 0.0;
 };
 
+// A band of a chart shaded between two of its traces (the ISO/TS 18571
+// corridors about a test's curve), indexes into trace_labels.
+struct ReportBand {
+  std::size_t low = 0;
+  std::size_t high = 0;
+};
+
+// A table of text under a heading, with notes (ratings, repeatability).
+struct ReportTable {
+  std::string heading;
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> notes;
+};
+
 // One time-history chart: traces over a shared time axis, reduced for display.
 struct ReportChart {
   std::string key;      // "acc", "omega", "angles", "velocity": part of the chart's element id
@@ -63,6 +78,7 @@ struct ReportChart {
   std::vector<double> time_ms;
   std::vector<std::vector<double>> traces;  // one per label, each as long as time_ms
   std::vector<ReportWindow> windows;
+  std::vector<ReportBand> bands;  // shaded, each between its two (dashed) traces
 };
 
 // One test's section of the report.
@@ -73,6 +89,8 @@ struct ReportTest {
   std::string config_name;  // the config of the result shown
   engine::TestSummary summary;
   std::vector<ReportChart> charts;
+  std::vector<ReportTable> tables;         // after the charts: the test's ISO/TS 18571 ratings
+  std::vector<ReportChart> rating_charts;  // under them: each rating against a model drawn
 };
 
 // The test's section: its summary, and its charts (resultant CG acceleration
@@ -149,7 +167,14 @@ struct ReportComparison {
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> notes;
   std::vector<ReportDistribution> distributions;
+  std::vector<ReportTable> repeatability;  // per variant: each repeat against its mean (app/correlation.h)
 };
+
+// A chart as MakeReportTest makes them: `traces` (a column each) on
+// `time_s`, reduced to at most `max_points` points, time in ms.
+ReportChart MakeReportChart(std::string key, std::string title, std::string y_label,
+                            std::vector<std::string> trace_labels, const Eigen::VectorXd& time_s,
+                            const Eigen::MatrixXd& traces, Eigen::Index max_points = kReportMaxPoints);
 
 // Where the page goes, piece by piece, in order: an AtomicFile
 // (util/atomic_file.h), standard output, a string.

@@ -44,13 +44,58 @@
     return rows;
   }
 
+  // The band between two traces as one polygon per run of rows where both exist.
+  function shadeBetween(canvas, graph, chart, low, high) {
+    var start = 0;
+    while (start < chart.t.length) {
+      while (start < chart.t.length && (chart.y[low][start] === null || chart.y[high][start] === null)) ++start;
+      var end = start;
+      while (end < chart.t.length && chart.y[low][end] !== null && chart.y[high][end] !== null) ++end;
+      if (end - start > 1) {
+        canvas.beginPath();
+        for (var i = start; i < end; ++i) {
+          var x = graph.toDomXCoord(chart.t[i]), y = graph.toDomYCoord(chart.y[high][i]);
+          if (i === start) canvas.moveTo(x, y); else canvas.lineTo(x, y);
+        }
+        for (var j = end - 1; j >= start; --j)
+          canvas.lineTo(graph.toDomXCoord(chart.t[j]), graph.toDomYCoord(chart.y[low][j]));
+        canvas.closePath();
+        canvas.fill();
+      }
+      start = end;
+    }
+  }
+
+  // A chart with bands (a rating against a model: the test, the model, the
+  // ISO/TS 18571 inner and outer corridors): the curves solid, each band's
+  // bounds dashed in its colour with the band shaded.
+  var bandColors = ['#2a9d55', '#d9730d'];
+  function bandOptions(chart) {
+    if (!chart.bands || chart.bands.length === 0) return {};
+    var colors = componentColors.slice(0, chart.labels.length), series = {};
+    chart.bands.forEach(function (band, b) {
+      band.forEach(function (k) {
+        colors[k] = bandColors[b % bandColors.length];
+        series[chart.labels[k]] = { strokeWidth: 1, strokePattern: [5, 3] };
+      });
+    });
+    return { colors: colors, series: series };
+  }
+
   function timeHistory(chart) {
     var element = document.getElementById(chart.id);
     var rows = timeRows(chart);
     new Dygraph(element, rows, Object.assign(timeAxes(element, chart), {
       colors: chart.labels.length === 1 ? ['#1f4e9c'] : componentColors.slice(0, chart.labels.length),
-      strokeWidth: 1.4,
+      strokeWidth: 1.4
+    }, bandOptions(chart), {
       underlayCallback: function (canvas, area, graph) {
+        (chart.bands || []).forEach(function (band, b) {
+          canvas.fillStyle = bandColors[b % bandColors.length];
+          canvas.globalAlpha = 0.12;
+          shadeBetween(canvas, graph, chart, band[0], band[1]);
+          canvas.globalAlpha = 1;
+        });
         chart.windows.forEach(function (w, i) {
           var x1 = graph.toDomXCoord(w.t1), x2 = graph.toDomXCoord(w.t2);
           canvas.fillStyle = windowFill[i % 2];
@@ -188,25 +233,7 @@
           if (low < 0 || high < 0) return;
           canvas.fillStyle = groupColors[g % groupColors.length];
           canvas.globalAlpha = 0.13;
-          // One polygon per run of rows where both bounds exist.
-          var start = 0;
-          while (start < chart.t.length) {
-            while (start < chart.t.length && (chart.y[low][start] === null || chart.y[high][start] === null)) ++start;
-            var end = start;
-            while (end < chart.t.length && chart.y[low][end] !== null && chart.y[high][end] !== null) ++end;
-            if (end - start > 1) {
-              canvas.beginPath();
-              for (var i = start; i < end; ++i) {
-                var x = graph.toDomXCoord(chart.t[i]), y = graph.toDomYCoord(chart.y[high][i]);
-                if (i === start) canvas.moveTo(x, y); else canvas.lineTo(x, y);
-              }
-              for (var j = end - 1; j >= start; --j)
-                canvas.lineTo(graph.toDomXCoord(chart.t[j]), graph.toDomYCoord(chart.y[low][j]));
-              canvas.closePath();
-              canvas.fill();
-            }
-            start = end;
-          }
+          shadeBetween(canvas, graph, chart, low, high);
           canvas.globalAlpha = 1;
         });
       },

@@ -389,7 +389,7 @@ class Catalogue:
         """``napkin query KIND`` as a list of dicts, the rows of ``--format json``
         (None where the JSON has null).
 
-        kind    -- tests, hic, rotation, criteria, risk, quality or conditioning
+        kind    -- tests, hic, rotation, criteria, risk, quality, conditioning or correlation
         where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
         sort    -- "FIELD[:desc]" (or a list)
         limit   -- at most this many rows

@@ -8,11 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -569,6 +572,84 @@ TEST(ReportNamesInChromium, LegendsAndAxesShowVariantNamesAsTyped) {
     EXPECT_EQ(legend_text.find("&lt;"), std::string::npos) << "plot " << plots << " legend: " << legend_text;
   }
   EXPECT_EQ(plots, app::DefaultComparisonMetrics().size());
+}
+
+// A rating against a model (issue 32 point 4): `report --model FILE`
+// draws the test, the model and the ISO/TS 18571 inner and outer corridors
+// (two shaded bands); the chart is drawn without script errors, and a
+// screenshot of it has the bands' colours (green and orange shades).
+TEST(ReportCorrelationInChromium, RatingChartDrawsItsCorridorsWithoutScriptErrors) {
+  if (ChromiumBinary().empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
+  test_support::TempDir dir;
+  const auto napkin = [&](const std::vector<std::string>& args) {
+    const RunResult run = test_support::RunNapkin(dir.path(), args);
+    EXPECT_EQ(run.exit_code, 0) << args.front() << ": " << run.err;
+    return run;
+  };
+  napkin({"synth", "--scenario", "padding-series", "--count", "2", "--rate", "10000"});
+  napkin({"run"});
+  const std::string test = "padding-series-foam-a-01";
+  napkin({"export", "--test", test, "--format", "csv", "--out", "model.csv"});
+  // The model: the test's body-x acceleration late by 2 ms and 20 % larger.
+  {
+    std::ifstream in((dir / "model.csv").string());
+    std::string line;
+    std::getline(in, line);
+    std::ostringstream model;
+    model << "time_s,head_x_g\n";
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      std::stringstream fields(line);
+      for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+      model << util::FormatNumber(std::stod(cells[0]) + 0.002) << ","
+            << util::FormatNumber(1.2 * std::stod(cells[13])) << "\n";  // acc_body_x_g
+    }
+    test_support::WriteText(dir / "late.csv", model.str());
+  }
+  napkin({"correlate", "--test", test, "--channel", "acc_body_x_g", "--model", "late.csv"});
+  napkin({"report", "--test", test, "--model", "late.csv", "--out", "rated.html"});
+
+  test_support::TempDir browser;
+  const RunResult dump =
+      RunChromium(browser.path(), {"--dump-dom"}, "file://" + (dir / "rated.html").string());
+  ASSERT_EQ(dump.exit_code, 0) << dump.err;
+  EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)
+      << dump.out.substr(dump.out.find("napkin-script-error"), 400);
+  const std::size_t at = dump.out.find("id=\"chart-1-rating-1\"");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t open = dump.out.rfind("<div class=\"chart\"", at);
+  const std::string element = dump.out.substr(open, dump.out.find("</figure>", at) - open);
+  EXPECT_NE(element.find("data-drawn=\"true\""), std::string::npos);
+  EXPECT_NE(element.find("<canvas"), std::string::npos);
+  const std::string legend = VisibleText(element.substr(element.find("<div class=\"legend\"")));
+  for (const std::string& label : {test, std::string("late.csv:head_x_g"), std::string("inner corridor +"),
+                                   std::string("outer corridor −")})
+    EXPECT_NE(legend.find(label), std::string::npos) << legend;
+
+  // The screenshot: the chart's bands are there (the bands' shades of green
+  // and orange over white). It stays in the test's folder while it runs.
+  std::string page = test_support::ReadText(dir / "rated.html");
+  // Only the rating chart, at the top of the page.
+  page.insert(page.find("</style>"),
+              "header.report, section.test > *:not(.charts), "
+              "section.test figure:not(:has(#chart-1-rating-1)) {display: none}");
+  test_support::WriteText(browser / "rating.html", page);
+  const fs::path shot = browser / "shot.png";
+  const RunResult screenshot = RunChromium(
+      browser.path(), {"--screenshot=" + shot.string(), "--window-size=1000,700", "--hide-scrollbars"},
+      "file://" + (browser / "rating.html").string());
+  ASSERT_EQ(screenshot.exit_code, 0) << screenshot.err;
+  ASSERT_TRUE(fs::exists(shot));
+  if (const char* keep = std::getenv("NAPKIN_KEEP_SCREENSHOT"))
+    fs::copy_file(shot, keep, fs::copy_options::overwrite_existing);
+  test_support::WriteText(browser / "pixels.html", kPixelCountPage);
+  const RunResult count = RunChromium(browser.path(), {"--allow-file-access-from-files", "--dump-dom"},
+                                      "file://" + (browser / "pixels.html").string());
+  ASSERT_EQ(count.exit_code, 0) << count.err;
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(count.out, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
+      << count.out;
+  EXPECT_GT(std::stod(match[4]), 2000.0) << match[0];
 }
 
 }  // namespace

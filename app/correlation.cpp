@@ -1,0 +1,414 @@
+// ISO/TS 18571 ratings of tests' channels (app/correlation.h;
+// docs/formats.md "Correlation ratings").
+#include "app/correlation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <tuple>
+#include <utility>
+
+#include "app/report_builder.h"
+#include "common/error.h"
+#include "common/joined.h"
+#include "engine/units.h"
+#include "formats/csv.h"
+#include "formats/file_hash.h"
+#include "util/text.h"
+
+namespace napkin::app {
+namespace {
+
+namespace fs = std::filesystem;
+using formats::Dimension;
+
+// A derived-channel name's unit suffix: its dimension and the unit per SI.
+struct ChannelUnit {
+  std::string_view suffix;
+  Dimension dimension;
+  double per_si;
+  const char* quantity;  // for messages
+};
+constexpr ChannelUnit kChannelUnits[] = {
+    {"_radps2", formats::kAngularAccelerationDimension, 1.0, "an angular acceleration"},
+    {"_radps", formats::kAngularVelocityDimension, 1.0, "an angular velocity"},
+    {"_mps", formats::kVelocityDimension, 1.0, "a velocity"},
+    {"_g", formats::kAccelerationDimension, 1.0 / engine::kStandardGravity, "an acceleration"},
+    {"_m", formats::kLengthDimension, 1.0, "a length"},
+    {"_deg", formats::kAngleDimension, engine::kDegPerRad, "an angle"},
+};
+
+const ChannelUnit* UnitOfChannel(std::string_view name) {
+  for (const ChannelUnit& unit : kChannelUnits)
+    if (name.ends_with(unit.suffix)) return &unit;
+  return nullptr;
+}
+
+const char* QuantityOf(const Dimension& dimension) {
+  for (const ChannelUnit& unit : kChannelUnits)
+    if (unit.dimension == dimension) return unit.quantity;
+  return "a quantity of another kind";
+}
+
+constexpr const char* kResultants[] = {"acc_resultant_g", "omega_resultant_radps", "alpha_resultant_radps2"};
+
+// "model file 'head.k'" (the name as given), for messages.
+std::string ModelFile(const std::string& path) { return "model file '" + util::EscapeControl(path) + "'"; }
+
+// What a model file holds, told by its first 64 KiB: an LS-DYNA keyword
+// file (a line starting with '*'), a nodout (its block title), else a CSV.
+enum class ModelFormat { kCsv, kKeyword, kNodout };
+ModelFormat SniffModelFormat(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open " + ModelFile(path) + ".");
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (head.find("n o d a l   p r i n t") != std::string::npos) return ModelFormat::kNodout;
+  if (head.rfind('*', 0) == 0 || head.find("\n*") != std::string::npos) return ModelFormat::kKeyword;
+  return ModelFormat::kCsv;
+}
+
+// Whether `name` (a curve's) is what `column` asks for: the name itself, or
+// it without its "curve " / "node " prefix ("4" for "curve 4 head x": the
+// LCID alone, "1234 x-accl" for "node 1234 x-accl").
+bool CurveNamed(const std::string& name, const std::string& column) {
+  if (name == column) return true;
+  for (const std::string_view prefix : {"curve ", "node "}) {
+    if (!name.starts_with(prefix)) continue;
+    const std::string_view rest = std::string_view(name).substr(prefix.size());
+    if (rest == column) return true;
+    // The LCID alone names a titled curve ("curve 4 head x").
+    if (prefix == "curve " && rest.starts_with(column) && rest.size() > column.size() &&
+        rest[column.size()] == ' ')
+      return true;
+  }
+  return false;
+}
+
+std::string CurveNames(const std::vector<formats::ModelCurve>& curves) {
+  std::vector<std::string> names;
+  for (const formats::ModelCurve& curve : curves) {
+    if (names.size() == 12) {
+      names.push_back("… (" + std::to_string(curves.size()) + " in all)");
+      break;
+    }
+    names.push_back("'" + util::EscapeControl(curve.name) + "'");
+  }
+  return Joined(names);
+}
+
+db::CorrelationRecord RatingRecord(const TestResult& result, const RatingRow& row) {
+  db::CorrelationRecord record;
+  record.test = result.test;
+  record.config = result.config;
+  record.channel = row.channel;
+  record.reference = row.reference;
+  record.edition = engine::NameOf(row.edition);
+  record.start_s = row.start_s;
+  record.end_s = row.end_s;
+  record.corridor = row.rating.corridor;
+  record.phase = row.rating.phase;
+  record.magnitude = row.rating.magnitude;
+  record.slope = row.rating.slope;
+  record.overall = row.rating.overall;
+  record.grade = engine::NameOf(row.rating.grade);
+  record.shift_s = row.rating.shift_s;
+  return record;
+}
+
+// Rates `candidate` against `reference` over the interval `options` give
+// (open ends: the common span), with the edition's parameters.
+RatingRow RateChannel(const std::string& test_id, const RatingOptions& options,
+                      const engine::TimeSeries& reference, const engine::TimeSeries& candidate,
+                      const std::string& reference_name, const std::string& candidate_name,
+                      std::string shown_reference) {
+  RatingRow row{test_id, options.channel, std::move(shown_reference), options.edition, 0.0, 0.0, {}};
+  const auto first = [](const engine::TimeSeries& s) { return s.time_s(0); };
+  const auto last = [](const engine::TimeSeries& s) { return s.time_s(s.time_s.size() - 1); };
+  if (reference.time_s.size() < 2 || candidate.time_s.size() < 2)
+    throw InputError((reference.time_s.size() < 2 ? reference_name : candidate_name) +
+                     " has fewer than 2 samples.");
+  row.start_s = options.start_s.value_or(std::max(first(reference), first(candidate)));
+  row.end_s = options.end_s.value_or(std::min(last(reference), last(candidate)));
+  row.rating = engine::Iso18571RateCurves(reference, candidate, {row.start_s, row.end_s},
+                                          engine::Iso18571Parameters::ForEdition(options.edition),
+                                          reference_name, candidate_name);
+  return row;
+}
+
+std::string TestChannelName(const std::string& test_id, const std::string& channel) {
+  return "test '" + test_id + "' channel " + channel;
+}
+
+}  // namespace
+
+std::vector<std::string> CorrelationChannelNames() {
+  std::vector<std::string> names(std::begin(kResultants), std::end(kResultants));
+  for (const std::string& column : formats::DerivedCsvColumns())
+    if (UnitOfChannel(column) != nullptr) names.push_back(column);  // not time_s, not the quaternion
+  return names;
+}
+
+void CheckCorrelationChannel(const std::string& channel) {
+  const std::vector<std::string> names = CorrelationChannelNames();
+  if (std::find(names.begin(), names.end(), channel) == names.end())
+    throw UsageError("--channel '" + util::EscapeControl(channel) +
+                     "' is not a derived channel; use one of " + Joined(names) + ".");
+}
+
+ChannelCurve ChannelOf(const engine::Kinematics& kinematics, const std::string& channel,
+                       const std::string& test_id) {
+  CheckCorrelationChannel(channel);
+  const ChannelUnit& unit = *UnitOfChannel(channel);
+  ChannelCurve curve{channel, unit.dimension, unit.per_si, {kinematics.time_s, {}}};
+  const bool rotation = engine::HasRotation(kinematics);
+  if (channel == kResultants[0]) {
+    curve.series.values = kinematics.acc_body.rowwise().norm();  // the fixed frame's too
+  } else if (channel == kResultants[1] || channel == kResultants[2]) {
+    if (rotation)
+      curve.series.values =
+          (channel == kResultants[1] ? kinematics.omega_body : kinematics.alpha_body).rowwise().norm();
+  } else {
+    for (const formats::DerivedChannelSource& source : formats::DerivedChannelSources(kinematics)) {
+      if (source.name != channel || source.values_si.empty()) continue;
+      curve.series.values = Eigen::Map<const Eigen::VectorXd>(
+          source.values_si.data(), static_cast<Eigen::Index>(source.values_si.size()));
+      curve.display_per_si = source.to_csv_unit;
+      break;
+    }
+  }
+  if (curve.series.values.size() != curve.series.time_s.size() || !curve.series.values.allFinite())
+    throw InputError("test '" + test_id + "' has no channel " + channel +
+                     (rotation ? "."
+                               : " (its array cannot determine the rotation, so it has only acc_body_x_g, "
+                                 "acc_body_y_g, acc_body_z_g and acc_resultant_g)."));
+  return curve;
+}
+
+RatingOptions ParseRatingOptions(const std::string& channel, const std::string& start, const std::string& end,
+                                 const std::string& edition) {
+  CheckCorrelationChannel(channel);
+  RatingOptions options;
+  options.channel = channel;
+  const auto seconds = [](const char* option, const std::string& text) -> std::optional<double> {
+    if (text.empty()) return std::nullopt;
+    const std::optional<double> value = util::ParseDouble(text);
+    if (!value || !std::isfinite(*value))
+      throw UsageError(std::string(option) + " must be a time in seconds; it is '" +
+                       util::EscapeControl(text) + "'.");
+    return value;
+  };
+  options.start_s = seconds("--start", start);
+  options.end_s = seconds("--end", end);
+  if (options.start_s && options.end_s && !(*options.end_s > *options.start_s))
+    throw UsageError("--end (" + end + " s) must be later than --start (" + start + " s).");
+  const std::optional<engine::Iso18571Edition> parsed = engine::ParseName<engine::Iso18571Edition>(edition);
+  if (!parsed)
+    throw UsageError("--edition must be 2014 or 2024; it is '" + util::EscapeControl(edition) + "'.");
+  options.edition = *parsed;
+  return options;
+}
+
+ModelSpec ParseModelSpec(const std::string& spec) {
+  // FILE:COLUMN, where FILE is the longest prefix before a ':' that is a file;
+  // a spec that is a file itself has no column.
+  std::error_code error;
+  if (fs::is_regular_file(spec, error)) return {spec, ""};
+  for (std::size_t colon = spec.rfind(':'); colon != std::string::npos && colon > 0;
+       colon = spec.rfind(':', colon - 1)) {
+    if (fs::is_regular_file(spec.substr(0, colon), error))
+      return {spec.substr(0, colon), spec.substr(colon + 1)};
+  }
+  return {spec, ""};
+}
+
+ModelReference LoadModelCurve(const std::string& spec, const ChannelCurve& channel,
+                              const std::optional<std::string>& units) {
+  const ModelSpec parsed = ParseModelSpec(spec);
+  const std::string& path = parsed.path;
+  std::error_code error;
+  if (!fs::is_regular_file(path, error))
+    throw InputError(ModelFile(path) + " does not exist or is not a regular file.");
+  const ModelFormat format = SniffModelFormat(path);
+  std::optional<formats::ModelUnits> model_units;
+  if (units) model_units = formats::ParseModelUnits(*units, "--model-units");
+  if (format != ModelFormat::kCsv && !model_units)
+    throw UsageError(ModelFile(path) + " is an LS-DYNA " +
+                     (format == ModelFormat::kNodout ? "nodout" : "keyword file") +
+                     ", whose numbers carry no units; give --model-units LENGTH,TIME,MASS (e.g. mm,ms,kg or "
+                     "m,s,kg).");
+  const std::vector<formats::ModelCurve> curves = format == ModelFormat::kCsv ? formats::ReadModelCsv(path)
+                                                  : format == ModelFormat::kKeyword
+                                                      ? formats::ReadLsDynaCurves(path, *model_units)
+                                                      : formats::ReadNodout(path, *model_units);
+  if (curves.empty()) throw InputError(ModelFile(path) + " holds no curve.");
+  const formats::ModelCurve* chosen = nullptr;
+  if (!parsed.column.empty()) {
+    for (const formats::ModelCurve& curve : curves)
+      if (CurveNamed(curve.name, parsed.column)) {
+        chosen = &curve;
+        break;
+      }
+    if (chosen == nullptr)
+      throw InputError(ModelFile(path) + " has no curve '" + util::EscapeControl(parsed.column) +
+                       "'; its curves are " + CurveNames(curves) + ".");
+  } else if (curves.size() == 1) {
+    chosen = &curves.front();
+  } else {
+    for (const formats::ModelCurve& curve : curves)
+      if (curve.name == channel.name) chosen = &curve;
+    if (chosen == nullptr)
+      throw InputError(ModelFile(path) + " holds " + std::to_string(curves.size()) +
+                       " curves and none named " + channel.name + "; name one as FILE:COLUMN, one of " +
+                       CurveNames(curves) + ".");
+  }
+  formats::ModelCurve curve = *chosen;
+  if (curve.dimension && *curve.dimension != channel.dimension)
+    throw InputError(ModelFile(path) + " curve '" + util::EscapeControl(curve.name) + "' is " +
+                     QuantityOf(*curve.dimension) + ", but channel " + channel.name + " is " +
+                     QuantityOf(channel.dimension) + ".");
+  if (!curve.dimension) curve = formats::ToSi(std::move(curve), channel.dimension, *model_units);
+  return {fs::path(path).filename().string(), formats::HashPath(path), curve.name, std::move(curve.series)};
+}
+
+RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
+                           const std::string& model_spec, const std::optional<std::string>& model_units,
+                           const RatingOptions& options, const ResultChoice& choice) {
+  CheckCorrelationChannel(options.channel);
+  const TestResult result = ResultOf(catalogue, test_id, choice, db_path);
+  const ChannelCurve channel =
+      ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
+  const ModelReference model = LoadModelCurve(model_spec, channel, model_units);
+  const std::string shown = model.file_name + ":" + model.column;
+  RatingRow row =
+      RateChannel(test_id, options, channel.series, model.series, TestChannelName(test_id, options.channel),
+                  ModelFile(ParseModelSpec(model_spec).path) + " curve '" + model.column + "'", shown);
+  db::CorrelationRecord record = RatingRecord(result, row);
+  record.reference_kind = "model";
+  record.reference_key = "model:" + model.sha256 + ":" + model.column;
+  record.model_file = model.file_name;
+  record.model_sha256 = model.sha256;
+  record.model_column = model.column;
+  catalogue.WriteCorrelation(record);
+  return row;
+}
+
+RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
+                          const std::string& reference_test_id, const RatingOptions& options,
+                          const ResultChoice& choice) {
+  CheckCorrelationChannel(options.channel);
+  const TestResult result = ResultOf(catalogue, test_id, choice, db_path);
+  const TestResult other = ResultOf(catalogue, reference_test_id, Latest{}, db_path);
+  const ChannelCurve channel =
+      ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
+  const ChannelCurve candidate = ChannelOf(ReadResultKinematics(catalogue, other.test, other.config),
+                                           options.channel, reference_test_id);
+  RatingRow row = RateChannel(test_id, options, channel.series, candidate.series,
+                              TestChannelName(test_id, options.channel),
+                              TestChannelName(reference_test_id, options.channel), reference_test_id);
+  db::CorrelationRecord record = RatingRecord(result, row);
+  record.reference_kind = "test";
+  record.reference_key = "test:" + reference_test_id;
+  record.reference_test = other.test;
+  catalogue.WriteCorrelation(record);
+  return row;
+}
+
+std::vector<RatingRow> RateVariantRepeats(db::Catalogue& catalogue, const std::string& series,
+                                          const std::string& variant, const RatingOptions& options,
+                                          bool store) {
+  CheckCorrelationChannel(options.channel);
+  db::TestFilter filter;
+  filter.series = series;
+  filter.variant = variant;
+  struct Repeat {
+    std::string test_id;
+    TestResult result;
+    engine::TimeSeries curve;
+  };
+  std::vector<Repeat> repeats;
+  for (const db::LabelledResult& labelled : catalogue.ReadResults(filter, db::ResultSelection::kLatest)) {
+    const std::optional<db::TestId> key = catalogue.FindTestByExternalId(labelled.test_id);
+    if (!key) continue;
+    const ChannelCurve channel = ChannelOf(ReadResultKinematics(catalogue, *key, labelled.config_id),
+                                           options.channel, labelled.test_id);
+    repeats.push_back({labelled.test_id, {*key, labelled.config_id}, channel.series});
+  }
+  if (repeats.size() < 2)
+    throw InputError(
+        "variant '" + variant + "' of series '" + series + "' has " + std::to_string(repeats.size()) +
+        (repeats.size() == 1 ? " test" : " tests") +
+        " with results; its repeatability needs at least 2 (run `napkin run`, or check the names "
+        "with `napkin query tests`).");
+
+  // The mean curve on the overlays' common time base, where every repeat has a sample.
+  std::vector<engine::TimeSeries> curves;
+  for (const Repeat& repeat : repeats) curves.push_back(repeat.curve);
+  const Eigen::VectorXd base = engine::CommonTimeBase(curves, kOverlayBasePoints);
+  Eigen::MatrixXd columns(base.size(), static_cast<Eigen::Index>(repeats.size()));
+  for (std::size_t r = 0; r < repeats.size(); ++r)
+    columns.col(static_cast<Eigen::Index>(r)) = engine::ResampleOnto(repeats[r].curve, base);
+  Eigen::Index first = 0, last = base.size() - 1;
+  const auto complete = [&](Eigen::Index row) { return columns.row(row).allFinite(); };
+  while (first < base.size() && !complete(first)) ++first;
+  while (last > first && !complete(last)) --last;
+  if (last - first < 1)
+    throw InputError("the tests of variant '" + variant + "' of series '" + series +
+                     "' share no stretch of time on which to average channel " + options.channel + ".");
+  const Eigen::Index rows = last - first + 1;
+  const engine::TimeSeries mean{base.segment(first, rows), columns.middleRows(first, rows).rowwise().mean()};
+
+  const std::string shown = "mean of " + variant;
+  std::vector<RatingRow> ratings;
+  for (const Repeat& repeat : repeats) {
+    RatingRow row = RateChannel(repeat.test_id, options, mean, repeat.curve,
+                                "the mean curve of variant '" + variant + "' of series '" + series + "'",
+                                TestChannelName(repeat.test_id, options.channel), shown);
+    if (store) {
+      db::CorrelationRecord record = RatingRecord(repeat.result, row);
+      record.reference_kind = "variant-mean";
+      record.reference_key = "variant-mean:" + series + "/" + variant;
+      record.reference_series = series;
+      record.reference_variant = variant;
+      catalogue.WriteCorrelation(record);
+    }
+    ratings.push_back(std::move(row));
+  }
+  std::stable_sort(ratings.begin(), ratings.end(), [](const RatingRow& a, const RatingRow& b) {
+    return std::tie(a.rating.overall, a.test_id) < std::tie(b.rating.overall, b.test_id);
+  });
+  return ratings;
+}
+
+db::Table RatingTable(const std::vector<RatingRow>& rows) {
+  db::Table table;
+  table.columns = {"test_id", "channel",   "reference", "edition", "start_s", "end_s",  "corridor",
+                   "phase",   "magnitude", "slope",     "overall", "grade",   "shift_s"};
+  for (const RatingRow& row : rows) {
+    const engine::Iso18571Rating& r = row.rating;
+    table.rows.push_back({row.test_id, row.channel, row.reference, std::string(engine::NameOf(row.edition)),
+                          row.start_s, row.end_s, r.corridor, r.phase, r.magnitude, r.slope, r.overall,
+                          std::string(engine::NameOf(r.grade)), r.shift_s});
+  }
+  return table;
+}
+
+RatingPlot PlotRating(const ChannelCurve& test, const engine::TimeSeries& model, double start_s, double end_s,
+                      engine::Iso18571Edition edition, const std::string& test_name,
+                      const std::string& model_name) {
+  const engine::Iso18571Parameters parameters = engine::Iso18571Parameters::ForEdition(edition);
+  RatingPlot plot;
+  plot.rating =
+      engine::Iso18571RateCurves(test.series, model, {start_s, end_s}, parameters, test_name, model_name);
+  plot.time_s = engine::Iso18571TimeBase(start_s, end_s, parameters.rate_hz);
+  plot.test = engine::ResampleOnto(test.series, plot.time_s) * test.display_per_si;
+  plot.model = engine::ResampleOnto(model, plot.time_s) * test.display_per_si;
+  plot.inner_half_width = plot.rating.inner_half_width * test.display_per_si;
+  plot.outer_half_width = plot.rating.outer_half_width * test.display_per_si;
+  return plot;
+}
+
+}  // namespace napkin::app
