@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <tuple>
 #include <utility>
@@ -15,7 +14,6 @@
 #include "common/joined.h"
 #include "engine/units.h"
 #include "formats/csv.h"
-#include "formats/file_hash.h"
 #include "util/text.h"
 
 namespace napkin::app {
@@ -60,14 +58,10 @@ std::string ModelFile(const std::string& path) { return "model file '" + util::E
 // What a model file holds, told by its first 64 KiB: an LS-DYNA keyword
 // file (a line starting with '*'), a nodout (its block title), else a CSV.
 enum class ModelFormat { kCsv, kKeyword, kNodout };
-ModelFormat SniffModelFormat(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open " + ModelFile(path) + ".");
-  std::string head(64 * 1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  if (head.find("n o d a l   p r i n t") != std::string::npos) return ModelFormat::kNodout;
-  if (head.rfind('*', 0) == 0 || head.find("\n*") != std::string::npos) return ModelFormat::kKeyword;
+ModelFormat SniffModelFormat(const formats::ModelFile& file) {
+  const std::string_view head = std::string_view(file.bytes).substr(0, 64 * 1024);
+  if (head.find("n o d a l   p r i n t") != std::string_view::npos) return ModelFormat::kNodout;
+  if (head.starts_with('*') || head.find("\n*") != std::string_view::npos) return ModelFormat::kKeyword;
   return ModelFormat::kCsv;
 }
 
@@ -225,35 +219,43 @@ ModelSpec ParseModelSpec(const std::string& spec) {
   return {spec, ""};
 }
 
-ModelReference LoadModelCurve(const std::string& spec, const ChannelCurve& channel,
-                              const std::optional<std::string>& units) {
-  const ModelSpec parsed = ParseModelSpec(spec);
-  const std::string& path = parsed.path;
-  std::error_code error;
-  if (!fs::is_regular_file(path, error))
-    throw InputError(ModelFile(path) + " does not exist or is not a regular file.");
-  const ModelFormat format = SniffModelFormat(path);
-  std::optional<formats::ModelUnits> model_units;
-  if (units) model_units = formats::ParseModelUnits(*units, "--model-units");
-  if (format != ModelFormat::kCsv && !model_units)
-    throw UsageError(ModelFile(path) + " is an LS-DYNA " +
+void CheckModelUnitsGiven(const formats::ModelFile& file, const std::optional<std::string>& units) {
+  const ModelFormat format = SniffModelFormat(file);
+  if (format != ModelFormat::kCsv && !units)
+    throw UsageError(ModelFile(file.path.string()) + " is an LS-DYNA " +
                      (format == ModelFormat::kNodout ? "nodout" : "keyword file") +
                      ", whose numbers carry no units; give --model-units LENGTH,TIME,MASS (e.g. mm,ms,kg or "
                      "m,s,kg).");
-  const std::vector<formats::ModelCurve> curves = format == ModelFormat::kCsv ? formats::ReadModelCsv(path)
+}
+
+ModelReference LoadModelCurve(const std::string& spec, const ChannelCurve& channel,
+                              const std::optional<std::string>& units) {
+  const ModelSpec parsed = ParseModelSpec(spec);
+  // Read once: the curve rated is the curve of the bytes whose hash is stored.
+  return LoadModelCurve(formats::ReadModelFile(parsed.path), parsed.column, channel, units);
+}
+
+ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string& column,
+                              const ChannelCurve& channel, const std::optional<std::string>& units) {
+  const std::string path = file.path.string();
+  CheckModelUnitsGiven(file, units);
+  const ModelFormat format = SniffModelFormat(file);
+  std::optional<formats::ModelUnits> model_units;
+  if (units) model_units = formats::ParseModelUnits(*units, "--model-units");
+  const std::vector<formats::ModelCurve> curves = format == ModelFormat::kCsv ? formats::ReadModelCsv(file)
                                                   : format == ModelFormat::kKeyword
-                                                      ? formats::ReadLsDynaCurves(path, *model_units)
-                                                      : formats::ReadNodout(path, *model_units);
+                                                      ? formats::ReadLsDynaCurves(file, *model_units)
+                                                      : formats::ReadNodout(file, *model_units);
   if (curves.empty()) throw InputError(ModelFile(path) + " holds no curve.");
   const formats::ModelCurve* chosen = nullptr;
-  if (!parsed.column.empty()) {
+  if (!column.empty()) {
     for (const formats::ModelCurve& curve : curves)
-      if (CurveNamed(curve.name, parsed.column)) {
+      if (CurveNamed(curve.name, column)) {
         chosen = &curve;
         break;
       }
     if (chosen == nullptr)
-      throw InputError(ModelFile(path) + " has no curve '" + util::EscapeControl(parsed.column) +
+      throw InputError(ModelFile(path) + " has no curve '" + util::EscapeControl(column) +
                        "'; its curves are " + CurveNames(curves) + ".");
   } else if (curves.size() == 1) {
     chosen = &curves.front();
@@ -271,7 +273,7 @@ ModelReference LoadModelCurve(const std::string& spec, const ChannelCurve& chann
                      QuantityOf(*curve.dimension) + ", but channel " + channel.name + " is " +
                      QuantityOf(channel.dimension) + ".");
   if (!curve.dimension) curve = formats::ToSi(std::move(curve), channel.dimension, *model_units);
-  return {fs::path(path).filename().string(), formats::HashPath(path), curve.name, std::move(curve.series)};
+  return {file.path.filename().string(), file.sha256, curve.name, std::move(curve.series)};
 }
 
 RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,

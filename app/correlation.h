@@ -44,7 +44,7 @@ ChannelCurve ChannelOf(const engine::Kinematics& kinematics, const std::string& 
 // A model's curve (formats/model_curves.h) chosen for a channel.
 struct ModelReference {
   std::string file_name;      // the file's name without its folder
-  std::string sha256;         // of its bytes (formats::HashPath)
+  std::string sha256;         // of the bytes the curve was read from (formats::ModelFile)
   std::string column;         // the curve's name in the file
   engine::TimeSeries series;  // SI, time in s
 };
@@ -60,6 +60,14 @@ struct ModelReference {
 // (`--model-units`).
 ModelReference LoadModelCurve(const std::string& spec, const ChannelCurve& channel,
                               const std::optional<std::string>& units);
+// The same from a file already read (formats::ReadModelFile) and COLUMN
+// (empty: none given).
+ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string& column,
+                              const ChannelCurve& channel, const std::optional<std::string>& units);
+
+// Throws the UsageError of LoadModelCurve when `file` is an LS-DYNA file
+// and `units` is not given: checked before a command writes anything.
+void CheckModelUnitsGiven(const formats::ModelFile& file, const std::optional<std::string>& units);
 
 // The parameters of a rating as the user gives them.
 struct RatingOptions {

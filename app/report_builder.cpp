@@ -31,7 +31,6 @@
 #include "engine/overlay.h"
 #include "engine/statistics.h"
 #include "engine/units.h"
-#include "formats/file_hash.h"
 #include "formats/html_report.h"
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
@@ -430,10 +429,11 @@ class CatalogueReport {
     std::string config_name;
     std::vector<db::CorrelationRecord> ratings;  // of that result
   };
-  // A --model file: its path and SHA-256, which stored ratings name.
+  // A --model file as read, once (formats::ReadModelFile): its SHA-256 is
+  // what stored ratings name, and its curves are drawn from the same bytes.
   struct GivenModel {
     std::string path;
-    std::string sha256;
+    formats::ModelFile file;
   };
 
   // Each shown test's stored ratings; every --model must match one.
@@ -441,10 +441,10 @@ class CatalogueReport {
     model_units_ = options.model_units;
     for (const std::string& spec : options.models) {
       const std::string path = ParseModelSpec(spec).path;
-      std::error_code error;
-      if (!std::filesystem::is_regular_file(path, error))
-        throw InputError("model file '" + path + "' does not exist or is not a regular file.");
-      models_.push_back({path, formats::HashPath(path)});
+      formats::ModelFile file = formats::ReadModelFile(path);
+      // Refused before the page is begun, not half-way through it.
+      CheckModelUnitsGiven(file, model_units_);
+      models_.push_back({path, std::move(file)});
     }
     std::set<std::string> rated;
     for (Shown& test : shown_) {
@@ -453,7 +453,7 @@ class CatalogueReport {
         if (rating.model_sha256) rated.insert(*rating.model_sha256);
     }
     for (const GivenModel& model : models_)
-      if (!rated.count(model.sha256))
+      if (!rated.count(model.file.sha256))
         throw InputError("model file '" + model.path +
                          "' has no stored rating against the report's tests (their latest results); rate it "
                          "first with `napkin correlate --test T --channel CH --model " +
@@ -472,11 +472,11 @@ class CatalogueReport {
                                        r.corridor, r.phase, r.magnitude, r.slope, r.overall, r.grade,
                                        r.shift_s));
       const auto model = std::find_if(models_.begin(), models_.end(), [&](const GivenModel& given) {
-        return r.model_sha256 && given.sha256 == *r.model_sha256;
+        return r.model_sha256 && given.file.sha256 == *r.model_sha256;
       });
       if (model == models_.end()) continue;
       const ChannelCurve channel = ChannelOf(kinematics, r.channel, test.record->external_id);
-      const ModelReference curve = LoadModelCurve(model->path + ":" + *r.model_column, channel, model_units_);
+      const ModelReference curve = LoadModelCurve(model->file, *r.model_column, channel, model_units_);
       const std::string model_name = curve.file_name + ":" + curve.column;
       const RatingPlot plot = PlotRating(channel, curve.series, r.start_s, r.end_s,
                                          *engine::ParseName<engine::Iso18571Edition>(r.edition),

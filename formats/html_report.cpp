@@ -456,15 +456,15 @@ Html TestSection(json& charts, const ReportTest& test, std::size_t index) {
       json windows = json::array();
       for (const ReportWindow& window : chart.windows)
         windows.push_back({{"label", window.label}, {"t1", window.t1_ms}, {"t2", window.t2_ms}});
-      json bands = json::array();
-      for (const ReportBand& band : chart.bands) bands.push_back({band.low, band.high});
-      charts.push_back({{"id", id},
-                        {"ylabel", chart.y_label},
-                        {"labels", chart.trace_labels},
-                        {"t", chart.time_ms},
-                        {"y", chart.traces},
-                        {"windows", std::move(windows)},
-                        {"bands", std::move(bands)}});
+      json data = {{"id", id},           {"ylabel", chart.y_label}, {"labels", chart.trace_labels},
+                   {"t", chart.time_ms}, {"y", chart.traces},       {"windows", std::move(windows)}};
+      // Only a rating's chart has bands: other charts' data stay as they were.
+      if (!chart.bands.empty()) {
+        json bands = json::array();
+        for (const ReportBand& band : chart.bands) bands.push_back({band.low, band.high});
+        data["bands"] = std::move(bands);
+      }
+      charts.push_back(std::move(data));
     }
     return figures;
   };

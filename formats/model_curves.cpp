@@ -1,13 +1,20 @@
 #include "formats/model_curves.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
-#include <fstream>
+#include <cstring>
 #include <map>
+#include <sstream>
 #include <utility>
 
 #include "common/error.h"
 #include "engine/units.h"
+#include "util/sha256.h"
 #include "util/text.h"
 
 namespace napkin::formats {
@@ -18,14 +25,8 @@ std::string At(const std::filesystem::path& path, long line) {
   return util::EscapeControl(path.string()) + " line " + std::to_string(line) + ": ";
 }
 
-std::ifstream OpenModelFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("Cannot open the model file " + util::EscapeControl(path.string()) + ".");
-  return in;
-}
-
 // Reads one line without its line end (LF or CRLF).
-bool NextLine(std::ifstream& in, std::string& line, long& number) {
+bool NextLine(std::istringstream& in, std::string& line, long& number) {
   if (!std::getline(in, line)) return false;
   if (!line.empty() && line.back() == '\r') line.pop_back();
   ++number;
@@ -113,6 +114,36 @@ std::vector<double> FortranNumbers(std::string_view text, bool& ok) {
 
 }  // namespace
 
+ModelFile ReadModelFile(const std::filesystem::path& path) {
+  const std::string shown = "model file '" + util::EscapeControl(path.string()) + "'";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) throw InputError(shown + " cannot be opened: " + std::strerror(errno) + ".");
+  ModelFile file{path, "", ""};
+  struct stat status {};
+  bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
+  bool read_error = false;
+  if (regular) {
+    char buffer[1 << 16];
+    for (;;) {
+      const ssize_t got = ::read(fd, buffer, sizeof buffer);
+      if (got > 0) {
+        file.bytes.append(buffer, static_cast<std::size_t>(got));
+      } else if (got == 0) {
+        break;
+      } else if (errno != EINTR) {
+        read_error = true;
+        break;
+      }
+    }
+  }
+  const int read_errno = errno;
+  ::close(fd);
+  if (!regular) throw InputError(shown + " is not a regular file.");
+  if (read_error) throw InputError(shown + " cannot be read: " + std::strerror(read_errno) + ".");
+  file.sha256 = util::Sha256Hex(file.bytes);
+  return file;
+}
+
 ModelUnits ParseModelUnits(std::string_view spec, std::string_view option) {
   static const std::map<std::string, double, std::less<>> kLength{{"m", 1.0},
                                                                   {"cm", 0.01},
@@ -157,7 +188,12 @@ ModelCurve ToSi(ModelCurve curve, Dimension dimension, const ModelUnits& units) 
 }
 
 std::vector<ModelCurve> ReadModelCsv(const std::filesystem::path& path) {
-  std::ifstream in = OpenModelFile(path);
+  return ReadModelCsv(ReadModelFile(path));
+}
+
+std::vector<ModelCurve> ReadModelCsv(const ModelFile& file) {
+  const std::filesystem::path& path = file.path;
+  std::istringstream in(file.bytes);
   std::string line;
   long number = 0;
   std::vector<std::string> header;
@@ -245,7 +281,12 @@ std::vector<ModelCurve> ReadModelCsv(const std::filesystem::path& path) {
 }
 
 std::vector<ModelCurve> ReadLsDynaCurves(const std::filesystem::path& path, const ModelUnits& units) {
-  std::ifstream in = OpenModelFile(path);
+  return ReadLsDynaCurves(ReadModelFile(path), units);
+}
+
+std::vector<ModelCurve> ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units) {
+  const std::filesystem::path& path = file.path;
+  std::istringstream in(file.bytes);
   std::string line;
   long number = 0;
   std::vector<ModelCurve> curves;
@@ -335,7 +376,12 @@ std::vector<ModelCurve> ReadLsDynaCurves(const std::filesystem::path& path, cons
 
 std::vector<ModelCurve> ReadNodout(const std::filesystem::path& path, const ModelUnits& units,
                                    std::optional<long> node) {
-  std::ifstream in = OpenModelFile(path);
+  return ReadNodout(ReadModelFile(path), units, node);
+}
+
+std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& units, std::optional<long> node) {
+  const std::filesystem::path& path = file.path;
+  std::istringstream in(file.bytes);
   std::string line;
   long number = 0;
   static const std::map<std::string, Dimension, std::less<>> kColumns{

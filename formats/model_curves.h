@@ -29,6 +29,22 @@ struct ModelUnits {
 // "--model-units") for any other spelling.
 ModelUnits ParseModelUnits(std::string_view spec, std::string_view option = "--model-units");
 
+// A model file as read, once, through one descriptor: its bytes and their
+// SHA-256. The readers below parse these bytes, so a rating stored under a
+// file's hash is the rating of exactly those bytes, whatever happens to the
+// path meanwhile (docs/formats.md "Model curves"). The path-taking readers
+// read the file this way first.
+struct ModelFile {
+  std::filesystem::path path;  // as given, for messages
+  std::string bytes;
+  std::string sha256;  // hex, of `bytes`
+};
+
+// Opens `path` once (O_RDONLY, O_NOCTTY, O_NONBLOCK: a FIFO or device never
+// blocks), refuses anything fstat does not call a regular file, reads it
+// whole. Throws InputError naming the file.
+ModelFile ReadModelFile(const std::filesystem::path& path);
+
 // Powers of length, time and mass of a quantity (acceleration: 1, -2, 0).
 struct Dimension {
   int length = 0;
@@ -68,12 +84,14 @@ ModelCurve ToSi(ModelCurve curve, Dimension dimension, const ModelUnits& units);
 // without a unit (dimension 0, factor 1). A column empty in every row is
 // left out; a single empty, non-numeric or non-finite cell is an error.
 std::vector<ModelCurve> ReadModelCsv(const std::filesystem::path& path);
+std::vector<ModelCurve> ReadModelCsv(const ModelFile& file);
 
 // Every *DEFINE_CURVE (and *DEFINE_CURVE_TITLE) of a keyword file, fixed
 // columns (10-character card 1, 20-character points) or comma-separated:
 // abscissae are times in the unit system's time unit, scaled by SFA;
 // ordinates scaled by SFO. Offsets (OFFA, OFFO) other than 0 are refused.
 std::vector<ModelCurve> ReadLsDynaCurves(const std::filesystem::path& path, const ModelUnits& units);
+std::vector<ModelCurve> ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units);
 
 // An LS-DYNA ASCII nodout: per output time a block " n o d a l   p r i n t
 // o u t   f o r   t i m e  s t e p N ( at time T )", a header of column
@@ -82,6 +100,8 @@ std::vector<ModelCurve> ReadLsDynaCurves(const std::filesystem::path& path, cons
 // node and column, in SI by `units`; every block must list the same nodes.
 // `node`: only that node's curves (an error when the file has none).
 std::vector<ModelCurve> ReadNodout(const std::filesystem::path& path, const ModelUnits& units,
+                                   std::optional<long> node = std::nullopt);
+std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& units,
                                    std::optional<long> node = std::nullopt);
 
 }  // namespace napkin::formats

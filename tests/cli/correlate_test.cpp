@@ -312,6 +312,21 @@ TEST_F(CorrelateCli, ReportDrawsRatingsAgainstTheModelWithCorridors) {
       Napkin({"report", "--series", "padding-series", "--model", "unrated.csv", "--out", "u.html"});
   EXPECT_EQ(unrated.exit_code, 1);
   test_support::ExpectOneSentenceError(unrated, {"model file 'unrated.csv'", "napkin correlate"});
+
+  // An LS-DYNA model without --model-units is refused before the page is
+  // begun: nothing on standard output, no file.
+  ASSERT_EQ(
+      Napkin({"export", "--test", test, "--format", "lsdyna", "--units", "si", "--out", "report-head.k"})
+          .exit_code,
+      0);
+  for (const std::string out : {"-", "k.html"}) {
+    const RunResult unitless =
+        Napkin({"report", "--series", "padding-series", "--model", "report-head.k", "--out", out});
+    EXPECT_EQ(unitless.exit_code, 2) << out;
+    EXPECT_EQ(unitless.out, "") << out;
+    test_support::ExpectOneSentenceError(unitless, {"model file 'report-head.k'", "--model-units"});
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir_->path() / "k.html"));
 }
 
 }  // namespace

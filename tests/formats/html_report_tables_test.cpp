@@ -19,7 +19,7 @@ std::string SummaryTables(const engine::TestSummary& summary) {
   ReportHeader header;
   header.catalogue = "napkin.db";
   header.napkin_version = "0.1.0";
-  const std::vector<ReportTest> tests = {{"t1", "sled", "foam-a", "default", summary, {}}};
+  const std::vector<ReportTest> tests = {{"t1", "sled", "foam-a", "default", summary, {}, {}, {}}};
   const std::string html = RenderHtmlReport(header, {}, tests);
   const std::size_t begin = html.find("<div class=\"facts\">");
   const std::size_t end = html.find("<h3>Time histories</h3>");

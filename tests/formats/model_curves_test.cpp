@@ -6,6 +6,7 @@
 #include "formats/model_curves.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 
@@ -16,6 +17,7 @@
 #include "synth/synthetic_tests.h"
 #include "tests/support/reference_arrays.h"
 #include "tests/support/test_support.h"
+#include "util/sha256.h"
 
 namespace napkin::formats {
 namespace {
@@ -127,7 +129,27 @@ TEST(Nodout, RefusesBadInputNamingFileAndLine) {
   EXPECT_EQ(ModelErrorOf([&] { ReadNodout(path, ModelUnits{}); }),
             path.string() + " line 6: the time 0 does not follow the previous one (0); times must increase.");
   EXPECT_EQ(ModelErrorOf([&] { ReadNodout(dir / "missing", ModelUnits{}); }),
-            "Cannot open the model file " + (dir / "missing").string() + ".");
+            "model file '" + (dir / "missing").string() + "' cannot be opened: No such file or directory.");
+}
+
+// A model file is read once, through one descriptor: its hash is of the bytes
+// parsed, and what is not a regular file (a folder, a FIFO no one writes to)
+// is refused at once, never waited on.
+TEST(ModelFile, ReadOnceWithTheHashOfItsBytesAndOnlyFromARegularFile) {
+  TempDir dir;
+  const std::string text = "time_s,head_g\n0,1\n0.001,2\n";
+  WriteText(dir / "model.csv", text);
+  const formats::ModelFile file = ReadModelFile(dir / "model.csv");
+  EXPECT_EQ(file.bytes, text);
+  EXPECT_EQ(file.sha256, util::Sha256Hex(text));
+  ASSERT_EQ(ReadModelCsv(file).size(), 1u);
+  EXPECT_EQ(ReadModelCsv(file).front().series.values, ReadModelCsv(dir / "model.csv").front().series.values);
+
+  EXPECT_EQ(ModelErrorOf([&] { ReadModelFile(dir.path()); }),
+            "model file '" + dir.path().string() + "' is not a regular file.");
+  ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
+  EXPECT_EQ(ModelErrorOf([&] { ReadModelCsv(dir / "pipe"); }),
+            "model file '" + (dir / "pipe").string() + "' is not a regular file.");
 }
 
 TEST(ModelCsv, ReadsUnitsFromColumnSuffixes) {
