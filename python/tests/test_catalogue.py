@@ -61,7 +61,9 @@ def test_query_frame_numbers_are_float64_and_missing_values_nan(demo_catalogue, 
     expected = cli_json("--db", demo_catalogue, "query", kind)
     frame = napkin.Catalogue(demo_catalogue).query_frame(kind)
     numeric = {name for name, field in napkin.SUMMARY_FIELDS.items()} | {
-        "filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s"}
+        "filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s",
+        # query correlation (docs/formats.md "Correlation ratings")
+        "start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall", "shift_s"}
     for column in frame.columns:
         if column in numeric:
             assert frame[column].dtype == np.float64, (kind, column)
