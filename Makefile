@@ -20,7 +20,8 @@ PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3
 # test_compare_statistics.py): scipy's t distributions, statsmodels' TOST and power.
 STATISTICS_TEST_PACKAGES := python3-scipy python3-statsmodels
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev \
+  libcpp-httplib-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
   chromium time slurm-wlm munge $(PYTHON_PACKAGES) $(STATISTICS_TEST_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
