@@ -28,6 +28,15 @@ class ServeCommand : public Command {
                     "seconds a request waits for a catalogue another process holds locked, then answers 503")
         ->check(WholeNumberCheck("--busy-timeout", 0, 3600))
         ->capture_default_str();
+    sub->add_option("--inbox", options_.inbox,
+                    "folder whose tests (<inbox>/<series>/<variant>/...) are imported and processed as they "
+                    "arrive; only read");
+    sub->add_option(
+           "--settle", options_.settle_s,
+           "seconds a test's files must stay unchanged before it is imported (or a <name>.ready marker)")
+        ->capture_default_str();
+    sub->add_option("--poll", options_.poll_s,
+                    "look at the inbox every this many seconds instead of inotify (network file systems)");
     return sub;
   }
 

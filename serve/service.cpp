@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -24,6 +25,7 @@
 #include "db/job_queue.h"
 #include "records/config_record.h"
 #include "serve/api.h"
+#include "serve/inbox.h"
 
 namespace napkin::serve {
 namespace {
@@ -263,6 +265,10 @@ void RunService(const ServeOptions& options) {
                      " is not a loopback address, which napkin serve answers only with --token-file "
                      "(a bearer token every request must carry).");
   }
+  if (!(options.settle_s >= 0 && options.settle_s <= 86400))
+    throw UsageError("--settle must be from 0 to 86400 seconds.");
+  if (options.poll_s && !(*options.poll_s >= 0.1 && *options.poll_s <= 3600))
+    throw UsageError("--poll must be from 0.1 to 3600 seconds.");
   const ApiOptions api_options{options.db_path, options.busy_timeout_ms};
   // A missing or damaged catalogue is refused at start, not at the first request.
   (void)CatalogueStatus(api_options);
@@ -271,6 +277,15 @@ void RunService(const ServeOptions& options) {
   const auto started = std::chrono::system_clock::now();
 
   const sigset_t stop_signals = BlockStopSignals();
+  std::unique_ptr<Inbox> inbox;
+  if (!options.inbox.empty()) {
+    InboxOptions inbox_options;
+    inbox_options.db_path = options.db_path;
+    inbox_options.inbox = options.inbox;
+    inbox_options.settle_s = options.settle_s;
+    inbox_options.poll_s = options.poll_s;
+    inbox = std::make_unique<Inbox>(inbox_options);
+  }
   signal(SIGPIPE, SIG_IGN);  // a client that hangs up is its own business
 
   httplib::Server server;
@@ -366,13 +381,15 @@ void RunService(const ServeOptions& options) {
                      {"started",
                       std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
                      {"requests", counters.Total()}}},
-                   {"catalogue", CatalogueStatus(api_options)}};
+                   {"catalogue", CatalogueStatus(api_options)},
+                   {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
                return Response{200, "application/json",
                                status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
              }));
   server.Get("/metrics", route([&](const httplib::Request&) {
                return Response{200, "text/plain; version=0.0.4",
-                               counters.Prometheus() + CatalogueMetrics(CatalogueStatus(api_options))};
+                               counters.Prometheus() + CatalogueMetrics(CatalogueStatus(api_options)) +
+                                   (inbox ? inbox->Metrics() : std::string())};
              }));
 
   int port = address.port;
@@ -388,6 +405,7 @@ void RunService(const ServeOptions& options) {
   spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, port,
                options.db_path, options.threads, token.empty() ? "" : ", bearer token required");
 
+  if (inbox) inbox->Start();
   // The signal thread: SIGTERM or SIGINT stops the server (httplib: no new
   // connections; those accepted are served, then listen_after_bind returns).
   std::atomic<bool> done{false};
@@ -406,6 +424,8 @@ void RunService(const ServeOptions& options) {
   server.listen_after_bind();
   done = true;
   signal_thread.join();
+  // The inbox's run in progress commits the tests in flight and releases the others' leases.
+  if (inbox) inbox->Stop();
   spdlog::info("stopped");
 }
 

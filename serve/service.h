@@ -40,6 +40,10 @@ struct ServeOptions {
   std::optional<std::string> token_file;
   int threads = 4;              // request threads
   int busy_timeout_ms = 10000;  // a request's wait for a locked catalogue before 503
+  // --inbox: tests imported and processed as they arrive (serve/inbox.h); empty: none.
+  std::string inbox;
+  double settle_s = 5.0;
+  std::optional<double> poll_s;  // --poll: look every poll_s seconds instead of inotify
 };
 
 // The service until SIGTERM or SIGINT. Throws UsageError (before listening)

@@ -4,6 +4,11 @@
 // cpp-httplib's client, stopped by its process id, every wait bounded.
 #include <gtest/gtest.h>
 #include <httplib.h>
+// httplib.h includes glibc's <resolv.h>, whose macro _res (the resolver's state) is a
+// parameter name in Eigen's headers, which the tests include after this one (unity build).
+#ifdef _res
+#undef _res
+#endif
 #include <signal.h>
 #include <sys/wait.h>
 
