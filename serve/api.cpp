@@ -1,6 +1,8 @@
 #include "serve/api.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <vector>
@@ -8,6 +10,7 @@
 #include "app/comparison.h"
 #include "app/failure.h"
 #include "app/query.h"
+#include "app/report_builder.h"
 #include "app/result_selection.h"
 #include "app/table_output.h"
 #include "common/error.h"
@@ -66,6 +69,27 @@ Json RowObject(const db::Table& table, const std::vector<db::Cell>& row) {
   db::Table one{table.columns, {row}};
   return Json::parse(app::FormatTable(one, app::TableFormat::kJson)).at(0);
 }
+
+// The series a report route names: exactly one, never empty.
+std::string SeriesOf(const Params& params) {
+  CheckParameters(params, {"series"});
+  const std::optional<std::string> series = One(params, "series");
+  if (!series || series->empty())
+    throw UsageError("parameter 'series' is required (the series the report shows).");
+  return *series;
+}
+
+// `text` as a JavaScript string literal inside an HTML <script>: JSON, ASCII only, and no "</"
+// that could end the script.
+std::string ScriptString(const std::string& text) {
+  std::string literal = Json(text).dump(-1, ' ', true, Json::error_handler_t::replace);
+  for (std::size_t at = literal.find("</"); at != std::string::npos; at = literal.find("</", at + 3))
+    literal.replace(at, 2, "<\\/");
+  return literal;
+}
+
+// How often the live report asks whether its series changed.
+constexpr int kReportPollMs = 3000;
 
 }  // namespace
 
@@ -193,6 +217,46 @@ Response Api::Compare(const Params& params) const {
   db::Catalogue catalogue = OpenForRequest(options_);
   return Response{200, "application/json",
                   app::FormatComparison(app::BuildComparison(catalogue, request), app::TableFormat::kJson)};
+}
+
+Response Api::ReportVersion(const Params& params) const {
+  const std::string series = SeriesOf(params);
+  db::Catalogue catalogue = OpenForRequest(options_);
+  // Every test of the series and every field of its latest results (query tests and criteria):
+  // a test that arrives, a result computed or recomputed changes one of them.
+  std::string rows;
+  for (const char* kind : {"tests", "criteria"}) {
+    app::Query query;
+    query.kind = kind;
+    query.filters.series = {series};
+    rows += app::FormatTable(app::RunQuery(catalogue, app::PrepareQuery(query)), app::TableFormat::kCsv);
+  }
+  // FNV-1a, 64 bits: the same rows give the same version in every process.
+  std::uint64_t hash = 14695981039346656037ull;
+  for (const char c : rows) hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return Response{200, "application/json", Dump(Json{{"version", hex}})};
+}
+
+Response Api::Report(const Params& params) const {
+  const std::string series = SeriesOf(params);
+  const std::string version = Json::parse(ReportVersion(params).body).at("version").get<std::string>();
+  app::ReportSelection selection;
+  selection.series = {series};
+  std::string page;
+  app::WriteCatalogueReport(options_.db_path, selection, [&](std::string_view text) { page.append(text); });
+  // The page reloads itself when its series changes; the script goes before </body>.
+  const std::string script =
+      "<script>\n(function () {\n  const version = " + ScriptString(version) +
+      ";\n  const url = '/api/v1/report/version?series=' + encodeURIComponent(" + ScriptString(series) +
+      ");\n  setInterval(function () {\n" +
+      "    fetch(url).then(function (r) { return r.json(); }).then(function (answer) {\n" +
+      "      if (answer.version && answer.version !== version) location.reload();\n" +
+      "    }).catch(function () {});\n  }, " + std::to_string(kReportPollMs) + ");\n})();\n</script>\n";
+  const std::size_t body_end = page.rfind("</body>");
+  page.insert(body_end == std::string::npos ? page.size() : body_end, script);
+  return Response{200, "text/html; charset=utf-8", std::move(page)};
 }
 
 }  // namespace napkin::serve

@@ -60,6 +60,14 @@ class Api {
   // compare --format json`.
   Response Compare(const Params& params) const;
 
+  // GET /report?series=S: `napkin report --series S` (app/report_builder.h),
+  // with a script that asks ReportVersion every few seconds and reloads the
+  // page when the answer changes (docs/serve.md "Live report").
+  Response Report(const Params& params) const;
+  // GET /api/v1/report/version?series=S: {"version": V}, V changing whenever a
+  // test or result of the series does.
+  Response ReportVersion(const Params& params) const;
+
   const ApiOptions& options() const { return options_; }
 
  private:

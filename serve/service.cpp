@@ -372,6 +372,9 @@ void RunService(const ServeOptions& options) {
                if (!req.params.empty()) throw UsageError("this route takes no parameters.");
                return api.TestSummary(req.matches[1].str());
              }));
+  server.Get("/api/v1/report/version",
+             route([&](const httplib::Request& req) { return api.ReportVersion(params(req)); }));
+  server.Get("/report", route([&](const httplib::Request& req) { return api.Report(params(req)); }));
   server.Get("/api/v1/compare", route([&](const httplib::Request& req) { return api.Compare(params(req)); }));
   server.Get("/api/v1/status", route([&](const httplib::Request&) {
                const Json status = {

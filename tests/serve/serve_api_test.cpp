@@ -278,6 +278,37 @@ TEST_F(ServeApi, OversizedRequestsAndManyHeadersAre4xxAndTheServiceGoesOn) {
   EXPECT_EQ(Get("/healthz")->status, 200);
 }
 
+TEST_F(ServeApi, ReportIsTheCommandLinesPageWithALiveScript) {
+  const CommandResult cli = Napkin({"report", "--series", "padding-series", "--out", "-"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const httplib::Result result = Get("/report?series=padding-series");
+  ASSERT_TRUE(result);
+  ASSERT_EQ(result->status, 200) << result->body;
+  EXPECT_EQ(result->get_header_value("Content-Type"), "text/html; charset=utf-8");
+  const httplib::Result version = Get("/api/v1/report/version?series=padding-series");
+  ASSERT_EQ(version->status, 200);
+  const std::string v = Json::parse(version->body).at("version");
+  EXPECT_EQ(v.size(), 16u);
+  EXPECT_EQ(Get("/api/v1/report/version?series=padding-series")->body, version->body)
+      << "stable while nothing changes";
+  // The page is the command line's, with the refresh script before </body>.
+  const std::string script_start = "<script>\n(function () {\n  const version = \"" + v + "\";";
+  std::string page = result->body;
+  const std::size_t start = page.find(script_start);
+  ASSERT_NE(start, std::string::npos) << page.substr(page.size() - std::min<std::size_t>(page.size(), 800));
+  const std::size_t end = page.find("</script>\n", start) + std::string("</script>\n").size();
+  EXPECT_NE(page.substr(start, end - start).find("/api/v1/report/version?series="), std::string::npos);
+  page.erase(start, end - start);
+  EXPECT_EQ(page, cli.out);
+  EXPECT_EQ(page.rfind("</body>"), start);
+
+  const CommandResult unknown_cli = Napkin({"report", "--series", "nope", "--out", "-"});
+  const httplib::Result unknown = Get("/report?series=nope");
+  EXPECT_EQ(unknown->status, 400);
+  EXPECT_EQ(ErrorOf(unknown), CliSentence(unknown_cli));
+  EXPECT_EQ(Get("/report")->status, 400);
+}
+
 // Bounded load: 8 loopback clients, 40 requests each, every answer the same rows.
 TEST_F(ServeApi, ConcurrentClientsAllGetTheSameAnswer) {
   const std::string expected = Get("/api/v1/query/hic?limit=100")->body;

@@ -94,6 +94,8 @@ TEST_F(ServeInbox, InotifyImportsAndProcessesWithTheCommandLinesNumbers) {
   const auto serve = Serve({"--settle", "1"});
   ASSERT_GT(serve->port(), 0) << serve->log();
   EXPECT_NE(serve->log().find("(inotify;"), std::string::npos) << serve->log();
+  const std::string version_before =
+      Json::parse(serve->Client()->Get("/api/v1/report/version?series=sled")->body).at("version");
   WriteTest(inbox_ / "sled" / "foam-a" / "t01.csv", 101);
   WriteTest(inbox_ / "sled" / "production" / "t02.csv", 102);
   const auto inbox_before = InboxContents();
@@ -112,6 +114,10 @@ TEST_F(ServeInbox, InotifyImportsAndProcessesWithTheCommandLinesNumbers) {
   EXPECT_NE(metrics.find("napkin_inbox_imported_total 2\n"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("napkin_inbox_processed_total 2\n"), std::string::npos) << metrics;
   EXPECT_EQ(InboxContents(), inbox_before) << "the inbox was changed";
+  // The live report sees the change.
+  EXPECT_NE(Json::parse(serve->Client()->Get("/api/v1/report/version?series=sled")->body).at("version"),
+            version_before);
+  EXPECT_EQ(serve->Client()->Get("/report?series=sled")->status, 200);
   EXPECT_EQ(serve->Stop(), 0) << serve->log();
 }
 
