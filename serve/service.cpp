@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <chrono>
@@ -19,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/failure.h"
 #include "common/error.h"
 #include "common/version.h"
 #include "db/catalogue.h"
@@ -164,7 +166,21 @@ Json CatalogueStatus(const ApiOptions& options) {
               {"failures", std::move(failures)}};
 }
 
+// The status answers while another process holds the catalogue locked: after a
+// short wait, the catalogue's part is the sentence saying why it is missing.
+Json CatalogueStatusOrError(ApiOptions options) {
+  options.busy_timeout_ms = std::min(options.busy_timeout_ms, 1000);
+  try {
+    return CatalogueStatus(options);
+  } catch (...) {
+    return Json{{"path", options.db_path},
+                {"error", app::DescribeFailure(std::current_exception(), options.db_path).sentence}};
+  }
+}
+
+// Without the catalogue's counts (CatalogueStatusOrError's error): no lines.
 std::string CatalogueMetrics(const Json& status) {
+  if (status.contains("error")) return {};
   std::string text =
       "# HELP napkin_catalogue_tests Tests in the catalogue by state under the default config.\n"
       "# TYPE napkin_catalogue_tests gauge\n";
@@ -384,14 +400,14 @@ void RunService(const ServeOptions& options) {
                      {"started",
                       std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
                      {"requests", counters.Total()}}},
-                   {"catalogue", CatalogueStatus(api_options)},
+                   {"catalogue", CatalogueStatusOrError(api_options)},
                    {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
                return Response{200, "application/json",
                                status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
              }));
   server.Get("/metrics", route([&](const httplib::Request&) {
                return Response{200, "text/plain; version=0.0.4",
-                               counters.Prometheus() + CatalogueMetrics(CatalogueStatus(api_options)) +
+                               counters.Prometheus() + CatalogueMetrics(CatalogueStatusOrError(api_options)) +
                                    (inbox ? inbox->Metrics() : std::string())};
              }));
 

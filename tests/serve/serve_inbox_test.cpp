@@ -4,6 +4,7 @@
 // not imported early; sidecars; a marker file; the inbox is never changed;
 // kill -9 and restart: every test exactly once; SIGTERM while processing.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <algorithm>
 #include <chrono>
@@ -202,6 +203,37 @@ TEST_F(ServeInbox, RemovedBeforeSettlingIsSaid) {
                             "' was removed from the inbox before it settled; it was not imported.");
   EXPECT_TRUE(said) << status.dump(2);
   EXPECT_NE(serve->log().find("was removed from the inbox before it settled"), std::string::npos);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+// A catalogue held locked by another process (as a CLI `run` committing holds it): the inbox waits,
+// says so in the status, and imports once the lock is gone.
+TEST_F(ServeInbox, LockedCatalogueWaitsAndSaysSo) {
+  const auto serve = Serve({"--settle", "0"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open(db_.c_str(), &holder), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(holder,
+                         "PRAGMA locking_mode=EXCLUSIVE; BEGIN EXCLUSIVE; CREATE TABLE held_by_test(x); "
+                         "INSERT INTO held_by_test VALUES (1);",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(holder);
+  WriteTest(inbox_ / "sled" / "a" / "t08.csv", 108);
+  const Json waiting = WaitFor(*serve, "/api/v1/status", [](const Json& s) {
+    return s.value("catalogue", Json()).is_object() && s.at("inbox").at("catalogue_waiting").is_string();
+  });
+  EXPECT_NE(waiting.at("inbox")
+                .at("catalogue_waiting")
+                .get<std::string>()
+                .find("waiting for catalogue '" + db_.string() + "', locked by another process"),
+            std::string::npos);
+  EXPECT_NE(serve->log().find("is busy"), std::string::npos) << serve->log();
+  ASSERT_EQ(sqlite3_exec(holder, "ROLLBACK;", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(holder);
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  WaitFor(*serve, "/api/v1/status",
+          [](const Json& s) { return s.at("inbox").at("catalogue_waiting").is_null(); });
   EXPECT_EQ(serve->Stop(), 0);
 }
 

@@ -115,6 +115,13 @@ TEST_F(ServeSafety, LockedCatalogueIsA503SayingSo) {
   ASSERT_TRUE(locked);
   EXPECT_EQ(locked->status, 503) << locked->body;
   EXPECT_NE(Json::parse(locked->body).at("error").get<std::string>().find("is busy"), std::string::npos);
+  // The status still answers, and says why the catalogue's counts are missing.
+  const httplib::Result status = serve.Client()->Get("/api/v1/status");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->status, 200);
+  EXPECT_NE(Json::parse(status->body).at("catalogue").at("error").get<std::string>().find("is busy"),
+            std::string::npos)
+      << status->body;
   ASSERT_EQ(sqlite3_exec(holder, "ROLLBACK; PRAGMA locking_mode=NORMAL;", nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(holder);
