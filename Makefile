@@ -9,8 +9,8 @@ BUILD_FUZZ ?= build/fuzz
 BUILD_TIDY ?= build/tidy
 BUILD_PACKAGE ?= build/package
 # What the program needs (make demo): Boost.Math for compare's t distribution,
-# dygraphs embedded into the binary for report's charts. What the tests and
-# benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
+# dygraphs embedded into the binary for report's charts, cpp-httplib for `napkin serve`. What
+# the tests and benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
 # gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
 # the reprocess test on a private single-node cluster (tests/slurm).
 # The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame; mypy
@@ -32,8 +32,8 @@ TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev 
   clang-tidy clang
 # What `make package` adds: the Python module's build and tests; help2man writes the man page;
 # dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page;
-# lintian checks the package (make package-check).
-PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db lintian
+# lintian checks the package and systemd-analyze (Debian systemd) its service unit (make package-check).
+PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db lintian systemd
 
 .PHONY: deps program-deps fuzz-deps tidy-deps package-deps demo test build release bench fuzz tidy format format-check \
   package package-check clean
