@@ -187,6 +187,41 @@ TEST_F(ServeInbox, BadSidecarsAreOneSentenceInTheStatus) {
   EXPECT_EQ(serve->Stop(), 0);
 }
 
+// A test that fails screening (a clipped channel): recorded as `napkin run` records it, shown in the
+// status with its sentence at once, and not tried again.
+TEST_F(ServeInbox, ScreeningFailureIsShownAndNotRetried) {
+  const auto serve = Serve({"--settle", "0.5"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  synth::SyntheticTest test = SynthNapTest(109);
+  auto clipped = test.signals.samples.col(test.signals.FindSlot("cg_z"));
+  const double clip = 0.5 * clipped.cwiseAbs().maxCoeff();
+  clipped = clipped.cwiseMax(-clip).cwiseMin(clip);
+  fs::create_directories(inbox_ / "sled" / "a");
+  formats::WriteSignalsCsv(test.signals, inbox_ / "sled" / "a" / "clipped.csv");
+  WriteTest(inbox_ / "sled" / "a" / "clean.csv", 110);
+  const Json status = WaitFor(*serve, "/api/v1/status", [](const Json& s) {
+    return s.at("inbox").at("failed") == 1 && s.at("inbox").at("processed") == 1;
+  });
+  const Json& failures = status.at("catalogue").at("failures");
+  ASSERT_EQ(failures.size(), 1u) << status.dump(2);
+  EXPECT_EQ(failures.at(0).at("test_id"), "clipped");
+  const std::string sentence = failures.at(0).at("error");
+  EXPECT_NE(sentence.find("cg_z"), std::string::npos) << sentence;
+  bool shown = false;
+  for (const Json& event : status.at("inbox").at("events"))
+    shown = shown || (event.at("kind") == "failed" && event.value("test_id", "") == "clipped" &&
+                      event.at("message") == sentence);
+  EXPECT_TRUE(shown) << status.dump(2);
+  // The same sentence `napkin status` gives; no second attempt.
+  const Json cli = Json::parse(Napkin({"status", "--format", "json"}).out);
+  EXPECT_EQ(cli.at("failures"), failures);
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const Json later = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(later.at("inbox").at("failed"), 1);
+  EXPECT_EQ(later.at("inbox").at("imported"), 2);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
 TEST_F(ServeInbox, RemovedBeforeSettlingIsSaid) {
   const auto serve = Serve({"--settle", "3600", "--poll", "0.2"});
   ASSERT_GT(serve->port(), 0) << serve->log();
