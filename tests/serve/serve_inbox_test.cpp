@@ -301,6 +301,47 @@ TEST_F(ServeInbox, KillNineAndRestartLoseAndDuplicateNothing) {
   EXPECT_EQ(catalogue.Query(db::QueryKind::kHic).rows.size(), 12u);
 }
 
+// kill -9 while the run scheduler holds leases (tests of 20,000 samples: processing takes a while
+// under the sanitizers), then a restart: every test exactly once.
+TEST_F(ServeInbox, KillNineDuringProcessingAndRestartLoseAndDuplicateNothing) {
+  for (int i = 0; i < 8; ++i) {
+    fs::create_directories(inbox_ / "sled" / "a");
+    formats::WriteSignalsCsv(SynthNapTest(400 + i, 2.0).signals,
+                             inbox_ / "sled" / "a" / ("p" + std::to_string(i) + ".csv"));
+  }
+  bool killed_while_running = false;
+  {
+    const auto serve = Serve({"--settle", "0"});
+    ASSERT_GT(serve->port(), 0) << serve->log();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline) {
+      const httplib::Result status = serve->Client()->Get("/api/v1/status");
+      if (status && status->status == 200) {
+        const Json catalogue = Json::parse(status->body).at("catalogue");
+        if (catalogue.contains("running") && catalogue.at("running").get<int>() > 0) {
+          killed_while_running = true;
+          break;
+        }
+        if (catalogue.contains("done") && catalogue.at("done").get<int>() == 8) break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    EXPECT_EQ(serve->Stop(SIGKILL), -1);
+  }
+  EXPECT_TRUE(killed_while_running) << "processing ended before a job was seen running";
+  const auto serve = Serve({"--settle", "0"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WaitFor(
+      *serve, "/api/v1/status", [](const Json& s) { return s.at("catalogue").value("done", 0) == 8; }, 240);
+  const Json status = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(status.at("catalogue").at("tests"), 8);
+  EXPECT_EQ(status.at("catalogue").at("failed"), 0);
+  EXPECT_EQ(status.at("catalogue").at("running"), 0);
+  EXPECT_EQ(serve->Stop(), 0);
+  db::Catalogue catalogue = OpenForReading(db_);
+  EXPECT_EQ(catalogue.Query(db::QueryKind::kHic).rows.size(), 8u);
+}
+
 TEST_F(ServeInbox, SigtermWhileProcessingExitsZeroAndARestartFinishes) {
   for (int i = 0; i < 12; ++i) WriteTest(inbox_ / "sled" / "a" / ("s" + std::to_string(i) + ".csv"), 300 + i);
   {

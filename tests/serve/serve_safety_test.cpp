@@ -1,13 +1,19 @@
 // `napkin serve` safe by default (docs/serve.md "Safety") and its stop on
 // SIGTERM: the built binary, a loopback port, every wait bounded.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <sqlite3.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/error.h"
@@ -127,6 +133,48 @@ TEST_F(ServeSafety, LockedCatalogueIsA503SayingSo) {
   sqlite3_close(holder);
   // The next request after the lock is released (an exclusive-mode connection releases it on close).
   EXPECT_EQ(serve.Client()->Get("/api/v1/query/hic")->status, 200);
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
+// More connections than the request thread and its queue take: the one beyond is answered 503 at
+// once and closed; the service then serves again.
+TEST_F(ServeSafety, ConnectionsBeyondTheQueueAre503) {
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--threads", "1"});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  const auto connect_to = [&] {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(serve.port()));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+    return fd;
+  };
+  // One silent connection holds the thread (until the 5 s read timeout), 16 more fill its queue.
+  std::vector<int> silent;
+  for (int i = 0; i < 17; ++i) {
+    silent.push_back(connect_to());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // accepted in this order
+  }
+  const int extra = connect_to();
+  const std::string request = "GET /healthz HTTP/1.1\r\nHost: localhost\r\n\r\n";
+  ASSERT_EQ(send(extra, request.data(), request.size(), 0), static_cast<ssize_t>(request.size()));
+  std::string answer;
+  char buffer[4096];
+  for (ssize_t n; (n = recv(extra, buffer, sizeof buffer, 0)) > 0;)
+    answer.append(buffer, static_cast<std::size_t>(n));
+  close(extra);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 503", 0), 0u) << answer;
+  EXPECT_NE(answer.find("more connections than it can queue"), std::string::npos) << answer;
+  for (const int fd : silent) close(fd);
+  // Served again once the silent connections are gone.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  int status = 0;
+  while (status != 200 && std::chrono::steady_clock::now() < deadline) {
+    const httplib::Result result = serve.Client()->Get("/healthz");
+    status = result ? result->status : 0;
+  }
+  EXPECT_EQ(status, 200);
   EXPECT_EQ(serve.Stop(), 0);
 }
 
