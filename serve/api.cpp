@@ -1,5 +1,6 @@
 #include "serve/api.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -36,16 +37,20 @@ db::Catalogue OpenForRequest(const ApiOptions& options) {
   return db::Catalogue::Open(options.db_path, open);
 }
 
+// The error for parameter `name`, which is not one of `known`.
+UsageError UnknownParameter(const std::string& name, std::initializer_list<std::string_view> known) {
+  std::string list;
+  for (std::string_view k : known) {
+    if (!list.empty()) list += ", ";
+    list += k;
+  }
+  return UsageError("unknown parameter '" + name + "' (this route takes " + list + ").");
+}
+
 // Every parameter of `params` is one of `known`; a misspelt one is a 400, not a silent no-op.
 void CheckParameters(const Params& params, std::initializer_list<std::string_view> known) {
-  for (const auto& [name, value] : params) {
-    bool found = false;
-    for (std::string_view k : known) found = found || k == name;
-    if (found) continue;
-    std::string list;
-    for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-    throw UsageError("unknown parameter '" + name + "' (this route takes " + list + ").");
-  }
+  for (const auto& [name, value] : params)
+    if (std::find(known.begin(), known.end(), name) == known.end()) throw UnknownParameter(name, known);
 }
 
 std::vector<std::string> All(const Params& params, const std::string& name) {

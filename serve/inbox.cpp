@@ -273,7 +273,9 @@ void Inbox::LookAtInbox() {
   std::map<std::string, std::vector<std::string>> to_run;  // config -> test ids
   try {
     db::Catalogue catalogue = db::Catalogue::Open(options_.db_path, open);
-    for (const auto& [test, signature] : settled) {
+    for (const auto& settled_test : settled) {
+      const Found& test = settled_test.first;
+      const std::string& signature = settled_test.second;
       if (stop_) return;
       const std::string source = test.input.source.string();
       const auto done = [&] {

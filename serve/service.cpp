@@ -1,6 +1,11 @@
 #include "serve/service.h"
 
 #include <httplib.h>
+// httplib.h includes glibc's <resolv.h>, whose macro _res (the resolver's state) is a parameter
+// name in Eigen's headers, which the catalogue's headers below include.
+#ifdef _res
+#undef _res
+#endif
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
@@ -35,7 +40,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 // docs/serve.md "Safety": the bounds of a request.
-constexpr std::size_t kMaxPayloadBytes = 64 * 1024;  // GET only: a body is never needed
+constexpr std::size_t kMaxPayloadBytes = std::size_t{64} * 1024;  // GET only: a body is never needed
 constexpr std::size_t kMaxHeaders = 100;
 constexpr time_t kReadTimeoutS = 5;
 constexpr time_t kWriteTimeoutS = 30;  // a large channels CSV to a slow client

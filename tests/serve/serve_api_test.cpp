@@ -313,6 +313,7 @@ TEST_F(ServeApi, ReportIsTheCommandLinesPageWithALiveScript) {
 TEST_F(ServeApi, ConcurrentClientsAllGetTheSameAnswer) {
   const std::string expected = Get("/api/v1/query/hic?limit=100")->body;
   std::vector<std::thread> clients;
+  clients.reserve(8);
   std::atomic<int> good{0};
   for (int c = 0; c < 8; ++c)
     clients.emplace_back([&] {

@@ -19,6 +19,7 @@
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/serve/serve_test_util.h"
+#include "tests/support/test_support.h"
 
 namespace napkin::test_support {
 namespace {

@@ -206,7 +206,9 @@ TEST(ServeOptions, TokensEqualOnlyWhenEqual) {
 }
 
 TEST(ServeErrors, CategoriesGiveTheirStatus) {
-  const auto status = [](std::exception_ptr error) { return serve::ErrorResponse(error, "lab.db").status; };
+  const auto status = [](const std::exception_ptr& error) {
+    return serve::ErrorResponse(error, "lab.db").status;
+  };
   EXPECT_EQ(status(std::make_exception_ptr(UsageError("bad where."))), 400);
   EXPECT_EQ(status(std::make_exception_ptr(InputError("bad file."))), 400);
   EXPECT_EQ(status(std::make_exception_ptr(NotFoundError("no test."))), 404);
