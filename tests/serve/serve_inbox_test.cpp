@@ -123,6 +123,48 @@ TEST_F(ServeInbox, InotifyImportsAndProcessesWithTheCommandLinesNumbers) {
   EXPECT_EQ(serve->Stop(), 0) << serve->log();
 }
 
+// The live report in headless Chromium: a test dropped into the inbox after the page was loaded
+// appears on it without anyone reloading it (the page's script does, when the series changes).
+TEST_F(ServeInbox, LiveReportShowsANewTestWithoutAReload) {
+  std::string chromium;
+  for (const char* path : {"/usr/bin/chromium", "/usr/bin/chromium-headless-shell"})
+    if (fs::exists(path)) chromium = path;
+  if (chromium.empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
+  const auto serve = Serve({"--settle", "3600"});  // only markers import: the test says when
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WriteTest(inbox_ / "sled" / "production" / "early-test.csv", 111);
+  WriteText(inbox_ / "sled" / "production" / "early-test.ready", "");
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  const auto requests = [&] {
+    return Json::parse(serve->Client()->Get("/api/v1/status")->body).at("service").at("requests").get<int>();
+  };
+  int own = 0;  // this test's status requests since `before`
+  const int before = requests();
+  // Virtual time: the page's 3 s polls follow each other as fast as the service answers them;
+  // 200 of them leave the inbox seconds to import and process the new test.
+  const fs::path dom = dir_ / "dom.html";
+  const pid_t browser =
+      StartProgram("/usr/bin/timeout",
+                   {"120", chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                    "--disable-extensions", "--user-data-dir=" + (dir_ / "profile").string(),
+                    "--virtual-time-budget=600000", "--dump-dom",
+                    "http://127.0.0.1:" + std::to_string(serve->port()) + "/report?series=sled"},
+                   dom, dir_ / "chromium.err", dir_.path());
+  // Once the page is loaded and polling (the page and two version requests), the second test arrives.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (requests() - before - ++own < 3 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the page never polled";
+  WriteTest(inbox_ / "sled" / "foam-a" / "newcomer-test.csv", 112);
+  WriteText(inbox_ / "sled" / "foam-a" / "newcomer-test.ready", "");
+  EXPECT_EQ(WaitProgram(browser), 0) << ReadText(dir_ / "chromium.err");
+  const std::string page = ReadText(dom);
+  // The page was loaded (and polled twice) before newcomer-test existed.
+  EXPECT_NE(page.find("early-test"), std::string::npos);
+  EXPECT_NE(page.find("newcomer-test"), std::string::npos) << "the open page did not show the new test";
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
 TEST_F(ServeInbox, PollingFindsTestsAndAHalfWrittenFileWaitsUntilSettled) {
   const auto serve = Serve({"--settle", "3", "--poll", "0.5"});
   ASSERT_GT(serve->port(), 0) << serve->log();
