@@ -12,8 +12,8 @@ BUILD_FUZZ ?= build/fuzz
 BUILD_TIDY ?= build/tidy
 BUILD_PACKAGE ?= build/package
 # What the program needs (make demo): Boost.Math for compare's t distribution,
-# dygraphs embedded into the binary for report's charts. What the tests and
-# benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
+# dygraphs embedded into the binary for report's charts, cpp-httplib for `napkin serve`. What
+# the tests and benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
 # gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
 # the reprocess test on a private single-node cluster (tests/slurm).
 # The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame; mypy
@@ -23,7 +23,8 @@ PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3
 # test_compare_statistics.py): scipy's t distributions, statsmodels' TOST and power.
 STATISTICS_TEST_PACKAGES := python3-scipy python3-statsmodels
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev \
+  libcpp-httplib-dev
 DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
   chromium time slurm-wlm munge $(PYTHON_PACKAGES) $(STATISTICS_TEST_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
@@ -34,8 +35,8 @@ TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev 
   clang-tidy clang
 # What `make package` adds: the Python module's build and tests; help2man writes the man page;
 # dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page;
-# lintian checks the package (make package-check).
-PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db lintian
+# lintian checks the package and systemd-analyze (Debian systemd) its service unit (make package-check).
+PACKAGE_PACKAGES := $(PROGRAM_PACKAGES) $(PYTHON_PACKAGES) help2man dpkg-dev file man-db lintian systemd
 
 .PHONY: deps program-deps fuzz-deps tidy-deps package-deps demo test build release bench fuzz tidy format format-check \
   package package-check clean

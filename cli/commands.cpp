@@ -15,6 +15,7 @@ std::unique_ptr<Command> MakeMergeCommand();
 std::unique_ptr<Command> MakeCompareCommand();
 std::unique_ptr<Command> MakeReportCommand();
 std::unique_ptr<Command> MakeCorrelateCommand();
+std::unique_ptr<Command> MakeServeCommand();
 
 std::vector<std::unique_ptr<Command>> MakeCommands() {
   std::vector<std::unique_ptr<Command>> commands;
@@ -31,6 +32,7 @@ std::vector<std::unique_ptr<Command>> MakeCommands() {
   commands.push_back(MakeMergeCommand());
   commands.push_back(MakeReportCommand());
   commands.push_back(MakeCorrelateCommand());
+  commands.push_back(MakeServeCommand());
   return commands;
 }
 

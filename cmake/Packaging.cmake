@@ -63,6 +63,10 @@ file(MAKE_DIRECTORY ${_packaging_dir})
 add_custom_target(napkin_package_docs ALL DEPENDS ${_man_page}.gz ${_completion} ${_changelog}.gz)
 install(FILES ${_man_page}.gz DESTINATION share/man/man1)
 install(FILES ${_completion} DESTINATION share/bash-completion/completions RENAME napkin)
+# `napkin serve` as a system service (docs/serve.md "Running it as a service"): the systemd unit,
+# installed disabled, and its settings, a conffile (packaging/conffiles) that an upgrade keeps.
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/napkin-serve.service DESTINATION /lib/systemd/system)
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/napkin.default DESTINATION /etc/default RENAME napkin)
 # Debian policy 12.5: the copyright file, uncompressed, in machine-readable DEP-5 format.
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/copyright ${_changelog}.gz DESTINATION share/doc/napkin)
 
@@ -75,7 +79,7 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_STRIP_FILES ON)  # Debian policy 10.1: binaries are stripped
 # The maintainer script: prerm removes the bytecode python3 wrote beside the module, which dpkg
 # does not know (packaging/prerm); mode 0755 as lintian wants.
-set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/packaging/prerm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/packaging/prerm ${PROJECT_SOURCE_DIR}/packaging/conffiles)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(NAPKIN_PACKAGE_MAINTAINER "napkin maintainers <maintainers@users.noreply.h-seed-27ac8218.example>"
     CACHE STRING "The Debian package's Maintainer field")
@@ -92,8 +96,9 @@ CSV) and the injury criteria (HIC, BrIC, ...) with their risk curves, and keeps
 tests and results in a SQLite catalogue that it queries, compares and reports.
 
 The package holds the napkin command with its array and processing presets,
-the Python module napkin (numpy in and out), the manual page and a bash
-completion.")
+the Python module napkin (numpy in and out), the manual page, a bash
+completion and the systemd unit napkin-serve.service (napkin serve: an HTTP
+API over the catalogue and an inbox processed as tests arrive).")
 # Depends: the shared libraries' packages, computed by dpkg-shlibdeps over the installed ELF
 # files (napkin and the Python extension), never typed by hand. CPack appends them to
 # CPACK_DEBIAN_PACKAGE_DEPENDS, which holds what dpkg-shlibdeps cannot see: the Python

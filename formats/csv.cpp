@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <type_traits>
 
@@ -365,7 +366,11 @@ std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics
   return channels;
 }
 
-void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& file) {
+namespace {
+
+// The derived-channel CSV line by line into `write` (the file, or the text of DerivedCsvText).
+void WriteDerivedCsvLines(const engine::Kinematics& kinematics,
+                          const std::function<void(const std::string&)>& write) {
   // At least 9 significant digits are required (docs/formats.md); 12 keep the
   // file readable and well inside the precision of the solution.
   constexpr int kDigits = 12;
@@ -376,7 +381,7 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& fil
     line += channel.name;
   }
   line += '\n';
-  file.Write(line);
+  write(line);
   // A channel the test does not have, and a non-finite value, leave the
   // cell empty (docs/formats.md "Derived channels").
   for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
@@ -387,8 +392,20 @@ void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& fil
       if (values.size() > 0 && std::isfinite(values[k])) util::AppendNumber(line, values[k], kDigits);
     }
     line += '\n';
-    file.Write(line);
+    write(line);
   }
+}
+
+}  // namespace
+
+void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& file) {
+  WriteDerivedCsvLines(kinematics, [&](const std::string& line) { file.Write(line); });
+}
+
+std::string DerivedCsvText(const engine::Kinematics& kinematics) {
+  std::string text;
+  WriteDerivedCsvLines(kinematics, [&](const std::string& line) { text += line; });
+  return text;
 }
 
 void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path) {

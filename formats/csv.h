@@ -106,5 +106,7 @@ std::vector<DerivedChannel> DerivedChannels(const engine::Kinematics& kinematics
 void WriteDerivedCsv(const engine::Kinematics& kinematics, const std::filesystem::path& path);
 // The same into an output already opened (several outputs committed together).
 void WriteDerivedCsv(const engine::Kinematics& kinematics, util::AtomicFile& file);
+// The same bytes as text (`napkin serve`'s channels route, docs/serve.md).
+std::string DerivedCsvText(const engine::Kinematics& kinematics);
 
 }  // namespace napkin::formats

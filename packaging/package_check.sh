@@ -12,6 +12,8 @@
 #     the packaged napkin and module;
 #   - Depends names the runtime libraries (TBB, SQLite, spdlog/fmt, libzip; dpkg-shlibdeps);
 #   - lintian reports no errors (E:);
+#   - the systemd unit napkin-serve.service passes `systemd-analyze verify` (its ExecStart pointed
+#     at the packaged napkin), and /etc/default/napkin is a conffile;
 #   - the completion completes file names with spaces and --option=value;
 #   - dpkg installs it into a private root (never /) and purges it without leaving a file behind,
 #     although python3 wrote bytecode beside the module in between.
@@ -43,7 +45,7 @@ for file in usr/bin/napkin usr/share/napkin/config/arrays/denton-3222.json \
     usr/share/napkin/config/processing/default.json usr/share/man/man1/napkin.1.gz \
     usr/share/bash-completion/completions/napkin usr/lib/python3/dist-packages/napkin/__init__.py \
     usr/lib/python3/dist-packages/napkin/__init__.pyi usr/lib/python3/dist-packages/napkin/_napkin.pyi \
-    usr/lib/python3/dist-packages/napkin/py.typed; do
+    usr/lib/python3/dist-packages/napkin/py.typed lib/systemd/system/napkin-serve.service etc/default/napkin; do
   [ -f "$root/$file" ] || fail "the package has no /$file."
 done
 python_extension=("$site"/napkin/_napkin*.so "$site"/_napkin*.so)
@@ -65,6 +67,17 @@ lintian_output=$(lintian --fail-on none --tag-display-limit 0 "$deb" 2>&1) ||
   fail "lintian could not check $deb: $lintian_output"
 [ -z "$lintian_output" ] || echo "$lintian_output"
 ! grep -q '^E: ' <<< "$lintian_output" || fail "lintian reports errors (E:) on $deb (above)."
+
+# The systemd unit: systemd's own checker, with the unit's commands pointed at the packaged napkin
+# (it checks that they are executable); any complaint fails, a warning included.
+step "systemd-analyze verify napkin-serve.service"
+mkdir -p "$work/unit"
+sed "s|/usr/bin/napkin|$napkin|g" "$root/lib/systemd/system/napkin-serve.service" > "$work/unit/napkin-serve.service"
+verify_output=$(systemd-analyze verify --man=no "$work/unit/napkin-serve.service" 2>&1) ||
+  fail "systemd-analyze verify rejects napkin-serve.service: $verify_output"
+[ -z "$verify_output" ] || fail "systemd-analyze verify warns about napkin-serve.service: $verify_output"
+dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles | grep -qx /etc/default/napkin ||
+  fail "/etc/default/napkin is not a conffile of $deb."
 
 cd "$work"  # nothing below may pick up the source or build tree by accident
 unset NAPKIN_CONFIG_DIR

@@ -1,0 +1,267 @@
+#include "serve/api.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <vector>
+
+#include "app/comparison.h"
+#include "app/failure.h"
+#include "app/query.h"
+#include "app/report_builder.h"
+#include "app/result_selection.h"
+#include "app/table_output.h"
+#include "common/error.h"
+#include "db/catalogue.h"
+#include "formats/csv.h"
+
+namespace napkin::serve {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Text that may hold bytes that are not UTF-8 (stored names of an older napkin): U+FFFD, never a failure.
+std::string Dump(const Json& json) {
+  return json.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+// The catalogue opened read-only for one request: a request never writes it
+// (docs/serve.md "Safety").
+db::Catalogue OpenForRequest(const ApiOptions& options) {
+  db::CatalogueOptions open;
+  open.read_only = true;
+  open.busy_timeout_ms = options.busy_timeout_ms;
+  return db::Catalogue::Open(options.db_path, open);
+}
+
+// The error for parameter `name`, which is not one of `known`.
+UsageError UnknownParameter(const std::string& name, std::initializer_list<std::string_view> known) {
+  std::string list;
+  for (std::string_view k : known) {
+    if (!list.empty()) list += ", ";
+    list += k;
+  }
+  return UsageError("unknown parameter '" + name + "' (this route takes " + list + ").");
+}
+
+// Every parameter of `params` is one of `known`; a misspelt one is a 400, not a silent no-op.
+void CheckParameters(const Params& params, std::initializer_list<std::string_view> known) {
+  for (const auto& [name, value] : params)
+    if (std::find(known.begin(), known.end(), name) == known.end()) throw UnknownParameter(name, known);
+}
+
+std::vector<std::string> All(const Params& params, const std::string& name) {
+  std::vector<std::string> values;
+  const auto [first, last] = params.equal_range(name);
+  for (auto it = first; it != last; ++it) values.push_back(it->second);
+  return values;
+}
+
+// A parameter given at most once; empty when absent.
+std::optional<std::string> One(const Params& params, const std::string& name) {
+  if (params.count(name) > 1) throw UsageError("parameter '" + name + "' is given more than once.");
+  const auto it = params.find(name);
+  if (it == params.end()) return std::nullopt;
+  return it->second;
+}
+
+// One row of `table` as an object, keys the columns in order (as FormatTable's JSON).
+Json RowObject(const db::Table& table, const std::vector<db::Cell>& row) {
+  // FormatTable is the one place that turns cells into JSON: its array's one object.
+  db::Table one{table.columns, {row}};
+  return Json::parse(app::FormatTable(one, app::TableFormat::kJson)).at(0);
+}
+
+// The series a report route names: exactly one, never empty.
+std::string SeriesOf(const Params& params) {
+  CheckParameters(params, {"series"});
+  const std::optional<std::string> series = One(params, "series");
+  if (!series || series->empty())
+    throw UsageError("parameter 'series' is required (the series the report shows).");
+  return *series;
+}
+
+// `text` as a JavaScript string literal inside an HTML <script>: JSON, ASCII only, and no "</"
+// that could end the script.
+std::string ScriptString(const std::string& text) {
+  std::string literal = Json(text).dump(-1, ' ', true, Json::error_handler_t::replace);
+  for (std::size_t at = literal.find("</"); at != std::string::npos; at = literal.find("</", at + 3))
+    literal.replace(at, 2, "<\\/");
+  return literal;
+}
+
+// How often the live report asks whether its series changed.
+constexpr int kReportPollMs = 3000;
+
+}  // namespace
+
+Response JsonError(int status, const std::string& sentence) {
+  return Response{status, "application/json", Dump(Json{{"error", sentence}})};
+}
+
+Response ErrorResponse(const std::exception_ptr& error, const std::string& db_path) {
+  const app::Failure failure = app::DescribeFailure(error, db_path);
+  int status = 500;
+  switch (failure.category) {
+    case app::FailureCategory::kUsage:
+    case app::FailureCategory::kInput:
+    case app::FailureCategory::kScreening:
+      status = 400;
+      break;
+    case app::FailureCategory::kNotFound:
+      status = 404;
+      break;
+    case app::FailureCategory::kCatalogueBusy:
+      status = 503;
+      break;
+    case app::FailureCategory::kCatalogue:
+    case app::FailureCategory::kOutOfMemory:
+    case app::FailureCategory::kInternal:
+      status = 500;
+      break;
+  }
+  return JsonError(status, failure.sentence);
+}
+
+Response Api::Query(std::string_view kind, const Params& params) const {
+  CheckParameters(params, {"where", "sort", "limit", "series", "variant", "config"});
+  app::Query query;
+  query.kind = std::string(kind);
+  query.filters.where = All(params, "where");
+  query.filters.sort = All(params, "sort");
+  query.filters.series = All(params, "series");
+  query.filters.variants = All(params, "variant");
+  query.filters.limit = One(params, "limit").value_or("");
+  query.filters.config = One(params, "config").value_or("");
+  // Checked before the catalogue is opened, as `napkin query` does (app/query.h).
+  const app::PreparedQuery prepared = app::PrepareQuery(query);
+  db::Catalogue catalogue = OpenForRequest(options_);
+  return Response{200, "application/json",
+                  app::FormatTable(app::RunQuery(catalogue, prepared), app::TableFormat::kJson)};
+}
+
+Response Api::TestSummary(const std::string& test_id) const {
+  db::Catalogue catalogue = OpenForRequest(options_);
+  if (!catalogue.FindTestByExternalId(test_id))
+    throw NotFoundError("test '" + test_id + "' is not in catalogue '" + options_.db_path + "'.");
+  Json summary;
+  summary["test_id"] = test_id;
+  for (const char* kind : {"tests", "hic", "rotation", "criteria", "risk", "quality"}) {
+    app::Query query;
+    query.kind = kind;
+    app::PreparedQuery prepared = app::PrepareQuery(query);
+    prepared.request.external_ids = {test_id};
+    const db::Table table = app::RunQuery(catalogue, prepared);
+    if (std::string_view(kind) == "quality") {
+      // A test has any number of findings: all of them.
+      Json findings = Json::array();
+      for (const std::vector<db::Cell>& row : table.rows) findings.push_back(RowObject(table, row));
+      summary[kind] = std::move(findings);
+    } else {
+      summary[kind] = table.rows.empty() ? Json(nullptr) : RowObject(table, table.rows.front());
+    }
+  }
+  return Response{200, "application/json", Dump(summary)};
+}
+
+Response Api::Channels(const std::string& test_id, const Params& params) const {
+  CheckParameters(params, {"format", "config"});
+  const std::string format = One(params, "format").value_or("csv");
+  if (format != "csv" && format != "json")
+    throw UsageError("parameter 'format' must be csv or json, not '" + format + "'.");
+  const std::optional<std::string> config = One(params, "config");
+  db::Catalogue catalogue = OpenForRequest(options_);
+  const app::TestResult result =
+      config ? app::ResultOf(catalogue, test_id, app::Stored{*config}, options_.db_path)
+             : app::ResultOf(catalogue, test_id, app::Latest{}, options_.db_path);
+  const engine::Kinematics kinematics = app::ReadResultKinematics(catalogue, result.test, result.config);
+  if (format == "csv") return Response{200, "text/csv", formats::DerivedCsvText(kinematics)};
+  // One key per derived-channel column in CSV order, in the CSV's units; a
+  // channel the test does not have is null, a non-finite sample null.
+  Json channels;
+  for (const formats::DerivedChannel& channel : formats::DerivedChannels(kinematics)) {
+    if (channel.values.size() == 0) {
+      channels[channel.name] = nullptr;
+      continue;
+    }
+    Json values = Json::array();
+    for (Eigen::Index k = 0; k < channel.values.size(); ++k)
+      values.push_back(std::isfinite(channel.values[k]) ? Json(channel.values[k]) : Json(nullptr));
+    channels[channel.name] = std::move(values);
+  }
+  return Response{200, "application/json",
+                  Dump(Json{{"test_id", test_id}, {"channels", std::move(channels)}})};
+}
+
+Response Api::Compare(const Params& params) const {
+  CheckParameters(params, {"series", "baseline", "by", "metrics", "scale", "config", "equivalence"});
+  app::ComparisonRequest request;
+  const std::optional<std::string> series = One(params, "series");
+  if (!series) throw UsageError("parameter 'series' is required (the series whose tests are compared).");
+  request.series = *series;
+  request.by = app::ParseCompareBy(One(params, "by").value_or("variant"));
+  request.baseline = One(params, "baseline");
+  request.scale = app::ParseCompareScale(One(params, "scale").value_or("log"));
+  request.equivalence_pct = app::ParseEquivalencePct(One(params, "equivalence").value_or("10"));
+  request.configs = All(params, "config");
+  if (const std::optional<std::string> metrics = One(params, "metrics")) {
+    // Comma-separated, as compare's --metrics.
+    std::string metric;
+    for (const char c : *metrics + ",") {
+      if (c != ',') {
+        metric += c;
+      } else if (!metric.empty()) {
+        request.metrics.push_back(std::move(metric));
+        metric.clear();
+      }
+    }
+  }
+  db::Catalogue catalogue = OpenForRequest(options_);
+  return Response{200, "application/json",
+                  app::FormatComparison(app::BuildComparison(catalogue, request), app::TableFormat::kJson)};
+}
+
+Response Api::ReportVersion(const Params& params) const {
+  const std::string series = SeriesOf(params);
+  db::Catalogue catalogue = OpenForRequest(options_);
+  // Every test of the series and every field of its latest results (query tests and criteria):
+  // a test that arrives, a result computed or recomputed changes one of them.
+  std::string rows;
+  for (const char* kind : {"tests", "criteria"}) {
+    app::Query query;
+    query.kind = kind;
+    query.filters.series = {series};
+    rows += app::FormatTable(app::RunQuery(catalogue, app::PrepareQuery(query)), app::TableFormat::kCsv);
+  }
+  // FNV-1a, 64 bits: the same rows give the same version in every process.
+  std::uint64_t hash = 14695981039346656037ull;
+  for (const char c : rows) hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return Response{200, "application/json", Dump(Json{{"version", hex}})};
+}
+
+Response Api::Report(const Params& params) const {
+  const std::string series = SeriesOf(params);
+  const std::string version = Json::parse(ReportVersion(params).body).at("version").get<std::string>();
+  app::ReportSelection selection;
+  selection.series = {series};
+  std::string page;
+  app::WriteCatalogueReport(options_.db_path, selection, [&](std::string_view text) { page.append(text); });
+  // The page reloads itself when its series changes; the script goes before </body>.
+  const std::string script =
+      "<script>\n(function () {\n  const version = " + ScriptString(version) +
+      ";\n  const url = '/api/v1/report/version?series=' + encodeURIComponent(" + ScriptString(series) +
+      ");\n  setInterval(function () {\n" +
+      "    fetch(url).then(function (r) { return r.json(); }).then(function (answer) {\n" +
+      "      if (answer.version && answer.version !== version) location.reload();\n" +
+      "    }).catch(function () {});\n  }, " + std::to_string(kReportPollMs) + ");\n})();\n</script>\n";
+  const std::size_t body_end = page.rfind("</body>");
+  page.insert(body_end == std::string::npos ? page.size() : body_end, script);
+  return Response{200, "text/html; charset=utf-8", std::move(page)};
+}
+
+}  // namespace napkin::serve

@@ -1,0 +1,77 @@
+#pragma once
+// The read-only HTTP API of `napkin serve` (docs/serve.md "HTTP API"), as
+// functions from a request's parameters to a response, without the HTTP
+// server (serve/http_service.h routes to them): each answers from the
+// catalogue opened read-only for that request, with the rows, keys and bytes
+// of the command-line output it mirrors (`napkin query KIND --format json`,
+// `napkin compare --format json`, `napkin export --format csv`), and each
+// failure is JSON {"error": sentence} with the sentence the command line
+// would print (app/failure.h) and a status fitting it (ErrorResponse).
+#include <exception>
+#include <map>
+#include <string>
+#include <string_view>
+
+namespace napkin::serve {
+
+// A request's query parameters, repeated names in order (httplib::Params).
+using Params = std::multimap<std::string, std::string>;
+
+struct Response {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+};
+
+// {"error": sentence} with `status`.
+Response JsonError(int status, const std::string& sentence);
+
+// `error` as its category asks (app::DescribeFailure): 400 for a bad request
+// (a malformed where, sort or limit, an unknown parameter, bad input), 404
+// for a test that is not in the catalogue, 503 for a catalogue locked longer
+// than the busy timeout, 500 otherwise.
+Response ErrorResponse(const std::exception_ptr& error, const std::string& db_path);
+
+struct ApiOptions {
+  std::string db_path;
+  // How long a request waits for a catalogue another process holds locked before it
+  // answers 503 (db::CatalogueOptions::busy_timeout_ms).
+  int busy_timeout_ms = 10000;
+};
+
+class Api {
+ public:
+  explicit Api(ApiOptions options) : options_(std::move(options)) {}
+
+  // GET /api/v1/tests: `napkin query tests --format json`.
+  Response Tests(const Params& params) const { return Query("tests", params); }
+  // GET /api/v1/query/KIND?where=&sort=&limit=&series=&variant=&config=: `napkin
+  // query KIND --format json` with the same options (where, sort, series and
+  // variant repeatable, as on the command line).
+  Response Query(std::string_view kind, const Params& params) const;
+  // GET /api/v1/tests/ID: the test's row of each query (tests, hic, rotation,
+  // criteria, risk; null where it has none) and its quality findings.
+  Response TestSummary(const std::string& test_id) const;
+  // GET /api/v1/tests/ID/channels?format=csv|json&config=: the derived
+  // channels of its latest result (or of the stored config), as `napkin
+  // export --format csv` writes them, or as a JSON object of columns.
+  Response Channels(const std::string& test_id, const Params& params) const;
+  // GET /api/v1/compare?series=&baseline=&by=&metrics=&scale=&config=: `napkin
+  // compare --format json`.
+  Response Compare(const Params& params) const;
+
+  // GET /report?series=S: `napkin report --series S` (app/report_builder.h),
+  // with a script that asks ReportVersion every few seconds and reloads the
+  // page when the answer changes (docs/serve.md "Live report").
+  Response Report(const Params& params) const;
+  // GET /api/v1/report/version?series=S: {"version": V}, V changing whenever a
+  // test or result of the series does.
+  Response ReportVersion(const Params& params) const;
+
+  const ApiOptions& options() const { return options_; }
+
+ private:
+  ApiOptions options_;
+};
+
+}  // namespace napkin::serve

@@ -1,0 +1,456 @@
+#include "serve/service.h"
+
+#include <httplib.h>
+// httplib.h includes glibc's <resolv.h>, whose macro _res (the resolver's state) is a parameter
+// name in Eigen's headers, which the catalogue's headers below include.
+#ifdef _res
+#undef _res
+#endif
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "app/failure.h"
+#include "common/error.h"
+#include "common/version.h"
+#include "db/catalogue.h"
+#include "db/job_queue.h"
+#include "records/config_record.h"
+#include "serve/api.h"
+#include "serve/inbox.h"
+
+namespace napkin::serve {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// docs/serve.md "Safety": the bounds of a request.
+constexpr std::size_t kMaxPayloadBytes = std::size_t{64} * 1024;  // GET only: a body is never needed
+constexpr std::size_t kMaxHeaders = 100;
+constexpr time_t kReadTimeoutS = 5;
+constexpr time_t kWriteTimeoutS = 30;  // a large channels CSV to a slow client
+constexpr time_t kKeepAliveTimeoutS = 5;
+constexpr std::size_t kKeepAliveMaxRequests = 100;
+// Connections accepted but not yet served, per request thread; beyond them a
+// connection is answered 503 at once and closed.
+constexpr std::size_t kQueuedConnectionsPerThread = 16;
+
+// Set on the accepting thread while it answers a connection the pool has no room for.
+thread_local bool tls_overloaded = false;
+
+// httplib's thread pool with a bound on the connections waiting for a thread.
+class BoundedPool final : public httplib::TaskQueue {
+ public:
+  BoundedPool(std::size_t threads, std::size_t max_queued) : max_queued_(max_queued) {
+    for (std::size_t i = 0; i < threads; ++i) threads_.emplace_back([this] { Work(); });
+  }
+
+  void enqueue(std::function<void()> fn) override {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (jobs_.size() < max_queued_) {
+        jobs_.push_back(std::move(fn));
+        cond_.notify_one();
+        return;
+      }
+    }
+    // Full: the connection is read and answered 503 here (bounded by the read timeout), so that its
+    // socket is closed by the code that owns it.
+    tls_overloaded = true;
+    fn();
+    tls_overloaded = false;
+  }
+
+  void shutdown() override {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      shutdown_ = true;
+    }
+    cond_.notify_all();
+    for (std::thread& thread : threads_) thread.join();
+  }
+
+ private:
+  void Work() {
+    for (;;) {
+      std::function<void()> fn;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        cond_.wait(lock, [this] { return !jobs_.empty() || shutdown_; });
+        // Connections accepted before the signal are still served.
+        if (jobs_.empty()) return;
+        fn = std::move(jobs_.front());
+        jobs_.pop_front();
+      }
+      fn();
+    }
+  }
+
+  std::size_t max_queued_;
+  std::vector<std::thread> threads_;
+  std::deque<std::function<void()>> jobs_;
+  std::mutex mutex_;
+  std::condition_variable cond_;
+  bool shutdown_ = false;
+};
+
+void Send(httplib::Response& res, const Response& response) {
+  res.status = response.status;
+  res.set_content(response.body, response.content_type.c_str());
+}
+
+// Requests answered, by status code, and their time (GET /metrics).
+class Counters {
+ public:
+  void Count(int status) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++by_status_[status];
+  }
+  void Time(double seconds) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    seconds_ += seconds;
+  }
+  std::int64_t Total() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::int64_t total = 0;
+    for (const auto& [status, count] : by_status_) total += count;
+    return total;
+  }
+  std::string Prometheus() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::string text =
+        "# HELP napkin_http_requests_total HTTP requests answered, by status code.\n"
+        "# TYPE napkin_http_requests_total counter\n";
+    for (const auto& [status, count] : by_status_)
+      text += "napkin_http_requests_total{code=\"" + std::to_string(status) + "\"} " + std::to_string(count) +
+              "\n";
+    text +=
+        "# HELP napkin_http_request_seconds_total Time spent answering HTTP requests.\n"
+        "# TYPE napkin_http_request_seconds_total counter\n"
+        "napkin_http_request_seconds_total " +
+        std::to_string(seconds_) + "\n";
+    return text;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<int, std::int64_t> by_status_;
+  double seconds_ = 0;
+};
+
+// The catalogue's state for the default processing config, as `napkin status --format json`.
+Json CatalogueStatus(const ApiOptions& options) {
+  db::CatalogueOptions open;
+  open.read_only = true;
+  open.busy_timeout_ms = options.busy_timeout_ms;
+  db::Catalogue catalogue = db::Catalogue::Open(options.db_path, open);
+  const records::ResolvedConfig resolved = records::ResolveConfig("");
+  const db::ConfigId config =
+      catalogue.FindConfigByHash(resolved.record.config_hash).value_or(db::ConfigId{0});
+  const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(config);
+  Json failures = Json::array();
+  for (const db::JobFailure& failure : counts.failures)
+    failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
+  return Json{{"path", options.db_path},        {"tests", counts.tests},     {"done", counts.done},
+              {"failed", counts.failed},        {"pending", counts.pending}, {"running", counts.running},
+              {"failures", std::move(failures)}};
+}
+
+// The status answers while another process holds the catalogue locked: after a
+// short wait, the catalogue's part is the sentence saying why it is missing.
+Json CatalogueStatusOrError(ApiOptions options) {
+  options.busy_timeout_ms = std::min(options.busy_timeout_ms, 1000);
+  try {
+    return CatalogueStatus(options);
+  } catch (...) {
+    return Json{{"path", options.db_path},
+                {"error", app::DescribeFailure(std::current_exception(), options.db_path).sentence}};
+  }
+}
+
+// Without the catalogue's counts (CatalogueStatusOrError's error): no lines.
+std::string CatalogueMetrics(const Json& status) {
+  if (status.contains("error")) return {};
+  std::string text =
+      "# HELP napkin_catalogue_tests Tests in the catalogue by state under the default config.\n"
+      "# TYPE napkin_catalogue_tests gauge\n";
+  for (const char* state : {"done", "failed", "pending", "running"})
+    text += std::string("napkin_catalogue_tests{state=\"") + state + "\"} " +
+            std::to_string(status.at(state).get<std::int64_t>()) + "\n";
+  return text;
+}
+
+// Blocks SIGTERM and SIGINT in this thread and every thread it starts: they are
+// taken by sigtimedwait in the signal thread only.
+sigset_t BlockStopSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  return set;
+}
+
+}  // namespace
+
+ListenAddress ParseListenAddress(std::string_view text) {
+  const auto bad = [&](const std::string& why) {
+    return UsageError("--listen '" + std::string(text) + "' " + why +
+                      " (give HOST:PORT, e.g. 127.0.0.1:8080).");
+  };
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string_view::npos || colon == 0) throw bad("has no host and port");
+  std::string host(text.substr(0, colon));
+  const std::string_view port_text = text.substr(colon + 1);
+  if (host.front() == '[') {
+    if (host.back() != ']') throw bad("has an unclosed '['");
+    host = host.substr(1, host.size() - 2);
+  } else if (host.find(':') != std::string::npos) {
+    throw bad("has an IPv6 address without brackets");
+  }
+  if (host.empty()) throw bad("has no host");
+  if (port_text.empty() || port_text.size() > 5) throw bad("has no port from 0 to 65535");
+  int port = 0;
+  for (const char c : port_text) {
+    if (!std::isdigit(static_cast<unsigned char>(c))) throw bad("has no port from 0 to 65535");
+    port = port * 10 + (c - '0');
+  }
+  if (port > 65535) throw bad("has no port from 0 to 65535");
+  return ListenAddress{host, port};
+}
+
+bool IsLoopbackHost(std::string_view host) {
+  if (host == "localhost" || host == "::1") return true;
+  // 127.0.0.0/8, written as a dotted quad.
+  if (!host.starts_with("127.")) return false;
+  int dots = 0;
+  for (const char c : host) {
+    if (c == '.')
+      ++dots;
+    else if (!std::isdigit(static_cast<unsigned char>(c)))
+      return false;
+  }
+  return dots == 3;
+}
+
+std::string ReadTokenFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("--token-file '" + path + "' cannot be read.");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string token = text.str();
+  while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+  if (token.size() < 16)
+    throw InputError("--token-file '" + path + "' holds " +
+                     (token.empty() ? "no token" : "a token shorter than 16 characters") +
+                     "; write a long random one, e.g. with `head -c 32 /dev/urandom | base64`.");
+  for (const char c : token)
+    if (std::isspace(static_cast<unsigned char>(c)) || std::iscntrl(static_cast<unsigned char>(c)))
+      throw InputError("--token-file '" + path +
+                       "' holds white space or a control character inside its token.");
+  return token;
+}
+
+bool TokensEqual(std::string_view given, std::string_view expected) {
+  // Every byte of `expected` is compared whatever `given` holds.
+  unsigned char difference = given.size() == expected.size() ? 0 : 1;
+  for (std::size_t i = 0; i < expected.size(); ++i)
+    difference |= static_cast<unsigned char>(expected[i] ^ (i < given.size() ? given[i] : 0));
+  return difference == 0;
+}
+
+void RunService(const ServeOptions& options) {
+  const ListenAddress address = ParseListenAddress(options.listen);
+  if (options.threads < 1 || options.threads > 256)
+    throw UsageError("--threads must be from 1 to 256, not " + std::to_string(options.threads) + ".");
+  std::string token;
+  if (options.token_file) {
+    token = ReadTokenFile(*options.token_file);
+  } else if (!IsLoopbackHost(address.host)) {
+    throw UsageError("--listen " + options.listen +
+                     " is not a loopback address, which napkin serve answers only with --token-file "
+                     "(a bearer token every request must carry).");
+  }
+  if (!(options.settle_s >= 0 && options.settle_s <= 86400))
+    throw UsageError("--settle must be from 0 to 86400 seconds.");
+  if (options.poll_s && !(*options.poll_s >= 0.1 && *options.poll_s <= 3600))
+    throw UsageError("--poll must be from 0.1 to 3600 seconds.");
+  const ApiOptions api_options{options.db_path, options.busy_timeout_ms};
+  // A missing or damaged catalogue is refused at start, not at the first request.
+  (void)CatalogueStatus(api_options);
+  const Api api(api_options);
+  Counters counters;
+  const auto started = std::chrono::system_clock::now();
+
+  const sigset_t stop_signals = BlockStopSignals();
+  std::unique_ptr<Inbox> inbox;
+  if (!options.inbox.empty()) {
+    InboxOptions inbox_options;
+    inbox_options.db_path = options.db_path;
+    inbox_options.inbox = options.inbox;
+    inbox_options.settle_s = options.settle_s;
+    inbox_options.poll_s = options.poll_s;
+    inbox = std::make_unique<Inbox>(inbox_options);
+  }
+  signal(SIGPIPE, SIG_IGN);  // a client that hangs up is its own business
+
+  httplib::Server server;
+  const std::size_t threads = static_cast<std::size_t>(options.threads);
+  server.new_task_queue = [threads] {
+    return new BoundedPool(threads, threads * kQueuedConnectionsPerThread);
+  };
+  server.set_payload_max_length(kMaxPayloadBytes);
+  server.set_read_timeout(kReadTimeoutS, 0);
+  server.set_write_timeout(kWriteTimeoutS, 0);
+  server.set_keep_alive_timeout(kKeepAliveTimeoutS);
+  server.set_keep_alive_max_count(kKeepAliveMaxRequests);
+
+  server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+    if (tls_overloaded) {
+      res.set_header("Connection", "close");
+      Send(res, JsonError(503, "napkin serve has more connections than it can queue; retry shortly."));
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (req.headers.size() > kMaxHeaders) {
+      Send(res, JsonError(431, "the request has " + std::to_string(req.headers.size()) +
+                                   " header fields, more than the " + std::to_string(kMaxHeaders) +
+                                   " napkin serve accepts."));
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (!token.empty() && req.path != "/healthz") {
+      const std::string authorization = req.get_header_value("Authorization");
+      constexpr std::string_view kBearer = "Bearer ";
+      if (!authorization.starts_with(kBearer) ||
+          !TokensEqual(std::string_view(authorization).substr(kBearer.size()), token)) {
+        res.set_header("WWW-Authenticate", "Bearer");
+        Send(res, JsonError(401,
+                            "this napkin serve needs the header 'Authorization: Bearer TOKEN' with the "
+                            "token of its --token-file."));
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  // Anything that reached no route (or a method other than GET): JSON, as every error.
+  server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (!res.body.empty()) return;
+    const int status = res.status;
+    if (status == 404)
+      Send(res, JsonError(404, "there is no route " + req.method + " " + req.path +
+                                   " (see docs/serve.md for the routes)."));
+    else
+      Send(res,
+           JsonError(status, "the request was refused with HTTP status " + std::to_string(status) + "."));
+  });
+  server.set_logger([&](const httplib::Request& req, const httplib::Response& res) {
+    counters.Count(res.status);
+    spdlog::debug("{} {} {}", req.method, req.path, res.status);
+  });
+
+  // Each route's answer, or the failure's JSON; timed for /metrics.
+  const auto route = [&](std::function<Response(const httplib::Request&)> answer) {
+    return [&counters, &api_options, answer = std::move(answer)](const httplib::Request& req,
+                                                                 httplib::Response& res) {
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        Send(res, answer(req));
+      } catch (...) {
+        Send(res, ErrorResponse(std::current_exception(), api_options.db_path));
+      }
+      counters.Time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    };
+  };
+  const auto params = [](const httplib::Request& req) {
+    return Params(req.params.begin(), req.params.end());
+  };
+
+  server.Get("/healthz", route([](const httplib::Request&) {
+               return Response{200, "application/json", "{\"status\":\"ok\"}\n"};
+             }));
+  server.Get("/api/v1/tests", route([&](const httplib::Request& req) { return api.Tests(params(req)); }));
+  server.Get(
+      R"(/api/v1/query/(hic|rotation|criteria|risk|tests|quality|conditioning))",
+      route([&](const httplib::Request& req) { return api.Query(req.matches[1].str(), params(req)); }));
+  server.Get(R"(/api/v1/tests/(.+)/channels)", route([&](const httplib::Request& req) {
+               return api.Channels(req.matches[1].str(), params(req));
+             }));
+  server.Get(R"(/api/v1/tests/(.+))", route([&](const httplib::Request& req) {
+               if (!req.params.empty()) throw UsageError("this route takes no parameters.");
+               return api.TestSummary(req.matches[1].str());
+             }));
+  server.Get("/api/v1/report/version",
+             route([&](const httplib::Request& req) { return api.ReportVersion(params(req)); }));
+  server.Get("/report", route([&](const httplib::Request& req) { return api.Report(params(req)); }));
+  server.Get("/api/v1/compare", route([&](const httplib::Request& req) { return api.Compare(params(req)); }));
+  server.Get("/api/v1/status", route([&](const httplib::Request&) {
+               const Json status = {
+                   {"service",
+                    {{"version", napkin::Version()},
+                     {"listen", options.listen},
+                     {"started",
+                      std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
+                     {"requests", counters.Total()}}},
+                   {"catalogue", CatalogueStatusOrError(api_options)},
+                   {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
+               return Response{200, "application/json",
+                               status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
+             }));
+  server.Get("/metrics", route([&](const httplib::Request&) {
+               return Response{200, "text/plain; version=0.0.4",
+                               counters.Prometheus() + CatalogueMetrics(CatalogueStatusOrError(api_options)) +
+                                   (inbox ? inbox->Metrics() : std::string())};
+             }));
+
+  int port = address.port;
+  if (port == 0) {
+    port = server.bind_to_any_port(address.host);
+    if (port < 0) port = 0;
+  } else if (!server.bind_to_port(address.host, port)) {
+    port = 0;
+  }
+  if (port == 0)
+    throw InputError("napkin serve cannot listen on " + options.listen +
+                     " (the address is not this machine's, or the port is in use).");
+  spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, port,
+               options.db_path, options.threads, token.empty() ? "" : ", bearer token required");
+
+  if (inbox) inbox->Start();
+  // The signal thread: SIGTERM or SIGINT stops the server (httplib: no new
+  // connections; those accepted are served, then listen_after_bind returns).
+  std::atomic<bool> done{false};
+  std::thread signal_thread([&] {
+    const timespec wait{0, 200'000'000};
+    while (!done) {
+      const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
+      if (signal == SIGTERM || signal == SIGINT) {
+        spdlog::info("{}: stopping (no new connections; finishing the requests in progress)",
+                     signal == SIGTERM ? "SIGTERM" : "SIGINT");
+        server.stop();
+        return;
+      }
+    }
+  });
+  server.listen_after_bind();
+  done = true;
+  signal_thread.join();
+  // The inbox's run in progress commits the tests in flight and releases the others' leases.
+  if (inbox) inbox->Stop();
+  spdlog::info("stopped");
+}
+
+}  // namespace napkin::serve

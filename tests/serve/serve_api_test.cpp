@@ -1,0 +1,331 @@
+// `napkin serve`'s read-only HTTP API end to end (docs/serve.md "HTTP API"):
+// the built napkin binary serves a catalogue of synthetic tests processed by
+// `napkin run` on a free loopback port; every answer is checked against the
+// command line's output for the same request, byte for byte.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/serve/serve_test_util.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::test_support {
+namespace {
+
+using Json = nlohmann::json;
+
+// One catalogue and one service for the suite: six tests of series padding-series
+// (production, foam-a, foam-b; two each), processed.
+class ServeApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    const CommandResult synth = Napkin({"synth", "--scenario", "padding-series", "--count", "2"});
+    ASSERT_EQ(synth.exit_code, 0) << synth.err;
+    const CommandResult run = Napkin({"run"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    serve_ = new ServeProcess(dir_->path(), db(), {"--listen", "127.0.0.1:0", "--threads", "4"});
+    ASSERT_GT(serve_->port(), 0) << serve_->log();
+  }
+  static void TearDownTestSuite() {
+    delete serve_;
+    serve_ = nullptr;
+    delete dir_;
+    dir_ = nullptr;
+  }
+  void SetUp() override { ASSERT_TRUE(serve_ && serve_->port() > 0); }
+
+  static fs::path db() { return dir_->path() / "lab.db"; }
+  static CommandResult Napkin(std::vector<std::string> args) {
+    args.insert(args.begin(), {"--db", db().string()});
+    return RunProgram(NAPKIN_BINARY, args, dir_->path());
+  }
+  static httplib::Result Get(const std::string& target, const httplib::Headers& headers = {}) {
+    return serve_->Client()->Get(target.c_str(), headers);
+  }
+  // The sentence of a JSON error body.
+  static std::string ErrorOf(const httplib::Result& result) {
+    return Json::parse(result->body).at("error").get<std::string>();
+  }
+  // The sentence of napkin's one-line error on stderr ("napkin: SENTENCE\n").
+  static std::string CliSentence(const CommandResult& run) {
+    std::string line = run.err;
+    if (line.rfind("napkin: ", 0) == 0) line.erase(0, 8);
+    while (!line.empty() && line.back() == '\n') line.pop_back();
+    return line;
+  }
+
+  static inline TempDir* dir_ = nullptr;
+  static inline ServeProcess* serve_ = nullptr;
+};
+
+TEST_F(ServeApi, HealthzAnswersOk) {
+  const httplib::Result result = Get("/healthz");
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 200);
+  EXPECT_EQ(Json::parse(result->body).at("status"), "ok");
+}
+
+TEST_F(ServeApi, QueryJsonIsTheCommandLinesByteForByte) {
+  struct Case {
+    std::string kind;
+    std::vector<std::pair<std::string, std::string>> params;  // name, value (unencoded)
+  };
+  const std::vector<Case> cases = {
+      {"hic", {}},
+      {"hic", {{"where", "hic15>0 and variant=foam-a"}, {"sort", "hic15:desc"}}},
+      {"hic", {{"sort", "hic15"}, {"limit", "3"}}},
+      {"rotation", {{"where", "variant!=production"}}},
+      {"criteria", {{"sort", "test_id:desc"}, {"limit", "2"}}},
+      {"risk", {{"where", "series=padding-series"}, {"where", "variant=foam-b"}}},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"query", c.kind, "--format", "json"};
+    httplib::Params params;
+    for (const auto& [name, value] : c.params) {
+      args.push_back("--" + name);
+      args.push_back(value);
+      params.emplace(name, value);
+    }
+    const CommandResult cli = Napkin(args);
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    ASSERT_GT(Json::parse(cli.out).size(), 0u) << "a case with no rows tests little: " << c.kind;
+    const httplib::Result result = Get(httplib::append_query_params("/api/v1/query/" + c.kind, params));
+    ASSERT_TRUE(result);
+    EXPECT_EQ(result->status, 200) << result->body;
+    EXPECT_EQ(result->get_header_value("Content-Type"), "application/json");
+    EXPECT_EQ(result->body, cli.out) << c.kind;
+  }
+}
+
+TEST_F(ServeApi, TestsListIsQueryTests) {
+  const CommandResult cli = Napkin({"query", "tests", "--format", "json"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const httplib::Result result = Get("/api/v1/tests");
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 200);
+  EXPECT_EQ(result->body, cli.out);
+  EXPECT_EQ(Json::parse(result->body).size(), 6u);
+}
+
+TEST_F(ServeApi, BadWhereIsA400WithTheCommandLinesSentence) {
+  for (const std::string& where :
+       {std::string("hic15>>3"), std::string("nosuchfield=1"), std::string("(((")}) {
+    const CommandResult cli = Napkin({"query", "hic", "--where", where, "--format", "json"});
+    ASSERT_EQ(cli.exit_code, 2) << where;
+    const httplib::Result result = Get(httplib::append_query_params("/api/v1/query/hic", {{"where", where}}));
+    ASSERT_TRUE(result);
+    EXPECT_EQ(result->status, 400) << where;
+    EXPECT_EQ(ErrorOf(result), CliSentence(cli)) << where;
+  }
+  // A bad limit and a misspelt parameter: 400 too.
+  EXPECT_EQ(Get("/api/v1/query/hic?limit=-1")->status, 400);
+  const httplib::Result misspelt = Get("/api/v1/query/hic?whre=hic15>0");
+  EXPECT_EQ(misspelt->status, 400);
+  EXPECT_NE(ErrorOf(misspelt).find("unknown parameter 'whre'"), std::string::npos) << misspelt->body;
+}
+
+TEST_F(ServeApi, DeepWhereIsRefusedAndTheServiceGoesOn) {
+  // 10,000 nested parentheses (within the URI limit: encoded, 3 bytes each, would not be).
+  const std::string deep = std::string(2500, '(') + "hic15>0" + std::string(2500, ')');
+  const httplib::Result result = Get("/api/v1/query/hic?where=" + deep);
+  ASSERT_TRUE(result);
+  EXPECT_GE(result->status, 400);
+  EXPECT_LT(result->status, 500);
+  EXPECT_TRUE(Json::parse(result->body).contains("error")) << result->body;
+  const httplib::Result long_uri = Get("/api/v1/query/hic?where=" + std::string(10000, '('));
+  ASSERT_TRUE(long_uri);
+  EXPECT_EQ(long_uri->status, 414);
+  EXPECT_EQ(Get("/healthz")->status, 200);
+}
+
+TEST_F(ServeApi, CompareIsTheCommandLinesByteForByte) {
+  const CommandResult cli =
+      Napkin({"compare", "--series", "padding-series", "--baseline", "production", "--format", "json"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const httplib::Result result = Get("/api/v1/compare?series=padding-series&baseline=production");
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 200) << result->body;
+  EXPECT_EQ(result->body, cli.out);
+  const httplib::Result no_series = Get("/api/v1/compare");
+  EXPECT_EQ(no_series->status, 400);
+  const CommandResult unknown_cli = Napkin({"compare", "--series", "nope", "--format", "json"});
+  const httplib::Result unknown = Get("/api/v1/compare?series=nope");
+  EXPECT_EQ(ErrorOf(unknown), CliSentence(unknown_cli));
+}
+
+TEST_F(ServeApi, TestSummaryHoldsTheTestsQueryRows) {
+  const std::string id = "padding-series-foam-a-01";
+  const httplib::Result result = Get("/api/v1/tests/" + id);
+  ASSERT_TRUE(result);
+  ASSERT_EQ(result->status, 200) << result->body;
+  const Json summary = Json::parse(result->body);
+  EXPECT_EQ(summary.at("test_id"), id);
+  for (const std::string& kind : std::vector<std::string>{"tests", "hic", "rotation", "criteria", "risk"}) {
+    const CommandResult cli = Napkin({"query", kind, "--where", "test_id=" + id, "--format", "json"});
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    EXPECT_EQ(summary.at(kind), Json::parse(cli.out).at(0)) << kind;
+  }
+  EXPECT_TRUE(summary.at("quality").is_array());
+}
+
+TEST_F(ServeApi, UnknownTestAndPathLikeIdsAre404sNamingTheId) {
+  const httplib::Result unknown = Get("/api/v1/tests/nope");
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ(unknown->status, 404);
+  EXPECT_EQ(ErrorOf(unknown), "test 'nope' is not in catalogue '" + db().string() + "'.");
+  // Encoded slashes stay part of the id: looked up in the catalogue, never a file.
+  const httplib::Result traversal = Get("/api/v1/tests/..%2F..%2Fetc%2Fpasswd");
+  ASSERT_TRUE(traversal);
+  EXPECT_EQ(traversal->status, 404);
+  EXPECT_EQ(ErrorOf(traversal), "test '../../etc/passwd' is not in catalogue '" + db().string() + "'.");
+  const httplib::Result channels = Get("/api/v1/tests/..%2F..%2Fetc%2Fpasswd/channels");
+  EXPECT_EQ(channels->status, 404);
+  EXPECT_EQ(channels->body.find("root:"), std::string::npos);
+  const httplib::Result route = Get("/etc/passwd");
+  EXPECT_EQ(route->status, 404);
+  EXPECT_NE(ErrorOf(route).find("no route GET /etc/passwd"), std::string::npos);
+}
+
+TEST_F(ServeApi, ChannelsCsvIsExportsFileAndJsonHoldsTheSameNumbers) {
+  const std::string id = "padding-series-production-02";
+  const CommandResult cli = Napkin({"export", "--test", id, "--format", "csv", "--out", "channels.csv"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const std::string csv = ReadText(dir_->path() / "channels.csv");
+  const httplib::Result result = Get("/api/v1/tests/" + id + "/channels?format=csv");
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 200);
+  EXPECT_EQ(result->get_header_value("Content-Type"), "text/csv");
+  EXPECT_EQ(result->body, csv);
+  EXPECT_EQ(Get("/api/v1/tests/" + id + "/channels")->body, csv) << "csv is the default";
+
+  const httplib::Result json_result = Get("/api/v1/tests/" + id + "/channels?format=json");
+  ASSERT_EQ(json_result->status, 200);
+  // Key order matters here: the CSV's column order.
+  const nlohmann::ordered_json json = nlohmann::ordered_json::parse(json_result->body);
+  EXPECT_EQ(json.at("test_id"), id);
+  const nlohmann::ordered_json& channels = json.at("channels");
+  // The CSV's header names the JSON's keys in order; its cells are the JSON's numbers to 12 digits.
+  const std::string header = csv.substr(0, csv.find('\n'));
+  std::string names;
+  for (const auto& [name, values] : channels.items()) names += (names.empty() ? "" : ",") + name;
+  EXPECT_EQ(names, header);
+  const std::string second_line =
+      csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+  std::size_t column = 0;
+  std::size_t start = 0;
+  for (const auto& [name, values] : channels.items()) {
+    const std::size_t end = std::min(second_line.find(',', start), second_line.size());
+    const std::string cell = second_line.substr(start, end - start);
+    if (!cell.empty()) {
+      const double expected = std::stod(cell);
+      EXPECT_NEAR(values.at(0).get<double>(), expected, 1e-11 * std::max(1.0, std::abs(expected))) << name;
+    }
+    start = end + 1;
+    ++column;
+  }
+  EXPECT_GT(column, 2u);
+  EXPECT_EQ(Get("/api/v1/tests/" + id + "/channels?format=xml")->status, 400);
+  EXPECT_EQ(Get("/api/v1/tests/nope/channels")->status, 404);
+}
+
+TEST_F(ServeApi, StatusAndMetricsCountTheCatalogue) {
+  const CommandResult cli = Napkin({"status", "--format", "json"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const Json expected = Json::parse(cli.out);
+  const httplib::Result result = Get("/api/v1/status");
+  ASSERT_TRUE(result);
+  ASSERT_EQ(result->status, 200);
+  const Json status = Json::parse(result->body);
+  for (const char* key : {"tests", "done", "failed", "pending", "running", "failures"})
+    EXPECT_EQ(status.at("catalogue").at(key), expected.at(key)) << key;
+  EXPECT_EQ(status.at("catalogue").at("done"), 6);
+
+  const httplib::Result metrics = Get("/metrics");
+  ASSERT_EQ(metrics->status, 200);
+  EXPECT_EQ(metrics->get_header_value("Content-Type"), "text/plain; version=0.0.4");
+  EXPECT_NE(metrics->body.find("napkin_catalogue_tests{state=\"done\"} 6\n"), std::string::npos)
+      << metrics->body;
+  EXPECT_NE(metrics->body.find(
+                "# TYPE napkin_http_requests_total counter\nnapkin_http_requests_total{code=\"200\"} "),
+            std::string::npos)
+      << metrics->body;
+}
+
+TEST_F(ServeApi, OversizedRequestsAndManyHeadersAre4xxAndTheServiceGoesOn) {
+  httplib::Headers many;
+  for (int i = 0; i < 1000; ++i) many.emplace("X-Header-" + std::to_string(i), "1");
+  const httplib::Result headers = Get("/api/v1/tests", many);
+  ASSERT_TRUE(headers);
+  EXPECT_EQ(headers->status, 431);
+  // A 1 MiB body: more than a GET route ever reads.
+  const httplib::Result body =
+      serve_->Client()->Post("/api/v1/tests", std::string(1 << 20, 'x'), "text/plain");
+  if (body) {  // the server may close the connection while the body is still being sent
+    EXPECT_GE(body->status, 400);
+    EXPECT_LT(body->status, 500);
+  }
+  // Only GET is answered.
+  const httplib::Result post = serve_->Client()->Post("/api/v1/tests", "", "text/plain");
+  ASSERT_TRUE(post);
+  EXPECT_EQ(post->status, 404);
+  EXPECT_EQ(Get("/healthz")->status, 200);
+}
+
+TEST_F(ServeApi, ReportIsTheCommandLinesPageWithALiveScript) {
+  const CommandResult cli = Napkin({"report", "--series", "padding-series", "--out", "-"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const httplib::Result result = Get("/report?series=padding-series");
+  ASSERT_TRUE(result);
+  ASSERT_EQ(result->status, 200) << result->body;
+  EXPECT_EQ(result->get_header_value("Content-Type"), "text/html; charset=utf-8");
+  const httplib::Result version = Get("/api/v1/report/version?series=padding-series");
+  ASSERT_EQ(version->status, 200);
+  const std::string v = Json::parse(version->body).at("version");
+  EXPECT_EQ(v.size(), 16u);
+  EXPECT_EQ(Get("/api/v1/report/version?series=padding-series")->body, version->body)
+      << "stable while nothing changes";
+  // The page is the command line's, with the refresh script before </body>.
+  const std::string script_start = "<script>\n(function () {\n  const version = \"" + v + "\";";
+  std::string page = result->body;
+  const std::size_t start = page.find(script_start);
+  ASSERT_NE(start, std::string::npos) << page.substr(page.size() - std::min<std::size_t>(page.size(), 800));
+  const std::size_t end = page.find("</script>\n", start) + std::string("</script>\n").size();
+  EXPECT_NE(page.substr(start, end - start).find("/api/v1/report/version?series="), std::string::npos);
+  page.erase(start, end - start);
+  EXPECT_EQ(page, cli.out);
+  EXPECT_EQ(page.rfind("</body>"), start);
+
+  const CommandResult unknown_cli = Napkin({"report", "--series", "nope", "--out", "-"});
+  const httplib::Result unknown = Get("/report?series=nope");
+  EXPECT_EQ(unknown->status, 400);
+  EXPECT_EQ(ErrorOf(unknown), CliSentence(unknown_cli));
+  EXPECT_EQ(Get("/report")->status, 400);
+}
+
+// Bounded load: 8 loopback clients, 40 requests each, every answer the same rows.
+TEST_F(ServeApi, ConcurrentClientsAllGetTheSameAnswer) {
+  const std::string expected = Get("/api/v1/query/hic?limit=100")->body;
+  std::vector<std::thread> clients;
+  clients.reserve(8);
+  std::atomic<int> good{0};
+  for (int c = 0; c < 8; ++c)
+    clients.emplace_back([&] {
+      const std::unique_ptr<httplib::Client> client = serve_->Client();
+      for (int i = 0; i < 40; ++i) {
+        const httplib::Result result = client->Get("/api/v1/query/hic?limit=100");
+        if (result && result->status == 200 && result->body == expected) ++good;
+      }
+    });
+  for (std::thread& client : clients) client.join();
+  EXPECT_EQ(good.load(), 8 * 40);
+}
+
+}  // namespace
+}  // namespace napkin::test_support

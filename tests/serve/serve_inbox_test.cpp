@@ -1,0 +1,408 @@
+// `napkin serve --inbox` end to end (docs/serve.md "Inbox"): tests written
+// into the inbox appear in the API with the numbers `napkin import` and `napkin
+// run` give for the same files; inotify and polling; a half-written file is
+// not imported early; sidecars; a marker file; the inbox is never changed;
+// kill -9 and restart: every test exactly once; SIGTERM while processing.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "formats/csv.h"
+#include "tests/cli/cli_test_util.h"
+#include "tests/serve/serve_test_util.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::test_support {
+namespace {
+
+using Json = nlohmann::json;
+
+class ServeInbox : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(Napkin({"init"}).exit_code, 0);
+    fs::create_directories(inbox_);
+    WriteText(inbox_ / "napkin.json", R"({"array": "denton-3222"})");
+  }
+
+  CommandResult Napkin(std::vector<std::string> args, const fs::path& db = {}) {
+    args.insert(args.begin(), {"--db", (db.empty() ? db_ : db).string()});
+    return RunProgram(NAPKIN_BINARY, args, dir_.path());
+  }
+  std::unique_ptr<ServeProcess> Serve(std::vector<std::string> args) {
+    args.insert(args.begin(), {"--listen", "127.0.0.1:0", "--inbox", inbox_.string()});
+    return std::make_unique<ServeProcess>(dir_.path(), db_, args);
+  }
+  // A test's CSV, written whole into a file that does not yet exist.
+  static void WriteTest(const fs::path& path, std::uint64_t seed) {
+    fs::create_directories(path.parent_path());
+    formats::WriteSignalsCsv(SynthNapTest(seed).signals, path);
+  }
+  // GET `target` (JSON) until `done` holds for it, at most `seconds`.
+  static Json WaitFor(const ServeProcess& serve, const std::string& target,
+                      const std::function<bool(const Json&)>& done, double seconds = 60) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    Json last;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const httplib::Result result = serve.Client()->Get(target.c_str());
+      if (result && result->status == 200) {
+        last = Json::parse(result->body);
+        if (done(last)) return last;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ADD_FAILURE() << "timed out waiting on " << target << "; last answer " << last.dump() << "\nlog:\n"
+                  << serve.log();
+    return last;
+  }
+  static std::function<bool(const Json&)> Rows(std::size_t n) {
+    return [n](const Json& json) { return json.size() == n; };
+  }
+  // Every file of the inbox with its bytes: the inbox is only read.
+  std::map<std::string, std::string> InboxContents() const {
+    std::map<std::string, std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(inbox_))
+      files[entry.path().string()] = entry.is_regular_file() ? ReadText(entry.path()) : "<folder>";
+    return files;
+  }
+  // `napkin import` and `napkin run` of the same files into another catalogue: its `query hic` JSON.
+  std::string CliQueryHic(const std::vector<std::pair<std::string, fs::path>>& variant_and_file) {
+    const fs::path cli_db = dir_ / "cli.db";
+    for (const auto& [variant, file] : variant_and_file) {
+      const CommandResult import = Napkin(
+          {"import", "--array", "denton-3222", "--series", "sled", "--variant", variant, file.string()},
+          cli_db);
+      EXPECT_EQ(import.exit_code, 0) << import.err;
+    }
+    EXPECT_EQ(Napkin({"run"}, cli_db).exit_code, 0);
+    return Napkin({"query", "hic", "--format", "json"}, cli_db).out;
+  }
+
+  TempDir dir_;
+  fs::path db_ = dir_ / "lab.db";
+  fs::path inbox_ = dir_ / "inbox";
+};
+
+TEST_F(ServeInbox, InotifyImportsAndProcessesWithTheCommandLinesNumbers) {
+  const auto serve = Serve({"--settle", "1"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  EXPECT_NE(serve->log().find("(inotify;"), std::string::npos) << serve->log();
+  const std::string version_before =
+      Json::parse(serve->Client()->Get("/api/v1/report/version?series=sled")->body).at("version");
+  WriteTest(inbox_ / "sled" / "foam-a" / "t01.csv", 101);
+  WriteTest(inbox_ / "sled" / "production" / "t02.csv", 102);
+  const auto inbox_before = InboxContents();
+  const auto start = std::chrono::steady_clock::now();
+  WaitFor(*serve, "/api/v1/query/hic", Rows(2));
+  // inotify wakes the watcher: well before its 30 s look-again interval.
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));
+  const httplib::Result served = serve->Client()->Get("/api/v1/query/hic");
+  EXPECT_EQ(served->body, CliQueryHic({{"foam-a", inbox_ / "sled" / "foam-a" / "t01.csv"},
+                                       {"production", inbox_ / "sled" / "production" / "t02.csv"}}));
+  const Json status = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(status.at("inbox").at("watch"), "inotify");
+  EXPECT_EQ(status.at("inbox").at("imported"), 2);
+  EXPECT_EQ(status.at("inbox").at("processed"), 2);
+  const std::string metrics = serve->Client()->Get("/metrics")->body;
+  EXPECT_NE(metrics.find("napkin_inbox_imported_total 2\n"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("napkin_inbox_processed_total 2\n"), std::string::npos) << metrics;
+  EXPECT_EQ(InboxContents(), inbox_before) << "the inbox was changed";
+  // The live report sees the change.
+  EXPECT_NE(Json::parse(serve->Client()->Get("/api/v1/report/version?series=sled")->body).at("version"),
+            version_before);
+  EXPECT_EQ(serve->Client()->Get("/report?series=sled")->status, 200);
+  EXPECT_EQ(serve->Stop(), 0) << serve->log();
+}
+
+// The live report in headless Chromium: a test dropped into the inbox after the page was loaded
+// appears on it without anyone reloading it (the page's script does, when the series changes).
+TEST_F(ServeInbox, LiveReportShowsANewTestWithoutAReload) {
+  std::string chromium;
+  for (const char* path : {"/usr/bin/chromium", "/usr/bin/chromium-headless-shell"})
+    if (fs::exists(path)) chromium = path;
+  if (chromium.empty()) GTEST_SKIP() << "headless Chromium (Debian: chromium) is not installed";
+  const auto serve = Serve({"--settle", "3600"});  // only markers import: the test says when
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WriteTest(inbox_ / "sled" / "production" / "early-test.csv", 111);
+  WriteText(inbox_ / "sled" / "production" / "early-test.ready", "");
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  const auto requests = [&] {
+    return Json::parse(serve->Client()->Get("/api/v1/status")->body).at("service").at("requests").get<int>();
+  };
+  int own = 0;  // this test's status requests since `before`
+  const int before = requests();
+  // Virtual time: the page's 3 s polls follow each other as fast as the service answers them;
+  // 200 of them leave the inbox seconds to import and process the new test.
+  const fs::path dom = dir_ / "dom.html";
+  const pid_t browser =
+      StartProgram("/usr/bin/timeout",
+                   {"120", chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                    "--disable-extensions", "--user-data-dir=" + (dir_ / "profile").string(),
+                    "--virtual-time-budget=600000", "--dump-dom",
+                    "http://127.0.0.1:" + std::to_string(serve->port()) + "/report?series=sled"},
+                   dom, dir_ / "chromium.err", dir_.path());
+  // Once the page is loaded and polling (the page and two version requests), the second test arrives.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (requests() - before - ++own < 3 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the page never polled";
+  WriteTest(inbox_ / "sled" / "foam-a" / "newcomer-test.csv", 112);
+  WriteText(inbox_ / "sled" / "foam-a" / "newcomer-test.ready", "");
+  EXPECT_EQ(WaitProgram(browser), 0) << ReadText(dir_ / "chromium.err");
+  const std::string page = ReadText(dom);
+  // The page was loaded (and polled twice) before newcomer-test existed.
+  EXPECT_NE(page.find("early-test"), std::string::npos);
+  EXPECT_NE(page.find("newcomer-test"), std::string::npos) << "the open page did not show the new test";
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+TEST_F(ServeInbox, PollingFindsTestsAndAHalfWrittenFileWaitsUntilSettled) {
+  const auto serve = Serve({"--settle", "3", "--poll", "0.5"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  EXPECT_NE(serve->log().find("(poll, every"), std::string::npos) << serve->log();
+  // The first half of the file, then (after less than --settle) the rest.
+  const fs::path staged = dir_ / "whole.csv";
+  formats::WriteSignalsCsv(SynthNapTest(103).signals, staged);
+  const std::string whole = ReadText(staged);
+  const fs::path target = inbox_ / "sled" / "foam-b" / "t03.csv";
+  fs::create_directories(target.parent_path());
+  WriteText(target, whole.substr(0, whole.size() / 2));
+  WaitFor(*serve, "/api/v1/status",
+          [](const Json& status) { return status.at("inbox").at("settling").size() == 1; });
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  { std::ofstream(target, std::ios::binary | std::ios::app) << whole.substr(whole.size() / 2); }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  // 3 s after the first half was written, but 1.5 s after the rest: not yet imported.
+  EXPECT_EQ(serve->Client()->Get("/api/v1/tests")->body, "[]\n");
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  EXPECT_EQ(serve->Client()->Get("/api/v1/query/hic")->body, CliQueryHic({{"foam-b", target}}));
+  const Json status = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(status.at("inbox").at("watch"), "poll");
+  EXPECT_EQ(status.at("inbox").at("imported"), 1);
+  EXPECT_EQ(status.at("inbox").at("failed"), 0);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+TEST_F(ServeInbox, MarkerFileImportsAtOnce) {
+  const auto serve = Serve({"--settle", "3600"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WriteTest(inbox_ / "sled" / "foam-a" / "t04.csv", 104);
+  WriteText(inbox_ / "sled" / "foam-a" / "t04.ready", "");
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1), 30);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+TEST_F(ServeInbox, BadSidecarsAreOneSentenceInTheStatus) {
+  fs::create_directories(inbox_ / "typo" / "a");
+  WriteText(inbox_ / "typo" / "napkin.json", R"({"arry": "denton-3222"})");
+  WriteTest(inbox_ / "typo" / "a" / "t05.csv", 105);
+  fs::create_directories(inbox_ / "unknown" / "a");
+  WriteText(inbox_ / "unknown" / "a" / "napkin.json", R"({"array": "no-such-array"})");
+  WriteTest(inbox_ / "unknown" / "a" / "t06.csv", 106);
+  const auto serve = Serve({"--settle", "0.5"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  const Json status =
+      WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("failed") == 2; });
+  std::map<std::string, std::string> messages;  // source -> sentence
+  for (const Json& event : status.at("inbox").at("events"))
+    if (event.at("kind") == "sidecar") messages[event.at("source")] = event.at("message");
+  ASSERT_EQ(messages.size(), 2u) << status.dump(2);
+  EXPECT_EQ(messages[(inbox_ / "typo" / "a" / "t05.csv").string()],
+            "sidecar '" + (inbox_ / "typo" / "napkin.json").string() +
+                "' has the unknown key 'arry' (it may give array, config and channel_map).");
+  const std::string& unknown = messages[(inbox_ / "unknown" / "a" / "t06.csv").string()];
+  EXPECT_NE(unknown.find("no-such-array"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("from the sidecars above"), std::string::npos) << unknown;
+  EXPECT_EQ(std::count(unknown.begin(), unknown.end(), '\n'), 0);
+  // Not retried while the files stay as they are.
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  EXPECT_EQ(Json::parse(serve->Client()->Get("/api/v1/status")->body).at("inbox").at("failed"), 2);
+  EXPECT_EQ(serve->Client()->Get("/api/v1/tests")->body, "[]\n");
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+// A test that fails screening (a clipped channel): recorded as `napkin run` records it, shown in the
+// status with its sentence at once, and not tried again.
+TEST_F(ServeInbox, ScreeningFailureIsShownAndNotRetried) {
+  const auto serve = Serve({"--settle", "0.5"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  synth::SyntheticTest test = SynthNapTest(109);
+  auto clipped = test.signals.samples.col(test.signals.FindSlot("cg_z"));
+  const double clip = 0.5 * clipped.cwiseAbs().maxCoeff();
+  clipped = clipped.cwiseMax(-clip).cwiseMin(clip);
+  fs::create_directories(inbox_ / "sled" / "a");
+  formats::WriteSignalsCsv(test.signals, inbox_ / "sled" / "a" / "clipped.csv");
+  WriteTest(inbox_ / "sled" / "a" / "clean.csv", 110);
+  const Json status = WaitFor(*serve, "/api/v1/status", [](const Json& s) {
+    return s.at("inbox").at("failed") == 1 && s.at("inbox").at("processed") == 1;
+  });
+  const Json& failures = status.at("catalogue").at("failures");
+  ASSERT_EQ(failures.size(), 1u) << status.dump(2);
+  EXPECT_EQ(failures.at(0).at("test_id"), "clipped");
+  const std::string sentence = failures.at(0).at("error");
+  EXPECT_NE(sentence.find("cg_z"), std::string::npos) << sentence;
+  bool shown = false;
+  for (const Json& event : status.at("inbox").at("events"))
+    shown = shown || (event.at("kind") == "failed" && event.value("test_id", "") == "clipped" &&
+                      event.at("message") == sentence);
+  EXPECT_TRUE(shown) << status.dump(2);
+  // The same sentence `napkin status` gives; no second attempt.
+  const Json cli = Json::parse(Napkin({"status", "--format", "json"}).out);
+  EXPECT_EQ(cli.at("failures"), failures);
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const Json later = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(later.at("inbox").at("failed"), 1);
+  EXPECT_EQ(later.at("inbox").at("imported"), 2);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+TEST_F(ServeInbox, RemovedBeforeSettlingIsSaid) {
+  const auto serve = Serve({"--settle", "3600", "--poll", "0.2"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WriteTest(inbox_ / "sled" / "a" / "t07.csv", 107);
+  WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("settling").size() == 1; });
+  fs::remove(inbox_ / "sled" / "a" / "t07.csv");
+  const Json status =
+      WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("settling").empty(); });
+  bool said = false;
+  for (const Json& event : status.at("inbox").at("events"))
+    said = said || (event.at("kind") == "removed" &&
+                    event.at("message") ==
+                        "test '" + (inbox_ / "sled" / "a" / "t07.csv").string() +
+                            "' was removed from the inbox before it settled; it was not imported.");
+  EXPECT_TRUE(said) << status.dump(2);
+  EXPECT_NE(serve->log().find("was removed from the inbox before it settled"), std::string::npos);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+// A catalogue held locked by another process (as a CLI `run` committing holds it): the inbox waits,
+// says so in the status, and imports once the lock is gone.
+TEST_F(ServeInbox, LockedCatalogueWaitsAndSaysSo) {
+  const auto serve = Serve({"--settle", "0"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open(db_.c_str(), &holder), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(holder,
+                         "PRAGMA locking_mode=EXCLUSIVE; BEGIN EXCLUSIVE; CREATE TABLE held_by_test(x); "
+                         "INSERT INTO held_by_test VALUES (1);",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(holder);
+  WriteTest(inbox_ / "sled" / "a" / "t08.csv", 108);
+  const Json waiting = WaitFor(*serve, "/api/v1/status", [](const Json& s) {
+    return s.value("catalogue", Json()).is_object() && s.at("inbox").at("catalogue_waiting").is_string();
+  });
+  EXPECT_NE(waiting.at("inbox")
+                .at("catalogue_waiting")
+                .get<std::string>()
+                .find("waiting for catalogue '" + db_.string() + "', locked by another process"),
+            std::string::npos);
+  EXPECT_NE(serve->log().find("is busy"), std::string::npos) << serve->log();
+  ASSERT_EQ(sqlite3_exec(holder, "ROLLBACK;", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(holder);
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  WaitFor(*serve, "/api/v1/status",
+          [](const Json& s) { return s.at("inbox").at("catalogue_waiting").is_null(); });
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+// kill -9 while the inbox is being imported and processed, then a restart: every test exactly once.
+TEST_F(ServeInbox, KillNineAndRestartLoseAndDuplicateNothing) {
+  for (int i = 0; i < 12; ++i)
+    WriteTest(inbox_ / "sled" / (i % 2 ? "a" : "b") / ("k" + std::to_string(i) + ".csv"), 200 + i);
+  {
+    const auto serve = Serve({"--settle", "0"});
+    ASSERT_GT(serve->port(), 0) << serve->log();
+    // Killed as soon as the first test is imported: the rest is mid-import or mid-processing.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (serve->log().find("imported from") == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_EQ(serve->Stop(SIGKILL), -1);
+  }
+  const auto serve = Serve({"--settle", "0"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WaitFor(
+      *serve, "/api/v1/status", [](const Json& s) { return s.at("catalogue").at("done") == 12; }, 120);
+  const Json tests = Json::parse(serve->Client()->Get("/api/v1/tests")->body);
+  EXPECT_EQ(tests.size(), 12u);
+  const Json status = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(status.at("catalogue").at("failed"), 0);
+  EXPECT_EQ(status.at("catalogue").at("pending"), 0);
+  EXPECT_EQ(serve->Stop(), 0);
+  // One result per test.
+  db::Catalogue catalogue = OpenForReading(db_);
+  EXPECT_EQ(catalogue.Query(db::QueryKind::kHic).rows.size(), 12u);
+}
+
+// kill -9 while the run scheduler holds leases (tests of 20,000 samples: processing takes a while
+// under the sanitizers), then a restart: every test exactly once.
+TEST_F(ServeInbox, KillNineDuringProcessingAndRestartLoseAndDuplicateNothing) {
+  for (int i = 0; i < 8; ++i) {
+    fs::create_directories(inbox_ / "sled" / "a");
+    formats::WriteSignalsCsv(SynthNapTest(400 + i, 2.0).signals,
+                             inbox_ / "sled" / "a" / ("p" + std::to_string(i) + ".csv"));
+  }
+  bool killed_while_running = false;
+  {
+    const auto serve = Serve({"--settle", "0"});
+    ASSERT_GT(serve->port(), 0) << serve->log();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline) {
+      const httplib::Result status = serve->Client()->Get("/api/v1/status");
+      if (status && status->status == 200) {
+        const Json catalogue = Json::parse(status->body).at("catalogue");
+        if (catalogue.contains("running") && catalogue.at("running").get<int>() > 0) {
+          killed_while_running = true;
+          break;
+        }
+        if (catalogue.contains("done") && catalogue.at("done").get<int>() == 8) break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    EXPECT_EQ(serve->Stop(SIGKILL), -1);
+  }
+  EXPECT_TRUE(killed_while_running) << "processing ended before a job was seen running";
+  const auto serve = Serve({"--settle", "0"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WaitFor(
+      *serve, "/api/v1/status", [](const Json& s) { return s.at("catalogue").value("done", 0) == 8; }, 240);
+  const Json status = Json::parse(serve->Client()->Get("/api/v1/status")->body);
+  EXPECT_EQ(status.at("catalogue").at("tests"), 8);
+  EXPECT_EQ(status.at("catalogue").at("failed"), 0);
+  EXPECT_EQ(status.at("catalogue").at("running"), 0);
+  EXPECT_EQ(serve->Stop(), 0);
+  db::Catalogue catalogue = OpenForReading(db_);
+  EXPECT_EQ(catalogue.Query(db::QueryKind::kHic).rows.size(), 8u);
+}
+
+TEST_F(ServeInbox, SigtermWhileProcessingExitsZeroAndARestartFinishes) {
+  for (int i = 0; i < 12; ++i) WriteTest(inbox_ / "sled" / "a" / ("s" + std::to_string(i) + ".csv"), 300 + i);
+  {
+    const auto serve = Serve({"--settle", "0"});
+    ASSERT_GT(serve->port(), 0) << serve->log();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (serve->log().find("imported from") == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_EQ(serve->Stop(SIGTERM), 0) << serve->log();
+  }
+  const auto serve = Serve({"--settle", "0"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  WaitFor(
+      *serve, "/api/v1/status", [](const Json& s) { return s.at("catalogue").at("done") == 12; }, 120);
+  EXPECT_EQ(Json::parse(serve->Client()->Get("/api/v1/tests")->body).size(), 12u);
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
+}  // namespace
+}  // namespace napkin::test_support

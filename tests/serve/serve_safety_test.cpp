@@ -1,0 +1,222 @@
+// `napkin serve` safe by default (docs/serve.md "Safety") and its stop on
+// SIGTERM: the built binary, a loopback port, every wait bounded.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sqlite3.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/error.h"
+#include "serve/api.h"
+#include "serve/service.h"
+#include "tests/serve/serve_test_util.h"
+#include "tests/support/test_support.h"
+
+namespace napkin::test_support {
+namespace {
+
+using Json = nlohmann::json;
+
+class ServeSafety : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const CommandResult init = RunProgram(NAPKIN_BINARY, {"--db", db().string(), "init"}, dir_.path());
+    ASSERT_EQ(init.exit_code, 0) << init.err;
+  }
+  fs::path db() const { return dir_ / "lab.db"; }
+  CommandResult Serve(const std::vector<std::string>& args) {
+    std::vector<std::string> all = {"--db", db().string(), "serve"};
+    all.insert(all.end(), args.begin(), args.end());
+    return RunProgram(NAPKIN_BINARY, all, dir_.path());
+  }
+
+  TempDir dir_;
+};
+
+TEST_F(ServeSafety, NonLoopbackWithoutTokenIsRefusedAtStart) {
+  for (const std::string& address : std::vector<std::string>{"0.0.0.0:0", "[::]:0", "192.0.2.1:8080"}) {
+    const CommandResult run = Serve({"--listen", address});
+    EXPECT_EQ(run.exit_code, 2) << address;
+    EXPECT_EQ(run.err, "napkin: --listen " + address +
+                           " is not a loopback address, which napkin serve answers only with --token-file (a "
+                           "bearer token every request must carry).\n");
+  }
+  const CommandResult bad = Serve({"--listen", "localhost"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.err,
+            "napkin: --listen 'localhost' has no host and port (give HOST:PORT, e.g. 127.0.0.1:8080).\n");
+  const CommandResult missing =
+      RunProgram(NAPKIN_BINARY, {"--db", "none.db", "serve", "--listen", "127.0.0.1:0"}, dir_.path());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
+}
+
+TEST_F(ServeSafety, ShortTokenFileIsRefused) {
+  std::ofstream(dir_ / "token") << "short\n";
+  const CommandResult run = Serve({"--listen", "127.0.0.1:0", "--token-file", (dir_ / "token").string()});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("holds a token shorter than 16 characters"), std::string::npos) << run.err;
+}
+
+TEST_F(ServeSafety, TokenGuardsEveryRouteButHealthz) {
+  const std::string token = "d2hhdCBhIGxvbmcgcmFuZG9tIHRva2Vu";
+  std::ofstream(dir_ / "token") << token << "\n";
+  ServeProcess serve(dir_.path(), db(),
+                     {"--listen", "127.0.0.1:0", "--token-file", (dir_ / "token").string()});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  const auto client = serve.Client();
+  EXPECT_EQ(client->Get("/healthz")->status, 200);
+  const httplib::Result none = client->Get("/api/v1/tests");
+  ASSERT_TRUE(none);
+  EXPECT_EQ(none->status, 401);
+  EXPECT_EQ(none->get_header_value("WWW-Authenticate"), "Bearer");
+  EXPECT_TRUE(Json::parse(none->body).contains("error"));
+  for (const std::string& wrong :
+       {token + "x", token.substr(0, token.size() - 1), std::string("Bearer"), std::string()})
+    EXPECT_EQ(client->Get("/api/v1/tests", {{"Authorization", "Bearer " + wrong}})->status, 401) << wrong;
+  EXPECT_EQ(client->Get("/api/v1/tests", {{"Authorization", "Basic " + token}})->status, 401);
+  const httplib::Result right = client->Get("/api/v1/tests", {{"Authorization", "Bearer " + token}});
+  ASSERT_TRUE(right);
+  EXPECT_EQ(right->status, 200);
+  EXPECT_EQ(right->body, "[]\n");
+  EXPECT_EQ(client->Get("/metrics")->status, 401);
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
+TEST_F(ServeSafety, SigtermStopsWithStatusZero) {
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0"});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  EXPECT_EQ(serve.Client()->Get("/healthz")->status, 200);
+  EXPECT_EQ(serve.Stop(SIGTERM), 0) << serve.log();
+  EXPECT_NE(serve.log().find("SIGTERM: stopping"), std::string::npos) << serve.log();
+  // No longer accepting.
+  httplib::Client after("127.0.0.1", serve.port());
+  after.set_connection_timeout(2, 0);
+  EXPECT_FALSE(after.Get("/healthz"));
+}
+
+TEST_F(ServeSafety, LockedCatalogueIsA503SayingSo) {
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--busy-timeout", "1"});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open(db().c_str(), &holder), SQLITE_OK);
+  // An exclusive lock (rollback journal for this connection's transaction): readers wait.
+  ASSERT_EQ(sqlite3_exec(holder,
+                         "PRAGMA locking_mode=EXCLUSIVE; BEGIN EXCLUSIVE; "
+                         "CREATE TABLE held_by_test(x); INSERT INTO held_by_test VALUES (1);",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(holder);
+  const httplib::Result locked = serve.Client()->Get("/api/v1/query/hic");
+  ASSERT_TRUE(locked);
+  EXPECT_EQ(locked->status, 503) << locked->body;
+  EXPECT_NE(Json::parse(locked->body).at("error").get<std::string>().find("is busy"), std::string::npos);
+  // The status still answers, and says why the catalogue's counts are missing.
+  const httplib::Result status = serve.Client()->Get("/api/v1/status");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->status, 200);
+  EXPECT_NE(Json::parse(status->body).at("catalogue").at("error").get<std::string>().find("is busy"),
+            std::string::npos)
+      << status->body;
+  ASSERT_EQ(sqlite3_exec(holder, "ROLLBACK; PRAGMA locking_mode=NORMAL;", nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(holder);
+  // The next request after the lock is released (an exclusive-mode connection releases it on close).
+  EXPECT_EQ(serve.Client()->Get("/api/v1/query/hic")->status, 200);
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
+// More connections than the request thread and its queue take: the one beyond is answered 503 at
+// once and closed; the service then serves again.
+TEST_F(ServeSafety, ConnectionsBeyondTheQueueAre503) {
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--threads", "1"});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  const auto connect_to = [&] {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(serve.port()));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+    return fd;
+  };
+  // One silent connection holds the thread (until the 5 s read timeout), 16 more fill its queue.
+  std::vector<int> silent;
+  for (int i = 0; i < 17; ++i) {
+    silent.push_back(connect_to());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // accepted in this order
+  }
+  const int extra = connect_to();
+  const std::string request = "GET /healthz HTTP/1.1\r\nHost: localhost\r\n\r\n";
+  ASSERT_EQ(send(extra, request.data(), request.size(), 0), static_cast<ssize_t>(request.size()));
+  std::string answer;
+  char buffer[4096];
+  for (ssize_t n; (n = recv(extra, buffer, sizeof buffer, 0)) > 0;)
+    answer.append(buffer, static_cast<std::size_t>(n));
+  close(extra);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 503", 0), 0u) << answer;
+  EXPECT_NE(answer.find("more connections than it can queue"), std::string::npos) << answer;
+  for (const int fd : silent) close(fd);
+  // Served again once the silent connections are gone.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  int status = 0;
+  while (status != 200 && std::chrono::steady_clock::now() < deadline) {
+    const httplib::Result result = serve.Client()->Get("/healthz");
+    status = result ? result->status : 0;
+  }
+  EXPECT_EQ(status, 200);
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
+TEST(ServeOptions, ListenAddressesAndLoopback) {
+  EXPECT_EQ(serve::ParseListenAddress("127.0.0.1:8080").host, "127.0.0.1");
+  EXPECT_EQ(serve::ParseListenAddress("127.0.0.1:8080").port, 8080);
+  EXPECT_EQ(serve::ParseListenAddress("[::1]:0").host, "::1");
+  EXPECT_THROW(serve::ParseListenAddress("::1:80"), UsageError);
+  EXPECT_THROW(serve::ParseListenAddress("host:65536"), UsageError);
+  EXPECT_THROW(serve::ParseListenAddress("host:"), UsageError);
+  EXPECT_THROW(serve::ParseListenAddress(":80"), UsageError);
+  EXPECT_TRUE(serve::IsLoopbackHost("127.0.0.1"));
+  EXPECT_TRUE(serve::IsLoopbackHost("127.1.2.3"));
+  EXPECT_TRUE(serve::IsLoopbackHost("::1"));
+  EXPECT_TRUE(serve::IsLoopbackHost("localhost"));
+  EXPECT_FALSE(serve::IsLoopbackHost("0.0.0.0"));
+  EXPECT_FALSE(serve::IsLoopbackHost("127.0.0.1.example.com"));
+  EXPECT_FALSE(serve::IsLoopbackHost("::"));
+}
+
+TEST(ServeOptions, TokensEqualOnlyWhenEqual) {
+  EXPECT_TRUE(serve::TokensEqual("abcdefghijklmnop", "abcdefghijklmnop"));
+  EXPECT_FALSE(serve::TokensEqual("abcdefghijklmnoq", "abcdefghijklmnop"));
+  EXPECT_FALSE(serve::TokensEqual("abcdefghijklmno", "abcdefghijklmnop"));
+  EXPECT_FALSE(serve::TokensEqual("abcdefghijklmnopq", "abcdefghijklmnop"));
+  EXPECT_FALSE(serve::TokensEqual("", "abcdefghijklmnop"));
+  // A prefix padded with NULs is not the token either.
+  EXPECT_FALSE(serve::TokensEqual(std::string("abcdefghijklmno\0", 16), "abcdefghijklmnoz"));
+}
+
+TEST(ServeErrors, CategoriesGiveTheirStatus) {
+  const auto status = [](const std::exception_ptr& error) {
+    return serve::ErrorResponse(error, "lab.db").status;
+  };
+  EXPECT_EQ(status(std::make_exception_ptr(UsageError("bad where."))), 400);
+  EXPECT_EQ(status(std::make_exception_ptr(InputError("bad file."))), 400);
+  EXPECT_EQ(status(std::make_exception_ptr(NotFoundError("no test."))), 404);
+  EXPECT_EQ(status(std::make_exception_ptr(std::logic_error("bug"))), 500);
+  const serve::Response response =
+      serve::ErrorResponse(std::make_exception_ptr(NotFoundError("no test.")), "lab.db");
+  EXPECT_EQ(response.body, "{\"error\":\"no test.\"}\n");
+}
+
+}  // namespace
+}  // namespace napkin::test_support
