@@ -1,19 +1,14 @@
 #include "formats/model_curves.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <map>
 #include <sstream>
 #include <utility>
 
 #include "common/error.h"
 #include "engine/units.h"
+#include "formats/json_file.h"
 #include "util/sha256.h"
 #include "util/text.h"
 
@@ -115,33 +110,10 @@ std::vector<double> FortranNumbers(std::string_view text, bool& ok) {
 }  // namespace
 
 ModelFile ReadModelFile(const std::filesystem::path& path) {
-  const std::string shown = "model file '" + util::EscapeControl(path.string()) + "'";
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
-  if (fd < 0) throw InputError(shown + " cannot be opened: " + std::strerror(errno) + ".");
-  ModelFile file{path, "", ""};
-  struct stat status {};
-  bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
-  bool read_error = false;
-  if (regular) {
-    char buffer[1 << 16];
-    for (;;) {
-      const ssize_t got = ::read(fd, buffer, sizeof buffer);
-      if (got > 0) {
-        file.bytes.append(buffer, static_cast<std::size_t>(got));
-      } else if (got == 0) {
-        break;
-      } else if (errno != EINTR) {
-        read_error = true;
-        break;
-      }
-    }
-  }
-  const int read_errno = errno;
-  ::close(fd);
-  if (!regular) throw InputError(shown + " is not a regular file.");
-  if (read_error) throw InputError(shown + " cannot be read: " + std::strerror(read_errno) + ".");
-  file.sha256 = util::Sha256Hex(file.bytes);
-  return file;
+  // One descriptor, its type checked by fstat, its size bounded (formats/json_file.h).
+  std::string bytes = ReadWholeFile(path);
+  std::string sha256 = util::Sha256Hex(bytes);
+  return {path, std::move(bytes), std::move(sha256)};
 }
 
 ModelUnits ParseModelUnits(std::string_view spec, std::string_view option) {

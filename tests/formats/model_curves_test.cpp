@@ -129,7 +129,7 @@ TEST(Nodout, RefusesBadInputNamingFileAndLine) {
   EXPECT_EQ(ModelErrorOf([&] { ReadNodout(path, ModelUnits{}); }),
             path.string() + " line 6: the time 0 does not follow the previous one (0); times must increase.");
   EXPECT_EQ(ModelErrorOf([&] { ReadNodout(dir / "missing", ModelUnits{}); }),
-            "model file '" + (dir / "missing").string() + "' cannot be opened: No such file or directory.");
+            (dir / "missing").string() + ": cannot open the file (No such file or directory).");
 }
 
 // A model file is read once, through one descriptor: its hash is of the bytes
@@ -146,10 +146,11 @@ TEST(ModelFile, ReadOnceWithTheHashOfItsBytesAndOnlyFromARegularFile) {
   EXPECT_EQ(ReadModelCsv(file).front().series.values, ReadModelCsv(dir / "model.csv").front().series.values);
 
   EXPECT_EQ(ModelErrorOf([&] { ReadModelFile(dir.path()); }),
-            "model file '" + dir.path().string() + "' is not a regular file.");
+            dir.path().string() + ": is a folder, not a regular file; napkin reads only regular files.");
   ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
   EXPECT_EQ(ModelErrorOf([&] { ReadModelCsv(dir / "pipe"); }),
-            "model file '" + (dir / "pipe").string() + "' is not a regular file.");
+            (dir / "pipe").string() +
+                ": is a FIFO (named pipe), not a regular file; napkin reads only regular files.");
 }
 
 TEST(ModelCsv, ReadsUnitsFromColumnSuffixes) {
