@@ -96,6 +96,55 @@ std::string ScriptString(const std::string& text) {
 // How often the live report asks whether its series changed.
 constexpr int kReportPollMs = 3000;
 
+// The live report's script. Every few seconds it asks ReportVersion; when the answer changes it
+// fetches the current page, puts its <main> and chart data in place of the open page's and runs
+// the page's own drawing script again (the script after #napkin-data, formats/html_report.cpp):
+// the reader keeps the page, its scroll position and the charting library, no reload. A note in
+// the corner says when the page last changed, or that the service does not answer.
+// <html data-live-updates="N"> counts the updates (tests/serve: the page was never reloaded).
+constexpr const char* kLiveReportScript = R"js(<div id="napkin-live" style="position: fixed; right: 8px; bottom: 8px; padding: 2px 8px; font: 12px sans-serif; color: #555; background: rgba(255, 255, 255, 0.9); border: 1px solid #ccd; border-radius: 3px;">live: updates as tests arrive</div>
+<script>
+(function () {
+  'use strict';
+  var version = @VERSION@, series = @SERIES@, updates = 0, busy = false;
+  var note = document.getElementById('napkin-live');
+  var versionUrl = '/api/v1/report/version?series=' + encodeURIComponent(series);
+  var pageUrl = '/report?series=' + encodeURIComponent(series);
+  function clock() { return new Date().toLocaleTimeString(); }
+  function replaceReport(text, newVersion) {
+    var fresh = new DOMParser().parseFromString(text, 'text/html');
+    var main = fresh.querySelector('main'), data = fresh.getElementById('napkin-data');
+    var draw = data ? data.nextElementSibling : null;
+    if (!main || !draw || draw.tagName !== 'SCRIPT') throw new Error('the service sent a page without a report');
+    document.querySelectorAll('.napkin-script-error').forEach(function (box) { box.remove(); });
+    document.querySelector('main').replaceWith(document.adoptNode(main));
+    document.getElementById('napkin-data').textContent = data.textContent;
+    var run = document.createElement('script');
+    run.textContent = draw.textContent;
+    document.body.appendChild(run);
+    run.remove();
+    version = newVersion;
+    document.documentElement.setAttribute('data-live-updates', String(++updates));
+    note.textContent = 'live: updated at ' + clock();
+  }
+  setInterval(function () {
+    if (busy) return;
+    busy = true;
+    fetch(versionUrl).then(function (r) { return r.json(); }).then(function (answer) {
+      if (!answer.version || answer.version === version) return null;
+      return fetch(pageUrl).then(function (r) {
+        if (!r.ok) throw new Error('HTTP ' + r.status);
+        return r.text();
+      }).then(function (text) { replaceReport(text, answer.version); });
+    }).catch(function (e) {
+      note.textContent = 'live: the service does not answer (' + clock() + ')';
+      if (!(e instanceof TypeError)) window.napkinReportError('live update: ' + (e && e.message ? e.message : e));
+    }).finally(function () { busy = false; });
+  }, @POLL_MS@);
+})();
+</script>
+)js";
+
 }  // namespace
 
 Response JsonError(int status, const std::string& sentence) {
@@ -251,14 +300,16 @@ Response Api::Report(const Params& params) const {
   selection.series = {series};
   std::string page;
   app::WriteCatalogueReport(options_.db_path, selection, [&](std::string_view text) { page.append(text); });
-  // The page reloads itself when its series changes; the script goes before </body>.
-  const std::string script =
-      "<script>\n(function () {\n  const version = " + ScriptString(version) +
-      ";\n  const url = '/api/v1/report/version?series=' + encodeURIComponent(" + ScriptString(series) +
-      ");\n  setInterval(function () {\n" +
-      "    fetch(url).then(function (r) { return r.json(); }).then(function (answer) {\n" +
-      "      if (answer.version && answer.version !== version) location.reload();\n" +
-      "    }).catch(function () {});\n  }, " + std::to_string(kReportPollMs) + ");\n})();\n</script>\n";
+  // The page updates itself in place when its series changes (docs/serve.md "Live report"); the
+  // script goes before </body>.
+  std::string script = kLiveReportScript;
+  for (const auto& [placeholder, value] :
+       {std::pair<std::string, std::string>{"@POLL_MS@", std::to_string(kReportPollMs)},
+        {"@VERSION@", ScriptString(version)},
+        {"@SERIES@", ScriptString(series)}}) {  // the series last: its text may hold anything
+    const std::size_t at = script.find(placeholder);
+    script.replace(at, placeholder.size(), value);
+  }
   const std::size_t body_end = page.rfind("</body>");
   page.insert(body_end == std::string::npos ? page.size() : body_end, script);
   return Response{200, "text/html; charset=utf-8", std::move(page)};

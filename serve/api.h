@@ -61,8 +61,8 @@ class Api {
   Response Compare(const Params& params) const;
 
   // GET /report?series=S: `napkin report --series S` (app/report_builder.h),
-  // with a script that asks ReportVersion every few seconds and reloads the
-  // page when the answer changes (docs/serve.md "Live report").
+  // with a script that asks ReportVersion every few seconds and, when the
+  // answer changes, puts the current report in place of the open one (docs/serve.md "Live report").
   Response Report(const Params& params) const;
   // GET /api/v1/report/version?series=S: {"version": V}, V changing whenever a
   // test or result of the series does.

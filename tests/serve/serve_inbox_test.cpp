@@ -124,7 +124,8 @@ TEST_F(ServeInbox, InotifyImportsAndProcessesWithTheCommandLinesNumbers) {
 }
 
 // The live report in headless Chromium: a test dropped into the inbox after the page was loaded
-// appears on it without anyone reloading it (the page's script does, when the series changes).
+// appears on it without a reload: the page's script replaces its report in place when the series
+// changes.
 TEST_F(ServeInbox, LiveReportShowsANewTestWithoutAReload) {
   std::string chromium;
   for (const char* path : {"/usr/bin/chromium", "/usr/bin/chromium-headless-shell"})
@@ -162,6 +163,10 @@ TEST_F(ServeInbox, LiveReportShowsANewTestWithoutAReload) {
   // The page was loaded (and polled twice) before newcomer-test existed.
   EXPECT_NE(page.find("early-test"), std::string::npos);
   EXPECT_NE(page.find("newcomer-test"), std::string::npos) << "the open page did not show the new test";
+  // It was updated in place: a reload would have started the count again.
+  EXPECT_NE(page.find("data-live-updates=\""), std::string::npos) << "the page was reloaded, not updated";
+  EXPECT_NE(page.find(">live: updated at "), std::string::npos);  // the note in the corner
+  EXPECT_EQ(page.find("class=\"napkin-script-error\""), std::string::npos) << page;
   EXPECT_EQ(serve->Stop(), 0);
 }
 
