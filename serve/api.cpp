@@ -102,7 +102,8 @@ constexpr int kReportPollMs = 3000;
 // the reader keeps the page, its scroll position and the charting library, no reload. A note in
 // the corner says when the page last changed, or that the service does not answer.
 // <html data-live-updates="N"> counts the updates (tests/serve: the page was never reloaded).
-constexpr const char* kLiveReportScript = R"js(<div id="napkin-live" style="position: fixed; right: 8px; bottom: 8px; padding: 2px 8px; font: 12px sans-serif; color: #555; background: rgba(255, 255, 255, 0.9); border: 1px solid #ccd; border-radius: 3px;">live: updates as tests arrive</div>
+constexpr const char* kLiveReportScript =
+    R"js(<div id="napkin-live" style="position: fixed; right: 8px; bottom: 8px; padding: 2px 8px; font: 12px sans-serif; color: #555; background: rgba(255, 255, 255, 0.9); border: 1px solid #ccd; border-radius: 3px;">live: updates as tests arrive</div>
 <script>
 (function () {
   'use strict';
