@@ -11,8 +11,12 @@ set(NAPKIN_TEST_CODE_OPTIONS "" CACHE STRING "Extra compile options for the test
 if(NAPKIN_WERROR)
   list(APPEND NAPKIN_WARNING_FLAGS -Werror)
 endif()
+# The sanitizers' compile options: napkin's code (every library, the program, the Python module)
+# is instrumented; tests/CMakeLists.txt takes them off the test code again (it says why).
+set(NAPKIN_SANITIZE_COMPILE_OPTIONS -fsanitize=address,undefined -fno-omit-frame-pointer
+                                    -fno-sanitize-recover=undefined)
 if(NAPKIN_SANITIZE)
-  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_compile_options(${NAPKIN_SANITIZE_COMPILE_OPTIONS})
   add_link_options(-fsanitize=address,undefined)
   # The test build's programs start thousands of times (each GoogleTest suite is a process of its
   # own; the CLI tests run napkin once a case or more). Position-dependent, they start in half the time:
