@@ -248,17 +248,22 @@ void Inbox::LookAtInbox() {
       if (handled != handled_.end() && handled->second == signature) continue;
       Pending& pending = pending_[key];
       if (pending.signature != signature) pending = Pending{signature, now};
-      if (fs::exists(MarkerOf(test.input), error) || now - pending.since_s >= options_.settle_s)
+      if (fs::exists(MarkerOf(test.input), error) || now - pending.since_s >= options_.settle_s) {
+        pending.settled = true;
         settled.emplace_back(std::move(test), signature);
+      }
     }
-    // A test that disappeared before it settled: said once, then forgotten.
+    // A test that disappeared before it was imported (before it settled, or after, while the
+    // catalogue was locked): said once, then forgotten.
     for (auto it = pending_.begin(); it != pending_.end();) {
       if (seen.count(it->first)) {
         ++it;
         continue;
       }
       const std::string sentence =
-          "test '" + it->first + "' was removed from the inbox before it settled; it was not imported.";
+          "test '" + it->first + "' was removed from the inbox " +
+          (it->second.settled ? "after it settled, before it could be imported" : "before it settled") +
+          "; it was not imported.";
       spdlog::warn("{}", sentence);
       events_.push_back({{"time", now}, {"kind", "removed"}, {"source", it->first}, {"message", sentence}});
       it = pending_.erase(it);
@@ -336,11 +341,20 @@ void Inbox::LookAtInbox() {
         const char* kind = result.outcome == ingest::ImportOutcome::kImported  ? "imported"
                            : result.outcome == ingest::ImportOutcome::kSkipped ? "skipped"
                                                                                : "import failed";
+        std::string message = result.message;
+        // A test whose files went away while it was read: said as what happened, beside the
+        // reader's own sentence.
+        if (result.outcome == ingest::ImportOutcome::kFailed && !fs::exists(test.input.source, error)) {
+          kind = "removed";
+          message = "test '" + source +
+                    "' was removed from the inbox while it was being imported; it was not imported (" +
+                    result.message + ")";
+        }
         if (result.outcome == ingest::ImportOutcome::kFailed)
-          spdlog::error("{}", result.message);
+          spdlog::error("{}", message);
         else
           spdlog::info("{}: {} from {}", result.test_id, kind, source);
-        Record(kind, source, result.test_id, result.message.empty() ? std::string(kind) : result.message);
+        Record(kind, source, result.test_id, message.empty() ? std::string(kind) : message);
       }
       done();
     }

@@ -76,6 +76,7 @@ class Inbox {
   struct Pending {
     std::string signature;
     double since_s = 0;
+    bool settled = false;  // due for import (it waits only for the catalogue)
   };
   void Watch();
   void LookAtInbox();

@@ -289,6 +289,49 @@ TEST_F(ServeInbox, RemovedBeforeSettlingIsSaid) {
   EXPECT_EQ(serve->Stop(), 0);
 }
 
+// A test removed after it settled but before it was imported (the catalogue was locked meanwhile,
+// as a CLI `run` committing holds it): a sentence in the log and the status, and the other test
+// that settled with it is imported and processed.
+TEST_F(ServeInbox, RemovedAfterSettlingBeforeImportIsSaidAndTheRestGoesOn) {
+  const auto serve = Serve({"--settle", "3600", "--busy-timeout", "1"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open(db_.c_str(), &holder), SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(holder, "PRAGMA locking_mode=EXCLUSIVE; BEGIN EXCLUSIVE; CREATE TABLE held_by_test(x);",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK)
+      << sqlite3_errmsg(holder);
+  const fs::path kept = inbox_ / "sled" / "a" / "t09.csv";
+  const fs::path removed = inbox_ / "sled" / "a" / "t10.csv";
+  WriteTest(kept, 109);
+  WriteTest(removed, 110);
+  WriteText(inbox_ / "sled" / "a" / "t09.ready", "");
+  WriteText(inbox_ / "sled" / "a" / "t10.ready", "");
+  // Both settled (their markers): the inbox waits for the catalogue to import them.
+  WaitFor(*serve, "/api/v1/status",
+          [](const Json& s) { return s.at("inbox").at("catalogue_waiting").is_string(); });
+  fs::remove(removed);
+  ASSERT_EQ(sqlite3_exec(holder, "ROLLBACK;", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(holder);
+  WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  const std::string sentence =
+      "test '" + removed.string() +
+      "' was removed from the inbox after it settled, before it could be imported; it "
+      "was not imported.";
+  const Json status = WaitFor(*serve, "/api/v1/status", [&](const Json& s) {
+    for (const Json& event : s.at("inbox").at("events"))
+      if (event.at("kind") == "removed" && event.at("message") == sentence) return true;
+    return false;
+  });
+  EXPECT_EQ(status.at("inbox").at("imported"), 1) << status.dump(2);
+  EXPECT_NE(serve->log().find(sentence), std::string::npos) << serve->log();
+  const Json tests = Json::parse(serve->Client()->Get("/api/v1/tests")->body);
+  ASSERT_EQ(tests.size(), 1u);
+  EXPECT_EQ(tests[0].at("test_id"), "t09");
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
 // A catalogue held locked by another process (as a CLI `run` committing holds it): the inbox waits,
 // says so in the status, and imports once the lock is gone.
 TEST_F(ServeInbox, LockedCatalogueWaitsAndSaysSo) {
