@@ -64,12 +64,13 @@ release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
 	cmake --build $(BUILD_RELEASE) -j$(JOBS) --target napkin
 
 # The test build: warnings are errors, address and undefined-behaviour sanitizers on napkin's code
-# (its libraries, the program and the Python module; the test files link their runtimes but are
-# not instrumented themselves, tests/CMakeLists.txt). napkin is compiled with -O1 and the test
+# (its libraries, the program and the Python module; the test files have the address sanitizer
+# only, tests/CMakeLists.txt says why). napkin is compiled with -O1 and the test
 # files with -O0, both with line tables (-g1) for the sanitizers' reports: optimising GoogleTest's
-# macros under the sanitizers was most of the build's time (cmake/NapkinHelpers.cmake). Each library and test program is compiled in batches of files
-# (NAPKIN_UNITY_BUILD): the headers' inline code is generated once a batch. The benchmarks are not
-# part of it: `make bench` builds them as they are meant to run (Release, no sanitizers).
+# macros under the sanitizers was most of the build's time (cmake/NapkinHelpers.cmake). Each
+# library and test program is compiled in batches of files (NAPKIN_UNITY_BUILD): the headers'
+# inline code is generated once a batch. The benchmarks are not part of it: `make bench` builds
+# them as they are meant to run (Release, no sanitizers).
 $(BUILD_TEST)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
 	  -DNAPKIN_TEST_CODE_OPTIONS=-O0 -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON -DNAPKIN_BUILD_BENCH=OFF \

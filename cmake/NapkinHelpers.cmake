@@ -12,7 +12,7 @@ if(NAPKIN_WERROR)
   list(APPEND NAPKIN_WARNING_FLAGS -Werror)
 endif()
 # The sanitizers' compile options: napkin's code (every library, the program, the Python module)
-# is instrumented; tests/CMakeLists.txt takes them off the test code again (it says why).
+# is instrumented; tests/CMakeLists.txt keeps only the address sanitizer for the test code (it says why).
 set(NAPKIN_SANITIZE_COMPILE_OPTIONS -fsanitize=address,undefined -fno-omit-frame-pointer
                                     -fno-sanitize-recover=undefined)
 if(NAPKIN_SANITIZE)
