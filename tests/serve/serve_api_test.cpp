@@ -291,13 +291,15 @@ TEST_F(ServeApi, ReportIsTheCommandLinesPageWithALiveScript) {
   EXPECT_EQ(v.size(), 16u);
   EXPECT_EQ(Get("/api/v1/report/version?series=padding-series")->body, version->body)
       << "stable while nothing changes";
-  // The page is the command line's, with the refresh script before </body>.
-  const std::string script_start = "<script>\n(function () {\n  const version = \"" + v + "\";";
+  // The page is the command line's, with the live note and its script before </body>.
+  const std::string script_start = "<div id=\"napkin-live\"";
   std::string page = result->body;
   const std::size_t start = page.find(script_start);
   ASSERT_NE(start, std::string::npos) << page.substr(page.size() - std::min<std::size_t>(page.size(), 800));
   const std::size_t end = page.find("</script>\n", start) + std::string("</script>\n").size();
-  EXPECT_NE(page.substr(start, end - start).find("/api/v1/report/version?series="), std::string::npos);
+  const std::string live = page.substr(start, end - start);
+  EXPECT_NE(live.find("var version = \"" + v + "\", series = \"padding-series\""), std::string::npos) << live;
+  EXPECT_NE(live.find("/api/v1/report/version?series="), std::string::npos);
   page.erase(start, end - start);
   EXPECT_EQ(page, cli.out);
   EXPECT_EQ(page.rfind("</body>"), start);
