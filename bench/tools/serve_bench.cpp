@@ -88,6 +88,7 @@ int WriteTests(const fs::path& dir, int count, int samples, std::uint64_t first_
 httplib::Client LoopbackClient(int port) {
   httplib::Client client("127.0.0.1", port);
   client.set_keep_alive(true);
+  client.set_tcp_nodelay(true);  // as browsers do
   client.set_connection_timeout(5, 0);
   client.set_read_timeout(30, 0);
   return client;
