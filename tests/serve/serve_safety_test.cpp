@@ -178,6 +178,25 @@ TEST_F(ServeSafety, ConnectionsBeyondTheQueueAre503) {
   EXPECT_EQ(serve.Stop(), 0);
 }
 
+// A kept-alive connection holds its request thread: an idle one (a live report page between its
+// 3-s polls) must let go of it within the keep-alive time (1 s), or a few open pages would starve
+// every other client.
+TEST_F(ServeSafety, AnIdleKeptAliveConnectionReleasesItsThreadWithinASecond) {
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--threads", "1"});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  httplib::Client idle("127.0.0.1", serve.port());
+  idle.set_keep_alive(true);
+  ASSERT_EQ(idle.Get("/healthz")->status, 200);  // its connection stays open, holding the thread
+  const auto start = std::chrono::steady_clock::now();
+  const httplib::Result other = serve.Client()->Get("/healthz");
+  const double waited_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(other);
+  EXPECT_EQ(other->status, 200);
+  EXPECT_GT(waited_s, 0.5) << "the idle connection did not hold the thread: the test shows nothing";
+  EXPECT_LT(waited_s, 3.0) << "an idle kept-alive connection held the only thread for " << waited_s << " s";
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
 TEST(ServeOptions, ListenAddressesAndLoopback) {
   EXPECT_EQ(serve::ParseListenAddress("127.0.0.1:8080").host, "127.0.0.1");
   EXPECT_EQ(serve::ParseListenAddress("127.0.0.1:8080").port, 8080);
