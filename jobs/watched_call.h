@@ -9,7 +9,8 @@
 
 namespace napkin::jobs {
 
-// Runs `work(cancel)` on a thread of its own while the calling thread calls
+// Runs `work(cancel)` on another thread (one kept for these calls, or one of
+// its own while another call has that) while the calling thread calls
 // `should_stop()` every `interval`. Once it returns true, `cancel` is set and
 // the call waits for `work` to return (the engine reads `cancel` and throws
 // engine::Cancelled within milliseconds); `should_stop` is not called again.
