@@ -38,6 +38,7 @@
 #include "records/array_record.h"
 #include "records/config_record.h"
 #include "records/test_inputs.h"
+#include "util/malloc_tuning.h"
 
 namespace {
 
@@ -204,6 +205,9 @@ int main(int argc, char** argv) {
   };
   try {
     if (args.size() >= 2 && args[0] == "io-baseline") {
+      // The malloc of `napkin run` (jobs/scheduler.cpp, keep_freed_memory), so that run / floor
+      // compares the work, not two memory policies.
+      util::KeepFreedMemoryForReuse();
       const std::string storage_name = option("--storage", "float64");
       const auto storage = engine::ParseName<engine::DerivedStorage>(storage_name);
       if (!storage) throw InputError("--storage takes float64, float32 or none, not '" + storage_name + "'.");
