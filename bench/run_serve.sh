@@ -30,30 +30,30 @@ require_disk "$WORK" $(( RUN_TESTS * 2 + 200 )) "${RUN_TESTS} recordings of 2,00
 build_release "$BUILD" "$(nproc)" napkin napkin_serve_bench
 NAPKIN=$BUILD/cli/napkin
 TOOL=$BUILD/bench/napkin_serve_bench
-DB=$WORK/serve.db
-INBOX=$WORK/inbox
-STAGING=$WORK/staging
-rm -rf "$INBOX" "$STAGING"
-remove_db "$DB"
+# A folder of this run's own (its log stays there): nothing else in WORKDIR is written or removed.
+RUN_DIR=$(mktemp -d "$WORK/serve-run.XXXXXX")
+DB=$RUN_DIR/serve.db
+INBOX=$RUN_DIR/inbox
+STAGING=$RUN_DIR/staging
 mkdir -p "$INBOX/bench" "$STAGING"
 echo '{"array": "denton-3222"}' > "$INBOX/napkin.json"
 "$NAPKIN" --db "$DB" init > /dev/null
 
-"$NAPKIN" --db "$DB" serve --listen 127.0.0.1:0 --inbox "$INBOX" --settle 1 2> "$WORK/serve.log" &
+"$NAPKIN" --db "$DB" serve --listen 127.0.0.1:0 --inbox "$INBOX" --settle 1 2> "$RUN_DIR/serve.log" &
 SERVE_PID=$!
 stop_service() {
   kill -TERM "$SERVE_PID" 2> /dev/null && wait "$SERVE_PID" || true
+  rm -rf "$INBOX" "$STAGING"  # this run's own; its log stays
   remove_db "$DB"
-  rm -rf "$INBOX" "$STAGING"
 }
 trap stop_service EXIT
 PORT=
 for (( i = 0; i < 100 && ${#PORT} == 0; i++ )); do
   sleep 0.1
-  PORT=$(sed -n 's|.*listening on http://127.0.0.1:\([0-9]*\).*|\1|p' "$WORK/serve.log" | head -1)
+  PORT=$(sed -n 's|.*listening on http://127.0.0.1:\([0-9]*\).*|\1|p' "$RUN_DIR/serve.log" | head -1)
 done
-[[ -n $PORT ]] || { echo "napkin serve did not start:" >&2; cat "$WORK/serve.log" >&2; exit 1; }
-echo "napkin serve (pid $SERVE_PID) on 127.0.0.1:$PORT, log $WORK/serve.log"
+[[ -n $PORT ]] || { echo "napkin serve did not start:" >&2; cat "$RUN_DIR/serve.log" >&2; exit 1; }
+echo "napkin serve (pid $SERVE_PID) on 127.0.0.1:$PORT, log $RUN_DIR/serve.log"
 
 echo
 echo "== 1. settled recording (9 channels x 20,000 samples) to its row in /api/v1/tests/ID"

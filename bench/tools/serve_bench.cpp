@@ -36,14 +36,19 @@
 #ifdef _res
 #undef _res
 #endif
+#include <fcntl.h>
+#include <stdio.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -104,7 +109,11 @@ int Latency(int port, const fs::path& staging, const fs::path& target_dir, int s
     const std::string id = fmt::format("bench-{}", first_seed + i);
     WriteRecording(staging / (id + ".csv"), samples, first_seed + i);
     const Clock::time_point settled_at = Clock::now();
-    fs::rename(staging / (id + ".csv"), target_dir / (id + ".csv"));
+    // Into the inbox in one step, never over a file already there.
+    const fs::path staged = staging / (id + ".csv"), target = target_dir / (id + ".csv");
+    if (::renameat2(AT_FDCWD, staged.c_str(), AT_FDCWD, target.c_str(), RENAME_NOREPLACE) != 0)
+      throw std::runtime_error("cannot move " + staged.string() + " to " + target.string() + ": " +
+                               std::strerror(errno));
     if (marker) std::ofstream(target_dir / (id + ".ready")).flush();
     for (;;) {
       const httplib::Result answer = client.Get("/api/v1/tests/" + id);
