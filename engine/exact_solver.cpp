@@ -1,13 +1,16 @@
 #include "engine/exact_solver.h"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "common/error.h"
 #include "engine/array_analysis.h"
 #include "engine/cancellation.h"
 #include "engine/integration.h"
+#include "engine/kinematics_completer.h"
 #include "engine/rotation.h"
 #include "engine/rotation_angles.h"
 
@@ -24,9 +27,6 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 // Arrays with up to this many linear sensors are solved with fixed-capacity
 // (stack) storage; larger ones with heap storage allocated once per test.
 constexpr int kMaxFixedSizeSensors = 16;
-
-// How far ahead (samples) the exact solver prefetches the recorded channels.
-constexpr Index kPrefetchSamples = 64;
 
 // Per-sensor constants of the centripetal term of the linear sensors,
 //   c_i(omega) = n_i . (omega x (omega x r_i)) = (n_i.omega)(r_i.omega) - (n_i.r_i)|omega|^2,
@@ -89,177 +89,15 @@ MatrixXd MeasurementsBySample(const ArrayGeometry& array, const std::vector<std:
   return by_sample;
 }
 
-// CompleteKinematics one sample at a time, so that a solver can complete
-// each sample while it is in cache: Step(k) once rows k of omega_body,
-// alpha_body and acc_body are final (k = 0, 1, ... in order), then Finish().
-// The arithmetic is IntegrateOrientation's, DifferentiateSecondOrder's and
-// IntegrateHermite's (engine/integration.h), operation for operation.
-class KinematicsCompleter {
- public:
-  KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                      Kinematics& kin, const std::atomic<bool>* cancel)
-      : kin_(kin),
-        cancel_(cancel),
-        gravity_(gravity),
-        initial_(initial),
-        fixed_from_body_0_(InitialFixedFromBody(initial.orientation_rad)),
-        gravity_body_0_(fixed_from_body_0_.transpose() * gravity.g_fixed_mps2),
-        dt_(dt_s),
-        half_dt_(0.5 * dt_s),
-        dt2_12_(dt_s * dt_s / 12.0) {}
-
-  // Orientation (q[k] = q[k-1] Exp(theta_k), IntegrateOrientation), the
-  // gravity term, and the fixed-frame series of sample k (the angles: Finish).
-  void Step(Index k) {
-    // Row k one coefficient at a time (the previous row is kept), so that no
-    // packet load spans the solver's scalar stores of rows k - 1 and k.
-    const Vector3d w1(kin_.omega_body(k, 0), kin_.omega_body(k, 1), kin_.omega_body(k, 2));
-    const Vector3d a1(kin_.alpha_body(k, 0), kin_.alpha_body(k, 1), kin_.alpha_body(k, 2));
-    if (k == 0) {
-      fixed_from_body_ = Eigen::Quaterniond(fixed_from_body_0_).normalized();
-    } else {
-      const Vector3d& w0 = omega_body_prev_;
-      const Vector3d& a0 = alpha_body_prev_;
-      const Vector3d step_rotation = half_dt_ * (w0 + w1) + dt2_12_ * (a0 - a1) + dt2_12_ * w0.cross(w1);
-      // Body-frame increment multiplies on the right: dR/dt = R [omega_body]x.
-      fixed_from_body_ = NormalizedProduct(fixed_from_body_, QuaternionExp(step_rotation));
-    }
-    omega_body_prev_ = w1;
-    alpha_body_prev_ = a1;
-    const double qw = fixed_from_body_.w(), qx = fixed_from_body_.x(), qy = fixed_from_body_.y(),
-                 qz = fixed_from_body_.z();
-    kin_.quat_fixed_from_body(k, 0) = qw;
-    kin_.quat_fixed_from_body(k, 1) = qx;
-    kin_.quat_fixed_from_body(k, 2) = qy;
-    kin_.quat_fixed_from_body(k, 3) = qz;
-    const Eigen::Matrix3d r = RotationMatrixOfUnitQuaternion(qw, qx, qy, qz);
-    const double r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2);
-    const double r10 = r(1, 0), r11 = r(1, 1), r12 = r(1, 2);
-    const double r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
-    // docs/algorithms.md "Gravity": zeroed accelerometers read a - (R^T - R0^T) g;
-    // add the term back with the integrated orientation.
-    if (gravity_.compensate) {
-      const double gx = gravity_.g_fixed_mps2.x(), gy = gravity_.g_fixed_mps2.y(),
-                   gz = gravity_.g_fixed_mps2.z();
-      kin_.acc_body(k, 0) += r00 * gx + r10 * gy + r20 * gz - gravity_body_0_.x();
-      kin_.acc_body(k, 1) += r01 * gx + r11 * gy + r21 * gz - gravity_body_0_.y();
-      kin_.acc_body(k, 2) += r02 * gx + r12 * gy + r22 * gz - gravity_body_0_.z();
-    }
-    auto rotate_row = [&](const Series3& body, Series3& fixed) {
-      const double x = body(k, 0), y = body(k, 1), z = body(k, 2);
-      fixed(k, 0) = r00 * x + r01 * y + r02 * z;
-      fixed(k, 1) = r10 * x + r11 * y + r12 * z;
-      fixed(k, 2) = r20 * x + r21 * y + r22 * z;
-    };
-    rotate_row(kin_.omega_body, kin_.omega_fixed);
-    rotate_row(kin_.alpha_body, kin_.alpha_fixed);
-    rotate_row(kin_.acc_body, kin_.acc_fixed);
-  }
-
-  // (a b).normalized() for unit quaternions a and b, in scalars. |a b|^2 = 1 + e
-  // with e a few ulp, and 1/sqrt(1 + e) = 1 - e/2 + 3e^2/8 - ..., so
-  // (a b) (3 - |a b|^2) / 2 is the normalized product to round-off, without a
-  // square root and a division on the sample-to-sample dependency chain; a
-  // product further from unit length is normalized exactly.
-  static Eigen::Quaterniond NormalizedProduct(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-    const double w = a.w() * b.w() - a.x() * b.x() - a.y() * b.y() - a.z() * b.z();
-    const double x = a.w() * b.x() + a.x() * b.w() + a.y() * b.z() - a.z() * b.y();
-    const double y = a.w() * b.y() + a.y() * b.w() + a.z() * b.x() - a.x() * b.z();
-    const double z = a.w() * b.z() + a.z() * b.w() + a.x() * b.y() - a.y() * b.x();
-    const double norm_sq = w * w + x * x + y * y + z * z;
-    const double scale = std::abs(norm_sq - 1.0) > 1e-9 ? 1.0 / std::sqrt(norm_sq) : 1.5 - 0.5 * norm_sq;
-    return Eigen::Quaterniond(w * scale, x * scale, y * scale, z * scale);
-  }
-
-  // Velocity (from the initial velocity) and position (from 0) by the
-  // Hermite rule, the slope of acc_fixed taken on the fly, in one pass.
-  // The angles follow in a loop of their own (engine/rotation_angles.h).
-  void Finish() {
-    ThrowIfCancelled(cancel_);
-    OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad,
-                      BestAnglesImplementation(), cancel_);
-    ThrowIfCancelled(cancel_);
-    const Index n = kin_.size();
-    if (n == 0) return;
-    const Series3& acc = kin_.acc_fixed;
-    const double inv_2dt = 0.5 / dt_;
-    auto acc_rate = [&](Index k) -> Eigen::RowVector3d {
-      if (n == 2) return (acc.row(1) - acc.row(0)) / dt_;
-      if (k == 0) return (-3.0 * acc.row(0) + 4.0 * acc.row(1) - acc.row(2)) * inv_2dt;
-      if (k == n - 1) return (3.0 * acc.row(n - 1) - 4.0 * acc.row(n - 2) + acc.row(n - 3)) * inv_2dt;
-      return (acc.row(k + 1) - acc.row(k - 1)) * inv_2dt;
-    };
-    if (n == 1) {
-      kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
-      kin_.pos_fixed.row(0).setZero();
-      return;
-    }
-    // The three components side by side in scalars (their chains overlap),
-    // the previous row kept in registers, the interior without branches.
-    const double* acc_col[3] = {acc.col(0).data(), acc.col(1).data(), acc.col(2).data()};
-    double* vel_col[3] = {kin_.vel_fixed.col(0).data(), kin_.vel_fixed.col(1).data(),
-                          kin_.vel_fixed.col(2).data()};
-    double* pos_col[3] = {kin_.pos_fixed.col(0).data(), kin_.pos_fixed.col(1).data(),
-                          kin_.pos_fixed.col(2).data()};
-    double vel_prev[3], pos_prev[3], rate_prev[3], rate[3];
-    const Eigen::RowVector3d rate_0 = acc_rate(0);
-    for (int c = 0; c < 3; ++c) {
-      vel_prev[c] = vel_col[c][0] = initial_.velocity_fixed_mps(c);
-      pos_prev[c] = pos_col[c][0] = 0.0;
-      rate_prev[c] = rate_0(c);
-    }
-    auto advance = [&](Index k) {
-      for (int c = 0; c < 3; ++c) {
-        const double acc_0 = acc_col[c][k - 1], acc_1 = acc_col[c][k];
-        const double vel = vel_prev[c] + half_dt_ * (acc_0 + acc_1) + dt2_12_ * (rate_prev[c] - rate[c]);
-        const double pos = pos_prev[c] + half_dt_ * (vel_prev[c] + vel) + dt2_12_ * (acc_0 - acc_1);
-        vel_col[c][k] = vel_prev[c] = vel;
-        pos_col[c][k] = pos_prev[c] = pos;
-        rate_prev[c] = rate[c];
-      }
-    };
-    for (Index k = 1; k + 1 < n; ++k) {
-      ThrowIfCancelled(cancel_, k);
-      for (int c = 0; c < 3; ++c) rate[c] = (acc_col[c][k + 1] - acc_col[c][k - 1]) * inv_2dt;
-      advance(k);
-    }
-    const Eigen::RowVector3d rate_last = acc_rate(n - 1);
-    for (int c = 0; c < 3; ++c) rate[c] = rate_last(c);
-    advance(n - 1);
-  }
-
- private:
-  Kinematics& kin_;
-  const std::atomic<bool>* cancel_;
-  const GravityOptions& gravity_;
-  const InitialState& initial_;
-  const Eigen::Matrix3d fixed_from_body_0_;
-  const Vector3d gravity_body_0_;
-  const double dt_, half_dt_, dt2_12_;
-  Eigen::Quaterniond fixed_from_body_;
-  Vector3d omega_body_prev_, alpha_body_prev_;  // row k - 1
-};
-
 // The centripetal term of linear sensor i is a quadratic form in omega,
 //   c_i(omega) = (n_i.omega)(r_i.omega) - (n_i.r_i)|omega|^2 = C_i . Quadratic(omega),
 // with the monomials Quadratic(w) = (wx^2, wy^2, wz^2, wx wy, wx wz, wy wz), and so is its rate
 //   dc_i/dt = (n_i.alpha)(r_i.omega) + (n_i.omega)(r_i.alpha) - 2 (n_i.r_i)(omega.alpha)
-//           = C_i . QuadraticRate(omega, alpha).
-// Every linear map of the centripetal terms (the least-squares solution,
-// the residual) is thus a fixed 6-column matrix times six monomials.
-Vector6d Quadratic(const Vector3d& w) {
-  Vector6d monomials;
-  monomials << w.x() * w.x(), w.y() * w.y(), w.z() * w.z(), w.x() * w.y(), w.x() * w.z(), w.y() * w.z();
-  return monomials;
-}
-
-Vector6d QuadraticRate(const Vector3d& w, const Vector3d& a) {
-  Vector6d rates;
-  rates << 2.0 * w.x() * a.x(), 2.0 * w.y() * a.y(), 2.0 * w.z() * a.z(), w.x() * a.y() + w.y() * a.x(),
-      w.x() * a.z() + w.z() * a.x(), w.y() * a.z() + w.z() * a.y();
-  return rates;
-}
-
+//           = C_i . QuadraticRate(omega, alpha),
+// QuadraticRate(w, a) = (2 wx ax, 2 wy ay, 2 wz az, wx ay + wy ax, wx az + wz ax, wy az + wz ay)
+// (AlphaOfOmega and AccelerationAndResidual form both). Every linear map of
+// the centripetal terms (the least-squares solution, the residual) is thus a
+// fixed 6-column matrix times six monomials.
 // Rows C_i (L x 6) of the sensors `indices`.
 MatrixXd CentripetalCoefficients(const ArrayGeometry& array, const std::vector<std::size_t>& indices) {
   MatrixXd coefficients(static_cast<Index>(indices.size()), 6);
@@ -305,6 +143,116 @@ MatrixXd ResidualComplement(const MatrixXd& rows) {
   return svd.matrixU().rightCols(rows.rows() - rank).transpose();
 }
 
+// alpha = P_alpha m - P_alpha C Quadratic(omega) and
+// alpha' = P_alpha m' - P_alpha C QuadraticRate(omega, alpha) of one sample
+// (SolveLinear), in scalars: each 6-term sum as a balanced tree, so that an
+// evaluation, which is on the sample-to-sample chain, takes few steps.
+class AlphaOfOmega {
+ public:
+  explicit AlphaOfOmega(const Eigen::Matrix<double, 3, 6>& alpha_centripetal) {
+    for (int c = 0; c < 3; ++c)
+      for (int j = 0; j < 6; ++j) map_[c][j] = alpha_centripetal(c, j);
+  }
+
+  void Evaluate(const double (&omega)[3], const double (&projected)[3], const double (&measured_rate)[3],
+                double (&alpha)[3], double (&alpha_rate)[3]) const {
+    const double wx = omega[0], wy = omega[1], wz = omega[2];
+    const double monomials[6] = {wx * wx, wy * wy, wz * wz, wx * wy, wx * wz, wy * wz};  // Quadratic
+    for (int c = 0; c < 3; ++c) alpha[c] = projected[c] - Apply(c, monomials);
+    const double ax = alpha[0], ay = alpha[1], az = alpha[2];
+    const double rates[6] = {2.0 * wx * ax,     2.0 * wy * ay,     2.0 * wz * az,  // QuadraticRate
+                             wx * ay + wy * ax, wx * az + wz * ax, wy * az + wz * ay};
+    for (int c = 0; c < 3; ++c) alpha_rate[c] = measured_rate[c] - Apply(c, rates);
+  }
+
+ private:
+  double Apply(int c, const double (&v)[6]) const {
+    const double(&m)[6] = map_[c];
+    return ((m[0] * v[0] + m[1] * v[1]) + (m[2] * v[2] + m[3] * v[3])) + (m[4] * v[4] + m[5] * v[5]);
+  }
+
+  double map_[3][6];
+};
+
+// The stacked sums of samples [first, first + count) into the columns of
+// `sums` (row i: sample first + i; column j: row j of stacked_recorded
+// times the sample's channels): for each sample the sum over the sensors in
+// their order, from zero, as a sample-by-sample loop forms it; here a loop
+// over samples, which the compiler vectorizes. kSensors is the number of
+// sensors when it is known at compile time (Eigen::Dynamic otherwise).
+template <int kSensors, typename Stacked, typename Sums>
+NAPKIN_SAMPLE_LOOP_CLONES void StackedSums(const Stacked& stacked_recorded, const std::vector<const double*>& columns, Index first,
+                 Index count, Sums& sums) {
+  for (Index j = 0; j < stacked_recorded.rows(); ++j) {
+    double* __restrict sum = &sums(0, j);
+    if constexpr (kSensors != Eigen::Dynamic) {
+      double coefficient[kSensors];
+      const double* __restrict measured[kSensors];
+      for (int i = 0; i < kSensors; ++i) {
+        coefficient[i] = stacked_recorded(j, i);
+        measured[i] = columns[static_cast<std::size_t>(i)] + first;
+      }
+      for (Index t = 0; t < count; ++t) {
+        double s = 0.0;
+        for (int i = 0; i < kSensors; ++i) s += coefficient[i] * measured[i][t];
+        sum[t] = s;
+      }
+    } else {
+      for (Index t = 0; t < count; ++t) sum[t] = 0.0;
+      for (Index i = 0; i < stacked_recorded.cols(); ++i) {
+        const double coefficient = stacked_recorded(j, i);
+        const double* __restrict measured = columns[static_cast<std::size_t>(i)] + first;
+        for (Index t = 0; t < count; ++t) sum[t] += coefficient * measured[t];
+      }
+    }
+  }
+}
+
+// The acceleration P_a (m - c(omega)) and the square of the least-squares
+// residual norm |complement (m - c(omega))| of samples [begin, end) of
+// SolveLinear, from their final omega (the square roots are taken once the
+// record is solved): each sample on its own, in a loop over samples the
+// compiler vectorizes. `stacked` holds the block's sums (SolveLinear), row
+// s for sample first + s.
+template <int kComplementRows, typename Sums, typename ComplementBySix>
+NAPKIN_SAMPLE_LOOP_CLONES void AccelerationAndResidual(const Sums& stacked, Index first, Index begin, Index end,
+                             const Eigen::Matrix<double, 3, 6>& acc_centripetal,
+                             const ComplementBySix& complement_centripetal, Kinematics& out) {
+  const double* __restrict wx_col = out.omega_body.col(0).data();
+  const double* __restrict wy_col = out.omega_body.col(1).data();
+  const double* __restrict wz_col = out.omega_body.col(2).data();
+  double* __restrict ax_col = out.acc_body.col(0).data();
+  double* __restrict ay_col = out.acc_body.col(1).data();
+  double* __restrict az_col = out.acc_body.col(2).data();
+  const double* __restrict px_col = &stacked(0, 3);
+  const double* __restrict py_col = &stacked(0, 4);
+  const double* __restrict pz_col = &stacked(0, 5);
+  double* __restrict residual_sq = out.residual.data();
+  double acc_map[3][6];
+  for (int c = 0; c < 3; ++c)
+    for (int j = 0; j < 6; ++j) acc_map[c][j] = acc_centripetal(c, j);
+  auto apply = [](const double (&m)[6], const double (&v)[6]) {
+    return ((m[0] * v[0] + m[1] * v[1]) + (m[2] * v[2] + m[3] * v[3])) + (m[4] * v[4] + m[5] * v[5]);
+  };
+  const Index complement_rows = complement_centripetal.rows();
+  // The series are distinct arrays: no dependence between samples.
+#pragma GCC ivdep
+  for (Index k = begin; k < end; ++k) {
+    const double wx = wx_col[k], wy = wy_col[k], wz = wz_col[k];
+    const double monomials[6] = {wx * wx, wy * wy, wz * wz, wx * wy, wx * wz, wy * wz};  // Quadratic
+    ax_col[k] = px_col[k - first] - apply(acc_map[0], monomials);
+    ay_col[k] = py_col[k - first] - apply(acc_map[1], monomials);
+    az_col[k] = pz_col[k - first] - apply(acc_map[2], monomials);
+    double sum_sq = 0.0;
+    for (Index r = 0; r < (kComplementRows == Eigen::Dynamic ? complement_rows : kComplementRows); ++r) {
+      double residual = stacked(k - first, 6 + r);
+      for (int j = 0; j < 6; ++j) residual -= complement_centripetal(r, j) * monomials[j];
+      sum_sq += residual * residual;
+    }
+    residual_sq[k] = sum_sq;
+  }
+}
+
 // kLinear: at each sample the linear sensors give
 //   n.a + (r x n).alpha = m - c(omega)            (docs/algorithms.md "Solvers")
 // solved by the pseudo-inverse P of the L x 6 rows (factored once; least
@@ -319,23 +267,27 @@ MatrixXd ResidualComplement(const MatrixXd& rows) {
 // The solve is linear in m, so P m, P_alpha m' (the central difference of
 // P_alpha m) and the residual's projection of m are formed once per sample;
 // each pass only evaluates the 6 x 6 centripetal map P C of the monomials.
-// MaxSensors bounds the number of linear sensors (fixed-capacity storage,
-// nothing allocated per sample); Eigen::Dynamic for any number. The
-// orientation and fixed-frame series of each sample are completed in the
-// same loop (KinematicsCompleter).
+// Only omega (and with it alpha and alpha') needs the previous sample, so
+// the record is solved in blocks of kCompletionBlock samples: the sums of
+// the block, then the chain of omega alone, then the acceleration and the
+// residual of every sample of the block, then the block's orientation and
+// fixed-frame series (KinematicsCompleter) — every step but the chain a
+// loop over samples that the processor runs side by side (and the compiler
+// vectorizes), while the block is in cache.
+// MaxSensors bounds the number of linear sensors (fixed-capacity storage on
+// the stack, nothing allocated per sample or block); Eigen::Dynamic for any
+// number.
 template <int MaxSensors>
 void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
                  Kinematics& out) {
   // The residual's complement has at most MaxSensors - 6 rows; with a fixed
   // MaxSensors it is stored with exactly that many, zero-padded (zero rows
-  // add exact zeros to the residual norm), so the per-sample sums stay in
-  // registers.
+  // add exact zeros to the residual norm).
   constexpr int kComplementRows = MaxSensors == Eigen::Dynamic ? Eigen::Dynamic : MaxSensors - 6;
   using SixBySensors = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, MaxSensors>;
   using ComplementBySensors =
       Eigen::Matrix<double, kComplementRows, Eigen::Dynamic, 0, kComplementRows, MaxSensors>;
   using ComplementBySix = Eigen::Matrix<double, kComplementRows, 6>;
-  using ComplementVector = Eigen::Matrix<double, kComplementRows, 1>;
 
   const std::vector<std::size_t> linear = array.LinearIndices();
   const SensorColumns channels(array, linear, signals);
@@ -361,119 +313,118 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   ComplementBySix complement_centripetal = ComplementBySix::Zero(complement_rows, 6);
   complement_centripetal.topRows(complement.rows()) = complement * centripetal;
 
-  // P m and complement m of sample k in one sweep over the channels, one
-  // fixed-size column per sensor: the alpha rows of P m first (so that they
-  // start a packet), then its acceleration rows, then complement m.
+  // The stacked map of the recorded channels: the alpha rows of P, its
+  // acceleration rows, then the complement.
   constexpr int kStackedRows = MaxSensors;  // 6 + kComplementRows, or Eigen::Dynamic
+  const Index stacked_rows = 6 + complement_rows;
   using StackedBySensors = Eigen::Matrix<double, kStackedRows, Eigen::Dynamic, 0, kStackedRows, MaxSensors>;
-  using StackedVector = Eigen::Matrix<double, kStackedRows, 1>;
-  StackedBySensors stacked_recorded(6 + complement_rows, count);
+  StackedBySensors stacked_recorded(stacked_rows, count);
   stacked_recorded.topRows(3) = solve_recorded.bottomRows(3);
   stacked_recorded.middleRows(3, 3) = solve_recorded.topRows(3);
   stacked_recorded.bottomRows(complement_rows) = complement_recorded;
-  auto stacked_at = [&](Index k) -> StackedVector {
-    StackedVector stacked = StackedVector::Zero(6 + complement_rows);
-    for (Index i = 0; i < count; ++i)
-      stacked += stacked_recorded.col(i) * channels.columns[static_cast<std::size_t>(i)][k];
-    return stacked;
-  };
-  // The square of the least-squares residual norm given omega and complement m
-  // (the square roots are taken after the loop, off the per-sample path).
-  auto residual_norm_sq = [&](const ComplementVector& complement_measured,
-                              const Vector3d& omega_k) -> double {
-    const Vector6d monomials = Quadratic(omega_k);
-    ComplementVector residual = complement_measured;
-    for (Index j = 0; j < 6; ++j) residual -= complement_centripetal.col(j) * monomials(j);
-    return residual.squaredNorm();
-  };
+  // The block's scratch: the stacked sums of its samples and of two more on
+  // each side (the central differences, the record's ends), one column per
+  // stacked row; and P_alpha m' of its samples.
+  constexpr Index kScratchSamples = internal::kCompletionBlock + 4;
+  using Scratch = std::conditional_t<MaxSensors == Eigen::Dynamic, MatrixXd,
+                                     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kScratchSamples,
+                                                   MaxSensors == Eigen::Dynamic ? 1 : MaxSensors>>;
+  Scratch stacked(kScratchSamples, stacked_rows);
+  alignas(64) double alpha_measured_rate[3][internal::kCompletionBlock];
+  const bool nine_sensors = count == 9 && stacked_rows == 9;
 
-  KinematicsCompleter completer(options.initial, options.gravity, dt, out, options.cancel);
+  internal::KinematicsCompleter completer(options.initial, options.gravity, dt, out, options.cancel);
   const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0, inv_2dt = 0.5 / dt;
   const int passes = options.corrector_passes;
-  // P m of samples k - 2 .. k + 1 (k + 1 while it exists), and P_alpha m' at k.
-  Vector3d alpha_projected_km2 = Vector3d::Zero(), alpha_projected_km1 = Vector3d::Zero();
-  // complement m of samples k and k + 1.
-  const StackedVector stacked_0 = stacked_at(0), stacked_1 = n > 1 ? stacked_at(1) : stacked_0;
-  // Three-vectors from the stacked sums one coefficient at a time: a packet
-  // load of rows 3 and 4 would span two packet stores of the sums (a
-  // store-forwarding stall, perf).
-  auto rows_3 = [](const StackedVector& stacked, Index first) {
-    return Vector3d(stacked(first), stacked(first + 1), stacked(first + 2));
-  };
-  Vector3d alpha_projected_k = rows_3(stacked_0, 0), alpha_projected_kp1 = rows_3(stacked_1, 0);
-  Vector3d acc_projected_k = rows_3(stacked_0, 3), acc_projected_kp1 = rows_3(stacked_1, 3);
-  ComplementVector complement_k = stacked_0.tail(complement_rows),
-                   complement_kp1 = stacked_1.tail(complement_rows);
-  Vector3d alpha_measured_rate;
-  Vector3d omega = options.initial.omega_body_radps, acc, alpha, alpha_rate;
-  for (Index k = 0; k < n; ++k) {
-    ThrowIfCancelled(options.cancel, k);
-    if (k > 0) {
-      alpha_projected_km2 = alpha_projected_km1;
-      alpha_projected_km1 = alpha_projected_k;
-      alpha_projected_k = alpha_projected_kp1;
-      acc_projected_k = acc_projected_kp1;
-      complement_k = complement_kp1;
-      if (k + 1 < n) {
-        const StackedVector stacked = stacked_at(k + 1);
-        alpha_projected_kp1 = rows_3(stacked, 0);
-        acc_projected_kp1 = rows_3(stacked, 3);
-        complement_kp1 = stacked.tail(complement_rows);
-      }
-#if defined(__GNUC__)
-      // The channels are read across L columns at once; ask for each
-      // column's data a few cache lines ahead of the hardware prefetcher.
-      if ((k & 7) == 0 && k + kPrefetchSamples < n)
-        for (const double* column : channels.columns) __builtin_prefetch(column + k + kPrefetchSamples);
-#endif
-    }
-    // Second-order differences as DifferentiateSecondOrder takes them.
-    if (n < 2) {
-      alpha_measured_rate.setZero();
-    } else if (n == 2) {
-      alpha_measured_rate =
-          (k == 0 ? alpha_projected_kp1 - alpha_projected_k : alpha_projected_k - alpha_projected_km1) / dt;
-    } else if (k == 0) {
-      const Vector3d alpha_projected_2 = stacked_at(2).template head<3>();
-      alpha_measured_rate =
-          (-3.0 * alpha_projected_k + 4.0 * alpha_projected_kp1 - alpha_projected_2) * inv_2dt;
-    } else if (k == n - 1) {
-      alpha_measured_rate =
-          (3.0 * alpha_projected_k - 4.0 * alpha_projected_km1 + alpha_projected_km2) * inv_2dt;
+  const AlphaOfOmega centripetal_map(alpha_centripetal);
+  const double half_dt_sq = 0.5 * dt * dt;
+  // The state carried from sample to sample.
+  double omega[3] = {options.initial.omega_body_radps.x(), options.initial.omega_body_radps.y(),
+                     options.initial.omega_body_radps.z()};
+  double alpha[3] = {0.0, 0.0, 0.0}, alpha_rate[3] = {0.0, 0.0, 0.0};
+  for (Index begin = 0; begin < n; begin += internal::kCompletionBlock) {
+    ThrowIfCancelled(options.cancel);
+    const Index end = std::min(n, begin + internal::kCompletionBlock);
+    // Scratch row s holds sample first + s.
+    const Index first = std::max<Index>(0, begin - 2), last = std::min(n, end + 2);
+    if constexpr (MaxSensors != Eigen::Dynamic) {
+      if (nine_sensors)
+        StackedSums<9>(stacked_recorded, channels.columns, first, last - first, stacked);
+      else
+        StackedSums<Eigen::Dynamic>(stacked_recorded, channels.columns, first, last - first, stacked);
     } else {
-      alpha_measured_rate = (alpha_projected_kp1 - alpha_projected_km1) * inv_2dt;
+      StackedSums<Eigen::Dynamic>(stacked_recorded, channels.columns, first, last - first, stacked);
+    }
+    auto projected = [&](Index k, Index row) { return stacked(k - first, row); };
+
+    // P_alpha m' by second-order differences, as DifferentiateSecondOrder takes them.
+    for (int c = 0; c < 3; ++c) {
+      auto rate = [&](Index k) -> double& { return alpha_measured_rate[c][k - begin]; };
+      for (Index k = std::max<Index>(begin, 1); k < std::min(end, n - 1); ++k)
+        rate(k) = (projected(k + 1, c) - projected(k - 1, c)) * inv_2dt;
+      if (n < 2) {
+        rate(0) = 0.0;
+      } else if (n == 2) {
+        for (Index k = begin; k < end; ++k) rate(k) = (projected(1, c) - projected(0, c)) / dt;
+      } else {
+        if (begin == 0)
+          rate(0) = (-3.0 * projected(0, c) + 4.0 * projected(1, c) - projected(2, c)) * inv_2dt;
+        if (end == n)
+          rate(n - 1) = (3.0 * projected(n - 1, c) - 4.0 * projected(n - 2, c) + projected(n - 3, c)) * inv_2dt;
+      }
     }
 
-    if (k > 0) {
-      const Vector3d omega_prev = omega, alpha_prev = alpha, alpha_rate_prev = alpha_rate;
-      omega = omega_prev + dt * alpha_prev + 0.5 * dt * dt * alpha_rate_prev;  // Taylor predictor
-      for (int pass = 0; pass < passes; ++pass) {
-        // alpha and alpha' only: the acceleration waits for the final omega.
-        const Vector3d alpha_pass = alpha_projected_k - alpha_centripetal * Quadratic(omega);
-        const Vector3d alpha_rate_pass =
-            alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha_pass);
-        const Vector3d corrected =
-            omega_prev + half_dt * (alpha_prev + alpha_pass) + dt2_12 * (alpha_rate_prev - alpha_rate_pass);
-        // Converged when |change| <= 1e-15 sqrt(1 + |omega|^2) (<= 1e-15 (1 + |omega|)),
-        // compared squared: no square root on the sample-to-sample chain.
-        const double change_sq = (corrected - omega).squaredNorm();
-        omega = corrected;
-        if (change_sq <= 1e-30 * (1.0 + omega.squaredNorm())) break;
+    // The chain: omega, alpha and alpha' of each sample from the previous
+    // one's. At sample k > 0, omega is predicted by a Taylor step; each pass
+    // evaluates alpha and alpha' at the current omega and the Hermite rule
+    // gives the corrected omega. Once the correction changes omega by no
+    // more than round-off (|change| <= 1e-15 sqrt(1 + |omega|^2)), the
+    // evaluated point is the sample's omega, with the alpha and alpha'
+    // evaluated there: the three agree exactly, and omega satisfies the rule
+    // to round-off. Without convergence within the passes, the last
+    // corrected omega is evaluated once more.
+    for (Index k = begin; k < end; ++k) {
+      const Index s = k - first, t = k - begin;
+      const double projected_k[3] = {stacked(s, 0), stacked(s, 1), stacked(s, 2)};
+      const double measured_rate_k[3] = {alpha_measured_rate[0][t], alpha_measured_rate[1][t],
+                                         alpha_measured_rate[2][t]};
+      if (k == 0) {
+        centripetal_map.Evaluate(omega, projected_k, measured_rate_k, alpha, alpha_rate);  // the initial omega
+      } else {
+        double base[3], point[3];
+        for (int c = 0; c < 3; ++c) {
+          base[c] = (omega[c] + half_dt * alpha[c]) + dt2_12 * alpha_rate[c];
+          point[c] = (omega[c] + dt * alpha[c]) + half_dt_sq * alpha_rate[c];  // Taylor predictor
+        }
+        bool converged = false;
+        for (int pass = 0; pass < passes && !converged; ++pass) {
+          centripetal_map.Evaluate(point, projected_k, measured_rate_k, alpha, alpha_rate);
+          double change_sq = 0.0, corrected_sq = 0.0;
+          double corrected[3];
+          for (int c = 0; c < 3; ++c) {
+            corrected[c] = (base[c] + half_dt * alpha[c]) - dt2_12 * alpha_rate[c];
+            change_sq += (corrected[c] - point[c]) * (corrected[c] - point[c]);
+            corrected_sq += corrected[c] * corrected[c];
+          }
+          // Compared squared: no square root on the sample-to-sample chain.
+          converged = change_sq <= 1e-30 * (1.0 + corrected_sq);
+          if (!converged)
+            for (int c = 0; c < 3; ++c) point[c] = corrected[c];
+        }
+        if (!converged) centripetal_map.Evaluate(point, projected_k, measured_rate_k, alpha, alpha_rate);
+        for (int c = 0; c < 3; ++c) omega[c] = point[c];
+      }
+      for (int c = 0; c < 3; ++c) {
+        out.omega_body(k, c) = omega[c];
+        out.alpha_body(k, c) = alpha[c];
       }
     }
-    // (a, alpha) and alpha' of sample k, consistent with the final omega.
-    const Vector6d monomials = Quadratic(omega);
-    acc = acc_projected_k - acc_centripetal * monomials;
-    alpha = alpha_projected_k - alpha_centripetal * monomials;
-    alpha_rate = alpha_measured_rate - alpha_centripetal * QuadraticRate(omega, alpha);
-    out.residual(k) = residual_norm_sq(complement_k, omega);
-    out.omega_body.row(k) = omega.transpose();
-    out.alpha_body.row(k) = alpha.transpose();
-    out.acc_body.row(k) = acc.transpose();
-    completer.Step(k);
+
+    AccelerationAndResidual<kComplementRows>(stacked, first, begin, end, acc_centripetal, complement_centripetal,
+                                             out);
+    completer.CompleteRows(begin, end);
   }
-  // |residual| = sqrt(squaredNorm), as Eigen's norm() takes it: the same bits,
-  // a packet of square roots at a time.
+  // |residual| = sqrt(squared norm), a packet of square roots at a time.
   out.residual = out.residual.cwiseSqrt();
   completer.Finish();
 }
@@ -574,10 +525,10 @@ ExactPath ClassifyArray(const ArrayGeometry& array) {
 
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
                         Kinematics& kin, const std::atomic<bool>* cancel) {
-  KinematicsCompleter completer(initial, gravity, dt_s, kin, cancel);
-  for (Index k = 0; k < kin.size(); ++k) {
-    ThrowIfCancelled(cancel, k);
-    completer.Step(k);
+  internal::KinematicsCompleter completer(initial, gravity, dt_s, kin, cancel);
+  for (Index begin = 0; begin < kin.size(); begin += internal::kCompletionBlock) {
+    ThrowIfCancelled(cancel);
+    completer.CompleteRows(begin, std::min(kin.size(), begin + internal::kCompletionBlock));
   }
   completer.Finish();
 }

@@ -20,18 +20,25 @@ Eigen::Matrix3d InitialFixedFromBody(const Eigen::Vector3d& phi_theta_psi_rad);
 // Skew-symmetric cross-product matrix: Skew(a) * b = a x b.
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v);
 
+// cos(theta/2) and sin(theta/2)/theta of QuaternionExp for t = theta^2 <=
+// kQuaternionExpTaylorMaxSquaredAngle: their Taylor series in t through t^4,
+// exact in double there (the first omitted terms are t^5 / 3.7e9 and
+// t^5 / 8.2e10, below 3e-20).
+inline constexpr double kQuaternionExpTaylorMaxSquaredAngle = 0.01;
+inline void QuaternionExpTaylor(double t, double& w, double& k) {
+  w = 1.0 + t * (-1.0 / 8.0 + t * (1.0 / 384.0 + t * (-1.0 / 46080.0 + t * (1.0 / 10321920.0))));
+  k = 0.5 + t * (-1.0 / 48.0 + t * (1.0 / 3840.0 + t * (-1.0 / 645120.0 + t * (1.0 / 185794560.0))));
+}
+
 // Exponential map of a rotation vector (axis * angle) to a unit quaternion,
 // with the small-angle Taylor branch (Sophus expAndTheta).
 inline Eigen::Quaterniond QuaternionExp(const Eigen::Vector3d& rotation_vector) {
   // q = (cos(theta/2), sin(theta/2)/theta * v). For theta <= 0.1 (the
-  // per-sample step of any recorded test: |omega| dt) the Taylor series of
-  // cos(x/2) and sin(x/2)/x in t = theta^2 through t^4 is exact in double:
-  // the first omitted terms are t^5 / 3.7e9 and t^5 / 8.2e10, below 3e-20.
+  // per-sample step of any recorded test: |omega| dt) by QuaternionExpTaylor.
   const double t = rotation_vector.squaredNorm();
   double w, k;
-  if (t <= 0.01) {
-    w = 1.0 + t * (-1.0 / 8.0 + t * (1.0 / 384.0 + t * (-1.0 / 46080.0 + t * (1.0 / 10321920.0))));
-    k = 0.5 + t * (-1.0 / 48.0 + t * (1.0 / 3840.0 + t * (-1.0 / 645120.0 + t * (1.0 / 185794560.0))));
+  if (t <= kQuaternionExpTaylorMaxSquaredAngle) {
+    QuaternionExpTaylor(t, w, k);
   } else {
     const double theta = std::sqrt(t);
     w = std::cos(0.5 * theta);

@@ -1,0 +1,251 @@
+#include "engine/kinematics_completer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/cancellation.h"
+#include "engine/rotation.h"
+#include "engine/rotation_angles.h"
+
+namespace napkin::engine::internal {
+namespace {
+
+using Eigen::Index;
+using Eigen::Vector3d;
+
+// Rows [begin, end) of the quaternion series normalized (the chain leaves
+// them a few ulp off unit length) and the rotation
+// R_k = RotationMatrixOfUnitQuaternion(q_k) applied: with kCompensateGravity, docs/algorithms.md "Gravity": zeroed
+// accelerometers read a - (R^T - R0^T) g, so the term is added back to
+// acc_body with the integrated orientation; then omega, alpha and the
+// acceleration in fixed axes. Every sample on its own (a loop the compiler
+// vectorizes over samples), each entry as RotationMatrixOfUnitQuaternion
+// forms it.
+template <bool kCompensateGravity>
+NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d& g_fixed, const Vector3d& gravity_body_0, Kinematics& kin) {
+  double* __restrict qw = kin.quat_fixed_from_body.col(0).data();
+  double* __restrict qx = kin.quat_fixed_from_body.col(1).data();
+  double* __restrict qy = kin.quat_fixed_from_body.col(2).data();
+  double* __restrict qz = kin.quat_fixed_from_body.col(3).data();
+  const double* __restrict omega_x = kin.omega_body.col(0).data();
+  const double* __restrict omega_y = kin.omega_body.col(1).data();
+  const double* __restrict omega_z = kin.omega_body.col(2).data();
+  const double* __restrict alpha_x = kin.alpha_body.col(0).data();
+  const double* __restrict alpha_y = kin.alpha_body.col(1).data();
+  const double* __restrict alpha_z = kin.alpha_body.col(2).data();
+  double* __restrict acc_x = kin.acc_body.col(0).data();
+  double* __restrict acc_y = kin.acc_body.col(1).data();
+  double* __restrict acc_z = kin.acc_body.col(2).data();
+  double* __restrict omega_fixed_x = kin.omega_fixed.col(0).data();
+  double* __restrict omega_fixed_y = kin.omega_fixed.col(1).data();
+  double* __restrict omega_fixed_z = kin.omega_fixed.col(2).data();
+  double* __restrict alpha_fixed_x = kin.alpha_fixed.col(0).data();
+  double* __restrict alpha_fixed_y = kin.alpha_fixed.col(1).data();
+  double* __restrict alpha_fixed_z = kin.alpha_fixed.col(2).data();
+  double* __restrict acc_fixed_x = kin.acc_fixed.col(0).data();
+  double* __restrict acc_fixed_y = kin.acc_fixed.col(1).data();
+  double* __restrict acc_fixed_z = kin.acc_fixed.col(2).data();
+  const double gx = g_fixed.x(), gy = g_fixed.y(), gz = g_fixed.z();
+  const double gb0x = gravity_body_0.x(), gb0y = gravity_body_0.y(), gb0z = gravity_body_0.z();
+  // The series are distinct arrays: no dependence between samples.
+#pragma GCC ivdep
+  for (Index k = begin; k < end; ++k) {
+    const double scale = 1.0 / std::sqrt(qw[k] * qw[k] + qx[k] * qx[k] + qy[k] * qy[k] + qz[k] * qz[k]);
+    qw[k] *= scale;
+    qx[k] *= scale;
+    qy[k] *= scale;
+    qz[k] *= scale;
+    const double tx = 2.0 * qx[k], ty = 2.0 * qy[k], tz = 2.0 * qz[k];
+    const double twx = tx * qw[k], twy = ty * qw[k], twz = tz * qw[k];
+    const double txx = tx * qx[k], txy = ty * qx[k], txz = tz * qx[k];
+    const double tyy = ty * qy[k], tyz = tz * qy[k], tzz = tz * qz[k];
+    const double r00 = 1.0 - (tyy + tzz), r01 = txy - twz, r02 = txz + twy;
+    const double r10 = txy + twz, r11 = 1.0 - (txx + tzz), r12 = tyz - twx;
+    const double r20 = txz - twy, r21 = tyz + twx, r22 = 1.0 - (txx + tyy);
+    if constexpr (kCompensateGravity) {
+      acc_x[k] += r00 * gx + r10 * gy + r20 * gz - gb0x;
+      acc_y[k] += r01 * gx + r11 * gy + r21 * gz - gb0y;
+      acc_z[k] += r02 * gx + r12 * gy + r22 * gz - gb0z;
+    }
+    const double wx = omega_x[k], wy = omega_y[k], wz = omega_z[k];
+    omega_fixed_x[k] = r00 * wx + r01 * wy + r02 * wz;
+    omega_fixed_y[k] = r10 * wx + r11 * wy + r12 * wz;
+    omega_fixed_z[k] = r20 * wx + r21 * wy + r22 * wz;
+    const double ax = alpha_x[k], ay = alpha_y[k], az = alpha_z[k];
+    alpha_fixed_x[k] = r00 * ax + r01 * ay + r02 * az;
+    alpha_fixed_y[k] = r10 * ax + r11 * ay + r12 * az;
+    alpha_fixed_z[k] = r20 * ax + r21 * ay + r22 * az;
+    const double bx = acc_x[k], by = acc_y[k], bz = acc_z[k];
+    acc_fixed_x[k] = r00 * bx + r01 * by + r02 * bz;
+    acc_fixed_y[k] = r10 * bx + r11 * by + r12 * bz;
+    acc_fixed_z[k] = r20 * bx + r21 * by + r22 * bz;
+  }
+}
+
+// The increments Exp(theta_k) of rows [first, end) into increment[.][k - begin]
+// and |theta_k|^2 into angle_sq[k - begin] (KinematicsCompleter::CompleteRows).
+NAPKIN_SAMPLE_LOOP_CLONES void OrientationIncrements(Index first, Index end, Index begin, double half_dt,
+                                                     double dt2_12, const Kinematics& kin,
+                                                     double (&increment)[4][kCompletionBlock],
+                                                     double (&angle_sq_of)[kCompletionBlock]) {
+  const double* __restrict wx = kin.omega_body.col(0).data();
+  const double* __restrict wy = kin.omega_body.col(1).data();
+  const double* __restrict wz = kin.omega_body.col(2).data();
+  const double* __restrict ax = kin.alpha_body.col(0).data();
+  const double* __restrict ay = kin.alpha_body.col(1).data();
+  const double* __restrict az = kin.alpha_body.col(2).data();
+  double* __restrict increment_w = increment[0];
+  double* __restrict increment_x = increment[1];
+  double* __restrict increment_y = increment[2];
+  double* __restrict increment_z = increment[3];
+  double* __restrict angle_sq = angle_sq_of;
+  // theta_k of sample k (Eigen's cross product, term for term).
+  auto step_rotation = [&](Index k) {
+    return Vector3d(half_dt * (wx[k - 1] + wx[k]) + dt2_12 * (ax[k - 1] - ax[k]) +
+                        dt2_12 * (wy[k - 1] * wz[k] - wz[k - 1] * wy[k]),
+                    half_dt * (wy[k - 1] + wy[k]) + dt2_12 * (ay[k - 1] - ay[k]) +
+                        dt2_12 * (wz[k - 1] * wx[k] - wx[k - 1] * wz[k]),
+                    half_dt * (wz[k - 1] + wz[k]) + dt2_12 * (az[k - 1] - az[k]) +
+                        dt2_12 * (wx[k - 1] * wy[k] - wy[k - 1] * wx[k]));
+  };
+  // The series are distinct arrays: no dependence between samples.
+#pragma GCC ivdep
+  for (Index k = first; k < end; ++k) {
+    const Vector3d theta = step_rotation(k);
+    const double sx = theta.x(), sy = theta.y(), sz = theta.z();
+    const double t = sx * sx + sy * sy + sz * sz;
+    angle_sq[k - begin] = t;
+    double cos_half, sin_half_over;
+    QuaternionExpTaylor(t, cos_half, sin_half_over);
+    increment_w[k - begin] = cos_half;
+    increment_x[k - begin] = sin_half_over * sx;
+    increment_y[k - begin] = sin_half_over * sy;
+    increment_z[k - begin] = sin_half_over * sz;
+  }
+  for (Index k = first; k < end; ++k) {
+    if (angle_sq[k - begin] <= kQuaternionExpTaylorMaxSquaredAngle) continue;
+    const Eigen::Quaterniond exp = QuaternionExp(step_rotation(k));
+    increment_w[k - begin] = exp.w();
+    increment_x[k - begin] = exp.x();
+    increment_y[k - begin] = exp.y();
+    increment_z[k - begin] = exp.z();
+  }
+}
+
+}  // namespace
+
+KinematicsCompleter::KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
+                                         Kinematics& kin, const std::atomic<bool>* cancel)
+    : kin_(kin),
+      cancel_(cancel),
+      gravity_(gravity),
+      initial_(initial),
+      fixed_from_body_0_(InitialFixedFromBody(initial.orientation_rad)),
+      gravity_body_0_(fixed_from_body_0_.transpose() * gravity.g_fixed_mps2),
+      dt_(dt_s),
+      half_dt_(0.5 * dt_s),
+      dt2_12_(dt_s * dt_s / 12.0) {}
+
+void KinematicsCompleter::CompleteRows(Index begin, Index end) {
+  // The increments Exp(theta_k) of IntegrateOrientation, q[k] = q[k-1] Exp(theta_k),
+  // each sample on its own: the Hermite step rotation
+  //   theta_k = dt/2 (w[k-1] + w[k]) + dt^2/12 (a[k-1] - a[k]) + dt^2/12 w[k-1] x w[k]
+  // and QuaternionExp's Taylor branch, in a loop over samples the compiler
+  // vectorizes; the rare step beyond that branch is redone by QuaternionExp.
+  const Index first = std::max<Index>(begin, 1);
+  OrientationIncrements(first, end, begin, half_dt_, dt2_12_, kin_, increment_, angle_sq_);
+  double* __restrict increment_w = increment_[0];
+  double* __restrict increment_x = increment_[1];
+  double* __restrict increment_y = increment_[2];
+  double* __restrict increment_z = increment_[3];
+  // The chain: the product alone. Body-frame increments multiply on the
+  // right (dR/dt = R [omega_body]x). Products of unit quaternions stay unit
+  // to a few ulp per step, and a scalar factor does not change the rotation,
+  // so the chain carries the products as they come and RotateRows
+  // normalizes each one off the chain; each block starts from the last
+  // normalized row, so the length never drifts.
+  Series4& quat = kin_.quat_fixed_from_body;
+  if (begin == 0) fixed_from_body_ = Eigen::Quaterniond(fixed_from_body_0_).normalized();
+  double qw = fixed_from_body_.w(), qx = fixed_from_body_.x(), qy = fixed_from_body_.y(),
+         qz = fixed_from_body_.z();
+  if (begin == 0) {
+    quat(0, 0) = qw;
+    quat(0, 1) = qx;
+    quat(0, 2) = qy;
+    quat(0, 3) = qz;
+  }
+  for (Index k = first; k < end; ++k) {
+    const double bw = increment_w[k - begin], bx = increment_x[k - begin], by = increment_y[k - begin], bz = increment_z[k - begin];
+    const double pw = (qw * bw - qx * bx) - (qy * by + qz * bz);
+    const double px = (qw * bx + qx * bw) + (qy * bz - qz * by);
+    const double py = (qw * by + qy * bw) + (qz * bx - qx * bz);
+    const double pz = (qw * bz + qz * bw) + (qx * by - qy * bx);
+    qw = pw;
+    qx = px;
+    qy = py;
+    qz = pz;
+    quat(k, 0) = qw;
+    quat(k, 1) = qx;
+    quat(k, 2) = qy;
+    quat(k, 3) = qz;
+  }
+  if (gravity_.compensate)
+    RotateRows<true>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
+  else
+    RotateRows<false>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
+  fixed_from_body_ = Eigen::Quaterniond(quat(end - 1, 0), quat(end - 1, 1), quat(end - 1, 2), quat(end - 1, 3));
+}
+
+void KinematicsCompleter::Finish() {
+  ThrowIfCancelled(cancel_);
+  OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad, BestAnglesImplementation(),
+                    cancel_);
+  ThrowIfCancelled(cancel_);
+  const Index n = kin_.size();
+  if (n == 0) return;
+  const Series3& acc = kin_.acc_fixed;
+  const double inv_2dt = 0.5 / dt_;
+  auto acc_rate = [&](Index k) -> Eigen::RowVector3d {
+    if (n == 2) return (acc.row(1) - acc.row(0)) / dt_;
+    if (k == 0) return (-3.0 * acc.row(0) + 4.0 * acc.row(1) - acc.row(2)) * inv_2dt;
+    if (k == n - 1) return (3.0 * acc.row(n - 1) - 4.0 * acc.row(n - 2) + acc.row(n - 3)) * inv_2dt;
+    return (acc.row(k + 1) - acc.row(k - 1)) * inv_2dt;
+  };
+  if (n == 1) {
+    kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
+    kin_.pos_fixed.row(0).setZero();
+    return;
+  }
+  // The three components side by side in scalars (their chains overlap),
+  // the previous row kept in registers, the interior without branches.
+  const double* acc_col[3] = {acc.col(0).data(), acc.col(1).data(), acc.col(2).data()};
+  double* vel_col[3] = {kin_.vel_fixed.col(0).data(), kin_.vel_fixed.col(1).data(), kin_.vel_fixed.col(2).data()};
+  double* pos_col[3] = {kin_.pos_fixed.col(0).data(), kin_.pos_fixed.col(1).data(), kin_.pos_fixed.col(2).data()};
+  double vel_prev[3], pos_prev[3], rate_prev[3], rate[3];
+  const Eigen::RowVector3d rate_0 = acc_rate(0);
+  for (int c = 0; c < 3; ++c) {
+    vel_prev[c] = vel_col[c][0] = initial_.velocity_fixed_mps(c);
+    pos_prev[c] = pos_col[c][0] = 0.0;
+    rate_prev[c] = rate_0(c);
+  }
+  auto advance = [&](Index k) {
+    for (int c = 0; c < 3; ++c) {
+      const double acc_0 = acc_col[c][k - 1], acc_1 = acc_col[c][k];
+      const double vel = vel_prev[c] + half_dt_ * (acc_0 + acc_1) + dt2_12_ * (rate_prev[c] - rate[c]);
+      const double pos = pos_prev[c] + half_dt_ * (vel_prev[c] + vel) + dt2_12_ * (acc_0 - acc_1);
+      vel_col[c][k] = vel_prev[c] = vel;
+      pos_col[c][k] = pos_prev[c] = pos;
+      rate_prev[c] = rate[c];
+    }
+  };
+  for (Index k = 1; k + 1 < n; ++k) {
+    ThrowIfCancelled(cancel_, k);
+    for (int c = 0; c < 3; ++c) rate[c] = (acc_col[c][k + 1] - acc_col[c][k - 1]) * inv_2dt;
+    advance(k);
+  }
+  const Eigen::RowVector3d rate_last = acc_rate(n - 1);
+  for (int c = 0; c < 3; ++c) rate[c] = rate_last(c);
+  advance(n - 1);
+}
+
+}  // namespace napkin::engine::internal
