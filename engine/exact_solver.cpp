@@ -422,11 +422,11 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
 
     AccelerationAndResidual<kComplementRows>(stacked, first, begin, end, acc_centripetal, complement_centripetal,
                                              out);
-    completer.CompleteRows(begin, end);
+    if (!options.body_frame_only) completer.CompleteRows(begin, end);
   }
   // |residual| = sqrt(squared norm), a packet of square roots at a time.
   out.residual = out.residual.cwiseSqrt();
-  completer.Finish();
+  if (!options.body_frame_only) completer.Finish();
 }
 
 // omega from the angular-rate sensors (least squares over their axes) and
@@ -574,7 +574,7 @@ void SolveExact(const ArrayGeometry& array, const TestSignals& signals, const So
       return;
   }
   ThrowIfCancelled(options.cancel);
-  CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
+  if (!options.body_frame_only) CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
 }
 
 }  // namespace napkin::engine

@@ -132,6 +132,19 @@ NAPKIN_SAMPLE_LOOP_CLONES void OrientationIncrements(Index first, Index end, Ind
   }
 }
 
+// The Hermite increments of samples 2 .. n - 2 (KinematicsCompleter::Finish):
+// dv[k] = dt/2 (a[k-1] + a[k]) + dt^2/12 (a'[k-1] - a'[k]) with central
+// differences a'[k] = (a[k+1] - a[k-1]) / (2 dt), and dx[k] = dt^2/12 (a[k-1] - a[k]).
+NAPKIN_SAMPLE_LOOP_CLONES void HermiteIncrements(const double* __restrict a, Index n, double half_dt,
+                                                 double dt2_12, double inv_2dt, double* __restrict dv,
+                                                 double* __restrict dx) {
+  for (Index k = 2; k + 1 < n; ++k) {
+    const double rate_prev = (a[k] - a[k - 2]) * inv_2dt, rate = (a[k + 1] - a[k - 1]) * inv_2dt;
+    dv[k] = half_dt * (a[k - 1] + a[k]) + dt2_12 * (rate_prev - rate);
+    dx[k] = dt2_12 * (a[k - 1] - a[k]);
+  }
+}
+
 }  // namespace
 
 KinematicsCompleter::KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
@@ -203,49 +216,41 @@ void KinematicsCompleter::Finish() {
   ThrowIfCancelled(cancel_);
   const Index n = kin_.size();
   if (n == 0) return;
+  // Velocity (from the initial velocity) and position (from 0) by the
+  // Hermite rule, with the slope of acc_fixed by second-order differences
+  // (as DifferentiateSecondOrder takes them):
+  //   v[k] = v[k-1] + dt/2 (a[k-1] + a[k]) + dt^2/12 (a'[k-1] - a'[k])
+  //   x[k] = x[k-1] + dt/2 (v[k-1] + v[k]) + dt^2/12 (a[k-1] - a[k]).
+  // The increments of every sample first (a loop over samples), then the sums.
   const Series3& acc = kin_.acc_fixed;
   const double inv_2dt = 0.5 / dt_;
-  auto acc_rate = [&](Index k) -> Eigen::RowVector3d {
-    if (n == 2) return (acc.row(1) - acc.row(0)) / dt_;
-    if (k == 0) return (-3.0 * acc.row(0) + 4.0 * acc.row(1) - acc.row(2)) * inv_2dt;
-    if (k == n - 1) return (3.0 * acc.row(n - 1) - 4.0 * acc.row(n - 2) + acc.row(n - 3)) * inv_2dt;
-    return (acc.row(k + 1) - acc.row(k - 1)) * inv_2dt;
-  };
-  if (n == 1) {
-    kin_.vel_fixed.row(0) = initial_.velocity_fixed_mps.transpose();
-    kin_.pos_fixed.row(0).setZero();
-    return;
-  }
-  // The three components side by side in scalars (their chains overlap),
-  // the previous row kept in registers, the interior without branches.
-  const double* acc_col[3] = {acc.col(0).data(), acc.col(1).data(), acc.col(2).data()};
-  double* vel_col[3] = {kin_.vel_fixed.col(0).data(), kin_.vel_fixed.col(1).data(), kin_.vel_fixed.col(2).data()};
-  double* pos_col[3] = {kin_.pos_fixed.col(0).data(), kin_.pos_fixed.col(1).data(), kin_.pos_fixed.col(2).data()};
-  double vel_prev[3], pos_prev[3], rate_prev[3], rate[3];
-  const Eigen::RowVector3d rate_0 = acc_rate(0);
   for (int c = 0; c < 3; ++c) {
-    vel_prev[c] = vel_col[c][0] = initial_.velocity_fixed_mps(c);
-    pos_prev[c] = pos_col[c][0] = 0.0;
-    rate_prev[c] = rate_0(c);
-  }
-  auto advance = [&](Index k) {
-    for (int c = 0; c < 3; ++c) {
-      const double acc_0 = acc_col[c][k - 1], acc_1 = acc_col[c][k];
-      const double vel = vel_prev[c] + half_dt_ * (acc_0 + acc_1) + dt2_12_ * (rate_prev[c] - rate[c]);
-      const double pos = pos_prev[c] + half_dt_ * (vel_prev[c] + vel) + dt2_12_ * (acc_0 - acc_1);
-      vel_col[c][k] = vel_prev[c] = vel;
-      pos_col[c][k] = pos_prev[c] = pos;
-      rate_prev[c] = rate[c];
+    const double* a = acc.col(c).data();
+    double* vel = kin_.vel_fixed.col(c).data();
+    double* pos = kin_.pos_fixed.col(c).data();
+    vel[0] = initial_.velocity_fixed_mps(c);
+    pos[0] = 0.0;
+    if (n == 1) continue;
+    auto rate = [&](Index k) {
+      if (n == 2) return (a[1] - a[0]) / dt_;
+      if (k == 0) return (-3.0 * a[0] + 4.0 * a[1] - a[2]) * inv_2dt;
+      if (k == n - 1) return (3.0 * a[n - 1] - 4.0 * a[n - 2] + a[n - 3]) * inv_2dt;
+      return (a[k + 1] - a[k - 1]) * inv_2dt;
+    };
+    HermiteIncrements(a, n, half_dt_, dt2_12_, inv_2dt, vel, pos);  // samples 2 .. n - 2
+    for (const Index k : {Index{1}, n - 1}) {
+      vel[k] = half_dt_ * (a[k - 1] + a[k]) + dt2_12_ * (rate(k - 1) - rate(k));
+      pos[k] = dt2_12_ * (a[k - 1] - a[k]);
     }
-  };
-  for (Index k = 1; k + 1 < n; ++k) {
-    ThrowIfCancelled(cancel_, k);
-    for (int c = 0; c < 3; ++c) rate[c] = (acc_col[c][k + 1] - acc_col[c][k - 1]) * inv_2dt;
-    advance(k);
+    double vel_prev = vel[0], pos_prev = pos[0];
+    for (Index k = 1; k < n; ++k) {
+      ThrowIfCancelled(cancel_, k);
+      const double v = vel_prev + vel[k];
+      const double x = pos_prev + half_dt_ * (vel_prev + v) + pos[k];
+      vel[k] = vel_prev = v;
+      pos[k] = pos_prev = x;
+    }
   }
-  const Eigen::RowVector3d rate_last = acc_rate(n - 1);
-  for (int c = 0; c < 3; ++c) rate[c] = rate_last(c);
-  advance(n - 1);
 }
 
 }  // namespace napkin::engine::internal

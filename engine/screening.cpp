@@ -303,15 +303,16 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
 struct ResidualFit {
   double rms = 0.0;
   bool solved = false;
-  Kinematics kinematics;
 };
 
-ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals,
-                          const SolveOptions& options) {
+// The RMS residual of a trial solve into `kinematics` (kept from trial to
+// trial: the trials map no new pages).
+ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals, const SolveOptions& options,
+                          Kinematics& kinematics) {
   ResidualFit fit;
   try {
-    fit.kinematics = Solve(array, signals, options);
-    fit.rms = Rms(fit.kinematics.residual);
+    Solve(array, signals, options, kinematics);
+    fit.rms = Rms(kinematics.residual);
     fit.solved = std::isfinite(fit.rms);
   } catch (const InputError&) {
     fit.solved = false;  // e.g. the array without one channel is not solvable
@@ -385,12 +386,14 @@ ResidualStatistics StatisticsOf(const Kinematics& kinematics) {
   return statistics;
 }
 
-// The solver options of the trial solves: exact, and without gravity
-// compensation (the residual ignores it; predicted readings must not include it).
+// The solver options of the trial solves: exact, without gravity
+// compensation (the residual ignores it; predicted readings must not include
+// it), and the body-frame series only (all the trials read).
 SolveOptions TrialOptions(const SolveOptions& exact_options) {
   SolveOptions options = exact_options;
   options.solver = SolverKind::kExact;
   options.gravity.compensate = false;
+  options.body_frame_only = true;
   return options;
 }
 
@@ -411,9 +414,9 @@ Finding SwapFinding(const Sensor& sensor, const Sensor& other, double recorded_r
 // The residual with the channel in `column` of `trial` sign flipped; `trial`
 // is returned to `signals` afterwards.
 ResidualFit SolveFlipped(const ArrayGeometry& array, const TestSignals& signals, TestSignals& trial,
-                         int column, const SolveOptions& options) {
+                         int column, const SolveOptions& options, Kinematics& kinematics) {
   trial.samples.col(column) *= -1.0;
-  ResidualFit fit = SolveResidual(array, trial, options);
+  ResidualFit fit = SolveResidual(array, trial, options, kinematics);
   trial.samples.col(column) = signals.samples.col(column);
   return fit;
 }
@@ -422,12 +425,12 @@ ResidualFit SolveFlipped(const ArrayGeometry& array, const TestSignals& signals,
 // `signals` afterwards.
 ResidualFit SolveSwapped(const ArrayGeometry& array, const TestSignals& signals, TestSignals& trial,
                          const Sensor& sensor, int column, const Sensor& other, int other_column,
-                         const SolveOptions& options) {
+                         const SolveOptions& options, Kinematics& kinematics) {
   // Channels of one kind in different units swap with the unit scale.
   const double scale = other.si_per_unit / sensor.si_per_unit;
   trial.samples.col(column) = signals.samples.col(other_column) * scale;
   trial.samples.col(other_column) = signals.samples.col(column) / scale;
-  ResidualFit fit = SolveResidual(array, trial, options);
+  ResidualFit fit = SolveResidual(array, trial, options, kinematics);
   trial.samples.col(column) = signals.samples.col(column);
   trial.samples.col(other_column) = signals.samples.col(other_column);
   return fit;
@@ -446,11 +449,12 @@ Hypothesis BestHypothesis(const ArrayGeometry& array, const TestSignals& signals
   Hypothesis best;
   best.rms_mps2 = recorded_rms;
   TestSignals trial = signals;
+  Kinematics kinematics;
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
     const Sensor& sensor = array.sensors[i];
     const int column = signals.FindSlot(sensor.slot);
     if (column < 0) continue;
-    const ResidualFit fit = SolveFlipped(array, signals, trial, column, options);
+    const ResidualFit fit = SolveFlipped(array, signals, trial, column, options, kinematics);
     if (fit.solved && fit.rms < best.rms_mps2)
       best = {fit.rms, FlipFinding(sensor, recorded_rms, fit.rms), {}};
     for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
@@ -458,7 +462,7 @@ Hypothesis BestHypothesis(const ArrayGeometry& array, const TestSignals& signals
       const int other_column = signals.FindSlot(other.slot);
       if (other_column < 0 || other.kind != sensor.kind) continue;
       const ResidualFit swap_fit =
-          SolveSwapped(array, signals, trial, sensor, column, other, other_column, options);
+          SolveSwapped(array, signals, trial, sensor, column, other, other_column, options, kinematics);
       if (swap_fit.solved && swap_fit.rms < best.rms_mps2)
         best = {swap_fit.rms, SwapFinding(sensor, other, recorded_rms, swap_fit.rms), other.slot};
     }
@@ -476,8 +480,9 @@ struct Culprit {
 
 std::optional<Culprit> LeaveOneOut(const ArrayGeometry& array, const TestSignals& signals,
                                    const SolveOptions& options, double recorded_rms, double limit_mps2) {
-  std::optional<Culprit> best;
+  const Sensor* best_sensor = nullptr;
   double best_rms = recorded_rms;
+  Kinematics kinematics, best_kinematics;
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
     ArrayGeometry reduced = array;
     reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
@@ -486,16 +491,17 @@ std::optional<Culprit> LeaveOneOut(const ArrayGeometry& array, const TestSignals
     } catch (const InputError&) {
       continue;
     }
-    ResidualFit fit = SolveResidual(reduced, signals, options);
+    const ResidualFit fit = SolveResidual(reduced, signals, options, kinematics);
     if (fit.solved && fit.rms < best_rms) {
       best_rms = fit.rms;
-      best = Culprit{&array.sensors[i], fit.rms, std::move(fit.kinematics)};
+      best_sensor = &array.sensors[i];
+      std::swap(best_kinematics, kinematics);  // the next trial reuses the former best's storage
     }
   }
   const bool accounted =
       std::isfinite(recorded_rms) ? best_rms < kLeaveOutFraction * recorded_rms : best_rms < limit_mps2;
-  if (!accounted) return std::nullopt;
-  return best;
+  if (!accounted || best_sensor == nullptr) return std::nullopt;
+  return Culprit{best_sensor, best_rms, std::move(best_kinematics)};
 }
 
 // The residual finding: where it peaks (or the solve diverges) and which

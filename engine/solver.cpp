@@ -58,6 +58,10 @@ void Solve(const ArrayGeometry& array, const TestSignals& signals, const SolveOp
   ArrayGeometry validated = array;
   ValidateArray(validated);
   CheckSignals(validated, signals);
+  if (options.body_frame_only && (options.solver == SolverKind::kSeed || options.gravity.compensate))
+    throw InputError(
+        "a body-frame-only solve needs the exact solver without gravity compensation (the gravity term needs "
+        "the orientation).");
   if (options.solver == SolverKind::kSeed) {
     // Refused rather than ignored (ProcessingConfig::Check says the same).
     if (options.gravity.compensate)

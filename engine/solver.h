@@ -43,6 +43,13 @@ struct SolveOptions {
   int corrector_passes = kDefaultCorrectorPasses;  // predictor-corrector passes per sample (exact solver)
   // Set from elsewhere to stop the solve: Solve throws Cancelled (engine/cancellation.h).
   const std::atomic<bool>* cancel = nullptr;
+  // The exact solver's body-frame series (omega_body, alpha_body, acc_body),
+  // time_s and the residual only: what the trial solves of the consistency
+  // screening read (engine/screening.cpp). The orientation, the fixed-frame
+  // series, the angles, velocity and position are not computed (their
+  // contents are unspecified). Not with the seed solver or gravity
+  // compensation (whose term needs the orientation).
+  bool body_frame_only = false;
 };
 
 // Solves one test. Throws InputError naming the slot when `signals` lacks a
