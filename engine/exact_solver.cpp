@@ -181,8 +181,9 @@ class AlphaOfOmega {
 // over samples, which the compiler vectorizes. kSensors is the number of
 // sensors when it is known at compile time (Eigen::Dynamic otherwise).
 template <int kSensors, typename Stacked, typename Sums>
-NAPKIN_SAMPLE_LOOP_CLONES void StackedSums(const Stacked& stacked_recorded, const std::vector<const double*>& columns, Index first,
-                 Index count, Sums& sums) {
+NAPKIN_SAMPLE_LOOP_CLONES void StackedSums(const Stacked& stacked_recorded,
+                                           const std::vector<const double*>& columns, Index first,
+                                           Index count, Sums& sums) {
   for (Index j = 0; j < stacked_recorded.rows(); ++j) {
     double* __restrict sum = &sums(0, j);
     if constexpr (kSensors != Eigen::Dynamic) {
@@ -215,9 +216,11 @@ NAPKIN_SAMPLE_LOOP_CLONES void StackedSums(const Stacked& stacked_recorded, cons
 // compiler vectorizes. `stacked` holds the block's sums (SolveLinear), row
 // s for sample first + s.
 template <int kComplementRows, typename Sums, typename ComplementBySix>
-NAPKIN_SAMPLE_LOOP_CLONES void AccelerationAndResidual(const Sums& stacked, Index first, Index begin, Index end,
-                             const Eigen::Matrix<double, 3, 6>& acc_centripetal,
-                             const ComplementBySix& complement_centripetal, Kinematics& out) {
+NAPKIN_SAMPLE_LOOP_CLONES void AccelerationAndResidual(const Sums& stacked, Index first, Index begin,
+                                                       Index end,
+                                                       const Eigen::Matrix<double, 3, 6>& acc_centripetal,
+                                                       const ComplementBySix& complement_centripetal,
+                                                       Kinematics& out) {
   const double* __restrict wx_col = out.omega_body.col(0).data();
   const double* __restrict wy_col = out.omega_body.col(1).data();
   const double* __restrict wz_col = out.omega_body.col(2).data();
@@ -231,7 +234,7 @@ NAPKIN_SAMPLE_LOOP_CLONES void AccelerationAndResidual(const Sums& stacked, Inde
   double acc_map[3][6];
   for (int c = 0; c < 3; ++c)
     for (int j = 0; j < 6; ++j) acc_map[c][j] = acc_centripetal(c, j);
-  auto apply = [](const double (&m)[6], const double (&v)[6]) {
+  auto apply = [](const double(&m)[6], const double(&v)[6]) {
     return ((m[0] * v[0] + m[1] * v[1]) + (m[2] * v[2] + m[3] * v[3])) + (m[4] * v[4] + m[5] * v[5]);
   };
   const Index complement_rows = complement_centripetal.rows();
@@ -370,7 +373,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
         if (begin == 0)
           rate(0) = (-3.0 * projected(0, c) + 4.0 * projected(1, c) - projected(2, c)) * inv_2dt;
         if (end == n)
-          rate(n - 1) = (3.0 * projected(n - 1, c) - 4.0 * projected(n - 2, c) + projected(n - 3, c)) * inv_2dt;
+          rate(n - 1) =
+              (3.0 * projected(n - 1, c) - 4.0 * projected(n - 2, c) + projected(n - 3, c)) * inv_2dt;
       }
     }
 
@@ -389,7 +393,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       const double measured_rate_k[3] = {alpha_measured_rate[0][t], alpha_measured_rate[1][t],
                                          alpha_measured_rate[2][t]};
       if (k == 0) {
-        centripetal_map.Evaluate(omega, projected_k, measured_rate_k, alpha, alpha_rate);  // the initial omega
+        centripetal_map.Evaluate(omega, projected_k, measured_rate_k, alpha,
+                                 alpha_rate);  // the initial omega
       } else {
         double base[3], point[3];
         for (int c = 0; c < 3; ++c) {
@@ -420,8 +425,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       }
     }
 
-    AccelerationAndResidual<kComplementRows>(stacked, first, begin, end, acc_centripetal, complement_centripetal,
-                                             out);
+    AccelerationAndResidual<kComplementRows>(stacked, first, begin, end, acc_centripetal,
+                                             complement_centripetal, out);
     if (!options.body_frame_only) completer.CompleteRows(begin, end);
   }
   // |residual| = sqrt(squared norm), a packet of square roots at a time.
@@ -574,7 +579,8 @@ void SolveExact(const ArrayGeometry& array, const TestSignals& signals, const So
       return;
   }
   ThrowIfCancelled(options.cancel);
-  if (!options.body_frame_only) CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
+  if (!options.body_frame_only)
+    CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
 }
 
 }  // namespace napkin::engine

@@ -15,14 +15,13 @@ using Eigen::Vector3d;
 
 // Rows [begin, end) of the quaternion series normalized (the chain leaves
 // them a few ulp off unit length) and the rotation
-// R_k = RotationMatrixOfUnitQuaternion(q_k) applied: with kCompensateGravity, docs/algorithms.md "Gravity": zeroed
-// accelerometers read a - (R^T - R0^T) g, so the term is added back to
-// acc_body with the integrated orientation; then omega, alpha and the
-// acceleration in fixed axes. Every sample on its own (a loop the compiler
-// vectorizes over samples), each entry as RotationMatrixOfUnitQuaternion
-// forms it.
+// R_k = RotationMatrixOfUnitQuaternion(q_k) applied: with kCompensateGravity, docs/algorithms.md "Gravity":
+// zeroed accelerometers read a - (R^T - R0^T) g, so the term is added back to acc_body with the integrated
+// orientation; then omega, alpha and the acceleration in fixed axes. Every sample on its own (a loop the
+// compiler vectorizes over samples), each entry as RotationMatrixOfUnitQuaternion forms it.
 template <bool kCompensateGravity>
-NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d& g_fixed, const Vector3d& gravity_body_0, Kinematics& kin) {
+NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d& g_fixed,
+                                          const Vector3d& gravity_body_0, Kinematics& kin) {
   double* __restrict qw = kin.quat_fixed_from_body.col(0).data();
   double* __restrict qx = kin.quat_fixed_from_body.col(1).data();
   double* __restrict qy = kin.quat_fixed_from_body.col(2).data();
@@ -147,8 +146,8 @@ NAPKIN_SAMPLE_LOOP_CLONES void HermiteIncrements(const double* __restrict a, Ind
 
 }  // namespace
 
-KinematicsCompleter::KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                                         Kinematics& kin, const std::atomic<bool>* cancel)
+KinematicsCompleter::KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity,
+                                         double dt_s, Kinematics& kin, const std::atomic<bool>* cancel)
     : kin_(kin),
       cancel_(cancel),
       gravity_(gravity),
@@ -188,7 +187,8 @@ void KinematicsCompleter::CompleteRows(Index begin, Index end) {
     quat(0, 3) = qz;
   }
   for (Index k = first; k < end; ++k) {
-    const double bw = increment_w[k - begin], bx = increment_x[k - begin], by = increment_y[k - begin], bz = increment_z[k - begin];
+    const double bw = increment_w[k - begin], bx = increment_x[k - begin], by = increment_y[k - begin],
+                 bz = increment_z[k - begin];
     const double pw = (qw * bw - qx * bx) - (qy * by + qz * bz);
     const double px = (qw * bx + qx * bw) + (qy * bz - qz * by);
     const double py = (qw * by + qy * bw) + (qz * bx - qx * bz);
@@ -206,13 +206,14 @@ void KinematicsCompleter::CompleteRows(Index begin, Index end) {
     RotateRows<true>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
   else
     RotateRows<false>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
-  fixed_from_body_ = Eigen::Quaterniond(quat(end - 1, 0), quat(end - 1, 1), quat(end - 1, 2), quat(end - 1, 3));
+  fixed_from_body_ =
+      Eigen::Quaterniond(quat(end - 1, 0), quat(end - 1, 1), quat(end - 1, 2), quat(end - 1, 3));
 }
 
 void KinematicsCompleter::Finish() {
   ThrowIfCancelled(cancel_);
-  OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad, BestAnglesImplementation(),
-                    cancel_);
+  OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad,
+                    BestAnglesImplementation(), cancel_);
   ThrowIfCancelled(cancel_);
   const Index n = kin_.size();
   if (n == 0) return;

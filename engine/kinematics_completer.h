@@ -37,8 +37,8 @@ inline constexpr Eigen::Index kCompletionBlock = 256;
 
 class KinematicsCompleter {
  public:
-  KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s, Kinematics& kin,
-                      const std::atomic<bool>* cancel);
+  KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
+                      Kinematics& kin, const std::atomic<bool>* cancel);
 
   // Completes rows [begin, end) (end - begin <= kCompletionBlock) once rows
   // 0 .. end - 1 of omega_body, alpha_body and acc_body are final: the

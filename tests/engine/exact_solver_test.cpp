@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <ostream>
 
+#include "common/error.h"
 #include "engine/report_known_answers.h"
 #include "engine/solver.h"
 #include "engine/summary.h"
@@ -153,6 +155,115 @@ TEST(ExactSolver, ArrayBeyondSixteenSensorsGivesTheSameSolutionAsItsNineDistinct
   // Each residual component appears twice: sqrt(2) times the 9-sensor residual.
   const double nine_residual = nine.residual.maxCoeff();
   EXPECT_NEAR(eighteen.residual.maxCoeff(), std::sqrt(2.0) * nine_residual, 1e-9 + 1e-6 * nine_residual);
+}
+
+}  // namespace
+}  // namespace napkin::engine
+
+namespace napkin::engine {
+namespace {
+
+// Rows [0, rows) of two series are the same bits; the first difference is
+// named.
+template <typename Series>
+::testing::AssertionResult SameRows(const char* name, const Series& part, const Series& whole,
+                                    Eigen::Index rows) {
+  for (Eigen::Index k = 0; k < rows; ++k)
+    for (Eigen::Index c = 0; c < part.cols(); ++c)
+      if (std::memcmp(&part(k, c), &whole(k, c), sizeof(double)) != 0)
+        return ::testing::AssertionFailure() << name << " differs at row " << k << " column " << c << ": "
+                                             << part(k, c) << " vs " << whole(k, c);
+  return ::testing::AssertionSuccess();
+}
+
+// The exact solver works through the record in blocks of samples
+// (docs/algorithms.md "Solvers"): every sample but the last depends only on
+// the samples before it and the next one (central differences), so the solve
+// of a prefix of a record must give the same bits as the solve of the whole
+// record on every row but the prefix's last (velocity and position: but its
+// last two, their slope being the central difference of the acceleration),
+// wherever the prefix ends relative to the blocks (256 samples), with and
+// without the gravity term. The angles are computed eight or four rows at a
+// time where the processor can (engine/rotation_angles.h), the rows beyond
+// the last full group by the scalar code, within a few ulp.
+TEST(ExactSolver, APrefixOfTheRecordSolvesToTheSameBitsAsTheWholeRecord) {
+  const ArrayGeometry nap = synth::DisplaceSensors(test_support::Denton3222(), 0.25 * kMetresPerInch, 11);
+  synth::RandomMotionOptions motion;
+  motion.seed = 11;
+  motion.duration_s = 0.0799;  // 800 samples at 10 kHz
+  const synth::SyntheticTest test = synth::SynthRandomMotion(nap, motion);
+  ASSERT_EQ(test.signals.size(), 800);
+  for (const bool gravity : {false, true}) {
+    SolveOptions options = OptionsFor(test);
+    options.gravity.compensate = gravity;
+    const Kinematics whole = Solve(test.array, test.signals, options);
+    for (const Eigen::Index length : {3, 4, 5, 255, 256, 257, 258, 259, 511, 512, 513, 700}) {
+      SCOPED_TRACE("gravity " + std::to_string(gravity) + ", first " + std::to_string(length) + " samples");
+      TestSignals prefix = test.signals;
+      prefix.samples = test.signals.samples.topRows(length);
+      const Kinematics part = Solve(test.array, prefix, options);
+      ASSERT_EQ(part.size(), length);
+      const Eigen::Index rows = length - 1;
+      EXPECT_TRUE(SameRows("omega_body", part.omega_body, whole.omega_body, rows));
+      EXPECT_TRUE(SameRows("alpha_body", part.alpha_body, whole.alpha_body, rows));
+      EXPECT_TRUE(SameRows("acc_body", part.acc_body, whole.acc_body, rows));
+      EXPECT_TRUE(SameRows("residual", part.residual, whole.residual, rows));
+      EXPECT_TRUE(
+          SameRows("quat_fixed_from_body", part.quat_fixed_from_body, whole.quat_fixed_from_body, rows));
+      EXPECT_TRUE(SameRows("omega_fixed", part.omega_fixed, whole.omega_fixed, rows));
+      EXPECT_TRUE(SameRows("alpha_fixed", part.alpha_fixed, whole.alpha_fixed, rows));
+      EXPECT_TRUE(SameRows("acc_fixed", part.acc_fixed, whole.acc_fixed, rows));
+      EXPECT_TRUE(SameRows("vel_fixed", part.vel_fixed, whole.vel_fixed, rows - 1));
+      EXPECT_TRUE(SameRows("pos_fixed", part.pos_fixed, whole.pos_fixed, rows - 1));
+      EXPECT_LE((part.roll_pitch_yaw_rad - whole.roll_pitch_yaw_rad.topRows(length))
+                    .topRows(rows)
+                    .cwiseAbs()
+                    .maxCoeff(),
+                2e-15);
+      EXPECT_LE((part.dcos_rad - whole.dcos_rad.topRows(length)).topRows(rows).cwiseAbs().maxCoeff(), 2e-15);
+    }
+  }
+}
+
+// The quaternions are normalized off the sample-to-sample chain
+// (docs/algorithms.md "Solvers"): every stored one is unit to round-off,
+// over a record of many blocks.
+TEST(ExactSolver, EveryQuaternionIsUnitToRoundOff) {
+  const ArrayGeometry nap = synth::DisplaceSensors(test_support::Denton3222(), 0.25 * kMetresPerInch, 12);
+  synth::RandomMotionOptions motion;
+  motion.seed = 12;
+  motion.duration_s = 0.5;
+  const synth::SyntheticTest test = synth::SynthRandomMotion(nap, motion);
+  const Kinematics solved = Solve(test.array, test.signals, OptionsFor(test));
+  const Eigen::VectorXd norms = solved.quat_fixed_from_body.rowwise().norm();
+  EXPECT_LE((norms.array() - 1.0).abs().maxCoeff(), 4e-16);
+}
+
+// SolveOptions::body_frame_only (the screening's trial solves) gives the
+// body-frame series and the residual of the full solve, bit for bit; it
+// refuses what needs the orientation.
+TEST(ExactSolver, BodyFrameOnlyGivesTheBodyFrameSeriesOfTheFullSolve) {
+  const ArrayGeometry nap = synth::DisplaceSensors(test_support::Denton3222(), 0.25 * kMetresPerInch, 13);
+  synth::RandomMotionOptions motion;
+  motion.seed = 13;
+  const synth::SyntheticTest test = synth::SynthRandomMotion(nap, motion);
+  SolveOptions options = OptionsFor(test);
+  const Kinematics full = Solve(test.array, test.signals, options);
+  options.body_frame_only = true;
+  const Kinematics body = Solve(test.array, test.signals, options);
+  const Eigen::Index rows = full.size();
+  ASSERT_EQ(body.size(), rows);
+  EXPECT_TRUE(SameRows("time_s", body.time_s, full.time_s, rows));
+  EXPECT_TRUE(SameRows("omega_body", body.omega_body, full.omega_body, rows));
+  EXPECT_TRUE(SameRows("alpha_body", body.alpha_body, full.alpha_body, rows));
+  EXPECT_TRUE(SameRows("acc_body", body.acc_body, full.acc_body, rows));
+  EXPECT_TRUE(SameRows("residual", body.residual, full.residual, rows));
+
+  options.gravity.compensate = true;
+  EXPECT_THROW(Solve(test.array, test.signals, options), InputError);
+  options.gravity.compensate = false;
+  options.solver = SolverKind::kSeed;
+  EXPECT_THROW(Solve(test.array, test.signals, options), InputError);
 }
 
 }  // namespace
