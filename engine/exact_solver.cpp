@@ -238,8 +238,7 @@ NAPKIN_SAMPLE_LOOP_CLONES void AccelerationAndResidual(const Sums& stacked, Inde
     return ((m[0] * v[0] + m[1] * v[1]) + (m[2] * v[2] + m[3] * v[3])) + (m[4] * v[4] + m[5] * v[5]);
   };
   const Index complement_rows = complement_centripetal.rows();
-  // The series are distinct arrays: no dependence between samples.
-#pragma GCC ivdep
+  NAPKIN_INDEPENDENT_SAMPLES
   for (Index k = begin; k < end; ++k) {
     const double wx = wx_col[k], wy = wy_col[k], wz = wz_col[k];
     const double monomials[6] = {wx * wx, wy * wy, wz * wz, wx * wy, wx * wz, wy * wz};  // Quadratic

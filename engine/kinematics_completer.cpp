@@ -46,8 +46,7 @@ NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d
   double* __restrict acc_fixed_z = kin.acc_fixed.col(2).data();
   const double gx = g_fixed.x(), gy = g_fixed.y(), gz = g_fixed.z();
   const double gb0x = gravity_body_0.x(), gb0y = gravity_body_0.y(), gb0z = gravity_body_0.z();
-  // The series are distinct arrays: no dependence between samples.
-#pragma GCC ivdep
+  NAPKIN_INDEPENDENT_SAMPLES
   for (Index k = begin; k < end; ++k) {
     const double scale = 1.0 / std::sqrt(qw[k] * qw[k] + qx[k] * qx[k] + qy[k] * qy[k] + qz[k] * qz[k]);
     qw[k] *= scale;
@@ -107,8 +106,7 @@ NAPKIN_SAMPLE_LOOP_CLONES void OrientationIncrements(Index first, Index end, Ind
                     half_dt * (wz[k - 1] + wz[k]) + dt2_12 * (az[k - 1] - az[k]) +
                         dt2_12 * (wx[k - 1] * wy[k] - wy[k - 1] * wx[k]));
   };
-  // The series are distinct arrays: no dependence between samples.
-#pragma GCC ivdep
+  NAPKIN_INDEPENDENT_SAMPLES
   for (Index k = first; k < end; ++k) {
     const Vector3d theta = step_rotation(k);
     const double sx = theta.x(), sy = theta.y(), sz = theta.z();

@@ -29,6 +29,14 @@
 #define NAPKIN_SAMPLE_LOOP_CLONES
 #endif
 
+// Before such a loop whose series are distinct arrays: no dependence between
+// samples (GCC cannot tell the Eigen columns apart and would otherwise give up).
+#if defined(__GNUC__) && !defined(__clang__)
+#define NAPKIN_INDEPENDENT_SAMPLES _Pragma("GCC ivdep")
+#else
+#define NAPKIN_INDEPENDENT_SAMPLES
+#endif
+
 namespace napkin::engine::internal {
 
 // Samples per block of the exact solver and of the completion: the block's
