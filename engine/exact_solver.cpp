@@ -392,8 +392,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
       const double measured_rate_k[3] = {alpha_measured_rate[0][t], alpha_measured_rate[1][t],
                                          alpha_measured_rate[2][t]};
       if (k == 0) {
-        centripetal_map.Evaluate(omega, projected_k, measured_rate_k, alpha,
-                                 alpha_rate);  // the initial omega
+        // The initial omega.
+        centripetal_map.Evaluate(omega, projected_k, measured_rate_k, alpha, alpha_rate);
       } else {
         double base[3], point[3];
         for (int c = 0; c < 3; ++c) {
