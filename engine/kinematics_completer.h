@@ -7,9 +7,11 @@
 // samples (independent of each other), the quaternion chain (the only step
 // that needs the previous sample), then the gravity term and the rotation of
 // every series to fixed axes (again independent across samples, so the
-// compiler vectorizes it over samples). The arithmetic of each sample is
-// IntegrateOrientation's, DifferentiateSecondOrder's and IntegrateHermite's
-// (engine/integration.h), operation for operation.
+// compiler vectorizes it over samples). The rules are IntegrateOrientation's,
+// DifferentiateSecondOrder's and IntegrateHermite's (engine/integration.h);
+// the results equal theirs to round-off, not bit for bit: the quaternions
+// are normalized off the chain, and each velocity step adds its increment as
+// one term.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <atomic>
