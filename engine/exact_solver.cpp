@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "common/error.h"
@@ -143,6 +144,38 @@ MatrixXd ResidualComplement(const MatrixXd& rows) {
   return svd.matrixU().rightCols(rows.rows() - rank).transpose();
 }
 
+// The monomials Quadratic(w) and QuadraticRate(w, a) of the centripetal term
+// (above), and a row of a 6-column map applied to them as a balanced tree of
+// sums (few steps where it is on the sample-to-sample chain).
+void QuadraticOf(double wx, double wy, double wz, double (&monomials)[6]) {
+  monomials[0] = wx * wx;
+  monomials[1] = wy * wy;
+  monomials[2] = wz * wz;
+  monomials[3] = wx * wy;
+  monomials[4] = wx * wz;
+  monomials[5] = wy * wz;
+}
+
+void QuadraticRateOf(const double (&w)[3], const double (&a)[3], double (&rates)[6]) {
+  rates[0] = 2.0 * w[0] * a[0];
+  rates[1] = 2.0 * w[1] * a[1];
+  rates[2] = 2.0 * w[2] * a[2];
+  rates[3] = w[0] * a[1] + w[1] * a[0];
+  rates[4] = w[0] * a[2] + w[2] * a[0];
+  rates[5] = w[1] * a[2] + w[2] * a[1];
+}
+
+double ApplyRow(const double (&row)[6], const double (&v)[6]) {
+  return ((row[0] * v[0] + row[1] * v[1]) + (row[2] * v[2] + row[3] * v[3])) +
+         (row[4] * v[4] + row[5] * v[5]);
+}
+
+// A 3 x 6 map as rows of plain doubles.
+void RowsOf(const Eigen::Matrix<double, 3, 6>& map, double (&rows)[3][6]) {
+  for (int c = 0; c < 3; ++c)
+    for (int j = 0; j < 6; ++j) rows[c][j] = map(c, j);
+}
+
 // alpha = P_alpha m - P_alpha C Quadratic(omega) and
 // alpha' = P_alpha m' - P_alpha C QuadraticRate(omega, alpha) of one sample
 // (SolveLinear), in scalars: each 6-term sum as a balanced tree, so that an
@@ -150,27 +183,19 @@ MatrixXd ResidualComplement(const MatrixXd& rows) {
 class AlphaOfOmega {
  public:
   explicit AlphaOfOmega(const Eigen::Matrix<double, 3, 6>& alpha_centripetal) {
-    for (int c = 0; c < 3; ++c)
-      for (int j = 0; j < 6; ++j) map_[c][j] = alpha_centripetal(c, j);
+    RowsOf(alpha_centripetal, map_);
   }
 
   void Evaluate(const double (&omega)[3], const double (&projected)[3], const double (&measured_rate)[3],
                 double (&alpha)[3], double (&alpha_rate)[3]) const {
-    const double wx = omega[0], wy = omega[1], wz = omega[2];
-    const double monomials[6] = {wx * wx, wy * wy, wz * wz, wx * wy, wx * wz, wy * wz};  // Quadratic
-    for (int c = 0; c < 3; ++c) alpha[c] = projected[c] - Apply(c, monomials);
-    const double ax = alpha[0], ay = alpha[1], az = alpha[2];
-    const double rates[6] = {2.0 * wx * ax,     2.0 * wy * ay,     2.0 * wz * az,  // QuadraticRate
-                             wx * ay + wy * ax, wx * az + wz * ax, wy * az + wz * ay};
-    for (int c = 0; c < 3; ++c) alpha_rate[c] = measured_rate[c] - Apply(c, rates);
+    double monomials[6], rates[6];
+    QuadraticOf(omega[0], omega[1], omega[2], monomials);
+    for (int c = 0; c < 3; ++c) alpha[c] = projected[c] - ApplyRow(map_[c], monomials);
+    QuadraticRateOf(omega, alpha, rates);
+    for (int c = 0; c < 3; ++c) alpha_rate[c] = measured_rate[c] - ApplyRow(map_[c], rates);
   }
 
  private:
-  double Apply(int c, const double (&v)[6]) const {
-    const double(&m)[6] = map_[c];
-    return ((m[0] * v[0] + m[1] * v[1]) + (m[2] * v[2] + m[3] * v[3])) + (m[4] * v[4] + m[5] * v[5]);
-  }
-
   double map_[3][6];
 };
 
@@ -221,30 +246,20 @@ NAPKIN_SAMPLE_LOOP_CLONES void AccelerationAndResidual(const Sums& stacked, Inde
                                                        const Eigen::Matrix<double, 3, 6>& acc_centripetal,
                                                        const ComplementBySix& complement_centripetal,
                                                        Kinematics& out) {
-  const double* __restrict wx_col = out.omega_body.col(0).data();
-  const double* __restrict wy_col = out.omega_body.col(1).data();
-  const double* __restrict wz_col = out.omega_body.col(2).data();
-  double* __restrict ax_col = out.acc_body.col(0).data();
-  double* __restrict ay_col = out.acc_body.col(1).data();
-  double* __restrict az_col = out.acc_body.col(2).data();
-  const double* __restrict px_col = &stacked(0, 3);
-  const double* __restrict py_col = &stacked(0, 4);
-  const double* __restrict pz_col = &stacked(0, 5);
-  double* __restrict residual_sq = out.residual.data();
+  const internal::SeriesColumns<const double> omega = internal::ColumnsOf(std::as_const(out.omega_body));
+  const internal::SeriesColumns<double> acc = internal::ColumnsOf(out.acc_body);
+  const double* acc_projected[3] = {&stacked(0, 3), &stacked(0, 4), &stacked(0, 5)};
+  double* residual_sq = out.residual.data();
   double acc_map[3][6];
-  for (int c = 0; c < 3; ++c)
-    for (int j = 0; j < 6; ++j) acc_map[c][j] = acc_centripetal(c, j);
-  auto apply = [](const double(&m)[6], const double(&v)[6]) {
-    return ((m[0] * v[0] + m[1] * v[1]) + (m[2] * v[2] + m[3] * v[3])) + (m[4] * v[4] + m[5] * v[5]);
-  };
+  RowsOf(acc_centripetal, acc_map);
   const Index complement_rows = complement_centripetal.rows();
   NAPKIN_INDEPENDENT_SAMPLES
   for (Index k = begin; k < end; ++k) {
-    const double wx = wx_col[k], wy = wy_col[k], wz = wz_col[k];
-    const double monomials[6] = {wx * wx, wy * wy, wz * wz, wx * wy, wx * wz, wy * wz};  // Quadratic
-    ax_col[k] = px_col[k - first] - apply(acc_map[0], monomials);
-    ay_col[k] = py_col[k - first] - apply(acc_map[1], monomials);
-    az_col[k] = pz_col[k - first] - apply(acc_map[2], monomials);
+    double monomials[6];
+    QuadraticOf(omega.x[k], omega.y[k], omega.z[k], monomials);
+    acc.x[k] = acc_projected[0][k - first] - ApplyRow(acc_map[0], monomials);
+    acc.y[k] = acc_projected[1][k - first] - ApplyRow(acc_map[1], monomials);
+    acc.z[k] = acc_projected[2][k - first] - ApplyRow(acc_map[2], monomials);
     double sum_sq = 0.0;
     for (Index r = 0; r < (kComplementRows == Eigen::Dynamic ? complement_rows : kComplementRows); ++r) {
       double residual = stacked(k - first, 6 + r);

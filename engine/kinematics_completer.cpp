@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "engine/cancellation.h"
 #include "engine/rotation.h"
@@ -22,28 +23,16 @@ using Eigen::Vector3d;
 template <bool kCompensateGravity>
 NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d& g_fixed,
                                           const Vector3d& gravity_body_0, Kinematics& kin) {
-  double* __restrict qw = kin.quat_fixed_from_body.col(0).data();
-  double* __restrict qx = kin.quat_fixed_from_body.col(1).data();
-  double* __restrict qy = kin.quat_fixed_from_body.col(2).data();
-  double* __restrict qz = kin.quat_fixed_from_body.col(3).data();
-  const double* __restrict omega_x = kin.omega_body.col(0).data();
-  const double* __restrict omega_y = kin.omega_body.col(1).data();
-  const double* __restrict omega_z = kin.omega_body.col(2).data();
-  const double* __restrict alpha_x = kin.alpha_body.col(0).data();
-  const double* __restrict alpha_y = kin.alpha_body.col(1).data();
-  const double* __restrict alpha_z = kin.alpha_body.col(2).data();
-  double* __restrict acc_x = kin.acc_body.col(0).data();
-  double* __restrict acc_y = kin.acc_body.col(1).data();
-  double* __restrict acc_z = kin.acc_body.col(2).data();
-  double* __restrict omega_fixed_x = kin.omega_fixed.col(0).data();
-  double* __restrict omega_fixed_y = kin.omega_fixed.col(1).data();
-  double* __restrict omega_fixed_z = kin.omega_fixed.col(2).data();
-  double* __restrict alpha_fixed_x = kin.alpha_fixed.col(0).data();
-  double* __restrict alpha_fixed_y = kin.alpha_fixed.col(1).data();
-  double* __restrict alpha_fixed_z = kin.alpha_fixed.col(2).data();
-  double* __restrict acc_fixed_x = kin.acc_fixed.col(0).data();
-  double* __restrict acc_fixed_y = kin.acc_fixed.col(1).data();
-  double* __restrict acc_fixed_z = kin.acc_fixed.col(2).data();
+  double* qw = kin.quat_fixed_from_body.col(0).data();
+  double* qx = kin.quat_fixed_from_body.col(1).data();
+  double* qy = kin.quat_fixed_from_body.col(2).data();
+  double* qz = kin.quat_fixed_from_body.col(3).data();
+  const SeriesColumns<const double> omega = ColumnsOf(std::as_const(kin.omega_body));
+  const SeriesColumns<const double> alpha = ColumnsOf(std::as_const(kin.alpha_body));
+  const SeriesColumns<double> acc = ColumnsOf(kin.acc_body);
+  const SeriesColumns<double> omega_fixed = ColumnsOf(kin.omega_fixed);
+  const SeriesColumns<double> alpha_fixed = ColumnsOf(kin.alpha_fixed);
+  const SeriesColumns<double> acc_fixed = ColumnsOf(kin.acc_fixed);
   const double gx = g_fixed.x(), gy = g_fixed.y(), gz = g_fixed.z();
   const double gb0x = gravity_body_0.x(), gb0y = gravity_body_0.y(), gb0z = gravity_body_0.z();
   NAPKIN_INDEPENDENT_SAMPLES
@@ -61,22 +50,22 @@ NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d
     const double r10 = txy + twz, r11 = 1.0 - (txx + tzz), r12 = tyz - twx;
     const double r20 = txz - twy, r21 = tyz + twx, r22 = 1.0 - (txx + tyy);
     if constexpr (kCompensateGravity) {
-      acc_x[k] += r00 * gx + r10 * gy + r20 * gz - gb0x;
-      acc_y[k] += r01 * gx + r11 * gy + r21 * gz - gb0y;
-      acc_z[k] += r02 * gx + r12 * gy + r22 * gz - gb0z;
+      acc.x[k] += r00 * gx + r10 * gy + r20 * gz - gb0x;
+      acc.y[k] += r01 * gx + r11 * gy + r21 * gz - gb0y;
+      acc.z[k] += r02 * gx + r12 * gy + r22 * gz - gb0z;
     }
-    const double wx = omega_x[k], wy = omega_y[k], wz = omega_z[k];
-    omega_fixed_x[k] = r00 * wx + r01 * wy + r02 * wz;
-    omega_fixed_y[k] = r10 * wx + r11 * wy + r12 * wz;
-    omega_fixed_z[k] = r20 * wx + r21 * wy + r22 * wz;
-    const double ax = alpha_x[k], ay = alpha_y[k], az = alpha_z[k];
-    alpha_fixed_x[k] = r00 * ax + r01 * ay + r02 * az;
-    alpha_fixed_y[k] = r10 * ax + r11 * ay + r12 * az;
-    alpha_fixed_z[k] = r20 * ax + r21 * ay + r22 * az;
-    const double bx = acc_x[k], by = acc_y[k], bz = acc_z[k];
-    acc_fixed_x[k] = r00 * bx + r01 * by + r02 * bz;
-    acc_fixed_y[k] = r10 * bx + r11 * by + r12 * bz;
-    acc_fixed_z[k] = r20 * bx + r21 * by + r22 * bz;
+    const double wx = omega.x[k], wy = omega.y[k], wz = omega.z[k];
+    omega_fixed.x[k] = r00 * wx + r01 * wy + r02 * wz;
+    omega_fixed.y[k] = r10 * wx + r11 * wy + r12 * wz;
+    omega_fixed.z[k] = r20 * wx + r21 * wy + r22 * wz;
+    const double ax = alpha.x[k], ay = alpha.y[k], az = alpha.z[k];
+    alpha_fixed.x[k] = r00 * ax + r01 * ay + r02 * az;
+    alpha_fixed.y[k] = r10 * ax + r11 * ay + r12 * az;
+    alpha_fixed.z[k] = r20 * ax + r21 * ay + r22 * az;
+    const double bx = acc.x[k], by = acc.y[k], bz = acc.z[k];
+    acc_fixed.x[k] = r00 * bx + r01 * by + r02 * bz;
+    acc_fixed.y[k] = r10 * bx + r11 * by + r12 * bz;
+    acc_fixed.z[k] = r20 * bx + r21 * by + r22 * bz;
   }
 }
 
@@ -86,25 +75,21 @@ NAPKIN_SAMPLE_LOOP_CLONES void OrientationIncrements(Index first, Index end, Ind
                                                      double dt2_12, const Kinematics& kin,
                                                      double (&increment)[4][kCompletionBlock],
                                                      double (&angle_sq_of)[kCompletionBlock]) {
-  const double* __restrict wx = kin.omega_body.col(0).data();
-  const double* __restrict wy = kin.omega_body.col(1).data();
-  const double* __restrict wz = kin.omega_body.col(2).data();
-  const double* __restrict ax = kin.alpha_body.col(0).data();
-  const double* __restrict ay = kin.alpha_body.col(1).data();
-  const double* __restrict az = kin.alpha_body.col(2).data();
-  double* __restrict increment_w = increment[0];
-  double* __restrict increment_x = increment[1];
-  double* __restrict increment_y = increment[2];
-  double* __restrict increment_z = increment[3];
-  double* __restrict angle_sq = angle_sq_of;
+  const SeriesColumns<const double> w = ColumnsOf(kin.omega_body);
+  const SeriesColumns<const double> a = ColumnsOf(kin.alpha_body);
+  double* increment_w = increment[0];
+  double* increment_x = increment[1];
+  double* increment_y = increment[2];
+  double* increment_z = increment[3];
+  double* angle_sq = angle_sq_of;
   // theta_k of sample k (Eigen's cross product, term for term).
   auto step_rotation = [&](Index k) {
-    return Vector3d(half_dt * (wx[k - 1] + wx[k]) + dt2_12 * (ax[k - 1] - ax[k]) +
-                        dt2_12 * (wy[k - 1] * wz[k] - wz[k - 1] * wy[k]),
-                    half_dt * (wy[k - 1] + wy[k]) + dt2_12 * (ay[k - 1] - ay[k]) +
-                        dt2_12 * (wz[k - 1] * wx[k] - wx[k - 1] * wz[k]),
-                    half_dt * (wz[k - 1] + wz[k]) + dt2_12 * (az[k - 1] - az[k]) +
-                        dt2_12 * (wx[k - 1] * wy[k] - wy[k - 1] * wx[k]));
+    return Vector3d(half_dt * (w.x[k - 1] + w.x[k]) + dt2_12 * (a.x[k - 1] - a.x[k]) +
+                        dt2_12 * (w.y[k - 1] * w.z[k] - w.z[k - 1] * w.y[k]),
+                    half_dt * (w.y[k - 1] + w.y[k]) + dt2_12 * (a.y[k - 1] - a.y[k]) +
+                        dt2_12 * (w.z[k - 1] * w.x[k] - w.x[k - 1] * w.z[k]),
+                    half_dt * (w.z[k - 1] + w.z[k]) + dt2_12 * (a.z[k - 1] - a.z[k]) +
+                        dt2_12 * (w.x[k - 1] * w.y[k] - w.y[k - 1] * w.x[k]));
   };
   NAPKIN_INDEPENDENT_SAMPLES
   for (Index k = first; k < end; ++k) {
@@ -164,10 +149,10 @@ void KinematicsCompleter::CompleteRows(Index begin, Index end) {
   // vectorizes; the rare step beyond that branch is redone by QuaternionExp.
   const Index first = std::max<Index>(begin, 1);
   OrientationIncrements(first, end, begin, half_dt_, dt2_12_, kin_, increment_, angle_sq_);
-  double* __restrict increment_w = increment_[0];
-  double* __restrict increment_x = increment_[1];
-  double* __restrict increment_y = increment_[2];
-  double* __restrict increment_z = increment_[3];
+  const double* increment_w = increment_[0];
+  const double* increment_x = increment_[1];
+  const double* increment_y = increment_[2];
+  const double* increment_z = increment_[3];
   // The chain: the product alone. Body-frame increments multiply on the
   // right (dR/dt = R [omega_body]x). Products of unit quaternions stay unit
   // to a few ulp per step, and a scalar factor does not change the rotation,

@@ -41,6 +41,21 @@
 
 namespace napkin::engine::internal {
 
+// The three columns of a series (engine/kinematics.h: each one contiguous),
+// for the loops over samples: x[k], y[k], z[k] of row k.
+template <typename Scalar>
+struct SeriesColumns {
+  Scalar* x;
+  Scalar* y;
+  Scalar* z;
+};
+inline SeriesColumns<double> ColumnsOf(Series3& series) {
+  return {series.col(0).data(), series.col(1).data(), series.col(2).data()};
+}
+inline SeriesColumns<const double> ColumnsOf(const Series3& series) {
+  return {series.col(0).data(), series.col(1).data(), series.col(2).data()};
+}
+
 // Samples per block of the exact solver and of the completion: the block's
 // scratch (a few series of this many doubles) stays in the first-level cache.
 inline constexpr Eigen::Index kCompletionBlock = 256;
