@@ -13,13 +13,8 @@ if(NAPKIN_WERROR)
 endif()
 # The sanitizers' compile options: napkin's code (every library, the program, the Python module)
 # is instrumented; tests/CMakeLists.txt keeps only the address sanitizer for the test code (it says why).
-# Every undefined-behaviour check but the alignment one (-fno-sanitize=alignment): napkin views
-# memory as another type only as bytes (char, std::uint8_t: the UDS reader, hashing, SQLite text),
-# whose alignment is 1, so the check has nothing to find in it; yet GCC puts it on every access
-# through a pointer or reference, and it was 30 % of a sanitized library's compile time and 40 % of
-# its code. `make fuzz` (clang) keeps it, on the parsers, where such a cast would come in.
-set(NAPKIN_SANITIZE_COMPILE_OPTIONS -fsanitize=address,undefined -fno-sanitize=alignment
-                                    -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+set(NAPKIN_SANITIZE_COMPILE_OPTIONS -fsanitize=address,undefined -fno-omit-frame-pointer
+                                    -fno-sanitize-recover=undefined)
 if(NAPKIN_SANITIZE)
   add_compile_options(${NAPKIN_SANITIZE_COMPILE_OPTIONS})
   add_link_options(-fsanitize=address,undefined)
