@@ -21,7 +21,11 @@ std::string ReadText(const std::filesystem::path& path);
 
 // Starts `program args...` (no shell: arguments are passed verbatim) in `cwd`
 // (empty: the current directory) with stdin from /dev/null and stdout and
-// stderr going to the given files; returns its process id.
+// stderr going to the given files; returns its process id. The address
+// sanitizer's leak check runs at the program's exit the first time this test
+// process starts each of its commands (the first argument that is no option),
+// or every time with NAPKIN_TEST_LEAK_CHECK=all in the environment
+// (run_command.cpp says why).
 pid_t StartProgram(const std::string& program, const std::vector<std::string>& args,
                    const std::filesystem::path& out_path, const std::filesystem::path& err_path,
                    const std::filesystem::path& cwd = {});
