@@ -65,8 +65,10 @@ release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
 
 # The test build: warnings are errors, address and undefined-behaviour sanitizers on napkin's code
 # (its libraries, the program and the Python module; the test files have the address sanitizer
-# only, tests/CMakeLists.txt says why). napkin is compiled with -O1 and line tables (-g1) for the
-# sanitizers' reports, the test files with -O0 and no debug information: optimising GoogleTest's
+# only, tests/CMakeLists.txt says why). napkin is compiled with -Og, GCC's level for debugging (half
+# the compile time of -O1 under the sanitizers), its numeric libraries (engine/, synth/, where the
+# tests spend their time) with -O1, all with line tables (-g1) for the sanitizers' reports; the
+# test files with -O0 and no debug information: optimising GoogleTest's
 # macros under the sanitizers was most of the build's time (cmake/NapkinHelpers.cmake), and their
 # failures name file and line themselves. GCC collects its garbage only past 1 GiB
 # (--param ggc-min-heapsize, ggc-min-expand): about a tenth of the build's time on this 2-core
@@ -75,9 +77,9 @@ release: program-deps $(BUILD_RELEASE)/CMakeCache.txt
 # (NAPKIN_UNITY_BUILD): the headers' inline code is generated once a batch. The benchmarks are not
 # part of it: `make bench` builds them as they are meant to run (Release, no sanitizers).
 $(BUILD_TEST)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+	cmake -S . -B $(BUILD_TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-Og -g1 -DNDEBUG" \
 	  -DCMAKE_CXX_FLAGS="--param=ggc-min-expand=100 --param=ggc-min-heapsize=1048576" \
-	  -DNAPKIN_TEST_CODE_OPTIONS="-O0;-g0" -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON -DNAPKIN_BUILD_BENCH=OFF \
+	  -DNAPKIN_NUMERIC_CODE_OPTIONS="-O1" -DNAPKIN_TEST_CODE_OPTIONS="-O0;-g0" -DNAPKIN_WERROR=ON -DNAPKIN_SANITIZE=ON -DNAPKIN_BUILD_BENCH=OFF \
 	  -DNAPKIN_UNITY_BUILD=ON -DNAPKIN_BUILD_PYTHON=ON
 
 build: deps $(BUILD_TEST)/CMakeCache.txt
