@@ -4,9 +4,9 @@
 set(NAPKIN_WARNING_FLAGS -Wall -Wextra -Wpedantic)
 # Compile options for the test code only (tests/: the GoogleTest files and their support), after
 # the build type's: `make test` compiles the test files with -O0 and napkin itself with -Og (its
-# numeric libraries -O1, below; all with line tables for the sanitizers' reports). Test files are mostly GoogleTest's macros, whose
-# optimised code costs most of a sanitizer build's time and buys nothing; the numerics they call
-# stay optimised in napkin's libraries.
+# numeric libraries -O1, below; all with line tables for the sanitizers' reports). Test files are
+# mostly GoogleTest's macros, whose optimised code costs most of a sanitizer build's time and buys
+# nothing; the numerics they call stay optimised in napkin's libraries.
 set(NAPKIN_TEST_CODE_OPTIONS "" CACHE STRING "Extra compile options for the test code (e.g. -O0)")
 # Compile options for the numeric libraries only (engine/, synth/), after the build type's: `make
 # test` compiles napkin at -Og, GCC's level for the edit-compile-debug cycle (half the compile time
