@@ -70,7 +70,8 @@ class StatusCommand : public Command {
         failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
       const nlohmann::ordered_json status = {{"tests", counts.tests},     {"done", counts.done},
                                              {"failed", counts.failed},   {"pending", counts.pending},
-                                             {"running", counts.running}, {"failures", failures}};
+                                             {"running", counts.running}, {"salvaged", counts.salvaged},
+                                             {"failures", failures}};
       // Stored error text that is not UTF-8 (an older napkin's): U+FFFD, never a failure.
       fmt::print("{}\n", status.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
       return kExitOk;
@@ -82,6 +83,8 @@ class StatusCommand : public Command {
     fmt::print("{:<8} {:>8}\n", "failed", counts.failed);
     fmt::print("{:<8} {:>8}\n", "pending", counts.pending);
     fmt::print("{:<8} {:>8}\n", "running", counts.running);
+    // Done tests whose result comes from salvaged channels (docs/algorithms.md "Faulty channels").
+    if (counts.salvaged > 0) fmt::print("{:<8} {:>8}\n", "salvaged", counts.salvaged);
     PrintVersionCounts(db::JobQueue(catalogue).ReadVersionCounts());
     if (!counts.failures.empty()) {
       std::size_t width = 7;

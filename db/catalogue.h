@@ -303,6 +303,10 @@ class Catalogue {
   // (one row per channel, docs/formats.md "Conditioning record").
   void WriteConditioning(TestId test, ConfigId config,
                          std::span<const engine::ChannelConditioning> conditioning);
+  // Stores (replacing) the salvage record of the test under `config` (table
+  // result_salvage, one row per salvaged channel; none removes it;
+  // docs/formats.md "Salvage record").
+  void WriteSalvage(TestId test, ConfigId config, const std::optional<engine::SalvageRecord>& salvage);
   // Stores (replacing) the kinematics as named derived channels, encoded as
   // `storage` says (docs/formats.md "Derived-channel storage"; time_s is
   // always float64); kNone only removes the earlier ones.

@@ -177,7 +177,7 @@ void SelectResultsToTake(Connection& connection) {
 // The taken results replace this catalogue's results, findings, conditioning
 // records and derived channels of their (test, config). Returns the number of results merged.
 std::int64_t MergeResults(Connection& connection) {
-  for (const char* table : {"results", "findings", "result_conditioning", "derived_channels"})
+  for (const char* table : {"results", "findings", "result_conditioning", "result_salvage", "derived_channels"})
     connection.Execute(std::string("DELETE FROM main.") + table +
                        " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
   // In the shard's order, so the most recent shard result stays the latest here.
@@ -207,6 +207,16 @@ void MergeConditioning(Connection& connection) {
       "c.bias_removed, c.bias_t1_s, c.bias_t2_s, c.time_shift_s "
       "FROM temp.merge_take AS m JOIN shard.result_conditioning AS c "
       "ON c.test_id = m.shard_test AND c.config_id = m.shard_config");
+}
+
+void MergeSalvage(Connection& connection) {
+  connection.Execute(
+      "INSERT INTO main.result_salvage (test_id, config_id, position, mode, channel, fault, action, partner, "
+      "t1_s, t2_s, samples_replaced, rms_residual_before_g, rms_residual_after_g, channels_used, "
+      "channels_total) SELECT m.test_id, m.config_id, v.position, v.mode, v.channel, v.fault, v.action, "
+      "v.partner, v.t1_s, v.t2_s, v.samples_replaced, v.rms_residual_before_g, v.rms_residual_after_g, "
+      "v.channels_used, v.channels_total FROM temp.merge_take AS m JOIN shard.result_salvage AS v "
+      "ON v.test_id = m.shard_test AND v.config_id = m.shard_config");
 }
 
 void MergeDerivedChannels(Connection& connection) {
@@ -302,6 +312,7 @@ MergeReport MergeAttachedShard(Connection& connection, const std::string& shard_
   report.results_merged = MergeResults(connection);
   MergeFindings(connection);
   MergeConditioning(connection);
+  MergeSalvage(connection);
   MergeDerivedChannels(connection);
   MergeFailureFindings(connection);
   report.failures_merged = MergeJobState(connection, clock());

@@ -161,6 +161,8 @@ void CheckWhereLimits(const std::vector<WhereExpression>& where) {
 std::string ResultsOfConfigSql(const std::string& config_parameter) {
   return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, " +
          internal::SummaryColumnList("r.") +
+         ", EXISTS (SELECT 1 FROM result_salvage AS rs WHERE rs.test_id = r.test_id AND rs.config_id = "
+         "r.config_id) AS salvaged"
          " FROM results AS r JOIN tests AS t ON t.id = r.test_id"
          " LEFT JOIN series AS s ON s.id = t.series_id WHERE r.config_id = " +
          config_parameter + ")";
@@ -265,6 +267,8 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
     add_text({"config", "rated_at"});
   }
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
+  // 1 when the result comes from salvaged channels (schema/010_salvage.sql).
+  if (kind == QueryKind::kTests || kind == QueryKind::kCriteria) fields.push_back({"salvaged", true});
   return fields;
 }
 

@@ -1,6 +1,7 @@
 // Catalogue: results, findings and derived channels (kinematics); queries are
 // in catalogue_query.cpp.
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <limits>
 #include <set>
@@ -13,6 +14,7 @@
 #include "db/catalogue_internal.h"
 #include "db/float64_blob.h"
 #include "engine/summary_fields.h"
+#include "engine/units.h"
 
 namespace napkin::db {
 
@@ -146,6 +148,7 @@ void Catalogue::WriteResult(TestId test, ConfigId config, const engine::TestSumm
   }
   WriteFindings(test, config, summary.findings);
   WriteConditioning(test, config, summary.conditioning);
+  WriteSalvage(test, config, summary.salvage);
   if (kinematics != nullptr && storage != engine::DerivedStorage::kNone)
     WriteKinematics(test, config, *kinematics, storage);
   else
@@ -193,6 +196,35 @@ void Catalogue::WriteConditioning(TestId test, ConfigId config,
                     record.bias_window_end_s, record.time_shift_s);
     insert->Execute();
     insert->Reset();
+  }
+  transaction.Commit();
+}
+
+void Catalogue::WriteSalvage(TestId test, ConfigId config, const std::optional<engine::SalvageRecord>& salvage) {
+  Transaction transaction(connection_);
+  {
+    auto remove = connection_.Prepare("DELETE FROM result_salvage WHERE test_id = ?1 AND config_id = ?2");
+    remove->BindAll(test, config);
+    remove->Execute();
+  }
+  if (salvage) {
+    auto insert = connection_.Prepare(
+        "INSERT INTO result_salvage (test_id, config_id, position, mode, channel, fault, action, partner, t1_s, "
+        "t2_s, samples_replaced, rms_residual_before_g, rms_residual_after_g, channels_used, channels_total) "
+        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)");
+    // NULL for a residual that could not be computed (NaN, or +inf: diverged).
+    const auto in_g = [](double mps2) {
+      return std::isfinite(mps2) ? std::optional<double>(mps2 / engine::kStandardGravity) : std::nullopt;
+    };
+    for (std::size_t i = 0; i < salvage->channels.size(); ++i) {
+      const engine::SalvagedChannel& channel = salvage->channels[i];
+      insert->BindAll(test, config, i, salvage->mode, channel.channel, engine::NameOf(channel.fault),
+                      channel.action, channel.partner, channel.t1_s, channel.t2_s, channel.samples_replaced,
+                      in_g(salvage->rms_residual_before_mps2), in_g(salvage->rms_residual_after_mps2),
+                      salvage->channels_used, salvage->channels_total);
+      insert->Execute();
+      insert->Reset();
+    }
   }
   transaction.Commit();
 }
@@ -281,6 +313,33 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
     record.bias_window_start_s = optional(5);
     record.bias_window_end_s = optional(6);
     record.time_shift_s = conditioning->ColumnDouble(7);
+  }
+  auto salvage = connection_.Prepare(
+      "SELECT mode, channel, fault, action, partner, t1_s, t2_s, samples_replaced, rms_residual_before_g, "
+      "rms_residual_after_g, channels_used, channels_total FROM result_salvage "
+      "WHERE test_id = ?1 AND config_id = ?2 ORDER BY position");
+  salvage->BindAll(test, config);
+  while (salvage->Step()) {
+    if (!summary.salvage) {
+      engine::SalvageRecord& record = summary.salvage.emplace();
+      record.mode = salvage->ColumnText(0);
+      const auto in_mps2 = [&salvage](int column) {
+        return salvage->ColumnIsNull(column) ? std::numeric_limits<double>::quiet_NaN()
+                                             : salvage->ColumnDouble(column) * engine::kStandardGravity;
+      };
+      record.rms_residual_before_mps2 = in_mps2(8);
+      record.rms_residual_after_mps2 = in_mps2(9);
+      record.channels_used = static_cast<int>(salvage->ColumnInt64(10));
+      record.channels_total = static_cast<int>(salvage->ColumnInt64(11));
+    }
+    engine::SalvagedChannel& channel = summary.salvage->channels.emplace_back();
+    channel.channel = salvage->ColumnText(1);
+    channel.fault = engine::ParseName<engine::FaultKind>(salvage->ColumnText(2)).value_or(engine::FaultKind::kInconsistent);
+    channel.action = salvage->ColumnText(3);
+    channel.partner = salvage->ColumnOptionalText(4);
+    channel.t1_s = salvage->ColumnDouble(5);
+    channel.t2_s = salvage->ColumnDouble(6);
+    channel.samples_replaced = salvage->ColumnInt64(7);
   }
   return summary;
 }

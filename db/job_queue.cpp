@@ -239,6 +239,17 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
     counts.running = select->ColumnInt64(4);
   }
   {
+    // Results salvaged from faulty channels (schema/010_salvage.sql).
+    static const std::string kSalvaged =
+        "WITH " + ScopeCte() +
+        " SELECT count(*) FROM scope WHERE EXISTS (SELECT 1 FROM result_salvage AS rs "
+        "WHERE rs.test_id = scope.test_id AND rs.config_id = ?10 AND rs.position = 0)";
+    auto select = connection_.Prepare(kSalvaged);
+    BindConfigScope(*select, config, scope);
+    select->Step();
+    counts.salvaged = select->ColumnInt64(0);
+  }
+  {
     static const std::string kFailures =
         "WITH " + ScopeCte() +
         " SELECT t.external_id, coalesce(j.last_error, '') FROM jobs AS j "

@@ -53,6 +53,7 @@ struct StatusCounts {
   std::int64_t failed = 0;
   std::int64_t pending = 0;  // queued, or never enqueued and without a result
   std::int64_t running = 0;
+  std::int64_t salvaged = 0;         // of the done: results from salvaged channels (result_salvage)
   std::vector<JobFailure> failures;  // ordered by test id
 };
 

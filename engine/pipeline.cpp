@@ -2,14 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "common/error.h"
 #include "engine/cancellation.h"
 #include "engine/criteria.h"
 #include "engine/exact_solver.h"
+#include "engine/salvage.h"
 #include "engine/screening.h"
 #include "engine/solver.h"
+#include "engine/units.h"
 
 namespace napkin::engine {
 namespace {
@@ -44,6 +48,13 @@ const Finding* FirstError(const std::vector<Finding>& findings) {
   const auto error = std::find_if(findings.begin(), findings.end(),
                                   [](const Finding& f) { return f.severity == Severity::kError; });
   return error == findings.end() ? nullptr : &*error;
+}
+
+// RMS of a residual series; +infinity when the solve diverged.
+double RmsOf(const Eigen::VectorXd& residual) {
+  if (residual.size() == 0) return 0.0;
+  const double rms = std::sqrt(residual.squaredNorm() / static_cast<double>(residual.size()));
+  return std::isfinite(rms) ? rms : std::numeric_limits<double>::infinity();
 }
 
 // Sampling interval beyond which a time base is taken as corrupt (1 ns:
@@ -126,16 +137,18 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
   if (!DeterminesRotation(validated)) {
     findings.push_back(RotationUndetermined(validated));
   } else if (options.solver == SolverKind::kExact) {
+    exact_residual = &processed.kinematics.residual;
+    workspace.exact_rms_residual_mps2 = RmsOf(*exact_residual);
     AppendFindings(ScreenConsistency(array, signals, processed.kinematics, options, config.screening),
                    findings);
-    exact_residual = &processed.kinematics.residual;
   } else {
     SolveOptions exact_options = options;
     exact_options.solver = SolverKind::kExact;
     Solve(array, signals, exact_options, workspace.exact);
+    exact_residual = &workspace.exact.residual;
+    workspace.exact_rms_residual_mps2 = RmsOf(*exact_residual);
     AppendFindings(ScreenConsistency(array, signals, workspace.exact, exact_options, config.screening),
                    findings);
-    exact_residual = &workspace.exact.residual;
   }
   ThrowIfCancelled(cancel);
 
@@ -174,21 +187,11 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
   processed.summary.findings = std::move(findings);
 }
 
-}  // namespace
-
-ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
-                          const InitialState& initial, const ProcessingConfig& config,
-                          const std::atomic<bool>* cancel) {
-  Workspace workspace;
-  ProcessedTest processed;
-  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel);
-  return processed;
-}
-
-void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+// ProcessTest without salvage.
+void ProcessOnce(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
                  const std::atomic<bool>* cancel) {
-  config.Check();
+  workspace.exact_rms_residual_mps2 = std::numeric_limits<double>::quiet_NaN();
   CheckTimeBaseAndInitialState(raw_signals, initial, config);
   ThrowIfCancelled(cancel);
   // Screening runs on the raw signals first (report section 2.2: check the
@@ -220,6 +223,248 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
   } catch (const InputError&) {
     throw ScreeningFailure(cause, std::move(screened));
   }
+}
+
+// --- salvage (engine/salvage.h, docs/algorithms.md "Faulty channels") -----
+
+std::string WithoutFinalStop(std::string sentence) {
+  if (!sentence.empty() && sentence.back() == '.') sentence.pop_back();
+  return sentence;
+}
+
+// "zarm_y" or "zarm_y and cg_x".
+std::string ChannelList(const std::vector<std::string>& names) {
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+  return list;
+}
+
+std::string SalvageNumber(double value, int digits = 4) {
+  std::ostringstream out;
+  out << std::setprecision(digits) << value;
+  return out.str();
+}
+
+// With salvage off: what `--config salvage` would do with the faulty
+// channels, as the tail of the failing sentence (" — ...").
+std::string SalvageHint(const ArrayGeometry& array, const std::vector<FaultyChannel>& faults) {
+  const std::vector<std::string> names = FaultyChannelNames(faults);
+  const std::string list = ChannelList(names);
+  if (names.size() > static_cast<std::size_t>(kMaxSalvagedChannels))
+    return " — salvage cannot recover the test: " + std::to_string(names.size()) + " channels are faulty (" +
+           list + "), more than the " + std::to_string(kMaxSalvagedChannels) + " it repairs";
+  std::string why;
+  const std::optional<ArrayGeometry> reduced = ArrayWithout(array, names, why);
+  if (!reduced) return " — salvage cannot recover " + list + ": without " + (names.size() > 1 ? "them" : "it") +
+                       ", " + why;
+  return " — `--config salvage` would repair " + list + " from the other channels (" +
+         std::to_string(reduced->sensors.size()) + " of " + std::to_string(array.sensors.size()) +
+         " channels determine the motion without " + (names.size() > 1 ? "them" : "it") +
+         "; screening.salvage \"exclude\" would leave " + (names.size() > 1 ? "them" : "it") + " out)";
+}
+
+// Appends the hint to the error findings of the faulty channels.
+void AddSalvageHint(std::vector<Finding>& findings, const std::vector<FaultyChannel>& faults,
+                    const std::string& hint) {
+  const std::vector<std::string> names = FaultyChannelNames(faults);
+  for (Finding& finding : findings)
+    if (finding.severity == Severity::kError && finding.channel &&
+        std::find(names.begin(), names.end(), *finding.channel) != names.end())
+      finding.detail = WithoutFinalStop(finding.detail) + hint + ".";
+}
+
+// The sentence of the first error finding of `findings` (the test's failure).
+std::string FirstErrorSentence(const std::vector<Finding>& findings) {
+  const Finding* error = FirstError(findings);
+  return error != nullptr ? WithoutFinalStop(error->detail) : std::string("screening found a faulty channel");
+}
+
+// The audit sentence of one salvaged channel (a warning finding).
+Finding SalvageFinding(const SalvageRecord& record, const SalvagedChannel& channel) {
+  std::ostringstream detail;
+  detail << "salvage (" << record.mode << "): channel " << channel.channel << " ("
+         << (channel.fault == FaultKind::kInconsistent ? "inconsistent with the other channels"
+                                                       : std::string("a fault: ") + NameOf(channel.fault))
+         << ", t = " << SalvageNumber(channel.t1_s, 6) << " s to " << SalvageNumber(channel.t2_s, 6) << " s) ";
+  if (channel.action == "excluded")
+    detail << "was left out; the result is solved from " << record.channels_used << " of "
+           << record.channels_total << " channels";
+  else if (channel.action == "inverted")
+    detail << "was inverted (its sign flipped back)";
+  else if (channel.action == "swapped back")
+    detail << "was swapped back with channel " << channel.partner.value_or("?");
+  else
+    detail << "had " << channel.samples_replaced
+           << " samples replaced by its rigid-body prediction from the other channels";
+  detail << "; the RMS rigid-body residual ";
+  if (std::isfinite(record.rms_residual_before_mps2))
+    detail << "fell from " << SalvageNumber(record.rms_residual_before_mps2 / kStandardGravity) << " g";
+  else
+    detail << "is now";
+  detail << " " << (std::isfinite(record.rms_residual_before_mps2) ? "to " : "")
+         << SalvageNumber(record.rms_residual_after_mps2 / kStandardGravity, 3) << " g.";
+  return Finding{NameOf(Check::kSalvage), channel.channel, Severity::kWarning, detail.str()};
+}
+
+// Salvage of a test whose screening named `faults` (config.screening.salvage
+// is exclude or repair): the salvaged signals processed into `out` with the
+// record of what was done. A second round takes the faults the first
+// salvaged result shows (up to kMaxSalvagedChannels in all); a repair that
+// leaves a channel faulty falls back to leaving it out. Throws
+// ScreeningFailure with a sentence saying why when the test cannot be saved.
+void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+             const ProcessingConfig& config, std::vector<FaultyChannel> faults, std::vector<Finding> findings,
+             Workspace& workspace, ProcessedTest& out, const std::atomic<bool>* cancel) {
+  const double rms_before = workspace.exact_rms_residual_mps2;
+  bool repair = config.screening.salvage == SalvageMode::kRepair;
+  SalvageRecord record;
+  record.mode = NameOf(config.screening.salvage);
+  record.channels_total = static_cast<int>(array.sensors.size());
+  const double shift_s = config.time.shift_s;
+  TestSignals salvaged;
+  for (int round = 0;; ++round) {
+    const std::vector<std::string> names = FaultyChannelNames(faults);
+    const std::string list = ChannelList(names);
+    if (names.size() > static_cast<std::size_t>(kMaxSalvagedChannels))
+      throw ScreeningFailure(FirstErrorSentence(findings) + " — salvage cannot recover the test: " +
+                                 std::to_string(names.size()) + " channels are faulty (" + list +
+                                 "), more than the " + std::to_string(kMaxSalvagedChannels) + " it repairs.",
+                             std::move(findings));
+    std::string why;
+    const std::optional<ArrayGeometry> reduced = ArrayWithout(array, names, why);
+    if (!reduced)
+      throw ScreeningFailure(FirstErrorSentence(findings) + " — salvage cannot recover " + list + ": without " +
+                                 (names.size() > 1 ? "them" : "it") + ", " + why + ".",
+                             std::move(findings));
+    const std::vector<FaultAnalysis> analyses =
+        AnalyseFaults(array, *reduced, names, raw_signals, initial, config);
+    ThrowIfCancelled(cancel);
+    salvaged = raw_signals;
+    record.channels.clear();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const FaultAnalysis& analysis = analyses[i];
+      const auto fault = std::find_if(faults.begin(), faults.end(), [&](const FaultyChannel& f) {
+        return f.channel == names[i] || f.partner == names[i];
+      });
+      SalvagedChannel channel;
+      channel.channel = names[i];
+      channel.fault = KindOfCheck(fault->check).value_or(analysis.kind);
+      const Eigen::Index first = analysis.first >= 0 ? analysis.first : 0;
+      const Eigen::Index last = analysis.last >= 0 ? analysis.last : raw_signals.size() - 1;
+      channel.t1_s = raw_signals.TimeAt(first) - shift_s;
+      channel.t2_s = raw_signals.TimeAt(last) - shift_s;
+      const int column = salvaged.FindSlot(names[i]);
+      auto samples = salvaged.samples.col(column);
+      if (!repair) {
+        channel.action = "excluded";
+        for (Eigen::Index k = 0; k < samples.size(); ++k)
+          if (!std::isfinite(samples(k))) samples(k) = 0.0;  // unread: conditioning needs finite samples
+      } else if (channel.fault == FaultKind::kFlipped) {
+        channel.action = "inverted";
+        samples *= -1.0;
+      } else if (channel.fault == FaultKind::kSwapped) {
+        channel.action = "swapped back";
+        channel.partner = fault->channel == names[i] ? fault->partner : std::optional<std::string>(fault->channel);
+        // Each column takes the other's recorded samples (in its own unit).
+        const int other = raw_signals.FindSlot(channel.partner.value_or(""));
+        const std::optional<std::size_t> sensor = array.FindSlot(names[i]);
+        const std::optional<std::size_t> other_sensor = array.FindSlot(channel.partner.value_or(""));
+        if (other >= 0 && sensor && other_sensor)
+          samples = raw_signals.samples.col(other) *
+                    (array.sensors[*other_sensor].si_per_unit / array.sensors[*sensor].si_per_unit);
+      } else {
+        channel.action = "replaced";
+        for (const Eigen::Index k : analysis.samples) samples(k) = analysis.predicted(k);
+        channel.samples_replaced = static_cast<std::int64_t>(analysis.samples.size());
+      }
+      record.channels.push_back(std::move(channel));
+    }
+    record.channels_used = static_cast<int>(repair ? array.sensors.size() : reduced->sensors.size());
+    std::vector<FaultyChannel> more;
+    try {
+      ProcessOnce(repair ? array : *reduced, salvaged, initial, config, workspace, out, cancel);
+      more = SalvageableFaults(out.summary.findings);
+    } catch (const ScreeningFailure& failure) {
+      more = SalvageableFaults(failure.findings());
+      findings = failure.findings();
+      const bool known = std::all_of(more.begin(), more.end(), [&names](const FaultyChannel& f) {
+        return std::find(names.begin(), names.end(), f.channel) != names.end();
+      });
+      if (more.empty() || round > 1 || (known && !repair))
+        throw ScreeningFailure("salvage (" + record.mode + ") of " + list + " did not recover the test: " +
+                                   failure.what(),
+                               failure.findings());
+    }
+    if (more.empty()) break;
+    const bool same = std::all_of(more.begin(), more.end(), [&names](const FaultyChannel& f) {
+      return std::find(names.begin(), names.end(), f.channel) != names.end();
+    });
+    if (same && repair) {
+      repair = false;  // the repair left a channel off the rigid body: leave the channels out instead
+    } else if (same || round > 1) {
+      break;  // the result fails with its finding (FailingFinding)
+    } else {
+      for (FaultyChannel& fault : more)
+        if (std::find(names.begin(), names.end(), fault.channel) == names.end()) faults.push_back(fault);
+    }
+    findings = out.summary.findings;
+  }
+  record.rms_residual_before_mps2 = rms_before;
+  record.rms_residual_after_mps2 = workspace.exact_rms_residual_mps2;
+  for (const SalvagedChannel& channel : record.channels)
+    out.summary.findings.push_back(SalvageFinding(record, channel));
+  out.repaired = TestSignals{};
+  if (repair) {
+    out.repaired.dt_s = salvaged.dt_s;
+    out.repaired.t0_s = salvaged.t0_s;
+    out.repaired.samples.resize(salvaged.size(), static_cast<Eigen::Index>(record.channels.size()));
+    for (std::size_t i = 0; i < record.channels.size(); ++i) {
+      out.repaired.slots.push_back(record.channels[i].channel);
+      out.repaired.samples.col(static_cast<Eigen::Index>(i)) =
+          salvaged.samples.col(salvaged.FindSlot(record.channels[i].channel));
+    }
+  }
+  out.summary.salvage = std::move(record);
+}
+}  // namespace
+
+ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals,
+                          const InitialState& initial, const ProcessingConfig& config,
+                          const std::atomic<bool>* cancel) {
+  Workspace workspace;
+  ProcessedTest processed;
+  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel);
+  return processed;
+}
+
+void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
+                 const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
+                 const std::atomic<bool>* cancel) {
+  config.Check();
+  out.repaired = TestSignals{};
+  const bool salvage = config.screening.salvage != SalvageMode::kOff;
+  try {
+    ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel);
+  } catch (const ScreeningFailure& failure) {
+    const std::vector<FaultyChannel> faults = SalvageableFaults(failure.findings());
+    if (faults.empty()) throw;
+    if (!salvage) {
+      const std::string hint = SalvageHint(array, faults);
+      std::vector<Finding> findings = failure.findings();
+      AddSalvageHint(findings, faults, hint);
+      throw ScreeningFailure(WithoutFinalStop(failure.what()) + hint + ".", std::move(findings));
+    }
+    Salvage(array, raw_signals, initial, config, faults, failure.findings(), workspace, out, cancel);
+    return;
+  }
+  const std::vector<FaultyChannel> faults = SalvageableFaults(out.summary.findings);
+  if (faults.empty()) return;
+  if (!salvage) {
+    AddSalvageHint(out.summary.findings, faults, SalvageHint(array, faults));
+    return;
+  }
+  Salvage(array, raw_signals, initial, config, faults, out.summary.findings, workspace, out, cancel);
 }
 
 std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,

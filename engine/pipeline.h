@@ -23,6 +23,10 @@ namespace napkin::engine {
 struct ProcessedTest {
   Kinematics kinematics;
   TestSummary summary;
+  // Salvage by repair (summary.salvage, engine/salvage.h): the repaired raw
+  // channels, one column per repaired slot, on the raw signals' time base
+  // (the recorded channel is the input's); empty otherwise.
+  TestSignals repaired;
 };
 
 // The memory ProcessTest works in, kept from one test to the next by its
@@ -37,11 +41,18 @@ struct Workspace {
   Eigen::VectorXd filter_work;  // the CFC filters' padded channels
   Kinematics exact;             // the exact solve that judges a seed solver's result
   CriteriaWork criteria;        // the resultant, HIC's integral and tree, a3ms, DAMAGE
+  // The RMS rigid-body residual of the last exact solve (m/s^2; NaN before
+  // one, +infinity when it diverged): the salvage record's before and after.
+  double exact_rms_residual_mps2 = 0.0;
 };
 
 // Screening of the raw signals (engine/screening.h) -> conditioning (time
 // shift, bias, CFC filters, crop) -> solver -> rigid-body screening ->
-// summary -> injury criteria; summary.findings holds every finding. Throws
+// summary -> injury criteria; summary.findings holds every finding. A
+// faulty channel (engine/salvage.h) fails the test with its finding, whose
+// sentence says what salvage would do, unless config.screening.salvage
+// excludes or repairs it: the result is then that of the salvaged signals,
+// summary.salvage its record (and `repaired` the repaired channels). Throws
 // InputError naming the slot, sample or setting at fault: ScreeningFailure
 // (with the findings) on a missing channel or a non-finite sample (the
 // screening sentence), and when the solved kinematics diverge after an

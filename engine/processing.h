@@ -91,6 +91,20 @@ struct BricConfig {
   Eigen::Vector3d critical_radps{66.25, 56.45, 42.87};  // omega_xC, omega_yC, omega_zC (Takhounts 2013)
 };
 
+// What ProcessTest does with a channel screening finds faulty (a `fault`,
+// `polarity`, `axis_label`, `saturation` or `non_finite` error naming it;
+// engine/salvage.h, docs/algorithms.md "Faulty channels").
+enum class SalvageMode {
+  kOff,      // the test fails with the finding's sentence (and says what salvage would do)
+  kExclude,  // solve without the faulty channel(s), when the rest still determine the motion
+  kRepair,   // invert a flipped, swap back a swapped channel; replace faulty samples by the
+             // channel's rigid-body prediction from the others; solve the whole array
+};
+inline constexpr std::array<NamedValue<SalvageMode>, 3> kSalvageModeNames{
+    {{SalvageMode::kOff, "off"}, {SalvageMode::kExclude, "exclude"}, {SalvageMode::kRepair, "repair"}}};
+inline constexpr std::array<SalvageMode, 3> kSalvageModes = ValuesOf(kSalvageModeNames);
+constexpr const auto& NamesOf(SalvageMode) { return kSalvageModeNames; }
+
 // Thresholds of the data-screening checks (report sections 2.2 and 3.4:
 // bias, spikes, saturation, self-consistency of the array).
 struct ScreeningConfig {
@@ -101,6 +115,7 @@ struct ScreeningConfig {
   double bias_limit_g = 1.5;       // zero offset of a linear channel beyond which bias is reported
                                    // (above 1 g, so an unzeroed channel reading gravity is no fault)
   double bias_limit_radps = 0.5;   // pre-impact mean of an angular-rate channel beyond which bias is reported
+  SalvageMode salvage = SalvageMode::kOff;  // what to do with a faulty channel
 };
 
 // Physical plausibility (docs/algorithms.md "Physical plausibility"): limits

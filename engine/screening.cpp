@@ -45,6 +45,24 @@ constexpr Index kPreImpactMinSamples = 5;
 // one channel names it as the culprit below kLeaveOutFraction.
 constexpr double kHypothesisFraction = 0.25;
 constexpr double kLeaveOutFraction = 0.5;
+// A channel is faulty (an error finding, docs/algorithms.md "Faulty
+// channels") when, solved without it, the other channels imply a reading it
+// departs from by more than residual_limit_g and by more than kFaultSigmas
+// robust standard deviations of that departure (the channel's own noise and
+// the prediction's: a broken channel departs by its fault, a noisy one by
+// its noise, 8 sigma being beyond any sample of a Gaussian record of 10^7
+// samples), or when leaving it out lowers the RMS rigid-body residual at
+// least kFaultImprovement-fold while the residual peaks above
+// kFaultPeakFraction x residual_limit_g (noise on every channel leaves a
+// residual no single omission removes: a 1.1- to 1.5-fold improvement at
+// 0.5 g RMS per channel). The departure judges a fault the least squares
+// hides in alpha (a channel of high leverage leaves little residual).
+constexpr double kFaultImprovement = 10.0;
+constexpr double kFaultPeakFraction = 0.5;
+constexpr double kFaultSigmas = 8.0;
+// The fault's interval: where the departure exceeds kFaultSigmas robust
+// standard deviations and kFaultFloorFraction x residual_limit_g.
+constexpr double kFaultFloorFraction = 0.1;
 // A discrepancy counts as a constant offset when its RMS deviation from its
 // median is below this fraction of the median.
 constexpr double kOffsetSpreadFraction = 0.5;
@@ -320,17 +338,6 @@ ResidualFit SolveResidual(const ArrayGeometry& array, const TestSignals& signals
   return fit;
 }
 
-// What `sensor` should read given the kinematics solved without it.
-double PredictedReading(const Sensor& sensor, const Kinematics& kinematics, Index k) {
-  const Eigen::Vector3d omega = kinematics.omega_body.row(k).transpose();
-  if (sensor.kind == SensorKind::kAngularRate) return sensor.axis_body.dot(omega) / sensor.si_per_unit;
-  const Eigen::Vector3d alpha = kinematics.alpha_body.row(k).transpose();
-  const Eigen::Vector3d& r = sensor.position_body_m;
-  const Eigen::Vector3d point_acc =
-      kinematics.acc_body.row(k).transpose() + alpha.cross(r) + omega.cross(omega.cross(r));
-  return sensor.axis_body.dot(point_acc) / sensor.si_per_unit;
-}
-
 // A channel whose discrepancy from what the other channels imply is nearly
 // constant carries a zero offset (report section 2.2, "bias error"): found
 // this way even when the record has no pre-impact data and the head is
@@ -476,7 +483,182 @@ struct Culprit {
   const Sensor* sensor = nullptr;
   double rms_mps2 = 0.0;  // RMS residual without it
   Kinematics kinematics;  // solved without it
+  bool accounts = false;  // its omission removes most of the residual (kLeaveOutFraction)
 };
+
+// The pair of channels whose omission removes the residual, when no single
+// channel does (two broken channels): searched only when the array keeps a
+// redundant equation without any two of its channels.
+struct CulpritPair {
+  const Sensor* first = nullptr;
+  const Sensor* second = nullptr;
+  double rms_mps2 = 0.0;
+  Kinematics kinematics;
+};
+
+std::optional<CulpritPair> LeaveTwoOut(const ArrayGeometry& array, const TestSignals& signals,
+                                       const SolveOptions& options, double recorded_rms) {
+  CulpritPair best;
+  best.rms_mps2 = recorded_rms;
+  Kinematics kinematics;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
+      ArrayGeometry reduced = array;
+      reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(j));
+      reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
+      try {
+        if (ResidualRedundancy(reduced) <= 0) continue;
+      } catch (const InputError&) {
+        continue;
+      }
+      const ResidualFit fit = SolveResidual(reduced, signals, options, kinematics);
+      if (fit.solved && fit.rms < best.rms_mps2) {
+        best.rms_mps2 = fit.rms;
+        best.first = &array.sensors[i];
+        best.second = &array.sensors[j];
+        std::swap(best.kinematics, kinematics);
+      }
+    }
+  }
+  if (best.first == nullptr) return std::nullopt;
+  return best;
+}
+
+// The leverages h_jj of the linear sensors in the exact solver's least
+// squares for (a, alpha) (ExactPath::kLinear: row j is n_j^T [I, -[r_j]x],
+// i.e. (n_j, r_j x n_j); H = A (A^T A)^-1 A^T), with the arms scaled to the
+// RMS lever arm so the rows are balanced; empty when the array takes
+// another path.
+std::vector<double> LinearLeverages(const ArrayGeometry& array) {
+  ArrayGeometry validated = array;
+  ValidateArray(validated);
+  if (ClassifyArray(validated) != ExactPath::kLinear) return {};
+  const auto n = static_cast<Index>(validated.sensors.size());
+  Eigen::MatrixXd rows(n, 6);
+  for (Index j = 0; j < n; ++j) {
+    const Sensor& sensor = validated.sensors[static_cast<std::size_t>(j)];
+    rows.block<1, 3>(j, 0) = sensor.axis_body.transpose();
+    rows.block<1, 3>(j, 3) = sensor.position_body_m.cross(sensor.axis_body).transpose();
+  }
+  const Eigen::MatrixXd gram = rows.transpose() * rows;
+  const Eigen::MatrixXd hat = rows * gram.completeOrthogonalDecomposition().solve(rows.transpose());
+  std::vector<double> leverages(static_cast<std::size_t>(n));
+  for (Index j = 0; j < n; ++j) leverages[static_cast<std::size_t>(j)] = hat(j, j);
+  return leverages;
+}
+
+// The channel most likely broken in a linear-path solve whose residual
+// stays low (a fault the least squares hides in alpha), without a trial
+// solve per channel: each channel's residual against the solved kinematics,
+// r_j, divided by 1 - h_jj, is what leaving it out of the per-sample least
+// squares would leave it departing by (the deleted residual of the
+// linearised problem, omega held). The channel whose deleted residual
+// stands farthest above kFaultSigmas robust standard deviations and
+// residual_limit_g is the suspect; -1 when none does.
+int LinearSuspect(const ArrayGeometry& array, const TestSignals& signals, const Kinematics& kinematics,
+                  const ScreeningConfig& config) {
+  const std::vector<double> leverages = LinearLeverages(array);
+  if (leverages.empty()) return -1;
+  const Index n = signals.size();
+  int suspect = -1;
+  double worst = 1.0;
+  std::vector<double> deleted(static_cast<std::size_t>(n));
+  for (std::size_t j = 0; j < array.sensors.size(); ++j) {
+    const Sensor& sensor = array.sensors[j];
+    const int column = signals.FindSlot(sensor.slot);
+    const double free = 1.0 - leverages[j];
+    if (column < 0 || !(free > 1e-6)) continue;
+    double largest = 0.0;
+    for (Index k = 0; k < n; ++k) {
+      const double value = std::abs(signals.samples(k, column) - PredictedReading(sensor, kinematics, k)) / free;
+      deleted[static_cast<std::size_t>(k)] = value;
+      largest = std::max(largest, value);
+    }
+    const double limit = InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0);
+    if (!(largest > limit)) continue;
+    const double sigma = 1.4826 * MedianInPlace(deleted);
+    const double score = largest / std::max(limit, kFaultSigmas * sigma);
+    if (score > worst) {
+      worst = score;
+      suspect = static_cast<int>(j);
+    }
+  }
+  return suspect;
+}
+
+// Whether omitting channels lowers the RMS residual from `recorded_rms` to
+// `without_rms` enough to call them faulty (kFaultImprovement).
+bool ExplainsFault(double recorded_rms, double without_rms) {
+  return !std::isfinite(recorded_rms) || without_rms * kFaultImprovement <= recorded_rms;
+}
+
+// Where `sensor` departs from what the kinematics solved without it imply:
+// the first and last sample beyond the threshold, and the largest departure
+// (channel units).
+struct Departure {
+  Index first = -1, last = -1;
+  double largest = 0.0;
+  double sigma = 0.0;  // robust standard deviation of the departure (channel units)
+  double predicted_peak = 0.0;  // largest |prediction| (channel units)
+};
+
+Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Kinematics& kinematics_without,
+                      const ScreeningConfig& config) {
+  Departure departure;
+  const int column = signals.FindSlot(sensor.slot);
+  if (column < 0 || kinematics_without.size() != signals.size()) return departure;
+  const Index n = signals.size();
+  std::vector<double> magnitude(static_cast<std::size_t>(n));
+  for (Index k = 0; k < n; ++k) {
+    const double predicted = PredictedReading(sensor, kinematics_without, k);
+    departure.predicted_peak = std::max(departure.predicted_peak, std::abs(predicted));
+    magnitude[static_cast<std::size_t>(k)] = std::abs(signals.samples(k, column) - predicted);
+  }
+  const double sigma = 1.4826 * Median(magnitude);
+  departure.sigma = sigma;
+  const double threshold =
+      std::max(kFaultSigmas * sigma,
+               InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, config.bias_limit_radps));
+  for (Index k = 0; k < n; ++k) {
+    const double value = magnitude[static_cast<std::size_t>(k)];
+    if (!(value > threshold)) continue;
+    if (departure.first < 0) departure.first = k;
+    departure.last = k;
+    departure.largest = std::max(departure.largest, value);
+  }
+  return departure;
+}
+
+// The error finding of a faulty channel: its interval, its largest
+// departure from the rigid body and the improvement its omission brings.
+// Whether the departure says the channel is broken (kFaultSigmas, above).
+// The floor: kFaultFloorFraction x residual_limit_g for a linear channel; for
+// an angular-rate channel, predicted by integrating the linear channels'
+// alpha and filtered otherwise (CFC 60 against CFC 1000), a tenth of its
+// peak and bias_limit_radps.
+bool DepartsAsFault(const Sensor& sensor, const Departure& departure, const ScreeningConfig& config) {
+  const double floor =
+      sensor.kind == SensorKind::kLinear
+          ? InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0)
+          : std::max(InChannelUnits(sensor, 0.0, config.bias_limit_radps), 0.1 * departure.predicted_peak);
+  return departure.first >= 0 && departure.largest > floor && departure.largest > kFaultSigmas * departure.sigma;
+}
+
+Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& partner,
+                     const TestSignals& signals, const Kinematics& kinematics_without, double recorded_rms,
+                     double without_rms, const ScreeningConfig& config) {
+  const Departure departure = DepartureOf(sensor, signals, kinematics_without, config);
+  std::ostringstream detail;
+  detail << "channel " << sensor.slot << " is faulty";
+  if (departure.first >= 0)
+    detail << " from t = " << Number(kinematics_without.time_s(departure.first), 6)
+           << " s to t = " << Number(kinematics_without.time_s(departure.last), 6) << " s (it departs by up to "
+           << Number(departure.largest) << " " << sensor.unit
+           << " from what the other channels imply for a rigid body)";
+  detail << ": leaving it out" << (partner ? " with channel " + *partner : std::string())
+         << " lowers the RMS rigid-body residual " << FromTo(recorded_rms, without_rms) << ".";
+  return MakeFinding(Check::kFault, sensor.slot, Severity::kError, detail.str());
+}
 
 std::optional<Culprit> LeaveOneOut(const ArrayGeometry& array, const TestSignals& signals,
                                    const SolveOptions& options, double recorded_rms, double limit_mps2) {
@@ -500,8 +682,8 @@ std::optional<Culprit> LeaveOneOut(const ArrayGeometry& array, const TestSignals
   }
   const bool accounted =
       std::isfinite(recorded_rms) ? best_rms < kLeaveOutFraction * recorded_rms : best_rms < limit_mps2;
-  if (!accounted || best_sensor == nullptr) return std::nullopt;
-  return Culprit{best_sensor, best_rms, std::move(best_kinematics)};
+  if (best_sensor == nullptr) return std::nullopt;
+  return Culprit{best_sensor, best_rms, std::move(best_kinematics), accounted};
 }
 
 // The residual finding: where it peaks (or the solve diverges) and which
@@ -531,6 +713,16 @@ Finding ResidualFinding(const ResidualStatistics& residual, const Kinematics& ki
 }
 
 }  // namespace
+
+double PredictedReading(const Sensor& sensor, const Kinematics& kinematics, Index k) {
+  const Eigen::Vector3d omega = kinematics.omega_body.row(k).transpose();
+  if (sensor.kind == SensorKind::kAngularRate) return sensor.axis_body.dot(omega) / sensor.si_per_unit;
+  const Eigen::Vector3d alpha = kinematics.alpha_body.row(k).transpose();
+  const Eigen::Vector3d& r = sensor.position_body_m;
+  const Eigen::Vector3d point_acc =
+      kinematics.acc_body.row(k).transpose() + alpha.cross(r) + omega.cross(omega.cross(r));
+  return sensor.axis_body.dot(point_acc) / sensor.si_per_unit;
+}
 
 bool IsFatal(const Finding& finding) {
   return finding.severity == Severity::kError &&
@@ -629,8 +821,41 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   // the search for the channel at fault.
   const bool over_limit = residual.peak_mps2 > limit_mps2;
   const bool steady = !(residual.median_mps2 <= 0.5 * config.bias_limit_g * kStandardGravity);
-  if (!over_limit && !steady) return findings;
+  // A broken channel whose residual the least squares hides in alpha can
+  // peak below the limit while the motion is badly wrong: the search for
+  // a faulty channel starts at kFaultPeakFraction of it.
+  const bool suspect = residual.peak_mps2 > kFaultPeakFraction * limit_mps2;
   const SolveOptions options = TrialOptions(exact_options);
+  if (!suspect && !steady) {
+    // A low residual can still hide a broken channel of high leverage: one
+    // trial solve, for the channel the deleted residuals point to.
+    std::vector<std::size_t> candidates;
+    if (const int index = LinearSuspect(array, conditioned_signals, exact_kinematics, config); index >= 0)
+      candidates.push_back(static_cast<std::size_t>(index));
+    // A fused array takes omega from its rate sensors: a broken one moves
+    // omega while the residual (which weights the differentiated rates
+    // lightly) hardly shows it; each is checked against the omega the
+    // linear channels integrate.
+    ArrayGeometry validated = array;
+    ValidateArray(validated);
+    if (ClassifyArray(validated) == ExactPath::kFused)
+      for (const std::size_t index : array.RateIndices()) candidates.push_back(index);
+    for (const std::size_t index : candidates) {
+      ArrayGeometry reduced = array;
+      reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(index));
+      Kinematics without;
+      const ResidualFit fit = SolveResidual(reduced, conditioned_signals, options, without);
+      const Sensor& sensor = array.sensors[index];
+      if (fit.solved &&
+          DepartsAsFault(sensor, DepartureOf(sensor, conditioned_signals, without, config), config) &&
+          !ExplainAsOffset(sensor, conditioned_signals, without, config)) {
+        findings.push_back(
+            FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms, config));
+        break;
+      }
+    }
+    return findings;
+  }
 
   // Polarity and axis labels (report section 3.4: "as a check for correct
   // polarity and axis labeling"). Much better: a fraction of the recorded
@@ -655,13 +880,43 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   // The residual itself, with the channel whose omission removes most of it.
   const std::optional<Culprit> culprit =
       LeaveOneOut(array, conditioned_signals, options, residual.rms_mps2, limit_mps2);
-  if (culprit) {
+  const bool flip_or_swap = std::any_of(findings.begin(), findings.end(), [](const Finding& finding) {
+    return finding.check == NameOf(Check::kPolarity) || finding.check == NameOf(Check::kAxisLabel);
+  });
+  bool offset_found = false;
+  if (culprit && culprit->accounts) {
     if (std::optional<Finding> offset =
-            ExplainAsOffset(*culprit->sensor, conditioned_signals, culprit->kinematics, config))
+            ExplainAsOffset(*culprit->sensor, conditioned_signals, culprit->kinematics, config)) {
       findings.push_back(std::move(*offset));
+      offset_found = true;
+    }
+  }
+  // A faulty channel (docs/algorithms.md "Faulty channels"): never published.
+  // A zero offset stays the bias warning (conditioning's bias removal is its
+  // remedy), a flip or swap its own error finding.
+  if (!flip_or_swap && !offset_found) {
+    if (culprit && (ExplainsFault(residual.rms_mps2, culprit->rms_mps2) ||
+                    DepartsAsFault(*culprit->sensor,
+                                   DepartureOf(*culprit->sensor, conditioned_signals, culprit->kinematics, config),
+                                   config))) {
+      findings.push_back(FaultFinding(*culprit->sensor, std::nullopt, conditioned_signals, culprit->kinematics,
+                                      residual.rms_mps2, culprit->rms_mps2, config));
+    } else if (ResidualRedundancy(array) >= 3) {
+      const std::optional<CulpritPair> pair =
+          LeaveTwoOut(array, conditioned_signals, options, residual.rms_mps2);
+      if (pair && ExplainsFault(residual.rms_mps2, pair->rms_mps2) &&
+          (!culprit || pair->rms_mps2 * kFaultImprovement <= culprit->rms_mps2)) {
+        findings.push_back(FaultFinding(*pair->first, pair->second->slot, conditioned_signals, pair->kinematics,
+                                        residual.rms_mps2, pair->rms_mps2, config));
+        findings.push_back(FaultFinding(*pair->second, pair->first->slot, conditioned_signals, pair->kinematics,
+                                        residual.rms_mps2, pair->rms_mps2, config));
+      }
+    }
   }
   if (over_limit)
-    findings.push_back(ResidualFinding(residual, exact_kinematics, culprit, config.residual_limit_g));
+    findings.push_back(ResidualFinding(residual, exact_kinematics,
+                                       culprit && culprit->accounts ? culprit : std::optional<Culprit>(),
+                                       config.residual_limit_g));
   return findings;
 }
 

@@ -86,6 +86,13 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
 std::vector<Finding> ScreenPlausibility(const Kinematics& kinematics, const Eigen::VectorXd& exact_residual,
                                         const ProcessingConfig& config);
 
+// What `sensor` should read at sample `k` of rigid-body kinematics solved
+// without it (report section 2.1: n . (a + alpha x r + omega x (omega x r))
+// for a linear sensor, n . omega for an angular-rate sensor), in the
+// sensor's unit; gravity is not added (the kinematics of a trial solve
+// carry the sensed acceleration, gravity included).
+double PredictedReading(const Sensor& sensor, const Kinematics& kinematics, Eigen::Index k);
+
 // True for the findings after which the data cannot be processed at all
 // (missing or non-finite samples).
 bool IsFatal(const Finding& finding);

@@ -5,6 +5,7 @@
 // field goes there too (and into a schema migration).
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -40,11 +41,13 @@ enum class Check {
   kResidual,     // rigid-body residual
   kConsistency,  // too few redundant sensors to screen the array
   kRotation,     // the array cannot determine rotation
+  kFault,        // one channel (or two) whose omission makes the array rigid (engine/salvage.h)
+  kSalvage,      // what salvage did to a faulty channel (engine/salvage.h)
 };
 
 // The one spelling of each check in findings (summary JSON, the catalogue's
 // `quality`, the report).
-inline constexpr std::array<NamedValue<Check>, 12> kCheckNames{{{Check::kMissing, "missing"},
+inline constexpr std::array<NamedValue<Check>, 14> kCheckNames{{{Check::kMissing, "missing"},
                                                                 {Check::kNonFinite, "non_finite"},
                                                                 {Check::kImplausible, "implausible"},
                                                                 {Check::kSaturation, "saturation"},
@@ -55,7 +58,9 @@ inline constexpr std::array<NamedValue<Check>, 12> kCheckNames{{{Check::kMissing
                                                                 {Check::kAxisLabel, "axis_label"},
                                                                 {Check::kResidual, "residual"},
                                                                 {Check::kConsistency, "consistency"},
-                                                                {Check::kRotation, "rotation"}}};
+                                                                {Check::kRotation, "rotation"},
+                                                                {Check::kFault, "fault"},
+                                                                {Check::kSalvage, "salvage"}}};
 constexpr const auto& NamesOf(Check) { return kCheckNames; }
 
 struct Finding {
@@ -72,6 +77,50 @@ inline constexpr std::array<Severity, 3> kSeverities = ValuesOf(kSeverityNames);
 // The one spelling of each severity ("info", "warning", "error") in the
 // summary JSON and the catalogue, and its inverse (nullopt for an unknown name).
 constexpr const auto& NamesOf(Severity) { return kSeverityNames; }
+
+// How a faulty channel failed (docs/algorithms.md "Faulty channels"): read from
+// the recorded samples over the fault's interval against what the other
+// channels imply there.
+enum class FaultKind {
+  kDropout,       // reads zero (or non-finite) where the others imply motion
+  kStuck,         // a constant reading (a flat line) while the others move
+  kClipped,       // a flat top at the channel's extreme (saturation)
+  kSpike,         // isolated samples off the rigid body
+  kFlipped,       // the whole channel sign flipped
+  kSwapped,       // two channels of one kind exchanged
+  kInconsistent,  // off the rigid body in some other way (a gain error, noise bursts)
+};
+inline constexpr std::array<NamedValue<FaultKind>, 7> kFaultKindNames{{{FaultKind::kDropout, "dropout"},
+                                                                       {FaultKind::kStuck, "stuck"},
+                                                                       {FaultKind::kClipped, "clipped"},
+                                                                       {FaultKind::kSpike, "spike"},
+                                                                       {FaultKind::kFlipped, "flipped"},
+                                                                       {FaultKind::kSwapped, "swapped"},
+                                                                       {FaultKind::kInconsistent, "inconsistent"}}};
+constexpr const auto& NamesOf(FaultKind) { return kFaultKindNames; }
+
+// What salvage did to one channel (docs/formats.md "Salvage record").
+struct SalvagedChannel {
+  std::string channel;
+  FaultKind fault = FaultKind::kInconsistent;
+  std::string action;                  // "excluded", "inverted", "swapped back", "replaced"
+  std::optional<std::string> partner;  // the other channel of a swap
+  double t1_s = 0.0;                   // the fault's interval: its first and last faulty sample
+  double t2_s = 0.0;
+  std::int64_t samples_replaced = 0;  // repair: samples replaced by the rigid-body prediction
+};
+
+// The audit trail of a salvaged test: the mode, every channel it excluded
+// or repaired, and the RMS rigid-body residual of the exact solver before
+// and after (infinite before when the recorded channels made it diverge).
+struct SalvageRecord {
+  std::string mode;  // NameOf(SalvageMode): "exclude" or "repair"
+  std::vector<SalvagedChannel> channels;
+  double rms_residual_before_mps2 = 0.0;
+  double rms_residual_after_mps2 = 0.0;
+  int channels_used = 0;   // the sensors the published result was solved from
+  int channels_total = 0;  // the array's sensors
+};
 
 struct TestSummary {
   // query hic
@@ -97,6 +146,9 @@ struct TestSummary {
   // quality
   double max_residual_mps2 = 0.0;
   std::vector<Finding> findings;
+  // Set when salvage (ScreeningConfig::salvage) excluded or repaired a
+  // faulty channel: the result comes from the salvaged signals.
+  std::optional<SalvageRecord> salvage;
   // What conditioning did to each channel, in column order (not a summary field).
   std::vector<ChannelConditioning> conditioning;
 };

@@ -203,13 +203,14 @@ engine::ProcessingConfig ParseProcessingConfig(const nlohmann::json& json, const
   if (const auto* object = top.Object("screening")) {
     const ObjectReader screening(*object, "screening", source,
                                  {"residual_limit_g", "spike_size_g", "spike_size_radps",
-                                  "saturation_run_samples", "bias_limit_g", "bias_limit_radps"});
+                                  "saturation_run_samples", "bias_limit_g", "bias_limit_radps", "salvage"});
     screening.Number("residual_limit_g", config.screening.residual_limit_g);
     screening.Number("spike_size_g", config.screening.spike_size_g);
     screening.Number("spike_size_radps", config.screening.spike_size_radps);
     screening.Integer("saturation_run_samples", config.screening.saturation_run_samples);
     screening.Number("bias_limit_g", config.screening.bias_limit_g);
     screening.Number("bias_limit_radps", config.screening.bias_limit_radps);
+    screening.Choice("salvage", config.screening.salvage, engine::kSalvageModes);
   }
   if (const auto* object = top.Object("plausibility")) {
     const ObjectReader plausibility(
@@ -264,6 +265,10 @@ nlohmann::json ProcessingConfigToJson(const engine::ProcessingConfig& config) {
                       {"saturation_run_samples", config.screening.saturation_run_samples},
                       {"bias_limit_g", config.screening.bias_limit_g},
                       {"bias_limit_radps", config.screening.bias_limit_radps}};
+  // Added after results were first stored: present only when not the default
+  // (off), as "a3ms" above; salvaged results thus carry their own config hash.
+  if (config.screening.salvage != engine::SalvageMode::kOff)
+    out["screening"]["salvage"] = engine::NameOf(config.screening.salvage);
   out["plausibility"] = {{"max_acceleration_g", config.plausibility.max_acceleration_g},
                          {"max_angular_velocity_radps", config.plausibility.max_angular_velocity_radps},
                          {"max_residual_factor", config.plausibility.max_residual_factor},

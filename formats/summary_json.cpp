@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/summary_fields.h"
+#include "engine/units.h"
 
 namespace napkin::formats {
 namespace {
@@ -43,6 +44,28 @@ nlohmann::ordered_json FindingToJson(const engine::Finding& finding) {
   return json;
 }
 
+nlohmann::ordered_json SalvageToJson(const engine::SalvageRecord& record) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  json["mode"] = record.mode;
+  nlohmann::ordered_json channels = nlohmann::ordered_json::array();
+  for (const engine::SalvagedChannel& channel : record.channels) {
+    nlohmann::ordered_json entry = nlohmann::ordered_json::object();
+    entry["channel"] = channel.channel;
+    entry["fault"] = engine::NameOf(channel.fault);
+    entry["action"] = channel.action;
+    entry["partner"] = channel.partner ? nlohmann::ordered_json(*channel.partner) : nlohmann::ordered_json(nullptr);
+    entry["interval_s"] = nlohmann::ordered_json::array({Number(channel.t1_s), Number(channel.t2_s)});
+    entry["samples_replaced"] = channel.samples_replaced;
+    channels.push_back(std::move(entry));
+  }
+  json["channels"] = std::move(channels);
+  json["rms_residual_before_g"] = Number(record.rms_residual_before_mps2 / engine::kStandardGravity);
+  json["rms_residual_after_g"] = Number(record.rms_residual_after_mps2 / engine::kStandardGravity);
+  json["channels_used"] = record.channels_used;
+  json["channels_total"] = record.channels_total;
+  return json;
+}
+
 nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const std::string& test_id,
                                      const std::string& series, const std::string& variant) {
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
@@ -55,6 +78,8 @@ nlohmann::ordered_json SummaryToJson(const engine::TestSummary& summary, const s
   nlohmann::ordered_json quality = nlohmann::ordered_json::array();
   for (const engine::Finding& finding : summary.findings) quality.push_back(FindingToJson(finding));
   json["quality"] = std::move(quality);
+  // Present only for a salvaged result (docs/formats.md "Salvage record").
+  if (summary.salvage) json["salvage"] = SalvageToJson(*summary.salvage);
   if (!summary.conditioning.empty()) {
     nlohmann::ordered_json conditioning = nlohmann::ordered_json::array();
     for (const engine::ChannelConditioning& record : summary.conditioning)

@@ -213,12 +213,17 @@ class TransformResult:
                     derived-channel CSV (acc in g, angles in degrees, else SI);
                     an acceleration-only array gives time_s and acc_body_* only
     conditioning -- list of dicts, what conditioning did to each channel
+    salvage      -- dict, the salvage record when screening.salvage excluded or
+                    repaired a faulty channel (mode, channels with fault, action,
+                    interval_s and samples_replaced, RMS residual before and
+                    after); None for a result of the recorded channels
     """
 
     def __init__(self, summary, channels):
         self.summary = summary
         self.channels = channels
         self.conditioning = summary.get("conditioning", [])
+        self.salvage = summary.get("salvage")
 
     def __repr__(self):
         return "<napkin.TransformResult hic15={} channels={}>".format(

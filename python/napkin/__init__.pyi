@@ -105,6 +105,7 @@ class TransformResult:
     summary: dict[str, Any]
     channels: dict[str, NDArray[np.float64]]
     conditioning: list[dict[str, Any]]
+    salvage: dict[str, Any] | None
     def __init__(self, summary: dict[str, Any], channels: dict[str, NDArray[np.float64]]) -> None: ...
 
 def transform(
