@@ -349,7 +349,11 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
       });
       SalvagedChannel channel;
       channel.channel = names[i];
-      channel.fault = KindOfCheck(fault->check).value_or(analysis.kind);
+      // A flat top the raw saturation check calls clipped may be a stuck
+      // reading: the samples against the prediction tell.
+      channel.fault = fault->check == Check::kSaturation && analysis.kind == FaultKind::kStuck
+                          ? FaultKind::kStuck
+                          : KindOfCheck(fault->check).value_or(analysis.kind);
       const Eigen::Index first = analysis.first >= 0 ? analysis.first : 0;
       const Eigen::Index last = analysis.last >= 0 ? analysis.last : raw_signals.size() - 1;
       channel.t1_s = raw_signals.TimeAt(first) - shift_s;

@@ -525,25 +525,28 @@ std::optional<CulpritPair> LeaveTwoOut(const ArrayGeometry& array, const TestSig
 }
 
 // The leverages h_jj of the linear sensors in the exact solver's least
-// squares for (a, alpha) (ExactPath::kLinear: row j is n_j^T [I, -[r_j]x],
+// squares for (a, alpha) (ExactPath::kLinear, and kFused's linear rows: row j is n_j^T [I, -[r_j]x],
 // i.e. (n_j, r_j x n_j); H = A (A^T A)^-1 A^T), with the arms scaled to the
 // RMS lever arm so the rows are balanced; empty when the array takes
 // another path.
 std::vector<double> LinearLeverages(const ArrayGeometry& array) {
   ArrayGeometry validated = array;
   ValidateArray(validated);
-  if (ClassifyArray(validated) != ExactPath::kLinear) return {};
-  const auto n = static_cast<Index>(validated.sensors.size());
+  const ExactPath path = ClassifyArray(validated);
+  if (path != ExactPath::kLinear && path != ExactPath::kFused) return {};
+  const std::vector<std::size_t> linear = validated.LinearIndices();
+  const auto n = static_cast<Index>(linear.size());
   Eigen::MatrixXd rows(n, 6);
   for (Index j = 0; j < n; ++j) {
-    const Sensor& sensor = validated.sensors[static_cast<std::size_t>(j)];
+    const Sensor& sensor = validated.sensors[linear[static_cast<std::size_t>(j)]];
     rows.block<1, 3>(j, 0) = sensor.axis_body.transpose();
     rows.block<1, 3>(j, 3) = sensor.position_body_m.cross(sensor.axis_body).transpose();
   }
   const Eigen::MatrixXd gram = rows.transpose() * rows;
   const Eigen::MatrixXd hat = rows * gram.completeOrthogonalDecomposition().solve(rows.transpose());
-  std::vector<double> leverages(static_cast<std::size_t>(n));
-  for (Index j = 0; j < n; ++j) leverages[static_cast<std::size_t>(j)] = hat(j, j);
+  // Rate sensors have no linear row: leverage 1 leaves them to the rate check.
+  std::vector<double> leverages(validated.sensors.size(), 1.0);
+  for (Index j = 0; j < n; ++j) leverages[linear[static_cast<std::size_t>(j)]] = hat(j, j);
   return leverages;
 }
 
@@ -846,8 +849,16 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
       Kinematics without;
       const ResidualFit fit = SolveResidual(reduced, conditioned_signals, options, without);
       const Sensor& sensor = array.sensors[index];
-      if (fit.solved &&
-          DepartsAsFault(sensor, DepartureOf(sensor, conditioned_signals, without, config), config) &&
+      if (!fit.solved) continue;
+      const Departure departure = DepartureOf(sensor, conditioned_signals, without, config);
+      // A fault over the whole record (a swapped or flipped rate channel)
+      // has no quiet samples to measure the noise by: there the residual's
+      // improvement judges, with a departure beyond the floor.
+      const bool whole_record = DepartsAsFault(sensor, Departure{departure.first, departure.last,
+                                                                 departure.largest, 0.0, departure.predicted_peak},
+                                               config) &&
+                                ExplainsFault(residual.rms_mps2, fit.rms);
+      if ((DepartsAsFault(sensor, departure, config) || whole_record) &&
           !ExplainAsOffset(sensor, conditioned_signals, without, config)) {
         findings.push_back(
             FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms, config));
@@ -895,22 +906,32 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   // A zero offset stays the bias warning (conditioning's bias removal is its
   // remedy), a flip or swap its own error finding.
   if (!flip_or_swap && !offset_found) {
-    if (culprit && (ExplainsFault(residual.rms_mps2, culprit->rms_mps2) ||
-                    DepartsAsFault(*culprit->sensor,
-                                   DepartureOf(*culprit->sensor, conditioned_signals, culprit->kinematics, config),
-                                   config))) {
+    const bool single = culprit && (ExplainsFault(residual.rms_mps2, culprit->rms_mps2) ||
+                                    DepartsAsFault(*culprit->sensor,
+                                                   DepartureOf(*culprit->sensor, conditioned_signals,
+                                                               culprit->kinematics, config),
+                                                   config));
+    // Two broken channels: no single omission leaves a rigid body (the
+    // residual without the best single channel still peaks above the
+    // search's threshold), one pair's omission does, 10-fold better.
+    const bool single_leaves_residual =
+        !culprit || !(culprit->kinematics.residual.size() > 0 &&
+                      culprit->kinematics.residual.maxCoeff() <= kFaultPeakFraction * limit_mps2);
+    std::optional<CulpritPair> pair;
+    if (single_leaves_residual && ResidualRedundancy(array) >= 3) {
+      pair = LeaveTwoOut(array, conditioned_signals, options, residual.rms_mps2);
+      if (pair && !(ExplainsFault(residual.rms_mps2, pair->rms_mps2) &&
+                    (!culprit || pair->rms_mps2 * kFaultImprovement <= culprit->rms_mps2)))
+        pair.reset();
+    }
+    if (pair) {
+      findings.push_back(FaultFinding(*pair->first, pair->second->slot, conditioned_signals, pair->kinematics,
+                                      residual.rms_mps2, pair->rms_mps2, config));
+      findings.push_back(FaultFinding(*pair->second, pair->first->slot, conditioned_signals, pair->kinematics,
+                                      residual.rms_mps2, pair->rms_mps2, config));
+    } else if (single) {
       findings.push_back(FaultFinding(*culprit->sensor, std::nullopt, conditioned_signals, culprit->kinematics,
                                       residual.rms_mps2, culprit->rms_mps2, config));
-    } else if (ResidualRedundancy(array) >= 3) {
-      const std::optional<CulpritPair> pair =
-          LeaveTwoOut(array, conditioned_signals, options, residual.rms_mps2);
-      if (pair && ExplainsFault(residual.rms_mps2, pair->rms_mps2) &&
-          (!culprit || pair->rms_mps2 * kFaultImprovement <= culprit->rms_mps2)) {
-        findings.push_back(FaultFinding(*pair->first, pair->second->slot, conditioned_signals, pair->kinematics,
-                                        residual.rms_mps2, pair->rms_mps2, config));
-        findings.push_back(FaultFinding(*pair->second, pair->first->slot, conditioned_signals, pair->kinematics,
-                                        residual.rms_mps2, pair->rms_mps2, config));
-      }
     }
   }
   if (over_limit)
