@@ -550,7 +550,10 @@ std::vector<double> LinearLeverages(const ArrayGeometry& array) {
   return leverages;
 }
 
-// The channel most likely broken in a linear-path solve whose residual
+// Trial solves of the low-residual search (LinearSuspects).
+constexpr std::size_t kLinearSuspectTrials = 3;
+
+// The channels most likely broken in a linear-path solve whose residual
 // stays low (a fault the least squares hides in alpha), without a trial
 // solve per channel: each channel's residual against the solved kinematics,
 // r_j, divided by 1 - h_jj, is what leaving it out of the per-sample least
@@ -558,13 +561,12 @@ std::vector<double> LinearLeverages(const ArrayGeometry& array) {
 // linearised problem, omega held). The channel whose deleted residual
 // stands farthest above kFaultSigmas robust standard deviations and
 // residual_limit_g is the suspect; -1 when none does.
-int LinearSuspect(const ArrayGeometry& array, const TestSignals& signals, const Kinematics& kinematics,
-                  const ScreeningConfig& config) {
+std::vector<std::size_t> LinearSuspects(const ArrayGeometry& array, const TestSignals& signals,
+                                        const Kinematics& kinematics, const ScreeningConfig& config) {
   const std::vector<double> leverages = LinearLeverages(array);
-  if (leverages.empty()) return -1;
+  if (leverages.empty()) return {};
   const Index n = signals.size();
-  int suspect = -1;
-  double worst = 1.0;
+  std::vector<std::pair<double, std::size_t>> scored;
   std::vector<double> deleted(static_cast<std::size_t>(n));
   for (std::size_t j = 0; j < array.sensors.size(); ++j) {
     const Sensor& sensor = array.sensors[j];
@@ -581,12 +583,16 @@ int LinearSuspect(const ArrayGeometry& array, const TestSignals& signals, const 
     if (!(largest > limit)) continue;
     const double sigma = 1.4826 * MedianInPlace(deleted);
     const double score = largest / std::max(limit, kFaultSigmas * sigma);
-    if (score > worst) {
-      worst = score;
-      suspect = static_cast<int>(j);
-    }
+    if (score > 1.0) scored.emplace_back(score, j);
   }
-  return suspect;
+  // The fault's omega error spreads over the other channels' deleted
+  // residuals too: the few highest are tried, and the trial that leaves the
+  // most rigid array decides.
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::size_t> suspects;
+  for (std::size_t i = 0; i < std::min<std::size_t>(scored.size(), kLinearSuspectTrials); ++i)
+    suspects.push_back(scored[i].second);
+  return suspects;
 }
 
 // Whether omitting channels lowers the RMS residual from `recorded_rms` to
@@ -832,9 +838,7 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   if (!suspect && !steady) {
     // A low residual can still hide a broken channel of high leverage: one
     // trial solve, for the channel the deleted residuals point to.
-    std::vector<std::size_t> candidates;
-    if (const int index = LinearSuspect(array, conditioned_signals, exact_kinematics, config); index >= 0)
-      candidates.push_back(static_cast<std::size_t>(index));
+    std::vector<std::size_t> candidates = LinearSuspects(array, conditioned_signals, exact_kinematics, config);
     // A fused array takes omega from its rate sensors: a broken one moves
     // omega while the residual (which weights the differentiated rates
     // lightly) hardly shows it; each is checked against the omega the
@@ -843,13 +847,15 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
     ValidateArray(validated);
     if (ClassifyArray(validated) == ExactPath::kFused)
       for (const std::size_t index : array.RateIndices()) candidates.push_back(index);
+    std::optional<Finding> best;
+    double best_rms = std::numeric_limits<double>::infinity();
     for (const std::size_t index : candidates) {
       ArrayGeometry reduced = array;
       reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(index));
       Kinematics without;
       const ResidualFit fit = SolveResidual(reduced, conditioned_signals, options, without);
       const Sensor& sensor = array.sensors[index];
-      if (!fit.solved) continue;
+      if (!fit.solved || !(fit.rms < best_rms)) continue;
       const Departure departure = DepartureOf(sensor, conditioned_signals, without, config);
       // A fault over the whole record (a swapped or flipped rate channel)
       // has no quiet samples to measure the noise by: there the residual's
@@ -860,11 +866,11 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
                                 ExplainsFault(residual.rms_mps2, fit.rms);
       if ((DepartsAsFault(sensor, departure, config) || whole_record) &&
           !ExplainAsOffset(sensor, conditioned_signals, without, config)) {
-        findings.push_back(
-            FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms, config));
-        break;
+        best = FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms, config);
+        best_rms = fit.rms;
       }
     }
+    if (best) findings.push_back(std::move(*best));
     return findings;
   }
 
