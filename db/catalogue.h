@@ -268,6 +268,11 @@ class Catalogue {
   bool ExistsTestByExternalId(const std::string& external_id);
   std::optional<TestId> FindTestByExternalId(const std::string& external_id);
   TestRow ReadTest(TestId id);
+  // Removes a test with everything that refers to it (raw channels, jobs,
+  // results, findings, derived channels, ratings of it and against it: ON
+  // DELETE CASCADE), in one transaction. A test whose source changed is
+  // replaced this way (ingest::ImportOptions::supersede_changed_source).
+  void DeleteTest(TestId id);
   std::vector<TestRow> ReadAllTests(const TestFilter& filter = {});
 
   // ---- raw channels
