@@ -3,6 +3,7 @@
 #include "app/correlation.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -135,6 +136,15 @@ RatingRow RateChannel(const std::string& test_id, const RatingOptions& options,
 
 std::string TestChannelName(const std::string& test_id, const std::string& channel) {
   return "test '" + test_id + "' channel " + channel;
+}
+
+// --model-units as stored: without white space, lower case ("MM, s, kg" is "mm,s,kg").
+std::string CanonicalModelUnits(const std::string& units) {
+  std::string canonical;
+  for (const char c : units)
+    if (!std::isspace(static_cast<unsigned char>(c)))
+      canonical += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return canonical;
 }
 
 }  // namespace
@@ -273,7 +283,10 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
                      QuantityOf(*curve.dimension) + ", but channel " + channel.name + " is " +
                      QuantityOf(channel.dimension) + ".");
   if (!curve.dimension) curve = formats::ToSi(std::move(curve), channel.dimension, *model_units);
-  return {file.path.filename().string(), file.sha256, curve.name, std::move(curve.series)};
+  // A keyword file or a nodout is read in the units given; a CSV's header gives its own.
+  std::optional<std::string> units_used;
+  if (format != ModelFormat::kCsv && units) units_used = CanonicalModelUnits(*units);
+  return {file.path.filename().string(), file.sha256, curve.name, std::move(curve.series), units_used};
 }
 
 RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
@@ -291,6 +304,11 @@ RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path,
   db::CorrelationRecord record = RatingRecord(result, row);
   record.reference_kind = "model";
   record.reference_key = "model:" + model.sha256 + ":" + model.column;
+  // The units are part of what the rating rated: the same curve under other units is another rating.
+  if (model.units) {
+    record.model_units = model.units;
+    record.reference_key += ":units=" + *model.units;
+  }
   record.model_file = model.file_name;
   record.model_sha256 = model.sha256;
   record.model_column = model.column;

@@ -47,6 +47,9 @@ struct ModelReference {
   std::string sha256;         // of the bytes the curve was read from (formats::ModelFile)
   std::string column;         // the curve's name in the file
   engine::TimeSeries series;  // SI, time in s
+  // The --model-units its numbers were read in (an LS-DYNA curve, whose numbers carry none);
+  // empty for a CSV curve, whose header gives its units.
+  std::optional<std::string> units;
 };
 
 // `--model FILE[:COLUMN]` for `channel`: the file (a model CSV, an LS-DYNA

@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "common/error.h"
 #include "common/joined.h"
+#include "formats/json_file.h"
+#include "util/text.h"
 
 namespace napkin::app {
 namespace {
@@ -19,6 +20,17 @@ std::string Text(const json& root, const char* key, const fs::path& path) {
   if (!root.contains(key) || !root.at(key).is_string() || root.at(key).get<std::string>().empty())
     throw InputError("limits file " + path.string() + ": \"" + key + "\" must be a non-empty string.");
   return root.at(key).get<std::string>();
+}
+
+// Every key of `object` is one of `known`: a misspelt key ("colour", "maximum") is refused naming
+// it, never silently ignored.
+void CheckKeys(const json& object, std::initializer_list<std::string> known, const std::string& where,
+               const fs::path& path) {
+  for (const auto& [key, value] : object.items())
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw InputError("limits file " + path.string() + ": " + where + " has the unknown key \"" +
+                       util::Abbreviated(key) + "\" (it may give " + Joined(std::vector<std::string>(known)) +
+                       ").");
 }
 
 // The fields a limit may name: those of `query criteria`.
@@ -51,17 +63,16 @@ LimitSet LoadLimits(std::string_view name_or_path, const fs::path& config_dir) {
                        (config_dir / "limits").string() + " (presets: " + Joined(LimitPresets(config_dir)) +
                        ").");
   }
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError("cannot read limits file " + path.string() + ".");
+  // Read through one descriptor, a regular file of bounded size (formats/json_file.h).
+  const std::string text = formats::ReadWholeFile(path, formats::kMaxJsonFileBytes);
   json root;
   try {
-    root = json::parse(text.str());
+    root = json::parse(text);
   } catch (const json::exception& e) {
     throw InputError("limits file " + path.string() + " is not valid JSON (" + e.what() + ").");
   }
   if (!root.is_object()) throw InputError("limits file " + path.string() + " must hold a JSON object.");
+  CheckKeys(root, {"name", "title", "applies_to", "source", "url", "limits"}, "the file", path);
   LimitSet set;
   set.path = path;
   set.name = Text(root, "name", path);
@@ -75,16 +86,23 @@ LimitSet LoadLimits(std::string_view name_or_path, const fs::path& config_dir) {
   for (const json& entry : root.at("limits")) {
     if (!entry.is_object())
       throw InputError("limits file " + path.string() + ": each limit must be an object.");
+    CheckKeys(entry, {"metric", "max", "requirement"}, "a limit", path);
     Limit limit;
     limit.metric = Text(entry, "metric", path);
     limit.requirement = Text(entry, "requirement", path);
     if (std::find(fields.begin(), fields.end(), limit.metric) == fields.end())
       throw InputError("limits file " + path.string() + ": metric '" + limit.metric +
                        "' is not a field of `napkin query criteria` (" + Joined(fields) + ").");
+    // Plausible as a limit of a head criterion, so that every margin is a finite percentage (1e308
+    // gave margins of +inf %).
     if (!entry.contains("max") || !entry.at("max").is_number() || !(entry.at("max").get<double>() > 0.0) ||
         !std::isfinite(entry.at("max").get<double>()))
       throw InputError("limits file " + path.string() + ": the \"max\" of metric '" + limit.metric +
                        "' must be a positive number.");
+    if (entry.at("max").get<double>() < kMinLimit || entry.at("max").get<double>() > kMaxLimit)
+      throw InputError("limits file " + path.string() + ": the \"max\" of metric '" + limit.metric + "', " +
+                       util::FormatNumber(entry.at("max").get<double>()) +
+                       ", is not a plausible limit (it must be from 1e-06 to 1e+06).");
     limit.max = entry.at("max").get<double>();
     set.limits.push_back(std::move(limit));
   }

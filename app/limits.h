@@ -13,6 +13,11 @@
 
 namespace napkin::app {
 
+// The range of a limit's `max`: wider than any head criterion's limit, narrow enough that every
+// margin (LimitMarginPct) of a finite value is a finite percentage.
+inline constexpr double kMinLimit = 1e-6;
+inline constexpr double kMaxLimit = 1e6;
+
 // One limit: the summary field (of `query criteria`) must not exceed `max`.
 struct Limit {
   std::string metric;

@@ -25,8 +25,8 @@ class MergeCommand : public Command {
     // leaves the catalogue as the previous shards made it.
     for (const std::string& shard : shards_) {
       const db::MergeReport report = catalogue.MergeShard(shard);
-      fmt::print("{}: {} tests added, {} results merged, {} failures merged\n", shard, report.tests_added,
-                 report.results_merged, report.failures_merged);
+      fmt::print("{}: {} tests added, {} results merged, {} failures merged, {} ratings merged\n", shard,
+                 report.tests_added, report.results_merged, report.failures_merged, report.ratings_merged);
     }
     return kExitOk;
   }

@@ -318,6 +318,14 @@ ArrayRow Catalogue::ReadArray(ArrayId id) {
 
 // -------------------------------------------------------------------- tests
 
+void Catalogue::DeleteTest(TestId id) {
+  Transaction transaction(connection_);
+  auto remove = connection_.Prepare("DELETE FROM tests WHERE id = ?1");
+  remove->BindAll(id);
+  remove->Execute();
+  transaction.Commit();
+}
+
 TestId Catalogue::WriteTest(const TestRow& test) {
   Transaction transaction(connection_);
   {

@@ -175,6 +175,9 @@ struct CorrelationRecord {
   std::string reference;       // as shown
   std::string reference_key;   // identity of the reference (one row per key and parameters)
   std::optional<std::string> model_file, model_sha256, model_column;
+  // The --model-units a model without units of its own was rated under (schema/010); part of
+  // reference_key, so other units are another rating.
+  std::optional<std::string> model_units;
   std::optional<TestId> reference_test;
   std::optional<std::string> reference_series, reference_variant;
   std::string edition;  // "2014" or "2024"
@@ -189,6 +192,7 @@ struct MergeReport {
   std::int64_t tests_added = 0;      // tests (with raw channels) the catalogue did not have
   std::int64_t results_merged = 0;   // results new to the catalogue or newer than its own
   std::int64_t failures_merged = 0;  // failed jobs of tests without a result here
+  std::int64_t ratings_merged = 0;   // ISO/TS 18571 ratings new to the catalogue or newer than its own
 };
 
 struct CatalogueOptions {
@@ -268,6 +272,11 @@ class Catalogue {
   bool ExistsTestByExternalId(const std::string& external_id);
   std::optional<TestId> FindTestByExternalId(const std::string& external_id);
   TestRow ReadTest(TestId id);
+  // Removes a test with everything that refers to it (raw channels, jobs,
+  // results, findings, derived channels, ratings of it and against it: ON
+  // DELETE CASCADE), in one transaction. A test whose source changed is
+  // replaced this way (ingest::ImportOptions::supersede_changed_source).
+  void DeleteTest(TestId id);
   std::vector<TestRow> ReadAllTests(const TestFilter& filter = {});
 
   // ---- raw channels

@@ -29,15 +29,15 @@ void Catalogue::WriteCorrelation(const CorrelationRecord& record) {
       "INSERT INTO correlations (result_id, test_id, config_id, channel, reference_kind, reference, "
       "reference_key, model_file, model_sha256, model_column, reference_test_id, reference_series, "
       "reference_variant, edition, start_s, end_s, corridor, phase, magnitude, slope, overall, grade, "
-      "shift_s, napkin_version, rated_at) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, "
-      "?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23, ?24, " +
-      internal::IsoTimestampSql("?25") + ")");
+      "shift_s, napkin_version, rated_at, model_units) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
+      "?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23, ?24, " +
+      internal::IsoTimestampSql("?25") + ", ?26)");
   insert->BindAll(result_id, record.test, record.config, record.channel, record.reference_kind,
                   record.reference, record.reference_key, record.model_file, record.model_sha256,
                   record.model_column, record.reference_test, record.reference_series,
                   record.reference_variant, record.edition, record.start_s, record.end_s, record.corridor,
                   record.phase, record.magnitude, record.slope, record.overall, record.grade, record.shift_s,
-                  napkin_version_, clock_());
+                  napkin_version_, clock_(), record.model_units);
   insert->Execute();
   transaction.Commit();
 }
@@ -46,7 +46,8 @@ std::vector<CorrelationRecord> Catalogue::ReadCorrelations(TestId test, ConfigId
   auto select = connection_.Prepare(
       "SELECT channel, reference_kind, reference, reference_key, model_file, model_sha256, model_column, "
       "reference_test_id, reference_series, reference_variant, edition, start_s, end_s, corridor, phase, "
-      "magnitude, slope, overall, grade, shift_s FROM correlations WHERE test_id = ?1 AND config_id = ?2 "
+      "magnitude, slope, overall, grade, shift_s, model_units FROM correlations WHERE test_id = ?1 AND "
+      "config_id = ?2 "
       "ORDER BY channel, reference, edition, start_s, end_s");
   select->BindAll(test, config);
   std::vector<CorrelationRecord> records;
@@ -74,6 +75,7 @@ std::vector<CorrelationRecord> Catalogue::ReadCorrelations(TestId test, ConfigId
     record.overall = select->ColumnDouble(17);
     record.grade = select->ColumnText(18);
     record.shift_s = select->ColumnDouble(19);
+    record.model_units = select->ColumnOptionalText(20);
   }
   return records;
 }

@@ -174,6 +174,78 @@ void SelectResultsToTake(Connection& connection) {
       "WHERE mr.id IS NULL OR mr.computed_at < r.computed_at ORDER BY r.id");
 }
 
+// The columns of a rating but its key and its result's key (schema/009_correlation.sql, 010).
+constexpr const char* kRatingColumns =
+    "test_id, config_id, channel, reference_kind, reference, reference_key, model_file, model_sha256, "
+    "model_column, model_units, reference_test_id, reference_series, reference_variant, edition, start_s, "
+    "end_s, corridor, phase, magnitude, slope, overall, grade, shift_s, rated_at, napkin_version";
+
+// A rating this catalogue cannot carry: one against a test it does not hold (a results file with the
+// rating but not the test it was rated against). Refused whole, before anything is written.
+void RefuseRatingsAgainstMissingTests(Connection& connection, const std::string& shard_path,
+                                      const std::string& catalogue_path) {
+  auto missing = connection.Prepare(
+      "SELECT st.external_id, c.channel, rt.external_id FROM shard.correlations AS c "
+      "JOIN shard.tests AS st ON st.id = c.test_id JOIN shard.tests AS rt ON rt.id = c.reference_test_id "
+      "WHERE c.reference_test_id IS NOT NULL AND NOT EXISTS "
+      "(SELECT 1 FROM temp.merge_tests_key AS k WHERE k.shard_id = c.reference_test_id) "
+      "ORDER BY st.external_id LIMIT 1");
+  if (missing->Step())
+    throw InputError("the rating of test '" + missing->ColumnText(0) + "' channel " + missing->ColumnText(1) +
+                     " against test '" + missing->ColumnText(2) + "' in '" + shard_path +
+                     "' cannot be merged: test '" + missing->ColumnText(2) + "' is not in the catalogue '" +
+                     catalogue_path + "'; merge the catalogue that holds it first.");
+}
+
+// This catalogue's ratings of the results about to be replaced by the shard's (equal values,
+// RefuseConflictingResults): kept aside in temp.merge_kept_ratings, so that replacing a result does
+// not drop the ratings that still describe it.
+void KeepRatingsOfReplacedResults(Connection& connection) {
+  connection.Execute("DROP TABLE IF EXISTS temp.merge_kept_ratings");
+  connection.Execute(std::string("CREATE TEMP TABLE merge_kept_ratings AS SELECT ") + kRatingColumns +
+                     " FROM main.correlations WHERE (test_id, config_id) IN "
+                     "(SELECT test_id, config_id FROM temp.merge_take) ORDER BY id");
+}
+
+// The kept ratings onto the results that replaced theirs, then the shard's ratings, mapped to this
+// catalogue's keys, onto this catalogue's result of their (test, config), which after the merge
+// exists and has the shard's values. One rating per identity (result, channel, reference key with
+// its model units, edition, interval): the more recently rated wins. Returns the shard's ratings
+// new here or newer than the catalogue's.
+std::int64_t MergeRatings(Connection& connection) {
+  const std::string insert =
+      std::string("INSERT INTO main.correlations (result_id, ") + kRatingColumns + ") ";
+  connection.Execute(insert +
+                     "SELECT r.id, k.test_id, k.config_id, k.channel, k.reference_kind, k.reference, "
+                     "k.reference_key, k.model_file, k.model_sha256, k.model_column, k.model_units, "
+                     "k.reference_test_id, k.reference_series, k.reference_variant, k.edition, k.start_s, "
+                     "k.end_s, k.corridor, k.phase, k.magnitude, k.slope, k.overall, k.grade, k.shift_s, "
+                     "k.rated_at, k.napkin_version FROM temp.merge_kept_ratings AS k "
+                     "JOIN main.results AS r ON r.test_id = k.test_id AND r.config_id = k.config_id "
+                     "WHERE true ON CONFLICT (result_id, channel, reference_key, edition, start_s, end_s) "
+                     "DO NOTHING");
+  connection.Execute("DROP TABLE temp.merge_kept_ratings");
+  connection.Execute(
+      insert +
+      "SELECT r.id, tk.main_id, ck.main_id, c.channel, c.reference_kind, c.reference, "
+      "c.reference_key, c.model_file, c.model_sha256, c.model_column, c.model_units, "
+      "rk.main_id, c.reference_series, c.reference_variant, c.edition, c.start_s, c.end_s, "
+      "c.corridor, c.phase, c.magnitude, c.slope, c.overall, c.grade, c.shift_s, c.rated_at, "
+      "c.napkin_version FROM shard.correlations AS c "
+      "JOIN temp.merge_tests_key AS tk ON tk.shard_id = c.test_id "
+      "JOIN temp.merge_configs_key AS ck ON ck.shard_id = c.config_id "
+      "JOIN main.results AS r ON r.test_id = tk.main_id AND r.config_id = ck.main_id "
+      "LEFT JOIN temp.merge_tests_key AS rk ON rk.shard_id = c.reference_test_id "
+      "WHERE true ORDER BY c.id "
+      "ON CONFLICT (result_id, channel, reference_key, edition, start_s, end_s) DO UPDATE SET "
+      "reference = excluded.reference, model_file = excluded.model_file, "
+      "corridor = excluded.corridor, phase = excluded.phase, magnitude = excluded.magnitude, "
+      "slope = excluded.slope, overall = excluded.overall, grade = excluded.grade, "
+      "shift_s = excluded.shift_s, rated_at = excluded.rated_at, "
+      "napkin_version = excluded.napkin_version WHERE excluded.rated_at > correlations.rated_at");
+  return connection.Changes();
+}
+
 // The taken results replace this catalogue's results, findings, conditioning
 // records and derived channels of their (test, config). Returns the number of results merged.
 std::int64_t MergeResults(Connection& connection) {
@@ -308,12 +380,15 @@ MergeReport MergeAttachedShard(Connection& connection, const std::string& shard_
   MergeDefinitions(connection);
   report.tests_added = MergeTests(connection);
   RefuseConflictingResults(connection, shard_path);
+  RefuseRatingsAgainstMissingTests(connection, shard_path, connection.path());
   SelectResultsToTake(connection);
+  KeepRatingsOfReplacedResults(connection);
   report.results_merged = MergeResults(connection);
   MergeFindings(connection);
   MergeConditioning(connection);
   MergeSalvage(connection);
   MergeDerivedChannels(connection);
+  report.ratings_merged = MergeRatings(connection);
   MergeFailureFindings(connection);
   report.failures_merged = MergeJobState(connection, clock());
   connection.Execute("DROP TABLE temp.merge_take");

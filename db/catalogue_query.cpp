@@ -259,7 +259,7 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
   }
   if (kind == QueryKind::kCorrelation) {
     add_text({"channel", "reference_kind", "reference", "model_file", "model_sha256", "model_column",
-              "reference_test", "edition"});
+              "model_units", "reference_test", "edition"});
     for (const char* name : {"start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall"})
       fields.push_back({name, true});
     add_text({"grade"});

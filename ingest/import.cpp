@@ -102,14 +102,20 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
     return result;
   };
   if (catalogue.ExistsTestByHash(content_hash)) return skipped();
+  std::error_code error;
+  const fs::path absolute = fs::absolute(input.source, error);
+  const std::string source_path = (error ? input.source : absolute).lexically_normal().string();
+  std::optional<db::TestId> replacing;
   if (const std::optional<db::TestId> existing = catalogue.FindTestByExternalId(test_id)) {
     const db::TestRow record = catalogue.ReadTest(*existing);
     // Another import of the same input (a concurrent process) stored it
     // between the two look-ups: present, not failed.
     if (record.content_hash == content_hash) return skipped();
-    throw InputError("test '" + test_id + "' from '" + input.source.string() +
-                     "' differs from the catalogue's test of that id (imported from '" + record.source_path +
-                     "'); import it with another --test-id.");
+    if (!options.supersede_changed_source || record.source_path != source_path)
+      throw InputError("test '" + test_id + "' from '" + input.source.string() +
+                       "' differs from the catalogue's test of that id (imported from '" +
+                       record.source_path + "'); import it with another --test-id.");
+    replacing = existing;
   }
   nlohmann::json metadata = nlohmann::json::object();
   metadata["format"] = InputFormatName(head.archived_format.value_or(input.format));
@@ -140,15 +146,17 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
                               ": the INIVEL its files record is not used, as --initial-velocity "
                               "gives the initial velocity.");
   record.metadata_json = metadata.dump();
-  std::error_code error;
-  const fs::path absolute = fs::absolute(input.source, error);
-  record.source_path = (error ? input.source : absolute).lexically_normal().string();
+  record.source_path = source_path;
   record.content_hash = content_hash;
 
   // The store skips content another process stored meanwhile.
-  if (!StoreTest(catalogue, prepared.array, prepared.array_record, record, head.signals)) return skipped();
+  if (!StoreTest(catalogue, prepared.array, prepared.array_record, record, head.signals, replacing))
+    return skipped();
   result.outcome = ImportOutcome::kImported;
-  result.message = test_id + ": imported from " + record.source_path + ".";
+  result.superseded = replacing.has_value();
+  result.message = replacing ? test_id + ": imported again from " + record.source_path +
+                                   ", whose content changed; the new content replaces the old."
+                             : test_id + ": imported from " + record.source_path + ".";
   for (std::string& note : head.notes) result.warnings.push_back(NamingSource(note, input));
   return result;
 }

@@ -42,6 +42,12 @@ struct ImportOptions {
   // "Several dummies in one test"). Without it every head found is imported,
   // as TEST/<position> when there are several.
   std::optional<std::string> position;
+  // A test of the same id imported from the same source path whose content
+  // has changed since is replaced by the new content (its results, findings
+  // and ratings go with the old content): the inbox of `napkin serve`, where
+  // a recording that paused longer than --settle was imported half-written
+  // and then went on. Without it such a test is refused (another --test-id).
+  bool supersede_changed_source = false;
 };
 
 enum class ImportOutcome { kImported, kSkipped, kFailed };
@@ -52,6 +58,9 @@ struct ImportResult {
   std::string test_id;
   std::string message;                // one sentence: the skip notice, or the error naming file and problem
   std::vector<std::string> warnings;  // e.g. ignored extra CSV columns
+  // kImported only: the new content replaced the catalogue's older test of
+  // this id and source (ImportOptions::supersede_changed_source).
+  bool superseded = false;
 };
 
 struct ImportReport {

@@ -17,6 +17,7 @@
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "formats/csv.h"
+#include "util/text.h"
 
 namespace napkin::serve {
 namespace {
@@ -146,7 +147,64 @@ constexpr const char* kLiveReportScript =
 </script>
 )js";
 
+// `text` percent-decoded; '+' a space when `plus_is_space` (a query). A '%'
+// not followed by two hex digits stays as it is.
+std::string PercentDecoded(std::string_view text, bool plus_is_space) {
+  const auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  std::string decoded;
+  decoded.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '%' && i + 2 < text.size() && hex(text[i + 1]) >= 0 && hex(text[i + 2]) >= 0) {
+      decoded += static_cast<char>(hex(text[i + 1]) * 16 + hex(text[i + 2]));
+      i += 2;
+    } else if (text[i] == '+' && plus_is_space) {
+      decoded += ' ';
+    } else {
+      decoded += text[i];
+    }
+  }
+  return decoded;
+}
+
 }  // namespace
+
+Params ParseQuery(std::string_view target) {
+  Params params;
+  const std::size_t question = target.find('?');
+  if (question == std::string_view::npos) return params;
+  std::string_view query = target.substr(question + 1);
+  if (const std::size_t hash = query.find('#'); hash != std::string_view::npos) query = query.substr(0, hash);
+  while (!query.empty()) {
+    const std::size_t amp = query.find('&');
+    const std::string_view pair = query.substr(0, amp);
+    query = amp == std::string_view::npos ? std::string_view() : query.substr(amp + 1);
+    if (pair.empty()) continue;
+    const std::size_t equals = pair.find('=');
+    const std::string name = PercentDecoded(pair.substr(0, equals), true);
+    const std::string value =
+        equals == std::string_view::npos ? std::string() : PercentDecoded(pair.substr(equals + 1), true);
+    params.emplace(name, value);
+  }
+  return params;
+}
+
+std::vector<std::string> PathSegments(std::string_view target) {
+  std::string_view path = target.substr(0, target.find('?'));
+  std::vector<std::string> segments;
+  if (path.starts_with("/")) path.remove_prefix(1);
+  for (;;) {
+    const std::size_t slash = path.find('/');
+    segments.push_back(PercentDecoded(path.substr(0, slash), false));
+    if (slash == std::string_view::npos) break;
+    path.remove_prefix(slash + 1);
+  }
+  return segments;
+}
 
 Response JsonError(int status, const std::string& sentence) {
   return Response{status, "application/json", Dump(Json{{"error", sentence}})};
@@ -284,7 +342,12 @@ Response Api::ReportVersion(const Params& params) const {
     app::Query query;
     query.kind = kind;
     query.filters.series = {series};
-    rows += app::FormatTable(app::RunQuery(catalogue, app::PrepareQuery(query)), app::TableFormat::kCsv);
+    const db::Table table = app::RunQuery(catalogue, app::PrepareQuery(query));
+    // A series without tests has no report to follow: the sentence `napkin report` gives for it.
+    if (std::string_view(kind) == "tests" && table.rows.empty())
+      throw InputError("no test in catalogue '" + options_.db_path + "' matches series " +
+                       util::EscapeControl(series) + ".");
+    rows += app::FormatTable(table, app::TableFormat::kCsv);
   }
   // FNV-1a, 64 bits: the same rows give the same version in every process.
   std::uint64_t hash = 14695981039346656037ull;

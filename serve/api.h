@@ -11,11 +11,23 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace napkin::serve {
 
 // A request's query parameters, repeated names in order (httplib::Params).
 using Params = std::multimap<std::string, std::string>;
+
+// The query parameters of a request target ("/path?a=1&b=x%3Dy"): split at
+// '&', each at its first '=' only (a value may hold '=': where=hic15>=700),
+// then percent-decoded ('+' is a space); repeated and identical parameters
+// all kept, in order. A parameter without '=' has an empty value.
+Params ParseQuery(std::string_view target);
+
+// The path segments of a request target, split at '/' before each is
+// percent-decoded: an encoded '/' (%2F) stays inside its segment (a test id
+// "T/11" is the one segment T%2F11, never two).
+std::vector<std::string> PathSegments(std::string_view target);
 
 struct Response {
   int status = 200;

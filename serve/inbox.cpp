@@ -1,25 +1,30 @@
 #include "serve/inbox.h"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/inotify.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstring>
-#include <fstream>
+#include <functional>
 #include <set>
-#include <sstream>
 
 #include "app/failure.h"
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "db/job_queue.h"
+#include "formats/array_json.h"
+#include "formats/channel_map.h"
 #include "ingest/discovery.h"
 #include "ingest/import.h"
 #include "jobs/scheduler.h"
 #include "records/config_record.h"
+#include "util/text.h"
 
 namespace napkin::serve {
 namespace {
@@ -90,6 +95,59 @@ bool Finished(db::Catalogue& catalogue, const std::string& config, const std::st
   return counts.done + counts.failed > 0;
 }
 
+// What a non-regular file is, for the sentence refusing it.
+const char* FileTypeName(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+// The bytes of sidecar `path`; nullopt when there is none. Judged on the
+// descriptor opened (O_NONBLOCK: a FIFO never blocks the watcher): anything
+// but a regular file of at most kMaxSidecarBytes is refused naming it, never
+// skipped in favour of the sidecar above.
+std::optional<std::string> ReadSidecarFile(const fs::path& path) {
+  const std::string named = "sidecar '" + util::EscapeControl(path.string()) + "'";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    const int error = errno;
+    struct stat link {};
+    if (error == ENOENT && ::lstat(path.c_str(), &link) != 0) return std::nullopt;  // no sidecar here
+    if (error == ENOENT)
+      throw InputError(named + " is a symbolic link to nothing; point it at a JSON file or remove it.");
+    if (error == ELOOP) throw InputError(named + " is a loop of symbolic links.");
+    throw InputError(named + " cannot be opened (" + std::strerror(error) + ").");
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat status {};
+  if (::fstat(fd, &status) != 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+  if (!S_ISREG(status.st_mode))
+    throw InputError(named + " is " + FileTypeName(status.st_mode) +
+                     ", not a regular file; a sidecar is a small JSON file.");
+  const auto too_large = [&](std::uintmax_t bytes) {
+    return InputError(named + " is " + std::to_string(bytes) + " bytes, more than the " +
+                      std::to_string(kMaxSidecarBytes / 1024) + " KiB a sidecar may have.");
+  };
+  if (static_cast<std::uintmax_t>(status.st_size) > kMaxSidecarBytes) throw too_large(status.st_size);
+  std::string text;
+  char buffer[8192];
+  for (;;) {
+    const ssize_t count = ::read(fd, buffer, sizeof buffer);
+    if (count < 0 && errno == EINTR) continue;
+    if (count < 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+    if (count == 0) break;
+    text.append(buffer, static_cast<std::size_t>(count));
+    if (text.size() > kMaxSidecarBytes) throw too_large(text.size());  // it grew while being read
+  }
+  return text;
+}
+
 }  // namespace
 
 Sidecar ReadSidecars(const fs::path& inbox, const fs::path& folder) {
@@ -101,32 +159,66 @@ Sidecar ReadSidecars(const fs::path& inbox, const fs::path& folder) {
   Sidecar sidecar;
   for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
     const fs::path path = *it / kSidecarName;
-    std::error_code error;
-    if (!fs::is_regular_file(path, error)) continue;
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
+    const std::optional<std::string> text = ReadSidecarFile(path);
+    if (!text) continue;
+    const std::string named = "sidecar '" + util::EscapeControl(path.string()) + "'";
     Json json;
     try {
-      json = Json::parse(text.str());
+      json = Json::parse(*text);
     } catch (const Json::exception&) {
-      throw InputError("sidecar '" + path.string() + "' is not valid JSON.");
+      throw InputError(named + " is not valid JSON.");
     }
-    if (!json.is_object()) throw InputError("sidecar '" + path.string() + "' is not a JSON object.");
+    if (!json.is_object()) throw InputError(named + " is not a JSON object.");
     for (const auto& [key, value] : json.items()) {
       std::optional<std::string>* slot = key == "array"         ? &sidecar.array
                                          : key == "config"      ? &sidecar.config
                                          : key == "channel_map" ? &sidecar.channel_map
                                                                 : nullptr;
-      if (!slot)
-        throw InputError("sidecar '" + path.string() + "' has the unknown key '" + key +
-                         "' (it may give array, config and channel_map).");
+      fs::path* from = key == "array"         ? &sidecar.array_file
+                       : key == "config"      ? &sidecar.config_file
+                       : key == "channel_map" ? &sidecar.channel_map_file
+                                              : nullptr;
+      if (!slot || !from)
+        throw InputError(named + " has the unknown key '" + util::Abbreviated(key) + "'" +
+                         " (it may give array, config and channel_map).");
+      const std::string quoted_key = "'" + key + "'";
       if (!value.is_string() || value.get<std::string>().empty())
-        throw InputError("sidecar '" + path.string() + "' key '" + key + "' is not a non-empty text.");
-      *slot = value.get<std::string>();
+        throw InputError(named + " key " + quoted_key + " is not a non-empty text.");
+      const std::string text_value = value.get<std::string>();
+      if (text_value.size() > kMaxSidecarValueBytes)
+        throw InputError(named + " key " + quoted_key + " is " + std::to_string(text_value.size()) +
+                         " bytes long, more than the " + std::to_string(kMaxSidecarValueBytes) +
+                         " a preset name or a file name may have.");
+      if (util::HasControlCharacter(text_value))
+        throw InputError(named + " key " + quoted_key + " holds a control character (" +
+                         util::Quoted(text_value) + "); a preset name or a file name has none.");
+      *slot = text_value;
+      *from = path;
     }
   }
   return sidecar;
+}
+
+void CheckSidecarNames(const Sidecar& sidecar) {
+  const auto check = [](const std::optional<std::string>& value, const fs::path& file, const char* key,
+                        const std::function<void(const std::string&)>& load) {
+    if (!value) return;
+    try {
+      load(*value);
+    } catch (const InputError& bad) {
+      throw InputError("sidecar '" + util::EscapeControl(file.string()) + "' key '" + key +
+                       "': " + bad.what());
+    } catch (const fs::filesystem_error& bad) {
+      throw InputError("sidecar '" + util::EscapeControl(file.string()) + "' key '" + key + "' names " +
+                       util::Quoted(*value) + ", which cannot be read (" + bad.code().message() + ").");
+    }
+  };
+  check(sidecar.array, sidecar.array_file, "array",
+        [](const std::string& name) { formats::LoadArray(name); });
+  check(sidecar.channel_map, sidecar.channel_map_file, "channel_map",
+        [](const std::string& name) { formats::LoadChannelMap(name); });
+  check(sidecar.config, sidecar.config_file, "config",
+        [](const std::string& name) { records::ResolveConfig(name); });
 }
 
 Inbox::Inbox(InboxOptions options) : options_(std::move(options)) {}
@@ -219,18 +311,80 @@ void Inbox::LookAtInbox() {
     inotify_add_watch(
         inotify_fd_, inbox.c_str(),
         IN_CREATE | IN_MODIFY | IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_DELETE | IN_ATTRIB);
+  // What the inbox does not import is said once (log and status), and never imported: entries
+  // that are not files or folders, files outside a variant folder, links to nothing, loops, and
+  // links leading out of the inbox (refused: a test is read from the inbox only).
+  const fs::path root = fs::weakly_canonical(inbox, error);
+  std::set<fs::path> excluded;
+  const auto pass_over = [&](const fs::path& path, const char* kind, const std::string& why) {
+    excluded.insert(path);
+    const std::string sentence = "'" + util::EscapeControl(path.string()) + "' " + why;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!said_.insert(path.string() + "\n" + sentence).second) return;
+    }
+    spdlog::warn("{}", sentence);
+    Record(kind, path.string(), "", sentence);
+  };
+  std::vector<fs::path> variants;
   for (fs::recursive_directory_iterator it(inbox, error), end; !error && it != end; it.increment(error)) {
+    const fs::path path = it->path();
+    const int depth = it.depth();
     std::error_code type_error;
-    if (!it->is_directory(type_error)) continue;
+    if (it->is_symlink(type_error)) {
+      struct stat target {};
+      if (::stat(path.c_str(), &target) != 0) {
+        pass_over(path, "ignored",
+                  errno == ELOOP ? "is a loop of symbolic links; it is ignored."
+                                 : "is a symbolic link to nothing; it is ignored.");
+        continue;
+      }
+      const fs::path resolved = fs::canonical(path, type_error);
+      const std::string inside = root.string() + "/";
+      if (type_error || !resolved.string().starts_with(inside)) {
+        pass_over(path, "refused",
+                  "is a symbolic link out of the inbox (to '" + util::EscapeControl(resolved.string()) +
+                      "'); napkin serve reads tests from the inbox only, so it is not imported.");
+        continue;
+      }
+    }
+    const bool folder = it->is_directory(type_error);
+    const bool file = it->is_regular_file(type_error);
+    if (!folder && !file) {
+      struct stat status {};
+      const mode_t mode = ::stat(path.c_str(), &status) == 0 ? status.st_mode : 0;
+      pass_over(path, "ignored",
+                std::string("is ") + FileTypeName(mode) +
+                    ", not a file or a folder; the inbox imports files and folders only, so it is ignored.");
+      continue;
+    }
+    if (file && depth <= 1) {
+      if (path.filename() == kSidecarName) continue;
+      pass_over(path, "ignored",
+                depth == 0
+                    ? "is a file at the inbox root, where napkin serve looks for series folders only "
+                      "(tests go in <inbox>/<series>/<variant>/); it is ignored."
+                    : "is a file in series folder '" + util::EscapeControl(path.parent_path().string()) +
+                          "', where napkin serve looks for variant folders only (tests go in "
+                          "<inbox>/<series>/<variant>/); it is ignored.");
+      continue;
+    }
+    if (!folder) continue;
     if (inotify_fd_ >= 0)
       inotify_add_watch(
-          inotify_fd_, it->path().c_str(),
+          inotify_fd_, path.c_str(),
           IN_CREATE | IN_MODIFY | IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_DELETE | IN_ATTRIB);
-    if (it.depth() != 1) continue;  // variant folders: <series>/<variant>
-    const fs::path variant = it->path();
-    for (ingest::ImportInput& input : ingest::DiscoverInputs({variant.string()}).inputs)
+    if (depth == 1) variants.push_back(path);  // variant folders: <series>/<variant>
+  }
+  for (const fs::path& variant : variants) {
+    for (ingest::ImportInput& input : ingest::DiscoverInputs({variant.string()}).inputs) {
+      // A test with a file passed over (a link out of the inbox, a FIFO) is not imported.
+      bool passed_over = excluded.count(input.source) > 0;
+      for (const fs::path& file : FilesOf(input)) passed_over = passed_over || excluded.count(file) > 0;
+      if (passed_over) continue;
       found.push_back({std::move(input), variant.parent_path().filename().string(),
                        variant.filename().string(), variant});
+    }
   }
 
   // Settled tests, each once per signature.
@@ -283,80 +437,110 @@ void Inbox::LookAtInbox() {
       const std::string& signature = settled_test.second;
       if (stop_) return;
       const std::string source = test.input.source.string();
+      // A test is tried once per signature, whatever the outcome.
       const auto done = [&] {
         std::lock_guard<std::mutex> lock(mutex_);
         handled_[source] = signature;
         pending_.erase(source);
       };
+      const auto fail = [&](const char* kind, const std::string& sentence) {
+        spdlog::error("{}", sentence);
+        Record(kind, source, test.input.name, sentence);
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++failed_;
+        }
+        done();
+      };
+      // The folders give the series and the variant: their names are checked as folder names
+      // here, not as the --series and --variant options import would name.
+      try {
+        util::CheckName("series folder name", test.series);
+        util::CheckName("variant folder name", test.variant);
+        if (test.variant == ingest::kNoVariantGroup)
+          throw InputError(std::string("variant folder name '") + ingest::kNoVariantGroup +
+                           "' is the name compare gives the tests without a variant; rename the folder.");
+      } catch (const InputError& bad) {
+        fail("folder", "folder '" + util::EscapeControl(test.folder.string()) + "': " + bad.what() +
+                           " Its tests are not imported.");
+        continue;
+      }
       Sidecar sidecar;
       try {
         sidecar = ReadSidecars(inbox, test.folder);
         if (!sidecar.array)
           throw InputError("no napkin.json sidecar above '" + source +
                            "' gives its array (e.g. {\"array\": \"denton-3222\"}).");
+        // Every name the sidecars give is resolved before anything is imported: a test is
+        // never stored under a config that cannot run it, where it would wait forever.
+        CheckSidecarNames(sidecar);
       } catch (const InputError& bad) {
-        spdlog::error("{}", bad.what());
-        Record("sidecar", source, "", bad.what());
-        std::lock_guard<std::mutex> lock(mutex_);
-        ++failed_;
-        handled_[source] = signature;
-        pending_.erase(source);
+        fail("sidecar", bad.what());
         continue;
       }
-      ingest::ImportOptions import;
-      import.array = *sidecar.array;
-      import.series = test.series;
-      import.variant = test.variant;
-      if (sidecar.channel_map) import.channel_map = *sidecar.channel_map;
-      ingest::ImportReport report;
       try {
-        report = ingest::ImportTests(catalogue, {source}, import);
-      } catch (const InputError& bad) {  // options of all inputs: the sidecar's array or channel map
-        const std::string sentence = std::string(bad.what()) + " (from the sidecars above '" + source + "')";
-        spdlog::error("{}", sentence);
-        Record("sidecar", source, "", sentence);
-        std::lock_guard<std::mutex> lock(mutex_);
-        ++failed_;
-        handled_[source] = signature;
-        pending_.erase(source);
-        continue;
-      }
-      const std::string config = sidecar.config.value_or("");
-      for (const ingest::ImportResult& result : report.results) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (result.outcome == ingest::ImportOutcome::kImported) {
-          ++imported_;
-          to_run[config].push_back(result.test_id);
-        } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
-          ++skipped_;
-          // Already in the catalogue: processed only when it has neither a result nor a failure
-          // under its config (a restart after kill -9 between import and processing); a failure
-          // is never retried.
-          if (!Finished(catalogue, config, result.test_id)) to_run[config].push_back(result.test_id);
-        } else {
-          ++failed_;
+        ingest::ImportOptions import;
+        import.array = *sidecar.array;
+        import.series = test.series;
+        import.variant = test.variant;
+        if (sidecar.channel_map) import.channel_map = *sidecar.channel_map;
+        // A recording that paused longer than --settle was imported half-written: its later
+        // content replaces it (docs/serve.md "Inbox").
+        import.supersede_changed_source = true;
+        ingest::ImportReport report;
+        try {
+          report = ingest::ImportTests(catalogue, {source}, import);
+        } catch (const InputError& bad) {  // options of all inputs: the sidecar's array or channel map
+          fail("sidecar", std::string(bad.what()) + " (from the sidecars above '" + source + "')");
+          continue;
         }
-      }
-      for (const ingest::ImportResult& result : report.results) {
-        const char* kind = result.outcome == ingest::ImportOutcome::kImported  ? "imported"
-                           : result.outcome == ingest::ImportOutcome::kSkipped ? "skipped"
-                                                                               : "import failed";
-        std::string message = result.message;
-        // A test whose files went away while it was read: said as what happened, beside the
-        // reader's own sentence.
-        if (result.outcome == ingest::ImportOutcome::kFailed && !fs::exists(test.input.source, error)) {
-          kind = "removed";
-          message = "test '" + source +
-                    "' was removed from the inbox while it was being imported; it was not imported (" +
-                    result.message + ")";
+        const std::string config = sidecar.config.value_or("");
+        for (const ingest::ImportResult& result : report.results) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          if (result.outcome == ingest::ImportOutcome::kImported) {
+            ++imported_;
+            if (result.superseded) ++superseded_;
+            to_run[config].push_back(result.test_id);
+          } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
+            ++skipped_;
+            // Already in the catalogue: processed only when it has neither a result nor a failure
+            // under its config (a restart after kill -9 between import and processing); a failure
+            // is never retried.
+            if (!Finished(catalogue, config, result.test_id)) to_run[config].push_back(result.test_id);
+          } else {
+            ++failed_;
+          }
         }
-        if (result.outcome == ingest::ImportOutcome::kFailed)
-          spdlog::error("{}", message);
-        else
-          spdlog::info("{}: {} from {}", result.test_id, kind, source);
-        Record(kind, source, result.test_id, message.empty() ? std::string(kind) : message);
+        for (const ingest::ImportResult& result : report.results) {
+          const char* kind = result.outcome == ingest::ImportOutcome::kImported
+                                 ? (result.superseded ? "superseded" : "imported")
+                             : result.outcome == ingest::ImportOutcome::kSkipped ? "skipped"
+                                                                                 : "import failed";
+          std::string message = result.message;
+          // A test whose files went away while it was read: said as what happened, beside the
+          // reader's own sentence.
+          if (result.outcome == ingest::ImportOutcome::kFailed && !fs::exists(test.input.source, error)) {
+            kind = "removed";
+            message = "test '" + source +
+                      "' was removed from the inbox while it was being imported; it was not imported (" +
+                      result.message + ")";
+          }
+          if (result.outcome == ingest::ImportOutcome::kFailed)
+            spdlog::error("{}", message);
+          else if (result.superseded)
+            spdlog::info("{}", message);
+          else
+            spdlog::info("{}: {} from {}", result.test_id, kind, source);
+          Record(kind, source, result.test_id, message.empty() ? std::string(kind) : message);
+        }
+        done();
+      } catch (const db::DatabaseError&) {
+        throw;  // the catalogue's, not the test's: below
+      } catch (const std::exception&) {
+        // Anything else is this test's failure, said once: it never stops the other tests.
+        fail("import failed", "test '" + source + "' could not be imported: " +
+                                  app::DescribeFailure(std::current_exception(), options_.db_path).sentence);
       }
-      done();
     }
   } catch (const db::DatabaseError&) {
     const app::Failure failure = app::DescribeFailure(std::current_exception(), options_.db_path);
@@ -374,8 +558,9 @@ void Inbox::LookAtInbox() {
     run.scope.tests.external_ids = ids;
     run.threads = options_.threads;
     run.keep_freed_memory = false;  // a long-running process: memory goes back when idle
-    const records::ResolvedConfig processing = records::ResolveConfig(config);
     try {
+      // Checked with the sidecar before import; a config file changed since fails its tests.
+      const records::ResolvedConfig processing = records::ResolveConfig(config);
       const jobs::RunReport report = jobs::RunScheduler(options_.db_path, processing, run, {}, &stop_);
       db::CatalogueOptions read;
       read.read_only = true;
@@ -402,6 +587,15 @@ void Inbox::LookAtInbox() {
       std::lock_guard<std::mutex> lock(mutex_);
       waiting_ =
           "waiting for catalogue '" + options_.db_path + "', locked by another process: " + failure.sentence;
+    } catch (const InputError& bad) {
+      for (const std::string& id : ids) {
+        const std::string sentence = "test '" + id + "' was not processed: its processing config " +
+                                     util::Quoted(config.empty() ? "default" : config) + ": " + bad.what();
+        spdlog::error("{}", sentence);
+        Record("failed", "", id, sentence);
+      }
+      std::lock_guard<std::mutex> lock(mutex_);
+      failed_ += static_cast<std::int64_t>(ids.size());
     }
   }
 }
@@ -418,6 +612,7 @@ Json Inbox::Status() const {
               {"catalogue_waiting", waiting_ ? Json(*waiting_) : Json(nullptr)},
               {"settling", std::move(waiting_tests)},
               {"imported", imported_},
+              {"superseded", superseded_},
               {"skipped", skipped_},
               {"processed", processed_},
               {"failed", failed_},

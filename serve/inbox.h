@@ -21,6 +21,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -45,12 +46,28 @@ struct Sidecar {
   std::optional<std::string> array;        // array preset or JSON file (required for import)
   std::optional<std::string> config;       // processing config preset or JSON file (default: default)
   std::optional<std::string> channel_map;  // channel map preset or JSON file
+  // The sidecar file that gave each key: a name that leads nowhere is said naming it.
+  std::filesystem::path array_file, config_file, channel_map_file;
 };
+
+// A sidecar is a small JSON object: anything larger is refused, not read.
+inline constexpr std::size_t kMaxSidecarBytes = std::size_t{64} * 1024;
+// A value names a preset or a file: at most a path's length.
+inline constexpr std::size_t kMaxSidecarValueBytes = 4096;
 
 // The sidecars of `folder` and every folder above it up to `inbox`, the
 // nearest one's keys winning. Throws InputError naming the sidecar file for
-// one that is not JSON, not an object, has an unknown key or a key that is not text.
+// one that is not a regular file (a FIFO, a device, a folder, a link to one:
+// judged on the opened descriptor, never read from), larger than
+// kMaxSidecarBytes, not JSON, not an object, or has an unknown key or a
+// value that is not a non-empty text of at most kMaxSidecarValueBytes
+// without control characters.
 Sidecar ReadSidecars(const std::filesystem::path& inbox, const std::filesystem::path& folder);
+
+// Checks that the sidecars' array, channel map and processing config lead to
+// a preset or a readable file; throws InputError naming the sidecar file
+// that gave the one that does not.
+void CheckSidecarNames(const Sidecar& sidecar);
 
 class Inbox {
  public:
@@ -94,7 +111,8 @@ class Inbox {
   std::map<std::string, std::string> handled_;  // source path -> signature tried
   std::optional<std::string> waiting_;          // the catalogue is locked: why we wait
   std::deque<nlohmann::ordered_json> events_;   // the last results and problems, newest last
-  std::int64_t imported_ = 0, skipped_ = 0, processed_ = 0, failed_ = 0;
+  std::set<std::string> said_;                  // entries passed over (path and sentence): said once
+  std::int64_t imported_ = 0, superseded_ = 0, skipped_ = 0, processed_ = 0, failed_ = 0;
   double processing_s_ = 0.0;
 };
 

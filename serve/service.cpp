@@ -6,22 +6,26 @@
 #ifdef _res
 #undef _res
 #endif
+#include <fcntl.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
+#include <cstring>
 #include <deque>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -33,6 +37,7 @@
 #include "records/config_record.h"
 #include "serve/api.h"
 #include "serve/inbox.h"
+#include "util/text.h"
 
 namespace napkin::serve {
 namespace {
@@ -110,6 +115,34 @@ class BoundedPool final : public httplib::TaskQueue {
   std::condition_variable cond_;
   bool shutdown_ = false;
 };
+
+// Every answer is the whole resource, never a part: httplib answers a Range of N parts with N
+// copies (200 ranges of /api/v1/tests/ID/channels: 136 MB from 0.68 MB). It applies req.ranges after
+// the handlers, which see the request only as const; the Request is httplib's own non-const object
+// (Server::process_request), so clearing its parsed ranges here is defined and leaves the
+// Range header itself as it was.
+void IgnoreRanges(const httplib::Request& req) { const_cast<httplib::Request&>(req).ranges.clear(); }
+
+// The header fields the client sent: httplib adds its own entries for the connection's addresses.
+std::size_t ClientHeaderCount(const httplib::Request& req) {
+  std::size_t count = req.headers.size();
+  for (const char* internal : {"REMOTE_ADDR", "REMOTE_PORT", "LOCAL_ADDR", "LOCAL_PORT"})
+    count -= std::min(count, req.headers.count(internal));
+  return count;
+}
+
+// Exactly one Authorization field, scheme "Bearer" in any case (RFC 9110 11.1), then the token.
+// The field's whole value is compared: get_header_value returns it as a C string, cut at a NUL,
+// where "Bearer TOKEN\0junk" passed.
+bool BearerTokenMatches(const httplib::Request& req, const std::string& token) {
+  if (req.headers.count("Authorization") != 1) return false;
+  const std::string& authorization = req.headers.find("Authorization")->second;
+  constexpr std::string_view kBearer = "bearer ";
+  if (authorization.size() < kBearer.size()) return false;
+  for (std::size_t i = 0; i < kBearer.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(authorization[i])) != kBearer[i]) return false;
+  return TokensEqual(std::string_view(authorization).substr(kBearer.size()), token);
+}
 
 void Send(httplib::Response& res, const Response& response) {
   res.status = response.status;
@@ -208,6 +241,16 @@ sigset_t BlockStopSignals() {
   return set;
 }
 
+// A token is a line of text: a file larger than this is not one (/dev/zero, a log named by mistake).
+constexpr off_t kMaxTokenFileBytes = 4096;
+
+// A file's permission bits as chmod writes them, e.g. "0644".
+std::string ModeText(mode_t mode) {
+  char text[8];
+  std::snprintf(text, sizeof text, "%04o", static_cast<unsigned>(mode & 07777));
+  return text;
+}
+
 }  // namespace
 
 ListenAddress ParseListenAddress(std::string_view text) {
@@ -251,11 +294,43 @@ bool IsLoopbackHost(std::string_view host) {
 }
 
 std::string ReadTokenFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("--token-file '" + path + "' cannot be read.");
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string token = text.str();
+  const std::string named = "--token-file '" + util::EscapeControl(path) + "'";
+  // Judged on the descriptor opened (O_NONBLOCK: a FIFO never blocks the start), never on the path.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) throw InputError(named + " cannot be opened (" + std::strerror(errno) + ").");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat status {};
+  if (::fstat(fd, &status) != 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+  if (S_ISDIR(status.st_mode)) throw InputError(named + " is a folder; give the file that holds the token.");
+  if (!S_ISREG(status.st_mode))
+    throw InputError(named + " is not a regular file (a FIFO, a device or a socket); the token is read " +
+                     "from a regular file only.");
+  if (status.st_size > kMaxTokenFileBytes)
+    throw InputError(named + " is " + std::to_string(status.st_size) + " bytes, more than the " +
+                     std::to_string(kMaxTokenFileBytes) + " a token file may have.");
+  // As ssh treats a private key: a token others may change is no secret of this service's.
+  if (status.st_mode & (S_IWGRP | S_IWOTH))
+    throw InputError(named + " may be written by other users (mode " + ModeText(status.st_mode) +
+                     "); make it writable by its owner only, e.g. `chmod 600 " + util::EscapeControl(path) +
+                     "`.");
+  if (status.st_mode & (S_IRGRP | S_IROTH))
+    spdlog::warn("{} may be read by other users (mode {}): they can use the token; e.g. `chmod 600 {}`",
+                 named, ModeText(status.st_mode), util::EscapeControl(path));
+  std::string token;
+  char buffer[1024];
+  for (;;) {
+    const ssize_t count = ::read(fd, buffer, sizeof buffer);
+    if (count < 0 && errno == EINTR) continue;
+    if (count < 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+    if (count == 0) break;
+    token.append(buffer, static_cast<std::size_t>(count));
+    if (token.size() > static_cast<std::size_t>(kMaxTokenFileBytes))  // it grew while being read
+      throw InputError(named + " grew beyond the " + std::to_string(kMaxTokenFileBytes) +
+                       " bytes a token file may have while it was read.");
+  }
   while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
   if (token.size() < 16)
     throw InputError("--token-file '" + path + "' holds " +
@@ -298,6 +373,7 @@ void RunService(const ServeOptions& options) {
   const Api api(api_options);
   Counters counters;
   const auto started = std::chrono::system_clock::now();
+  std::string listening = options.listen;  // set once bound, before the first request
 
   const sigset_t stop_signals = BlockStopSignals();
   std::unique_ptr<Inbox> inbox;
@@ -327,22 +403,20 @@ void RunService(const ServeOptions& options) {
   server.set_tcp_nodelay(true);
 
   server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+    IgnoreRanges(req);
     if (tls_overloaded) {
       res.set_header("Connection", "close");
       Send(res, JsonError(503, "napkin serve has more connections than it can queue; retry shortly."));
       return httplib::Server::HandlerResponse::Handled;
     }
-    if (req.headers.size() > kMaxHeaders) {
-      Send(res, JsonError(431, "the request has " + std::to_string(req.headers.size()) +
+    if (ClientHeaderCount(req) > kMaxHeaders) {
+      Send(res, JsonError(431, "the request has " + std::to_string(ClientHeaderCount(req)) +
                                    " header fields, more than the " + std::to_string(kMaxHeaders) +
                                    " napkin serve accepts."));
       return httplib::Server::HandlerResponse::Handled;
     }
     if (!token.empty() && req.path != "/healthz") {
-      const std::string authorization = req.get_header_value("Authorization");
-      constexpr std::string_view kBearer = "Bearer ";
-      if (!authorization.starts_with(kBearer) ||
-          !TokensEqual(std::string_view(authorization).substr(kBearer.size()), token)) {
+      if (!BearerTokenMatches(req, token)) {
         res.set_header("WWW-Authenticate", "Bearer");
         Send(res, JsonError(401,
                             "this napkin serve needs the header 'Authorization: Bearer TOKEN' with the "
@@ -354,6 +428,7 @@ void RunService(const ServeOptions& options) {
   });
   // Anything that reached no route (or a method other than GET): JSON, as every error.
   server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+    IgnoreRanges(req);  // a Range httplib could not parse (416) is applied to the error's body too
     if (!res.body.empty()) return;
     const int status = res.status;
     if (status == 404)
@@ -381,9 +456,10 @@ void RunService(const ServeOptions& options) {
       counters.Time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     };
   };
-  const auto params = [](const httplib::Request& req) {
-    return Params(req.params.begin(), req.params.end());
-  };
+  // From the raw target, not httplib's req.params: it splits a parameter at its last '=' (where=
+  // hic15>=700 lost its operator) and drops a parameter repeated with the same value (where limits
+  // counted fewer comparisons than the command line).
+  const auto params = [](const httplib::Request& req) { return ParseQuery(req.target); };
 
   server.Get("/healthz", route([](const httplib::Request&) {
                return Response{200, "application/json", "{\"status\":\"ok\"}\n"};
@@ -392,12 +468,23 @@ void RunService(const ServeOptions& options) {
   server.Get(
       R"(/api/v1/query/(hic|rotation|criteria|risk|tests|quality|conditioning))",
       route([&](const httplib::Request& req) { return api.Query(req.matches[1].str(), params(req)); }));
-  server.Get(R"(/api/v1/tests/(.+)/channels)", route([&](const httplib::Request& req) {
-               return api.Channels(req.matches[1].str(), params(req));
-             }));
-  server.Get(R"(/api/v1/tests/(.+))", route([&](const httplib::Request& req) {
-               if (!req.params.empty()) throw UsageError("this route takes no parameters.");
-               return api.TestSummary(req.matches[1].str());
+  // Routed on the raw target's segments, each decoded on its own: httplib matches the decoded path,
+  // where /api/v1/tests/T%2F11%2Fchannels was the channels of test T/11.
+  server.Get(R"(/api/v1/tests/.+)", route([&](const httplib::Request& req) {
+               const std::vector<std::string> segments = PathSegments(req.target);
+               // A decoded NUL or newline would cut or split the sentences that name the id.
+               if (segments.size() >= 4 && util::HasControlCharacter(segments[3]))
+                 throw UsageError("test id " + util::Quoted(segments[3]) +
+                                  " holds a control character, which no test id has.");
+               // api, v1, tests, ID[, channels]
+               if (segments.size() == 4 && !segments[3].empty()) {
+                 if (!params(req).empty()) throw UsageError("this route takes no parameters.");
+                 return api.TestSummary(segments[3]);
+               }
+               if (segments.size() == 5 && !segments[3].empty() && segments[4] == "channels")
+                 return api.Channels(segments[3], params(req));
+               return JsonError(404,
+                                "there is no route GET " + req.path + " (see docs/serve.md for the routes).");
              }));
   server.Get("/api/v1/report/version",
              route([&](const httplib::Request& req) { return api.ReportVersion(params(req)); }));
@@ -407,7 +494,7 @@ void RunService(const ServeOptions& options) {
                const Json status = {
                    {"service",
                     {{"version", napkin::Version()},
-                     {"listen", options.listen},
+                     {"listen", listening},
                      {"started",
                       std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
                      {"requests", counters.Total()}}},
@@ -432,6 +519,9 @@ void RunService(const ServeOptions& options) {
   if (port == 0)
     throw InputError("napkin serve cannot listen on " + options.listen +
                      " (the address is not this machine's, or the port is in use).");
+  // The address as bound (port 0: the port the system chose), for the status.
+  listening = (address.host.find(':') != std::string::npos ? "[" + address.host + "]" : address.host) + ":" +
+              std::to_string(port);
   spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, port,
                options.db_path, options.threads, token.empty() ? "" : ", bearer token required");
 

@@ -117,6 +117,33 @@ TEST_F(CorrelateCli, LsDynaExportReadBackAsModelRatesOne) {
   test_support::ExpectOneSentenceError(no_units, {"model file 'head.k'", "--model-units"});
 }
 
+// One keyword curve rated under two --model-units: two stored ratings, each saying its units
+// (issue 42, point 3: the second replaced the first and neither said which units it used).
+TEST_F(CorrelateCli, ModelUnitsArePartOfTheStoredRating) {
+  const std::string& test = foam_a_[1];
+  ASSERT_EQ(
+      Napkin({"export", "--test", test, "--format", "lsdyna", "--units", "si", "--out", "units.k"}).exit_code,
+      0);
+  for (const char* units : {"m,s,kg", "MM, s, kg"})
+    RateOne(
+        {"--test", test, "--channel", "omega_fixed_x_radps", "--model", "units.k:4", "--model-units", units});
+  const RunResult stored = Napkin(
+      {"query", "correlation", "--where", "test_id=" + test + " and model_file=units.k", "--format", "json"});
+  ASSERT_EQ(stored.exit_code, 0) << stored.err;
+  const json rows = json::parse(stored.out);
+  ASSERT_EQ(rows.size(), 2u) << rows.dump(2);
+  std::set<std::string> units;
+  for (const json& row : rows) units.insert(row.at("model_units").get<std::string>());
+  EXPECT_EQ(units, (std::set<std::string>{"m,s,kg", "mm,s,kg"}));
+  // A CSV model gives its own units: none stored.
+  ASSERT_EQ(Napkin({"export", "--test", test, "--format", "csv", "--out", "units.csv"}).exit_code, 0);
+  RateOne({"--test", test, "--channel", "acc_body_z_g", "--model", "units.csv"});
+  const RunResult csv = Napkin({"query", "correlation", "--where",
+                                "test_id=" + test + " and model_file=units.csv", "--format", "json"});
+  ASSERT_EQ(json::parse(csv.out).size(), 1u) << csv.out;
+  EXPECT_TRUE(json::parse(csv.out).at(0).at("model_units").is_null());
+}
+
 // The derived-channel CSV as the model: the column named like the channel is
 // taken; a model scaled by 3 has the scores of the formulas and rates
 // below 0.8, stored beside the others.
@@ -199,11 +226,11 @@ TEST_F(CorrelateCli, QueryCorrelationWhereSelectsTheRows) {
   // The columns of the contract (docs/formats.md "Correlation ratings"), in order.
   const RunResult csv = Napkin({"query", "correlation", "--limit", "1", "--format", "csv"});
   ASSERT_EQ(csv.exit_code, 0) << csv.err;
-  EXPECT_EQ(
-      test_support::Lines(csv.out).front(),
-      "test_id,series,variant,channel,reference_kind,reference,model_file,model_sha256,model_column,"
-      "reference_test,edition,start_s,end_s,corridor,phase,magnitude,slope,overall,grade,shift_s,config,"
-      "rated_at");
+  EXPECT_EQ(test_support::Lines(csv.out).front(),
+            "test_id,series,variant,channel,reference_kind,reference,model_file,model_sha256,model_column,"
+            "model_units,reference_test,edition,start_s,end_s,corridor,phase,magnitude,slope,overall,grade,"
+            "shift_s,config,"
+            "rated_at");
   // Rating again with the same reference and parameters replaces the row.
   RateOne({"--test", test, "--reference-test", foam_a_[0], "--channel", "acc_resultant_g"});
   const RunResult again = Napkin({"query", "correlation", "--format", "json"});

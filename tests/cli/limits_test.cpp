@@ -87,5 +87,40 @@ TEST(LimitsFiles, UnknownNamesAreUsageErrorsAndMalformedFilesInputErrors) {
   expect_input_error(R"({"name":"x","limits":[]})", "\"title\" must be a non-empty string");
 }
 
+// A limit is finite and plausible, and a key the file may not have is refused naming it (issue 42,
+// point 13: "max": 1e308 printed margins of +inf %, and "colour" was accepted silently).
+TEST(LimitsFiles, ImplausibleLimitsAndUnknownKeysAreRefusedNamingThem) {
+  test_support::TempDir dir;
+  const auto error_of = [&](const std::string& text) -> std::string {
+    const fs::path file = dir / "bad.json";
+    test_support::WriteText(file, text);
+    try {
+      LoadLimits(file.string(), kConfig);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string file = (dir / "bad.json").string();
+  const std::string head = R"({"name":"x","title":"t","applies_to":"a","source":"s","url":"u",)";
+  EXPECT_EQ(error_of(head + R"("limits":[{"metric":"hic15","max":1e308,"requirement":"r"}]})"),
+            "limits file " + file +
+                ": the \"max\" of metric 'hic15', 1e+308, is not a plausible limit (it must be from 1e-06 to "
+                "1e+06).");
+  EXPECT_NE(error_of(head + R"("limits":[{"metric":"hic15","max":1e-300,"requirement":"r"}]})")
+                .find("is not a plausible limit"),
+            std::string::npos);
+  EXPECT_EQ(
+      error_of(head + R"("colour":"red","limits":[{"metric":"hic15","max":700,"requirement":"r"}]})"),
+      "limits file " + file +
+          ": the file has the unknown key \"colour\" (it may give name, title, applies_to, source, url, "
+          "limits).");
+  EXPECT_EQ(error_of(head + R"("limits":[{"metric":"hic15","maximum":700,"max":700,"requirement":"r"}]})"),
+            "limits file " + file +
+                ": a limit has the unknown key \"maximum\" (it may give metric, max, requirement).");
+  // The presets and a plausible file still load.
+  EXPECT_EQ(error_of(head + R"("limits":[{"metric":"hic15","max":700,"requirement":"r"}]})"), "no error");
+}
+
 }  // namespace
 }  // namespace napkin::app

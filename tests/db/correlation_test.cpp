@@ -4,6 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <set>
+#include <utility>
+
 #include "common/error.h"
 #include "db/catalogue.h"
 #include "tests/db/db_test_helpers.h"
@@ -80,10 +84,10 @@ TEST_F(CorrelationTest, RoundTripsAndReplacesTheSameReference) {
   request.where.push_back(WhereExpression{WhereComparison{"overall", ComparisonOperator::kLess, 0.8}});
   const Table low = catalogue_.Query(QueryKind::kCorrelation, request);
   ASSERT_EQ(low.rows.size(), 2u);
-  EXPECT_EQ(std::get<double>(low.rows[0][17]),
+  EXPECT_EQ(std::get<double>(low.rows[0][18]),
             0.5);  // overall; ordered by test, channel, reference, ..., end_s
-  EXPECT_EQ(std::get<double>(low.rows[1][17]), 0.79);
-  EXPECT_EQ(low.columns[17], "overall");
+  EXPECT_EQ(std::get<double>(low.rows[1][18]), 0.79);
+  EXPECT_EQ(low.columns[18], "overall");
 }
 
 TEST_F(CorrelationTest, AResultComputedAgainDropsItsRatings) {
@@ -97,6 +101,102 @@ TEST_F(CorrelationTest, ATestWithoutThatResultIsRefused) {
   CorrelationRecord record = Model(0.5);
   record.test = other_;
   EXPECT_THROW(catalogue_.WriteCorrelation(record), InputError);
+}
+
+// The same curve rated under other model units is another rating, and says its units (issue 42,
+// point 3: the second replaced the first and neither said which units it used).
+TEST_F(CorrelationTest, OtherModelUnitsAreAnotherRatingThatSaysItsUnits) {
+  CorrelationRecord metres = Model(0.9);
+  metres.model_units = "m,s,kg";
+  metres.reference_key += ":units=m,s,kg";
+  CorrelationRecord millimetres = Model(0.3);
+  millimetres.model_units = "mm,s,kg";
+  millimetres.reference_key += ":units=mm,s,kg";
+  catalogue_.WriteCorrelation(metres);
+  catalogue_.WriteCorrelation(millimetres);
+  const std::vector<CorrelationRecord> read = catalogue_.ReadCorrelations(test_, config_);
+  ASSERT_EQ(read.size(), 2u);
+  std::set<std::optional<std::string>> units = {read[0].model_units, read[1].model_units};
+  EXPECT_EQ(units, (std::set<std::optional<std::string>>{"m,s,kg", "mm,s,kg"}));
+  const Table table = catalogue_.Query(QueryKind::kCorrelation);
+  ASSERT_EQ(table.columns[9], "model_units");
+  ASSERT_EQ(table.rows.size(), 2u);
+}
+
+// `merge` carries the shard's ratings with their identity, keeps the catalogue's own ratings of a
+// result the shard's newer one replaces, and merging again changes nothing (issue 42, point 2:
+// every rating of the shard was dropped, and so were the catalogue's of the replaced results).
+TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
+  test_support::TempDir dir;
+  const std::string main_path = (dir.path() / "main.db").string();
+  const std::string shard_path = (dir.path() / "shard.db").string();
+  double now = 1000.0;
+  CatalogueOptions options;
+  options.clock = [&now] { return now += 1.0; };
+  ConfigId config{};
+  TestId v1{}, v2{};
+  {
+    Catalogue base = Catalogue::Open(main_path, options);
+    const ArrayId array = base.WriteArray(test_support::IdealArray());
+    config = base.WriteConfig(test_support::DefaultConfig());
+    v1 = test_support::AddTest(base, array, "v0001");
+    v2 = test_support::AddTest(base, array, "v0002");
+    base.WriteResult(v1, config, {}, "exact");
+    base.WriteResult(v2, config, {}, "exact");
+  }
+  std::filesystem::copy_file(main_path, shard_path);
+  const auto rating = [&](TestId test, const std::string& units, double overall) {
+    CorrelationRecord record;
+    record.test = test;
+    record.config = config;
+    record.channel = "acc_resultant_g";
+    record.reference_kind = "model";
+    record.reference = "head.k:curve 4";
+    record.reference_key = "model:abc:curve 4:units=" + units;
+    record.model_file = "head.k";
+    record.model_sha256 = "abc";
+    record.model_column = "curve 4";
+    record.model_units = units;
+    record.edition = "2024";
+    record.end_s = 0.1;
+    record.overall = overall;
+    record.grade = "fair";
+    return record;
+  };
+  {
+    Catalogue shard = Catalogue::Open(shard_path, options);
+    shard.WriteResult(v1, config, {}, "exact");  // the same values computed again, later
+    shard.WriteCorrelation(rating(v1, "mm,s,kg", 0.3));
+    CorrelationRecord against = rating(v1, "", 0.95);
+    against.reference_kind = "test";
+    against.reference = "v0002";
+    against.reference_key = "test:v0002";
+    against.model_file = against.model_sha256 = against.model_column = against.model_units = std::nullopt;
+    against.reference_test = v2;
+    shard.WriteCorrelation(against);
+    shard.WriteCorrelation(rating(v2, "m,s,kg", 0.7));
+  }
+  Catalogue catalogue = Catalogue::Open(main_path, options);
+  catalogue.WriteCorrelation(rating(v1, "m,s,kg", 0.9));
+  const MergeReport merged = catalogue.MergeShard(shard_path);
+  EXPECT_EQ(merged.results_merged, 1);
+  EXPECT_EQ(merged.ratings_merged, 3);
+  const std::vector<CorrelationRecord> v1_ratings = catalogue.ReadCorrelations(v1, config);
+  ASSERT_EQ(v1_ratings.size(), 3u);
+  std::set<std::pair<std::string, double>> seen;  // reference key, overall
+  for (const CorrelationRecord& record : v1_ratings) seen.insert({record.reference_key, record.overall});
+  EXPECT_EQ(seen, (std::set<std::pair<std::string, double>>{{"model:abc:curve 4:units=m,s,kg", 0.9},
+                                                            {"model:abc:curve 4:units=mm,s,kg", 0.3},
+                                                            {"test:v0002", 0.95}}));
+  for (const CorrelationRecord& record : v1_ratings) {
+    if (record.reference_kind == "test") {
+      EXPECT_EQ(record.reference_test, v2);
+    }
+  }
+  ASSERT_EQ(catalogue.ReadCorrelations(v2, config).size(), 1u);
+  EXPECT_EQ(catalogue.ReadCorrelations(v2, config)[0].model_units, "m,s,kg");
+  EXPECT_EQ(catalogue.MergeShard(shard_path).ratings_merged, 0);
+  EXPECT_EQ(catalogue.ReadCorrelations(v1, config).size(), 3u);
 }
 
 }  // namespace

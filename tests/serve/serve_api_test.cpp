@@ -193,6 +193,107 @@ TEST_F(ServeApi, UnknownTestAndPathLikeIdsAre404sNamingTheId) {
   EXPECT_NE(ErrorOf(route).find("no route GET /etc/passwd"), std::string::npos);
 }
 
+// Each parameter is split at its first '=' only: the README's own filters hold one (issue 42, point
+// 8: httplib split at the last, so where=hic15>=0 became where=0 and answered 400).
+TEST_F(ServeApi, ParametersAreSplitAtTheirFirstEquals) {
+  for (const std::string& where : {std::string("hic15>=0"), std::string("variant=foam-a"),
+                                   std::string("series=padding-series and hic15>=0")}) {
+    const CommandResult cli = Napkin({"query", "hic", "--where", where, "--format", "json"});
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    ASSERT_GT(Json::parse(cli.out).size(), 0u) << where;
+    std::string target =
+        "/api/v1/query/hic?where=" + where;  // '=' and '>' unencoded, as a browser sends them
+    for (std::size_t at = target.find(' '); at != std::string::npos; at = target.find(' '))
+      target.replace(at, 1, "%20");
+    const httplib::Result result = Get(target);
+    ASSERT_TRUE(result);
+    EXPECT_EQ(result->status, 200) << where << ": " << result->body;
+    EXPECT_EQ(result->body, cli.out) << where;
+  }
+  // The same value percent-encoded is the same request.
+  EXPECT_EQ(Get("/api/v1/query/hic?where=variant%3Dfoam-a")->body,
+            Get("/api/v1/query/hic?where=variant=foam-a")->body);
+}
+
+// Repeated where parameters count as the command line's repeated --where: the same limit on the
+// comparisons (issue 42, point 10: httplib dropped a parameter repeated with the same value, so 501
+// comparisons answered 200 where the command line refuses them).
+TEST_F(ServeApi, RepeatedWhereParametersHaveTheCommandLinesLimits) {
+  std::vector<std::string> args = {"query", "hic", "--format", "json"};
+  std::string target = "/api/v1/query/hic?";
+  for (int i = 0; i < 501; ++i) {
+    args.insert(args.end(), {"--where", "hic15>0"});
+    target += (i ? "&" : "") + std::string("where=hic15>0");
+  }
+  const CommandResult cli = Napkin(args);
+  ASSERT_EQ(cli.exit_code, 2) << cli.err;
+  const httplib::Result result = Get(target);
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 400) << result->body.substr(0, 300);
+  EXPECT_EQ(ErrorOf(result), CliSentence(cli));
+  // Two repeated comparisons are still an answer.
+  EXPECT_EQ(Get("/api/v1/query/hic?where=hic15>0&where=hic15>0")->body,
+            Napkin({"query", "hic", "--where", "hic15>0", "--where", "hic15>0", "--format", "json"}).out);
+}
+
+// An encoded '/' stays inside the test id it is part of (issue 42, point 9: httplib routed the
+// decoded path, so /api/v1/tests/ID%2Fchannels answered the channels of test ID).
+TEST_F(ServeApi, AnEncodedSlashIsPartOfTheTestId) {
+  const std::string id = "padding-series-production-02";
+  const httplib::Result result = Get("/api/v1/tests/" + id + "%2Fchannels");
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 404) << result->body.substr(0, 300);
+  EXPECT_EQ(ErrorOf(result), "test '" + id + "/channels' is not in catalogue '" + db().string() + "'.");
+  const httplib::Result nested = Get("/api/v1/tests/" + id + "/channels/more");
+  EXPECT_EQ(nested->status, 404);
+  EXPECT_NE(ErrorOf(nested).find("no route GET"), std::string::npos) << nested->body;
+  EXPECT_EQ(Get("/api/v1/tests/" + id + "/channels")->status, 200);
+}
+
+// A Range header is ignored: every answer is the whole resource, never larger (issue 42, point 6:
+// 200 ranges gave a 200-part multipart answer, 136 MB from 0.68 MB).
+TEST_F(ServeApi, RangesAreIgnoredAndNoAnswerIsLargerThanTheResource) {
+  const std::string target = "/api/v1/tests/padding-series-production-02/channels?format=json";
+  const httplib::Result whole = Get(target);
+  ASSERT_TRUE(whole);
+  ASSERT_EQ(whole->status, 200);
+  std::string ranges = "bytes=0-";
+  for (int i = 1; i < 200; ++i) ranges += ",0-";
+  for (const std::string& range : {ranges, std::string("bytes=0-9"), std::string("bytes=5-1,0-")}) {
+    const httplib::Result answer = Get(target, {{"Range", range}});
+    ASSERT_TRUE(answer);
+    EXPECT_LE(answer->body.size(), whole->body.size()) << range.substr(0, 20);
+    EXPECT_FALSE(answer->has_header("Content-Range")) << range.substr(0, 20);
+    if (answer->status == 200) {
+      EXPECT_EQ(answer->body, whole->body) << range.substr(0, 20);
+    }
+  }
+  // A Range httplib cannot parse is its 416, whose error body is not copied once per range either.
+  std::string bad = "bytes=0-";
+  for (int i = 1; i < 200; ++i) bad += ",0-";
+  bad += ",9-1";
+  const httplib::Result refused = Get(target, {{"Range", bad}});
+  ASSERT_TRUE(refused);
+  EXPECT_LT(refused->body.size(), 400u) << refused->status;
+}
+
+// Small protocol points (issue 42, point 11): a decoded NUL in a test id is said whole, not cut; the
+// report version of a series without tests is a 400 as its report is; the status names the port
+// bound, not the 0 asked for.
+TEST_F(ServeApi, ControlCharactersUnknownSeriesAndTheBoundPortAreSaid) {
+  const httplib::Result nul = Get("/api/v1/tests/abc%00def");
+  ASSERT_TRUE(nul);
+  EXPECT_EQ(nul->status, 400);
+  EXPECT_EQ(ErrorOf(nul), "test id \"abc\\x00def\" holds a control character, which no test id has.");
+  const httplib::Result version = Get("/api/v1/report/version?series=nope");
+  ASSERT_TRUE(version);
+  EXPECT_EQ(version->status, 400) << version->body;
+  EXPECT_EQ(ErrorOf(version), CliSentence(Napkin({"report", "--series", "nope", "--out", "-"})));
+  EXPECT_EQ(Get("/api/v1/report/version?series=padding-series")->status, 200);
+  const Json status = Json::parse(Get("/api/v1/status")->body);
+  EXPECT_EQ(status.at("service").at("listen"), "127.0.0.1:" + std::to_string(serve_->port()));
+}
+
 TEST_F(ServeApi, ChannelsCsvIsExportsFileAndJsonHoldsTheSameNumbers) {
   const std::string id = "padding-series-production-02";
   const CommandResult cli = Napkin({"export", "--test", id, "--format", "csv", "--out", "channels.csv"});

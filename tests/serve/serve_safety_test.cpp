@@ -5,6 +5,7 @@
 #include <netinet/in.h>
 #include <sqlite3.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,6 +27,27 @@ namespace napkin::test_support {
 namespace {
 
 using Json = nlohmann::json;
+
+// Sends `request` as it is on a new loopback connection to `port` and reads the answer until the
+// service closes the connection (the request asks for it) or 10 s pass.
+std::string RawExchange(int port, const std::string& request) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  timeval timeout{10, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  std::string answer;
+  if (connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0 &&
+      send(fd, request.data(), request.size(), 0) == static_cast<ssize_t>(request.size())) {
+    char buffer[4096];
+    for (ssize_t n; (n = recv(fd, buffer, sizeof buffer, 0)) > 0;)
+      answer.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fd);
+  return answer;
+}
 
 class ServeSafety : public ::testing::Test {
  protected:
@@ -68,6 +90,56 @@ TEST_F(ServeSafety, ShortTokenFileIsRefused) {
   EXPECT_NE(run.err.find("holds a token shorter than 16 characters"), std::string::npos) << run.err;
 }
 
+// A token file is a regular file of bounded size, opened without blocking, that only its owner may
+// write; one others may read is warned about (issue 42, point 7: /dev/zero was read until 2.2 GB, a
+// FIFO blocked the start forever, a folder was "cannot be read").
+TEST_F(ServeSafety, TokenFilesThatAreNotPrivateRegularFilesAreRefused) {
+  const std::string token = "d2hhdCBhIGxvbmcgcmFuZG9tIHRva2Vu\n";
+  const fs::path fifo = dir_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path writable = dir_ / "writable";
+  WriteText(writable, token);
+  fs::permissions(writable, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_write);
+  const fs::path large = dir_ / "large";
+  WriteText(large, std::string(5000, 'x'));
+  fs::permissions(large, fs::perms::owner_read | fs::perms::owner_write);
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"/dev/zero", "--token-file '/dev/zero' is not a regular file"},
+      {fifo.string(), "--token-file '" + fifo.string() + "' is not a regular file"},
+      {dir_.path().string(), "--token-file '" + dir_.path().string() + "' is a folder"},
+      {writable.string(),
+       "--token-file '" + writable.string() + "' may be written by other users (mode 0620)"},
+      {large.string(), "--token-file '" + large.string() + "' is 5000 bytes, more than the 4096"}};
+  for (const auto& [file, sentence] : refused) {
+    const auto start = std::chrono::steady_clock::now();
+    ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--token-file", file});
+    EXPECT_EQ(serve.port(), 0) << file;
+    EXPECT_EQ(serve.exit_code(), 1) << file << "\n" << serve.log();
+    const std::string log = serve.log();
+    EXPECT_NE(log.find(sentence), std::string::npos) << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20)) << file;
+  }
+  // Readable by others: it starts, and says so.
+  const fs::path readable = dir_ / "readable";
+  WriteText(readable, token);
+  fs::permissions(readable, fs::perms::owner_read | fs::perms::owner_write | fs::perms::others_read);
+  {
+    ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--token-file", readable.string()});
+    ASSERT_GT(serve.port(), 0) << serve.log();
+    EXPECT_NE(
+        serve.log().find("--token-file '" + readable.string() + "' may be read by other users (mode 0604)"),
+        std::string::npos)
+        << serve.log();
+    EXPECT_EQ(serve.Stop(), 0);
+  }
+  fs::permissions(readable, fs::perms::owner_read | fs::perms::owner_write);
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0", "--token-file", readable.string()});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  EXPECT_EQ(serve.log().find("may be read by other users"), std::string::npos) << serve.log();
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
 TEST_F(ServeSafety, TokenGuardsEveryRouteButHealthz) {
   const std::string token = "d2hhdCBhIGxvbmcgcmFuZG9tIHRva2Vu";
   std::ofstream(dir_ / "token") << token << "\n";
@@ -90,6 +162,49 @@ TEST_F(ServeSafety, TokenGuardsEveryRouteButHealthz) {
   EXPECT_EQ(right->status, 200);
   EXPECT_EQ(right->body, "[]\n");
   EXPECT_EQ(client->Get("/metrics")->status, 401);
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
+// The scheme is case-insensitive (RFC 9110), and the whole field is the token: nothing after a NUL
+// passes (issue 42, point 11: "bearer" was refused, "Bearer TOKEN\0junk" accepted).
+TEST_F(ServeSafety, BearerSchemeInAnyCaseAndNoTrailingBytesAfterTheToken) {
+  const std::string token = "d2hhdCBhIGxvbmcgcmFuZG9tIHRva2Vu";
+  WriteText(dir_ / "token", token + "\n");
+  fs::permissions(dir_ / "token", fs::perms::owner_read | fs::perms::owner_write);
+  ServeProcess serve(dir_.path(), db(),
+                     {"--listen", "127.0.0.1:0", "--token-file", (dir_ / "token").string()});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  const auto status_of = [&](const std::string& authorization) {
+    const std::string answer = RawExchange(serve.port(),
+                                           "GET /api/v1/tests HTTP/1.1\r\nHost: localhost\r\n"
+                                           "Connection: close\r\nAuthorization: " +
+                                               authorization + "\r\n\r\n");
+    return answer.substr(0, answer.find("\r\n"));
+  };
+  EXPECT_EQ(status_of("Bearer " + token), "HTTP/1.1 200 OK");
+  EXPECT_EQ(status_of("bearer " + token), "HTTP/1.1 200 OK");
+  EXPECT_EQ(status_of("BEARER " + token), "HTTP/1.1 200 OK");
+  EXPECT_EQ(status_of("Bearer " + token + std::string(1, '\0') + "junk"), "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(status_of("Bearer " + token.substr(0, 16) + std::string(1, '\0') + token.substr(16)),
+            "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(serve.Stop(), 0);
+}
+
+// The header limit counts the client's fields only (issue 42, point 11: httplib's four entries of
+// the connection's addresses were counted too, so 97 fields were "101").
+TEST_F(ServeSafety, TheHeaderLimitCountsTheClientsFields) {
+  ServeProcess serve(dir_.path(), db(), {"--listen", "127.0.0.1:0"});
+  ASSERT_GT(serve.port(), 0) << serve.log();
+  const auto request_with = [](int fields) {
+    std::string request = "GET /healthz HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n";
+    for (int i = 2; i < fields; ++i) request += "X-Field-" + std::to_string(i) + ": v\r\n";
+    return request + "\r\n";
+  };
+  const std::string hundred = RawExchange(serve.port(), request_with(100));
+  EXPECT_EQ(hundred.rfind("HTTP/1.1 200", 0), 0u) << hundred;
+  const std::string more = RawExchange(serve.port(), request_with(101));
+  EXPECT_EQ(more.rfind("HTTP/1.1 431", 0), 0u) << more;
+  EXPECT_NE(more.find("the request has 101 header fields"), std::string::npos) << more;
   EXPECT_EQ(serve.Stop(), 0);
 }
 
