@@ -443,6 +443,12 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
   for (const auto& [group, members] : results_by_group)
     if (group != comparison.baseline) comparison.groups.push_back(group);
 
+  for (const std::string& group : comparison.groups) {
+    const std::vector<const db::LabelledResult*>& members = results_by_group.at(group);
+    comparison.tests_per_group.push_back(members.size());
+    comparison.salvaged_per_group.push_back(static_cast<std::size_t>(std::count_if(
+        members.begin(), members.end(), [](const db::LabelledResult* result) { return result->salvaged; })));
+  }
   comparison.scale = request.scale;
   comparison.equivalence_pct = request.equivalence_pct;
   if (limits) comparison.limits_name = limits->name;

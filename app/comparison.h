@@ -170,6 +170,10 @@ struct Comparison {
   std::string baseline;
   std::vector<std::string> groups;  // the baseline, then the others in name order
   std::vector<MetricComparison> metrics;
+  // Per group (in `groups` order): its tests, and those whose result comes
+  // from salvaged channels (docs/algorithms.md "Faulty channels").
+  std::vector<std::size_t> tests_per_group;
+  std::vector<std::size_t> salvaged_per_group;
   // The short name of the limits checked ("FMVSS 201U"), when asked for.
   std::optional<std::string> limits_name;
 };

@@ -120,6 +120,7 @@ struct LabelledResult {
   std::string config_name;
   std::string config_hash;
   engine::TestSummary summary;  // the summary fields; findings are not read
+  bool salvaged = false;        // the result comes from salvaged channels (result_salvage)
 };
 
 // Which results ReadResults returns: each test's most recently written one

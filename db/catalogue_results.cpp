@@ -425,7 +425,10 @@ std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, Res
   const std::string source = selection == ResultSelection::kLatest ? "v_latest_results" : "results";
   auto select =
       connection_.Prepare("SELECT t.external_id, t.variant, c.id, c.name, c.config_hash, " +
-                          SummaryColumnList("r.") + " FROM " + source +
+                          SummaryColumnList("r.") +
+                          ", EXISTS (SELECT 1 FROM result_salvage AS rs WHERE rs.test_id = r.test_id AND "
+                          "rs.config_id = r.config_id) FROM " +
+                          source +
                           " AS r JOIN tests AS t ON t.id = r.test_id JOIN configs AS c ON c.id = r.config_id "
                           "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
                           internal::kTestFilterTerms + " ORDER BY t.external_id, c.id");
@@ -439,6 +442,7 @@ std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, Res
     result.config_name = select->ColumnText(3);
     result.config_hash = select->ColumnText(4);
     ReadSummaryFields(*select, 5, result.summary);
+    result.salvaged = select->ColumnInt64(5 + static_cast<int>(engine::SummaryFields().size())) != 0;
   }
   return results;
 }

@@ -653,6 +653,24 @@ bool DepartsAsFault(const Sensor& sensor, const Departure& departure, const Scre
   return departure.first >= 0 && departure.largest > floor && departure.largest > kFaultSigmas * departure.sigma;
 }
 
+// Over the fault's interval, how many times smaller the rigid-body residual
+// is without the channel: a broken channel leaves the others consistent to
+// their noise there (tens to thousands of times smaller), a geometry that
+// is only approximately right (nominal positions) spreads its misfit over
+// every channel and improves about 2-fold.
+constexpr double kFaultWindowImprovement = 4.0;
+
+bool WindowExplains(const Eigen::VectorXd& recorded_residual, const Eigen::VectorXd& without_residual,
+                    const Departure& departure) {
+  if (departure.first < 0 || recorded_residual.size() != without_residual.size() ||
+      departure.last >= recorded_residual.size())
+    return false;
+  const Index length = departure.last - departure.first + 1;
+  const double with = recorded_residual.segment(departure.first, length).squaredNorm();
+  const double without = without_residual.segment(departure.first, length).squaredNorm();
+  return !std::isfinite(with) || without * kFaultWindowImprovement * kFaultWindowImprovement <= with;
+}
+
 Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& partner,
                      const TestSignals& signals, const Kinematics& kinematics_without, double recorded_rms,
                      double without_rms, const ScreeningConfig& config) {
@@ -864,7 +882,9 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
                                                                  departure.largest, 0.0, departure.predicted_peak},
                                                config) &&
                                 ExplainsFault(residual.rms_mps2, fit.rms);
-      if ((DepartsAsFault(sensor, departure, config) || whole_record) &&
+      if (((DepartsAsFault(sensor, departure, config) &&
+            WindowExplains(exact_kinematics.residual, without.residual, departure)) ||
+           whole_record) &&
           !ExplainAsOffset(sensor, conditioned_signals, without, config)) {
         best = FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms, config);
         best_rms = fit.rms;
@@ -912,11 +932,13 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   // A zero offset stays the bias warning (conditioning's bias removal is its
   // remedy), a flip or swap its own error finding.
   if (!flip_or_swap && !offset_found) {
-    const bool single = culprit && (ExplainsFault(residual.rms_mps2, culprit->rms_mps2) ||
-                                    DepartsAsFault(*culprit->sensor,
-                                                   DepartureOf(*culprit->sensor, conditioned_signals,
-                                                               culprit->kinematics, config),
-                                                   config));
+    bool single = culprit && ExplainsFault(residual.rms_mps2, culprit->rms_mps2);
+    if (culprit && !single) {
+      const Departure departure =
+          DepartureOf(*culprit->sensor, conditioned_signals, culprit->kinematics, config);
+      single = DepartsAsFault(*culprit->sensor, departure, config) &&
+               WindowExplains(exact_kinematics.residual, culprit->kinematics.residual, departure);
+    }
     // Two broken channels: no single omission leaves a rigid body (the
     // residual without the best single channel still peaks above the
     // search's threshold), one pair's omission does, 10-fold better.

@@ -63,7 +63,7 @@ TEST_F(SchemaTest, SummaryViewsShowTheFieldsOfTheirGroup) {
   const std::vector<std::string> rotation = engine::SummaryFieldNames(SummaryGroup::kRotation);
   EXPECT_EQ(Columns(*connection_, "v_hic"), Concatenated(labels, {hic}));
   EXPECT_EQ(Columns(*connection_, "v_rotation"), Concatenated(labels, {rotation}));
-  EXPECT_EQ(Columns(*connection_, "v_criteria"), Concatenated(labels, {hic, rotation}));
+  EXPECT_EQ(Columns(*connection_, "v_criteria"), Concatenated(labels, {hic, rotation, {"salvaged"}}));
   EXPECT_EQ(Columns(*connection_, "v_risk"),
             Concatenated(labels, {engine::SummaryFieldNames(SummaryGroup::kRisk)}));
 }

@@ -370,11 +370,20 @@ TEST(Verdict, FirstErrorFindingFailsTheTest) {
   const synth::SyntheticTest clean = RandomTest(test_support::NapArs12(), 3);
   EXPECT_EQ(FailingFinding(ProcessTest(clean.array, clean.signals, clean.initial, {})), nullptr);
 
+  // A spike the rigid body pins on one channel is a faulty channel (issue 41):
+  // the spike warning and a `fault` error; salvage repairs it.
   synth::SyntheticTest spiked = clean;
   Column(spiked, "yarm_z")(700) += 100.0;  // g
   const ProcessedTest warned = ProcessTest(spiked.array, spiked.signals, spiked.initial, {});
   ExpectOnly(warned.summary.findings, "spike", {"yarm_z"}, Severity::kWarning, "spike on yarm_z");
-  EXPECT_EQ(FailingFinding(warned), nullptr) << DescribeFindings(warned.summary.findings);
+  ASSERT_NE(FailingFinding(warned), nullptr) << DescribeFindings(warned.summary.findings);
+  EXPECT_EQ(FailingFinding(warned)->check, "fault");
+  EXPECT_EQ(FailingFinding(warned)->channel, "yarm_z");
+  ProcessingConfig repair;
+  repair.screening.salvage = SalvageMode::kRepair;
+  const ProcessedTest repaired = ProcessTest(spiked.array, spiked.signals, spiked.initial, repair);
+  EXPECT_EQ(FailingFinding(repaired), nullptr) << DescribeFindings(repaired.summary.findings);
+  EXPECT_TRUE(repaired.summary.salvage.has_value());
 
   synth::SyntheticTest flipped = clean;
   Column(flipped, "yarm_z") *= -1.0;
