@@ -659,6 +659,10 @@ bool DepartsAsFault(const Sensor& sensor, const Departure& departure, const Scre
 // is only approximately right (nominal positions) spreads its misfit over
 // every channel and improves about 2-fold.
 constexpr double kFaultWindowImprovement = 4.0;
+// ... and over the whole record at least this many times smaller (a sensor
+// whose declared position is off departs at every fast rotation, improving
+// the record less than 2-fold).
+constexpr double kFaultRecordImprovement = 2.0;
 
 bool WindowExplains(const Eigen::VectorXd& recorded_residual, const Eigen::VectorXd& without_residual,
                     const Departure& departure) {
@@ -668,7 +672,11 @@ bool WindowExplains(const Eigen::VectorXd& recorded_residual, const Eigen::Vecto
   const Index length = departure.last - departure.first + 1;
   const double with = recorded_residual.segment(departure.first, length).squaredNorm();
   const double without = without_residual.segment(departure.first, length).squaredNorm();
-  return !std::isfinite(with) || without * kFaultWindowImprovement * kFaultWindowImprovement <= with;
+  if (!std::isfinite(with)) return true;
+  const double record_with = recorded_residual.squaredNorm();
+  const double record_without = without_residual.squaredNorm();
+  return without * kFaultWindowImprovement * kFaultWindowImprovement <= with &&
+         record_without * kFaultRecordImprovement * kFaultRecordImprovement <= record_with;
 }
 
 Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& partner,

@@ -63,7 +63,9 @@ def test_query_frame_numbers_are_float64_and_missing_values_nan(demo_catalogue, 
     numeric = {name for name, field in napkin.SUMMARY_FIELDS.items()} | {
         "filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s",
         # query correlation (docs/formats.md "Correlation ratings")
-        "start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall", "shift_s"}
+        "start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall", "shift_s",
+        # query tests and criteria: 1 for a salvaged result (docs/formats.md "Salvage record")
+        "salvaged"}
     for column in frame.columns:
         if column in numeric:
             assert frame[column].dtype == np.float64, (kind, column)

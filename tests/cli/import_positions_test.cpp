@@ -60,7 +60,7 @@ TEST_F(CliImportPositions, EachDummyHeadIsATestAndTheTestsQueryShowsItsInformati
   EXPECT_EQ(
       lines[0],
       "test_id,series,variant,array,source_path,content_hash,imported_at,position,test_number,title,vehicle,"
-      "dummy,test_date,laboratory");
+      "dummy,test_date,laboratory,salvaged");
   EXPECT_EQ(lines[1].rfind("MD0001/13,", 0), 0U);
   EXPECT_EQ(lines[2].rfind("MD0001/11,", 0), 0U);
 }

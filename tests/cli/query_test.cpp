@@ -94,6 +94,7 @@ TEST_F(CliQuery, RotationAndCriteriaJsonFields) {
 
   std::vector<std::string> criteria_fields = kHicFields;
   criteria_fields.insert(criteria_fields.end(), kRotationFields.begin() + 3, kRotationFields.end());
+  criteria_fields.push_back("salvaged");
   const nlohmann::ordered_json criteria = QueryJson({"criteria"});
   ASSERT_EQ(criteria.size(), 2u);
   EXPECT_EQ(Keys(criteria[1]), criteria_fields);
@@ -115,7 +116,7 @@ TEST_F(CliQuery, SeriesAndVariantFilterTheTests) {
   EXPECT_EQ(Keys(tests[0]),
             (std::vector<std::string>{"test_id", "series", "variant", "array", "source_path", "content_hash",
                                       "imported_at", "position", "test_number", "title", "vehicle", "dummy",
-                                      "test_date", "laboratory"}));
+                                      "test_date", "laboratory", "salvaged"}));
   EXPECT_EQ(tests[0]["array"], "denton-3222");
   EXPECT_EQ(tests[0]["source_path"], (dir_ / "q3.csv").string());
 }
