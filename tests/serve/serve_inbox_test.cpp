@@ -433,6 +433,29 @@ TEST_F(ServeInbox, ScreeningFailureIsShownAndNotRetried) {
   EXPECT_EQ(serve->Stop(), 0);
 }
 
+// The log line of a run counts every test it processed, a failed one too (issue 42, point 11: two
+// tests, one failing screening, were "processed 1 tests").
+TEST_F(ServeInbox, TheProcessedLineCountsFailedTestsToo) {
+  const auto serve = Serve({"--settle", "3600"});  // only the markers import: both in one look
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  synth::SyntheticTest test = SynthNapTest(150);
+  auto clipped = test.signals.samples.col(test.signals.FindSlot("cg_z"));
+  const double clip = 0.5 * clipped.cwiseAbs().maxCoeff();
+  clipped = clipped.cwiseMax(-clip).cwiseMin(clip);
+  fs::create_directories(inbox_ / "sled" / "a");
+  formats::WriteSignalsCsv(test.signals, inbox_ / "sled" / "a" / "clipped.csv");
+  WriteTest(inbox_ / "sled" / "a" / "clean.csv", 151);
+  WriteText(inbox_ / "sled" / "a" / "clipped.ready", "");
+  WriteText(inbox_ / "sled" / "a" / "clean.ready", "");
+  WaitFor(*serve, "/api/v1/status", [](const Json& s) {
+    return s.at("inbox").at("failed") == 1 && s.at("inbox").at("processed") == 1;
+  });
+  const std::string log = serve->log();
+  EXPECT_NE(log.find("processed 2 tests from the inbox in "), std::string::npos) << log;
+  EXPECT_NE(log.find(" s: 1 with a result, 1 failed"), std::string::npos) << log;
+  EXPECT_EQ(serve->Stop(), 0);
+}
+
 TEST_F(ServeInbox, RemovedBeforeSettlingIsSaid) {
   const auto serve = Serve({"--settle", "3600", "--poll", "0.2"});
   ASSERT_GT(serve->port(), 0) << serve->log();
