@@ -347,6 +347,14 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
                        CurveNames(curves) + ".");
   }
   formats::ModelCurve curve = *chosen;
+  // A CSV column says its quantity by its unit; without one it is no channel's quantity (it was
+  // taken for an angle, the quantity without dimension).
+  if (format == ModelFormat::kCsv && !formats::ModelCsvColumnHasUnit(curve.name))
+    throw InputError(ModelFile(path) + " column '" + util::EscapeControl(curve.name) +
+                     "' names no unit, so its quantity is unknown; end its name in one of " +
+                     formats::ModelCsvUnitSuffixes() + " (e.g. " + util::EscapeControl(curve.name) +
+                     std::string(UnitOfChannel(channel.name) ? UnitOfChannel(channel.name)->suffix : "_g") +
+                     ").");
   // A flat curve has no shape to rate (its phase is 1.0 for any test): refused, not graded.
   if (curve.series.values.size() > 0 && curve.series.values.maxCoeff() == curve.series.values.minCoeff())
     throw InputError(ModelFile(path) + " curve '" + util::EscapeControl(curve.name) + "' is constant (" +

@@ -169,6 +169,12 @@ TEST_F(CorrelateCli, RatingsThatMeanNothingAreRefusedInOneSentence) {
   EXPECT_EQ(units.exit_code, 2);
   test_support::ExpectOneSentenceError(units, {"is a CSV, whose header gives its units"});
 
+  test_support::WriteText(dir_->path() / "unitless.csv", "time_s,head\n0,0\n0.05,40\n0.1,0\n");
+  const RunResult unitless = run({"--model", "unitless.csv"});
+  EXPECT_EQ(unitless.exit_code, 1);
+  test_support::ExpectOneSentenceError(unitless, {"column 'head' names no unit", "(e.g. head_g)"});
+  EXPECT_EQ(unitless.err.find("an angle"), std::string::npos) << unitless.err;
+
   test_support::WriteText(dir_->path() / "flat.csv", "time_s,flat_g\n0,0\n0.05,0\n0.1,0\n");
   const RunResult flat = run({"--model", "flat.csv"});
   EXPECT_EQ(flat.exit_code, 1);
