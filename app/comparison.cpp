@@ -13,6 +13,7 @@
 #include "app/result_selection.h"
 #include "common/error.h"
 #include "common/joined.h"
+#include "db/job_queue.h"
 #include "engine/summary_fields.h"
 #include "ingest/import.h"
 #include "util/text.h"
@@ -174,12 +175,6 @@ std::string PowerText(double n) {
 
 std::string Number(double value) { return std::isfinite(value) ? fmt::format("{:.6g}", value) : "-"; }
 
-std::string PValue(double p) {
-  if (!std::isfinite(p)) return "-";
-  if (p < 1e-4) return "p<0.0001";
-  return fmt::format("p={:.2g}", p);
-}
-
 // "-23.1 % [-31.0, -15.2] p=0.0004": the change and its interval in % of
 // the baseline (on the log scale: of its geometric mean), or the difference
 // in the metric's unit when the baseline mean is 0.
@@ -195,7 +190,7 @@ std::string DifferenceText(const ComparisonRow& row, CompareBy by) {
     text += fmt::format(" [{:+.1f}, {:+.1f}]", row.pct_ci_low, row.pct_ci_high);
   else
     text += fmt::format(" [{:+.4g}, {:+.4g}]", d.ci_low, d.ci_high);
-  return text + "  " + PValue(d.p_value) + paired;
+  return text + "  " + ComparisonPValueText(d.p_value) + paired;
 }
 
 // "-33/+49 %": the smallest fall and rise these tests detect with 80 % power.
@@ -213,7 +208,7 @@ std::string DetectableText(const ComparisonRow& row) {
 std::string EquivalenceText(const ComparisonRow& row) {
   const double p = row.equivalence.p_value;
   if (row.is_baseline || !std::isfinite(p)) return "-";
-  return (p < engine::kEquivalenceAlpha ? "yes " : "no ") + PValue(p);
+  return (p < engine::kEquivalenceAlpha ? "yes " : "no ") + ComparisonPValueText(p);
 }
 
 // What the block of a metric compares: its scale.
@@ -353,6 +348,15 @@ std::vector<std::string> DefaultComparisonMetrics() {
   return metrics;
 }
 
+std::string ComparisonPValueText(double p) {
+  if (!std::isfinite(p)) return "-";
+  if (p < 1e-4) return "p<0.0001";
+  const std::string text = fmt::format("p={:.2g}", p);
+  // Two digits round 0.99993 to 1, which a p below 1 is not.
+  if (p < 1.0 && text == "p=1") return "p>0.99";
+  return text;
+}
+
 Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request) {
   if (!catalogue.ReadSeries(request.series)) {
     std::vector<std::string> names;
@@ -387,10 +391,22 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
     std::erase_if(results, [&](const db::LabelledResult& result) {
       return config_ids.count(static_cast<std::int64_t>(result.config_id)) == 0;
     });
-  if (results.empty())
+  if (results.empty()) {
+    // After a run whose tests all failed, "run `napkin run` first" would send the reader in a circle.
+    db::JobScope scope;
+    scope.tests = filter;
+    std::int64_t failed = 0;
+    for (const db::VersionCount& count : db::JobQueue(catalogue).ReadVersionCounts(scope))
+      failed += count.failed;
+    if (failed > 0)
+      throw InputError("series '" + request.series + "' has no results" +
+                       (request.configs.empty() ? "" : " under the chosen config") + ": " +
+                       (failed == 1 ? "its test failed" : "its " + std::to_string(failed) + " tests failed") +
+                       " processing; `napkin status` lists the failures with their reasons.");
     throw InputError("series '" + request.series + "' has no results" +
                      (request.configs.empty() ? "" : " under the chosen config") +
                      ": run `napkin run` first.");
+  }
 
   // Config names shared by two compared configs get a hash suffix.
   std::set<std::string> shared_names;

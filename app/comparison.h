@@ -187,6 +187,10 @@ struct Comparison {
 // tests); metrics named in request.metrics are always kept.
 Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request);
 
+// A p-value as compare's table shows it: "p=0.041", "p<0.0001", and "p>0.99" for a p that two
+// digits would round to 1.
+std::string ComparisonPValueText(double p);
+
 // The comparison of one metric from each group's values (baseline first),
 // as BuildComparison makes it; by config the groups' test ids pair the values.
 MetricComparison CompareMetric(const std::string& metric, std::vector<GroupValues> groups, CompareBy by,

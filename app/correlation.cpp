@@ -59,6 +59,38 @@ std::string ModelFile(const std::string& path) { return "model file '" + util::E
 // What a model file holds, told by its first 64 KiB: an LS-DYNA keyword
 // file (a line starting with '*'), a nodout (its block title), else a CSV.
 enum class ModelFormat { kCsv, kKeyword, kNodout };
+// The resultant of node COLUMN ("1001" or "node 1001") of a nodout for resultant channel
+// `channel` (acceleration, angular velocity or angular acceleration): the magnitude of the node's
+// x, y and z columns of that quantity, on their common times. nullopt when COLUMN is no node of
+// the file or the channel is not a resultant.
+std::optional<formats::ModelCurve> NodeResultant(const std::vector<formats::ModelCurve>& curves,
+                                                 const std::string& column, const std::string& channel) {
+  const char* quantity = channel == "acc_resultant_g"          ? "accl"
+                         : channel == "omega_resultant_radps"  ? "rot-vel"
+                         : channel == "alpha_resultant_radps2" ? "rot-acc"
+                                                               : nullptr;
+  if (quantity == nullptr) return std::nullopt;
+  const std::string node = column.starts_with("node ") ? column.substr(5) : column;
+  const formats::ModelCurve* axes[3] = {nullptr, nullptr, nullptr};
+  for (const formats::ModelCurve& curve : curves)
+    for (int axis = 0; axis < 3; ++axis)
+      if (curve.name == "node " + node + " " + std::string(1, static_cast<char>('x' + axis)) + "-" + quantity)
+        axes[axis] = &curve;
+  if (!axes[0] || !axes[1] || !axes[2]) return std::nullopt;
+  const engine::TimeSeries& x = axes[0]->series;
+  const engine::TimeSeries& y = axes[1]->series;
+  const engine::TimeSeries& z = axes[2]->series;
+  // The columns of one block kind share its times (formats::ReadNodout).
+  if (x.time_s.size() != y.time_s.size() || x.time_s.size() != z.time_s.size()) return std::nullopt;
+  formats::ModelCurve curve;
+  curve.name = "node " + node + " resultant " + quantity;
+  curve.dimension = axes[0]->dimension;
+  curve.series.time_s = x.time_s;
+  curve.series.values =
+      (x.values.array().square() + y.values.array().square() + z.values.array().square()).sqrt();
+  return curve;
+}
+
 ModelFormat SniffModelFormat(const formats::ModelFile& file) {
   const std::string_view head = std::string_view(file.bytes).substr(0, 64 * 1024);
   if (head.find("n o d a l   p r i n t") != std::string_view::npos) return ModelFormat::kNodout;
@@ -128,6 +160,28 @@ RatingRow RateChannel(const std::string& test_id, const RatingOptions& options,
                      " has fewer than 2 samples.");
   row.start_s = options.start_s.value_or(std::max(first(reference), first(candidate)));
   row.end_s = options.end_s.value_or(std::min(last(reference), last(candidate)));
+  if (!options.start_s && !options.end_s) {
+    const auto span = [](const engine::TimeSeries& s) {
+      return "from " + util::FormatNumber(s.time_s(0), 4) + " to " +
+             util::FormatNumber(s.time_s(s.time_s.size() - 1), 4) + " s";
+    };
+    // Curves apart in time (a model read in the wrong --model-units): said as such, not as the
+    // number of samples an empty interval holds.
+    if (!(row.end_s > row.start_s))
+      throw InputError(candidate_name + " runs " + span(candidate) + " and " + reference_name + " " +
+                       span(reference) +
+                       ": the curves do not overlap in time, so there is nothing to rate (for an LS-DYNA "
+                       "model: are its --model-units right?).");
+    // A short curve rated over its own few milliseconds says little about the reference's whole
+    // interval: refused unless --start and --end ask for that interval.
+    const double coverage = (row.end_s - row.start_s) / (last(reference) - first(reference));
+    if (coverage < kMinCurveCoverage)
+      throw InputError(candidate_name + " runs " + span(candidate) + ", which covers " +
+                       util::FormatNumber(100.0 * coverage, 2) + " % of " + reference_name + " (" +
+                       span(reference) + "), less than the " + util::FormatNumber(100.0 * kMinCurveCoverage) +
+                       " % a rating over the common span needs; give --start and --end to rate that "
+                       "interval anyway.");
+  }
   row.rating = engine::Iso18571RateCurves(reference, candidate, {row.start_s, row.end_s},
                                           engine::Iso18571Parameters::ForEdition(options.edition),
                                           reference_name, candidate_name);
@@ -250,6 +304,9 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
   const std::string path = file.path.string();
   CheckModelUnitsGiven(file, units);
   const ModelFormat format = SniffModelFormat(file);
+  if (format == ModelFormat::kCsv && units)
+    throw UsageError("--model-units is for LS-DYNA files, whose numbers carry no units, but " +
+                     ModelFile(path) + " is a CSV, whose header gives its units; leave --model-units out.");
   std::optional<formats::ModelUnits> model_units;
   if (units) model_units = formats::ParseModelUnits(*units, "--model-units");
   const std::vector<formats::ModelCurve> curves = format == ModelFormat::kCsv ? formats::ReadModelCsv(file)
@@ -257,13 +314,25 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
                                                       ? formats::ReadLsDynaCurves(file, *model_units)
                                                       : formats::ReadNodout(file, *model_units);
   if (curves.empty()) throw InputError(ModelFile(path) + " holds no curve.");
+  std::optional<formats::ModelCurve> resultant;  // a node's resultant, when COLUMN asks for one
   const formats::ModelCurve* chosen = nullptr;
   if (!column.empty()) {
+    std::vector<std::string> named;  // every curve the name fits: more than one is ambiguous
     for (const formats::ModelCurve& curve : curves)
       if (CurveNamed(curve.name, column)) {
-        chosen = &curve;
-        break;
+        if (chosen == nullptr) chosen = &curve;
+        named.push_back("'" + util::EscapeControl(curve.name) + "'");
       }
+    if (named.size() > 1)
+      throw InputError(ModelFile(path) + " has " + std::to_string(named.size()) + " curves named '" +
+                       util::EscapeControl(column) + "' (" + Joined(named) +
+                       "), so which one to rate is ambiguous; give each curve its own LCID.");
+    // A node alone (FILE:1001) for a resultant channel: the node's resultant, frame-free, from its
+    // x, y and z columns in the model's global frame.
+    if (chosen == nullptr && format == ModelFormat::kNodout) {
+      resultant = NodeResultant(curves, column, channel.name);
+      if (resultant) chosen = &*resultant;
+    }
     if (chosen == nullptr)
       throw InputError(ModelFile(path) + " has no curve '" + util::EscapeControl(column) +
                        "'; its curves are " + CurveNames(curves) + ".");
@@ -278,6 +347,19 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
                        CurveNames(curves) + ".");
   }
   formats::ModelCurve curve = *chosen;
+  // A CSV column says its quantity by its unit; without one it is no channel's quantity (it was
+  // taken for an angle, the quantity without dimension).
+  if (format == ModelFormat::kCsv && !formats::ModelCsvColumnHasUnit(curve.name))
+    throw InputError(ModelFile(path) + " column '" + util::EscapeControl(curve.name) +
+                     "' names no unit, so its quantity is unknown; end its name in one of " +
+                     formats::ModelCsvUnitSuffixes() + " (e.g. " + util::EscapeControl(curve.name) +
+                     std::string(UnitOfChannel(channel.name) ? UnitOfChannel(channel.name)->suffix : "_g") +
+                     ").");
+  // A flat curve has no shape to rate (its phase is 1.0 for any test): refused, not graded.
+  if (curve.series.values.size() > 0 && curve.series.values.maxCoeff() == curve.series.values.minCoeff())
+    throw InputError(ModelFile(path) + " curve '" + util::EscapeControl(curve.name) + "' is constant (" +
+                     util::FormatNumber(curve.series.values(0)) +
+                     " throughout), a degenerate curve ISO/TS 18571 cannot rate.");
   if (curve.dimension && *curve.dimension != channel.dimension)
     throw InputError(ModelFile(path) + " curve '" + util::EscapeControl(curve.name) + "' is " +
                      QuantityOf(*curve.dimension) + ", but channel " + channel.name + " is " +
@@ -322,13 +404,16 @@ RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& db_path, 
   CheckCorrelationChannel(options.channel);
   const TestResult result = ResultOf(catalogue, test_id, choice, db_path);
   const TestResult other = ResultOf(catalogue, reference_test_id, Latest{}, db_path);
-  const ChannelCurve channel =
+  const ChannelCurve rated =
       ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
-  const ChannelCurve candidate = ChannelOf(ReadResultKinematics(catalogue, other.test, other.config),
+  const ChannelCurve reference = ChannelOf(ReadResultKinematics(catalogue, other.test, other.config),
                                            options.channel, reference_test_id);
-  RatingRow row = RateChannel(test_id, options, channel.series, candidate.series,
-                              TestChannelName(test_id, options.channel),
-                              TestChannelName(reference_test_id, options.channel), reference_test_id);
+  // The test named --reference-test is the reference curve, --test's the candidate judged against
+  // it (ISO/TS 18571): corridor, magnitude and slope are not symmetric, and the stored row's
+  // `reference` names that test.
+  RatingRow row = RateChannel(test_id, options, reference.series, rated.series,
+                              TestChannelName(reference_test_id, options.channel),
+                              TestChannelName(test_id, options.channel), reference_test_id);
   db::CorrelationRecord record = RatingRecord(result, row);
   record.reference_kind = "test";
   record.reference_key = "test:" + reference_test_id;

@@ -73,6 +73,10 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
 void CheckModelUnitsGiven(const formats::ModelFile& file, const std::optional<std::string>& units);
 
 // The parameters of a rating as the user gives them.
+// The least part of the reference curve's time span the common span of the two curves must cover
+// for a rating without --start and --end (docs/formats.md "Correlation ratings").
+inline constexpr double kMinCurveCoverage = 0.5;
+
 struct RatingOptions {
   std::string channel;
   std::optional<double> start_s, end_s;  // the evaluation interval; open: the curves' common span

@@ -23,11 +23,14 @@ Failure DescribeFailure(const std::exception_ptr& error, const std::string& db_p
     return {FailureCategory::kInput, input.what()};
   } catch (const db::DatabaseError& database) {
     if (database.busy())
-      return {
-          FailureCategory::kCatalogueBusy,
-          fmt::format("catalogue '{}' is busy: another napkin process has held its write lock longer than "
-                      "the wait allows; run the command again when that process has finished ({}).",
-                      db_path, database.what())};
+      return {FailureCategory::kCatalogueBusy,
+              // Any SQLite client may hold the lock (sqlite3, a backup tool), not only napkin; SQLite's own
+              // text ("database is locked ... in probe while running 'lab.db'") adds nothing to this.
+              fmt::format(
+                  "catalogue '{}' is busy: another process (a napkin command, sqlite3 or any other SQLite "
+                  "client) has held its lock longer than the wait allows; run the command again when that "
+                  "process has finished.",
+                  db_path)};
     if (database.full())
       return {FailureCategory::kCatalogue,
               fmt::format(

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <set>
+#include <utility>
 
 #include "common/joined.h"
 #include "engine/summary_fields.h"
@@ -35,6 +37,16 @@ std::string Probability(double p) {
   if (percent == 0.0) return "0 %";
   if (std::abs(percent) >= 1.0) return fmt::format("{:.1f} %", percent);
   return util::FormatNumber(percent, 2) + " %";
+}
+
+// Two risks shown as a change: with as many digits as tell them apart (up to four significant), so
+// that a change is never printed as "7.7 % → 7.7 %"; the same at four digits: nullopt.
+std::optional<std::pair<std::string, std::string>> DistinctProbabilities(double from, double to) {
+  std::pair<std::string, std::string> shown{Probability(from), Probability(to)};
+  for (int digits = 2; shown.first == shown.second && digits <= 4; ++digits)
+    shown = {util::FormatNumber(100.0 * from, digits) + " %", util::FormatNumber(100.0 * to, digits) + " %"};
+  if (shown.first == shown.second) return std::nullopt;
+  return shown;
 }
 
 std::string Counts(const ComparisonRow& row, const ComparisonRow& baseline) {
@@ -248,8 +260,13 @@ std::string RiskConsequence(std::string_view label, ClauseKind criterion_clause,
     case ClauseKind::kIdentical:
       return std::string(label) + " " + to + " in both";
     case ClauseKind::kSignificant:
-    case ClauseKind::kNoScatter:
-      return std::string(label) + " " + from + " → " + to;
+    case ClauseKind::kNoScatter: {
+      const auto distinct = DistinctProbabilities(baseline.description.mean, row.description.mean);
+      if (!distinct)
+        return std::string(label) + " " + util::FormatNumber(100.0 * row.description.mean, 4) +
+               " % in both at the precision shown";
+      return std::string(label) + " " + distinct->first + " → " + distinct->second;
+    }
     case ClauseKind::kEquivalent:
     case ClauseKind::kInconclusive:
       return std::string(label) + " " + from + " vs " + to;

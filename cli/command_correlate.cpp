@@ -32,7 +32,8 @@ class CorrelateCommand : public Command {
         ->check(PathCheck("--model"));
     sub->add_option("--model-units", model_units_,
                     "LS-DYNA files: the model's units LENGTH,TIME,MASS, e.g. mm,ms,kg or m,s,kg");
-    sub->add_option("--reference-test", reference_test_, "the other test rated against --test");
+    sub->add_option("--reference-test", reference_test_,
+                    "the reference test: --test's channel is rated against its same channel");
     sub->add_option("--series", series_, "with --variant: rate each repeat against the variant's mean curve");
     sub->add_option("--variant", variant_, "the variant whose repeats are rated");
     sub->add_option("--channel", channel_,

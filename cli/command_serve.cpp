@@ -2,6 +2,7 @@
 // docs/serve.md): the catalogue answered over a read-only HTTP API until
 // SIGTERM. This file only reads the options.
 #include "cli/command.h"
+#include "cli/diagnostics.h"
 #include "cli/option_checks.h"
 #include "serve/service.h"
 
@@ -43,6 +44,8 @@ class ServeCommand : public Command {
   int Run() override {
     options_.db_path = global_->db_path;
     options_.busy_timeout_ms = busy_timeout_s_ * 1000;
+    // A service's log is read later (the journal, a file): its warnings and errors need their time.
+    options_.on_listening = [] { TimestampEveryLogLine(); };
     serve::RunService(options_);
     return kExitOk;
   }

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <cctype>
 #include <cstdio>
 #include <memory>
@@ -22,6 +23,9 @@ namespace {
 // stderr sink: user-facing levels carry the program name (the one-sentence
 // error contract in the README), information lines a timestamp (long runs
 // are logged to files).
+// Set once a long-running command (serve) is under way: warnings and errors carry a timestamp.
+std::atomic<bool> timestamp_every_line{false};
+
 class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
  public:
   StderrSink() : info_formatter_("%Y-%m-%dT%H:%M:%S.%e %l %v") {}
@@ -36,10 +40,12 @@ class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
     switch (message.level) {
       case spdlog::level::err:
       case spdlog::level::critical:
-        std::fprintf(stderr, "napkin: %.*s\n", static_cast<int>(text.size()), text.data());
+        std::fprintf(stderr, "%snapkin: %.*s\n", Timestamp(message).c_str(), static_cast<int>(text.size()),
+                     text.data());
         break;
       case spdlog::level::warn:
-        std::fprintf(stderr, "napkin: warning: %.*s\n", static_cast<int>(text.size()), text.data());
+        std::fprintf(stderr, "%snapkin: warning: %.*s\n", Timestamp(message).c_str(),
+                     static_cast<int>(text.size()), text.data());
         break;
       default: {
         spdlog::details::log_msg escaped_message = message;
@@ -53,10 +59,25 @@ class StderrSink final : public spdlog::sinks::base_sink<std::mutex> {
   void flush_() override { std::fflush(stderr); }
 
  private:
+  // The time of `message` and a space, as the information lines give it; empty unless
+  // TimestampEveryLogLine was called.
+  std::string Timestamp(const spdlog::details::log_msg& message) {
+    if (!timestamp_every_line.load()) return {};
+    spdlog::details::log_msg bare = message;
+    bare.payload = {};
+    spdlog::memory_buf_t line;
+    time_formatter_.format(bare, line);
+    return std::string(line.data(), line.size());
+  }
+
   spdlog::pattern_formatter info_formatter_;
+  // No end of line: the time goes before "napkin: ".
+  spdlog::pattern_formatter time_formatter_{"%Y-%m-%dT%H:%M:%S.%e ", spdlog::pattern_time_type::local, ""};
 };
 
 }  // namespace
+
+void TimestampEveryLogLine() { timestamp_every_line = true; }
 
 void SetQuietLogging() { spdlog::default_logger()->set_level(spdlog::level::warn); }
 

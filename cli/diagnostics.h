@@ -29,6 +29,11 @@ void SetUpLogging();
 // --quiet: warnings and errors only, no information lines.
 void SetQuietLogging();
 
+// From now on warnings and errors carry the information lines' timestamp too
+// ("2026-11-27T10:15:02.123 napkin: warning: ..."): a long-running service's
+// log (`napkin serve` once listening), read later, needs each line's time.
+void TimestampEveryLogLine();
+
 // Logs a refused command line (CLI11's ParseError other than --help and
 // --version: an unknown or missing option, a value an option check of
 // cli/option_checks.h refused) as one sentence and returns kExitUsage.

@@ -163,6 +163,19 @@ std::vector<ModelCurve> ReadModelCsv(const std::filesystem::path& path) {
   return ReadModelCsv(ReadModelFile(path));
 }
 
+bool ModelCsvColumnHasUnit(std::string_view name) {
+  for (const CsvSuffix& suffix : kCsvSuffixes)
+    if (name.size() > suffix.suffix.size() && name.ends_with(suffix.suffix)) return true;
+  return false;
+}
+
+std::string ModelCsvUnitSuffixes() {
+  std::string list;
+  for (const CsvSuffix& suffix : kCsvSuffixes)
+    list += (list.empty() ? "" : ", ") + std::string(suffix.suffix);
+  return list;
+}
+
 std::vector<ModelCurve> ReadModelCsv(const ModelFile& file) {
   const std::filesystem::path& path = file.path;
   std::istringstream in(file.bytes);

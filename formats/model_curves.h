@@ -83,6 +83,12 @@ ModelCurve ToSi(ModelCurve curve, Dimension dimension, const ModelUnits& units);
 // `export --format csv` reads back); other columns are kept as numbers
 // without a unit (dimension 0, factor 1). A column empty in every row is
 // left out; a single empty, non-numeric or non-finite cell is an error.
+// Whether a model CSV column's name ends in a unit the reader knows (_g, _mps2, _radps, _deg, ...);
+// a column without one is read as a number without dimension, which is no channel's quantity.
+bool ModelCsvColumnHasUnit(std::string_view name);
+// The unit suffixes of model CSV columns, for sentences: "_mps2, _radps2, ...".
+std::string ModelCsvUnitSuffixes();
+
 std::vector<ModelCurve> ReadModelCsv(const std::filesystem::path& path);
 std::vector<ModelCurve> ReadModelCsv(const ModelFile& file);
 

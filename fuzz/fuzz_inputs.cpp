@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/limits.h"
 #include "app/where_parser.h"
 #include "common/error.h"
 #include "db/catalogue.h"
@@ -16,8 +17,10 @@
 #include "formats/channel_map.h"
 #include "formats/csv.h"
 #include "formats/isomme.h"
+#include "formats/model_curves.h"
 #include "formats/processing_config_json.h"
 #include "formats/uds1992.h"
+#include "serve/inbox.h"
 
 namespace napkin::fuzz {
 namespace {
@@ -198,6 +201,40 @@ Outcome RunChannelMapJson(std::string_view input) {
   return Attempt([&] { formats::ReadChannelMap(path); });
 }
 
+Outcome RunLimitsJson(std::string_view input) {
+  const fs::path path = Scratch() / "limits.json";
+  WriteFile(path, input);
+  return Attempt([&] { app::LoadLimits(path.string()); });
+}
+
+// The input as the model file of `correlate --model`: a nodout, an LS-DYNA keyword file or a model
+// CSV, told by its content as app/correlation.cpp tells them (keyword and nodout in m, s, kg).
+Outcome RunModelCurves(std::string_view input) {
+  formats::ModelFile file;
+  file.path = "fuzz-model";
+  file.bytes = std::string(input);
+  const formats::ModelUnits units;
+  return Attempt([&] {
+    const std::string_view head = input.substr(0, 64 * 1024);
+    if (head.find("n o d a l   p r i n t") != std::string_view::npos)
+      formats::ReadNodout(file, units);
+    else if (head.starts_with("*") || head.find("\n*") != std::string_view::npos)
+      formats::ReadLsDynaCurves(file, units);
+    else
+      formats::ReadModelCsv(file);
+  });
+}
+
+// The input as the napkin.json sidecar of an inbox's variant folder (serve/inbox.h), read and its
+// names resolved as the inbox does before importing a test below it.
+Outcome RunSidecar(std::string_view input) {
+  const fs::path inbox = Scratch() / "inbox";
+  const fs::path folder = inbox / "series" / "variant";
+  fs::create_directories(folder);
+  WriteFile(folder / "napkin.json", input);
+  return Attempt([&] { serve::CheckSidecarNames(serve::ReadSidecars(inbox, folder)); });
+}
+
 // The input as `query KIND --where`, for every KIND: parsed, and when the
 // parser accepts it, run on an empty in-memory catalogue (every accepted
 // expression must also run: docs/formats.md "Query filters"). A UsageError
@@ -232,6 +269,10 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"processing_config_json", "formats::ReadProcessingConfig", RunProcessingConfigJson},
       {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},
       {"where", "app::ParseWhereExpression and db::Catalogue::Query (query --where, every kind)", RunWhere},
+      {"limits_json", "app::LoadLimits", RunLimitsJson},
+      {"model_curves", "formats::ReadModelCsv, ReadLsDynaCurves, ReadNodout (correlate --model)",
+       RunModelCurves},
+      {"sidecar", "serve::ReadSidecars and CheckSidecarNames (an inbox's napkin.json)", RunSidecar},
   };
   return kTargets;
 }

@@ -575,8 +575,13 @@ void Inbox::LookAtInbox() {
         failed_ += report.failed;
         processing_s_ += report.wall_s;
       }
-      if (report.done > 0)
-        spdlog::info("processed {} tests from the inbox in {:.2f} s", report.done, report.wall_s);
+      // Every test the run took is counted, the failed ones too (they were processed: their failure
+      // is recorded), and the log says how many of each.
+      const std::int64_t processed = report.done + report.failed;
+      if (processed > 0)
+        spdlog::info("processed {} from the inbox in {:.2f} s: {} with a result, {} failed",
+                     processed == 1 ? std::string("1 test") : std::to_string(processed) + " tests",
+                     report.wall_s, report.done, report.failed);
       for (const db::JobFailure& failure : counts.failures) {
         spdlog::error("test '{}' failed: {}", failure.test_id, failure.error);
         Record("failed", "", failure.test_id, failure.error);

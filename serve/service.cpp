@@ -525,6 +525,7 @@ void RunService(const ServeOptions& options) {
   spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, port,
                options.db_path, options.threads, token.empty() ? "" : ", bearer token required");
 
+  if (options.on_listening) options.on_listening();
   if (inbox) inbox->Start();
   // The signal thread: SIGTERM or SIGINT stops the server (httplib: no new
   // connections; those accepted are served, then listen_after_bind returns).

@@ -6,6 +6,7 @@
 // It runs until SIGTERM or SIGINT, then stops accepting, finishes the requests
 // in progress and returns.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -44,6 +45,9 @@ struct ServeOptions {
   std::string inbox;
   double settle_s = 5.0;
   std::optional<double> poll_s;  // --poll: look every poll_s seconds instead of inotify
+  // Called once the service listens (after the start's checks, whose refusals are the command
+  // line's one sentence): the front end makes every later log line carry its time.
+  std::function<void()> on_listening;
 };
 
 // The service until SIGTERM or SIGINT. Throws UsageError (before listening)

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/comparison.h"
+#include "db/job_queue.h"
 #include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "tests/cli/cli_test_util.h"
@@ -130,16 +131,16 @@ n80: tests per variant that would detect the observed difference with 80 % power
 detects: the smallest fall/rise these tests detect with 80 % power; equiv: equivalence within ±10 % shown by two one-sided tests (p < 0.05)
 
 hic15 (log scale: ratio of geometric means)
-  variant     n   mean       sd  median    min      max  n80   detects   equiv  vs production
-  production  5  946.8  55.2549  955.75    871  1004.25    -         -       -  (baseline)
-  foam-a      5  715.5  22.6226     712  688.5      745    3  -9/+10 %  no p=1  -24.4 % [-29.7, -18.6]  p<0.0001
-  foam-b      1    640        -     640    640      640    -         -       -  n < 2: no difference (1)
+  variant     n   mean       sd  median    min      max  n80   detects      equiv  vs production
+  production  5  946.8  55.2549  955.75    871  1004.25    -         -          -  (baseline)
+  foam-a      5  715.5  22.6226     712  688.5      745    3  -9/+10 %  no p>0.99  -24.4 % [-29.7, -18.6]  p<0.0001
+  foam-b      1    640        -     640    640      640    -         -          -  n < 2: no difference (1)
 
 peak_acc_g (log scale: ratio of geometric means)
-  variant     n   mean       sd  median    min   max  n80  detects   equiv  vs production
-  production  5   99.7   3.3326      99  95.25   104    -        -       -  (baseline)
-  foam-a      6  81.75  1.93649  81.875  79.25  84.5    2  -5/+6 %  no p=1  -18.0 % [-21.4, -14.5]  p<0.0001
-  foam-b      1     75        -      75     75    75    -        -       -  n < 2: no difference (1)
+  variant     n   mean       sd  median    min   max  n80  detects      equiv  vs production
+  production  5   99.7   3.3326      99  95.25   104    -        -          -  (baseline)
+  foam-a      6  81.75  1.93649  81.875  79.25  84.5    2  -5/+6 %  no p>0.99  -18.0 % [-21.4, -14.5]  p<0.0001
+  foam-b      1     75        -      75     75    75    -        -          -  n < 2: no difference (1)
 
 (1) n < 2: with fewer than 2 tests in the group or the baseline there is no difference, interval or p-value (null in --format json and csv).
 )");
@@ -624,6 +625,27 @@ TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_EQ(run.out, "");
   ExpectOneSentenceError(run, {"series 'drop' has no results", "run `napkin run` first"});
+}
+
+// After a run whose only test failed, compare says so and points to `status`, not to `run` again
+// (issue 42, point 17).
+TEST_F(CliCompare, SeriesWhoseTestsFailedSaysSoAndPointsToStatus) {
+  {
+    db::Catalogue catalogue = db::Catalogue::Open((dir_ / "napkin.db").string());
+    const db::ConfigId config = *catalogue.FindConfigByHash("d0a1b2c3d4e5f6071829");
+    db::JobQueue queue(catalogue);
+    db::JobScope scope;
+    scope.tests.series = "drop";
+    ASSERT_EQ(queue.EnqueueMissing(config, scope), 1);
+    const std::vector<db::Job> jobs = queue.ClaimJobs(config, "test-worker", 1, 60.0, scope);
+    ASSERT_EQ(jobs.size(), 1u);
+    ASSERT_TRUE(queue.FailJob(jobs[0].id, "test-worker", "channel cg_z is clipped."));
+  }
+  const RunResult run = Compare({"--series", "drop"});
+  EXPECT_EQ(run.exit_code, 1);
+  ExpectOneSentenceError(run, {"series 'drop' has no results: its test failed processing",
+                               "`napkin status` lists the failures"});
+  EXPECT_EQ(run.err.find("run `napkin run` first"), std::string::npos) << run.err;
 }
 
 }  // namespace

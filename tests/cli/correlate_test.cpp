@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -17,8 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "app/correlation.h"
+#include "common/error.h"
+#include "formats/model_curves.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
+#include "util/text.h"
 
 namespace napkin {
 namespace {
@@ -115,6 +120,87 @@ TEST_F(CorrelateCli, LsDynaExportReadBackAsModelRatesOne) {
       Napkin({"correlate", "--test", test, "--channel", "omega_fixed_x_radps", "--model", "head.k:4"});
   EXPECT_EQ(no_units.exit_code, 2);
   test_support::ExpectOneSentenceError(no_units, {"model file 'head.k'", "--model-units"});
+}
+
+// The test named --reference-test is the reference curve: rating A against reference B is rating
+// A's exported channel as the candidate against B (a model is always the candidate), and the two
+// directions differ (issue 42, point 15: B was rated against A while `reference` named B).
+TEST_F(CorrelateCli, TheReferenceTestIsTheReferenceCurve) {
+  const std::string& a = foam_a_[0];
+  const std::string& b = foam_a_[1];
+  const std::string channel = "acc_body_x_g";  // a column of the derived-channel CSV
+  ASSERT_EQ(Napkin({"export", "--test", a, "--format", "csv", "--out", "candidate.csv"}).exit_code, 0);
+  const json against_b = RateOne({"--test", a, "--reference-test", b, "--channel", channel});
+  const json model = RateOne({"--test", b, "--model", "candidate.csv", "--channel", channel});
+  for (const char* score : {"corridor", "phase", "magnitude", "slope", "overall", "shift_s"})
+    EXPECT_NEAR(against_b.at(score).get<double>(), model.at(score).get<double>(), 1e-12) << score;
+  EXPECT_EQ(against_b.at("reference"), b);
+  const json against_a = RateOne({"--test", b, "--reference-test", a, "--channel", channel});
+  EXPECT_NE(against_a.at("overall").get<double>(), against_b.at("overall").get<double>())
+      << "the two directions agree: the check shows nothing";
+}
+
+// What a rating cannot mean is refused in one sentence (issue 42, point 14): curves apart in time,
+// a model covering a sliver of the test (unless --start/--end ask for it), --model-units for a CSV,
+// an LCID two curves share, a constant curve.
+TEST_F(CorrelateCli, RatingsThatMeanNothingAreRefusedInOneSentence) {
+  const std::string& test = foam_a_[0];
+  const std::vector<std::string> rate = {"correlate", "--test", test, "--channel", "acc_resultant_g"};
+  const auto run = [&](std::vector<std::string> more) {
+    std::vector<std::string> args = rate;
+    args.insert(args.end(), more.begin(), more.end());
+    return Napkin(args);
+  };
+  test_support::WriteText(dir_->path() / "late.csv", "time_s,late_g\n1.0,0\n1.5,40\n2.0,0\n");
+  const RunResult late = run({"--model", "late.csv"});
+  EXPECT_EQ(late.exit_code, 1);
+  test_support::ExpectOneSentenceError(late, {"runs from 1 to 2 s", "do not overlap in time"});
+
+  std::string sliver = "time_s,sliver_g\n";
+  for (int i = 0; i <= 49; ++i) sliver += util::FormatNumber(0.0001 * i) + "," + std::to_string(i % 7) + "\n";
+  test_support::WriteText(dir_->path() / "sliver.csv", sliver);
+  const RunResult short_model = run({"--model", "sliver.csv"});
+  EXPECT_EQ(short_model.exit_code, 1);
+  test_support::ExpectOneSentenceError(short_model,
+                                       {"covers 4.9 %", "less than the 50 %", "--start and --end"});
+  EXPECT_EQ(run({"--model", "sliver.csv", "--start", "0", "--end", "0.0049"}).exit_code, 0);
+
+  const RunResult units = run({"--model", "sliver.csv", "--model-units", "mm,s,kg"});
+  EXPECT_EQ(units.exit_code, 2);
+  test_support::ExpectOneSentenceError(units, {"is a CSV, whose header gives its units"});
+
+  test_support::WriteText(dir_->path() / "unitless.csv", "time_s,head\n0,0\n0.05,40\n0.1,0\n");
+  const RunResult unitless = run({"--model", "unitless.csv"});
+  EXPECT_EQ(unitless.exit_code, 1);
+  test_support::ExpectOneSentenceError(unitless, {"column 'head' names no unit", "(e.g. head_g)"});
+  EXPECT_EQ(unitless.err.find("an angle"), std::string::npos) << unitless.err;
+
+  test_support::WriteText(dir_->path() / "flat.csv", "time_s,flat_g\n0,0\n0.05,0\n0.1,0\n");
+  const RunResult flat = run({"--model", "flat.csv"});
+  EXPECT_EQ(flat.exit_code, 1);
+  test_support::ExpectOneSentenceError(flat, {"flat.csv", "is constant (0 throughout)"});
+
+  ASSERT_EQ(
+      Napkin({"export", "--test", test, "--format", "lsdyna", "--units", "si", "--out", "twice.k"}).exit_code,
+      0);
+  const std::string keyword = test_support::ReadText(dir_->path() / "twice.k");
+  const std::size_t first = keyword.find("*DEFINE_CURVE");
+  const std::size_t next = keyword.find('*', first + 1);
+  ASSERT_NE(next, std::string::npos);
+  test_support::WriteText(
+      dir_->path() / "twice.k",
+      keyword.substr(0, next) + keyword.substr(first, next - first) + keyword.substr(next));
+  const std::string lcid = [&] {
+    std::istringstream card(keyword.substr(keyword.find('\n', first) + 1));
+    std::string line;
+    while (std::getline(card, line) && line.starts_with("$")) {
+    }
+    return std::to_string(std::stoi(line.substr(0, 10)));
+  }();
+  const RunResult twice = Napkin({"correlate", "--test", test, "--channel", "omega_fixed_x_radps", "--model",
+                                  "twice.k:" + lcid, "--model-units", "m,s,kg"});
+  EXPECT_EQ(twice.exit_code, 1) << twice.out;
+  test_support::ExpectOneSentenceError(twice, {"twice.k", "curves named '" + lcid + "'", "ambiguous"});
 }
 
 // One keyword curve rated under two --model-units: two stored ratings, each saying its units
@@ -354,6 +440,68 @@ TEST_F(CorrelateCli, ReportDrawsRatingsAgainstTheModelWithCorridors) {
     test_support::ExpectOneSentenceError(unitless, {"model file 'report-head.k'", "--model-units"});
   }
   EXPECT_FALSE(std::filesystem::exists(dir_->path() / "k.html"));
+}
+
+// FILE:NODE for a resultant channel is the node's resultant of its x, y and z columns (frame-free),
+// as computed by hand from the components (issue 42, point 16: only `node 1234 x-accl` worked).
+TEST(CorrelateModels, ANodeAloneGivesItsResultantForAResultantChannel) {
+  // A nodout in mm, ms, kg (the layout of tests/fixtures/iso18571/make_nodout.py) whose node 1234
+  // accelerates along all three axes, differently in time.
+  test_support::TempDir dir;
+  const std::string nodout = (dir.path() / "nodout").string();
+  {
+    std::string text;
+    char field[64];
+    for (int step = 1; step <= 21; ++step) {
+      const double t = 0.5 * (step - 1);
+      std::snprintf(field, sizeof field, "%8d", step);
+      text += std::string(" n o d a l   p r i n t   o u t   f o r   t i m e  s t e p") + field;
+      std::snprintf(field, sizeof field, "%.5E", t);
+      text += std::string("                              ( at time ") + field + " )\n\n";
+      text +=
+          " nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel       x-accl      "
+          "y-accl  "
+          "    z-accl      x-coor      y-coor      z-coor\n";
+      std::snprintf(field, sizeof field, "%10d", 1234);
+      text += field;
+      for (const double value :
+           {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, t, 2.0 - 0.1 * t, -0.05 * t * t, 100.0, 0.0, 0.0}) {
+        std::snprintf(field, sizeof field, "%12.4E", value);
+        text += field;
+      }
+      text += "\n\n";
+    }
+    test_support::WriteText(nodout, text);
+  }
+  const auto channel = [](const std::string& name) {
+    app::ChannelCurve curve;
+    curve.name = name;
+    curve.dimension = formats::kAccelerationDimension;
+    return curve;
+  };
+  const app::ModelReference resultant =
+      app::LoadModelCurve(nodout + ":1234", channel("acc_resultant_g"), std::string("mm,ms,kg"));
+  EXPECT_EQ(resultant.column, "node 1234 resultant accl");
+  EXPECT_EQ(
+      app::LoadModelCurve(nodout + ":node 1234", channel("acc_resultant_g"), std::string("mm,ms,kg")).column,
+      "node 1234 resultant accl");
+  Eigen::VectorXd by_hand;
+  for (const char* axis : {"x", "y", "z"}) {
+    const app::ModelReference component =
+        app::LoadModelCurve(nodout + ":1234 " + axis + "-accl",
+                            channel(std::string("acc_body_") + axis + "_g"), std::string("mm,ms,kg"));
+    if (by_hand.size() == 0) by_hand = Eigen::VectorXd::Zero(component.series.values.size());
+    by_hand += component.series.values.array().square().matrix();
+    EXPECT_EQ(component.series.time_s, resultant.series.time_s);
+  }
+  by_hand = by_hand.array().sqrt();
+  ASSERT_EQ(by_hand.size(), resultant.series.values.size());
+  for (Eigen::Index i = 0; i < by_hand.size(); ++i)
+    EXPECT_DOUBLE_EQ(resultant.series.values(i), by_hand(i)) << i;
+  EXPECT_GT(resultant.series.values.maxCoeff(), 0.0);
+  // A component channel still needs its column.
+  EXPECT_THROW(app::LoadModelCurve(nodout + ":1234", channel("acc_body_x_g"), std::string("mm,ms,kg")),
+               InputError);
 }
 
 }  // namespace

@@ -59,6 +59,13 @@ TEST(ReportFailure, BusyCatalogueSaysWhatToDo) {
   EXPECT_EQ(reported.exit_status, kExitFailure);
   EXPECT_THAT(reported.text, StartsWith("error|catalogue 'cat.db' is busy"));
   EXPECT_THAT(reported.text, HasSubstr("run the command again"));
+  // Any SQLite client may be the holder, and the sentence ends as a sentence (issue 42, point 11:
+  // it blamed "another napkin process" and ended in SQLite's own text).
+  EXPECT_EQ(
+      reported.text,
+      "error|catalogue 'cat.db' is busy: another process (a napkin command, sqlite3 or any other SQLite "
+      "client) has held its lock longer than the wait allows; run the command again when that process has "
+      "finished.");
 }
 
 TEST(ReportFailure, OtherDatabaseErrorsNameTheCatalogue) {

@@ -221,6 +221,13 @@ TEST_F(OutputDestinations, NoOutputReplacesTheCatalogue) {
   refused({"run", "--results", "lab/lab.db-wal"}, "write-ahead log");
   refused({"run", "--results", "link.db"}, itself);
   EXPECT_EQ(DumpCatalogue(Db()), dump);
+  // The README says the exit status each refusal has: 1 for the catalogue, 2 for a command's own
+  // inputs and outputs (issue 42, point 17: it said 2 for all of them).
+  const std::string readme = ReadText(fs::path(NAPKIN_SOURCE_DIR) / "README.md");
+  EXPECT_NE(readme.find("(link, hard link, `./`; exit 1, as for\nother input napkin refuses)"),
+            std::string::npos);
+  EXPECT_NE(readme.find("another of its outputs (exit 2: the\ncommand line names one file twice)"),
+            std::string::npos);
 }
 
 // Item 3: a symbolic link is written through to its target (existing or

@@ -89,6 +89,26 @@ TEST(VerdictWording, PValues) {
   EXPECT_EQ(PValueText(0.0504), "p = 0.05");
 }
 
+// A risk change is shown with the digits that tell the two risks apart, never "7.7 % → 7.7 %"; the
+// table's TOST p of 0.99993 is not "p=1" (issue 42, point 17).
+TEST(VerdictWording, ARiskChangeIsNeverShownAsTheSameNumberTwice) {
+  ComparisonRow baseline, row;
+  baseline.description.mean = 0.0771;
+  row.description.mean = 0.0774;
+  EXPECT_EQ(RiskConsequence("P(AIS 3+)", ClauseKind::kSignificant, row, baseline),
+            "P(AIS 3+) 7.71 % → 7.74 %");
+  row.description.mean = 0.07710001;
+  EXPECT_EQ(RiskConsequence("P(AIS 3+)", ClauseKind::kNoScatter, row, baseline),
+            "P(AIS 3+) 7.71 % in both at the precision shown");
+  row.description.mean = 0.30;
+  EXPECT_EQ(RiskConsequence("P(AIS 3+)", ClauseKind::kSignificant, row, baseline),
+            "P(AIS 3+) 7.7 % → 30.0 %");
+  EXPECT_EQ(ComparisonPValueText(0.99993), "p>0.99");
+  EXPECT_EQ(ComparisonPValueText(0.41), "p=0.41");
+  EXPECT_EQ(ComparisonPValueText(1.0), "p=1");
+  EXPECT_EQ(ComparisonPValueText(0.00001), "p<0.0001");
+}
+
 TEST(VerdictWording, PercentagesNeverRoundANonZeroBoundToZero) {
   EXPECT_EQ(PercentText(44.4), "44");
   EXPECT_EQ(PercentText(0.3), "0.3");

@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <set>
 #include <utility>
 
 #include "common/error.h"
 #include "db/catalogue.h"
+#include "schema/migrations.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/test_support.h"
 
@@ -197,6 +199,49 @@ TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
   EXPECT_EQ(catalogue.ReadCorrelations(v2, config)[0].model_units, "m,s,kg");
   EXPECT_EQ(catalogue.MergeShard(shard_path).ratings_merged, 0);
   EXPECT_EQ(catalogue.ReadCorrelations(v1, config).size(), 3u);
+}
+
+// Test-against-test ratings stored before schema 11 took the roles the wrong way round: marked on
+// upgrade, never left looking like a rating made now (issue 42, point 15).
+TEST(CorrelationMigration, TestRatingsOfTheOldRolesAreMarked) {
+  test_support::TempDir dir;
+  const std::string path = (dir.path() / "v10.db").string();
+  TestId v1{}, v2{};
+  ConfigId config{};
+  {
+    CatalogueOptions first_ten;
+    first_ten.migrations = schema::Migrations().first(10);
+    Catalogue catalogue = Catalogue::Open(path, first_ten);
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    config = catalogue.WriteConfig(test_support::DefaultConfig());
+    v1 = test_support::AddTest(catalogue, array, "v0001");
+    v2 = test_support::AddTest(catalogue, array, "v0002");
+    catalogue.WriteResult(v1, config, {}, "exact");
+    for (const TestId reference : {v2, v1}) {
+      CorrelationRecord record;
+      record.test = v1;
+      record.config = config;
+      record.channel = "acc_resultant_g";
+      record.reference_kind = "test";
+      record.reference = reference == v2 ? "v0002" : "v0001";
+      record.reference_key = "test:" + record.reference;
+      record.reference_test = reference;
+      record.edition = "2024";
+      record.end_s = 0.1;
+      record.overall = 0.8;
+      record.grade = "fair";
+      catalogue.WriteCorrelation(record);
+    }
+  }
+  Catalogue catalogue = Catalogue::Open(path);
+  std::map<std::string, std::string> reference_by_key;
+  for (const CorrelationRecord& record : catalogue.ReadCorrelations(v1, config))
+    reference_by_key[record.reference_key] = record.reference;
+  EXPECT_EQ(reference_by_key,
+            (std::map<std::string, std::string>{
+                {"test-swapped:v0002",
+                 "v0002 (rated before schema 11 with the roles swapped: this test was the candidate)"},
+                {"test:v0001", "v0001"}}));
 }
 
 }  // namespace
