@@ -267,7 +267,7 @@ std::vector<QueryField> QueryFields(QueryKind kind) {
     add_text({"config", "rated_at"});
   }
   for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
-  // 1 when the result comes from salvaged channels (schema/011_salvage.sql).
+  // 1 when the result comes from salvaged channels (schema/012_salvage.sql).
   if (kind == QueryKind::kTests || kind == QueryKind::kCriteria) fields.push_back({"salvaged", true});
   return fields;
 }

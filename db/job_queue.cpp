@@ -239,7 +239,7 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
     counts.running = select->ColumnInt64(4);
   }
   {
-    // Results salvaged from faulty channels (schema/011_salvage.sql).
+    // Results salvaged from faulty channels (schema/012_salvage.sql).
     static const std::string kSalvaged =
         "WITH " + ScopeCte() +
         " SELECT count(*) FROM scope WHERE EXISTS (SELECT 1 FROM result_salvage AS rs "

@@ -467,7 +467,7 @@ TEST_F(CatalogueTest, QueryViewsCarryTheContractColumns) {
   criteria.insert(criteria.end(), rotation.begin() + 3, rotation.end());
   EXPECT_EQ(catalogue_.Query(QueryKind::kHic).columns, hic);
   EXPECT_EQ(catalogue_.Query(QueryKind::kRotation).columns, rotation);
-  criteria.push_back("salvaged");  // schema/011_salvage.sql
+  criteria.push_back("salvaged");  // schema/012_salvage.sql
   EXPECT_EQ(catalogue_.Query(QueryKind::kCriteria).columns, criteria);
   EXPECT_EQ(criteria.size(), 3u + 12u + 18u + 1u);
   EXPECT_THAT(catalogue_.Query(QueryKind::kQuality).columns,

@@ -1,4 +1,4 @@
--- napkin catalogue, schema version 11: salvaged results (docs/formats.md
+-- napkin catalogue, schema version 12: salvaged results (docs/formats.md
 -- "Salvage record", docs/algorithms.md "Faulty channels").
 --
 -- result_salvage: what salvage did to the faulty channels of a result
