@@ -344,8 +344,8 @@ SeriesVerdict BuildVerdict(const Comparison& comparison) {
     if (clauses.empty()) clauses.push_back("none of the verdict's criteria has a value");
     // Results of salvaged channels are said (docs/algorithms.md "Faulty channels").
     if (g < comparison.salvaged_per_group.size() && comparison.salvaged_per_group[g] > 0)
-      clauses.push_back(fmt::format("{} of {} tests salvaged from a faulty channel", comparison.salvaged_per_group[g],
-                                    comparison.tests_per_group[g]));
+      clauses.push_back(fmt::format("{} of {} tests salvaged from a faulty channel",
+                                    comparison.salvaged_per_group[g], comparison.tests_per_group[g]));
     std::string sentence = comparison.groups[g] + ": ";
     for (std::size_t c = 0; c < clauses.size(); ++c) sentence += (c == 0 ? "" : "; ") + clauses[c];
     verdict.sentences.push_back(sentence);

@@ -249,7 +249,8 @@ std::int64_t MergeRatings(Connection& connection) {
 // The taken results replace this catalogue's results, findings, conditioning
 // records and derived channels of their (test, config). Returns the number of results merged.
 std::int64_t MergeResults(Connection& connection) {
-  for (const char* table : {"results", "findings", "result_conditioning", "result_salvage", "derived_channels"})
+  for (const char* table :
+       {"results", "findings", "result_conditioning", "result_salvage", "derived_channels"})
     connection.Execute(std::string("DELETE FROM main.") + table +
                        " WHERE (test_id, config_id) IN (SELECT test_id, config_id FROM temp.merge_take)");
   // In the shard's order, so the most recent shard result stays the latest here.

@@ -1,8 +1,8 @@
 // Catalogue: results, findings and derived channels (kinematics); queries are
 // in catalogue_query.cpp.
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -200,7 +200,8 @@ void Catalogue::WriteConditioning(TestId test, ConfigId config,
   transaction.Commit();
 }
 
-void Catalogue::WriteSalvage(TestId test, ConfigId config, const std::optional<engine::SalvageRecord>& salvage) {
+void Catalogue::WriteSalvage(TestId test, ConfigId config,
+                             const std::optional<engine::SalvageRecord>& salvage) {
   Transaction transaction(connection_);
   {
     auto remove = connection_.Prepare("DELETE FROM result_salvage WHERE test_id = ?1 AND config_id = ?2");
@@ -209,7 +210,8 @@ void Catalogue::WriteSalvage(TestId test, ConfigId config, const std::optional<e
   }
   if (salvage) {
     auto insert = connection_.Prepare(
-        "INSERT INTO result_salvage (test_id, config_id, position, mode, channel, fault, action, partner, t1_s, "
+        "INSERT INTO result_salvage (test_id, config_id, position, mode, channel, fault, action, partner, "
+        "t1_s, "
         "t2_s, samples_replaced, rms_residual_before_g, rms_residual_after_g, channels_used, channels_total) "
         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)");
     // NULL for a residual that could not be computed (NaN, or +inf: diverged).
@@ -334,7 +336,8 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
     }
     engine::SalvagedChannel& channel = summary.salvage->channels.emplace_back();
     channel.channel = salvage->ColumnText(1);
-    channel.fault = engine::ParseName<engine::FaultKind>(salvage->ColumnText(2)).value_or(engine::FaultKind::kInconsistent);
+    channel.fault = engine::ParseName<engine::FaultKind>(salvage->ColumnText(2))
+                        .value_or(engine::FaultKind::kInconsistent);
     channel.action = salvage->ColumnText(3);
     channel.partner = salvage->ColumnOptionalText(4);
     channel.t1_s = salvage->ColumnDouble(5);
@@ -423,15 +426,14 @@ std::optional<ConfigId> Catalogue::ReadLatestResultConfig(TestId test) {
 
 std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, ResultSelection selection) {
   const std::string source = selection == ResultSelection::kLatest ? "v_latest_results" : "results";
-  auto select =
-      connection_.Prepare("SELECT t.external_id, t.variant, c.id, c.name, c.config_hash, " +
-                          SummaryColumnList("r.") +
-                          ", EXISTS (SELECT 1 FROM result_salvage AS rs WHERE rs.test_id = r.test_id AND "
-                          "rs.config_id = r.config_id) FROM " +
-                          source +
-                          " AS r JOIN tests AS t ON t.id = r.test_id JOIN configs AS c ON c.id = r.config_id "
-                          "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
-                          internal::kTestFilterTerms + " ORDER BY t.external_id, c.id");
+  auto select = connection_.Prepare(
+      "SELECT t.external_id, t.variant, c.id, c.name, c.config_hash, " + SummaryColumnList("r.") +
+      ", EXISTS (SELECT 1 FROM result_salvage AS rs WHERE rs.test_id = r.test_id AND "
+      "rs.config_id = r.config_id) FROM " +
+      source +
+      " AS r JOIN tests AS t ON t.id = r.test_id JOIN configs AS c ON c.id = r.config_id "
+      "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+      internal::kTestFilterTerms + " ORDER BY t.external_id, c.id");
   internal::BindTestFilter(*select, filter);
   std::vector<LabelledResult> results;
   while (select->Step()) {

@@ -256,8 +256,9 @@ std::string SalvageHint(const ArrayGeometry& array, const std::vector<FaultyChan
            list + "), more than the " + std::to_string(kMaxSalvagedChannels) + " it repairs";
   std::string why;
   const std::optional<ArrayGeometry> reduced = ArrayWithout(array, names, why);
-  if (!reduced) return " — salvage cannot recover " + list + ": without " + (names.size() > 1 ? "them" : "it") +
-                       ", " + why;
+  if (!reduced)
+    return " — salvage cannot recover " + list + ": without " + (names.size() > 1 ? "them" : "it") + ", " +
+           why;
   return " — `--config salvage` would repair " + list + " from the other channels (" +
          std::to_string(reduced->sensors.size()) + " of " + std::to_string(array.sensors.size()) +
          " channels determine the motion without " + (names.size() > 1 ? "them" : "it") +
@@ -286,7 +287,8 @@ Finding SalvageFinding(const SalvageRecord& record, const SalvagedChannel& chann
   detail << "salvage (" << record.mode << "): channel " << channel.channel << " ("
          << (channel.fault == FaultKind::kInconsistent ? "inconsistent with the other channels"
                                                        : std::string("a fault: ") + NameOf(channel.fault))
-         << ", t = " << SalvageNumber(channel.t1_s, 6) << " s to " << SalvageNumber(channel.t2_s, 6) << " s) ";
+         << ", t = " << SalvageNumber(channel.t1_s, 6) << " s to " << SalvageNumber(channel.t2_s, 6)
+         << " s) ";
   if (channel.action == "excluded")
     detail << "was left out; the result is solved from " << record.channels_used << " of "
            << record.channels_total << " channels";
@@ -334,8 +336,8 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
     std::string why;
     const std::optional<ArrayGeometry> reduced = ArrayWithout(array, names, why);
     if (!reduced)
-      throw ScreeningFailure(FirstErrorSentence(findings) + " — salvage cannot recover " + list + ": without " +
-                                 (names.size() > 1 ? "them" : "it") + ", " + why + ".",
+      throw ScreeningFailure(FirstErrorSentence(findings) + " — salvage cannot recover " + list +
+                                 ": without " + (names.size() > 1 ? "them" : "it") + ", " + why + ".",
                              std::move(findings));
     const std::vector<FaultAnalysis> analyses =
         AnalyseFaults(array, *reduced, names, raw_signals, initial, config);
@@ -369,7 +371,8 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
         samples *= -1.0;
       } else if (channel.fault == FaultKind::kSwapped) {
         channel.action = "swapped back";
-        channel.partner = fault->channel == names[i] ? fault->partner : std::optional<std::string>(fault->channel);
+        channel.partner =
+            fault->channel == names[i] ? fault->partner : std::optional<std::string>(fault->channel);
         // Each column takes the other's recorded samples (in its own unit).
         const int other = raw_signals.FindSlot(channel.partner.value_or(""));
         const std::optional<std::size_t> sensor = array.FindSlot(names[i]);
@@ -396,9 +399,9 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
         return std::find(names.begin(), names.end(), f.channel) != names.end();
       });
       if (more.empty() || round > 1 || (known && !repair))
-        throw ScreeningFailure("salvage (" + record.mode + ") of " + list + " did not recover the test: " +
-                                   failure.what(),
-                               failure.findings());
+        throw ScreeningFailure(
+            "salvage (" + record.mode + ") of " + list + " did not recover the test: " + failure.what(),
+            failure.findings());
     }
     if (more.empty()) break;
     const bool same = std::all_of(more.begin(), more.end(), [&names](const FaultyChannel& f) {

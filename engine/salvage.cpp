@@ -124,8 +124,8 @@ std::optional<FaultKind> KindOfCheck(Check check) {
   }
 }
 
-std::optional<ArrayGeometry> ArrayWithout(const ArrayGeometry& array, const std::vector<std::string>& channels,
-                                          std::string& why) {
+std::optional<ArrayGeometry> ArrayWithout(const ArrayGeometry& array,
+                                          const std::vector<std::string>& channels, std::string& why) {
   ArrayGeometry validated = array;
   ValidateArray(validated);
   const bool rotation = DeterminesRotation(validated);
@@ -152,8 +152,9 @@ std::optional<ArrayGeometry> ArrayWithout(const ArrayGeometry& array, const std:
 }
 
 std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const ArrayGeometry& reduced_array,
-                                         const std::vector<std::string>& channels, const TestSignals& raw_signals,
-                                         const InitialState& initial, const ProcessingConfig& config) {
+                                         const std::vector<std::string>& channels,
+                                         const TestSignals& raw_signals, const InitialState& initial,
+                                         const ProcessingConfig& config) {
   // The signals to predict from: shifted and bias-corrected as the config
   // says, but neither filtered (the prediction replaces raw samples, which
   // conditioning then filters with the rest) nor cropped. The faulty
@@ -198,11 +199,13 @@ std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const Array
       departure[static_cast<std::size_t>(k)] = work.samples(k, column) - predicted;
     }
     std::vector<double> magnitude(departure.size());
-    std::transform(departure.begin(), departure.end(), magnitude.begin(), [](double d) { return std::abs(d); });
+    std::transform(departure.begin(), departure.end(), magnitude.begin(),
+                   [](double d) { return std::abs(d); });
     const double sigma = 1.4826 * MedianOf(magnitude);
-    const double threshold =
-        std::max(kRepairSigmas * sigma, RepairThresholdInChannelUnits(sensor, kRepairFloorFraction * config.screening.residual_limit_g,
-                                                      config.screening.bias_limit_radps));
+    const double threshold = std::max(
+        kRepairSigmas * sigma,
+        RepairThresholdInChannelUnits(sensor, kRepairFloorFraction * config.screening.residual_limit_g,
+                                      config.screening.bias_limit_radps));
     std::vector<bool> faulty(static_cast<std::size_t>(n), false);
     for (Index k = 0; k < n; ++k)
       faulty[static_cast<std::size_t>(k)] =

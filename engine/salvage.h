@@ -48,8 +48,8 @@ std::vector<std::string> FaultyChannelNames(const std::vector<FaultyChannel>& fa
 // `array` does (the rotation, or the CG acceleration of an
 // acceleration-only array); otherwise nullopt and `why` says why in words
 // ("the remaining 5 channels do not determine the head's rotation").
-std::optional<ArrayGeometry> ArrayWithout(const ArrayGeometry& array, const std::vector<std::string>& channels,
-                                          std::string& why);
+std::optional<ArrayGeometry> ArrayWithout(const ArrayGeometry& array,
+                                          const std::vector<std::string>& channels, std::string& why);
 
 // One faulty channel of the raw signals, judged against its rigid-body
 // prediction from the channels of `reduced_array` (which lacks it).
@@ -70,8 +70,9 @@ struct FaultAnalysis {
 // (stuck, clipped, zero) that hold such a sample, and non-finite samples.
 // Throws InputError when the reduced array cannot be solved.
 std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const ArrayGeometry& reduced_array,
-                                         const std::vector<std::string>& channels, const TestSignals& raw_signals,
-                                         const InitialState& initial, const ProcessingConfig& config);
+                                         const std::vector<std::string>& channels,
+                                         const TestSignals& raw_signals, const InitialState& initial,
+                                         const ProcessingConfig& config);
 
 // The fault kind screening's check already says (flipped, swapped, clipped,
 // a non-finite dropout), or nullopt when the samples must tell (kFault).

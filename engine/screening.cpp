@@ -575,7 +575,8 @@ std::vector<std::size_t> LinearSuspects(const ArrayGeometry& array, const TestSi
     if (column < 0 || !(free > 1e-6)) continue;
     double largest = 0.0;
     for (Index k = 0; k < n; ++k) {
-      const double value = std::abs(signals.samples(k, column) - PredictedReading(sensor, kinematics, k)) / free;
+      const double value =
+          std::abs(signals.samples(k, column) - PredictedReading(sensor, kinematics, k)) / free;
       deleted[static_cast<std::size_t>(k)] = value;
       largest = std::max(largest, value);
     }
@@ -607,7 +608,7 @@ bool ExplainsFault(double recorded_rms, double without_rms) {
 struct Departure {
   Index first = -1, last = -1;
   double largest = 0.0;
-  double sigma = 0.0;  // robust standard deviation of the departure (channel units)
+  double sigma = 0.0;           // robust standard deviation of the departure (channel units)
   double predicted_peak = 0.0;  // largest |prediction| (channel units)
 };
 
@@ -625,9 +626,9 @@ Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Ki
   }
   const double sigma = 1.4826 * Median(magnitude);
   departure.sigma = sigma;
-  const double threshold =
-      std::max(kFaultSigmas * sigma,
-               InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, config.bias_limit_radps));
+  const double threshold = std::max(
+      kFaultSigmas * sigma,
+      InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, config.bias_limit_radps));
   for (Index k = 0; k < n; ++k) {
     const double value = magnitude[static_cast<std::size_t>(k)];
     if (!(value > threshold)) continue;
@@ -650,7 +651,8 @@ bool DepartsAsFault(const Sensor& sensor, const Departure& departure, const Scre
       sensor.kind == SensorKind::kLinear
           ? InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0)
           : std::max(InChannelUnits(sensor, 0.0, config.bias_limit_radps), 0.1 * departure.predicted_peak);
-  return departure.first >= 0 && departure.largest > floor && departure.largest > kFaultSigmas * departure.sigma;
+  return departure.first >= 0 && departure.largest > floor &&
+         departure.largest > kFaultSigmas * departure.sigma;
 }
 
 // Over the fault's interval, how many times smaller the rigid-body residual
@@ -687,8 +689,8 @@ Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& par
   detail << "channel " << sensor.slot << " is faulty";
   if (departure.first >= 0)
     detail << " from t = " << Number(kinematics_without.time_s(departure.first), 6)
-           << " s to t = " << Number(kinematics_without.time_s(departure.last), 6) << " s (it departs by up to "
-           << Number(departure.largest) << " " << sensor.unit
+           << " s to t = " << Number(kinematics_without.time_s(departure.last), 6)
+           << " s (it departs by up to " << Number(departure.largest) << " " << sensor.unit
            << " from what the other channels imply for a rigid body)";
   detail << ": leaving it out" << (partner ? " with channel " + *partner : std::string())
          << " lowers the RMS rigid-body residual " << FromTo(recorded_rms, without_rms) << ".";
@@ -864,7 +866,8 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
   if (!suspect && !steady) {
     // A low residual can still hide a broken channel of high leverage: one
     // trial solve, for the channel the deleted residuals point to.
-    std::vector<std::size_t> candidates = LinearSuspects(array, conditioned_signals, exact_kinematics, config);
+    std::vector<std::size_t> candidates =
+        LinearSuspects(array, conditioned_signals, exact_kinematics, config);
     // A fused array takes omega from its rate sensors: a broken one moves
     // omega while the residual (which weights the differentiated rates
     // lightly) hardly shows it; each is checked against the omega the
@@ -886,15 +889,17 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
       // A fault over the whole record (a swapped or flipped rate channel)
       // has no quiet samples to measure the noise by: there the residual's
       // improvement judges, with a departure beyond the floor.
-      const bool whole_record = DepartsAsFault(sensor, Departure{departure.first, departure.last,
-                                                                 departure.largest, 0.0, departure.predicted_peak},
+      const bool whole_record = DepartsAsFault(sensor,
+                                               Departure{departure.first, departure.last, departure.largest,
+                                                         0.0, departure.predicted_peak},
                                                config) &&
                                 ExplainsFault(residual.rms_mps2, fit.rms);
       if (((DepartsAsFault(sensor, departure, config) &&
             WindowExplains(exact_kinematics.residual, without.residual, departure)) ||
            whole_record) &&
           !ExplainAsOffset(sensor, conditioned_signals, without, config)) {
-        best = FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms, config);
+        best = FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms,
+                            config);
         best_rms = fit.rms;
       }
     }
@@ -966,8 +971,8 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
       findings.push_back(FaultFinding(*pair->second, pair->first->slot, conditioned_signals, pair->kinematics,
                                       residual.rms_mps2, pair->rms_mps2, config));
     } else if (single) {
-      findings.push_back(FaultFinding(*culprit->sensor, std::nullopt, conditioned_signals, culprit->kinematics,
-                                      residual.rms_mps2, culprit->rms_mps2, config));
+      findings.push_back(FaultFinding(*culprit->sensor, std::nullopt, conditioned_signals,
+                                      culprit->kinematics, residual.rms_mps2, culprit->rms_mps2, config));
     }
   }
   if (over_limit)

@@ -90,13 +90,14 @@ enum class FaultKind {
   kSwapped,       // two channels of one kind exchanged
   kInconsistent,  // off the rigid body in some other way (a gain error, noise bursts)
 };
-inline constexpr std::array<NamedValue<FaultKind>, 7> kFaultKindNames{{{FaultKind::kDropout, "dropout"},
-                                                                       {FaultKind::kStuck, "stuck"},
-                                                                       {FaultKind::kClipped, "clipped"},
-                                                                       {FaultKind::kSpike, "spike"},
-                                                                       {FaultKind::kFlipped, "flipped"},
-                                                                       {FaultKind::kSwapped, "swapped"},
-                                                                       {FaultKind::kInconsistent, "inconsistent"}}};
+inline constexpr std::array<NamedValue<FaultKind>, 7> kFaultKindNames{
+    {{FaultKind::kDropout, "dropout"},
+     {FaultKind::kStuck, "stuck"},
+     {FaultKind::kClipped, "clipped"},
+     {FaultKind::kSpike, "spike"},
+     {FaultKind::kFlipped, "flipped"},
+     {FaultKind::kSwapped, "swapped"},
+     {FaultKind::kInconsistent, "inconsistent"}}};
 constexpr const auto& NamesOf(FaultKind) { return kFaultKindNames; }
 
 // What salvage did to one channel (docs/formats.md "Salvage record").

@@ -53,7 +53,8 @@ nlohmann::ordered_json SalvageToJson(const engine::SalvageRecord& record) {
     entry["channel"] = channel.channel;
     entry["fault"] = engine::NameOf(channel.fault);
     entry["action"] = channel.action;
-    entry["partner"] = channel.partner ? nlohmann::ordered_json(*channel.partner) : nlohmann::ordered_json(nullptr);
+    entry["partner"] =
+        channel.partner ? nlohmann::ordered_json(*channel.partner) : nlohmann::ordered_json(nullptr);
     entry["interval_s"] = nlohmann::ordered_json::array({Number(channel.t1_s), Number(channel.t2_s)});
     entry["samples_replaced"] = channel.samples_replaced;
     channels.push_back(std::move(entry));

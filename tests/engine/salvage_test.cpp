@@ -61,7 +61,8 @@ Index PeakOf(const Eigen::Ref<const Eigen::VectorXd>& x) {
 }
 
 // Breaks `slot` of `test` as `fault` says (`partner` for a swap).
-void Inject(synth::SyntheticTest& test, Fault fault, const std::string& slot, const std::string& partner = "") {
+void Inject(synth::SyntheticTest& test, Fault fault, const std::string& slot,
+            const std::string& partner = "") {
   auto x = Column(test, slot);
   const Index n = x.size();
   const Index peak = PeakOf(x);
@@ -121,7 +122,8 @@ struct Accuracy {
 };
 
 Accuracy AccuracyOf(const ProcessedTest& processed, const synth::SyntheticTest& test) {
-  const test_support::KinematicsErrors errors = test_support::CompareKinematics(processed.kinematics, test.truth);
+  const test_support::KinematicsErrors errors =
+      test_support::CompareKinematics(processed.kinematics, test.truth);
   return {errors.omega_rel, std::abs(processed.summary.hic15.value / TrueHic15(test) - 1.0),
           errors.orientation_deg};
 }
@@ -165,7 +167,8 @@ void ExpectFailsThenSalvaged(const synth::SyntheticTest& faulty, const std::stri
   EXPECT_FALSE(failed.summary.salvage.has_value());
   for (const auto& [mode, tolerance, orientation_deg] :
        {std::tuple{SalvageMode::kExclude, 0.005, 0.1}, std::tuple{SalvageMode::kRepair, 0.01, 0.2}}) {
-    const ProcessedTest salvaged = ProcessTest(faulty.array, faulty.signals, faulty.initial, WithSalvage(mode));
+    const ProcessedTest salvaged =
+        ProcessTest(faulty.array, faulty.signals, faulty.initial, WithSalvage(mode));
     const std::string label = context + " salvage " + NameOf(mode);
     ASSERT_EQ(FailingFinding(salvaged), nullptr) << label << ":\n" << Describe(salvaged.summary.findings);
     ASSERT_TRUE(salvaged.summary.salvage.has_value()) << label;
@@ -237,24 +240,24 @@ TEST(Salvage, EveryFaultKindAtEveryChannelIsFailedOrPublishedTrue) {
     ArrayGeometry array;
     std::uint64_t seed;
   };
-  const std::vector<Host> hosts = {{test_support::Denton3222(), 3},
-                                   {test_support::Ideal3222(), 4},
-                                   {test_support::NapArs12(), 5}};
+  const std::vector<Host> hosts = {
+      {test_support::Denton3222(), 3}, {test_support::Ideal3222(), 4}, {test_support::NapArs12(), 5}};
   int salvaged_count = 0, failed_default = 0, cases = 0;
   for (const Host& host : hosts) {
     const synth::SyntheticTest clean = RandomTest(host.array, host.seed);
     // The method's own error on the intact test (filtering: CFC 60 on the
     // rate channels of NAP + ARS costs a few percent of peak omega on these
     // fast motions); salvage may add at most the tolerance to it.
-    const Accuracy intact = AccuracyOf(ProcessTest(clean.array, clean.signals, clean.initial, ProcessingConfig{}), clean);
+    const Accuracy intact =
+        AccuracyOf(ProcessTest(clean.array, clean.signals, clean.initial, ProcessingConfig{}), clean);
     for (const Sensor& sensor : host.array.sensors) {
       // A channel the others cannot predict (the array without it no
       // longer determines the motion) cannot be checked: its fault goes
       // into alpha unseen (docs/algorithms.md "Faulty channels").
       std::string why;
       if (!ArrayWithout(host.array, {sensor.slot}, why)) continue;
-      for (const Fault fault : {Fault::kDropout, Fault::kStuck, Fault::kClipped, Fault::kSpikes, Fault::kFlipped,
-                                Fault::kSwapped}) {
+      for (const Fault fault : {Fault::kDropout, Fault::kStuck, Fault::kClipped, Fault::kSpikes,
+                                Fault::kFlipped, Fault::kSwapped}) {
         std::string partner;
         if (fault == Fault::kSwapped) {
           // The next channel of the same kind (wrapping round).
@@ -276,15 +279,16 @@ TEST(Salvage, EveryFaultKindAtEveryChannelIsFailedOrPublishedTrue) {
         const std::string context = host.array.name + " " + NameOfFault(fault) + " " + sensor.slot +
                                     (partner.empty() ? "" : "/" + partner);
         ++cases;
-        for (const auto& [mode, tolerance, orientation_deg] : {std::tuple{SalvageMode::kOff, 0.01, 0.2},
-                                                               std::tuple{SalvageMode::kExclude, 0.005, 0.1},
-                                                               std::tuple{SalvageMode::kRepair, 0.01, 0.2}}) {
+        for (const auto& [mode, tolerance, orientation_deg] :
+             {std::tuple{SalvageMode::kOff, 0.01, 0.2}, std::tuple{SalvageMode::kExclude, 0.005, 0.1},
+              std::tuple{SalvageMode::kRepair, 0.01, 0.2}}) {
           ProcessedTest processed;
           try {
             processed = ProcessTest(test.array, test.signals, test.initial, WithSalvage(mode));
           } catch (const ScreeningFailure& failure) {
             // Salvage must recover every single fault of these arrays.
-            EXPECT_EQ(mode, SalvageMode::kOff) << context << " salvage " << NameOf(mode) << ": " << failure.what();
+            EXPECT_EQ(mode, SalvageMode::kOff)
+                << context << " salvage " << NameOf(mode) << ": " << failure.what();
             if (mode == SalvageMode::kOff) ++failed_default;
             continue;
           }
@@ -295,9 +299,11 @@ TEST(Salvage, EveryFaultKindAtEveryChannelIsFailedOrPublishedTrue) {
             continue;
           }
           const Accuracy accuracy = AccuracyOf(processed, test);
-          EXPECT_LE(accuracy.omega_rel, intact.omega_rel + tolerance) << context << " salvage " << NameOf(mode) << "\n"
-                                                   << Describe(processed.summary.findings);
-          EXPECT_LE(accuracy.hic15_rel, intact.hic15_rel + tolerance) << context << " salvage " << NameOf(mode);
+          EXPECT_LE(accuracy.omega_rel, intact.omega_rel + tolerance)
+              << context << " salvage " << NameOf(mode) << "\n"
+              << Describe(processed.summary.findings);
+          EXPECT_LE(accuracy.hic15_rel, intact.hic15_rel + tolerance)
+              << context << " salvage " << NameOf(mode);
           EXPECT_LE(accuracy.orientation_deg, intact.orientation_deg + orientation_deg)
               << context << " salvage " << NameOf(mode);
           if (processed.summary.salvage) ++salvaged_count;
@@ -322,7 +328,8 @@ TEST(Salvage, CleanAndNoisyTestsRaiseNoFaultAndAreIdenticalUnderEveryMode) {
   tests.push_back(RandomTest(test_support::NapArs12(), 5));
   tests.push_back(synth::SynthSeedFixedAxis(test_support::Denton3222(), Eigen::Vector3d(0.3, -0.4, 0.8)));
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-    synth::SyntheticTest noisy = RandomTest(seed % 2 == 0 ? test_support::Ideal3222() : test_support::Denton3222(), seed);
+    synth::SyntheticTest noisy =
+        RandomTest(seed % 2 == 0 ? test_support::Ideal3222() : test_support::Denton3222(), seed);
     AddLinearNoise(noisy, 0.5, 2000 + seed);
     tests.push_back(noisy);
   }
@@ -338,7 +345,8 @@ TEST(Salvage, CleanAndNoisyTestsRaiseNoFaultAndAreIdenticalUnderEveryMode) {
       EXPECT_FALSE(salvaged.summary.salvage.has_value()) << test.name;
       EXPECT_EQ(salvaged.summary.hic15.value, off.summary.hic15.value) << test.name;
       EXPECT_TRUE(salvaged.kinematics.omega_body.cwiseEqual(off.kinematics.omega_body).all()) << test.name;
-      EXPECT_TRUE(salvaged.kinematics.quat_fixed_from_body.cwiseEqual(off.kinematics.quat_fixed_from_body).all())
+      EXPECT_TRUE(
+          salvaged.kinematics.quat_fixed_from_body.cwiseEqual(off.kinematics.quat_fixed_from_body).all())
           << test.name;
       EXPECT_EQ(salvaged.summary.findings.size(), off.summary.findings.size()) << test.name;
     }
@@ -357,7 +365,8 @@ TEST(Salvage, NoisySalvagedErrorIsAtMostOneAndAHalfTimesTheIntactError) {
       synth::SyntheticTest faulty = intact;
       Inject(faulty, Fault::kDropout, slot);
       for (const SalvageMode mode : {SalvageMode::kExclude, SalvageMode::kRepair}) {
-        const ProcessedTest salvaged = ProcessTest(faulty.array, faulty.signals, faulty.initial, WithSalvage(mode));
+        const ProcessedTest salvaged =
+            ProcessTest(faulty.array, faulty.signals, faulty.initial, WithSalvage(mode));
         const std::string label = "seed " + std::to_string(seed) + " " + slot + " " + NameOf(mode);
         ASSERT_EQ(FailingFinding(salvaged), nullptr) << label << "\n" << Describe(salvaged.summary.findings);
         const Accuracy accuracy = AccuracyOf(salvaged, faulty);
@@ -378,7 +387,8 @@ TEST(Salvage, ArraysSurviveTheLossesTheDocsSay) {
   EXPECT_NE(why.find("5 of 6"), std::string::npos) << why;
   for (const char* slot : kNapSlots) {
     EXPECT_TRUE(ArrayWithout(test_support::Denton3222(), {slot}, why).has_value()) << slot << ": " << why;
-    EXPECT_TRUE(ArrayWithout(test_support::NapArs12(), {slot, "ars_x"}, why).has_value()) << slot << ": " << why;
+    EXPECT_TRUE(ArrayWithout(test_support::NapArs12(), {slot, "ars_x"}, why).has_value())
+        << slot << ": " << why;
   }
 
   synth::SyntheticTest test = RandomTest(test_support::Denton3222(), 6);
