@@ -7,6 +7,7 @@
 // rotations). LS-DYNA files carry no units: the reader takes the model's
 // unit system ("mm,ms,kg", "m,s,kg", ...; `--model-units`).
 // Every error is one sentence naming the file and its line.
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -34,6 +35,10 @@ ModelUnits ParseModelUnits(std::string_view spec, std::string_view option = "--m
 // file's hash is the rating of exactly those bytes, whatever happens to the
 // path meanwhile (docs/formats.md "Model curves"). The path-taking readers
 // read the file this way first.
+// The largest model file read (64 MiB: over a million points of a CSV, far more than any head
+// impact model's output): with its parsed curves in memory, a few hundred MB at most.
+inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{64} << 20;
+
 struct ModelFile {
   std::filesystem::path path;  // as given, for messages
   std::string bytes;

@@ -254,7 +254,10 @@ TEST_F(ServeInbox, BadSidecarsFailOnlyTheirTestsOnceBeforeAndAfterARestart) {
   const fs::path control = inbox_ / "s" / "control" / "napkin.json";
   const fs::path fifo = inbox_ / "s" / "fifo" / "napkin.json";
   const fs::path padded = inbox_ / "s" / "padded" / "napkin.json";
-  for (const fs::path& sidecar : {typo, control, fifo, padded}) fs::create_directories(sidecar.parent_path());
+  const fs::path zero = inbox_ / "s" / "zero" / "napkin.json";
+  for (const fs::path& sidecar : {typo, control, fifo, padded, zero})
+    fs::create_directories(sidecar.parent_path());
+  fs::create_symlink("/dev/zero", zero);
   WriteText(typo, R"({"config": "defualt"})");
   WriteText(control, "{\"config\": \"def\\u0001ault\"}");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
@@ -263,12 +266,14 @@ TEST_F(ServeInbox, BadSidecarsFailOnlyTheirTestsOnceBeforeAndAfterARestart) {
   WriteTest(inbox_ / "s" / "control" / "t21.csv", 121);
   WriteTest(inbox_ / "s" / "fifo" / "t22.csv", 122);
   WriteTest(inbox_ / "s" / "padded" / "t23.csv", 123);
+  WriteTest(inbox_ / "s" / "zero" / "t26.csv", 126);
   WriteTest(inbox_ / "s" / "good" / "t24.csv", 124);
   const std::map<std::string, std::pair<fs::path, std::string>> expected = {
       {"t20", {typo, "key 'config': \"defualt\" is neither a file nor a preset"}},
       {"t21", {control, "key 'config' holds a control character"}},
       {"t22", {fifo, "is a FIFO (named pipe), not a regular file"}},
-      {"t23", {padded, "bytes, more than the 64 KiB a sidecar may have"}}};
+      {"t23", {padded, "bytes, more than the 64 KiB a sidecar may have"}},
+      {"t26", {zero, "is a character device, not a regular file"}}};
   const auto check_failures = [&](const Json& status, const std::string& log) {
     std::map<std::string, std::string> said;  // test id -> sentence
     for (const Json& event : status.at("inbox").at("events"))
@@ -289,7 +294,7 @@ TEST_F(ServeInbox, BadSidecarsFailOnlyTheirTestsOnceBeforeAndAfterARestart) {
     ASSERT_GT(serve->port(), 0) << serve->log();
     WaitFor(*serve, "/api/v1/query/hic", Rows(1));
     const Json status =
-        WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("failed") == 4; });
+        WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("failed") == 5; });
     std::this_thread::sleep_for(std::chrono::seconds(2));  // looked at again: nothing said twice
     check_failures(Json::parse(serve->Client()->Get("/api/v1/status")->body), serve->log());
     // Nothing of the failed tests is in the catalogue, half-imported and waiting.
@@ -304,7 +309,7 @@ TEST_F(ServeInbox, BadSidecarsFailOnlyTheirTestsOnceBeforeAndAfterARestart) {
   WriteTest(inbox_ / "s" / "good" / "t25.csv", 125);
   WaitFor(*serve, "/api/v1/query/hic", Rows(2), 30);
   const Json status =
-      WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("failed") == 4; });
+      WaitFor(*serve, "/api/v1/status", [](const Json& s) { return s.at("inbox").at("failed") == 5; });
   EXPECT_TRUE(status.at("inbox").at("settling").empty()) << status.dump(2);
   std::this_thread::sleep_for(std::chrono::seconds(2));
   check_failures(Json::parse(serve->Client()->Get("/api/v1/status")->body), serve->log());
