@@ -38,6 +38,14 @@ engine::Severity ParseSeverity(const std::string& text) {
   throw InputError("finding severity '" + text + "' in the catalogue is not info, warning or error.");
 }
 
+// A name of vocabulary E as the catalogue stores it; an unknown one is a
+// catalogue this napkin did not write.
+template <typename E>
+E ParseStored(const std::string& text, const char* what) {
+  if (const std::optional<E> value = engine::ParseName<E>(text)) return *value;
+  throw InputError(std::string(what) + " '" + text + "' in the catalogue is not one napkin knows.");
+}
+
 // One derived channel of a Kinematics: its stable name (SI unit in the
 // name), the contiguous column it is stored from / read into, and whether it
 // needs the rotation (absent from acceleration-only kinematics).
@@ -221,9 +229,10 @@ void Catalogue::WriteSalvage(TestId test, ConfigId config,
     for (std::size_t i = 0; i < salvage->channels.size(); ++i) {
       const engine::SalvagedChannel& channel = salvage->channels[i];
       insert->BindAll(test, config, i, salvage->mode, channel.channel, engine::NameOf(channel.fault),
-                      channel.action, channel.partner, channel.t1_s, channel.t2_s, channel.samples_replaced,
-                      in_g(salvage->rms_residual_before_mps2), in_g(salvage->rms_residual_after_mps2),
-                      salvage->channels_used, salvage->channels_total);
+                      engine::NameOf(channel.action), channel.partner, channel.t1_s, channel.t2_s,
+                      channel.samples_replaced, in_g(salvage->rms_residual_before_mps2),
+                      in_g(salvage->rms_residual_after_mps2), salvage->channels_used,
+                      salvage->channels_total);
       insert->Execute();
       insert->Reset();
     }
@@ -336,9 +345,8 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
     }
     engine::SalvagedChannel& channel = summary.salvage->channels.emplace_back();
     channel.channel = salvage->ColumnText(1);
-    channel.fault = engine::ParseName<engine::FaultKind>(salvage->ColumnText(2))
-                        .value_or(engine::FaultKind::kInconsistent);
-    channel.action = salvage->ColumnText(3);
+    channel.fault = ParseStored<engine::FaultKind>(salvage->ColumnText(2), "salvage fault");
+    channel.action = ParseStored<engine::SalvageAction>(salvage->ColumnText(3), "salvage action");
     channel.partner = salvage->ColumnOptionalText(4);
     channel.t1_s = salvage->ColumnDouble(5);
     channel.t2_s = salvage->ColumnDouble(6);

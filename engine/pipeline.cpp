@@ -248,21 +248,29 @@ std::string SalvageNumber(double value, int digits = 4) {
 
 // With salvage off: what `--config salvage` would do with the faulty
 // channels, as the tail of the failing sentence (" — ...").
-std::string SalvageHint(const ArrayGeometry& array, const std::vector<FaultyChannel>& faults) {
-  const std::vector<std::string> names = FaultyChannelNames(faults);
+// Why salvage cannot recover a test whose faulty channels are `names`, as
+// the tail of a sentence (" — salvage cannot recover ..."); nullopt when it can.
+std::optional<std::string> SalvageImpossible(const ArrayGeometry& array,
+                                             const std::vector<std::string>& names) {
   const std::string list = ChannelList(names);
   if (names.size() > static_cast<std::size_t>(kMaxSalvagedChannels))
     return " — salvage cannot recover the test: " + std::to_string(names.size()) + " channels are faulty (" +
            list + "), more than the " + std::to_string(kMaxSalvagedChannels) + " it repairs";
   std::string why;
-  const std::optional<ArrayGeometry> reduced = ArrayWithout(array, names, why);
-  if (!reduced)
+  if (!ArrayWithout(array, names, why))
     return " — salvage cannot recover " + list + ": without " + (names.size() > 1 ? "them" : "it") + ", " +
            why;
-  return " — `--config salvage` would repair " + list + " from the other channels (" +
-         std::to_string(reduced->sensors.size()) + " of " + std::to_string(array.sensors.size()) +
-         " channels determine the motion without " + (names.size() > 1 ? "them" : "it") +
-         "; screening.salvage \"exclude\" would leave " + (names.size() > 1 ? "them" : "it") + " out)";
+  return std::nullopt;
+}
+
+std::string SalvageHint(const ArrayGeometry& array, const std::vector<FaultyChannel>& faults) {
+  const std::vector<std::string> names = FaultyChannelNames(faults);
+  if (std::optional<std::string> impossible = SalvageImpossible(array, names)) return *impossible;
+  const std::string them = names.size() > 1 ? "them" : "it";
+  return " — `--config salvage` would repair " + ChannelList(names) + " from the other channels (" +
+         std::to_string(array.sensors.size() - names.size()) + " of " + std::to_string(array.sensors.size()) +
+         " channels determine the motion without " + them + "; screening.salvage \"exclude\" would leave " +
+         them + " out)";
 }
 
 // Appends the hint to the error findings of the faulty channels.
@@ -289,12 +297,12 @@ Finding SalvageFinding(const SalvageRecord& record, const SalvagedChannel& chann
                                                        : std::string("a fault: ") + NameOf(channel.fault))
          << ", t = " << SalvageNumber(channel.t1_s, 6) << " s to " << SalvageNumber(channel.t2_s, 6)
          << " s) ";
-  if (channel.action == "excluded")
+  if (channel.action == SalvageAction::kExcluded)
     detail << "was left out; the result is solved from " << record.channels_used << " of "
            << record.channels_total << " channels";
-  else if (channel.action == "inverted")
+  else if (channel.action == SalvageAction::kInverted)
     detail << "was inverted (its sign flipped back)";
-  else if (channel.action == "swapped back")
+  else if (channel.action == SalvageAction::kSwappedBack)
     detail << "was swapped back with channel " << channel.partner.value_or("?");
   else
     detail << "had " << channel.samples_replaced
@@ -328,17 +336,12 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
   for (int round = 0;; ++round) {
     const std::vector<std::string> names = FaultyChannelNames(faults);
     const std::string list = ChannelList(names);
-    if (names.size() > static_cast<std::size_t>(kMaxSalvagedChannels))
-      throw ScreeningFailure(FirstErrorSentence(findings) + " — salvage cannot recover the test: " +
-                                 std::to_string(names.size()) + " channels are faulty (" + list +
-                                 "), more than the " + std::to_string(kMaxSalvagedChannels) + " it repairs.",
-                             std::move(findings));
+    if (std::optional<std::string> impossible = SalvageImpossible(array, names)) {
+      const std::string sentence = FirstErrorSentence(findings) + *impossible + ".";
+      throw ScreeningFailure(sentence, std::move(findings));
+    }
     std::string why;
     const std::optional<ArrayGeometry> reduced = ArrayWithout(array, names, why);
-    if (!reduced)
-      throw ScreeningFailure(FirstErrorSentence(findings) + " — salvage cannot recover " + list +
-                                 ": without " + (names.size() > 1 ? "them" : "it") + ", " + why + ".",
-                             std::move(findings));
     const std::vector<FaultAnalysis> analyses =
         AnalyseFaults(array, *reduced, names, raw_signals, initial, config);
     ThrowIfCancelled(cancel);
@@ -363,14 +366,14 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
       const int column = salvaged.FindSlot(names[i]);
       auto samples = salvaged.samples.col(column);
       if (!repair) {
-        channel.action = "excluded";
+        channel.action = SalvageAction::kExcluded;
         for (Eigen::Index k = 0; k < samples.size(); ++k)
           if (!std::isfinite(samples(k))) samples(k) = 0.0;  // unread: conditioning needs finite samples
       } else if (channel.fault == FaultKind::kFlipped) {
-        channel.action = "inverted";
+        channel.action = SalvageAction::kInverted;
         samples *= -1.0;
       } else if (channel.fault == FaultKind::kSwapped) {
-        channel.action = "swapped back";
+        channel.action = SalvageAction::kSwappedBack;
         channel.partner =
             fault->channel == names[i] ? fault->partner : std::optional<std::string>(fault->channel);
         // Each column takes the other's recorded samples (in its own unit).
@@ -381,7 +384,7 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
           samples = raw_signals.samples.col(other) *
                     (array.sensors[*other_sensor].si_per_unit / array.sensors[*sensor].si_per_unit);
       } else {
-        channel.action = "replaced";
+        channel.action = SalvageAction::kReplaced;
         for (const Eigen::Index k : analysis.samples) samples(k) = analysis.predicted(k);
         channel.samples_replaced = static_cast<std::int64_t>(analysis.samples.size());
       }
@@ -454,7 +457,8 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
   try {
     ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel);
   } catch (const ScreeningFailure& failure) {
-    const std::vector<FaultyChannel> faults = SalvageableFaults(failure.findings());
+    std::vector<FaultyChannel> faults = SalvageableFaults(failure.findings());
+    ResolveConfounded(array, raw_signals, initial, config, failure.findings(), faults);
     if (faults.empty()) throw;
     if (!salvage) {
       const std::string hint = SalvageHint(array, faults);
@@ -465,7 +469,8 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
     Salvage(array, raw_signals, initial, config, faults, failure.findings(), workspace, out, cancel);
     return;
   }
-  const std::vector<FaultyChannel> faults = SalvageableFaults(out.summary.findings);
+  std::vector<FaultyChannel> faults = SalvageableFaults(out.summary.findings);
+  ResolveConfounded(array, raw_signals, initial, config, out.summary.findings, faults);
   if (faults.empty()) return;
   if (!salvage) {
     AddSalvageHint(out.summary.findings, faults, SalvageHint(array, faults));

@@ -32,20 +32,6 @@ constexpr Index kFlatRunMinSamples = 3;
 // A fault segment of at most this many samples is a spike.
 constexpr Index kSpikeMaxSamples = 3;
 
-double RepairThresholdInChannelUnits(const Sensor& sensor, double limit_g, double limit_radps) {
-  const double limit_si = sensor.kind == SensorKind::kLinear ? limit_g * kStandardGravity : limit_radps;
-  return limit_si / sensor.si_per_unit;
-}
-
-double MedianOf(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-// The kind of a fault found by its samples: what the recorded channel does
-// over its faulty samples.
 // A flat run is a clip when the prediction lies beyond it (same sign,
 // larger magnitude) over most of it, stuck otherwise.
 FaultKind KindOfSamples(const Eigen::Ref<const Eigen::VectorXd>& recorded, const Eigen::VectorXd& predicted,
@@ -83,8 +69,9 @@ std::vector<FaultyChannel> SalvageableFaults(const std::vector<Finding>& finding
     if (!check || !(*check == Check::kFault || KindOfCheck(*check).has_value())) continue;
     if (named.count(*finding.channel) != 0) continue;
     FaultyChannel fault{*finding.channel, *check, std::nullopt};
-    if (*check == Check::kAxisLabel) {
-      // The swap's two findings name each other ("channels A and B appear swapped").
+    if (*check == Check::kAxisLabel || *check == Check::kFault) {
+      // A swap's two findings name each other ("channels A and B appear
+      // swapped"), and so do a confounded pair's ("... cannot be told apart").
       for (const Finding& other : findings)
         if (other.check == finding.check && other.channel && *other.channel != *finding.channel &&
             other.detail == finding.detail)
@@ -95,6 +82,33 @@ std::vector<FaultyChannel> SalvageableFaults(const std::vector<Finding>& finding
     faults.push_back(std::move(fault));
   }
   return faults;
+}
+
+void ResolveConfounded(const ArrayGeometry& array, const TestSignals& raw_signals,
+                       const InitialState& initial, const ProcessingConfig& config,
+                       const std::vector<Finding>& findings, std::vector<FaultyChannel>& faults) {
+  // A fault a recorder makes, seen in the channel's own samples: zeros, a
+  // flat run, a clip, or a raw-signal finding (spike, saturation, NaN).
+  const auto shows_fault = [&](const std::string& channel) {
+    for (const Finding& finding : findings)
+      if (finding.channel == channel &&
+          (finding.check == NameOf(Check::kSpike) || finding.check == NameOf(Check::kSaturation) ||
+           finding.check == NameOf(Check::kNonFinite)))
+        return true;
+    std::string why;
+    const std::optional<ArrayGeometry> reduced = ArrayWithout(array, {channel}, why);
+    if (!reduced) return false;
+    const FaultKind kind =
+        AnalyseFaults(array, *reduced, {channel}, raw_signals, initial, config).front().kind;
+    return kind == FaultKind::kDropout || kind == FaultKind::kStuck || kind == FaultKind::kClipped;
+  };
+  for (FaultyChannel& fault : faults) {
+    if (fault.check != Check::kFault || !fault.partner) continue;
+    const bool first = shows_fault(fault.channel), second = shows_fault(*fault.partner);
+    if (first == second) continue;  // the samples do not tell either
+    if (second) fault.channel = *fault.partner;
+    fault.partner.reset();
+  }
 }
 
 std::vector<std::string> FaultyChannelNames(const std::vector<FaultyChannel>& faults) {
@@ -155,11 +169,14 @@ std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const Array
                                          const std::vector<std::string>& channels,
                                          const TestSignals& raw_signals, const InitialState& initial,
                                          const ProcessingConfig& config) {
-  // The signals to predict from: shifted and bias-corrected as the config
-  // says, but neither filtered (the prediction replaces raw samples, which
-  // conditioning then filters with the rest) nor cropped. The faulty
-  // channels' non-finite samples are zeroed: they are replaced anyway, and
-  // no other channel depends on them.
+  // The signals: shifted and bias-corrected as the config says but not
+  // cropped (a prediction per raw sample). The departures are judged on the
+  // unfiltered samples, where a fault's edges are sharp; the prediction
+  // comes from the filtered ones, so that the replaced samples carry no
+  // more noise than the channel's own (conditioning filters them again with
+  // the rest: a smooth prediction passes a CFC filter unchanged). The
+  // faulty channels' non-finite samples are zeroed: they are replaced
+  // anyway, and no other channel depends on them.
   TestSignals work = raw_signals;
   for (const std::string& channel : channels) {
     const int column = work.FindSlot(channel);
@@ -168,17 +185,20 @@ std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const Array
     for (Index k = 0; k < samples.size(); ++k)
       if (!std::isfinite(samples(k))) samples(k) = 0.0;
   }
-  ProcessingConfig unfiltered = config;
+  ProcessingConfig uncropped = config;
+  uncropped.time.start_s.reset();
+  uncropped.time.end_s.reset();
+  TestSignals smooth = work;
+  ProcessingConfig unfiltered = uncropped;
   unfiltered.filter.linear_cfc.reset();
   unfiltered.filter.angular_rate_cfc.reset();
-  unfiltered.time.start_s.reset();
-  unfiltered.time.end_s.reset();
   const std::vector<ChannelConditioning> conditioning = ApplyConditioning(array, work, unfiltered);
-  SolveOptions options = MakeSolveOptions(unfiltered, initial);
+  ApplyConditioning(array, smooth, uncropped);
+  SolveOptions options = MakeSolveOptions(uncropped, initial);
   options.solver = SolverKind::kExact;
   options.gravity.compensate = false;
   options.body_frame_only = true;
-  const Kinematics kinematics = Solve(reduced_array, work, options);
+  const Kinematics kinematics = Solve(reduced_array, smooth, options);
 
   std::vector<FaultAnalysis> analyses;
   const Index n = raw_signals.size();
@@ -201,11 +221,12 @@ std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const Array
     std::vector<double> magnitude(departure.size());
     std::transform(departure.begin(), departure.end(), magnitude.begin(),
                    [](double d) { return std::abs(d); });
-    const double sigma = 1.4826 * MedianOf(magnitude);
-    const double threshold = std::max(
-        kRepairSigmas * sigma,
-        RepairThresholdInChannelUnits(sensor, kRepairFloorFraction * config.screening.residual_limit_g,
-                                      config.screening.bias_limit_radps));
+    std::vector<double> scratch = magnitude;
+    const double sigma = 1.4826 * MedianInPlace(scratch);
+    const double threshold =
+        std::max(kRepairSigmas * sigma,
+                 InChannelUnits(sensor, kRepairFloorFraction * config.screening.residual_limit_g,
+                                config.screening.bias_limit_radps));
     std::vector<bool> faulty(static_cast<std::size_t>(n), false);
     for (Index k = 0; k < n; ++k)
       faulty[static_cast<std::size_t>(k)] =

@@ -35,11 +35,21 @@ inline constexpr int kMaxSalvagedChannels = 2;
 struct FaultyChannel {
   std::string channel;
   Check check = Check::kFault;         // kFault, kPolarity, kAxisLabel, kSaturation or kNonFinite
-  std::optional<std::string> partner;  // the other channel of a swap
+  std::optional<std::string> partner;  // the other channel of a swap, or of a confounded pair
 };
 
 // The faulty channels the error findings name (each once), in finding order.
 std::vector<FaultyChannel> SalvageableFaults(const std::vector<Finding>& findings);
+
+// Two channels screening cannot tell apart (two `fault` findings naming
+// each other, engine/screening.cpp "confounded") are decided by their
+// recorded samples when only one of them shows a fault a recorder makes
+// (zeros or NaN, a flat run, a clip, spikes): that one stays in `faults`,
+// without its partner. Otherwise both stay, and salvage needs the array
+// without both.
+void ResolveConfounded(const ArrayGeometry& array, const TestSignals& raw_signals,
+                       const InitialState& initial, const ProcessingConfig& config,
+                       const std::vector<Finding>& findings, std::vector<FaultyChannel>& faults);
 
 // Every channel `faults` name, partners included, each once.
 std::vector<std::string> FaultyChannelNames(const std::vector<FaultyChannel>& faults);
@@ -62,13 +72,12 @@ struct FaultAnalysis {
 };
 
 // Predicts each of `channels` (slots of `array` absent from
-// `reduced_array`) from the raw signals of `reduced_array`'s channels,
-// conditioned as `config` says but unfiltered and uncropped (so each
-// prediction has one value per raw sample, in the raw channel's unit with
-// its bias), and finds the faulty samples of each: beyond the departure
-// from the prediction that the channel's own noise explains, the flat runs
-// (stuck, clipped, zero) that hold such a sample, and non-finite samples.
-// Throws InputError when the reduced array cannot be solved.
+// `reduced_array`) from the signals of `reduced_array`'s channels,
+// conditioned as `config` says but uncropped (so each prediction has one
+// value per raw sample, in the raw channel's unit with its bias), and finds the faulty samples of each:
+// beyond the departure from the prediction that the channel's own noise explains, the flat runs (stuck,
+// clipped, zero) that hold such a sample, and non-finite samples. Throws InputError when the reduced array
+// cannot be solved.
 std::vector<FaultAnalysis> AnalyseFaults(const ArrayGeometry& array, const ArrayGeometry& reduced_array,
                                          const std::vector<std::string>& channels,
                                          const TestSignals& raw_signals, const InitialState& initial,

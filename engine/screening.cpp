@@ -14,7 +14,22 @@
 #include "engine/units.h"
 
 namespace napkin::engine {
+
+double InChannelUnits(const Sensor& sensor, double limit_g, double limit_radps) {
+  const double limit_si = sensor.kind == SensorKind::kLinear ? limit_g * kStandardGravity : limit_radps;
+  return limit_si / sensor.si_per_unit;
+}
+
+double MedianInPlace(std::vector<double>& values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
 namespace {
+
+double Median(std::vector<double> values) { return MedianInPlace(values); }
 
 using Eigen::Index;
 
@@ -82,22 +97,6 @@ Finding MakeFinding(Check check, const std::optional<std::string>& channel, Seve
   finding.detail = std::move(detail);
   return finding;
 }
-
-// Channel-unit value of a threshold given in g (linear) or rad/s (rate).
-double InChannelUnits(const Sensor& sensor, double limit_g, double limit_radps) {
-  const double limit_si = sensor.kind == SensorKind::kLinear ? limit_g * kStandardGravity : limit_radps;
-  return limit_si / sensor.si_per_unit;
-}
-
-// The median (the upper one of an even count) of `values`, which it reorders.
-double MedianInPlace(std::vector<double>& values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-double Median(std::vector<double> values) { return MedianInPlace(values); }
 
 // RMS of a residual series; +infinity when the solve diverged (non-finite).
 double Rms(const Eigen::VectorXd& values) {
@@ -484,6 +483,10 @@ struct Culprit {
   double rms_mps2 = 0.0;  // RMS residual without it
   Kinematics kinematics;  // solved without it
   bool accounts = false;  // its omission removes most of the residual (kLeaveOutFraction)
+  // The runner-up: the channel whose omission fits next best, with its solve.
+  const Sensor* runner_up = nullptr;
+  double runner_up_rms_mps2 = 0.0;
+  Kinematics runner_up_kinematics;
 };
 
 // The pair of channels whose omission removes the residual, when no single
@@ -496,6 +499,22 @@ struct CulpritPair {
   Kinematics kinematics;
 };
 
+// The array less the sensors at `indices`, when it keeps a redundant
+// rigid-body equation to judge a trial solve by; nullopt otherwise.
+std::optional<ArrayGeometry> CheckableWithout(const ArrayGeometry& array,
+                                              std::initializer_list<std::size_t> indices) {
+  ArrayGeometry reduced;
+  reduced.name = array.name;
+  for (std::size_t i = 0; i < array.sensors.size(); ++i)
+    if (std::find(indices.begin(), indices.end(), i) == indices.end())
+      reduced.sensors.push_back(array.sensors[i]);
+  try {
+    if (ResidualRedundancy(reduced) > 0) return reduced;
+  } catch (const InputError&) {
+  }
+  return std::nullopt;
+}
+
 std::optional<CulpritPair> LeaveTwoOut(const ArrayGeometry& array, const TestSignals& signals,
                                        const SolveOptions& options, double recorded_rms) {
   CulpritPair best;
@@ -503,15 +522,9 @@ std::optional<CulpritPair> LeaveTwoOut(const ArrayGeometry& array, const TestSig
   Kinematics kinematics;
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
     for (std::size_t j = i + 1; j < array.sensors.size(); ++j) {
-      ArrayGeometry reduced = array;
-      reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(j));
-      reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
-      try {
-        if (ResidualRedundancy(reduced) <= 0) continue;
-      } catch (const InputError&) {
-        continue;
-      }
-      const ResidualFit fit = SolveResidual(reduced, signals, options, kinematics);
+      const std::optional<ArrayGeometry> reduced = CheckableWithout(array, {i, j});
+      if (!reduced) continue;
+      const ResidualFit fit = SolveResidual(*reduced, signals, options, kinematics);
       if (fit.solved && fit.rms < best.rms_mps2) {
         best.rms_mps2 = fit.rms;
         best.first = &array.sensors[i];
@@ -529,7 +542,10 @@ std::optional<CulpritPair> LeaveTwoOut(const ArrayGeometry& array, const TestSig
 // i.e. (n_j, r_j x n_j); H = A (A^T A)^-1 A^T), with the arms scaled to the
 // RMS lever arm so the rows are balanced; empty when the array takes
 // another path.
-std::vector<double> LinearLeverages(const ArrayGeometry& array) {
+// The hat matrix H = A (A^T A)^-1 A^T of the linear sensors' rows, indexed
+// by sensor (a rate sensor's row and column are zero: it has no linear row);
+// empty when the array takes neither path.
+Eigen::MatrixXd LinearHat(const ArrayGeometry& array) {
   ArrayGeometry validated = array;
   ValidateArray(validated);
   const ExactPath path = ClassifyArray(validated);
@@ -544,10 +560,40 @@ std::vector<double> LinearLeverages(const ArrayGeometry& array) {
   }
   const Eigen::MatrixXd gram = rows.transpose() * rows;
   const Eigen::MatrixXd hat = rows * gram.completeOrthogonalDecomposition().solve(rows.transpose());
+  const auto sensors = static_cast<Index>(validated.sensors.size());
+  Eigen::MatrixXd by_sensor = Eigen::MatrixXd::Zero(sensors, sensors);
+  for (Index a = 0; a < n; ++a)
+    for (Index b = 0; b < n; ++b)
+      by_sensor(static_cast<Index>(linear[static_cast<std::size_t>(a)]),
+                static_cast<Index>(linear[static_cast<std::size_t>(b)])) = hat(a, b);
+  return by_sensor;
+}
+
+std::vector<double> LinearLeverages(const ArrayGeometry& array) {
+  const Eigen::MatrixXd hat = LinearHat(array);
+  if (hat.size() == 0) return {};
   // Rate sensors have no linear row: leverage 1 leaves them to the rate check.
-  std::vector<double> leverages(validated.sensors.size(), 1.0);
-  for (Index j = 0; j < n; ++j) leverages[linear[static_cast<std::size_t>(j)]] = hat(j, j);
+  std::vector<double> leverages(array.sensors.size(), 1.0);
+  for (std::size_t j = 0; j < array.sensors.size(); ++j)
+    if (array.sensors[j].kind == SensorKind::kLinear)
+      leverages[j] = hat(static_cast<Index>(j), static_cast<Index>(j));
   return leverages;
+}
+
+// Whether two linear sensors' errors leave the same trace in the residual:
+// their columns of I - H are parallel, so no redundant equation can tell
+// which of them is off (the ideal 3-2-2-2's xarm_y and yarm_x share the one
+// equation that checks alpha_z). nullopt when one is a rate sensor.
+std::optional<bool> ParallelInResidual(const ArrayGeometry& array, const Sensor& first,
+                                       const Sensor& second) {
+  if (first.kind != SensorKind::kLinear || second.kind != SensorKind::kLinear) return std::nullopt;
+  const Eigen::MatrixXd hat = LinearHat(array);
+  const std::optional<std::size_t> a = array.FindSlot(first.slot), b = array.FindSlot(second.slot);
+  if (hat.size() == 0 || !a || !b) return std::nullopt;
+  const auto i = static_cast<Index>(*a), j = static_cast<Index>(*b);
+  const double free_i = 1.0 - hat(i, i), free_j = 1.0 - hat(j, j);
+  if (!(free_i > 1e-9 && free_j > 1e-9)) return false;
+  return std::abs(hat(i, j)) / std::sqrt(free_i * free_j) > 1.0 - 1e-6;
 }
 
 // Trial solves of the low-residual search (LinearSuspects).
@@ -596,6 +642,14 @@ std::vector<std::size_t> LinearSuspects(const ArrayGeometry& array, const TestSi
   return suspects;
 }
 
+// Two channels are confounded when leaving out either leaves the residual
+// over the fault's interval within this factor as small, and each departs
+// as a broken channel would: the array's redundancy cannot say which one
+// broke (in the ideal 3-2-2-2, xarm_y and yarm_x share the one equation
+// that checks alpha_z). Over the interval, not the record: on a noisy
+// record both omissions leave the noise, which hides the fault's share.
+constexpr double kTwinRmsFactor = 2.0;
+
 // Whether omitting channels lowers the RMS residual from `recorded_rms` to
 // `without_rms` enough to call them faulty (kFaultImprovement).
 bool ExplainsFault(double recorded_rms, double without_rms) {
@@ -610,7 +664,10 @@ struct Departure {
   double largest = 0.0;
   double sigma = 0.0;           // robust standard deviation of the departure (channel units)
   double predicted_peak = 0.0;  // largest |prediction| (channel units)
+  double peak = 0.0;            // largest departure anywhere (channel units)
 };
+
+double FaultFloor(const Sensor& sensor, const Departure& departure, const ScreeningConfig& config);
 
 Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Kinematics& kinematics_without,
                       const ScreeningConfig& config) {
@@ -623,6 +680,7 @@ Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Ki
     const double predicted = PredictedReading(sensor, kinematics_without, k);
     departure.predicted_peak = std::max(departure.predicted_peak, std::abs(predicted));
     magnitude[static_cast<std::size_t>(k)] = std::abs(signals.samples(k, column) - predicted);
+    departure.peak = std::max(departure.peak, magnitude[static_cast<std::size_t>(k)]);
   }
   const double sigma = 1.4826 * Median(magnitude);
   departure.sigma = sigma;
@@ -636,6 +694,16 @@ Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Ki
     departure.last = k;
     departure.largest = std::max(departure.largest, value);
   }
+  // A fault over the whole record leaves no quiet samples to measure the
+  // noise by: its interval is where it departs beyond the floor.
+  if (departure.first < 0) {
+    const double floor = FaultFloor(sensor, departure, config);
+    for (Index k = 0; k < n; ++k) {
+      if (!(magnitude[static_cast<std::size_t>(k)] > floor)) continue;
+      if (departure.first < 0) departure.first = k;
+      departure.last = k;
+    }
+  }
   return departure;
 }
 
@@ -646,13 +714,22 @@ Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Ki
 // an angular-rate channel, predicted by integrating the linear channels'
 // alpha and filtered otherwise (CFC 60 against CFC 1000), a tenth of its
 // peak and bias_limit_radps.
+double FaultFloor(const Sensor& sensor, const Departure& departure, const ScreeningConfig& config) {
+  return sensor.kind == SensorKind::kLinear
+             ? InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0)
+             : std::max(InChannelUnits(sensor, 0.0, config.bias_limit_radps), 0.1 * departure.predicted_peak);
+}
+
 bool DepartsAsFault(const Sensor& sensor, const Departure& departure, const ScreeningConfig& config) {
-  const double floor =
-      sensor.kind == SensorKind::kLinear
-          ? InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0)
-          : std::max(InChannelUnits(sensor, 0.0, config.bias_limit_radps), 0.1 * departure.predicted_peak);
-  return departure.first >= 0 && departure.largest > floor &&
+  return departure.first >= 0 && departure.largest > FaultFloor(sensor, departure, config) &&
          departure.largest > kFaultSigmas * departure.sigma;
+}
+
+// A fault over the whole record (a swapped or flipped rate channel, a gain
+// error) has no quiet samples to measure the noise by: there the residual's
+// improvement (ExplainsFault) judges, with a departure beyond the floor.
+bool DepartsBeyondFloor(const Sensor& sensor, const Departure& departure, const ScreeningConfig& config) {
+  return departure.peak > FaultFloor(sensor, departure, config);
 }
 
 // Over the fault's interval, how many times smaller the rigid-body residual
@@ -665,6 +742,28 @@ constexpr double kFaultWindowImprovement = 4.0;
 // whose declared position is off departs at every fast rotation, improving
 // the record less than 2-fold).
 constexpr double kFaultRecordImprovement = 2.0;
+
+// The RMS of `residual` over the departure's interval (+infinity without one).
+double WindowRms(const Eigen::VectorXd& residual, const Departure& departure) {
+  if (departure.first < 0 || departure.last >= residual.size())
+    return std::numeric_limits<double>::infinity();
+  const Index length = departure.last - departure.first + 1;
+  return std::sqrt(residual.segment(departure.first, length).squaredNorm() / static_cast<double>(length));
+}
+
+// Whether leaving out another channel fits the fault's interval about as
+// well as leaving out the culprit did (kTwinRmsFactor).
+bool Confounded(const ArrayGeometry& array, const Sensor& culprit, const Sensor& other,
+                const Eigen::VectorXd& without_culprit, const Departure& culprit_departure,
+                const Eigen::VectorXd& without_other) {
+  // Parallel columns of I - H are necessary (else the per-sample equations
+  // already tell the two apart) but not sufficient: the centripetal terms
+  // of the integrated omega can, which the fits over the interval show.
+  if (ParallelInResidual(array, culprit, other) == false) return false;
+  const double culprit_rms = WindowRms(without_culprit, culprit_departure);
+  return std::isfinite(culprit_rms) &&
+         WindowRms(without_other, culprit_departure) <= kTwinRmsFactor * culprit_rms;
+}
 
 bool WindowExplains(const Eigen::VectorXd& recorded_residual, const Eigen::VectorXd& without_residual,
                     const Departure& departure) {
@@ -681,6 +780,20 @@ bool WindowExplains(const Eigen::VectorXd& recorded_residual, const Eigen::Vecto
          record_without * kFaultRecordImprovement * kFaultRecordImprovement <= record_with;
 }
 
+// The error findings of two confounded channels (kTwinRmsFactor): one per
+// channel, each naming both, so that salvage takes both or neither.
+void AddConfoundedFindings(const Sensor& first, const Sensor& second, double recorded_rms, double without_rms,
+                           std::vector<Finding>& findings) {
+  const std::string detail =
+      "channels " + first.slot + " and " + second.slot +
+      " are inconsistent with a rigid body and cannot be told apart: leaving out either "
+      "lowers the RMS rigid-body residual " +
+      FromTo(recorded_rms, without_rms) +
+      ", and the array has no redundant equation to decide which one is faulty.";
+  findings.push_back(MakeFinding(Check::kFault, first.slot, Severity::kError, detail));
+  findings.push_back(MakeFinding(Check::kFault, second.slot, Severity::kError, detail));
+}
+
 Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& partner,
                      const TestSignals& signals, const Kinematics& kinematics_without, double recorded_rms,
                      double without_rms, const ScreeningConfig& config) {
@@ -690,7 +803,7 @@ Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& par
   if (departure.first >= 0)
     detail << " from t = " << Number(kinematics_without.time_s(departure.first), 6)
            << " s to t = " << Number(kinematics_without.time_s(departure.last), 6)
-           << " s (it departs by up to " << Number(departure.largest) << " " << sensor.unit
+           << " s (it departs by up to " << Number(departure.peak) << " " << sensor.unit
            << " from what the other channels imply for a rigid body)";
   detail << ": leaving it out" << (partner ? " with channel " + *partner : std::string())
          << " lowers the RMS rigid-body residual " << FromTo(recorded_rms, without_rms) << ".";
@@ -699,28 +812,33 @@ Finding FaultFinding(const Sensor& sensor, const std::optional<std::string>& par
 
 std::optional<Culprit> LeaveOneOut(const ArrayGeometry& array, const TestSignals& signals,
                                    const SolveOptions& options, double recorded_rms, double limit_mps2) {
-  const Sensor* best_sensor = nullptr;
-  double best_rms = recorded_rms;
-  Kinematics kinematics, best_kinematics;
+  Culprit best;
+  best.rms_mps2 = recorded_rms;
+  best.runner_up_rms_mps2 = recorded_rms;
+  Kinematics kinematics;
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
-    ArrayGeometry reduced = array;
-    reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(i));
-    try {
-      if (ResidualRedundancy(reduced) <= 0) continue;
-    } catch (const InputError&) {
-      continue;
-    }
-    const ResidualFit fit = SolveResidual(reduced, signals, options, kinematics);
-    if (fit.solved && fit.rms < best_rms) {
-      best_rms = fit.rms;
-      best_sensor = &array.sensors[i];
-      std::swap(best_kinematics, kinematics);  // the next trial reuses the former best's storage
+    const std::optional<ArrayGeometry> reduced = CheckableWithout(array, {i});
+    if (!reduced) continue;
+    const ResidualFit fit = SolveResidual(*reduced, signals, options, kinematics);
+    if (!fit.solved || !(fit.rms < best.runner_up_rms_mps2)) continue;
+    // The next trial reuses the storage of the solve that drops out.
+    if (fit.rms < best.rms_mps2) {
+      std::swap(best.runner_up_kinematics, best.kinematics);
+      best.runner_up = best.sensor;
+      best.runner_up_rms_mps2 = best.rms_mps2;
+      best.sensor = &array.sensors[i];
+      best.rms_mps2 = fit.rms;
+      std::swap(best.kinematics, kinematics);
+    } else {
+      best.runner_up = &array.sensors[i];
+      best.runner_up_rms_mps2 = fit.rms;
+      std::swap(best.runner_up_kinematics, kinematics);
     }
   }
-  const bool accounted =
-      std::isfinite(recorded_rms) ? best_rms < kLeaveOutFraction * recorded_rms : best_rms < limit_mps2;
-  if (best_sensor == nullptr) return std::nullopt;
-  return Culprit{best_sensor, best_rms, std::move(best_kinematics), accounted};
+  if (best.sensor == nullptr) return std::nullopt;
+  best.accounts = std::isfinite(recorded_rms) ? best.rms_mps2 < kLeaveOutFraction * recorded_rms
+                                              : best.rms_mps2 < limit_mps2;
+  return best;
 }
 
 // The residual finding: where it peaks (or the solve diverges) and which
@@ -876,34 +994,39 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
     ValidateArray(validated);
     if (ClassifyArray(validated) == ExactPath::kFused)
       for (const std::size_t index : array.RateIndices()) candidates.push_back(index);
-    std::optional<Finding> best;
-    double best_rms = std::numeric_limits<double>::infinity();
+    struct Faulty {
+      const Sensor* sensor;
+      double rms_mps2;
+      Kinematics without;
+      Departure departure;
+    };
+    std::vector<Faulty> faulty;
     for (const std::size_t index : candidates) {
       ArrayGeometry reduced = array;
       reduced.sensors.erase(reduced.sensors.begin() + static_cast<std::ptrdiff_t>(index));
       Kinematics without;
       const ResidualFit fit = SolveResidual(reduced, conditioned_signals, options, without);
       const Sensor& sensor = array.sensors[index];
-      if (!fit.solved || !(fit.rms < best_rms)) continue;
+      if (!fit.solved) continue;
       const Departure departure = DepartureOf(sensor, conditioned_signals, without, config);
-      // A fault over the whole record (a swapped or flipped rate channel)
-      // has no quiet samples to measure the noise by: there the residual's
-      // improvement judges, with a departure beyond the floor.
-      const bool whole_record = DepartsAsFault(sensor,
-                                               Departure{departure.first, departure.last, departure.largest,
-                                                         0.0, departure.predicted_peak},
-                                               config) &&
-                                ExplainsFault(residual.rms_mps2, fit.rms);
+      const bool whole_record =
+          DepartsBeyondFloor(sensor, departure, config) && ExplainsFault(residual.rms_mps2, fit.rms);
       if (((DepartsAsFault(sensor, departure, config) &&
             WindowExplains(exact_kinematics.residual, without.residual, departure)) ||
            whole_record) &&
-          !ExplainAsOffset(sensor, conditioned_signals, without, config)) {
-        best = FaultFinding(sensor, std::nullopt, conditioned_signals, without, residual.rms_mps2, fit.rms,
-                            config);
-        best_rms = fit.rms;
-      }
+          !ExplainAsOffset(sensor, conditioned_signals, without, config))
+        faulty.push_back({&sensor, fit.rms, std::move(without), departure});
     }
-    if (best) findings.push_back(std::move(*best));
+    std::sort(faulty.begin(), faulty.end(),
+              [](const Faulty& a, const Faulty& b) { return a.rms_mps2 < b.rms_mps2; });
+    if (faulty.size() >= 2 &&
+        Confounded(array, *faulty[0].sensor, *faulty[1].sensor, faulty[0].without.residual,
+                   faulty[0].departure, faulty[1].without.residual))
+      AddConfoundedFindings(*faulty[0].sensor, *faulty[1].sensor, residual.rms_mps2, faulty[1].rms_mps2,
+                            findings);
+    else if (!faulty.empty())
+      findings.push_back(FaultFinding(*faulty[0].sensor, std::nullopt, conditioned_signals, faulty[0].without,
+                                      residual.rms_mps2, faulty[0].rms_mps2, config));
     return findings;
   }
 
@@ -971,8 +1094,23 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
       findings.push_back(FaultFinding(*pair->second, pair->first->slot, conditioned_signals, pair->kinematics,
                                       residual.rms_mps2, pair->rms_mps2, config));
     } else if (single) {
-      findings.push_back(FaultFinding(*culprit->sensor, std::nullopt, conditioned_signals,
-                                      culprit->kinematics, residual.rms_mps2, culprit->rms_mps2, config));
+      // A runner-up that fits as well and departs as a broken channel would
+      // is its confounded twin (kTwinRmsFactor).
+      const bool confounded =
+          culprit->runner_up != nullptr &&
+          Confounded(array, *culprit->sensor, *culprit->runner_up, culprit->kinematics.residual,
+                     DepartureOf(*culprit->sensor, conditioned_signals, culprit->kinematics, config),
+                     culprit->runner_up_kinematics.residual) &&
+          DepartsBeyondFloor(
+              *culprit->runner_up,
+              DepartureOf(*culprit->runner_up, conditioned_signals, culprit->runner_up_kinematics, config),
+              config);
+      if (confounded)
+        AddConfoundedFindings(*culprit->sensor, *culprit->runner_up, residual.rms_mps2,
+                              culprit->runner_up_rms_mps2, findings);
+      else
+        findings.push_back(FaultFinding(*culprit->sensor, std::nullopt, conditioned_signals,
+                                        culprit->kinematics, residual.rms_mps2, culprit->rms_mps2, config));
     }
   }
   if (over_limit)

@@ -86,6 +86,13 @@ std::vector<Finding> ScreenConsistency(const ArrayGeometry& array, const TestSig
 std::vector<Finding> ScreenPlausibility(const Kinematics& kinematics, const Eigen::VectorXd& exact_residual,
                                         const ProcessingConfig& config);
 
+// A threshold given in g (linear sensors) or rad/s (angular-rate sensors),
+// in `sensor`'s unit.
+double InChannelUnits(const Sensor& sensor, double limit_g, double limit_radps);
+
+// The median (the upper one of an even count) of `values`, which it reorders.
+double MedianInPlace(std::vector<double>& values);
+
 // What `sensor` should read at sample `k` of rigid-body kinematics solved
 // without it (report section 2.1: n . (a + alpha x r + omega x (omega x r))
 // for a linear sensor, n . omega for an angular-rate sensor), in the

@@ -98,13 +98,29 @@ inline constexpr std::array<NamedValue<FaultKind>, 7> kFaultKindNames{
      {FaultKind::kFlipped, "flipped"},
      {FaultKind::kSwapped, "swapped"},
      {FaultKind::kInconsistent, "inconsistent"}}};
+inline constexpr std::array<FaultKind, 7> kFaultKinds = ValuesOf(kFaultKindNames);
 constexpr const auto& NamesOf(FaultKind) { return kFaultKindNames; }
+
+// What salvage did to a faulty channel.
+enum class SalvageAction {
+  kExcluded,     // left out of the array
+  kInverted,     // its sign flipped back
+  kSwappedBack,  // exchanged back with its partner
+  kReplaced,     // faulty samples replaced by the rigid-body prediction
+};
+inline constexpr std::array<NamedValue<SalvageAction>, 4> kSalvageActionNames{
+    {{SalvageAction::kExcluded, "excluded"},
+     {SalvageAction::kInverted, "inverted"},
+     {SalvageAction::kSwappedBack, "swapped back"},
+     {SalvageAction::kReplaced, "replaced"}}};
+inline constexpr std::array<SalvageAction, 4> kSalvageActions = ValuesOf(kSalvageActionNames);
+constexpr const auto& NamesOf(SalvageAction) { return kSalvageActionNames; }
 
 // What salvage did to one channel (docs/formats.md "Salvage record").
 struct SalvagedChannel {
   std::string channel;
   FaultKind fault = FaultKind::kInconsistent;
-  std::string action;                  // "excluded", "inverted", "swapped back", "replaced"
+  SalvageAction action = SalvageAction::kExcluded;
   std::optional<std::string> partner;  // the other channel of a swap
   double t1_s = 0.0;                   // the fault's interval: its first and last faulty sample
   double t2_s = 0.0;

@@ -21,15 +21,6 @@ std::string SizeText(std::uintmax_t bytes) {
   return std::to_string(bytes) + " bytes";
 }
 
-const char* FileTypeName(mode_t mode) {
-  if (S_ISDIR(mode)) return "a folder";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 [[noreturn]] void ThrowCannotOpen(const std::filesystem::path& path, int error) {
   if (error == ELOOP)
     throw InputError(Named(path) + ": is a loop of symbolic links; point the link at a real file.");
@@ -55,6 +46,43 @@ struct Descriptor {
 
 }  // namespace
 
+const char* FileTypeName(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+void ReadDescriptorInChunks(int fd, std::uintmax_t max_bytes, const std::string& name,
+                            const std::string& ceiling,
+                            const std::function<void(std::string_view chunk)>& consume) {
+  char buffer[1 << 16];
+  std::uintmax_t total = 0;
+  for (;;) {
+    const ssize_t count = ::read(fd, buffer, sizeof(buffer));
+    if (count < 0) {
+      if (errno == EINTR) continue;
+      throw InputError(name + " cannot be read (" + std::strerror(errno) + ").");
+    }
+    if (count == 0) break;
+    total += static_cast<std::uintmax_t>(count);
+    if (total > max_bytes)  // the file grew while being read
+      throw InputError(name + " grew beyond the " + SizeText(max_bytes) + " " + ceiling +
+                       " while being read.");
+    consume(std::string_view(buffer, static_cast<std::size_t>(count)));
+  }
+}
+
+std::string ReadDescriptor(int fd, std::uintmax_t max_bytes, const std::string& name,
+                           const std::string& ceiling) {
+  std::string content;
+  ReadDescriptorInChunks(fd, max_bytes, name, ceiling,
+                         [&](std::string_view chunk) { content.append(chunk); });
+  return content;
+}
+
 void CheckRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
   struct stat status {};
   if (::stat(path.c_str(), &status) != 0) ThrowCannotOpen(path, errno);
@@ -71,21 +99,7 @@ void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_byte
   struct stat status {};
   if (::fstat(file.fd, &status) != 0) ThrowCannotOpen(path, errno);
   CheckStat(path, status, max_bytes);
-  char buffer[1 << 16];
-  std::uintmax_t total = 0;
-  for (;;) {
-    const ssize_t count = ::read(file.fd, buffer, sizeof(buffer));
-    if (count < 0) {
-      if (errno == EINTR) continue;
-      throw InputError(Named(path) + ": read error (" + std::strerror(errno) + ").");
-    }
-    if (count == 0) break;
-    total += static_cast<std::uintmax_t>(count);
-    if (total > max_bytes)  // the file grew while being read
-      throw InputError(Named(path) + ": grew beyond the " + SizeText(max_bytes) +
-                       " napkin reads from one file while being read.");
-    consume(std::string_view(buffer, static_cast<std::size_t>(count)));
-  }
+  ReadDescriptorInChunks(file.fd, max_bytes, Named(path) + ":", "napkin reads from one file", consume);
 }
 
 std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {

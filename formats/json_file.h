@@ -2,6 +2,8 @@
 // Reading files with one-sentence errors naming the file: only regular files
 // (never a FIFO, device or socket, also behind a symbolic link), of at most a
 // size ceiling (docs/formats.md "Names, limits and escaping"), and JSON on top.
+#include <sys/types.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -29,6 +31,22 @@ std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_
 // Like ReadWholeFile, but hands the content to `consume` in chunks.
 void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,
                       const std::function<void(std::string_view chunk)>& consume);
+
+// What a file of `mode` is, for a sentence refusing it: "a folder", "a FIFO
+// (named pipe)", "a character device", "a block device", "a socket".
+const char* FileTypeName(mode_t mode);
+
+// Reads the open descriptor `fd` to its end, at most `max_bytes` (a file
+// that grows past them while being read is refused): the one read loop of
+// every bounded input, for callers that judge the descriptor they opened
+// (fstat) by rules of their own. `name` begins the sentences ("sidecar
+// 'P'", "P:"), `ceiling` says whose limit it is ("a sidecar may have").
+// Throws InputError naming the file on a read error or growth.
+void ReadDescriptorInChunks(int fd, std::uintmax_t max_bytes, const std::string& name,
+                            const std::string& ceiling,
+                            const std::function<void(std::string_view chunk)>& consume);
+std::string ReadDescriptor(int fd, std::uintmax_t max_bytes, const std::string& name,
+                           const std::string& ceiling);
 
 // Throws InputError (the sentences of ReadWholeFile) unless `path` is a
 // regular file of at most `max_bytes`; opens nothing.

@@ -52,7 +52,7 @@ nlohmann::ordered_json SalvageToJson(const engine::SalvageRecord& record) {
     nlohmann::ordered_json entry = nlohmann::ordered_json::object();
     entry["channel"] = channel.channel;
     entry["fault"] = engine::NameOf(channel.fault);
-    entry["action"] = channel.action;
+    entry["action"] = engine::NameOf(channel.action);
     entry["partner"] =
         channel.partner ? nlohmann::ordered_json(*channel.partner) : nlohmann::ordered_json(nullptr);
     entry["interval_s"] = nlohmann::ordered_json::array({Number(channel.t1_s), Number(channel.t2_s)});

@@ -20,6 +20,7 @@
 #include "db/job_queue.h"
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
+#include "formats/json_file.h"
 #include "ingest/discovery.h"
 #include "ingest/import.h"
 #include "jobs/scheduler.h"
@@ -95,16 +96,6 @@ bool Finished(db::Catalogue& catalogue, const std::string& config, const std::st
   return counts.done + counts.failed > 0;
 }
 
-// What a non-regular file is, for the sentence refusing it.
-const char* FileTypeName(mode_t mode) {
-  if (S_ISDIR(mode)) return "a folder";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 // The bytes of sidecar `path`; nullopt when there is none. Judged on the
 // descriptor opened (O_NONBLOCK: a FIFO never blocks the watcher): anything
 // but a regular file of at most kMaxSidecarBytes is refused naming it, never
@@ -128,24 +119,12 @@ std::optional<std::string> ReadSidecarFile(const fs::path& path) {
   struct stat status {};
   if (::fstat(fd, &status) != 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
   if (!S_ISREG(status.st_mode))
-    throw InputError(named + " is " + FileTypeName(status.st_mode) +
+    throw InputError(named + " is " + formats::FileTypeName(status.st_mode) +
                      ", not a regular file; a sidecar is a small JSON file.");
-  const auto too_large = [&](std::uintmax_t bytes) {
-    return InputError(named + " is " + std::to_string(bytes) + " bytes, more than the " +
-                      std::to_string(kMaxSidecarBytes / 1024) + " KiB a sidecar may have.");
-  };
-  if (static_cast<std::uintmax_t>(status.st_size) > kMaxSidecarBytes) throw too_large(status.st_size);
-  std::string text;
-  char buffer[8192];
-  for (;;) {
-    const ssize_t count = ::read(fd, buffer, sizeof buffer);
-    if (count < 0 && errno == EINTR) continue;
-    if (count < 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
-    if (count == 0) break;
-    text.append(buffer, static_cast<std::size_t>(count));
-    if (text.size() > kMaxSidecarBytes) throw too_large(text.size());  // it grew while being read
-  }
-  return text;
+  if (static_cast<std::uintmax_t>(status.st_size) > kMaxSidecarBytes)
+    throw InputError(named + " is " + std::to_string(status.st_size) + " bytes, more than the " +
+                     std::to_string(kMaxSidecarBytes / 1024) + " KiB a sidecar may have.");
+  return formats::ReadDescriptor(fd, kMaxSidecarBytes, named, "a sidecar may have");
 }
 
 }  // namespace
@@ -354,7 +333,7 @@ void Inbox::LookAtInbox() {
       struct stat status {};
       const mode_t mode = ::stat(path.c_str(), &status) == 0 ? status.st_mode : 0;
       pass_over(path, "ignored",
-                std::string("is ") + FileTypeName(mode) +
+                std::string("is ") + formats::FileTypeName(mode) +
                     ", not a file or a folder; the inbox imports files and folders only, so it is ignored.");
       continue;
     }

@@ -34,6 +34,7 @@
 #include "common/version.h"
 #include "db/catalogue.h"
 #include "db/job_queue.h"
+#include "formats/json_file.h"
 #include "records/config_record.h"
 #include "serve/api.h"
 #include "serve/inbox.h"
@@ -319,18 +320,8 @@ std::string ReadTokenFile(const std::string& path) {
   if (status.st_mode & (S_IRGRP | S_IROTH))
     spdlog::warn("{} may be read by other users (mode {}): they can use the token; e.g. `chmod 600 {}`",
                  named, ModeText(status.st_mode), util::EscapeControl(path));
-  std::string token;
-  char buffer[1024];
-  for (;;) {
-    const ssize_t count = ::read(fd, buffer, sizeof buffer);
-    if (count < 0 && errno == EINTR) continue;
-    if (count < 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
-    if (count == 0) break;
-    token.append(buffer, static_cast<std::size_t>(count));
-    if (token.size() > static_cast<std::size_t>(kMaxTokenFileBytes))  // it grew while being read
-      throw InputError(named + " grew beyond the " + std::to_string(kMaxTokenFileBytes) +
-                       " bytes a token file may have while it was read.");
-  }
+  std::string token = formats::ReadDescriptor(fd, static_cast<std::uintmax_t>(kMaxTokenFileBytes), named,
+                                              "a token file may have");
   while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
   if (token.size() < 16)
     throw InputError("--token-file '" + path + "' holds " +

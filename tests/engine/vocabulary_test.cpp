@@ -48,6 +48,9 @@ TEST(Vocabulary, EveryNameParsesBackToItsValue) {
   ExpectRoundTrip(kSeverities);
   ExpectRoundTrip(kSensorKinds);
   ExpectRoundTrip(kIso18571Grades);
+  ExpectRoundTrip(kSalvageModes);
+  ExpectRoundTrip(kFaultKinds);
+  ExpectRoundTrip(kSalvageActions);
 }
 
 // Also: every enumerator has its table entry (a missing one would fall back
@@ -58,6 +61,22 @@ TEST(Vocabulary, NamesAreTheDocumentedSpellings) {
   EXPECT_STREQ(NameOf(BiasMode::kAuto), "auto");
   EXPECT_STREQ(NameOf(BiasMode::kWindow), "window");
   EXPECT_STREQ(NameOf(BiasMode::kNone), "none");
+  EXPECT_STREQ(NameOf(SalvageMode::kOff), "off");
+  EXPECT_STREQ(NameOf(SalvageMode::kExclude), "exclude");
+  EXPECT_STREQ(NameOf(SalvageMode::kRepair), "repair");
+  EXPECT_STREQ(NameOf(FaultKind::kDropout), "dropout");
+  EXPECT_STREQ(NameOf(FaultKind::kStuck), "stuck");
+  EXPECT_STREQ(NameOf(FaultKind::kClipped), "clipped");
+  EXPECT_STREQ(NameOf(FaultKind::kSpike), "spike");
+  EXPECT_STREQ(NameOf(FaultKind::kFlipped), "flipped");
+  EXPECT_STREQ(NameOf(FaultKind::kSwapped), "swapped");
+  EXPECT_STREQ(NameOf(FaultKind::kInconsistent), "inconsistent");
+  EXPECT_STREQ(NameOf(SalvageAction::kExcluded), "excluded");
+  EXPECT_STREQ(NameOf(SalvageAction::kInverted), "inverted");
+  EXPECT_STREQ(NameOf(SalvageAction::kSwappedBack), "swapped back");
+  EXPECT_STREQ(NameOf(SalvageAction::kReplaced), "replaced");
+  EXPECT_STREQ(NameOf(Check::kFault), "fault");
+  EXPECT_STREQ(NameOf(Check::kSalvage), "salvage");
   EXPECT_STREQ(NameOf(DerivedStorage::kFloat64), "float64");
   EXPECT_STREQ(NameOf(DerivedStorage::kFloat32), "float32");
   EXPECT_STREQ(NameOf(DerivedStorage::kNone), "none");
