@@ -431,6 +431,18 @@ Html ConditioningTable(const std::vector<engine::ChannelConditioning>& condition
          Element("table class=\"conditioning\"", rows) + Markup("\n");
 }
 
+// The mark of a salvaged result (docs/algorithms.md "Faulty channels"):
+// a badge in the test's heading naming the mode and the channels.
+Html SalvageBadge(const engine::TestSummary& summary) {
+  if (!summary.salvage) return {};
+  std::string channels;
+  for (const engine::SalvagedChannel& channel : summary.salvage->channels)
+    channels += (channels.empty() ? "" : ", ") + channel.channel + " " + engine::NameOf(channel.action);
+  return Element(
+      "span class=\"badge salvaged\" title=\"the result comes from salvaged channels\"",
+      Markup("salvaged (") + Text(summary.salvage->mode) + Markup(": ") + Text(channels) + Markup(")"));
+}
+
 // A facts column: its heading and table.
 Html Facts(std::string_view heading, const Html& table) {
   return Element("div", Element("h3", Markup(std::string(heading))) + table) + Markup("\n");
@@ -443,7 +455,8 @@ Html TestSection(json& charts, const ReportTest& test, std::size_t index) {
       Element("h2", Markup("Test ") + Text(test.test_id) +
                         Element("span class=\"tag\"", Markup("series ") + TextOrDash(test.series) +
                                                           Markup(" · variant ") + TextOrDash(test.variant) +
-                                                          Markup(" · config ") + Text(test.config_name)));
+                                                          Markup(" · config ") + Text(test.config_name)) +
+                        SalvageBadge(s));
   const Html facts = Markup("\n") + Facts("Injury criteria", CriteriaTable(s)) +
                      Facts("Rotation", FieldTable("rotation", kRotationRows, s)) +
                      Facts("Final pose", FieldTable("pose", kPoseRows, s));

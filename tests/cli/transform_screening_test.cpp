@@ -214,5 +214,72 @@ TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {
   EXPECT_FALSE(std::filesystem::exists(dir / "s.json"));
 }
 
+// Issue 41: `--config salvage` repairs the spiked channel and every front
+// end says so: the summary's record, the catalogue's `salvaged` column,
+// `status`, and the report's badge.
+TEST(TransformScreening, SalvageRepairsTheSpikedChannelAndEveryFrontEndSaysSo) {
+  test_support::TempDir dir;
+  synth::RandomMotionOptions options;
+  options.seed = 3;
+  options.random_initial_orientation = false;
+  options.random_initial_velocity = false;
+  synth::SyntheticTest test = synth::SynthRandomMotion(test_support::Denton3222(), options);
+  std::filesystem::create_directories(dir / "in");
+  formats::WriteSignalsCsv(test.signals, dir / "in" / "clean.csv");
+  test.signals.samples.col(test.signals.FindSlot("xarm_y"))(700) += 120.0;  // g
+  formats::WriteSignalsCsv(test.signals, dir / "in" / "spiked.csv");
+
+  const test_support::CommandResult transform = test_support::RunProgram(
+      NAPKIN_BINARY,
+      {"transform", "--array", "denton-3222", "--config", "salvage", "--out", (dir / "out.csv").string(),
+       "--summary", (dir / "s.json").string(), (dir / "in" / "spiked.csv").string()});
+  ASSERT_EQ(transform.exit_code, 0) << transform.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "s.json"));
+  const nlohmann::json& salvage = summary.at("salvage");
+  EXPECT_EQ(salvage.at("mode"), "repair");
+  ASSERT_EQ(salvage.at("channels").size(), 1u) << salvage.dump();
+  EXPECT_EQ(salvage.at("channels")[0].at("channel"), "xarm_y");
+  EXPECT_EQ(salvage.at("channels")[0].at("action"), "replaced");
+  EXPECT_GE(salvage.at("channels")[0].at("samples_replaced").get<int>(), 1);
+  EXPECT_LT(salvage.at("rms_residual_after_g").get<double>(),
+            0.1 * salvage.at("rms_residual_before_g").get<double>());
+  EXPECT_NEAR(summary.at("hic15").get<double>(), TrueHic15(test), 0.01 * TrueHic15(test));
+
+  const std::string db = (dir / "c.db").string();
+  const auto napkin = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {"--db", db});
+    return test_support::RunProgram(NAPKIN_BINARY, args);
+  };
+  ASSERT_EQ(
+      napkin({"import", "--array", "denton-3222", "--series", "s", "--variant", "v", (dir / "in").string()})
+          .exit_code,
+      0);
+  const test_support::CommandResult run = napkin({"run", "--config", "salvage"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const test_support::CommandResult salvaged =
+      napkin({"query", "tests", "--where", "salvaged=1", "--format", "json"});
+  ASSERT_EQ(salvaged.exit_code, 0) << salvaged.err;
+  const nlohmann::json rows = nlohmann::json::parse(salvaged.out);
+  ASSERT_EQ(rows.size(), 1u) << salvaged.out;
+  EXPECT_EQ(rows[0].at("test_id"), "spiked");
+  const test_support::CommandResult criteria =
+      napkin({"query", "criteria", "--where", "salvaged=0", "--format", "json"});
+  ASSERT_EQ(criteria.exit_code, 0) << criteria.err;
+  ASSERT_EQ(nlohmann::json::parse(criteria.out).size(), 1u) << criteria.out;
+  EXPECT_EQ(nlohmann::json::parse(criteria.out)[0].at("test_id"), "clean");
+  const test_support::CommandResult status = napkin({"status", "--config", "salvage", "--format", "json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  EXPECT_EQ(nlohmann::json::parse(status.out).at("salvaged"), 1);
+  const test_support::CommandResult report = napkin({"report", "--out", (dir / "r.html").string()});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = ReadText(dir / "r.html");
+  std::size_t badges = 0;
+  for (std::size_t at = html.find("class=\"badge salvaged\""); at != std::string::npos;
+       at = html.find("class=\"badge salvaged\"", at + 1))
+    ++badges;
+  EXPECT_EQ(badges, 1u);
+  EXPECT_NE(html.find("salvaged (repair: xarm_y replaced)"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace napkin
