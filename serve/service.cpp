@@ -202,9 +202,9 @@ Json CatalogueStatus(const ApiOptions& options) {
   Json failures = Json::array();
   for (const db::JobFailure& failure : counts.failures)
     failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
-  return Json{{"path", options.db_path},        {"tests", counts.tests},     {"done", counts.done},
-              {"failed", counts.failed},        {"pending", counts.pending}, {"running", counts.running},
-              {"failures", std::move(failures)}};
+  return Json{{"path", options.db_path},     {"tests", counts.tests},          {"done", counts.done},
+              {"failed", counts.failed},     {"pending", counts.pending},      {"running", counts.running},
+              {"salvaged", counts.salvaged}, {"failures", std::move(failures)}};
 }
 
 // The status answers while another process holds the catalogue locked: after a
