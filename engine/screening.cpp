@@ -78,6 +78,14 @@ constexpr double kFaultSigmas = 8.0;
 // The fault's interval: where the departure exceeds kFaultSigmas robust
 // standard deviations and kFaultFloorFraction x residual_limit_g.
 constexpr double kFaultFloorFraction = 0.1;
+// ... and never below kFaultFloorMinG: a residual limit set low to see the
+// round-off of exact data (1e-4 g) must not make that round-off a fault
+// (a departure of 0.05 g on one channel moves no criterion by 0.1 %).
+constexpr double kFaultFloorMinG = 0.05;
+
+double LinearFaultFloorG(const ScreeningConfig& config) {
+  return std::max(kFaultFloorFraction * config.residual_limit_g, kFaultFloorMinG);
+}
 // A discrepancy counts as a constant offset when its RMS deviation from its
 // median is below this fraction of the median.
 constexpr double kOffsetSpreadFraction = 0.5;
@@ -611,6 +619,16 @@ std::vector<std::size_t> LinearSuspects(const ArrayGeometry& array, const TestSi
                                         const Kinematics& kinematics, const ScreeningConfig& config) {
   const std::vector<double> leverages = LinearLeverages(array);
   if (leverages.empty()) return {};
+  // A channel's residual is at most the residual norm (both in m/s^2), so no
+  // deleted residual can reach the floor when the norm's peak over the
+  // smallest 1 - h_jj stays below it: a clean test costs no prediction.
+  double smallest_free = 1.0;
+  for (std::size_t j = 0; j < array.sensors.size(); ++j)
+    if (array.sensors[j].kind == SensorKind::kLinear)
+      smallest_free = std::min(smallest_free, 1.0 - leverages[j]);
+  if (kinematics.residual.size() == 0 || !(smallest_free > 1e-6) ||
+      kinematics.residual.maxCoeff() <= LinearFaultFloorG(config) * kStandardGravity * smallest_free)
+    return {};
   const Index n = signals.size();
   std::vector<std::pair<double, std::size_t>> scored;
   std::vector<double> deleted(static_cast<std::size_t>(n));
@@ -626,7 +644,7 @@ std::vector<std::size_t> LinearSuspects(const ArrayGeometry& array, const TestSi
       deleted[static_cast<std::size_t>(k)] = value;
       largest = std::max(largest, value);
     }
-    const double limit = InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0);
+    const double limit = InChannelUnits(sensor, LinearFaultFloorG(config), 0.0);
     if (!(largest > limit)) continue;
     const double sigma = 1.4826 * MedianInPlace(deleted);
     const double score = largest / std::max(limit, kFaultSigmas * sigma);
@@ -685,8 +703,7 @@ Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Ki
   const double sigma = 1.4826 * Median(magnitude);
   departure.sigma = sigma;
   const double threshold = std::max(
-      kFaultSigmas * sigma,
-      InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, config.bias_limit_radps));
+      kFaultSigmas * sigma, InChannelUnits(sensor, LinearFaultFloorG(config), config.bias_limit_radps));
   for (Index k = 0; k < n; ++k) {
     const double value = magnitude[static_cast<std::size_t>(k)];
     if (!(value > threshold)) continue;
@@ -716,7 +733,7 @@ Departure DepartureOf(const Sensor& sensor, const TestSignals& signals, const Ki
 // peak and bias_limit_radps.
 double FaultFloor(const Sensor& sensor, const Departure& departure, const ScreeningConfig& config) {
   return sensor.kind == SensorKind::kLinear
-             ? InChannelUnits(sensor, kFaultFloorFraction * config.residual_limit_g, 0.0)
+             ? InChannelUnits(sensor, LinearFaultFloorG(config), 0.0)
              : std::max(InChannelUnits(sensor, 0.0, config.bias_limit_radps), 0.1 * departure.predicted_peak);
 }
 

@@ -25,6 +25,11 @@
 //                         residual_limit_g (a channel inconsistent with a
 //                         rigid body), with the channel whose omission
 //                         removes most of it
+//   fault        error    a channel (or a pair) whose omission makes the
+//                         array rigid: its departure from what the others
+//                         imply, or the residual's 10-fold fall without it
+//                         (docs/algorithms.md "Faulty channels"); salvage
+//                         (engine/salvage.h) excludes or repairs it
 //   consistency  info     the array has no redundant channel, so polarity,
 //                         labels and the residual cannot be checked
 //   implausible  error    a raw channel, the solved CG acceleration or angular

@@ -13,6 +13,7 @@
 #include "db/catalogue.h"
 #include "schema/migrations.h"
 #include "tests/db/db_test_helpers.h"
+#include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::db {
@@ -216,7 +217,13 @@ TEST(CorrelationMigration, TestRatingsOfTheOldRolesAreMarked) {
     config = catalogue.WriteConfig(test_support::DefaultConfig());
     v1 = test_support::AddTest(catalogue, array, "v0001");
     v2 = test_support::AddTest(catalogue, array, "v0002");
-    catalogue.WriteResult(v1, config, {}, "exact");
+    // As a catalogue of schema 10 held it: today's WriteResult writes tables of later versions.
+    auto result = CatalogueInspector(catalogue).connection().Prepare(
+        "INSERT INTO results (test_id, config_id, solver, computed_at) VALUES (?1, ?2, 'exact', "
+        "'2026-01-01T00:00:00Z')");
+    result->Bind(1, v1);
+    result->Bind(2, config);
+    result->Execute();
     for (const TestId reference : {v2, v1}) {
       CorrelationRecord record;
       record.test = v1;

@@ -321,9 +321,10 @@ TEST(Salvage, EveryFaultKindAtEveryChannelIsFailedOrPublishedTrue) {
               cases, failed_default, salvaged_count, refused_confounded);
   // Confounded pairs are the exception: the ideal array's xarm_y/yarm_x.
   EXPECT_LE(refused_confounded, 2 * 6 * 2);
-  // Most injected faults are large enough to be found (and then salvaged).
-  EXPECT_GE(failed_default, cases / 2);
-  EXPECT_GE(salvaged_count + refused_confounded, cases);
+  // Every injected fault is found, and salvaged by both modes (or refused
+  // as confounded).
+  EXPECT_EQ(failed_default, cases);
+  EXPECT_EQ(salvaged_count + refused_confounded, 2 * cases);
 }
 
 // No false alarms: the clean tests of the report's arrays and NAP + ARS, and
