@@ -413,6 +413,7 @@ class CatalogueReport {
       formats::ReportTest section =
           formats::MakeReportTest(test.record->external_id, test.record->series, test.record->variant,
                                   test.config_name, std::move(*summary), kinematics);
+      AddSalvageCharts(test, section);
       AddRatings(test, kinematics, section);
       writer.AddTest(section);
     }
@@ -458,6 +459,43 @@ class CatalogueReport {
                          "' has no stored rating against the report's tests (their latest results); rate it "
                          "first with `napkin correlate --test T --channel CH --model " +
                          model.path + "`.");
+  }
+
+  // Each channel salvage repaired, recorded and repaired overlaid on the
+  // result's (shifted) time axis, the fault's interval marked
+  // (docs/formats.md "HTML report").
+  void AddSalvageCharts(const Shown& test, formats::ReportTest& section) {
+    const std::optional<engine::SalvageRecord>& salvage = section.summary.salvage;
+    if (!salvage) return;
+    const ResultChannels repaired = ReadResultChannels(catalogue_, test.record->id, test.config);
+    if (repaired.repaired.empty()) return;
+    const engine::TestSignals recorded = catalogue_.ReadTestSignals(test.record->id);
+    const std::vector<db::RawChannelInfo> info = catalogue_.ReadRawChannelInfo(test.record->id);
+    // time.shift_s is subtracted from every time stamp (engine/channel_conditioning.h).
+    const double shift_s =
+        section.summary.conditioning.empty() ? 0.0 : section.summary.conditioning.front().time_shift_s;
+    Eigen::VectorXd time_s(recorded.size());
+    for (Eigen::Index k = 0; k < recorded.size(); ++k) time_s(k) = recorded.TimeAt(k) - shift_s;
+    for (std::size_t i = 0; i < salvage->channels.size(); ++i) {
+      const engine::SalvagedChannel& channel = salvage->channels[i];
+      if (std::find(repaired.repaired.begin(), repaired.repaired.end(), channel.channel) ==
+          repaired.repaired.end())
+        continue;
+      const int column = recorded.FindSlot(channel.channel);
+      const auto unit = std::find_if(info.begin(), info.end(), [&](const db::RawChannelInfo& raw) {
+        return raw.slot == channel.channel;
+      });
+      Eigen::MatrixXd traces(recorded.size(), 2);
+      traces.col(0) = recorded.samples.col(column);
+      traces.col(1) = repaired.signals.samples.col(column);
+      formats::ReportChart chart = formats::MakeReportChart(
+          "salvage-" + std::to_string(i + 1), channel.channel + ": recorded and repaired (salvage)",
+          channel.channel + (unit == info.end() ? std::string() : " (" + unit->unit + ")"),
+          {"recorded", "repaired"}, time_s, traces);
+      chart.windows.push_back(
+          {std::string(engine::NameOf(channel.fault)), channel.t1_s * 1000.0, channel.t2_s * 1000.0});
+      section.charts.push_back(std::move(chart));
+    }
   }
 
   // The test's stored ratings as a table, and each against a --model drawn.

@@ -55,6 +55,53 @@ engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId tes
   return records::RecomputeResult(catalogue, test, config).kinematics;
 }
 
+ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test, db::ConfigId config,
+                                  bool recorded) {
+  ResultChannels channels{catalogue.ReadTestSignals(test), {}, {}};
+  engine::TestSignals& signals = channels.signals;
+  for (Eigen::Index column = 0; column < signals.samples.cols(); ++column)
+    if (const std::optional<double> cfc = signals.PrefilteredCfc(column))
+      channels.notes.push_back(signals.slots[static_cast<std::size_t>(column)] +
+                               ": recorded as already filtered" +
+                               (*cfc > 0 ? " at CFC " + util::FormatNumber(*cfc) : std::string()) +
+                               ", which this file cannot say.");
+  const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(test, config);
+  if (!summary || !summary->salvage) return channels;
+  const std::string test_id = catalogue.ReadTest(test).external_id;
+  for (const engine::SalvagedChannel& channel : summary->salvage->channels) {
+    const std::string interval =
+        util::FormatNumber(channel.t1_s, 6) + " to " + util::FormatNumber(channel.t2_s, 6) + " s";
+    if (channel.action == engine::SalvageAction::kExcluded || recorded) {
+      channels.notes.push_back(channel.channel + ": as recorded; salvage (" + summary->salvage->mode + ") " +
+                               engine::NameOf(channel.action) + " it (" + engine::NameOf(channel.fault) +
+                               ", " + interval + ").");
+      continue;
+    }
+    const int column = signals.FindSlot(channel.channel);
+    if (column < 0)
+      throw InputError("test '" + test_id + "': its salvage record repairs channel '" + channel.channel +
+                       "', which the test does not have.");
+    if (channel.repaired_samples.empty())
+      throw InputError("test '" + test_id + "': the repaired channel '" + channel.channel +
+                       "' of its result was not kept (computed before schema version 13); `napkin run "
+                       "--force` computes it again.");
+    if (static_cast<Eigen::Index>(channel.repaired_samples.size()) != signals.size())
+      throw InputError("test '" + test_id + "': the repaired channel '" + channel.channel + "' has " +
+                       std::to_string(channel.repaired_samples.size()) + " samples, the recorded one " +
+                       std::to_string(signals.size()) + ".");
+    signals.samples.col(column) =
+        Eigen::Map<const Eigen::VectorXd>(channel.repaired_samples.data(), signals.size());
+    channels.repaired.push_back(channel.channel);
+    std::string what = engine::NameOf(channel.action);
+    if (channel.partner) what += " with " + *channel.partner;
+    if (channel.samples_replaced > 0)
+      what += ", " + std::to_string(channel.samples_replaced) + " samples by the rigid-body prediction";
+    channels.notes.push_back(channel.channel + ": repaired by salvage (" + engine::NameOf(channel.fault) +
+                             ", " + interval + "; " + what + ").");
+  }
+  return channels;
+}
+
 db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector) {
   const std::vector<db::ConfigRow> configs = catalogue.ReadAllConfigs();
   if (configs.empty())

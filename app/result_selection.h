@@ -83,6 +83,26 @@ std::size_t MatchConfigSelector(const std::vector<db::ConfigRow>& configs, const
 // bit (docs/formats.md "Derived-channel storage").
 engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId test, db::ConfigId config);
 
+// The raw channels of a test's result (`export --format channels|recorded`,
+// the report's overlay).
+struct ResultChannels {
+  engine::TestSignals signals;
+  std::vector<std::string> repaired;  // the slots whose samples are the repaired ones
+  // One line per salvaged channel saying what salvage did to it (and per
+  // channel recorded as already filtered, which napkin's CSV cannot say).
+  std::vector<std::string> notes;
+};
+
+// The raw channels the test's result under `config` was computed from: the
+// recorded channels with each channel salvage repaired in its place, as the
+// result's salvage record keeps it (docs/formats.md "Salvage record"), or
+// with `recorded` the channels as recorded (the catalogue never changes
+// them). Throws InputError naming the test and channel when a kept repaired
+// channel's length is not the recorded one's, or when the result's repair
+// was computed before repaired channels were kept (schema version 13).
+ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test, db::ConfigId config,
+                                  bool recorded = false);
+
 // `run`/`export --config` value (preset name or JSON path; empty: the default preset).
 using records::ResolveConfig;
 using records::ResolvedConfig;

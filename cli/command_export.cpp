@@ -38,9 +38,12 @@ class ExportCommand : public Command {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("export", "write one test's derived channels");
     sub->add_option("--test", test_id_, "test id")->required();
-    sub->add_option("--format", format_, "csv, lsdyna, lcfile, isomme or uds")
+    sub->add_option("--format", format_,
+                    "csv, lsdyna, lcfile, isomme or uds (derived channels); channels (the raw channels the "
+                    "result was computed from, repaired ones in place, as napkin CSV) or recorded (the raw "
+                    "channels as recorded)")
         ->required()
-        ->check(OneOfCheck("--format", {"csv", "lsdyna", "lcfile", "isomme", "uds"}));
+        ->check(OneOfCheck("--format", {"csv", "lsdyna", "lcfile", "isomme", "uds", "channels", "recorded"}));
     sub->add_option("--out", out_, "file to write (a folder for isomme and uds)")
         ->required()
         ->check(PathCheck("--out"));
@@ -96,6 +99,10 @@ class ExportCommand : public Command {
                         : app::ResultOf(catalogue, test_id_, app::Preset{config_}, global_->db_path);
     const db::TestId test = result.test;
     const db::ConfigId config = result.config;
+    if (format_ == "channels" || format_ == "recorded") {
+      WriteChannels(catalogue, test, config);
+      return kExitOk;
+    }
     // Stored, or recomputed (storage "none"; docs/formats.md "Derived-channel storage").
     const std::optional<engine::Kinematics> kinematics = app::ReadResultKinematics(catalogue, test, config);
 
@@ -149,6 +156,24 @@ class ExportCommand : public Command {
   }
 
  private:
+  // docs/formats.md "Salvage record": the raw channels as napkin's CSV input,
+  // '#' lines first naming the test, the result's config, the array to read
+  // it with and what salvage did to each channel.
+  void WriteChannels(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
+    const bool recorded = format_ == "recorded";
+    const app::ResultChannels channels = app::ReadResultChannels(catalogue, test, config, recorded);
+    const db::ConfigRow config_row = catalogue.ReadConfig(config);
+    const db::TestRow test_row = catalogue.ReadTest(test);
+    std::vector<std::string> comments = {
+        "napkin export --format " + format_ + ": test " + test_id_ + ", " +
+            (recorded ? std::string("the channels as recorded")
+                      : "the channels of its result under config " + config_row.name + " (hash " +
+                            config_row.config_hash.substr(0, 12) + ")"),
+        "array: " + catalogue.ReadArray(test_row.array_id).name + " (napkin transform --array ...)"};
+    comments.insert(comments.end(), channels.notes.begin(), channels.notes.end());
+    formats::WriteSignalsCsv(channels.signals, out_, comments);
+  }
+
   // The channel codes' position and dummy type (options, else the test's
   // metadata "position" / "dummy_type"), the filters the result's config
   // applied, and whether the array has angular-rate sensors.

@@ -286,9 +286,11 @@ void MergeSalvage(Connection& connection) {
   connection.Execute(
       "INSERT INTO main.result_salvage (test_id, config_id, position, mode, channel, fault, action, partner, "
       "t1_s, t2_s, samples_replaced, rms_residual_before_g, rms_residual_after_g, channels_used, "
-      "channels_total) SELECT m.test_id, m.config_id, v.position, v.mode, v.channel, v.fault, v.action, "
-      "v.partner, v.t1_s, v.t2_s, v.samples_replaced, v.rms_residual_before_g, v.rms_residual_after_g, "
-      "v.channels_used, v.channels_total FROM temp.merge_take AS m JOIN shard.result_salvage AS v "
+      "channels_total, repaired_samples) SELECT m.test_id, m.config_id, v.position, v.mode, v.channel, "
+      "v.fault, "
+      "v.action, v.partner, v.t1_s, v.t2_s, v.samples_replaced, v.rms_residual_before_g, "
+      "v.rms_residual_after_g, v.channels_used, v.channels_total, v.repaired_samples FROM temp.merge_take AS "
+      "m JOIN shard.result_salvage AS v "
       "ON v.test_id = m.shard_test AND v.config_id = m.shard_config");
 }
 

@@ -220,8 +220,8 @@ void Catalogue::WriteSalvage(TestId test, ConfigId config,
     auto insert = connection_.Prepare(
         "INSERT INTO result_salvage (test_id, config_id, position, mode, channel, fault, action, partner, "
         "t1_s, "
-        "t2_s, samples_replaced, rms_residual_before_g, rms_residual_after_g, channels_used, channels_total) "
-        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)");
+        "t2_s, samples_replaced, rms_residual_before_g, rms_residual_after_g, channels_used, channels_total, "
+        "repaired_samples) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)");
     // NULL for a residual that could not be computed (NaN, or +inf: diverged).
     const auto in_g = [](double mps2) {
       return std::isfinite(mps2) ? std::optional<double>(mps2 / engine::kStandardGravity) : std::nullopt;
@@ -233,6 +233,12 @@ void Catalogue::WriteSalvage(TestId test, ConfigId config,
                       channel.samples_replaced, in_g(salvage->rms_residual_before_mps2),
                       in_g(salvage->rms_residual_after_mps2), salvage->channels_used,
                       salvage->channels_total);
+      // An excluded channel has no repaired samples: NULL.
+      std::vector<std::byte> scratch;
+      if (channel.repaired_samples.empty())
+        insert->Bind(16, std::nullopt);
+      else
+        insert->Bind(16, Float64LittleEndianBytes(channel.repaired_samples, scratch));
       insert->Execute();
       insert->Reset();
     }
@@ -327,7 +333,7 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
   }
   auto salvage = connection_.Prepare(
       "SELECT mode, channel, fault, action, partner, t1_s, t2_s, samples_replaced, rms_residual_before_g, "
-      "rms_residual_after_g, channels_used, channels_total FROM result_salvage "
+      "rms_residual_after_g, channels_used, channels_total, repaired_samples FROM result_salvage "
       "WHERE test_id = ?1 AND config_id = ?2 ORDER BY position");
   salvage->BindAll(test, config);
   while (salvage->Step()) {
@@ -351,6 +357,11 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
     channel.t1_s = salvage->ColumnDouble(5);
     channel.t2_s = salvage->ColumnDouble(6);
     channel.samples_replaced = salvage->ColumnInt64(7);
+    if (!salvage->ColumnIsNull(12)) {
+      const std::span<const std::byte> bytes = salvage->ColumnBlob(12);
+      channel.repaired_samples.resize(bytes.size() / sizeof(double));
+      DecodeFloat64LittleEndian(bytes, channel.repaired_samples);
+    }
   }
   return summary;
 }

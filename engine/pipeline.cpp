@@ -424,17 +424,13 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
   record.rms_residual_after_mps2 = workspace.exact_rms_residual_mps2;
   for (const SalvagedChannel& channel : record.channels)
     out.summary.findings.push_back(SalvageFinding(record, channel));
-  out.repaired = TestSignals{};
-  if (repair) {
-    out.repaired.dt_s = salvaged.dt_s;
-    out.repaired.t0_s = salvaged.t0_s;
-    out.repaired.samples.resize(salvaged.size(), static_cast<Eigen::Index>(record.channels.size()));
-    for (std::size_t i = 0; i < record.channels.size(); ++i) {
-      out.repaired.slots.push_back(record.channels[i].channel);
-      out.repaired.samples.col(static_cast<Eigen::Index>(i)) =
-          salvaged.samples.col(salvaged.FindSlot(record.channels[i].channel));
+  // The repaired channels are kept with the record (stored beside the
+  // recorded ones, docs/formats.md "Salvage record").
+  if (repair)
+    for (SalvagedChannel& channel : record.channels) {
+      const auto column = salvaged.samples.col(salvaged.FindSlot(channel.channel));
+      channel.repaired_samples.assign(column.begin(), column.end());
     }
-  }
   out.summary.salvage = std::move(record);
 }
 }  // namespace
@@ -452,7 +448,6 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
                  const std::atomic<bool>* cancel) {
   config.Check();
-  out.repaired = TestSignals{};
   const bool salvage = config.screening.salvage != SalvageMode::kOff;
   try {
     ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel);

@@ -23,10 +23,6 @@ namespace napkin::engine {
 struct ProcessedTest {
   Kinematics kinematics;
   TestSummary summary;
-  // Salvage by repair (summary.salvage, engine/salvage.h): the repaired raw
-  // channels, one column per repaired slot, on the raw signals' time base
-  // (the recorded channel is the input's); empty otherwise.
-  TestSignals repaired;
 };
 
 // The memory ProcessTest works in, kept from one test to the next by its

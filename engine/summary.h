@@ -125,6 +125,11 @@ struct SalvagedChannel {
   double t1_s = 0.0;                   // the fault's interval: its first and last faulty sample
   double t2_s = 0.0;
   std::int64_t samples_replaced = 0;  // repair: samples replaced by the rigid-body prediction
+  // repair: the whole repaired channel, in the unit and on the time base of
+  // the recorded one (its good samples are the recorded ones); empty when
+  // excluded. Not a summary field: stored beside the recorded channel and
+  // exported (docs/formats.md "Salvage record").
+  std::vector<double> repaired_samples;
 };
 
 // The audit trail of a salvaged test: the mode, every channel it excluded

@@ -256,10 +256,16 @@ CsvSignals ReadSignalsCsv(const std::filesystem::path& path, const engine::Array
   return result;
 }
 
-void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::path& path) {
+void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::path& path,
+                     std::span<const std::string> comments) {
   if (static_cast<Eigen::Index>(signals.slots.size()) != signals.samples.cols())
     throw InputError(path.string() + ": cannot write signals whose slot names do not match their columns.");
   util::WriteFileAtomically(path, [&](util::AtomicFile& file) {
+    for (const std::string& comment : comments) {
+      if (comment.find_first_of("\r\n") != std::string::npos)
+        throw InputError(path.string() + ": a comment line holds a line break.");
+      file.Write("# " + comment + "\n");
+    }
     std::string line = "time_s";
     for (const std::string& slot : signals.slots) line += "," + slot;
     line += '\n';

@@ -65,8 +65,10 @@ void CheckSampleCount(std::size_t samples, const std::string& source, std::strin
 CsvColumnMap ParseCsvColumnOptions(const std::vector<std::string>& options);
 
 // Writes raw signals (time_s + one column per slot), numbers in their
-// shortest exact form so the file reads back to identical samples.
-void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::path& path);
+// shortest exact form so the file reads back to identical samples, after
+// `comments` as '#' lines (each one line of text; docs/formats.md "CSV input").
+void WriteSignalsCsv(const engine::TestSignals& signals, const std::filesystem::path& path,
+                     std::span<const std::string> comments = {});
 
 // The derived-channel columns, in contract order.
 const std::vector<std::string>& DerivedCsvColumns();

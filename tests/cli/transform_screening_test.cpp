@@ -281,5 +281,81 @@ TEST(TransformScreening, SalvageRepairsTheSpikedChannelAndEveryFrontEndSaysSo) {
   EXPECT_NE(html.find("salvaged (repair: xarm_y replaced)"), std::string::npos);
 }
 
+// Issue 41, point 2: the repaired raw channel is kept beside the recorded
+// one and can be exported. `export --format channels` writes the channels the
+// salvaged result was computed from: every sample the recorded one but the
+// repaired ones, and transforming that file with the default config gives
+// the salvaged result; `--format recorded` gives the spike back; the report
+// overlays the two.
+TEST(TransformScreening, TheRepairedChannelIsKeptExportedAndOverlaid) {
+  test_support::TempDir dir;
+  synth::RandomMotionOptions options;
+  options.seed = 3;
+  options.random_initial_orientation = false;
+  options.random_initial_velocity = false;
+  synth::SyntheticTest test = synth::SynthRandomMotion(test_support::Denton3222(), options);
+  const engine::TestSignals clean = test.signals;
+  const int column = test.signals.FindSlot("xarm_y");
+  test.signals.samples.col(column)(700) += 120.0;  // g
+  std::filesystem::create_directories(dir / "in");
+  formats::WriteSignalsCsv(test.signals, dir / "in" / "spiked.csv");
+  const std::string db = (dir / "c.db").string();
+  const auto napkin = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {"--db", db});
+    return test_support::RunProgram(NAPKIN_BINARY, args);
+  };
+  ASSERT_EQ(napkin({"import", "--array", "denton-3222", (dir / "in").string()}).exit_code, 0);
+  const test_support::CommandResult run = napkin({"run", "--config", "salvage"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const std::string channels_csv = (dir / "channels.csv").string();
+  const test_support::CommandResult exported =
+      napkin({"export", "--test", "spiked", "--format", "channels", "--out", channels_csv});
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  const std::string text = ReadText(channels_csv);
+  EXPECT_NE(text.find("# xarm_y: repaired by salvage (spike"), std::string::npos) << text.substr(0, 600);
+  EXPECT_NE(text.find("# array: denton-3222"), std::string::npos) << text.substr(0, 600);
+  const engine::TestSignals repaired = formats::ReadSignalsCsv(channels_csv, &test.array).signals;
+  ASSERT_EQ(repaired.slots, test.signals.slots);
+  ASSERT_EQ(repaired.size(), test.signals.size());
+  Eigen::Index changed = 0;
+  for (Eigen::Index c = 0; c < repaired.samples.cols(); ++c)
+    for (Eigen::Index k = 0; k < repaired.size(); ++k)
+      if (repaired.samples(k, c) != test.signals.samples(k, c)) {
+        ++changed;
+        EXPECT_EQ(c, column) << "sample " << k << " of " << repaired.slots[static_cast<std::size_t>(c)];
+      }
+  EXPECT_GE(changed, 1);
+  // The spike's sample is the rigid-body prediction: near the clean value.
+  EXPECT_NEAR(repaired.samples(700, column), clean.samples(700, column), 0.5);
+
+  // Transformed with the default config, the exported channels give the salvaged result.
+  const test_support::CommandResult transform = test_support::RunProgram(
+      NAPKIN_BINARY, {"transform", "--array", "denton-3222", "--out", (dir / "k.csv").string(), "--summary",
+                      (dir / "s.json").string(), channels_csv});
+  ASSERT_EQ(transform.exit_code, 0) << transform.err;
+  const test_support::CommandResult criteria = napkin({"query", "criteria", "--format", "json"});
+  ASSERT_EQ(criteria.exit_code, 0) << criteria.err;
+  const nlohmann::json salvaged = nlohmann::json::parse(criteria.out).at(0);
+  const nlohmann::json again = nlohmann::json::parse(ReadText(dir / "s.json"));
+  for (const char* field : {"hic15", "peak_omega_radps", "a3ms_g"})
+    EXPECT_NEAR(again.at(field).get<double>(), salvaged.at(field).get<double>(),
+                1e-9 * std::abs(salvaged.at(field).get<double>()))
+        << field;
+
+  const std::string recorded_csv = (dir / "recorded.csv").string();
+  ASSERT_EQ(napkin({"export", "--test", "spiked", "--format", "recorded", "--out", recorded_csv}).exit_code,
+            0);
+  const engine::TestSignals recorded = formats::ReadSignalsCsv(recorded_csv, &test.array).signals;
+  EXPECT_EQ(recorded.samples, test.signals.samples);
+  EXPECT_NE(ReadText(recorded_csv).find("# xarm_y: as recorded; salvage (repair) replaced it (spike"),
+            std::string::npos);
+
+  ASSERT_EQ(napkin({"report", "--out", (dir / "r.html").string()}).exit_code, 0);
+  const std::string html = ReadText(dir / "r.html");
+  EXPECT_NE(html.find("xarm_y: recorded and repaired (salvage)"), std::string::npos);
+  EXPECT_NE(html.find("\"id\":\"chart-1-salvage-1\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace napkin

@@ -2,8 +2,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "common/error.h"
 #include "db/catalogue.h"
@@ -246,6 +248,55 @@ TEST_F(MergeTest, MergedDerivedChannelsKeepTheirEncoding) {
   ASSERT_TRUE(encodings->Step());
   EXPECT_EQ(encodings->ColumnInt64(0), 35);      // t1 but its time_s
   EXPECT_EQ(encodings->ColumnInt64(1), 36 + 1);  // t5, and t1's time_s
+}
+
+// schema/013_repaired_channels.sql: a salvage record and its repaired
+// channel (bit for bit, NaN and -0 included) round-trip and come with a
+// merged result; an excluded channel keeps none.
+TEST_F(MergeTest, MergedSalvageRecordsKeepTheirRepairedChannels) {
+  engine::SalvageRecord record;
+  record.mode = "repair";
+  record.channels_used = record.channels_total = 9;
+  record.rms_residual_before_mps2 = 30.0;
+  record.rms_residual_after_mps2 = 1e-3;
+  engine::SalvagedChannel replaced;
+  replaced.channel = "cg_x";
+  replaced.fault = engine::FaultKind::kDropout;
+  replaced.action = engine::SalvageAction::kReplaced;
+  replaced.t1_s = 0.0002;
+  replaced.t2_s = 0.0004;
+  replaced.samples_replaced = 3;
+  replaced.repaired_samples = {1.0,    -0.0, 2.5, std::numeric_limits<double>::quiet_NaN(),
+                               1e-310, 4.0,  5.0, 6.0};
+  record.channels.push_back(replaced);
+  engine::SalvagedChannel& excluded = record.channels.emplace_back();
+  excluded.channel = "cg_y";
+  excluded.fault = engine::FaultKind::kStuck;
+  excluded.action = engine::SalvageAction::kExcluded;
+  const std::string shard0 = ProcessShard(0, 2);
+  {
+    Catalogue shard = Catalogue::Open(shard0);
+    const ConfigId config = *shard.FindConfigByHash(test_support::DefaultConfig().config_hash);
+    engine::TestSummary summary = ShardSummary("t1");
+    summary.salvage = record;
+    shard.WriteResult(*shard.FindTestByExternalId("t1"), config, summary, "exact");
+  }
+  Catalogue main = Catalogue::Open(main_path_);
+  main.MergeShard(shard0);
+  const ConfigId config = *main.FindConfigByHash(test_support::DefaultConfig().config_hash);
+  const std::optional<engine::TestSummary> merged =
+      main.ReadSummary(*main.FindTestByExternalId("t1"), config);
+  ASSERT_TRUE(merged && merged->salvage);
+  ASSERT_EQ(merged->salvage->channels.size(), 2u);
+  const std::vector<double>& samples = merged->salvage->channels[0].repaired_samples;
+  ASSERT_EQ(samples.size(), replaced.repaired_samples.size());
+  EXPECT_EQ(std::memcmp(samples.data(), replaced.repaired_samples.data(), samples.size() * sizeof(double)),
+            0);
+  EXPECT_TRUE(merged->salvage->channels[1].repaired_samples.empty());
+  auto nulls = CatalogueInspector(main).connection().Prepare(
+      "SELECT count(*) FROM result_salvage WHERE repaired_samples IS NULL AND channel = 'cg_y'");
+  ASSERT_TRUE(nulls->Step());
+  EXPECT_EQ(nulls->ColumnInt64(0), 1);
 }
 
 }  // namespace

@@ -185,7 +185,15 @@ void ExpectFailsThenSalvaged(const synth::SyntheticTest& faulty, const std::stri
       EXPECT_GT(record.channels.front().samples_replaced +
                     (record.channels.front().action != SalvageAction::kReplaced),
                 0);
-      EXPECT_EQ(salvaged.repaired.FindSlot(slot), 0) << label;
+      // The repaired channel is kept whole: its good samples are the recorded ones.
+      const std::vector<double>& repaired = record.channels.front().repaired_samples;
+      ASSERT_EQ(static_cast<Eigen::Index>(repaired.size()), faulty.signals.size()) << label;
+      const Eigen::Index column = faulty.signals.FindSlot(slot);
+      Eigen::Index kept = 0;
+      for (Eigen::Index k = 0; k < faulty.signals.size(); ++k)
+        kept += repaired[static_cast<std::size_t>(k)] == faulty.signals.samples(k, column);
+      if (record.channels.front().action == SalvageAction::kReplaced)
+        EXPECT_EQ(kept + record.channels.front().samples_replaced, faulty.signals.size()) << label;
     }
   }
 }
