@@ -124,6 +124,10 @@ std::string FromTo(double from_mps2, double to_mps2) {
 
 std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& signals,
                                       const Eigen::Ref<const Eigen::VectorXd>& x) {
+  // A finite sum has no infinite or NaN term (either would make it
+  // non-finite): one vectorised pass decides a clean channel; an overflowing
+  // sum of finite samples only takes the exact loop below.
+  if (std::isfinite(x.sum())) return std::nullopt;
   Index count = 0, first = -1, last = -1;
   for (Index k = 0; k < x.size(); ++k) {
     if (std::isfinite(x(k))) continue;
@@ -144,16 +148,25 @@ std::optional<Finding> CheckNonFinite(const Sensor& sensor, const TestSignals& s
 
 // Physical plausibility of a raw channel (ProcessingConfig::plausibility):
 // the largest |value| beyond the limit of its kind, in g or rad/s.
+// A channel's largest and smallest sample, found once for the checks below.
+struct Extremes {
+  double top = 0.0, bottom = 0.0;
+};
+
 std::optional<Finding> CheckPlausible(const Sensor& sensor, const TestSignals& signals,
-                                      const Eigen::Ref<const Eigen::VectorXd>& x,
+                                      const Eigen::Ref<const Eigen::VectorXd>& x, Extremes extremes,
                                       const PlausibilityConfig& limits) {
   if (x.size() == 0) return std::nullopt;
+  const bool linear = sensor.kind == SensorKind::kLinear;
+  const double limit = linear ? limits.max_acceleration_g : limits.max_angular_velocity_radps;
+  // The largest |value| from the extremes (vectorised, no index): the
+  // sample is looked for only when it is beyond the limit.
+  const double largest_si = std::max(extremes.top, -extremes.bottom) * sensor.si_per_unit;
+  if (!(std::abs(linear ? largest_si / kStandardGravity : largest_si) > limit)) return std::nullopt;
   Index worst = 0;
   x.cwiseAbs().maxCoeff(&worst);
-  const bool linear = sensor.kind == SensorKind::kLinear;
   const double value_si = x(worst) * sensor.si_per_unit;
   const double value = linear ? value_si / kStandardGravity : value_si;
-  const double limit = linear ? limits.max_acceleration_g : limits.max_angular_velocity_radps;
   if (!(std::abs(value) > limit)) return std::nullopt;
   const char* unit = linear ? " g" : " rad/s";
   // Read from a file, the sample's row too (issue 29 point 11).
@@ -168,8 +181,9 @@ std::optional<Finding> CheckPlausible(const Sensor& sensor, const TestSignals& s
 }
 
 std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& signals,
-                                       const Eigen::Ref<const Eigen::VectorXd>& x, int run_samples) {
-  const double top = x.maxCoeff(), bottom = x.minCoeff();
+                                       const Eigen::Ref<const Eigen::VectorXd>& x, Extremes extremes,
+                                       int run_samples) {
+  const double top = extremes.top, bottom = extremes.bottom;
   const double range = top - bottom;
   if (!(range > 0.0)) return std::nullopt;
   const double magnitude = std::max(std::abs(top), std::abs(bottom));
@@ -178,6 +192,17 @@ std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& 
   // unclipped channel has no run of run_samples, and then the median (a
   // copy and a selection of the whole channel) is not needed.
   const double tolerance = 1e-12 * magnitude;
+  // A run of L samples at an extreme needs L samples at it: counted first in
+  // a branch-free (vectorised) pass, which decides an unclipped channel.
+  {
+    const double* samples = x.data();
+    Index at_top = 0, at_bottom = 0;
+    for (Index k = 0; k < x.size(); ++k) {
+      at_top += std::abs(samples[k] - top) <= tolerance;
+      at_bottom += std::abs(samples[k] - bottom) <= tolerance;
+    }
+    if (at_top < run_samples && at_bottom < run_samples) return std::nullopt;
+  }
   struct Run {
     Index length = 0, end = 0;
   };
@@ -954,9 +979,11 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
       continue;
     }
     if (x.size() == 0) continue;
-    if (std::optional<Finding> finding = CheckPlausible(sensor, raw_signals, x, config.plausibility))
+    const Extremes extremes{x.maxCoeff(), x.minCoeff()};
+    if (std::optional<Finding> finding =
+            CheckPlausible(sensor, raw_signals, x, extremes, config.plausibility))
       findings.push_back(std::move(*finding));
-    if (x.maxCoeff() == x.minCoeff()) {
+    if (extremes.top == extremes.bottom) {
       findings.push_back(MakeFinding(Check::kFlat, sensor.slot, Severity::kInfo,
                                      "channel " + sensor.slot + " is constant (" + Number(x(0)) + " " +
                                          sensor.unit +
@@ -964,7 +991,7 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
       continue;
     }
     const int run_samples = config.screening.saturation_run_samples;
-    if (std::optional<Finding> finding = CheckSaturation(sensor, raw_signals, x, run_samples))
+    if (std::optional<Finding> finding = CheckSaturation(sensor, raw_signals, x, extremes, run_samples))
       findings.push_back(std::move(*finding));
     if (std::optional<Finding> finding = CheckSpikes(sensor, raw_signals, x, config.screening))
       findings.push_back(std::move(*finding));

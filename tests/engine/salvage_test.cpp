@@ -192,8 +192,9 @@ void ExpectFailsThenSalvaged(const synth::SyntheticTest& faulty, const std::stri
       Eigen::Index kept = 0;
       for (Eigen::Index k = 0; k < faulty.signals.size(); ++k)
         kept += repaired[static_cast<std::size_t>(k)] == faulty.signals.samples(k, column);
-      if (record.channels.front().action == SalvageAction::kReplaced)
+      if (record.channels.front().action == SalvageAction::kReplaced) {
         EXPECT_EQ(kept + record.channels.front().samples_replaced, faulty.signals.size()) << label;
+      }
     }
   }
 }
