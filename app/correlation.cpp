@@ -127,8 +127,8 @@ std::string CurveNames(const std::vector<formats::ModelCurve>& curves) {
   return Joined(names);
 }
 
-db::CorrelationRecord RatingRecord(const TestResult& result, const RatingRow& row) {
-  db::CorrelationRecord record;
+db::CorrelationRow RatingRecord(const TestResult& result, const RatingRow& row) {
+  db::CorrelationRow record;
   record.test = result.test;
   record.config = result.config;
   record.channel = row.channel;
@@ -383,7 +383,7 @@ RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path,
   RatingRow row =
       RateChannel(test_id, options, channel.series, model.series, TestChannelName(test_id, options.channel),
                   ModelFile(ParseModelSpec(model_spec).path) + " curve '" + model.column + "'", shown);
-  db::CorrelationRecord record = RatingRecord(result, row);
+  db::CorrelationRow record = RatingRecord(result, row);
   record.reference_kind = "model";
   record.reference_key = "model:" + model.sha256 + ":" + model.column;
   // The units are part of what the rating rated: the same curve under other units is another rating.
@@ -414,7 +414,7 @@ RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& db_path, 
   RatingRow row = RateChannel(test_id, options, reference.series, rated.series,
                               TestChannelName(reference_test_id, options.channel),
                               TestChannelName(test_id, options.channel), reference_test_id);
-  db::CorrelationRecord record = RatingRecord(result, row);
+  db::CorrelationRow record = RatingRecord(result, row);
   record.reference_kind = "test";
   record.reference_key = "test:" + reference_test_id;
   record.reference_test = other.test;
@@ -473,7 +473,7 @@ std::vector<RatingRow> RateVariantRepeats(db::Catalogue& catalogue, const std::s
                                 "the mean curve of variant '" + variant + "' of series '" + series + "'",
                                 TestChannelName(repeat.test_id, options.channel), shown);
     if (store) {
-      db::CorrelationRecord record = RatingRecord(repeat.result, row);
+      db::CorrelationRow record = RatingRecord(repeat.result, row);
       record.reference_kind = "variant-mean";
       record.reference_key = "variant-mean:" + series + "/" + variant;
       record.reference_series = series;

@@ -428,7 +428,7 @@ class CatalogueReport {
     const db::TestRow* record;  // in selected_
     db::ConfigId config;        // of its latest result
     std::string config_name;
-    std::vector<db::CorrelationRecord> ratings;  // of that result
+    std::vector<db::CorrelationRow> ratings;  // of that result
   };
   // A --model file as read, once (formats::ReadModelFile): its SHA-256 is
   // what stored ratings name, and its curves are drawn from the same bytes.
@@ -450,7 +450,7 @@ class CatalogueReport {
     std::set<std::string> rated;
     for (Shown& test : shown_) {
       test.ratings = catalogue_.ReadCorrelations(test.record->id, test.config);
-      for (const db::CorrelationRecord& rating : test.ratings)
+      for (const db::CorrelationRow& rating : test.ratings)
         if (rating.model_sha256) rated.insert(*rating.model_sha256);
     }
     for (const GivenModel& model : models_)
@@ -465,7 +465,7 @@ class CatalogueReport {
   // result's (shifted) time axis, the fault's interval marked
   // (docs/formats.md "HTML report").
   void AddSalvageCharts(const Shown& test, formats::ReportTest& section) {
-    const std::optional<engine::SalvageRecord>& salvage = section.summary.salvage;
+    const std::optional<engine::SalvageAudit>& salvage = section.summary.salvage;
     if (!salvage) return;
     const ResultChannels repaired = ReadResultChannels(catalogue_, test.record->id, test.config);
     if (repaired.repaired.empty()) return;
@@ -505,7 +505,7 @@ class CatalogueReport {
     table.heading = "ISO/TS 18571 ratings";
     table.columns = {"channel", "against", "edition", "interval (ms)"};
     table.columns.insert(table.columns.end(), kRatingColumns.begin(), kRatingColumns.end());
-    for (const db::CorrelationRecord& r : test.ratings) {
+    for (const db::CorrelationRow& r : test.ratings) {
       table.rows.push_back(RatingCells({r.channel, r.reference, r.edition, IntervalMs(r.start_s, r.end_s)},
                                        r.corridor, r.phase, r.magnitude, r.slope, r.overall, r.grade,
                                        r.shift_s));

@@ -1,7 +1,10 @@
 #pragma once
-// A napkin subcommand (osmium-tool style): Setup() declares and validates
-// options without touching files; Run() does the work and returns the exit
-// status. One command_<name>.cpp per subcommand; the list is in commands.cpp.
+// A napkin subcommand (osmium-tool style): Setup() declares the options and
+// the checks of each option alone (CLI11 validators, cli/option_checks.h:
+// exit status 2) without touching files; Run() first checks combinations
+// of options (a UsageError: exit 2, cli/diagnostics.cpp), then does the work
+// and returns the exit status (bad input: exit 1). One command_<name>.cpp per subcommand; the list is in
+// commands.cpp.
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <string>

@@ -1,7 +1,9 @@
 #pragma once
 // Error types shared by every folder (engine, formats, db, records, ingest,
 // jobs, cli). Each message is one sentence that names the file, test, channel
-// or row at fault; cli/diagnostics.h maps each type to its exit status.
+// or row at fault; app::DescribeFailure (app/failure.h) sorts each type into
+// a failure category, and cli/diagnostics.cpp (ReportFailure) gives the
+// category its exit status.
 #include <stdexcept>
 #include <string>
 

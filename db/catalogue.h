@@ -168,7 +168,7 @@ struct QueryRequest {
 // One ISO/TS 18571 rating of a channel of a test's result against a
 // reference curve (table correlations, schema/009_correlation.sql;
 // docs/formats.md "Correlation ratings").
-struct CorrelationRecord {
+struct CorrelationRow {
   TestId test{};
   ConfigId config{};  // the rated result is the test's under this config
   std::string channel;
@@ -316,7 +316,7 @@ class Catalogue {
   // Stores (replacing) the salvage record of the test under `config` (table
   // result_salvage, one row per salvaged channel; none removes it;
   // docs/formats.md "Salvage record").
-  void WriteSalvage(TestId test, ConfigId config, const std::optional<engine::SalvageRecord>& salvage);
+  void WriteSalvage(TestId test, ConfigId config, const std::optional<engine::SalvageAudit>& salvage);
   // Stores (replacing) the kinematics as named derived channels, encoded as
   // `storage` says (docs/formats.md "Derived-channel storage"; time_s is
   // always float64); kNone only removes the earlier ones.
@@ -344,10 +344,10 @@ class Catalogue {
   // Stores a rating of the test's result under record.config, replacing one
   // of the same result, channel, reference key, edition and interval.
   // Throws InputError when the test has no result under that config.
-  void WriteCorrelation(const CorrelationRecord& record);
+  void WriteCorrelation(const CorrelationRow& record);
   // The ratings of the test's result under `config`, by channel, reference
   // and edition.
-  std::vector<CorrelationRecord> ReadCorrelations(TestId test, ConfigId config);
+  std::vector<CorrelationRow> ReadCorrelations(TestId test, ConfigId config);
 
   // ---- jobs: db::JobQueue (db/job_queue.h) works on this connection.
 

@@ -7,7 +7,7 @@
 
 namespace napkin::db {
 
-void Catalogue::WriteCorrelation(const CorrelationRecord& record) {
+void Catalogue::WriteCorrelation(const CorrelationRow& record) {
   Transaction transaction(connection_);
   std::int64_t result_id = 0;
   {
@@ -42,7 +42,7 @@ void Catalogue::WriteCorrelation(const CorrelationRecord& record) {
   transaction.Commit();
 }
 
-std::vector<CorrelationRecord> Catalogue::ReadCorrelations(TestId test, ConfigId config) {
+std::vector<CorrelationRow> Catalogue::ReadCorrelations(TestId test, ConfigId config) {
   auto select = connection_.Prepare(
       "SELECT channel, reference_kind, reference, reference_key, model_file, model_sha256, model_column, "
       "reference_test_id, reference_series, reference_variant, edition, start_s, end_s, corridor, phase, "
@@ -50,9 +50,9 @@ std::vector<CorrelationRecord> Catalogue::ReadCorrelations(TestId test, ConfigId
       "config_id = ?2 "
       "ORDER BY channel, reference, edition, start_s, end_s");
   select->BindAll(test, config);
-  std::vector<CorrelationRecord> records;
+  std::vector<CorrelationRow> records;
   while (select->Step()) {
-    CorrelationRecord& record = records.emplace_back();
+    CorrelationRow& record = records.emplace_back();
     record.test = test;
     record.config = config;
     record.channel = select->ColumnText(0);

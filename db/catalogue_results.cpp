@@ -209,7 +209,7 @@ void Catalogue::WriteConditioning(TestId test, ConfigId config,
 }
 
 void Catalogue::WriteSalvage(TestId test, ConfigId config,
-                             const std::optional<engine::SalvageRecord>& salvage) {
+                             const std::optional<engine::SalvageAudit>& salvage) {
   Transaction transaction(connection_);
   {
     auto remove = connection_.Prepare("DELETE FROM result_salvage WHERE test_id = ?1 AND config_id = ?2");
@@ -338,7 +338,7 @@ std::optional<engine::TestSummary> Catalogue::ReadSummary(TestId test, ConfigId 
   salvage->BindAll(test, config);
   while (salvage->Step()) {
     if (!summary.salvage) {
-      engine::SalvageRecord& record = summary.salvage.emplace();
+      engine::SalvageAudit& record = summary.salvage.emplace();
       record.mode = salvage->ColumnText(0);
       const auto in_mps2 = [&salvage](int column) {
         return salvage->ColumnIsNull(column) ? std::numeric_limits<double>::quiet_NaN()

@@ -43,7 +43,7 @@ Finding RotationUndetermined(const ArrayGeometry& array) {
                      "checks are skipped."};
 }
 
-// The first error-severity finding, or nullptr: the verdict's rule.
+// The first error-severity finding, or nullptr: the rule that fails a test.
 const Finding* FirstError(const std::vector<Finding>& findings) {
   const auto error = std::find_if(findings.begin(), findings.end(),
                                   [](const Finding& f) { return f.severity == Severity::kError; });
@@ -290,7 +290,7 @@ std::string FirstErrorSentence(const std::vector<Finding>& findings) {
 }
 
 // The audit sentence of one salvaged channel (a warning finding).
-Finding SalvageFinding(const SalvageRecord& record, const SalvagedChannel& channel) {
+Finding SalvageFinding(const SalvageAudit& record, const SalvagedChannel& channel) {
   std::ostringstream detail;
   detail << "salvage (" << record.mode << "): channel " << channel.channel << " ("
          << (channel.fault == FaultKind::kInconsistent ? "inconsistent with the other channels"
@@ -328,7 +328,7 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
              Workspace& workspace, ProcessedTest& out, const std::atomic<bool>* cancel) {
   const double rms_before = workspace.exact_rms_residual_mps2;
   bool repair = config.screening.salvage == SalvageMode::kRepair;
-  SalvageRecord record;
+  SalvageAudit record;
   record.mode = NameOf(config.screening.salvage);
   record.channels_total = static_cast<int>(array.sensors.size());
   const double shift_s = config.time.shift_s;

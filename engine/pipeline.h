@@ -1,6 +1,6 @@
 #pragma once
 // The transform core: everything napkin does to one test, from raw signals
-// to kinematics, criteria and screening findings, and the verdict on it.
+// to kinematics, criteria and screening findings, and whether it fails.
 // `napkin transform` and the batch scheduler (jobs/) both call ProcessTest
 // and FailingFinding, so a catalogue result (or failure) equals the
 // single-test result (or error) for the same input and configuration.
@@ -80,7 +80,7 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
 std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,
                                const ProcessingConfig& config);
 
-// The verdict on a processed test: it fails on its first error-severity
+// Whether a processed test fails: it fails on its first error-severity
 // finding (README "What it computes": data screening: a flipped or swapped
 // channel, saturation), whose detail is the failure sentence; nullptr when
 // it passes. `napkin run` records that sentence as the test's failure (with

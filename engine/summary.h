@@ -135,7 +135,7 @@ struct SalvagedChannel {
 // The audit trail of a salvaged test: the mode, every channel it excluded
 // or repaired, and the RMS rigid-body residual of the exact solver before
 // and after (infinite before when the recorded channels made it diverge).
-struct SalvageRecord {
+struct SalvageAudit {
   std::string mode;  // NameOf(SalvageMode): "exclude" or "repair"
   std::vector<SalvagedChannel> channels;
   double rms_residual_before_mps2 = 0.0;
@@ -170,7 +170,7 @@ struct TestSummary {
   std::vector<Finding> findings;
   // Set when salvage (ScreeningConfig::salvage) excluded or repaired a
   // faulty channel: the result comes from the salvaged signals.
-  std::optional<SalvageRecord> salvage;
+  std::optional<SalvageAudit> salvage;
   // What conditioning did to each channel, in column order (not a summary field).
   std::vector<ChannelConditioning> conditioning;
 };

@@ -44,7 +44,7 @@ nlohmann::ordered_json FindingToJson(const engine::Finding& finding) {
   return json;
 }
 
-nlohmann::ordered_json SalvageToJson(const engine::SalvageRecord& record) {
+nlohmann::ordered_json SalvageToJson(const engine::SalvageAudit& record) {
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
   json["mode"] = record.mode;
   nlohmann::ordered_json channels = nlohmann::ordered_json::array();

@@ -18,7 +18,7 @@ nlohmann::ordered_json ConditioningToJson(const engine::ChannelConditioning& rec
 // {mode, channels: [{channel, fault, action, partner, interval_s, samples_replaced}],
 // rms_residual_before_g, rms_residual_after_g, channels_used, channels_total}
 // (docs/formats.md "Salvage record"); a residual that could not be computed is null.
-nlohmann::ordered_json SalvageToJson(const engine::SalvageRecord& record);
+nlohmann::ordered_json SalvageToJson(const engine::SalvageAudit& record);
 
 // test_id, series, variant, every field of `query hic` and `query rotation`
 // (engine/summary_fields.h), in contract order, then the array `quality`,

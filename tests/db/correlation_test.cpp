@@ -28,8 +28,8 @@ class CorrelationTest : public ::testing::Test {
     other_ = test_support::AddTest(catalogue_, array_, "v0002");
     catalogue_.WriteResult(test_, config_, {}, "exact");
   }
-  CorrelationRecord Model(double overall) const {
-    CorrelationRecord record;
+  CorrelationRow Model(double overall) const {
+    CorrelationRow record;
     record.test = test_;
     record.config = config_;
     record.channel = "acc_resultant_g";
@@ -59,7 +59,7 @@ class CorrelationTest : public ::testing::Test {
 
 TEST_F(CorrelationTest, RoundTripsAndReplacesTheSameReference) {
   catalogue_.WriteCorrelation(Model(0.78));
-  CorrelationRecord against_test = Model(1.0);
+  CorrelationRow against_test = Model(1.0);
   against_test.reference_kind = "test";
   against_test.reference = "v0002";
   against_test.reference_key = "test:v0002";
@@ -68,7 +68,7 @@ TEST_F(CorrelationTest, RoundTripsAndReplacesTheSameReference) {
   catalogue_.WriteCorrelation(against_test);
   catalogue_.WriteCorrelation(Model(0.79));  // the same model, column, edition and interval: replaced
 
-  const std::vector<CorrelationRecord> read = catalogue_.ReadCorrelations(test_, config_);
+  const std::vector<CorrelationRow> read = catalogue_.ReadCorrelations(test_, config_);
   ASSERT_EQ(read.size(), 2u);
   EXPECT_EQ(read[0].reference, "head.k:curve 4");  // by channel, then reference
   EXPECT_EQ(read[0].overall, 0.79);
@@ -78,7 +78,7 @@ TEST_F(CorrelationTest, RoundTripsAndReplacesTheSameReference) {
   EXPECT_EQ(read[1].model_file, std::nullopt);
 
   // Another interval is another rating.
-  CorrelationRecord shorter = Model(0.5);
+  CorrelationRow shorter = Model(0.5);
   shorter.end_s = 0.05;
   catalogue_.WriteCorrelation(shorter);
   EXPECT_EQ(catalogue_.ReadCorrelations(test_, config_).size(), 3u);
@@ -101,7 +101,7 @@ TEST_F(CorrelationTest, AResultComputedAgainDropsItsRatings) {
 }
 
 TEST_F(CorrelationTest, ATestWithoutThatResultIsRefused) {
-  CorrelationRecord record = Model(0.5);
+  CorrelationRow record = Model(0.5);
   record.test = other_;
   EXPECT_THROW(catalogue_.WriteCorrelation(record), InputError);
 }
@@ -109,15 +109,15 @@ TEST_F(CorrelationTest, ATestWithoutThatResultIsRefused) {
 // The same curve rated under other model units is another rating, and says its units (issue 42,
 // point 3: the second replaced the first and neither said which units it used).
 TEST_F(CorrelationTest, OtherModelUnitsAreAnotherRatingThatSaysItsUnits) {
-  CorrelationRecord metres = Model(0.9);
+  CorrelationRow metres = Model(0.9);
   metres.model_units = "m,s,kg";
   metres.reference_key += ":units=m,s,kg";
-  CorrelationRecord millimetres = Model(0.3);
+  CorrelationRow millimetres = Model(0.3);
   millimetres.model_units = "mm,s,kg";
   millimetres.reference_key += ":units=mm,s,kg";
   catalogue_.WriteCorrelation(metres);
   catalogue_.WriteCorrelation(millimetres);
-  const std::vector<CorrelationRecord> read = catalogue_.ReadCorrelations(test_, config_);
+  const std::vector<CorrelationRow> read = catalogue_.ReadCorrelations(test_, config_);
   ASSERT_EQ(read.size(), 2u);
   std::set<std::optional<std::string>> units = {read[0].model_units, read[1].model_units};
   EXPECT_EQ(units, (std::set<std::optional<std::string>>{"m,s,kg", "mm,s,kg"}));
@@ -149,7 +149,7 @@ TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
   }
   std::filesystem::copy_file(main_path, shard_path);
   const auto rating = [&](TestId test, const std::string& units, double overall) {
-    CorrelationRecord record;
+    CorrelationRow record;
     record.test = test;
     record.config = config;
     record.channel = "acc_resultant_g";
@@ -170,7 +170,7 @@ TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
     Catalogue shard = Catalogue::Open(shard_path, options);
     shard.WriteResult(v1, config, {}, "exact");  // the same values computed again, later
     shard.WriteCorrelation(rating(v1, "mm,s,kg", 0.3));
-    CorrelationRecord against = rating(v1, "", 0.95);
+    CorrelationRow against = rating(v1, "", 0.95);
     against.reference_kind = "test";
     against.reference = "v0002";
     against.reference_key = "test:v0002";
@@ -184,14 +184,14 @@ TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
   const MergeReport merged = catalogue.MergeShard(shard_path);
   EXPECT_EQ(merged.results_merged, 1);
   EXPECT_EQ(merged.ratings_merged, 3);
-  const std::vector<CorrelationRecord> v1_ratings = catalogue.ReadCorrelations(v1, config);
+  const std::vector<CorrelationRow> v1_ratings = catalogue.ReadCorrelations(v1, config);
   ASSERT_EQ(v1_ratings.size(), 3u);
   std::set<std::pair<std::string, double>> seen;  // reference key, overall
-  for (const CorrelationRecord& record : v1_ratings) seen.insert({record.reference_key, record.overall});
+  for (const CorrelationRow& record : v1_ratings) seen.insert({record.reference_key, record.overall});
   EXPECT_EQ(seen, (std::set<std::pair<std::string, double>>{{"model:abc:curve 4:units=m,s,kg", 0.9},
                                                             {"model:abc:curve 4:units=mm,s,kg", 0.3},
                                                             {"test:v0002", 0.95}}));
-  for (const CorrelationRecord& record : v1_ratings) {
+  for (const CorrelationRow& record : v1_ratings) {
     if (record.reference_kind == "test") {
       EXPECT_EQ(record.reference_test, v2);
     }
@@ -225,7 +225,7 @@ TEST(CorrelationMigration, TestRatingsOfTheOldRolesAreMarked) {
     result->Bind(2, config);
     result->Execute();
     for (const TestId reference : {v2, v1}) {
-      CorrelationRecord record;
+      CorrelationRow record;
       record.test = v1;
       record.config = config;
       record.channel = "acc_resultant_g";
@@ -242,7 +242,7 @@ TEST(CorrelationMigration, TestRatingsOfTheOldRolesAreMarked) {
   }
   Catalogue catalogue = Catalogue::Open(path);
   std::map<std::string, std::string> reference_by_key;
-  for (const CorrelationRecord& record : catalogue.ReadCorrelations(v1, config))
+  for (const CorrelationRow& record : catalogue.ReadCorrelations(v1, config))
     reference_by_key[record.reference_key] = record.reference;
   EXPECT_EQ(reference_by_key,
             (std::map<std::string, std::string>{

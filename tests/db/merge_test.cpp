@@ -253,8 +253,8 @@ TEST_F(MergeTest, MergedDerivedChannelsKeepTheirEncoding) {
 // schema/013_repaired_channels.sql: a salvage record and its repaired
 // channel (bit for bit, NaN and -0 included) round-trip and come with a
 // merged result; an excluded channel keeps none.
-TEST_F(MergeTest, MergedSalvageRecordsKeepTheirRepairedChannels) {
-  engine::SalvageRecord record;
+TEST_F(MergeTest, MergedSalvageAuditsKeepTheirRepairedChannels) {
+  engine::SalvageAudit record;
   record.mode = "repair";
   record.channels_used = record.channels_total = 9;
   record.rms_residual_before_mps2 = 30.0;

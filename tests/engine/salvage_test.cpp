@@ -172,7 +172,7 @@ void ExpectFailsThenSalvaged(const synth::SyntheticTest& faulty, const std::stri
     const std::string label = context + " salvage " + NameOf(mode);
     ASSERT_EQ(FailingFinding(salvaged), nullptr) << label << ":\n" << Describe(salvaged.summary.findings);
     ASSERT_TRUE(salvaged.summary.salvage.has_value()) << label;
-    const SalvageRecord& record = *salvaged.summary.salvage;
+    const SalvageAudit& record = *salvaged.summary.salvage;
     EXPECT_EQ(record.mode, NameOf(mode));
     ASSERT_FALSE(record.channels.empty());
     EXPECT_EQ(record.channels.front().channel, slot) << label;
