@@ -98,6 +98,58 @@ int main(int argc, char** argv) {
     Write(out / "uds1992" / name, formats::ReadWholeFile(scratch / name));
   }
 
+  // DTS SLICEWare CSV: a 6DX headform export as SLICEWare writes one (CRLF, a value per channel
+  // and a trailing comma in every row), five samples at 20 kHz from -0.1 ms.
+  {
+    const char* codes[] = {"D0HEADCG0000AVZC", "D0HEADCG0000AVYC", "D0HEADCG0000AVXC",
+                           "D0HEADCG0000ACZA", "D0HEADCG0000ACYA", "D0HEADCG0000ACXA"};
+    const char* serials[] = {"6DX0855-AV3", "6DX0855-AV2", "6DX0855-AV1",
+                             "6DX0855-AC3", "6DX0855-AC2", "6DX0855-AC1"};
+    std::string text;
+    const auto row = [&](const std::string& name, const auto& value) {
+      text += name + ",";
+      for (int c = 0; c < 6; ++c) text += value(c) + ",";
+      text += "\r\n";
+    };
+    const auto same = [](const char* value) { return [value](int) { return std::string(value); }; };
+    row("Headers", same(""));
+    row("Test Date", same("2024-05-23"));
+    row("Test Time", same("10:42:07"));
+    row("Test ID", same("SEED-6DX"));
+    row("Test Description", same("seed"));
+    row("Sample Rate (Hz)", same("20000"));
+    row("Hardware AA Filter (-3dB)", same("4300"));
+    row("Data Channel Number", [](int c) { return std::to_string(c); });
+    row("ISO Channel Code", [&](int c) { return std::string(codes[c]); });
+    row("Channel Description", same("Head"));
+    row("Channel Location", same("Head CG"));
+    row("Sensor S/N", [&](int c) { return std::string(serials[c]); });
+    row("Software Filter (SAE Class)", same("None"));
+    row("Software Filter (-3dB)", same("None"));
+    row("Engineering Unit", [](int c) { return std::string(c < 3 ? "deg/sec " : "g "); });
+    row("User Comment", same(""));
+    row("Number of Pre-Zero Data Pts", same("2"));
+    row("Number of Post-Zero Data Pts", same("3"));
+    row("Data Zero (CNTS)", same("32768"));
+    row("Scale Factor (EU/CNT)", same("0.0123"));
+    row("Scale Factor (mV/CNT)", same("0.0381"));
+    row("Data Starts Here", same(""));
+    text += "Time,";
+    for (int c = 0; c < 6; ++c) text += "Chan " + std::to_string(c) + ":" + serials[c] + ",";
+    text += "\r\n";
+    const char* times[] = {"-0.0001", "-5e-05", "0", "5e-05", "0.0001"};
+    for (int k = 0; k < 5; ++k) {
+      text += times[k];
+      for (int c = 0; c < 6; ++c) {
+        char value[32];
+        std::snprintf(value, sizeof(value), "%g", std::round(10000.0 * std::sin(0.5 * k + c)) / 1000.0);
+        text += std::string(",") + value;
+      }
+      text += ",\r\n";
+    }
+    Write(out / "dts_slice_csv" / "6dx-headform.csv", text);
+  }
+
   // JSON: the presets, and the canonical processing configuration (every key).
   const fs::path config = formats::DefaultConfigDir();
   for (const auto& [subdir, target] :

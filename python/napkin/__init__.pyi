@@ -121,6 +121,18 @@ def transform(
     test_id: str = ...,
 ) -> TransformResult: ...
 
+def transform_file(
+    path: _Path,
+    array: _Path | None = ...,
+    channel_map: _Path | None = ...,
+    position: str | None = ...,
+    columns: Mapping[str, str] | None = ...,
+    config: _Path = ...,
+    orientation_rad: _Triple = ...,
+    initial_velocity_mps: _Triple = ...,
+    solver: str | None = ...,
+) -> TransformResult: ...
+
 class Catalogue:
     def __init__(self, path: _Path) -> None: ...
     @property
