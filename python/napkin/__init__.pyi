@@ -24,6 +24,7 @@ from ._napkin import tune_memory as tune_memory
 __version__: str
 __all__ = [
     "transform",
+    "transform_file",
     "TransformResult",
     "Catalogue",
     "hic",

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -100,7 +101,7 @@ TEST_F(DtsSliceCli, SixDxExportTransformsToTheTruthWithAndWithoutArray) {
   ASSERT_EQ(given.exit_code, 0) << given.err;
   const double error = OmegaErrorOfPeak(dir_ / "codes.csv", six_dx_);
   EXPECT_LT(error, 5e-4);
-  RecordProperty("omega_error_of_peak", std::to_string(error));
+  RecordProperty("omega_error_of_peak", util::FormatNumber(error, 3));
   // The codes define the array the option names: the same bytes.
   EXPECT_EQ(ReadText(dir_ / "codes.csv"), ReadText(dir_ / "given.csv"));
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir_ / "codes.csv.json"));
@@ -122,10 +123,14 @@ TEST_F(DtsSliceCli, SoftwareFilteredChannelsAreNotFilteredAgain) {
   const double refiltered_error = OmegaErrorOfPeak(dir_ / "raw-out.csv", six_dx_);
   EXPECT_LT(prefiltered_error, 5e-4);                     // the default config's CFC 60 was not applied again
   EXPECT_GT(refiltered_error, 10.0 * prefiltered_error);  // and it was applied to the raw channels
-  RecordProperty("refiltered_over_prefiltered", std::to_string(refiltered_error / prefiltered_error));
+  RecordProperty("refiltered_error_of_peak", util::FormatNumber(refiltered_error, 3));
+  RecordProperty("prefiltered_error_of_peak", util::FormatNumber(prefiltered_error, 3));
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir_ / "filtered-out.csv.json"));
-  for (const nlohmann::json& channel : summary.at("conditioning"))
-    if (channel.at("channel") == "ars_x") EXPECT_EQ(channel.at("filter"), "none, prefiltered at CFC 60");
+  for (const nlohmann::json& channel : summary.at("conditioning")) {
+    if (channel.at("channel") == "ars_x") {
+      EXPECT_EQ(channel.at("filter"), "none, prefiltered at CFC 60");
+    }
+  }
 }
 
 TEST_F(DtsSliceCli, ImportsWithItsTestIdAndItsSensorsAsTestInformation) {
@@ -239,8 +244,9 @@ TEST_F(DtsSliceCli, NineAccelerometerExportEqualsTheSameSamplesInNapkinsCsv) {
   // Without the array the arms' sentence says what is missing; without the map, which slot.
   const RunResult no_array = RunNapkin(dir_.path(), {"transform", "nap.csv", "--out", "n.csv"});
   EXPECT_EQ(no_array.exit_code, 1);
-  ExpectOneSentenceError(no_array, {"test NAP-1", "channel D0HEADRI0000ACZA", "off the CG",
-                                    "an array with arms needs its geometry", "--array"});
+  ExpectOneSentenceError(no_array,
+                         {"test NAP-1", "channel D0HEADBO0000ACYA", "off the CG (fine location \"BO\")",
+                          "an array with arms needs its geometry", "--array"});
   const RunResult no_map =
       RunNapkin(dir_.path(), {"transform", "nap.csv", "--array", "denton-3222", "--out", "n.csv"});
   EXPECT_EQ(no_map.exit_code, 1);
