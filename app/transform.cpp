@@ -158,11 +158,11 @@ TransformReport RunTransform(const TransformOptions& options) {
     throw UsageError("only one of --out, --summary and --lsdyna can be standard output (-).");
   // A command's own inputs are never its outputs, nor is one output another
   // (docs/formats.md "Output destinations"): refused before anything is read.
-  ProtectInputFromOutput(options.input, "the input recording");
-  if (!options.array.empty())
-    ProtectInputFromOutput(formats::ResolvePreset(options.array, "arrays"), "the --array file");
-  if (!options.channel_map.empty())
-    ProtectInputFromOutput(formats::ResolvePreset(options.channel_map, "channel-maps"),
+  ProtectInputFromOutput(options.input.path, "the input recording");
+  if (!options.input.array.empty())
+    ProtectInputFromOutput(formats::ResolvePreset(options.input.array, "arrays"), "the --array file");
+  if (!options.input.channel_map.empty())
+    ProtectInputFromOutput(formats::ResolvePreset(options.input.channel_map, "channel-maps"),
                            "the --channel-map file");
   ProtectInputFromOutput(records::ProcessingConfigPath(options.config, formats::DefaultConfigDir()),
                          "the --config file");
@@ -170,13 +170,7 @@ TransformReport RunTransform(const TransformOptions& options) {
       {{"--out", options.out}, {"--summary", options.summary}, {"--lsdyna", options.lsdyna}});
   for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
     if (!output->empty()) util::ResolveOutputDestination(*output);  // refused before anything is computed
-  TestFileOptions read;
-  read.path = options.input;
-  read.array = options.array;
-  read.channel_map = options.channel_map;
-  read.position = options.position;
-  read.csv_columns = options.csv_columns;
-  TestFile input = ReadTestFile(read);
+  TestFile input = ReadTestFile(options.input);
   const engine::ArrayGeometry& array = input.array;
 
   // The same resolution as `napkin run` (empty: the "default" preset), so a
@@ -190,12 +184,12 @@ TransformReport RunTransform(const TransformOptions& options) {
   TransformReport report;
   report.warnings = std::move(input.warnings);
   // A failing test fails before any output is written.
-  engine::ProcessedTest processed = ProcessSignals(array, input.signals, initial, config, options.input);
+  engine::ProcessedTest processed = ProcessSignals(array, input.signals, initial, config, options.input.path);
   report.kinematics = std::move(processed.kinematics);
   report.summary = std::move(processed.summary);
 
   if (!options.lsdyna.empty() && !engine::HasRotation(report.kinematics))
-    throw InputError(options.input + ": array '" + array.name +
+    throw InputError(options.input.path + ": array '" + array.name +
                      "' cannot determine rotation, which --lsdyna needs; --out gives the CG acceleration.");
 
   const std::string& test_id = input.test_id;

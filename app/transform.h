@@ -85,15 +85,11 @@ struct TestFile {
 TestFile ReadTestFile(const TestFileOptions& options);
 
 struct TransformOptions {
-  std::string array;                         // preset name or array JSON path; empty: from the codes
-  std::string channel_map;                   // channel map preset or path (empty: "default")
-  std::optional<std::string> position;       // --position P
+  TestFileOptions input;                     // the test file, its array, channel map, position, --column
   std::vector<double> orientation_rad;       // phi, theta, psi (empty: 0, 0, 0)
   std::vector<double> initial_velocity_mps;  // vx, vy, vz fixed frame (empty: 0)
   std::string solver;                        // engine::SolverName (empty: the config's solver)
   std::string config;                        // processing config preset/path (empty: default)
-  std::string input;                         // signals file
-  std::vector<std::string> csv_columns;      // --column SLOT=NAME
   std::string out;                           // derived-channel CSV
   std::string summary;                       // summary JSON (optional)
   std::string lsdyna;                        // LS-DYNA keyword file (optional)

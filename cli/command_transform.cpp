@@ -16,10 +16,10 @@ class TransformCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
     CLI::App* sub = app.add_subcommand("transform", "process one test file, no catalogue");
-    sub->add_option("--array", options_.array,
+    sub->add_option("--array", options_.input.array,
                     "array preset name or array JSON file (default: the one the channel codes define)")
         ->check(PathCheck("--array"));
-    sub->add_option("--channel-map", options_.channel_map,
+    sub->add_option("--channel-map", options_.input.channel_map,
                     "channel map preset or JSON file (inputs of channels with codes or SENATT/AXIS)")
         ->check(PathCheck("--channel-map"));
     sub->add_option("--position", position_,
@@ -38,10 +38,10 @@ class TransformCommand : public Command {
         ->check(OneOfCheck("--solver", solvers));
     sub->add_option("--config", options_.config, "processing config preset or JSON file")
         ->check(PathCheck("--config"));
-    sub->add_option("--column", options_.csv_columns,
+    sub->add_option("--column", options_.input.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
         ->allow_extra_args(false);
-    sub->add_option("input", options_.input, "the test: one of the " + ingest::FormatList("or"))
+    sub->add_option("input", options_.input.path, "the test: one of the " + ingest::FormatList("or"))
         ->required()
         ->check(PathCheck("the input path"));
     sub->add_option("--out", options_.out, "derived-channel CSV to write")
@@ -55,7 +55,7 @@ class TransformCommand : public Command {
   }
 
   int Run() override {
-    if (position_) options_.position = *position_;
+    if (position_) options_.input.position = *position_;
     const app::TransformReport report = app::RunTransform(options_);
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
     return kExitOk;

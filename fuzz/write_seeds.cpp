@@ -7,6 +7,8 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/array_geometry.h"
 #include "engine/processing.h"
@@ -101,42 +103,44 @@ int main(int argc, char** argv) {
   // DTS SLICEWare CSV: a 6DX headform export as SLICEWare writes one (CRLF, a value per channel
   // and a trailing comma in every row), five samples at 20 kHz from -0.1 ms.
   {
-    const char* codes[] = {"D0HEADCG0000AVZC", "D0HEADCG0000AVYC", "D0HEADCG0000AVXC",
-                           "D0HEADCG0000ACZA", "D0HEADCG0000ACYA", "D0HEADCG0000ACXA"};
-    const char* serials[] = {"6DX0855-AV3", "6DX0855-AV2", "6DX0855-AV1",
-                             "6DX0855-AC3", "6DX0855-AC2", "6DX0855-AC1"};
+    using Values = std::vector<std::string>;
+    const auto same = [](const char* value) { return Values(6, value); };
+    const Values serials = {"6DX0855-AV3", "6DX0855-AV2", "6DX0855-AV1",
+                            "6DX0855-AC3", "6DX0855-AC2", "6DX0855-AC1"};
+    const std::pair<const char*, Values> rows[] = {
+        {"Headers", same("")},
+        {"Test Date", same("2024-05-23")},
+        {"Test Time", same("10:42:07")},
+        {"Test ID", same("SEED-6DX")},
+        {"Test Description", same("seed")},
+        {"Sample Rate (Hz)", same("20000")},
+        {"Hardware AA Filter (-3dB)", same("4300")},
+        {"Data Channel Number", {"0", "1", "2", "3", "4", "5"}},
+        {"ISO Channel Code",
+         {"D0HEADCG0000AVZC", "D0HEADCG0000AVYC", "D0HEADCG0000AVXC", "D0HEADCG0000ACZA", "D0HEADCG0000ACYA",
+          "D0HEADCG0000ACXA"}},
+        {"Channel Description", same("Head")},
+        {"Channel Location", same("Head CG")},
+        {"Sensor S/N", serials},
+        {"Software Filter (SAE Class)", same("None")},
+        {"Software Filter (-3dB)", same("None")},
+        {"Engineering Unit", {"deg/sec ", "deg/sec ", "deg/sec ", "g ", "g ", "g "}},
+        {"User Comment", same("")},
+        {"Number of Pre-Zero Data Pts", same("2")},
+        {"Number of Post-Zero Data Pts", same("3")},
+        {"Data Zero (CNTS)", same("32768")},
+        {"Scale Factor (EU/CNT)", same("0.0123")},
+        {"Scale Factor (mV/CNT)", same("0.0381")},
+        {"Data Starts Here", same("")},
+        {"Time",
+         {"Chan 0:" + serials[0], "Chan 1:" + serials[1], "Chan 2:" + serials[2], "Chan 3:" + serials[3],
+          "Chan 4:" + serials[4], "Chan 5:" + serials[5]}}};
     std::string text;
-    const auto row = [&](const std::string& name, const auto& value) {
-      text += name + ",";
-      for (int c = 0; c < 6; ++c) text += value(c) + ",";
-      text += "\r\n";
-    };
-    const auto same = [](const char* value) { return [value](int) { return std::string(value); }; };
-    row("Headers", same(""));
-    row("Test Date", same("2024-05-23"));
-    row("Test Time", same("10:42:07"));
-    row("Test ID", same("SEED-6DX"));
-    row("Test Description", same("seed"));
-    row("Sample Rate (Hz)", same("20000"));
-    row("Hardware AA Filter (-3dB)", same("4300"));
-    row("Data Channel Number", [](int c) { return std::to_string(c); });
-    row("ISO Channel Code", [&](int c) { return std::string(codes[c]); });
-    row("Channel Description", same("Head"));
-    row("Channel Location", same("Head CG"));
-    row("Sensor S/N", [&](int c) { return std::string(serials[c]); });
-    row("Software Filter (SAE Class)", same("None"));
-    row("Software Filter (-3dB)", same("None"));
-    row("Engineering Unit", [](int c) { return std::string(c < 3 ? "deg/sec " : "g "); });
-    row("User Comment", same(""));
-    row("Number of Pre-Zero Data Pts", same("2"));
-    row("Number of Post-Zero Data Pts", same("3"));
-    row("Data Zero (CNTS)", same("32768"));
-    row("Scale Factor (EU/CNT)", same("0.0123"));
-    row("Scale Factor (mV/CNT)", same("0.0381"));
-    row("Data Starts Here", same(""));
-    text += "Time,";
-    for (int c = 0; c < 6; ++c) text += "Chan " + std::to_string(c) + ":" + serials[c] + ",";
-    text += "\r\n";
+    for (const auto& [name, values] : rows) {
+      text += name;
+      for (const std::string& value : values) text += "," + value;
+      text += ",\r\n";
+    }
     const char* times[] = {"-0.0001", "-5e-05", "0", "5e-05", "0.0001"};
     for (int k = 0; k < 5; ++k) {
       text += times[k];
