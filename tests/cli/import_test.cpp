@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 
@@ -576,6 +577,32 @@ TEST(TransformEveryFormat, EachFormatOfTheSameSamplesGivesTheSameOutput) {
       RunNapkin(dir.path(), {"transform", ".", "--array", "denton-3222", "--out", "x.out"});
   EXPECT_EQ(several.exit_code, 1);
   ExpectOneSentenceError(several, {"'.' holds 4 tests; a transform reads one"});
+}
+
+// An ISO-MME test of head CG accelerometers and angular-rate sensors (codes 11HEAD0000..AC/AV..)
+// defines its array: 6aw-cg without --array, on import and transform (docs/formats.md "Arrays from
+// channel codes").
+TEST(TransformEveryFormat, IsoMmeCodesAtTheCgDefineTheArray) {
+  napkin::test_support::TempDir dir;
+  synth::RandomMotionOptions motion;
+  motion.seed = 4302;
+  motion.duration_s = 0.02;
+  const synth::SyntheticTest synth = synth::SynthRandomMotion(formats::LoadArray("6aw-cg"), motion);
+  formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("default"), dir / "cg", "CG1");
+  const RunResult from_codes = RunNapkin(dir.path(), {"transform", "cg", "--out", "codes.out"});
+  ASSERT_EQ(from_codes.exit_code, 0) << from_codes.err;
+  const RunResult given =
+      RunNapkin(dir.path(), {"transform", "cg", "--array", "6aw-cg", "--out", "given.out"});
+  ASSERT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_EQ(ReadText(dir / "codes.out"), ReadText(dir / "given.out"));
+  ASSERT_EQ(RunNapkin(dir.path(), {"init"}).exit_code, 0);
+  const RunResult imported = RunNapkin(dir.path(), {"import", "cg"});
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const nlohmann::json tests =
+      nlohmann::json::parse(RunNapkin(dir.path(), {"query", "tests", "--format", "json"}).out);
+  ASSERT_EQ(tests.size(), 1u);
+  EXPECT_EQ(tests[0].at("test_id"), "cg");
+  EXPECT_EQ(tests[0].at("array"), "6aw-cg");
 }
 
 }  // namespace
