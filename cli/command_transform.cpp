@@ -41,7 +41,7 @@ class TransformCommand : public Command {
     sub->add_option("--column", options_.input.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
         ->allow_extra_args(false);
-    sub->add_option("input", options_.input.path, "the test: one of the " + ingest::FormatList("or"))
+    sub->add_option("input", options_.input.path, "one test: " + ingest::WhatToGive())
         ->required()
         ->check(PathCheck("the input path"));
     sub->add_option("--out", options_.out, "derived-channel CSV to write")

@@ -1,5 +1,5 @@
 #pragma once
-// Channels read from test files (ISO-MME, UDS-1992) and the channel map that
+// Channels read from test files (ISO-MME, UDS-1992, DTS SLICEWare) and the channel map that
 // says which channel feeds which array slot (docs/formats.md "ISO-MME input").
 #include <filesystem>
 #include <nlohmann/json.hpp>

@@ -46,7 +46,7 @@ struct PreparedImport {
   std::optional<engine::ArrayGeometry> array;
   std::optional<db::ArrayRow> array_record;
   std::optional<formats::ChannelMap> channel_map;  // given with --channel-map
-  formats::ChannelMap default_map;                 // for ISO-MME and UDS-1992 without --channel-map
+  formats::ChannelMap default_map;                 // for inputs of channels without --channel-map
   formats::CsvColumnMap csv_columns;               // the map's "column" entries, then --column
   engine::InitialState initial;
   bool velocity_given = false;  // --initial-velocity
