@@ -49,7 +49,7 @@ std::string ArrayPresetFromCodes(const std::vector<formats::RawChannel>& channel
     const bool acceleration = util::EqualsIgnoreCase(code.substr(12, 2), "AC");
     const char* sensor = acceleration ? "accelerometer" : "angular-rate sensor";
     if (!IsAtHeadCg(code))
-      throw InputError(
+      throw UsageError(
           prefix + channel.Label() + " is a head " + sensor + " off the CG (fine location " +
           util::Quoted(code.substr(6, 2)) +
           "), where only the array's geometry says it sits: an array with arms needs its geometry"
@@ -59,14 +59,14 @@ std::string ArrayPresetFromCodes(const std::vector<formats::RawChannel>& channel
           "nap-example).");
     const char direction = util::ToUpper(code.substr(14, 1)).front();
     if (direction != 'X' && direction != 'Y' && direction != 'Z')
-      throw InputError(prefix + channel.Label() + " is a head " + sensor + " along " +
+      throw UsageError(prefix + channel.Label() + " is a head " + sensor + " along " +
                        util::Quoted(code.substr(14, 1)) + ", no body axis, so the codes define no array" +
                        give);
     HeadAxes& axes = axes_of_position[channel.position];
     (acceleration ? axes.acceleration : axes.angular_rate).insert(direction);
   }
   if (axes_of_position.empty())
-    throw InputError(prefix +
+    throw UsageError(prefix +
                      "no channel code names a head accelerometer at the CG (e.g. D0HEADCG0000ACXA), so the "
                      "codes define no array" +
                      give);
@@ -76,15 +76,15 @@ std::string ArrayPresetFromCodes(const std::vector<formats::RawChannel>& channel
   for (const auto& [position, axes] : axes_of_position) {
     const std::string head = position.empty() ? "the head" : "the head at position " + position;
     if (axes.acceleration != xyz)
-      throw InputError(prefix + head + " has CG accelerometers along " + AxisList(axes.acceleration) +
+      throw UsageError(prefix + head + " has CG accelerometers along " + AxisList(axes.acceleration) +
                        ", and arrays from codes need x, y and z" + give);
     if (!axes.angular_rate.empty() && axes.angular_rate != xyz)
-      throw InputError(prefix + head + " has angular-rate sensors along " + AxisList(axes.angular_rate) +
+      throw UsageError(prefix + head + " has angular-rate sensors along " + AxisList(axes.angular_rate) +
                        ", and arrays from codes need none or x, y and z" + give);
     const std::string own = axes.angular_rate.empty() ? "3a-cg" : "6aw-cg";
     if (!preset.empty() && own != preset)
-      throw InputError(prefix + "the head at position " + preset_position + " is array " + preset + " and " +
-                       head + " array " + own + "; one import takes one array" + give);
+      throw UsageError(prefix + "the head at position " + preset_position + " is array " + preset + " and " +
+                       head + " array " + own + ", and the heads of one test share its array" + give);
     preset = own;
     preset_position = position;
   }

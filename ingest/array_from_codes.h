@@ -15,7 +15,8 @@
 namespace napkin::ingest {
 
 // The preset the head channels of `channels` define (every position the
-// same), or throws InputError: one sentence starting with `test_name`,
+// same), or throws UsageError (the array must be given: exit 2, as a
+// missing --array): one sentence starting with `test_name`,
 // naming the channel at fault and why, ending with what to give instead
 // (`array_option`, e.g. "--array").
 std::string ArrayPresetFromCodes(const std::vector<formats::RawChannel>& channels,

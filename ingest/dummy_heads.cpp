@@ -190,8 +190,9 @@ InputHeads ReadArchiveHeads(const ImportInput& input, const HeadReadOptions& opt
 InputHeads ReadSlotColumnHeads(const ImportInput& input, const HeadReadOptions& options,
                                const std::string& test_name) {
   const InputFormatEntry& format = FormatEntry(input.format);
+  // A missing option (exit 2), as --array was when every input needed it.
   if (options.array == nullptr)
-    throw InputError("test " + test_name + ": a " + std::string(format.title) +
+    throw UsageError("test " + test_name + ": a " + std::string(format.title) +
                      " file names slots, not sensors, so its array must be given (" + options.array_option +
                      ").");
   if (options.position)
@@ -236,7 +237,7 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
         preset, "arrays", options.config_dir.empty() ? formats::DefaultConfigDir() : options.config_dir));
     result.array_from_codes = true;
   } else {
-    throw InputError(
+    throw UsageError(
         "test " + name + ": " + std::string(format.title) +
         " channels carry no ISO/TS 13499 codes that could define the array, so it must be given (" +
         options.array_option + ").");

@@ -243,7 +243,7 @@ TEST_F(DtsSliceCli, NineAccelerometerExportEqualsTheSameSamplesInNapkinsCsv) {
 
   // Without the array the arms' sentence says what is missing; without the map, which slot.
   const RunResult no_array = RunNapkin(dir_.path(), {"transform", "nap.csv", "--out", "n.csv"});
-  EXPECT_EQ(no_array.exit_code, 1);
+  EXPECT_EQ(no_array.exit_code, 2);  // the array must be given: a usage error, as a missing --array was
   ExpectOneSentenceError(no_array,
                          {"test NAP-1", "channel D0HEADBO0000ACYA", "off the CG (fine location \"BO\")",
                           "an array with arms needs its geometry", "--array"});
