@@ -114,8 +114,8 @@ bench: deps $(BUILD_BENCH)/CMakeCache.txt
 # leaves its input in $(BUILD_FUZZ)/artifacts/<target>/: fix it, then add the input to
 # fuzz/regressions/<target>/, which `make test` runs through the same target.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= csv isomme_channel isomme_mme uds1992 array_json processing_config_json channel_map_json where \
-  limits_json model_curves sidecar
+# Every target has its seed folder (tests/fuzz/ checks it): the targets are the folders of fuzz/seeds/.
+FUZZ_TARGETS ?= $(notdir $(patsubst %/,%,$(wildcard fuzz/seeds/*/)))
 
 $(BUILD_FUZZ)/CMakeCache.txt: | fuzz-deps
 	cmake -S . -B $(BUILD_FUZZ) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \

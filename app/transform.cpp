@@ -14,6 +14,8 @@
 #include "formats/csv.h"
 #include "formats/lsdyna.h"
 #include "formats/summary_json.h"
+#include "ingest/discovery.h"
+#include "ingest/dummy_heads.h"
 #include "records/config_record.h"
 #include "util/atomic_file.h"
 #include "util/output_destination.h"
@@ -109,6 +111,44 @@ engine::ProcessedTest ProcessSignals(const engine::ArrayGeometry& array, const e
   return processed;
 }
 
+TestFile ReadTestFile(const TestFileOptions& options) {
+  const fs::path presets = options.config_dir.empty() ? formats::DefaultConfigDir() : options.config_dir;
+  std::optional<engine::ArrayGeometry> array;
+  if (!options.array.empty())
+    array = formats::ReadArrayJson(formats::ResolvePreset(options.array, "arrays", presets));
+  std::optional<formats::ChannelMap> channel_map;
+  if (!options.channel_map.empty())
+    channel_map =
+        formats::ReadChannelMap(formats::ResolvePreset(options.channel_map, "channel-maps", presets));
+  const formats::ChannelMap default_map =
+      formats::ReadChannelMap(formats::ResolvePreset("default", "channel-maps", presets));
+  const ingest::Discovery discovery = ingest::DiscoverInputs({options.path});
+  if (!discovery.errors.empty()) throw InputError(discovery.errors.front());
+  if (discovery.inputs.size() != 1)
+    throw InputError("'" + options.path + "' holds " + std::to_string(discovery.inputs.size()) +
+                     " tests; a transform reads one (give one of them).");
+  const ingest::ImportInput& input = discovery.inputs.front();
+
+  ingest::HeadReadOptions read;
+  read.array = array ? &*array : nullptr;
+  read.array_option = options.array_option;
+  read.config_dir = presets;
+  read.channel_map = channel_map ? &*channel_map : nullptr;
+  read.default_map = &default_map;
+  read.csv_columns = ingest::CsvColumnsOf(read.channel_map, options.csv_columns);
+  read.position = options.position;
+  read.one_test_expected = "a transform reads one";
+  ingest::InputHeads heads = ingest::ReadInputHeads(input, read, input.name);
+  ingest::HeadSignals& head = heads.heads.front();
+  TestFile file;
+  file.array = std::move(heads.array);
+  file.signals = std::move(head.signals);
+  file.test_id = heads.test_id.value_or(input.name);
+  file.warnings = std::move(heads.warnings);
+  file.warnings.insert(file.warnings.end(), head.notes.begin(), head.notes.end());
+  return file;
+}
+
 TransformReport RunTransform(const TransformOptions& options) {
   // One stream cannot carry two files (docs/formats.md "Output destinations").
   int to_standard_output = 0;
@@ -118,18 +158,20 @@ TransformReport RunTransform(const TransformOptions& options) {
     throw UsageError("only one of --out, --summary and --lsdyna can be standard output (-).");
   // A command's own inputs are never its outputs, nor is one output another
   // (docs/formats.md "Output destinations"): refused before anything is read.
-  ProtectInputFromOutput(options.input, "the input recording");
-  ProtectInputFromOutput(formats::ResolvePreset(options.array, "arrays"), "the --array file");
+  ProtectInputFromOutput(options.input.path, "the input recording");
+  if (!options.input.array.empty())
+    ProtectInputFromOutput(formats::ResolvePreset(options.input.array, "arrays"), "the --array file");
+  if (!options.input.channel_map.empty())
+    ProtectInputFromOutput(formats::ResolvePreset(options.input.channel_map, "channel-maps"),
+                           "the --channel-map file");
   ProtectInputFromOutput(records::ProcessingConfigPath(options.config, formats::DefaultConfigDir()),
                          "the --config file");
   util::CheckDistinctOutputs(
       {{"--out", options.out}, {"--summary", options.summary}, {"--lsdyna", options.lsdyna}});
   for (const std::string* output : {&options.out, &options.summary, &options.lsdyna})
     if (!output->empty()) util::ResolveOutputDestination(*output);  // refused before anything is computed
-  const engine::ArrayGeometry array = formats::LoadArray(options.array);
-  if (!fs::exists(options.input)) throw InputError("input file '" + options.input + "' does not exist.");
-  formats::CsvSignals csv =
-      formats::ReadSignalsCsv(options.input, &array, formats::ParseCsvColumnOptions(options.csv_columns));
+  TestFile input = ReadTestFile(options.input);
+  const engine::ArrayGeometry& array = input.array;
 
   // The same resolution as `napkin run` (empty: the "default" preset), so a
   // catalogue result equals the transform of the same input.
@@ -140,18 +182,19 @@ TransformReport RunTransform(const TransformOptions& options) {
   initial.velocity_fixed_mps = Vector3OrZero(options.initial_velocity_mps);
 
   TransformReport report;
-  report.warnings = std::move(csv.warnings);
+  report.warnings = std::move(input.warnings);
   // A failing test fails before any output is written.
-  engine::ProcessedTest processed = ProcessSignals(array, csv.signals, initial, config, options.input);
+  engine::ProcessedTest processed = ProcessSignals(array, input.signals, initial, config, options.input.path);
   report.kinematics = std::move(processed.kinematics);
   report.summary = std::move(processed.summary);
 
   if (!options.lsdyna.empty() && !engine::HasRotation(report.kinematics))
-    throw InputError(options.input + ": array '" + array.name +
+    throw InputError(options.input.path + ": array '" + array.name +
                      "' cannot determine rotation, which --lsdyna needs; --out gives the CG acceleration.");
 
-  const std::string test_id = fs::path(options.input).stem().string();
-  // The id is the input's file name, of unknown encoding: bytes that are not UTF-8 become U+FFFD.
+  const std::string& test_id = input.test_id;
+  // The id is the input's file name (or the files' own), of unknown encoding: bytes that are not
+  // UTF-8 become U+FFFD.
   const std::string summary_text =
       formats::SummaryToJson(report.summary, test_id, "", "")
           .dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) +

@@ -7,6 +7,8 @@
 // sentence for a failing test).
 #include <Eigen/Core>
 #include <atomic>
+#include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -57,14 +59,37 @@ void ProcessSignals(const engine::ArrayGeometry& array, const engine::TestSignal
                     const std::string& source, engine::Workspace& workspace, engine::ProcessedTest& processed,
                     const std::atomic<bool>* cancel = nullptr);
 
+// One test file read as `napkin import` reads it (every format of the
+// input-format table, ingest/input_formats.h), for a transform without a
+// catalogue: `napkin transform` and napkin.read_test.
+struct TestFileOptions {
+  std::string path;                      // a test file or folder (one test)
+  std::string array;                     // preset name or array JSON path; empty: the channel codes define it
+  std::string channel_map;               // preset name or path; empty: the "default" map
+  std::optional<std::string> position;   // the dummy head to take, of a test that records several
+  std::vector<std::string> csv_columns;  // --column SLOT=NAME
+  std::string array_option = "--array";  // how the front end names the array in sentences
+  std::filesystem::path config_dir;      // the presets (empty: formats::DefaultConfigDir())
+};
+
+struct TestFile {
+  engine::ArrayGeometry array;        // the one given, or the one the codes define
+  engine::TestSignals signals;        // in the array's slot order, each channel's prefiltered class
+  std::string test_id;                // the files' id (DTS SLICEWare's Test ID), else the input's name
+  std::vector<std::string> warnings;  // the import's warnings and notes (cropped spans)
+};
+
+// Throws InputError (one sentence naming the file) when the path holds no
+// test or several, for a reader's refusal, and for a test with several dummy
+// heads without `position`.
+TestFile ReadTestFile(const TestFileOptions& options);
+
 struct TransformOptions {
-  std::string array;                         // preset name or array JSON path
+  TestFileOptions input;                     // the test file, its array, channel map, position, --column
   std::vector<double> orientation_rad;       // phi, theta, psi (empty: 0, 0, 0)
   std::vector<double> initial_velocity_mps;  // vx, vy, vz fixed frame (empty: 0)
   std::string solver;                        // engine::SolverName (empty: the config's solver)
   std::string config;                        // processing config preset/path (empty: default)
-  std::string input;                         // signals file
-  std::vector<std::string> csv_columns;      // --column SLOT=NAME
   std::string out;                           // derived-channel CSV
   std::string summary;                       // summary JSON (optional)
   std::string lsdyna;                        // LS-DYNA keyword file (optional)

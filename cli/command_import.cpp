@@ -1,5 +1,5 @@
-// `napkin import`: ISO-MME test folders, UDS-1992 channel files and CSV
-// files into the catalogue, one transaction per test, idempotent by content
+// `napkin import`: tests of every input format (ingest/input_formats.h) into
+// the catalogue, one transaction per test, idempotent by content
 // hash. Exit 0 when every input was imported or already present, 3 when some
 // inputs were refused but others stored (or already present), 1 when none
 // could be stored.
@@ -17,6 +17,7 @@
 #include "cli/progress.h"
 #include "cli/triple_option.h"
 #include "ingest/import.h"
+#include "ingest/input_formats.h"
 #include "util/text.h"
 
 namespace napkin::cli {
@@ -26,9 +27,10 @@ class ImportCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
-    CLI::App* sub = app.add_subcommand("import", "import ISO-MME folders, UDS-1992 files or CSV files");
-    sub->add_option("--array", options_.array, "array preset name or array JSON file (the tests' geometry)")
-        ->required()
+    CLI::App* sub = app.add_subcommand("import", "import " + ingest::FormatList("or"));
+    sub->add_option("--array", options_.array,
+                    "array preset name or array JSON file (the tests' geometry; default: the one each test's "
+                    "channel codes define)")
         ->check(PathCheck("--array"));
     sub->add_option("--series", series_, "series the tests belong to");
     sub->add_option("--variant", variant_, "variant label (e.g. padding A)");
@@ -38,13 +40,13 @@ class ImportCommand : public Command {
     AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
                     "initial CG velocity VX,VY,VZ in the fixed frame (m/s)");
     sub->add_option("--channel-map", options_.channel_map,
-                    "channel map preset or JSON file (ISO-MME, UDS-1992)")
+                    "channel map preset or JSON file (inputs of channels with codes or SENATT/AXIS)")
         ->check(PathCheck("--channel-map"));
     sub->add_option("--column", options_.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
         ->allow_extra_args(false);
     sub->add_option("--position", position_,
-                    "take only the dummy at this position (ISO-MME test object and position, e.g. 11)");
+                    "take only the dummy at this position (test object and position, e.g. 11)");
     sub->add_option("paths", paths_, "test files or folders")
         ->required()
         ->check(PathCheck("a path to import"));

@@ -1,5 +1,5 @@
-// `napkin transform`: one test, no catalogue — the seed program's job,
-// non-interactive.
+// `napkin transform`: one test of any input format `napkin import` reads, no
+// catalogue — the seed program's job, non-interactive.
 #include <spdlog/spdlog.h>
 
 #include "app/transform.h"
@@ -7,6 +7,7 @@
 #include "cli/option_checks.h"
 #include "cli/triple_option.h"
 #include "engine/solver.h"
+#include "ingest/input_formats.h"
 
 namespace napkin::cli {
 namespace {
@@ -15,9 +16,14 @@ class TransformCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions&) override {
     CLI::App* sub = app.add_subcommand("transform", "process one test file, no catalogue");
-    sub->add_option("--array", options_.array, "array preset name or array JSON file")
-        ->required()
+    sub->add_option("--array", options_.input.array,
+                    "array preset name or array JSON file (default: the one the channel codes define)")
         ->check(PathCheck("--array"));
+    sub->add_option("--channel-map", options_.input.channel_map,
+                    "channel map preset or JSON file (inputs of channels with codes or SENATT/AXIS)")
+        ->check(PathCheck("--channel-map"));
+    sub->add_option("--position", position_,
+                    "take the dummy at this position (test object and position, e.g. 11)");
     AddTripleOption(sub, "--orientation", options_.orientation_rad,
                     "initial orientation PHI,THETA,PSI (rad)");
     AddTripleOption(sub, "--initial-velocity", options_.initial_velocity_mps,
@@ -32,10 +38,10 @@ class TransformCommand : public Command {
         ->check(OneOfCheck("--solver", solvers));
     sub->add_option("--config", options_.config, "processing config preset or JSON file")
         ->check(PathCheck("--config"));
-    sub->add_option("--column", options_.csv_columns,
+    sub->add_option("--column", options_.input.csv_columns,
                     "CSV column NAME feeds slot SLOT, as SLOT=NAME (repeatable)")
         ->allow_extra_args(false);
-    sub->add_option("input", options_.input, "input signals (CSV)")
+    sub->add_option("input", options_.input.path, "one test: " + ingest::WhatToGive())
         ->required()
         ->check(PathCheck("the input path"));
     sub->add_option("--out", options_.out, "derived-channel CSV to write")
@@ -49,6 +55,7 @@ class TransformCommand : public Command {
   }
 
   int Run() override {
+    if (position_) options_.input.position = *position_;
     const app::TransformReport report = app::RunTransform(options_);
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
     return kExitOk;
@@ -56,6 +63,7 @@ class TransformCommand : public Command {
 
  private:
   app::TransformOptions options_;
+  std::optional<std::string> position_;
 };
 
 }  // namespace

@@ -201,10 +201,10 @@ void PrintSeedSolverTable(const fs::path& dir) {
              "final orient. err");
   for (const char* as : {"ideal-3222", "volpe-table4-2"}) {
     app::TransformOptions options;
-    options.array = as;
+    options.input.array = as;
     options.solver = "seed";
     options.orientation_rad = {0.5, 0.5, 0.5};
-    options.input = input;
+    options.input.path = input;
     options.out = (dir / SeedOutput(as)).string();
     const app::TransformReport report = app::RunTransform(options);
     const engine::Kinematics& k = report.kinematics;

@@ -1,5 +1,5 @@
 #pragma once
-// Channels read from test files (ISO-MME, UDS-1992) and the channel map that
+// Channels read from test files (ISO-MME, UDS-1992, DTS SLICEWare) and the channel map that
 // says which channel feeds which array slot (docs/formats.md "ISO-MME input").
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -18,8 +18,8 @@ namespace napkin::formats {
 // One uniformly sampled channel as read from a file, in its own unit.
 struct RawChannel {
   std::string source;  // file the channel came from (for messages)
-  std::string code;    // ISO-MME 16-character channel code ("" for UDS-1992)
-  std::string name;    // ISO-MME "Name of the channel" / UDS-1992 CURNAM or CURDSC
+  std::string code;    // ISO/TS 13499 16-character channel code ("" for UDS-1992)
+  std::string name;    // ISO-MME "Name of the channel" / UDS-1992 CURNAM or CURDSC / DTS Channel Description
   std::string senatt;  // UDS-1992 sensor attachment ("" for ISO-MME)
   std::string axis;    // UDS-1992 axis ("XL", ...) ("" for ISO-MME)
   // The dummy the channel belongs to (docs/formats.md "Several dummies in one
@@ -36,6 +36,10 @@ struct RawChannel {
   // = raw or not recorded. Becomes engine::TestSignals::prefiltered_cfc.
   std::optional<double> prefiltered_cfc;
   std::vector<double> values;
+  // What the file says of the sensor (DTS SLICEWare `Sensor S/N` and `Hardware AA Filter (-3dB)`,
+  // as written; "" when it says nothing): kept with the test (docs/formats.md "Test information").
+  std::string serial;
+  std::string hardware_filter;
 
   // How messages name the channel: its code, else its file.
   std::string Label() const;

@@ -16,10 +16,12 @@
 #include "formats/array_json.h"
 #include "formats/channel_map.h"
 #include "formats/csv.h"
+#include "formats/dts_slice_csv.h"
 #include "formats/isomme.h"
 #include "formats/model_curves.h"
 #include "formats/processing_config_json.h"
 #include "formats/uds1992.h"
+#include "ingest/dummy_heads.h"
 #include "serve/inbox.h"
 
 namespace napkin::fuzz {
@@ -183,6 +185,26 @@ Outcome RunUds1992(std::string_view input) {
   });
 }
 
+// The input as a DTS SLICEWare CSV export read as `import` reads it (ingest::ReadInputHeads):
+// its channels, the array its codes define and the head's signals; and for the 6aw-cg array given.
+Outcome RunDtsSliceCsv(std::string_view input) {
+  const fs::path path = Scratch() / "export.csv";
+  WriteFile(path, input);
+  static const engine::ArrayGeometry kSixDx = formats::LoadArray("6aw-cg");
+  static const formats::ChannelMap kDefaultMap = formats::LoadChannelMap("default");
+  const ingest::ImportInput test{ingest::InputFormat::kDtsSliceCsv, "FUZZ", path, {}};
+  const auto read = [&](const engine::ArrayGeometry* array) {
+    return Attempt([&] {
+      ingest::HeadReadOptions options;
+      options.array = array;
+      options.default_map = &kDefaultMap;
+      ingest::ReadInputHeads(test, options, "FUZZ");
+    });
+  };
+  const Outcome channels = Attempt([&] { ParseUnits(formats::ReadDtsSliceCsv(path).channels); });
+  return Either(channels, Either(read(nullptr), read(&kSixDx)));
+}
+
 Outcome RunArrayJson(std::string_view input) {
   const fs::path path = Scratch() / "array.json";
   WriteFile(path, input);
@@ -265,6 +287,8 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"isomme_mme", "formats::ReadIsoMme, AssignSlots, AssembleSignals: .mme, .chn and channel files",
        RunIsoMmeMme},
       {"uds1992", "formats::ReadUds1992, one UDS-1992 file", RunUds1992},
+      {"dts_slice_csv", "formats::ReadDtsSliceCsv and ingest::ReadInputHeads, one DTS SLICEWare CSV export",
+       RunDtsSliceCsv},
       {"array_json", "formats::ReadArrayJson", RunArrayJson},
       {"processing_config_json", "formats::ReadProcessingConfig", RunProcessingConfigJson},
       {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},

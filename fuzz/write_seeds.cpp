@@ -7,6 +7,8 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/array_geometry.h"
 #include "engine/processing.h"
@@ -96,6 +98,60 @@ int main(int argc, char** argv) {
     const std::string name = std::string("seed-") + formats::UdsNumberFormName(form) + ".001";
     formats::WriteUds1992(channel, scratch / name);
     Write(out / "uds1992" / name, formats::ReadWholeFile(scratch / name));
+  }
+
+  // DTS SLICEWare CSV: a 6DX headform export as SLICEWare writes one (CRLF, a value per channel
+  // and a trailing comma in every row), five samples at 20 kHz from -0.1 ms.
+  {
+    using Values = std::vector<std::string>;
+    const auto same = [](const char* value) { return Values(6, value); };
+    const Values serials = {"6DX0855-AV3", "6DX0855-AV2", "6DX0855-AV1",
+                            "6DX0855-AC3", "6DX0855-AC2", "6DX0855-AC1"};
+    const std::pair<const char*, Values> rows[] = {
+        {"Headers", same("")},
+        {"Test Date", same("2024-05-23")},
+        {"Test Time", same("10:42:07")},
+        {"Test ID", same("SEED-6DX")},
+        {"Test Description", same("seed")},
+        {"Sample Rate (Hz)", same("20000")},
+        {"Hardware AA Filter (-3dB)", same("4300")},
+        {"Data Channel Number", {"0", "1", "2", "3", "4", "5"}},
+        {"ISO Channel Code",
+         {"D0HEADCG0000AVZC", "D0HEADCG0000AVYC", "D0HEADCG0000AVXC", "D0HEADCG0000ACZA", "D0HEADCG0000ACYA",
+          "D0HEADCG0000ACXA"}},
+        {"Channel Description", same("Head")},
+        {"Channel Location", same("Head CG")},
+        {"Sensor S/N", serials},
+        {"Software Filter (SAE Class)", same("None")},
+        {"Software Filter (-3dB)", same("None")},
+        {"Engineering Unit", {"deg/sec ", "deg/sec ", "deg/sec ", "g ", "g ", "g "}},
+        {"User Comment", same("")},
+        {"Number of Pre-Zero Data Pts", same("2")},
+        {"Number of Post-Zero Data Pts", same("3")},
+        {"Data Zero (CNTS)", same("32768")},
+        {"Scale Factor (EU/CNT)", same("0.0123")},
+        {"Scale Factor (mV/CNT)", same("0.0381")},
+        {"Data Starts Here", same("")},
+        {"Time",
+         {"Chan 0:" + serials[0], "Chan 1:" + serials[1], "Chan 2:" + serials[2], "Chan 3:" + serials[3],
+          "Chan 4:" + serials[4], "Chan 5:" + serials[5]}}};
+    std::string text;
+    for (const auto& [name, values] : rows) {
+      text += name;
+      for (const std::string& value : values) text += "," + value;
+      text += ",\r\n";
+    }
+    const char* times[] = {"-0.0001", "-5e-05", "0", "5e-05", "0.0001"};
+    for (int k = 0; k < 5; ++k) {
+      text += times[k];
+      for (int c = 0; c < 6; ++c) {
+        char value[32];
+        std::snprintf(value, sizeof(value), "%g", std::round(10000.0 * std::sin(0.5 * k + c)) / 1000.0);
+        text += std::string(",") + value;
+      }
+      text += ",\r\n";
+    }
+    Write(out / "dts_slice_csv" / "6dx-headform.csv", text);
   }
 
   // JSON: the presets, and the canonical processing configuration (every key).

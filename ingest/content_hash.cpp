@@ -9,9 +9,10 @@
 namespace napkin::ingest {
 
 std::string InputContentHash(const ImportInput& input) {
-  if (input.format != InputFormat::kUds1992) return formats::HashPath(input.source);
+  const InputFormatEntry& format = FormatEntry(input.format);
+  if (format.span != TestSpan::kFileGroup) return formats::HashPath(input.source);
   util::Sha256 hash;
-  hash.Update("uds-1992 group\n");
+  hash.Update(std::string(format.name) + " group\n");  // UDS-1992: "uds-1992 group\n"
   for (const std::filesystem::path& file : input.files) hash.Update(formats::HashPath(file) + "\n");
   return hash.HexDigest();
 }

@@ -11,9 +11,10 @@
 
 namespace napkin::ingest {
 
-// The hash of an input file set: SHA-256 of the CSV file, of the ISO-MME
-// folder's files (formats::HashPath), or of the UDS-1992 group's file hashes
-// in name order. Throws InputError naming an unreadable file.
+// The hash of an input file set: SHA-256 of the file (a kFile format: CSV,
+// DTS SLICEWare CSV, zip), of the folder's files (kFolder: ISO-MME;
+// formats::HashPath), or of a kFileGroup's file hashes in name order after
+// "<format> group\n" (UDS-1992). Throws InputError naming an unreadable file.
 std::string InputContentHash(const ImportInput& input);
 
 // The hash of a synthetic test's content: its array record's hash, initial

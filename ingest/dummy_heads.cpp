@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "common/error.h"
-#include "formats/isomme.h"
-#include "formats/uds1992.h"
+#include "formats/array_json.h"
+#include "ingest/array_from_codes.h"
 #include "ingest/zip_input.h"
 #include "util/text.h"
 
@@ -47,6 +47,8 @@ formats::RawChannel Described(const formats::RawChannel& channel) {
   described.axis = channel.axis;
   described.unit = channel.unit;
   described.position = channel.position;
+  described.serial = channel.serial;
+  described.hardware_filter = channel.hardware_filter;
   return described;
 }
 
@@ -150,58 +152,103 @@ FileInitialVelocity InitialVelocityBody(const std::vector<formats::RawChannel>& 
   return result;
 }
 
+namespace {
+
+// The sensors of one head as the files record them (serials, hardware filters), in slot order.
+std::vector<formats::SensorInfo> SensorsOf(const std::vector<formats::RawChannel>& channels,
+                                           const std::vector<std::size_t>& channel_of_sensor,
+                                           const engine::ArrayGeometry& array) {
+  std::vector<formats::SensorInfo> sensors;
+  bool recorded = false;
+  for (std::size_t s = 0; s < array.sensors.size(); ++s) {
+    const formats::RawChannel& channel = channels.at(channel_of_sensor[s]);
+    recorded = recorded || !channel.serial.empty() || !channel.hardware_filter.empty();
+    sensors.push_back({array.sensors[s].slot, channel.code, channel.serial, channel.hardware_filter});
+  }
+  if (!recorded) sensors.clear();
+  return sensors;
+}
+
+InputHeads ReadArchiveHeads(const ImportInput& input, const HeadReadOptions& options,
+                            const std::string& test_name) {
+  const ArchiveTest archive(input.source);  // its temporary folder is removed on leaving
+  InputHeads inside;
+  try {
+    inside = ReadInputHeads(archive.input(), options, test_name);
+  } catch (const InputError& error) {
+    throw InputError(archive.InArchiveTerms(error.what()));
+  }
+  inside.test_id.reset();  // the archive names the test (docs/formats.md "Zip archives")
+  for (std::string& warning : inside.warnings) warning = archive.InArchiveTerms(warning);
+  for (HeadSignals& head : inside.heads) {
+    head.archived_format = archive.input().format;
+    for (std::string& note : head.notes) note = archive.InArchiveTerms(note);
+  }
+  return inside;
+}
+
+InputHeads ReadSlotColumnHeads(const ImportInput& input, const HeadReadOptions& options,
+                               const std::string& test_name) {
+  const InputFormatEntry& format = FormatEntry(input.format);
+  // A missing option (exit 2), as --array was when every input needed it.
+  if (options.array == nullptr)
+    throw UsageError("test " + test_name + ": a " + std::string(format.title) +
+                     " file names slots, not sensors, so its array must be given (" + options.array_option +
+                     ").");
+  if (options.position)
+    throw InputError("test " + test_name + ": --position " + *options.position +
+                     " takes one dummy of a test that records several; a " + std::string(format.title) +
+                     " file holds one.");
+  InputHeads result;
+  result.array = *options.array;
+  formats::CsvSignals csv = formats::ReadSignalsCsv(input.source, &result.array, options.csv_columns);
+  HeadSignals head;
+  head.signals = std::move(csv.signals);
+  result.warnings = std::move(csv.warnings);
+  result.heads.push_back(std::move(head));
+  return result;
+}
+
+}  // namespace
+
 InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options,
                           const std::string& test_name) {
-  const engine::ArrayGeometry& array = *options.array;
-  if (input.format == InputFormat::kZipArchive) {
-    const ArchiveTest archive(input.source);  // its temporary folder is removed on leaving
-    InputHeads inside;
-    try {
-      inside = ReadInputHeads(archive.input(), options, test_name);
-    } catch (const InputError& error) {
-      throw InputError(archive.InArchiveTerms(error.what()));
-    }
-    for (std::string& warning : inside.warnings) warning = archive.InArchiveTerms(warning);
-    for (HeadSignals& head : inside.heads) {
-      head.archived_format = archive.input().format;
-      for (std::string& note : head.notes) note = archive.InArchiveTerms(note);
-    }
-    return inside;
-  }
-  InputHeads result;
-  if (input.format == InputFormat::kCsv) {
-    formats::CsvSignals csv = formats::ReadSignalsCsv(input.source, &array, options.csv_columns);
-    HeadSignals head;
-    head.signals = std::move(csv.signals);
-    result.warnings = std::move(csv.warnings);
-    if (options.position)
-      throw InputError("test " + test_name + ": --position " + *options.position +
-                       " takes one dummy of an ISO-MME or UDS-1992 test; a CSV file holds one.");
-    result.heads.push_back(std::move(head));
-    return result;
+  const InputFormatEntry& format = FormatEntry(input.format);
+  switch (format.reader_kind) {
+    case ReaderKind::kArchive:
+      return ReadArchiveHeads(input, options, test_name);
+    case ReaderKind::kSlotColumns:
+      return ReadSlotColumnHeads(input, options, test_name);
+    case ReaderKind::kChannels:
+      break;
   }
 
-  std::vector<formats::RawChannel> channels;
-  std::vector<formats::TestInfo> info_of_channel;  // UDS-1992: per file
-  std::optional<formats::IsoMmeTest> isomme;
-  std::string name = test_name;
+  InputHeads result;
+  ChannelRecording recording = format.read_channels(input);
+  std::vector<formats::RawChannel>& channels = recording.channels;
+  result.warnings = std::move(recording.warnings);
+  result.test_id = recording.test_id;
+  const std::string name = recording.name.empty() ? test_name : recording.name;
+  if (options.array != nullptr) {
+    result.array = *options.array;
+  } else if (format.array_from_codes) {
+    const std::string preset = ArrayPresetFromCodes(channels, name, options.array_option);
+    result.array = formats::ReadArrayJson(formats::ResolvePreset(
+        preset, "arrays", options.config_dir.empty() ? formats::DefaultConfigDir() : options.config_dir));
+    result.array_from_codes = true;
+  } else {
+    throw UsageError(
+        "test " + name + ": " + std::string(format.title) +
+        " channels carry no ISO/TS 13499 codes that could define the array, so it must be given (" +
+        options.array_option + ").");
+  }
+  const engine::ArrayGeometry& array = result.array;
   const formats::ChannelMap* map = options.channel_map != nullptr ? options.channel_map : options.default_map;
   std::vector<DummyHead> heads;
-  if (input.format == InputFormat::kIsoMme) {
-    isomme = formats::ReadIsoMme(input.source);
-    name = isomme->TestNumber();
-    channels = std::move(isomme->channels);
-  } else {
-    for (const std::filesystem::path& file : input.files) {
-      const formats::UdsChannel channel = formats::ReadUds1992(file);
-      result.warnings.insert(result.warnings.end(), channel.warnings.begin(), channel.warnings.end());
-      info_of_channel.push_back(formats::UdsTestInfo(channel));
-      channels.push_back(formats::ToRawChannel(channel, file));
-    }
-    // Report section 2.2: nine files in Table 2-1 order need no map; any other
-    // group goes through the default map, as ISO-MME folders do.
-    if (options.channel_map == nullptr && formats::InTableTwoOneOrder(channels.size(), array)) {
-      heads.push_back({"", formats::TableTwoOneAssignment(array, test_name)});
+  if (options.channel_map == nullptr && format.assignment_by_order != nullptr) {
+    if (std::optional<std::vector<std::size_t>> by_order =
+            format.assignment_by_order(recording, array, test_name)) {
+      heads.push_back({"", std::move(*by_order)});
       map = nullptr;
     }
   }
@@ -211,8 +258,8 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
       heads = std::move(search.heads);
       result.warnings.insert(result.warnings.end(), search.warnings.begin(), search.warnings.end());
     } catch (const InputError& error) {
-      if (input.format != InputFormat::kUds1992 || options.channel_map != nullptr) throw;
-      throw formats::DefaultMapError(error, channels.size(), name);
+      if (format.default_map_refusal == nullptr || options.channel_map != nullptr) throw;
+      throw format.default_map_refusal(error, channels.size(), name);
     }
   }
 
@@ -230,7 +277,7 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     heads = {heads[static_cast<std::size_t>(chosen - positions.begin())]};
   } else if (heads.size() > 1 && options.one_test_expected) {
     throw InputError("test " + test_name + " holds dummy heads at positions " + PositionList(positions) +
-                     " but --test-id names one test; give --position to take one.");
+                     " but " + *options.one_test_expected + "; give --position to take one.");
   }
   result.several = positions.size() > 1;
 
@@ -239,9 +286,8 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     head.position = dummy.position;
     head.signals = formats::AssembleSignals(channels, dummy.channel_of_sensor, array,
                                             result.several ? name + "/" + dummy.position : name, &head.notes);
-    const formats::RawChannel& first = channels.at(dummy.channel_of_sensor.front());
-    head.info = isomme ? formats::IsoMmeTestInfo(*isomme, first)
-                       : info_of_channel.at(dummy.channel_of_sensor.front());
+    head.info = recording.info_of_channel.at(dummy.channel_of_sensor.front());
+    head.info.sensors = SensorsOf(channels, dummy.channel_of_sensor, array);
     FileInitialVelocity inivel =
         InitialVelocityBody(channels, dummy.channel_of_sensor, array, options.initial_omega_body_radps);
     head.initial_velocity_body_mps = inivel.velocity_body_mps;
@@ -250,6 +296,18 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
     result.heads.push_back(std::move(head));
   }
   return result;
+}
+
+formats::CsvColumnMap CsvColumnsOf(const formats::ChannelMap* map,
+                                   const std::vector<std::string>& column_options) {
+  formats::CsvColumnMap columns = map != nullptr ? map->CsvColumns() : formats::CsvColumnMap{};
+  for (auto& [slot, column] : formats::ParseCsvColumnOptions(column_options)) {
+    // A named copy: clang 14 (the `make fuzz` build) cannot capture a structured binding.
+    const std::string& named_slot = slot;
+    std::erase_if(columns, [&](const auto& mapped) { return mapped.first == named_slot; });
+    columns.emplace_back(slot, column);
+  }
+  return columns;
 }
 
 }  // namespace napkin::ingest

@@ -6,6 +6,7 @@
 // the test (formats::TestInfo), the UDS-1992 initial velocity, and notes
 // such as channels cropped to their common span.
 #include <Eigen/Core>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -64,7 +65,7 @@ FileInitialVelocity InitialVelocityBody(const std::vector<formats::RawChannel>& 
 struct HeadSignals {
   std::string position;  // "" when the input names none (CSV, Table 2-1 order, one unnamed dummy)
   engine::TestSignals signals;
-  formats::TestInfo info;
+  formats::TestInfo info;  // with the sensors feeding the slots, where the files record them
   std::optional<Eigen::Vector3d> initial_velocity_body_mps;
   std::string channel_map;                     // map used; "" for CSV and Table 2-1 order
   std::vector<std::string> notes;              // recorded with the test (e.g. cropped spans)
@@ -73,6 +74,11 @@ struct HeadSignals {
 
 struct InputHeads {
   std::vector<HeadSignals> heads;  // the heads to import
+  // The array the heads were read for: the one given, or the one the channel codes define.
+  engine::ArrayGeometry array;
+  bool array_from_codes = false;  // no array was given; the codes defined it (ingest/array_from_codes.h)
+  // The test id the files give (DTS SLICEWare's Test ID); nullopt: the input's name.
+  std::optional<std::string> test_id;
   // The input holds several dummy heads: each test id gets "/<position>"
   // and each content hash the position.
   bool several = false;
@@ -80,22 +86,34 @@ struct InputHeads {
 };
 
 struct HeadReadOptions {
+  // The array, or null: the channel codes define it where the format has codes
+  // (InputFormatEntry::array_from_codes), else the input is refused naming `array_option`.
   const engine::ArrayGeometry* array = nullptr;
+  std::string array_option = "--array";              // how the front end names the array in sentences
+  std::filesystem::path config_dir;                  // the presets (empty: formats::DefaultConfigDir())
   const formats::ChannelMap* channel_map = nullptr;  // --channel-map, or null
   const formats::ChannelMap* default_map = nullptr;  // the "default" preset
   formats::CsvColumnMap csv_columns;                 // --column and the map's "column" entries
   std::optional<std::string> position;               // --position: take this head only
-  bool one_test_expected = false;                    // --test-id names one test
+  // Why one head is expected ("--test-id names one test"): several are refused saying so.
+  std::optional<std::string> one_test_expected;
   // The head's initial angular velocity (body axes), for INIVEL off the CG.
   Eigen::Vector3d initial_omega_body_radps = Eigen::Vector3d::Zero();
 };
 
-// Reads `input` into its dummy heads; a zip archive is read through
-// ArchiveTest, its messages naming "<archive>:<member>". Throws InputError (one sentence) for
-// a file problem, for --position naming a position the input lacks, and
-// when several heads are found where one test is expected (--test-id
-// without --position).
+// Reads `input` into its dummy heads through its format's reader
+// (ingest/input_formats.h); a zip archive is read through ArchiveTest, its
+// messages naming "<archive>:<member>". Throws InputError (one sentence) for
+// a file problem, for no array given where the codes define none, for
+// --position naming a position the input lacks, and when several heads are
+// found where one test is expected (--test-id without --position).
 InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& options,
                           const std::string& test_name);
+
+// The CSV columns a read takes slots from: the channel map's "column" entries,
+// then `column_options` (`--column SLOT=NAME`, formats::ParseCsvColumnOptions),
+// which win (docs/formats.md "CSV input").
+formats::CsvColumnMap CsvColumnsOf(const formats::ChannelMap* map,
+                                   const std::vector<std::string>& column_options);
 
 }  // namespace napkin::ingest

@@ -42,10 +42,11 @@ Eigen::Vector3d Triple(const std::vector<double>& values, const char* what) {
 
 // What ImportTests resolves once for all inputs.
 struct PreparedImport {
-  engine::ArrayGeometry array;
-  db::ArrayRow array_record;
+  // --array; without it each input's channel codes define its array (ingest/array_from_codes.h).
+  std::optional<engine::ArrayGeometry> array;
+  std::optional<db::ArrayRow> array_record;
   std::optional<formats::ChannelMap> channel_map;  // given with --channel-map
-  formats::ChannelMap default_map;                 // for ISO-MME and UDS-1992 without --channel-map
+  formats::ChannelMap default_map;                 // for inputs of channels without --channel-map
   formats::CsvColumnMap csv_columns;               // the map's "column" entries, then --column
   engine::InitialState initial;
   bool velocity_given = false;  // --initial-velocity
@@ -63,6 +64,24 @@ nlohmann::json TestInfoJson(const formats::TestInfo& info, const std::string& po
         {"date", &info.date},
         {"laboratory", &info.laboratory}})
     if (!value->empty()) json[key] = *value;
+  // The sensors feeding the slots (DTS SLICEWare: serial, hardware anti-aliasing filter in Hz).
+  if (!info.sensors.empty()) {
+    nlohmann::json sensors = nlohmann::json::array();
+    for (const formats::SensorInfo& sensor : info.sensors) {
+      nlohmann::json entry = {{"slot", sensor.slot}};
+      if (!sensor.code.empty()) entry["code"] = sensor.code;
+      if (!sensor.serial.empty()) entry["serial"] = sensor.serial;
+      if (!sensor.hardware_filter.empty()) {
+        const std::optional<double> hz = util::ParseDouble(sensor.hardware_filter);
+        if (hz && std::isfinite(*hz))
+          entry["hardware_filter_hz"] = *hz;
+        else
+          entry["hardware_filter"] = sensor.hardware_filter;
+      }
+      sensors.push_back(std::move(entry));
+    }
+    json["sensors"] = std::move(sensors);
+  }
   return json;
 }
 
@@ -90,10 +109,11 @@ ImportResult Failed(const std::string& test_id, std::string message) {
   return result;
 }
 
-// Stores one dummy head of `input`; the input's content hash was not found.
+// Stores one dummy head of `input`, read for array `array` (its record `array_record`); the
+// input's content hash was not found.
 ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const PreparedImport& prepared,
-                       const ImportOptions& options, HeadSignals& head, const std::string& test_id,
-                       const std::string& content_hash) {
+                       const ImportOptions& options, const InputHeads& read, const db::ArrayRow& array_record,
+                       HeadSignals& head, const std::string& test_id, const std::string& content_hash) {
   ImportResult result;
   result.test_id = test_id;
   auto skipped = [&] {
@@ -121,7 +141,8 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
   metadata["format"] = InputFormatName(head.archived_format.value_or(input.format));
   if (head.archived_format) metadata["archive"] = InputFormatName(input.format);
   if (!head.channel_map.empty()) metadata["channel_map"] = head.channel_map;
-  if (input.format == InputFormat::kUds1992) {
+  if (read.array_from_codes) metadata["array_from_codes"] = true;
+  if (FormatEntry(input.format).span == TestSpan::kFileGroup) {
     nlohmann::json files = nlohmann::json::array();
     for (const fs::path& file : input.files) files.push_back(file.filename().string());
     metadata["files"] = std::move(files);
@@ -150,8 +171,7 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
   record.content_hash = content_hash;
 
   // The store skips content another process stored meanwhile.
-  if (!StoreTest(catalogue, prepared.array, prepared.array_record, record, head.signals, replacing))
-    return skipped();
+  if (!StoreTest(catalogue, read.array, array_record, record, head.signals, replacing)) return skipped();
   result.outcome = ImportOutcome::kImported;
   result.superseded = replacing.has_value();
   result.message = replacing ? test_id + ": imported again from " + record.source_path +
@@ -164,7 +184,7 @@ ImportResult StoreHead(db::Catalogue& catalogue, const ImportInput& input, const
 // The results of one input: one per dummy head imported, or one failure.
 std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput& input,
                                     const PreparedImport& prepared, const ImportOptions& options) {
-  const std::string test_id = options.test_id.value_or(input.name);
+  std::string test_id = options.test_id.value_or(input.name);
   try {
     CheckPathsAreUtf8(input);
     // Ids are UTF-8, printable and of sane length: they reach terminals,
@@ -172,8 +192,10 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
     // escaping").
     util::CheckName("test id", test_id);
     const std::string input_hash = InputContentHash(input);
-    // An input of one dummy keeps its content hash; nothing more to read when it is stored.
-    if (!options.position && catalogue.ExistsTestByHash(input_hash)) {
+    // An input of one dummy keeps its content hash; nothing more to read when it is stored (unless
+    // the files name the test: its id is read from them, for the sentence).
+    const bool id_from_files = !options.test_id && FormatEntry(input.format).names_its_test;
+    if (!options.position && !id_from_files && catalogue.ExistsTestByHash(input_hash)) {
       ImportResult result;
       result.outcome = ImportOutcome::kSkipped;
       result.test_id = test_id;
@@ -183,14 +205,22 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
 
     // Read and check everything before writing anything.
     HeadReadOptions read_options;
-    read_options.array = &prepared.array;
+    read_options.array = prepared.array ? &*prepared.array : nullptr;
+    read_options.array_option = options.array_option;
     read_options.channel_map = prepared.channel_map ? &*prepared.channel_map : nullptr;
     read_options.default_map = &prepared.default_map;
     read_options.csv_columns = prepared.csv_columns;
     read_options.position = options.position;
-    read_options.one_test_expected = options.test_id.has_value();
+    if (options.test_id) read_options.one_test_expected = "--test-id names one test";
     read_options.initial_omega_body_radps = prepared.initial.omega_body_radps;
     InputHeads read = ReadInputHeads(input, read_options, test_id);
+    // The id the files give the test (DTS SLICEWare's Test ID), unless --test-id gives one.
+    if (!options.test_id && read.test_id) {
+      test_id = *read.test_id;
+      util::CheckName("test id", test_id);
+    }
+    const db::ArrayRow array_record =
+        prepared.array_record ? *prepared.array_record : records::MakeImportedArrayRecord(read.array);
 
     std::vector<ImportResult> results;
     for (HeadSignals& head : read.heads) {
@@ -200,7 +230,8 @@ std::vector<ImportResult> ImportOne(db::Catalogue& catalogue, const ImportInput&
       const std::string content_hash =
           read.several ? util::Sha256Hex(input_hash + "\nposition " + head.position) : input_hash;
       try {
-        results.push_back(StoreHead(catalogue, input, prepared, options, head, head_id, content_hash));
+        results.push_back(
+            StoreHead(catalogue, input, prepared, options, read, array_record, head, head_id, content_hash));
       } catch (const InputError& error) {
         results.push_back(Failed(head_id, NamingSource(error.what(), input)));
       }
@@ -236,20 +267,17 @@ std::string ImportReport::SummaryLine() const {
 ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string>& paths,
                          const ImportOptions& options, const ImportProgress& progress) {
   PreparedImport prepared;
-  prepared.array = formats::LoadArray(options.array);
-  prepared.array_record = records::MakeImportedArrayRecord(prepared.array);
+  if (!options.array.empty()) {
+    prepared.array = formats::LoadArray(options.array);
+    prepared.array_record = records::MakeImportedArrayRecord(*prepared.array);
+  }
   if (!options.channel_map.empty()) prepared.channel_map = formats::LoadChannelMap(options.channel_map);
   prepared.default_map = formats::LoadChannelMap("default");
-  if (prepared.channel_map) prepared.csv_columns = prepared.channel_map->CsvColumns();
-  for (auto& [slot, column] : formats::ParseCsvColumnOptions(options.csv_columns)) {
-    // A named copy: clang 14 (the `make fuzz` build) cannot capture a structured binding.
-    const std::string& named_slot = slot;
-    std::erase_if(prepared.csv_columns, [&](const auto& mapped) { return mapped.first == named_slot; });
-    prepared.csv_columns.emplace_back(slot, column);
-  }
+  prepared.csv_columns =
+      CsvColumnsOf(prepared.channel_map ? &*prepared.channel_map : nullptr, options.csv_columns);
   for (const auto& [slot, column] : prepared.csv_columns)
-    if (slot != "time_s" && !prepared.array.FindSlot(slot))
-      throw UsageError("--column names slot '" + slot + "', which array '" + prepared.array.name +
+    if (prepared.array && slot != "time_s" && !prepared.array->FindSlot(slot))
+      throw UsageError("--column names slot '" + slot + "', which array '" + prepared.array->name +
                        "' does not have.");
   prepared.initial.orientation_rad = Triple(options.orientation_rad, "--orientation");
   prepared.initial.velocity_fixed_mps = Triple(options.initial_velocity_mps, "--initial-velocity");
@@ -275,7 +303,7 @@ ImportReport ImportTests(db::Catalogue& catalogue, const std::vector<std::string
                      "' is the name compare and report give the tests without a variant; choose another "
                      "name (or give no --variant).");
   // Array and channel-map names taken from their file names are of unknown encoding.
-  check_option("the array name", prepared.array.name);
+  if (prepared.array) check_option("the array name", prepared.array->name);
   if (prepared.channel_map) check_option("the channel map name", prepared.channel_map->name);
 
   const Discovery discovery = DiscoverInputs(paths);

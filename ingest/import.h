@@ -23,10 +23,16 @@ namespace napkin::ingest {
 inline constexpr const char* kNoVariantGroup = "(none)";
 
 struct ImportOptions {
-  std::string array;  // preset name or array JSON path (required)
+  // Preset name or array JSON path. Empty: each input's ISO/TS 13499 channel
+  // codes define its array where they can (ingest/array_from_codes.h); an
+  // input whose codes define none is refused naming `array_option`.
+  std::string array;
+  std::string array_option = "--array";  // how the front end names the array in sentences
   std::optional<std::string> series;
-  std::optional<std::string> variant;   // never kNoVariantGroup
-  std::optional<std::string> test_id;   // only when exactly one test is found
+  std::optional<std::string> variant;  // never kNoVariantGroup
+  // Only when exactly one test is found. Without it: the files' own id (DTS SLICEWare's Test ID),
+  // else the input's name (ImportInput::name).
+  std::optional<std::string> test_id;
   std::vector<double> orientation_rad;  // phi, theta, psi (empty: 0, 0, 0)
   // vx, vy, vz fixed frame (empty: the UDS-1992 INIVEL of the CG channels
   // rotated by the orientation, else 0; docs/formats.md "UDS-1992 input").

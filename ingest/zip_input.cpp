@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "ingest/input_formats.h"
 #include "ingest/temporary_folder.h"
 #include "util/text.h"
 
@@ -17,17 +18,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Members a test is made of: ISO-MME (.mme, .chn, .001 ...), UDS-1992
-// (.001 ...) and CSV files. Others (reports, photographs) are not read.
+// Members a test is made of, as the input-format table says (InputFormatEntry::is_part: .mme,
+// .chn, .csv, three-digit extensions). Others (reports, photographs) are not read.
 bool IsTestMember(const formats::ZipMember& member) {
   if (member.directory) return false;
   const fs::path name(member.name);
   if (name.filename().string().front() == '.') return false;
-  const std::string extension = name.extension().string();
-  if (util::EqualsIgnoreCase(extension, ".mme") || util::EqualsIgnoreCase(extension, ".chn") ||
-      util::EqualsIgnoreCase(extension, ".csv"))
-    return true;
-  return extension.size() == 4 && extension.find_first_not_of("0123456789", 1) == std::string::npos;
+  return IsTestPart(name);
 }
 
 // `member` as docs/formats.md names it in messages: "ARCHIVE.zip:MEMBER".
@@ -82,8 +79,8 @@ ArchiveTest::ArchiveTest(const fs::path& archive, const formats::ZipLimits& limi
                        "\" is a file of the archive, not a folder.");
   }
   if (targets.empty())
-    throw InputError(archive.string() +
-                     ": the zip archive holds no test (no ISO-MME, UDS-1992 or CSV member).");
+    throw InputError(archive.string() + ": the zip archive holds no test (" + NoTestOfAnyFormat(false) +
+                     ").");
 
   folder_ = std::make_unique<TemporaryFolder>("napkin-zip-", archive.string());
   std::vector<std::string> files;

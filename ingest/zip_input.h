@@ -1,6 +1,7 @@
 #pragma once
 // A zip archive given to `napkin import` is one test (docs/formats.md "Zip
-// archives"): its ISO-MME, UDS-1992 or CSV members are read in memory with
+// archives"): the members a test of some input format is made of (ISO-MME,
+// UDS-1992, CSV, DTS SLICEWare CSV: ingest/input_formats.h) are read in memory with
 // formats::ZipArchive (every name and size checked first) and written into a
 // private temporary folder (mode 0700) that the readers of formats/ read and
 // that is removed when the ArchiveTest goes out of scope, whatever happens,

@@ -1,7 +1,8 @@
 // napkin.transform: one test's raw signals from numpy arrays through the
 // path `napkin transform` takes (app/transform.h: SignalsFromSamples, the CSV
 // reader's checks, and ProcessSignals) to its summary JSON and derived
-// channels (docs/python.md "transform").
+// channels (docs/python.md "transform"); napkin.transform_file: one test file
+// of any input format, read as `napkin transform` reads it (app::ReadTestFile).
 #include <pybind11/stl.h>
 
 #include <atomic>
@@ -246,6 +247,10 @@ bool OnMainThread() {
 // How often the main thread looks for a signal while a test is computed.
 constexpr std::chrono::milliseconds kSignalPollInterval{50};
 
+py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
+                   const engine::InitialState& initial, const engine::ProcessingConfig& config,
+                   const std::string& source, const std::string& test_id);
+
 // (summary JSON text, {derived channel name: array}); napkin/__init__.py
 // makes the TransformResult. Arguments arrive as Python objects and are
 // converted here, so that one of the wrong type raises TypeError naming it.
@@ -285,7 +290,66 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   initial.orientation_rad = Triple(orientation_rad, "orientation_rad", source);
   initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity_mps", source);
   initial.omega_body_radps = Triple(initial_omega_body_radps, "initial_omega_body_radps", source);
+  return Computed(array, signals, initial, config, source, test_id);
+}
 
+// napkin.transform_file: one test file of any input format read as `napkin transform` reads it
+// (app::ReadTestFile) and processed as transform processes samples; (summary JSON text, derived
+// channels, warnings).
+py::tuple TransformFile(const py::object& path_object, const py::object& array_object,
+                        const py::object& channel_map_object, const py::object& position_object,
+                        const py::object& columns_object, const py::object& config_object,
+                        const py::object& orientation_object, const py::object& initial_velocity_object,
+                        const py::object& solver_object, const std::string& config_dir) {
+  const std::string function = "napkin.transform_file: ";
+  app::TestFileOptions read;
+  read.path = AsNameOrPath(path_object, function + "path");
+  if (!array_object.is_none()) read.array = AsNameOrPath(array_object, function + "array");
+  if (!channel_map_object.is_none())
+    read.channel_map = AsNameOrPath(channel_map_object, function + "channel_map");
+  if (!position_object.is_none())
+    read.position = AsText(position_object, function + "position", "a position such as \"11\", or None");
+  if (!columns_object.is_none()) {
+    if (!py::isinstance<py::dict>(columns_object))
+      throw py::type_error(function + "columns is " + Described(columns_object) +
+                           "; it is a dict slot -> CSV column name, or None.");
+    for (const auto& [slot, column] : py::reinterpret_borrow<py::dict>(columns_object))
+      read.csv_columns.push_back(AsText(slot, function + "columns", "a slot name") + "=" +
+                                 AsText(column,
+                                        function + "columns[" + py::repr(slot).cast<std::string>() + "]",
+                                        "a CSV column name"));
+  }
+  read.array_option = "array=";
+  const std::string config_name = AsNameOrPath(config_object, function + "config");
+  const std::vector<double> orientation_rad =
+      AsReals(orientation_object, function + "orientation_rad", "phi, theta, psi in rad");
+  const std::vector<double> initial_velocity_mps =
+      AsReals(initial_velocity_object, function + "initial_velocity_mps", "3 components in m/s");
+  std::optional<std::string> solver;
+  if (!solver_object.is_none()) solver = AsText(solver_object, function + "solver", "a solver name or None");
+
+  const std::filesystem::path presets =
+      config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
+  read.config_dir = presets;
+  engine::ProcessingConfig config =
+      ReadOnce(records::ProcessingConfigPath(config_name, presets), formats::ReadProcessingConfig);
+  if (solver) app::SetSolver(config, *solver);
+  const app::TestFile file = app::ReadTestFile(read);
+  CheckMemory(file.array, file.signals.size(), file.signals.dt_s, config, read.path);
+  engine::InitialState initial;
+  initial.orientation_rad = Triple(orientation_rad, "orientation_rad", read.path);
+  initial.velocity_fixed_mps = Triple(initial_velocity_mps, "initial_velocity_mps", read.path);
+  const py::tuple computed = Computed(file.array, file.signals, initial, config, read.path, file.test_id);
+  py::list warnings;
+  for (const std::string& warning : file.warnings) warnings.append(warning);
+  return py::make_tuple(computed[0], computed[1], warnings);
+}
+
+// One test's signals processed as `napkin transform` processes them (app::ProcessSignals), Ctrl-C
+// stopping the computation: (summary JSON text, {derived channel name: array}).
+py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
+                   const engine::InitialState& initial, const engine::ProcessingConfig& config,
+                   const std::string& source, const std::string& test_id) {
   // A loop over tests works in the memory of the one before, without tuning
   // the host's malloc (docs/python.md "Cost"): the calling thread's
   // workspace, and the series of a result Python has let go.
@@ -350,6 +414,20 @@ void RegisterTransform(py::module_& module) {
       py::arg("channels"), py::arg("time_s"), py::arg("dt_s"), py::arg("array"), py::arg("config"),
       py::arg("orientation_rad"), py::arg("initial_velocity_mps"), py::arg("initial_omega_body_radps"),
       py::arg("solver"), py::arg("test_id"), py::arg("config_dir"));
+  module.def(
+      "transform_file",
+      [](const py::object& path, const py::object& array, const py::object& channel_map,
+         const py::object& position, const py::object& columns, const py::object& config,
+         const py::object& orientation, const py::object& initial_velocity, const py::object& solver,
+         const std::string& config_dir) {
+        return Translated("", [&] {
+          return TransformFile(path, array, channel_map, position, columns, config, orientation,
+                               initial_velocity, solver, config_dir);
+        });
+      },
+      py::arg("path"), py::arg("array"), py::arg("channel_map"), py::arg("position"), py::arg("columns"),
+      py::arg("config"), py::arg("orientation_rad"), py::arg("initial_velocity_mps"), py::arg("solver"),
+      py::arg("config_dir"));
   // The estimate CheckMemory compares with the memory available, for the
   // tests that hold it to a transform's measured peak (python/tests/).
   module.def(

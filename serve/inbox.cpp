@@ -44,19 +44,6 @@ double Now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-// The files of one test (an ISO-MME folder: all inside it).
-std::vector<fs::path> FilesOf(const ingest::ImportInput& input) {
-  if (input.format == ingest::InputFormat::kUds1992) return input.files;
-  std::error_code error;
-  if (!fs::is_directory(input.source, error)) return {input.source};
-  std::vector<fs::path> files;
-  for (fs::recursive_directory_iterator it(input.source, error), end; !error && it != end;
-       it.increment(error))
-    if (it->is_regular_file(error)) files.push_back(it->path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 // Sizes and modification times of the test's files and its sidecars: a test
 // is tried again only when one of them changes. Empty when a file vanished.
 std::string Signature(const std::vector<fs::path>& files, const fs::path& inbox, const fs::path& folder) {
@@ -359,7 +346,8 @@ void Inbox::LookAtInbox() {
     for (ingest::ImportInput& input : ingest::DiscoverInputs({variant.string()}).inputs) {
       // A test with a file passed over (a link out of the inbox, a FIFO) is not imported.
       bool passed_over = excluded.count(input.source) > 0;
-      for (const fs::path& file : FilesOf(input)) passed_over = passed_over || excluded.count(file) > 0;
+      for (const fs::path& file : ingest::FilesOf(input))
+        passed_over = passed_over || excluded.count(file) > 0;
       if (passed_over) continue;
       found.push_back({std::move(input), variant.parent_path().filename().string(),
                        variant.filename().string(), variant});
@@ -375,7 +363,7 @@ void Inbox::LookAtInbox() {
     for (Found& test : found) {
       const std::string key = test.input.source.string();
       seen.insert(key);
-      const std::string signature = Signature(FilesOf(test.input), inbox, test.folder);
+      const std::string signature = Signature(ingest::FilesOf(test.input), inbox, test.folder);
       if (signature.empty()) continue;  // a file vanished while looking: next time
       const auto handled = handled_.find(key);
       if (handled != handled_.end() && handled->second == signature) continue;
@@ -447,9 +435,7 @@ void Inbox::LookAtInbox() {
       Sidecar sidecar;
       try {
         sidecar = ReadSidecars(inbox, test.folder);
-        if (!sidecar.array)
-          throw InputError("no napkin.json sidecar above '" + source +
-                           "' gives its array (e.g. {\"array\": \"denton-3222\"}).");
+        // Without an array, the test's channel codes may define it (docs/serve.md "Sidecars").
         // Every name the sidecars give is resolved before anything is imported: a test is
         // never stored under a config that cannot run it, where it would wait forever.
         CheckSidecarNames(sidecar);
@@ -459,7 +445,8 @@ void Inbox::LookAtInbox() {
       }
       try {
         ingest::ImportOptions import;
-        import.array = *sidecar.array;
+        import.array = sidecar.array.value_or("");
+        import.array_option = "a napkin.json sidecar's \"array\" above '" + source + "'";
         import.series = test.series;
         import.variant = test.variant;
         if (sidecar.channel_map) import.channel_map = *sidecar.channel_map;

@@ -1,7 +1,7 @@
 #pragma once
 // The inbox of `napkin serve --inbox DIR` (docs/serve.md "Inbox"): every test
-// that appears under <inbox>/<series>/<variant>/ (what `napkin import` reads:
-// a CSV file, an ISO-MME folder, a UDS-1992 group, a zip archive) is imported
+// that appears under <inbox>/<series>/<variant>/ (any format `napkin import`
+// reads: ingest/input_formats.h) is imported
 // once it has settled and processed at once with the run scheduler
 // (jobs::RunScheduler), array and options from the napkin.json sidecars of
 // the folders above it. The inbox is only read, never changed.
@@ -43,8 +43,8 @@ struct InboxOptions {
 
 // What a sidecar (napkin.json) gives the tests below it (docs/serve.md "Sidecars").
 struct Sidecar {
-  std::optional<std::string> array;        // array preset or JSON file (required for import)
-  std::optional<std::string> config;       // processing config preset or JSON file (default: default)
+  std::optional<std::string> array;   // array preset or JSON file (none: the channel codes'; docs/serve.md)
+  std::optional<std::string> config;  // processing config preset or JSON file (default: default)
   std::optional<std::string> channel_map;  // channel map preset or JSON file
   // The sidecar file that gave each key: a name that leads nowhere is said naming it.
   std::filesystem::path array_file, config_file, channel_map_file;

@@ -7,6 +7,8 @@ libraries as the ``napkin`` command, so a result here is the command's result
 - ``transform(channels, time_s=..., dt_s=..., array=..., ...)`` -- one test's
   raw signals (numpy arrays) to a ``TransformResult``: its summary (the
   ``summary.json`` of ``napkin transform``) and derived channels;
+  ``transform_file(path, array=None, ...)`` -- the same of one test file in
+  any input format ``napkin import`` reads (DTS SLICEWare CSV, ISO-MME, ...);
 - ``hic(resultant_g, dt_s)`` -- HIC and its window, a named tuple ``HIC(hic,
   t1_s, t2_s)``; ``cfc(x, dt_s)`` -- the SAE J211 / ISO 6487 filter;
   ``bric(omega_body_radps)`` -- BrIC;
@@ -119,7 +121,7 @@ RISK_CURVES = tuple(name for name, field in SUMMARY_FIELDS.items() if field.crit
 for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
-__all__ = ["transform", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
+__all__ = ["transform", "transform_file", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
            "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "tune_memory", "Error", "InputError",
            "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
 
@@ -274,6 +276,35 @@ def transform(channels, time_s=None, dt_s=None, array="denton-3222", config="def
     summary_json, derived = _napkin.transform(
         channels, time_s, dt_s, _json.dumps(array) if isinstance(array, dict) else array, config,
         orientation_rad, initial_velocity_mps, initial_omega_body_radps, solver, test_id, _config_dir())
+    return TransformResult(_json.loads(summary_json), derived)
+
+
+def transform_file(path, array=None, channel_map=None, position=None, columns=None, config="default",
+                   orientation_rad=_AT_REST, initial_velocity_mps=_AT_REST, solver=None):
+    """Process one test file as ``napkin transform PATH`` does, in any input
+    format ``napkin import`` reads (napkin's CSV, DTS SLICEWare CSV, an ISO-MME
+    test folder or .mme file, UDS-1992 files, a zip archive; docs/formats.md).
+
+    path        -- the test file or folder (one test)
+    array       -- array preset name or JSON path; None: the one the channels'
+                   ISO/TS 13499 codes define (head CG accelerometers and
+                   angular-rate sensors: 6aw-cg; accelerometers alone: 3a-cg)
+    channel_map -- channel map preset or JSON path (None: "default")
+    position    -- the dummy head to take, of a test that records several
+    columns     -- dict slot -> CSV column name (``--column SLOT=NAME``)
+    config, orientation_rad, initial_velocity_mps, solver -- as ``transform``
+
+    Returns a TransformResult equal to the command's summary.json and derived
+    channels; the reader's warnings (ignored columns, cropped spans) are
+    issued as UserWarning. Raises InputError (one sentence naming the file,
+    row and channel) for a file napkin does not read, ScreeningFailure for a
+    test that fails screening.
+    """
+    summary_json, derived, warnings = _napkin.transform_file(
+        path, array, channel_map, position, columns, config, orientation_rad, initial_velocity_mps, solver,
+        _config_dir())
+    for warning in warnings:
+        _warnings.warn(warning, stacklevel=2)
     return TransformResult(_json.loads(summary_json), derived)
 
 

@@ -24,6 +24,7 @@ from ._napkin import tune_memory as tune_memory
 __version__: str
 __all__ = [
     "transform",
+    "transform_file",
     "TransformResult",
     "Catalogue",
     "hic",
@@ -119,6 +120,18 @@ def transform(
     initial_omega_body_radps: _Triple = ...,
     solver: str | None = ...,
     test_id: str = ...,
+) -> TransformResult: ...
+
+def transform_file(
+    path: _Path,
+    array: _Path | None = ...,
+    channel_map: _Path | None = ...,
+    position: str | None = ...,
+    columns: Mapping[str, str] | None = ...,
+    config: _Path = ...,
+    orientation_rad: _Triple = ...,
+    initial_velocity_mps: _Triple = ...,
+    solver: str | None = ...,
 ) -> TransformResult: ...
 
 class Catalogue:

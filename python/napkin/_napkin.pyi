@@ -39,6 +39,18 @@ def transform(
     test_id: Any,
     config_dir: str,
 ) -> tuple[str, dict[str, NDArray[np.float64]]]: ...
+def transform_file(
+    path: Any,
+    array: Any,
+    channel_map: Any,
+    position: Any,
+    columns: Any,
+    config: Any,
+    orientation_rad: Any,
+    initial_velocity_mps: Any,
+    solver: Any,
+    config_dir: str,
+) -> tuple[str, dict[str, NDArray[np.float64]], list[str]]: ...
 def _transform_bytes(
     array: str, samples: int, dt_s: float, config: str = ..., config_dir: str = ...
 ) -> int: ...

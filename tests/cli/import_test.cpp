@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 
@@ -22,6 +23,7 @@
 #include "records/array_record.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/support/test_support.h"
+#include "tests/support/zip_writer.h"
 
 namespace napkin::cli {
 
@@ -535,6 +537,72 @@ TEST(ImportDiscovery, UdsGroupHashDependsOnEveryMemberFile) {
   bytes.back() ^= 1;
   WriteText(dir / "u" / "v1.009", bytes);
   EXPECT_NE(InputContentHash(found.inputs[0]), before);
+}
+
+// ------------------------------------------------------------ transform
+
+// `napkin transform` reads every format `napkin import` reads (issue 43, point 3): the same
+// samples as napkin's CSV, an ISO-MME folder, its .mme file, a UDS-1992 group and a zip archive of
+// the ISO-MME test give the same derived channels, byte for byte.
+TEST(TransformEveryFormat, EachFormatOfTheSameSamplesGivesTheSameOutput) {
+  napkin::test_support::TempDir dir;
+  synth::SyntheticTest synth = SynthNapTest(4301);
+  synth.signals.samples = Float32Rounded(synth.signals.samples);  // what UDS-1992's REAL*4 holds
+  formats::WriteSignalsCsv(synth.signals, dir / "t.csv");
+  formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("nap-example"), dir / "iso", "T1");
+  WriteUdsGroup(synth.signals, dir / "uds", "v0001", formats::UdsNumberForm::kIeee);
+  napkin::test_support::WriteZip(dir / "iso.zip", napkin::test_support::FolderEntries(dir / "iso"));
+  const auto transform = [&](const std::string& input, const std::string& out,
+                             std::vector<std::string> extra) {
+    std::vector<std::string> args = {"transform",
+                                     input,
+                                     "--array",
+                                     "denton-3222",
+                                     "--out",
+                                     out,
+                                     TripleFlag("--orientation", synth.initial.orientation_rad)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult result = RunNapkin(dir.path(), args);
+    EXPECT_EQ(result.exit_code, 0) << input << ": " << result.err;
+    return ReadText(dir / out);
+  };
+  const std::string csv = transform("t.csv", "csv.out", {});
+  ASSERT_FALSE(csv.empty());
+  EXPECT_EQ(transform("iso", "iso.out", {"--channel-map", "nap-example"}), csv);
+  EXPECT_EQ(transform("iso/T1.mme", "mme.out", {"--channel-map", "nap-example"}), csv);
+  EXPECT_EQ(transform("uds", "uds.out", {}), csv);  // nine files in Table 2-1 order, no map
+  EXPECT_EQ(transform("iso.zip", "zip.out", {"--channel-map", "nap-example"}), csv);
+  // A folder of several tests is not one test.
+  const RunResult several =
+      RunNapkin(dir.path(), {"transform", ".", "--array", "denton-3222", "--out", "x.out"});
+  EXPECT_EQ(several.exit_code, 1);
+  ExpectOneSentenceError(several, {"'.' holds 4 tests; a transform reads one"});
+}
+
+// An ISO-MME test of head CG accelerometers and angular-rate sensors (codes 11HEAD0000..AC/AV..)
+// defines its array: 6aw-cg without --array, on import and transform (docs/formats.md "Arrays from
+// channel codes").
+TEST(TransformEveryFormat, IsoMmeCodesAtTheCgDefineTheArray) {
+  napkin::test_support::TempDir dir;
+  synth::RandomMotionOptions motion;
+  motion.seed = 4302;
+  motion.duration_s = 0.02;
+  const synth::SyntheticTest synth = synth::SynthRandomMotion(formats::LoadArray("6aw-cg"), motion);
+  formats::WriteIsoMme(synth.signals, synth.array, formats::LoadChannelMap("default"), dir / "cg", "CG1");
+  const RunResult from_codes = RunNapkin(dir.path(), {"transform", "cg", "--out", "codes.out"});
+  ASSERT_EQ(from_codes.exit_code, 0) << from_codes.err;
+  const RunResult given =
+      RunNapkin(dir.path(), {"transform", "cg", "--array", "6aw-cg", "--out", "given.out"});
+  ASSERT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_EQ(ReadText(dir / "codes.out"), ReadText(dir / "given.out"));
+  ASSERT_EQ(RunNapkin(dir.path(), {"init"}).exit_code, 0);
+  const RunResult imported = RunNapkin(dir.path(), {"import", "cg"});
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const nlohmann::json tests =
+      nlohmann::json::parse(RunNapkin(dir.path(), {"query", "tests", "--format", "json"}).out);
+  ASSERT_EQ(tests.size(), 1u);
+  EXPECT_EQ(tests[0].at("test_id"), "cg");
+  EXPECT_EQ(tests[0].at("array"), "6aw-cg");
 }
 
 }  // namespace

@@ -123,10 +123,10 @@ TEST_F(TransformCliTest, UnknownSolverIsRefusedNotTakenForExact) {
   EXPECT_NE(usage.err.find("fast"), std::string::npos) << usage.err;
   // RunTransform itself (as `napkin demo` calls it) refuses it too.
   app::TransformOptions options;
-  options.array = "denton-3222";
+  options.input.array = "denton-3222";
   options.solver = "fast";
   options.orientation_rad = {0.5, 0.5, 0.5};
-  options.input = input_.string();
+  options.input.path = input_.string();
   options.out = (dir_ / "fast.csv").string();
   try {
     app::RunTransform(options);

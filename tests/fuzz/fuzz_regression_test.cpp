@@ -50,14 +50,19 @@ TEST(FuzzRegressionTest, EveryRegressionInputIsAcceptedOrRejectedWithAnInputErro
   RecordProperty("regression_inputs", inputs);
 }
 
-TEST(FuzzRegressionTest, EveryRegressionFolderNamesATarget) {
-  for (const auto& entry : fs::directory_iterator(kFuzzDir / "regressions")) {
+// Every folder in `parent` is named after a fuzz target.
+void ExpectEveryFolderNamesATarget(const fs::path& parent) {
+  for (const auto& entry : fs::directory_iterator(parent)) {
     if (!entry.is_directory()) continue;
     const std::string name = entry.path().filename().string();
     EXPECT_TRUE(std::any_of(FuzzTargets().begin(), FuzzTargets().end(),
                             [&](const FuzzTarget& target) { return target.name == name; }))
         << entry.path() << " is not the folder of a fuzz target";
   }
+}
+
+TEST(FuzzRegressionTest, EveryRegressionFolderNamesATarget) {
+  ExpectEveryFolderNamesATarget(kFuzzDir / "regressions");
 }
 
 TEST(FuzzSeedTest, EveryTargetHasSeedsAndAcceptsThem) {
@@ -71,10 +76,14 @@ TEST(FuzzSeedTest, EveryTargetHasSeedsAndAcceptsThem) {
   }
 }
 
+// `make fuzz` and fuzz/CMakeLists.txt take the targets from the seed folders: each folder is a
+// target of the table, as each target has a folder (EveryTargetHasSeedsAndAcceptsThem).
+TEST(FuzzSeedTest, EverySeedFolderNamesATarget) { ExpectEveryFolderNamesATarget(kFuzzDir / "seeds"); }
+
 TEST(FuzzSeedTest, TruncatedSeedsAreRejectedWithAnInputError) {
   // Cutting a valid file short loses declared samples (ISO-MME, UDS-1992) or
   // rows (CSV): each target reports it as bad input.
-  for (const std::string_view name : {"csv", "isomme_channel", "uds1992"}) {
+  for (const std::string_view name : {"csv", "isomme_channel", "uds1992", "dts_slice_csv"}) {
     const FuzzTarget& target = GetFuzzTarget(name);
     for (const fs::path& seed : FilesIn(kFuzzDir / "seeds" / target.name)) {
       SCOPED_TRACE(seed.string());

@@ -20,9 +20,11 @@
 #include <thread>
 #include <vector>
 
+#include "formats/array_json.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
 #include "tests/serve/serve_test_util.h"
+#include "tests/support/dts_slice_writer.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::test_support {
@@ -126,6 +128,35 @@ TEST_F(ServeInbox, InotifyImportsAndProcessesWithTheCommandLinesNumbers) {
   EXPECT_EQ(version->status, 200);
   EXPECT_TRUE(Json::parse(version->body).at("version").is_string());
   EXPECT_EQ(serve->Client()->Get("/report?series=sled")->status, 200);
+  EXPECT_EQ(serve->Stop(), 0) << serve->log();
+}
+
+// A DTS SLICEWare CSV export dropped into the inbox with no sidecar naming its array (issue 46):
+// its channel codes define it (6aw-cg), its Test ID names the test, and the numbers are those of
+// `napkin import` and `napkin run` on the same file.
+TEST_F(ServeInbox, DtsSliceExportIsImportedUnderItsTestIdWithTheArrayItsCodesDefine) {
+  fs::remove(inbox_ / "napkin.json");
+  synth::RandomMotionOptions motion;
+  motion.seed = 4646;
+  motion.duration_s = 0.03;
+  motion.synth.rate_hz = 20000.0;
+  const synth::SyntheticTest test = synth::SynthRandomMotion(formats::LoadArray("6aw-cg"), motion);
+  const fs::path file = inbox_ / "drop" / "headform" / "fh1_UNFILTERED.csv";
+  fs::create_directories(file.parent_path());
+  WriteDtsExport(SixDxExport(test.signals, test.array), file);
+  const auto serve = Serve({"--settle", "0.5"});
+  ASSERT_GT(serve->port(), 0) << serve->log();
+  const Json rows = WaitFor(*serve, "/api/v1/query/hic", Rows(1));
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at("test_id"), "DTS-1");
+  const fs::path cli_db = dir_ / "cli.db";
+  ASSERT_EQ(Napkin({"init"}, cli_db).exit_code, 0);
+  const CommandResult import =
+      Napkin({"import", "--series", "drop", "--variant", "headform", file.string()}, cli_db);
+  ASSERT_EQ(import.exit_code, 0) << import.err;
+  ASSERT_EQ(Napkin({"run"}, cli_db).exit_code, 0);
+  EXPECT_EQ(serve->Client()->Get("/api/v1/query/hic")->body,
+            Napkin({"query", "hic", "--format", "json"}, cli_db).out);
   EXPECT_EQ(serve->Stop(), 0) << serve->log();
 }
 
