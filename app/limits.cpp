@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 [[noreturn]] void Malformed(const fs::path& path, const std::string& what) {
   throw InputError("limits file " + path.string() + ": " + what);
@@ -259,10 +259,10 @@ const LimitBand& BandOf(const Limit& limit, double value) {
 }
 
 double CombinedMaxPoints(const LimitSet& set) {
-  if (!set.combined) return kNaN;
+  if (!set.combined) return kNoValue;
   for (const Limit& limit : set.limits)
     if (limit.kind == LimitKind::kScale) return limit.points;
-  return kNaN;
+  return kNoValue;
 }
 
 std::vector<std::string> LimitMetrics(const LimitSet& set) {
@@ -282,9 +282,9 @@ TestRating RateTest(const LimitSet& set, const std::function<double(const std::s
     CriterionRating& criterion = rating.criteria.emplace_back();
     criterion.value = value_of(limit.metric);
     criterion.has_value = std::isfinite(criterion.value);
-    criterion.points = kNaN;
+    criterion.points = kNoValue;
     if (!criterion.has_value) {
-      criterion.value = kNaN;
+      criterion.value = kNoValue;
       if (limit.kind == LimitKind::kScale) every_scale_valued = false;
       continue;
     }
@@ -301,10 +301,10 @@ TestRating RateTest(const LimitSet& set, const std::function<double(const std::s
         break;
     }
   }
-  rating.combined_points = kNaN;
-  rating.contact_value = kNaN;
+  rating.combined_points = kNoValue;
+  rating.contact_value = kNoValue;
   if (!set.combined) return rating;
-  const double assessed = every_scale_valued ? lowest : kNaN;
+  const double assessed = every_scale_valued ? lowest : kNoValue;
   rating.combined_points = assessed;
   if (!set.hard_contact) return rating;
   const double contact = value_of(set.hard_contact->metric);
@@ -353,7 +353,7 @@ db::Table LimitsTable(const db::Table& criteria, const LimitSet& limits) {
     const TestRating rating = RateTest(limits, [&](const std::string& metric) {
       const std::size_t at = column(metric);
       const double* number = at < row.size() ? std::get_if<double>(&row[at]) : nullptr;
-      return number != nullptr ? *number : kNaN;
+      return number != nullptr ? *number : kNoValue;
     });
     const std::vector<db::Cell> head = {row[column("test_id")], row[column("series")], row[column("variant")],
                                         limits.name};
