@@ -226,9 +226,8 @@ using TraceKind = ReportOverlay::Trace::Kind;  // its names as report.js reads t
 constexpr std::array<engine::NamedValue<TraceKind>, 3> kTraceKindNames{
     {{TraceKind::kTest, "test"}, {TraceKind::kLow, "low"}, {TraceKind::kHigh, "high"}}};
 
-// The verdict: its pictures (formats/report_verdict_plots.h), its table and
-// one sentence per variant (app/verdict.h).
-Html VerdictBlock(const ReportVerdict& verdict, const Html& plots) {
+// The verdict: its table and one sentence per variant (app/verdict.h).
+Html VerdictBlock(const ReportVerdict& verdict) {
   if (verdict.sentences.empty()) return {};
   Html table = Markup("\n") + TextRow("th", verdict.columns);
   for (const std::vector<std::string>& row : verdict.rows) table += TextRow("td", row);
@@ -236,7 +235,7 @@ Html VerdictBlock(const ReportVerdict& verdict, const Html& plots) {
   for (const std::string& sentence : verdict.sentences)
     sentences += Element("li", Text(sentence)) + Markup("\n");
   Html block = Markup("\n") + Element("h3", Markup("Verdict against ") + Text(verdict.baseline)) +
-               Markup("\n") + plots + Element("table class=\"verdict\"", table) + Markup("\n") +
+               Markup("\n") + Element("table class=\"verdict\"", table) + Markup("\n") +
                Element("ul class=\"verdict\"", sentences) + Markup("\n");
   for (const std::string& note : verdict.notes)
     block += Element("p class=\"note\"", Text(note)) + Markup("\n");
@@ -287,9 +286,9 @@ Html ComparisonSection(json& overlays, json& distributions, json& verdict_plots,
   Html section = Markup("\n") +
                  Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
                  Markup("\n") +
-                 VerdictBlock(comparison.verdict,
-                              Markup(VerdictPlotsMarkup(comparison.verdict_plots, index, verdict_plots))) +
-                 limit_tables + OverlayFigures(overlays, comparison, index) + repeatability +
+                 VerdictBlock(comparison.verdict) +
+                 // The verdict as a picture, under its sentences and above every table of the section.
+                 Markup(VerdictPlotsMarkup(comparison.verdict_plots, index, verdict_plots)) + limit_tables + OverlayFigures(overlays, comparison, index) + repeatability +
                  Element("h3", Markup("Every metric")) + Markup("\n") +
                  // Scrolls sideways where its columns (compare's contract) are wider than the page.
                  Element("div class=\"wide\"", Element("table class=\"compare\"", table)) + Markup("\n");

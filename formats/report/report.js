@@ -311,9 +311,16 @@
       axes: {
         x: {
           logscale: true,
-          ticker: function (min, max) {
-            return ratioTicks.filter(function (v) { return v >= min && v <= max; })
-              .map(function (v) { return { v: v, label: String(v) }; });
+          // The ratios of ratioTicks within the axis, each at least 38 px from the others (1 always).
+          ticker: function (min, max, pixels) {
+            function at(v) { return Math.log(v / min) / Math.log(max / min) * pixels; }
+            var shown = ratioTicks.filter(function (v) { return v >= min && v <= max; });
+            var kept = shown.filter(function (v) { return v === 1; });
+            shown.forEach(function (v) {
+              if (kept.every(function (k) { return Math.abs(at(v) - at(k)) >= 38; })) kept.push(v);
+            });
+            kept.sort(function (a, b) { return a - b; });
+            return kept.map(function (v) { return { v: v, label: String(v) }; });
           }
         },
         y: {

@@ -49,8 +49,7 @@ TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
   const std::string open = "<div class=\"verdict\">";
   const std::size_t begin = html.find(open);
   ASSERT_NE(begin, std::string::npos);
-  // The verdict's own closing tag: after its sentences (its pictures hold elements of their own).
-  const std::size_t end = html.find("</div>", html.find("<ul class=\"verdict\">", begin));
+  const std::size_t end = html.find("</div>", begin);
   ASSERT_NE(end, std::string::npos);
   const std::string block = html.substr(begin, end + 6 - begin) + "\n";
   ExpectGolden("padding_series_production.html", block);
@@ -101,9 +100,10 @@ TEST(VerdictGolden, PaddingSeriesAgainstProductionWithLimits) {
   const std::string html = ReadText(dir / "v.html");
   const std::size_t begin = html.find("<div class=\"verdict\">");
   ASSERT_NE(begin, std::string::npos);
-  const std::size_t end = html.find("</div>", html.find("<ul class=\"verdict\">", begin));
+  // The verdict, then its pictures (up to the first table under them).
+  const std::size_t end = html.find("<h3>Every test against", begin);
   ASSERT_NE(end, std::string::npos);
-  const std::string block = html.substr(begin, end + 6 - begin) + "\n";
+  const std::string block = html.substr(begin, end - begin);
   ExpectGolden("padding_series_production_limits.html", block);
   // A strip per limited criterion (HIC(d); HIC15 and a3ms) and the forest.
   EXPECT_NE(block.find("id=\"forest-1\""), std::string::npos);
