@@ -121,7 +121,8 @@ def test_compare_gives_scipys_chance_and_expected_points_for_each_variant(paddin
                 x = math.exp(np.mean(logs) + scale * stats.t.ppf(p, n - 1))
                 reference = 4.0 * min(1.0, max(0.0, (lower - x) / (lower - higher)))
                 assert abs(row[key] - reference) <= 1e-7, (what, key, row[key], reference)
-            assert row["points_low"] <= row["expected_points"] <= row["points_high"], what
+            # (The expected points may lie outside the 80 % interval: the 10 % of tests beyond it count too.)
+            assert 0.0 <= row["points_low"] <= row["points_high"] <= 4.0, what
         else:
             assert row["expected_points"] is None and row["points_low"] is None, what
         seen.add(row["metric"])
