@@ -285,10 +285,10 @@ Html ComparisonSection(json& overlays, json& distributions, json& verdict_plots,
   for (const ReportTable& limits : comparison.limit_tables) limit_tables += TableBlock(limits);
   Html section = Markup("\n") +
                  Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
-                 Markup("\n") +
-                 VerdictBlock(comparison.verdict) +
+                 Markup("\n") + VerdictBlock(comparison.verdict) +
                  // The verdict as a picture, under its sentences and above every table of the section.
-                 Markup(VerdictPlotsMarkup(comparison.verdict_plots, index, verdict_plots)) + limit_tables + OverlayFigures(overlays, comparison, index) + repeatability +
+                 Markup(VerdictPlotsMarkup(comparison.verdict_plots, index, verdict_plots)) + limit_tables +
+                 OverlayFigures(overlays, comparison, index) + repeatability +
                  Element("h3", Markup("Every metric")) + Markup("\n") +
                  // Scrolls sideways where its columns (compare's contract) are wider than the page.
                  Element("div class=\"wide\"", Element("table class=\"compare\"", table)) + Markup("\n");

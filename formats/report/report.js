@@ -258,6 +258,32 @@
   function dot(ink) {
     return '<span class="dot" style="background: ' + ink + '"></span>';
   }
+  // What the forest and the strips share: points only, one series per kind
+  // (`names`, coloured by `inks`), a legend of the kinds that `describe`
+  // (the hovered row's index) extends, no zoom, and `more` options.
+  function pointPlot(element, xName, names, inks, describe, more) {
+    function legend(info) {
+      var html = names.map(function (name, k) {
+        return '<span class="variant-legend">' + dot(inks[k]) + esc(name) + '</span>';
+      }).join(' ');
+      var selected = info.dygraph.getSelection();
+      return selected >= 0 ? html + describe(selected) : html;
+    }
+    return Object.assign({
+      labels: [xName].concat(names),
+      colors: inks,
+      strokeWidth: 0,
+      drawPoints: true,
+      highlightCircleSize: 6,
+      legend: 'always',
+      legendFormatter: legend,
+      labelsDiv: element.parentNode.querySelector('.legend'),
+      gridLineColor: '#e4e7eb',
+      axisLabelFontSize: 12,
+      interactionModel: {},
+      drawCallback: drawn(element)
+    }, more);
+  }
   var forestKinds = ['significant change (p < 0.05)', 'equivalent within the margin', 'neither shown'];
   var forestInks = ['#c0392b', '#2a9d55', '#5b6470'];
   var ratioTicks = [0.1, 0.2, 0.25, 0.33, 0.5, 0.67, 0.8, 0.9, 1, 1.1, 1.25, 1.5, 2, 3, 4, 5, 10];
@@ -278,36 +304,19 @@
       return { values: out, row: row };
     });
     data.sort(function (a, b) { return a.values[0] - b.values[0]; });
-    function legend(info) {
-      var html = forestKinds.map(function (kind, k) {
-        return '<span class="variant-legend">' + dot(forestInks[k]) + esc(kind) + '</span>';
-      }).join(' ');
-      var selected = info.dygraph.getSelection();
-      if (selected >= 0 && selected < data.length) {
-        var row = data[selected].row;
-        html += ' <span class="hover-test">' + esc(row.label) + ': ratio ' + row.ratio.toFixed(3) +
-          (row.low !== null ? ' [' + row.low.toFixed(3) + ', ' + row.high.toFixed(3) + ']' : ' (no interval)') +
-          '</span>';
-      }
-      return html;
+    function describe(selected) {
+      if (selected >= data.length) return '';
+      var row = data[selected].row;
+      return ' <span class="hover-test">' + esc(row.label) + ': ratio ' + row.ratio.toFixed(3) +
+        (row.low !== null ? ' [' + row.low.toFixed(3) + ', ' + row.high.toFixed(3) + ']' : ' (no interval)') +
+        '</span>';
     }
-    new Dygraph(element, data.map(function (d) { return d.values; }), {
-      labels: ['ratio'].concat(forestKinds),
-      colors: forestInks,
-      strokeWidth: 0,
-      drawPoints: true,
+    new Dygraph(element, data.map(function (d) { return d.values; }), pointPlot(element, 'ratio', forestKinds, forestInks, describe, {
       pointSize: 5,
-      highlightCircleSize: 6,
-      legend: 'always',
-      legendFormatter: legend,
-      labelsDiv: element.parentNode.querySelector('.legend'),
-      gridLineColor: '#e4e7eb',
-      axisLabelFontSize: 12,
       xlabel: 'ratio to ' + esc(chart.baseline) + ' (log axis)',
       xLabelHeight: 16,
       dateWindow: [low / pad, high * pad],
       valueRange: [0.4, n + 0.6],
-      interactionModel: {},
       axes: {
         x: {
           logscale: true,
@@ -355,9 +364,8 @@
           canvas.moveTo(b, y - 5); canvas.lineTo(b, y + 5);
           canvas.stroke();
         });
-      },
-      drawCallback: drawn(element)
-    });
+      }
+    }));
   }
 
   // Every test's value (a point per test, its variant's column) against the
@@ -378,35 +386,18 @@
     chart.points.forEach(function (point) { lo = Math.min(lo, point[1]); hi = Math.max(hi, point[1]); });
     chart.edges.forEach(function (edge) { lo = Math.min(lo, edge.value); hi = Math.max(hi, edge.value); });
     var span = hi > lo ? hi - lo : Math.abs(hi) || 1;
-    function legend(info) {
-      var html = classes.map(function (name, k) {
-        return '<span class="variant-legend">' + dot(inks[k]) + esc(name) + '</span>';
-      }).join(' ');
-      var selected = info.dygraph.getSelection();
-      if (selected >= 0 && selected < data.length) {
-        var d = data[selected];
-        html += ' <span class="hover-test">' + esc(d.test) + ': ' + d.value.toPrecision(4) + ' (' +
-          esc(classes[d.category]) + ')</span>';
-      }
-      return html;
+    function describe(selected) {
+      if (selected >= data.length) return '';
+      var d = data[selected];
+      return ' <span class="hover-test">' + esc(d.test) + ': ' + d.value.toPrecision(4) + ' (' +
+        esc(classes[d.category]) + ')</span>';
     }
-    new Dygraph(element, data.map(function (d) { return d.values; }), {
-      labels: ['variant'].concat(classes),
-      colors: inks,
-      strokeWidth: 0,
-      drawPoints: true,
+    new Dygraph(element, data.map(function (d) { return d.values; }), pointPlot(element, 'variant', classes, inks, describe, {
       pointSize: 4,
-      highlightCircleSize: 6,
-      legend: 'always',
-      legendFormatter: legend,
-      labelsDiv: element.parentNode.querySelector('.legend'),
-      gridLineColor: '#e4e7eb',
-      axisLabelFontSize: 12,
       ylabel: esc(chart.ylabel),
       yLabelWidth: 16,
       dateWindow: [-0.5, groups.length - 0.5],
       valueRange: [lo - 0.12 * span, hi + 0.12 * span],
-      interactionModel: {},
       axes: {
         x: {
           drawGrid: false,
@@ -440,9 +431,8 @@
           var width = canvas.measureText(edge.label).width;
           canvas.fillText(edge.label, area.x + area.w - width - 4, y - 3);
         });
-      },
-      drawCallback: drawn(element)
-    });
+      }
+    }));
   }
 
   function guarded(draw) {

@@ -466,6 +466,22 @@ window.addEventListener('load', function () {
 </script></body></html>
 )html";
 
+// The screenshot of `page` in `dir` at `window` ("W,H"; kept at $NAPKIN_KEEP_SCREENSHOT when set),
+// its pixels counted by kPixelCountPage: the dumped page, "size WxH ink I colour C" in it.
+std::string ScreenshotPixels(const fs::path& dir, const fs::path& page, const std::string& window) {
+  const fs::path shot = dir / "shot.png";
+  const RunResult screenshot =
+      RunChromium(dir, {"--screenshot=" + shot.string(), "--window-size=" + window, "--hide-scrollbars"},
+                  "file://" + page.string());
+  if (screenshot.exit_code != 0 || !fs::exists(shot)) return "no screenshot: " + screenshot.err;
+  if (const char* keep = std::getenv("NAPKIN_KEEP_SCREENSHOT"))
+    fs::copy_file(shot, keep, fs::copy_options::overwrite_existing);
+  test_support::WriteText(dir / "pixels.html", kPixelCountPage);
+  return RunChromium(dir, {"--allow-file-access-from-files", "--dump-dom"},
+                     "file://" + (dir / "pixels.html").string())
+      .out;
+}
+
 TEST_F(ReportInChromium, ScreenshotIsNotBlank) {
   const fs::path page = browser_dir_ / "report.html";
   test_support::WriteText(page, html_);
@@ -569,21 +585,11 @@ TEST_F(ReportInChromium, TheVerdictsPicturesAreDrawnAndThePagePrints) {
   pictures.insert(pictures.find("</style>"),
                   "header.report, section.test, section.comparison > *:not(.verdict-plots) {display: none}");
   test_support::WriteText(browser_dir_ / "pictures.html", pictures);
-  const fs::path shot = browser_dir_ / "shot.png";
-  const RunResult screenshot = RunChromium(
-      browser_dir_.path(), {"--screenshot=" + shot.string(), "--window-size=1280,1400", "--hide-scrollbars"},
-      "file://" + (browser_dir_ / "pictures.html").string());
-  ASSERT_EQ(screenshot.exit_code, 0) << screenshot.err;
-  ASSERT_TRUE(fs::exists(shot));
-  if (const char* keep = std::getenv("NAPKIN_KEEP_SCREENSHOT"))
-    fs::copy_file(shot, keep, fs::copy_options::overwrite_existing);
-  test_support::WriteText(browser_dir_ / "pixels.html", kPixelCountPage);
-  const RunResult count = RunChromium(browser_dir_.path(), {"--allow-file-access-from-files", "--dump-dom"},
-                                      "file://" + (browser_dir_ / "pixels.html").string());
-  ASSERT_EQ(count.exit_code, 0) << count.err;
+  const std::string pixels =
+      ScreenshotPixels(browser_dir_.path(), browser_dir_ / "pictures.html", "1280,1400");
   std::smatch match;
-  ASSERT_TRUE(std::regex_search(count.out, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
-      << count.out;
+  ASSERT_TRUE(std::regex_search(pixels, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
+      << pixels;
   EXPECT_GT(std::stod(match[4]), 5000.0) << match[0];
 
   // The browser's print to PDF (the print style sheet): a PDF of a page per section at least.
@@ -711,21 +717,10 @@ TEST(ReportCorrelationInChromium, RatingChartDrawsItsCorridorsWithoutScriptError
               "header.report, section.test > *:not(.charts), "
               "section.test figure:not(:has(#chart-1-rating-1)) {display: none}");
   test_support::WriteText(browser / "rating.html", page);
-  const fs::path shot = browser / "shot.png";
-  const RunResult screenshot = RunChromium(
-      browser.path(), {"--screenshot=" + shot.string(), "--window-size=1000,700", "--hide-scrollbars"},
-      "file://" + (browser / "rating.html").string());
-  ASSERT_EQ(screenshot.exit_code, 0) << screenshot.err;
-  ASSERT_TRUE(fs::exists(shot));
-  if (const char* keep = std::getenv("NAPKIN_KEEP_SCREENSHOT"))
-    fs::copy_file(shot, keep, fs::copy_options::overwrite_existing);
-  test_support::WriteText(browser / "pixels.html", kPixelCountPage);
-  const RunResult count = RunChromium(browser.path(), {"--allow-file-access-from-files", "--dump-dom"},
-                                      "file://" + (browser / "pixels.html").string());
-  ASSERT_EQ(count.exit_code, 0) << count.err;
+  const std::string pixels = ScreenshotPixels(browser.path(), browser / "rating.html", "1000,700");
   std::smatch match;
-  ASSERT_TRUE(std::regex_search(count.out, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
-      << count.out;
+  ASSERT_TRUE(std::regex_search(pixels, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
+      << pixels;
   EXPECT_GT(std::stod(match[4]), 2000.0) << match[0];
 }
 

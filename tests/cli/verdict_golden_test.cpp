@@ -35,13 +35,19 @@ void ExpectGolden(const std::string& name, const std::string& text) {
   EXPECT_EQ(text, ReadText(golden)) << "golden file " << golden;
 }
 
-TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
-  TempDir dir;
+// The padding series in `dir`'s catalogue, run.
+void PaddingSeries(const TempDir& dir) {
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
            {"synth", "--scenario", "padding-series"}, {"run", "--threads", "2"}}) {
     const RunResult result = RunNapkin(dir.path(), args);
     ASSERT_EQ(result.exit_code, 0) << result.err;
   }
+}
+
+TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
+  TempDir dir;
+  PaddingSeries(dir);
+  if (HasFatalFailure()) return;
   const RunResult report = RunNapkin(
       dir.path(), {"report", "--series", "padding-series", "--baseline", "production", "--out", "v.html"});
   ASSERT_EQ(report.exit_code, 0) << report.err;
@@ -88,11 +94,8 @@ TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
 // sliding scales, each variant's points and a further test's chance, and the pictures' markup.
 TEST(VerdictGolden, PaddingSeriesAgainstProductionWithLimits) {
   TempDir dir;
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"synth", "--scenario", "padding-series"}, {"run", "--threads", "2"}}) {
-    const RunResult result = RunNapkin(dir.path(), args);
-    ASSERT_EQ(result.exit_code, 0) << result.err;
-  }
+  PaddingSeries(dir);
+  if (HasFatalFailure()) return;
   const RunResult report = RunNapkin(
       dir.path(), {"report", "--series", "padding-series", "--baseline", "production", "--limits",
                    "fmvss201u", "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m", "--out", "v.html"});
