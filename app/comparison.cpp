@@ -140,25 +140,42 @@ void PairedDifference(const GroupValues& group, const GroupValues& baseline, Com
                    equivalence_pct);
 }
 
-// The check of the limit of `limits` on the metric, if it has one, per group.
-void CheckLimit(const LimitSet& limits, MetricComparison& metric) {
-  for (const Limit& limit : limits.limits) {
-    if (limit.metric != metric.metric) continue;
-    metric.limit = limit.max;
-    for (const GroupValues& group : metric.groups) {
-      GroupLimitCheck& check = metric.limit_checks.emplace_back();
-      check.tests = group.values.size();
-      for (std::size_t i = 0; i < group.values.size(); ++i) {
-        if (group.values[i] <= limit.max) ++check.within;
-        if (!(group.values[i] <= check.worst_value)) {  // the first of the highest (NaN at first)
-          check.worst_value = group.values[i];
-          check.worst_test = group.test_ids[i];
-        }
-      }
-      if (check.tests > 0) check.margin_pct = LimitMarginPct(check.worst_value, limit.max);
+// The limits of the sets on the metric, each checked per group.
+void CheckLimits(const std::vector<ComparedLimitSet>& sets, MetricComparison& metric) {
+  for (std::size_t s = 0; s < sets.size(); ++s)
+    for (const Limit& limit : sets[s].set.limits) {
+      if (limit.metric != metric.metric) continue;
+      MetricLimit& checked = metric.limits.emplace_back();
+      checked.set = s;
+      checked.limit = limit;
+      for (const GroupValues& group : metric.groups) checked.checks.push_back(CheckGroupLimit(limit, group));
     }
-    return;
+}
+
+// The combined points of a set per group (its tests' ratings, app/limits.h).
+GroupCombinedPoints CombineGroup(const LimitSet& set, const std::vector<const db::LabelledResult*>& members) {
+  GroupCombinedPoints combined;
+  double sum = 0.0;
+  for (const db::LabelledResult* result : members) {
+    const TestRating rating = RateTest(set, [&](const std::string& name) {
+      const engine::SummaryField* field = engine::FindSummaryField(name);
+      return field != nullptr ? field->Get(result->summary) : kNaN;
+    });
+    if (set.hard_contact) {
+      combined.contact_assumed += rating.hard_contact == HardContact::kAssumed;
+      combined.contact_not_assumed += rating.hard_contact == HardContact::kNotAssumed;
+      combined.contact_not_applied += rating.hard_contact == HardContact::kNotApplied;
+    }
+    if (!std::isfinite(rating.combined_points)) continue;
+    ++combined.tests;
+    sum += rating.combined_points;
+    if (!(rating.combined_points >= combined.lowest_points)) {  // the first of the lowest (NaN at first)
+      combined.lowest_points = rating.combined_points;
+      combined.lowest_test = result->test_id;
+    }
   }
+  if (combined.tests > 0) combined.mean_points = sum / static_cast<double>(combined.tests);
+  return combined;
 }
 
 // ---------------------------------------------------------------- the table
@@ -220,6 +237,74 @@ std::string ScaleNote(const MetricComparison& metric) {
   return "";
 }
 
+// "0.3 %": a probability in % with two significant digits ("<0.0001 %" below).
+std::string ProbabilityPercent(double p) {
+  if (!std::isfinite(p)) return "-";
+  if (p < 1e-6) return "<0.0001 %";
+  return util::FormatNumber(100.0 * p, 2) + " %";
+}
+
+// A further test's figures for the table: "P(> 700) 0.3 %" and on a scale
+// "points 2.1 [0.4, 3.5]", or why they are not estimated.
+std::string FurtherTestText(const Limit& limit, const GroupLimitCheck& check) {
+  if (check.prediction_gap != engine::PredictionGap::kNone)
+    return "further test not estimated (" + std::string(engine::PredictionGapText(check.prediction_gap)) +
+           ")";
+  std::string text =
+      "P(further > " + util::FormatNumber(limit.max, 6) + ") " + ProbabilityPercent(check.exceed_probability);
+  if (limit.kind == LimitKind::kScale)
+    text += fmt::format(", further points {} [{}, {}]", util::FormatNumber(check.expected_points, 3),
+                        util::FormatNumber(check.points_low, 3), util::FormatNumber(check.points_high, 3));
+  return text;
+}
+
+// The line under a metric's block for one of its limits: per group how many
+// tests are within it (and on a scale their mean points, with bands the
+// tests per band), the worst, and a further test.
+std::string LimitLine(const Comparison& comparison, const MetricLimit& checked) {
+  const Limit& limit = checked.limit;
+  const std::string& name = comparison.limit_sets[checked.set].set.name;
+  std::string out;
+  switch (limit.kind) {
+    case LimitKind::kMaximum:
+      out = fmt::format("  {} limit {}: ", name, util::FormatNumber(limit.max, 6));
+      break;
+    case LimitKind::kScale:
+      out = fmt::format("  {} scale {} to {} ({} to 0 points): ", name,
+                        util::FormatNumber(limit.higher_limit, 6), util::FormatNumber(limit.max, 6),
+                        util::FormatNumber(limit.points, 6));
+      break;
+    case LimitKind::kBands: {
+      std::string bands;
+      for (const LimitBand& band : limit.bands)
+        bands += (bands.empty() ? "" : ", ") + band.name +
+                 (band.max ? " ≤ " + util::FormatNumber(*band.max, 6) : std::string(" above"));
+      out = fmt::format("  {} bands {}: ", name, bands);
+      break;
+    }
+  }
+  for (std::size_t g = 0; g < checked.checks.size(); ++g) {
+    const GroupLimitCheck& check = checked.checks[g];
+    out += (g == 0 ? "" : "; ") + util::EscapeControl(comparison.groups[g]) +
+           fmt::format(" {} of {} within", check.within, check.tests);
+    if (check.tests == 0) continue;
+    if (limit.kind == LimitKind::kScale)
+      out += fmt::format(", {} points on average", util::FormatNumber(check.mean_points, 3));
+    if (limit.kind == LimitKind::kBands) {
+      std::string counts;
+      for (std::size_t b = 0; b < limit.bands.size(); ++b)
+        if (check.band_counts[b] > 0)
+          counts +=
+              (counts.empty() ? "" : ", ") + fmt::format("{} {}", check.band_counts[b], limit.bands[b].name);
+      out += " (" + counts + ")";
+    }
+    out += fmt::format(" (worst {} {}, margin {:+.1f} %), ", util::EscapeControl(check.worst_test),
+                       util::FormatNumber(check.worst_value, 4), check.margin_pct) +
+           FurtherTestText(limit, check);
+  }
+  return out + "\n";
+}
+
 std::string HumanComparison(const Comparison& comparison) {
   const bool by_variant = comparison.by == CompareBy::kVariant;
   // Stored names are shown escaped (control characters, bytes that are not UTF-8).
@@ -270,18 +355,7 @@ std::string HumanComparison(const Comparison& comparison) {
       }
       out += text + "\n";
     }
-    if (metric.limit && comparison.limits_name) {
-      out += fmt::format("  {} limit {}: ", *comparison.limits_name, util::FormatNumber(*metric.limit, 6));
-      for (std::size_t g = 0; g < metric.limit_checks.size(); ++g) {
-        const GroupLimitCheck& check = metric.limit_checks[g];
-        out += (g == 0 ? "" : "; ") + util::EscapeControl(comparison.groups[g]) +
-               fmt::format(" {} of {} within", check.within, check.tests);
-        if (check.tests > 0)
-          out += fmt::format(" (worst {} {}, margin {:+.1f} %)", util::EscapeControl(check.worst_test),
-                             util::FormatNumber(check.worst_value, 4), check.margin_pct);
-      }
-      out += "\n";
-    }
+    for (const MetricLimit& checked : metric.limits) out += LimitLine(comparison, checked);
   }
   if (small_group)
     out += by_variant ? "\n(1) n < 2: with fewer than 2 tests in the group or the baseline there is no "
@@ -366,11 +440,12 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
         (names.empty() ? std::string("the catalogue has no series") : "series: " + Joined(names)) + ").");
   }
   std::vector<const engine::SummaryField*> fields = ResolveMetrics(request.metrics);
-  std::optional<LimitSet> limits;
-  if (request.limits) {
-    limits = LoadLimits(*request.limits);
-    for (const Limit& limit : limits->limits) {  // a limit's metric is compared too
-      const engine::SummaryField* field = engine::FindSummaryField(limit.metric);
+  std::vector<ComparedLimitSet> limit_sets;
+  for (const std::string& name : request.limits) {
+    ComparedLimitSet& loaded = limit_sets.emplace_back();
+    loaded.set = LoadLimits(name);
+    for (const std::string& metric : LimitMetrics(loaded.set)) {  // a limit's metric is compared too
+      const engine::SummaryField* field = engine::FindSummaryField(metric);
       if (field != nullptr && std::find(fields.begin(), fields.end(), field) == fields.end())
         fields.push_back(field);
     }
@@ -467,7 +542,11 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
   }
   comparison.scale = request.scale;
   comparison.equivalence_pct = request.equivalence_pct;
-  if (limits) comparison.limits_name = limits->name;
+  for (ComparedLimitSet& loaded : limit_sets)
+    if (loaded.set.combined)
+      for (const std::string& group : comparison.groups)
+        loaded.combined.push_back(CombineGroup(loaded.set, results_by_group.at(group)));
+  comparison.limit_sets = std::move(limit_sets);
   for (const engine::SummaryField* field : fields) {
     MetricComparison& metric = comparison.metrics.emplace_back();
     metric.metric = field->name;
@@ -492,7 +571,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
   for (MetricComparison& metric : comparison.metrics) {
     metric = CompareMetric(metric.metric, std::move(metric.groups), request.by, request.scale,
                            request.equivalence_pct);
-    if (limits) CheckLimit(*limits, metric);
+    CheckLimits(comparison.limit_sets, metric);
   }
   return comparison;
 }
@@ -532,6 +611,58 @@ MetricComparison CompareMetric(const std::string& name, std::vector<GroupValues>
   return metric;
 }
 
+GroupLimitCheck CheckGroupLimit(const Limit& limit, const GroupValues& values) {
+  GroupLimitCheck check;
+  check.tests = values.values.size();
+  check.band_counts.assign(limit.bands.size(), 0);
+  double points = 0.0;
+  for (std::size_t i = 0; i < values.values.size(); ++i) {
+    const double value = values.values[i];
+    if (value <= limit.max) ++check.within;
+    if (!(value <= check.worst_value)) {  // the first of the highest (NaN at first)
+      check.worst_value = value;
+      check.worst_test = values.test_ids[i];
+    }
+    if (limit.kind == LimitKind::kScale) points += ScalePoints(limit, value);
+    if (limit.kind == LimitKind::kBands)
+      ++check.band_counts[static_cast<std::size_t>(&BandOf(limit, value) - limit.bands.data())];
+  }
+  if (check.tests == 0) {
+    check.prediction_gap = engine::PredictionGap::kTooFew;
+    return check;
+  }
+  check.margin_pct = LimitMarginPct(check.worst_value, limit.max);
+  if (limit.kind == LimitKind::kScale) check.mean_points = points / static_cast<double>(check.tests);
+  // A further test (engine/prediction.h, docs/algorithms.md "A further test").
+  const engine::PredictiveFit fit = engine::FitLogPredictive(values.values);
+  check.prediction_gap = fit.gap;
+  if (!fit.predictive) return check;
+  check.exceed_probability = engine::ExceedProbability(*fit.predictive, limit.max);
+  if (limit.kind == LimitKind::kScale) {
+    check.expected_points =
+        engine::ExpectedScalePoints(*fit.predictive, limit.higher_limit, limit.max, limit.points);
+    const double tail = (1.0 - kPointsPredictionCoverage) / 2.0;
+    // Points fall as the value rises: the low end of the points is the high end of the value.
+    check.points_low = ScalePoints(limit, engine::PredictiveQuantile(*fit.predictive, 1.0 - tail));
+    check.points_high = ScalePoints(limit, engine::PredictiveQuantile(*fit.predictive, tail));
+  }
+  return check;
+}
+
+void CheckOneLimitPerMetric(const std::vector<std::string>& limits) {
+  std::map<std::string, std::string> set_of_metric;
+  for (const std::string& name : limits) {
+    const LimitSet set = LoadLimits(name);
+    for (const Limit& limit : set.limits) {
+      const auto [at, added] = set_of_metric.emplace(limit.metric, set.name);
+      if (!added)
+        throw UsageError("--limits: " + at->second + " and " + set.name + " both limit " + limit.metric +
+                         ", and a row of compare holds one limit; compare them one at a time (napkin report "
+                         "and napkin demo take both).");
+    }
+  }
+}
+
 db::Table ComparisonTable(const Comparison& comparison) {
   db::Table table;
   table.columns = {"metric",
@@ -557,10 +688,12 @@ db::Table ComparisonTable(const Comparison& comparison) {
                    "mdd_high_pct",
                    "equivalence_pct",
                    "tost_p_value"};
-  const bool limits = comparison.limits_name.has_value();
+  const bool limits = !comparison.limit_sets.empty();
   if (limits)
     table.columns.insert(table.columns.end(),
-                         {"limit", "tests_within_limit", "worst_test", "limit_margin_pct"});
+                         {"limit", "tests_within_limit", "worst_test", "limit_margin_pct",
+                          // Additions (issue 44): the set, and a further test.
+                          "limits", "exceed_probability", "expected_points", "points_low", "points_high"});
   for (const MetricComparison& metric : comparison.metrics) {
     for (std::size_t g = 0; g < metric.rows.size(); ++g) {
       const ComparisonRow& row = metric.rows[g];
@@ -594,13 +727,16 @@ db::Table ComparisonTable(const Comparison& comparison) {
                                      row.is_baseline ? kNaN : row.equivalence_pct,
                                      row.equivalence.p_value};
       if (limits) {
-        if (metric.limit && g < metric.limit_checks.size()) {
-          const GroupLimitCheck& check = metric.limit_checks[g];
+        if (!metric.limits.empty() && g < metric.limits.front().checks.size()) {
+          const MetricLimit& first = metric.limits.front();
+          const GroupLimitCheck& check = first.checks[g];
           cells.insert(cells.end(),
-                       {*metric.limit, static_cast<std::int64_t>(check.within),
-                        check.tests > 0 ? db::Cell(check.worst_test) : db::Cell(), check.margin_pct});
+                       {first.limit.max, static_cast<std::int64_t>(check.within),
+                        check.tests > 0 ? db::Cell(check.worst_test) : db::Cell(), check.margin_pct,
+                        comparison.limit_sets[first.set].set.name, check.exceed_probability,
+                        check.expected_points, check.points_low, check.points_high});
         } else {
-          cells.insert(cells.end(), {db::Cell(), db::Cell(), db::Cell(), db::Cell()});
+          cells.insert(cells.end(), 9, db::Cell());
         }
       }
       table.rows.push_back(std::move(cells));

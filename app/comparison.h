@@ -13,8 +13,10 @@
 #include <string_view>
 #include <vector>
 
+#include "app/limits.h"
 #include "app/table_output.h"
 #include "db/catalogue.h"
+#include "engine/prediction.h"
 #include "engine/statistics.h"
 
 namespace napkin::app {
@@ -63,9 +65,9 @@ struct ComparisonRequest {
   CompareScale scale = CompareScale::kLog;
   // The equivalence margin in % (two one-sided tests).
   double equivalence_pct = kDefaultEquivalencePct;
-  // Limits to check (app/limits.h), a preset name of config/limits or a
-  // file; their metrics are compared too.
-  std::optional<std::string> limits;
+  // Limit sets to check (app/limits.h), each a preset name of config/limits
+  // or a file; their metrics (and a hard-contact rule's) are compared too.
+  std::vector<std::string> limits;
 };
 
 // The group of a test of `variant` when comparing by variant: the name, or
@@ -143,23 +145,64 @@ struct ComparisonRow {
 };
 
 // A limit's check for one group (app/limits.h): how many of its tests with a
-// value are within it, and the worst (highest) test.
+// value are within it (value <= Limit::max: the maximum, a scale's lower
+// performance limit, the best band's upper edge), the worst (highest) test,
+// and what a further test would give (engine/prediction.h).
 struct GroupLimitCheck {
   std::size_t tests = 0;   // with a value of the limit's metric
   std::size_t within = 0;  // value <= the limit
   std::string worst_test;
   double worst_value = std::numeric_limits<double>::quiet_NaN();
   double margin_pct = std::numeric_limits<double>::quiet_NaN();  // 100 (limit - worst) / limit
+  // A scale: the mean points of the tests; bands: the tests in each band (Limit::bands order).
+  double mean_points = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::size_t> band_counts;
+  // A further test, from the group's values on the log scale: why there is
+  // no prediction (n < 3, a value <= 0, no spread: every figure below NaN),
+  // P(value > limit), and on a scale its expected points with the 80 %
+  // prediction interval of its points (the points at the 90 % and the 10 %
+  // predictive quantiles of the value).
+  engine::PredictionGap prediction_gap = engine::PredictionGap::kNone;
+  double exceed_probability = std::numeric_limits<double>::quiet_NaN();
+  double expected_points = std::numeric_limits<double>::quiet_NaN();
+  double points_low = std::numeric_limits<double>::quiet_NaN();
+  double points_high = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The two-sided coverage of the points' prediction interval.
+inline constexpr double kPointsPredictionCoverage = 0.80;
+
+// A limit of one of the comparison's sets on a metric, checked per group.
+struct MetricLimit {
+  std::size_t set = 0;  // index into Comparison::limit_sets
+  Limit limit;
+  std::vector<GroupLimitCheck> checks;  // per group, in Comparison::groups order
 };
 
 struct MetricComparison {
   std::string metric;
   std::vector<GroupValues> groups;  // in Comparison::groups order
   std::vector<ComparisonRow> rows;  // one per group, same order
-  // The limit of the request's limits on this metric, if any, and its check
-  // per group (same order).
-  std::optional<double> limit;
-  std::vector<GroupLimitCheck> limit_checks;
+  // The limits of the request's sets on this metric, in their order.
+  std::vector<MetricLimit> limits;
+};
+
+// A set's combined region (the head's points, app/limits.h) for one group:
+// its tests' points, as the protocol combines its criteria.
+struct GroupCombinedPoints {
+  std::size_t tests = 0;  // tests with combined points
+  double mean_points = std::numeric_limits<double>::quiet_NaN();
+  double lowest_points = std::numeric_limits<double>::quiet_NaN();
+  std::string lowest_test;
+  // The hard-contact rule's finding, per test of the group.
+  std::size_t contact_assumed = 0;
+  std::size_t contact_not_assumed = 0;
+  std::size_t contact_not_applied = 0;
+};
+
+struct ComparedLimitSet {
+  LimitSet set;
+  std::vector<GroupCombinedPoints> combined;  // per group, when set.combined
 };
 
 struct Comparison {
@@ -174,9 +217,17 @@ struct Comparison {
   // from salvaged channels (docs/algorithms.md "Faulty channels").
   std::vector<std::size_t> tests_per_group;
   std::vector<std::size_t> salvaged_per_group;
-  // The short name of the limits checked ("FMVSS 201U"), when asked for.
-  std::optional<std::string> limits_name;
+  // The limit sets checked, in the request's order.
+  std::vector<ComparedLimitSet> limit_sets;
 };
+
+// The check of `limit` on one group's values (test ids alongside), as
+// BuildComparison makes it.
+GroupLimitCheck CheckGroupLimit(const Limit& limit, const GroupValues& values);
+
+// Refuses (UsageError naming --limits) sets two of which limit one metric:
+// a row of compare's JSON holds one limit.
+void CheckOneLimitPerMetric(const std::vector<std::string>& limits);
 
 // Reads the series' results and compares them. Throws UsageError (one line
 // listing the valid choices) for an unknown series, metric, config or
@@ -200,8 +251,10 @@ MetricComparison CompareMetric(const std::string& metric, std::vector<GroupValue
 // sd, median, min, max, baseline, scale, diff, diff_pct, ci_low, ci_high,
 // ratio, ratio_ci_low, ratio_ci_high, p_value, n_for_80pct_power,
 // mdd_low_pct, mdd_high_pct, equivalence_pct, tost_p_value, and with limits
-// limit, tests_within_limit, worst_test, limit_margin_pct (NaN cells become
-// null in JSON and empty fields in CSV via FormatTable).
+// limit, tests_within_limit, worst_test, limit_margin_pct, then limits (the
+// set's name), exceed_probability, expected_points, points_low, points_high
+// (the first of the sets' limits on the row's metric; NaN cells become null
+// in JSON and empty fields in CSV via FormatTable).
 db::Table ComparisonTable(const Comparison& comparison);
 
 // kJson and kCsv: FormatTable(ComparisonTable(comparison)). kTable: one

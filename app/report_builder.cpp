@@ -21,6 +21,7 @@
 
 #include "app/comparison.h"
 #include "app/correlation.h"
+#include "app/report_limits.h"
 #include "app/result_selection.h"
 #include "app/verdict.h"
 #include "app/where_parser.h"
@@ -264,6 +265,8 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
   formats::ReportComparison report;
   report.series = series;
   report.verdict = VerdictOf(comparison);
+  report.verdict_plots = VerdictPlotsOf(comparison);
+  report.limit_tables = LimitTablesOf(comparison);
   AddOverlays(catalogue, comparison, options, report);
   AddRepeatability(catalogue, series, report);
   const db::Table table = ComparisonTable(comparison);

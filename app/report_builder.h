@@ -45,9 +45,9 @@ struct ReportOptions {
   // kOnset: t = 0 at each test's first sample whose resultant CG
   // acceleration exceeds this many g.
   double onset_threshold_g = kDefaultOnsetThresholdG;
-  // Limits the verdict and the compare table check (app/limits.h): a preset
-  // name of config/limits or a file.
-  std::optional<std::string> limits;
+  // Limit sets the verdict, its pictures and the compare table check
+  // (app/limits.h): each a preset name of config/limits or a file.
+  std::vector<std::string> limits;
   // Model files (FILE[:COLUMN], app/correlation.h) whose stored ratings
   // against the report's tests are drawn: the test and the model with the
   // ISO/TS 18571 corridors; each must match a stored rating of a shown test.

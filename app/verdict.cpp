@@ -10,6 +10,7 @@
 #include <set>
 #include <utility>
 
+#include "app/verdict_limits.h"
 #include "common/joined.h"
 #include "engine/summary_fields.h"
 #include "util/text.h"
@@ -98,41 +99,6 @@ std::vector<VerdictMetric> VerdictMetrics(const Comparison& comparison) {
     }
   }
   return metrics;
-}
-
-// The limits' clause of group g: how many of its tests meet every limit
-// they have a value for, and per limit its highest value and margin.
-std::string LimitsClause(const Comparison& comparison, std::size_t g) {
-  std::set<std::string> tested, failing;
-  std::vector<std::string> parts, labels;
-  for (const MetricComparison& metric : comparison.metrics) {
-    if (!metric.limit || g >= metric.limit_checks.size()) continue;
-    labels.push_back(MetricLabel(metric.metric));
-    const GroupValues& values = metric.groups[g];
-    for (std::size_t i = 0; i < values.values.size(); ++i) {
-      tested.insert(values.test_ids[i]);
-      if (!(values.values[i] <= *metric.limit)) failing.insert(values.test_ids[i]);
-    }
-    const GroupLimitCheck& check = metric.limit_checks[g];
-    if (check.tests == 0) continue;
-    const std::string margin = check.margin_pct < 0 ? PercentText(-check.margin_pct) + " % over"
-                                                    : "margin " + PercentText(check.margin_pct) + " %";
-    parts.push_back("highest " + MetricLabel(metric.metric) + " " + util::FormatNumber(check.worst_value, 4) +
-                    ", " + margin);
-  }
-  const std::string& name = *comparison.limits_name;
-  const std::string& group = comparison.groups[g];
-  if (tested.empty()) return "no test of " + group + " has " + Joined(labels) + ": " + name + " not checked";
-  const std::size_t meet = tested.size() - failing.size();
-  std::string head;
-  if (meet == tested.size())
-    head = tested.size() == 1 ? "the 1 " + group + " test meets "
-                              : fmt::format("all {} {} tests meet ", tested.size(), group);
-  else
-    head = fmt::format("{} of {} {} tests {} ", meet, tested.size(), group, meet == 1 ? "meets" : "meet");
-  std::string joined;
-  for (const std::string& part : parts) joined += (joined.empty() ? "" : "; ") + part;
-  return head + name + " (" + joined + ")";
 }
 
 }  // namespace
@@ -279,15 +245,14 @@ SeriesVerdict BuildVerdict(const Comparison& comparison) {
   verdict.series = comparison.series;
   verdict.baseline = comparison.baseline;
   const std::vector<VerdictMetric> metrics = VerdictMetrics(comparison);
-  const bool limits = comparison.limits_name &&
-                      std::any_of(comparison.metrics.begin(), comparison.metrics.end(),
-                                  [](const MetricComparison& metric) { return metric.limit.has_value(); });
+  const std::size_t sets = comparison.limit_sets.size();
   verdict.columns = {"variant", "tests"};
   for (const VerdictMetric& metric : metrics) {
     verdict.columns.push_back(metric.label + " mean ± sd");
     for (const auto& [risk, label] : metric.risks) verdict.columns.push_back(label);
   }
-  if (limits) verdict.columns.push_back("meet " + *comparison.limits_name);
+  for (std::size_t set = 0; set < sets; ++set)
+    for (std::string& column : LimitSetColumns(comparison, set)) verdict.columns.push_back(std::move(column));
 
   for (std::size_t g = 0; g < comparison.groups.size(); ++g) {
     std::vector<std::string>& cells = verdict.rows.emplace_back();
@@ -303,22 +268,14 @@ SeriesVerdict BuildVerdict(const Comparison& comparison) {
       for (const auto& [risk, label] : metric.risks)
         cells.push_back(Probability(risk->rows[g].description.mean));
     }
-    if (limits) {
-      std::set<std::string> tested, failing;
-      for (const MetricComparison& metric : comparison.metrics) {
-        if (!metric.limit) continue;
-        const GroupValues& values = metric.groups[g];
-        for (std::size_t i = 0; i < values.values.size(); ++i) {
-          tested.insert(values.test_ids[i]);
-          if (!(values.values[i] <= *metric.limit)) failing.insert(values.test_ids[i]);
-        }
-      }
-      cells.push_back(fmt::format("{} of {}", tested.size() - failing.size(), tested.size()));
-    }
+    for (std::size_t set = 0; set < sets; ++set)
+      for (std::string& cell : LimitSetCells(comparison, set, g)) cells.push_back(std::move(cell));
     cells.insert(cells.begin() + 1, std::to_string(tests));
     if (g == 0) {  // the baseline: its limits, when asked for
-      if (limits)
-        verdict.sentences.push_back(comparison.groups[0] + " (baseline): " + LimitsClause(comparison, 0));
+      std::string clauses;
+      for (std::size_t set = 0; set < sets; ++set)
+        clauses += (set == 0 ? "" : "; ") + LimitSetClause(comparison, set, 0);
+      if (sets > 0) verdict.sentences.push_back(comparison.groups[0] + " (baseline): " + clauses);
       continue;
     }
 
@@ -340,7 +297,7 @@ SeriesVerdict BuildVerdict(const Comparison& comparison) {
       clause += risks;
       clauses.push_back(std::move(clause));
     }
-    if (limits) clauses.push_back(LimitsClause(comparison, g));
+    for (std::size_t set = 0; set < sets; ++set) clauses.push_back(LimitSetClause(comparison, set, g));
     if (clauses.empty()) clauses.push_back("none of the verdict's criteria has a value");
     // Results of salvaged channels are said (docs/algorithms.md "Faulty channels").
     if (g < comparison.salvaged_per_group.size() && comparison.salvaged_per_group[g] > 0)
@@ -376,11 +333,8 @@ std::string VerdictNote(const Comparison& comparison) {
             "means in % of the baseline mean"
           : "every criterion as the difference of means in % of the baseline mean (--scale linear)",
       util::FormatNumber(comparison.equivalence_pct, 6));
-  if (comparison.limits_name)
-    note +=
-        " " + *comparison.limits_name +
-        ": the tests whose every limited criterion is within its limit, and per criterion the highest value "
-        "and its margin, 100 (limit − highest) / limit.";
+  for (std::size_t set = 0; set < comparison.limit_sets.size(); ++set)
+    note += " " + LimitSetNote(comparison, set);
   return note;
 }
 

@@ -40,8 +40,10 @@ class CompareCommand : public Command {
         ->capture_default_str();
     sub->add_option(
            "--limits", request_.limits,
-           "limits to check per variant: a limits preset (config/limits, e.g. fmvss201u) or a JSON file")
-        ->check(PathCheck("--limits"));
+           "limits to check per variant: a limits preset (config/limits, e.g. fmvss201u) or a JSON file "
+           "(repeatable: sets that limit different metrics)")
+        ->check(PathCheck("--limits"))
+        ->allow_extra_args(false);
     sub->add_option("--format", format_, "table, csv or json")
         ->check(OneOfCheck("--format", {"table", "csv", "json"}))
         ->capture_default_str();
@@ -53,6 +55,7 @@ class CompareCommand : public Command {
     request_.baseline = baseline_;
     request_.scale = app::ParseCompareScale(scale_);
     request_.equivalence_pct = app::ParseEquivalencePct(equivalence_);
+    app::CheckOneLimitPerMetric(request_.limits);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     const app::Comparison comparison = app::BuildComparison(catalogue, request_);
     fmt::print("{}", app::FormatComparison(comparison, app::ParseTableFormat(format_)));

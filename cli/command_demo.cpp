@@ -23,9 +23,10 @@ class DemoCommand : public Command {
     sub->add_option("--threads", request_.threads, "worker threads (default: all cores)")
         ->check(WholeNumberCheck("--threads", 1));
     sub->add_option("--limits", request_.limits,
-                    "limits the padding verdict checks: a limits preset (config/limits) or a JSON file")
-        ->capture_default_str()
-        ->check(PathCheck("--limits"));
+                    "limits the padding verdict checks: a limits preset (config/limits) or a JSON file "
+                    "(repeatable; default: fmvss201u and euro-ncap-aop-v9.3-frontal-head-hiii50m)")
+        ->check(PathCheck("--limits"))
+        ->allow_extra_args(false);
     return sub;
   }
 

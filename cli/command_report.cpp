@@ -39,8 +39,9 @@ class ReportCommand : public Command {
         ->capture_default_str();
     sub->add_option("--limits", options_.limits,
                     "limits the verdict checks per variant: a limits preset (config/limits, e.g. "
-                    "fmvss201u) or a JSON file")
-        ->check(PathCheck("--limits"));
+                    "fmvss201u) or a JSON file (repeatable)")
+        ->check(PathCheck("--limits"))
+        ->allow_extra_args(false);
     sub->add_option(
            "--model", options_.models,
            "a model file rated with `napkin correlate`: its stored ratings drawn with the ISO/TS 18571 "

@@ -136,7 +136,7 @@ fs::path WritePaddingCsvFiles(const fs::path& dir) {
 // `napkin compare --series padding-series --baseline production --metrics ...`
 // prints it, for the metrics that tell the story: HIC, the CG acceleration, and
 // the rotation that the padding barely changes.
-void PrintPaddingComparison(db::Catalogue& catalogue, const std::string& limits) {
+void PrintPaddingComparison(db::Catalogue& catalogue, const std::vector<std::string>& limits) {
   app::ComparisonRequest request;
   request.series = kPaddingSeries;
   request.baseline = kPaddingBaseline;
@@ -262,8 +262,8 @@ void PrintNextSteps(const std::string& db, const fs::path& csv_dir) {
 
 void RunDemo(const DemoRequest& request) {
   const fs::path dir(request.dir);
-  app::LoadLimits(
-      request.limits);  // an unknown or malformed --limits stops the demo before it builds anything
+  // An unknown or malformed --limits stops the demo before it builds anything.
+  for (const std::string& limits : request.limits) app::LoadLimits(limits);
   const bool replaced = PrepareDemoFolder(dir, kDemoDb);
   WriteDemoStamp(dir, DemoFiles());
   const fs::path db_path = dir / kDemoDb;

@@ -20,6 +20,7 @@
 #include "engine/units.h"
 #include "engine/vocabulary.h"
 #include "formats/report_assets.h"
+#include "formats/report_verdict_plots.h"
 #include "util/atomic_file.h"
 #include "util/temporary_directory.h"
 #include "util/text.h"
@@ -274,15 +275,19 @@ Html OverlayFigures(json& overlays, const ReportComparison& comparison, std::siz
 
 // Its section; the data of its overlaid curves and distribution plots are
 // appended to `overlays` and `distributions`.
-Html ComparisonSection(json& overlays, json& distributions, const ReportComparison& comparison,
-                       std::size_t index) {
+Html ComparisonSection(json& overlays, json& distributions, json& verdict_plots,
+                       const ReportComparison& comparison, std::size_t index) {
   Html table = Markup("\n") + TextRow("th", comparison.columns);
   for (const std::vector<std::string>& row : comparison.rows) table += TextRow("td", row);
   Html repeatability;
   for (const ReportTable& variant : comparison.repeatability) repeatability += TableBlock(variant);
+  Html limit_tables;  // every test against each limit set
+  for (const ReportTable& limits : comparison.limit_tables) limit_tables += TableBlock(limits);
   Html section = Markup("\n") +
                  Element("h2", Markup("Series ") + Text(comparison.series) + Markup(": variants compared")) +
                  Markup("\n") + VerdictBlock(comparison.verdict) +
+                 // The verdict as a picture, under its sentences and above every table of the section.
+                 Markup(VerdictPlotsMarkup(comparison.verdict_plots, index, verdict_plots)) + limit_tables +
                  OverlayFigures(overlays, comparison, index) + repeatability +
                  Element("h3", Markup("Every metric")) + Markup("\n") +
                  // Scrolls sideways where its columns (compare's contract) are wider than the page.
@@ -589,10 +594,12 @@ HtmlReportWriter::HtmlReportWriter(HtmlSink sink, const ReportHeader& header,
   sink_(PageHeader(header, test_ids).text);
   json overlays = json::array();
   json distributions = json::array();
+  json verdict_plots = json::array();
   for (std::size_t i = 0; i < comparisons.size(); ++i)
-    sink_(ComparisonSection(overlays, distributions, comparisons[i], i).text);
+    sink_(ComparisonSection(overlays, distributions, verdict_plots, comparisons[i], i).text);
   distributions_json_ = JsonForScript(distributions);
   overlays_json_ = JsonForScript(overlays);
+  verdict_plots_json_ = JsonForScript(verdict_plots);
 }
 
 HtmlReportWriter::~HtmlReportWriter() {
@@ -623,8 +630,8 @@ void HtmlReportWriter::Finish() {
   html += "</main>\n<script>";
   sink_(html);
   sink_(WithoutSourceMap(DygraphsScript(), "//# sourceMappingURL="));
-  // JsonForScript of {"charts": [...], "distributions": [...], "overlays": [...]} (keys in
-  // nlohmann's order), one chart at a time.
+  // JsonForScript of {"charts": [...], "distributions": [...], "overlays": [...], "verdict_plots": [...]}
+  // (keys in nlohmann's order), one chart at a time.
   sink_("</script>\n<script type=\"application/json\" id=\"napkin-data\">{\"charts\":[");
   if (chart_data_ != nullptr) {
     if (std::fflush(chart_data_) != 0 || std::fseek(chart_data_, 0, SEEK_SET) != 0)
@@ -643,7 +650,7 @@ void HtmlReportWriter::Finish() {
     chart_data_ = nullptr;
   }
   sink_("],\"distributions\":" + distributions_json_ + ",\"overlays\":" + overlays_json_ +
-        "}</script>\n<script>\n");
+        ",\"verdict_plots\":" + verdict_plots_json_ + "}</script>\n<script>\n");
   // Draws every chart of the embedded data with dygraphs. The axis labels,
   // tick labels and legend values dygraphs inserts as HTML are escaped
   // first; the series labels are handed over as text, since dygraphs escapes

@@ -155,12 +155,58 @@ ReportOverlay MakeReportOverlay(std::string key, std::string title, std::string 
                                 const Eigen::VectorXd& time_s, const Eigen::MatrixXd& values,
                                 Eigen::Index max_points = kReportMaxPoints);
 
+// The verdict as a picture (docs/formats.md "HTML report"), drawn above its
+// table: a forest plot of the changes against the baseline and, per limited
+// criterion, a strip of every test's value against the limit's lines.
+struct ReportForestRow {
+  std::string label;                      // "HIC15 · foam-a"
+  double ratio = 1.0;                     // to the baseline (geometric means)
+  std::optional<double> ci_low, ci_high;  // its 95 % interval, none without one
+  bool significant = false;               // p < 0.05
+  bool equivalent = false;                // two one-sided tests show it within the margin
+};
+struct ReportForest {
+  std::string baseline;
+  double equivalence_pct = 10.0;  // the margin, shaded from 1 - m to 1 + m
+  std::vector<ReportForestRow> rows;
+};
+// Every test's value of one criterion against one limit: its edges (a
+// maximum, a scale's higher and lower performance limits, the bands' upper
+// values, ascending) split the axis into classes, best first (`classes`
+// names them: one more than the edges); each point is in the class of its
+// outcome (for a scale's lower limit itself: no points).
+struct ReportStrip {
+  std::string title;                // "HIC15 against Euro NCAP v9.3 frontal head (HIII 50M)"
+  std::string y_label;              // "HIC15"
+  std::vector<std::string> groups;  // the variants, in the comparison's order
+  struct Edge {
+    std::string label;  // "higher performance limit 500"
+    double value = 0.0;
+  };
+  std::vector<Edge> edges;
+  std::vector<std::string>
+      classes;  // "4 points", "0 to 4 points", "0 points"; "Good", ...; "meets", "exceeds"
+  struct Point {
+    std::size_t group = 0;
+    std::string test_id;
+    double value = 0.0;
+    std::size_t category = 0;  // index into classes
+  };
+  std::vector<Point> points;
+};
+struct ReportVerdictPlots {
+  std::optional<ReportForest> forest;  // none without a change to draw
+  std::vector<ReportStrip> strips;
+};
+
 // The comparison of a series' variants (`napkin compare`): the verdict, the
 // overlaid curves, its table, already formatted as text, footnotes, and the
 // distribution plots.
 struct ReportComparison {
   std::string series;
   ReportVerdict verdict;
+  ReportVerdictPlots verdict_plots;
+  std::vector<ReportTable> limit_tables;  // every test against each limit set, under the verdict
   std::vector<ReportOverlay> overlays;
   std::vector<std::string> overlay_notes;
   std::vector<std::string> columns;
@@ -212,6 +258,7 @@ class HtmlReportWriter {
   std::size_t charts_spooled_ = 0;
   std::string distributions_json_;
   std::string overlays_json_;
+  std::string verdict_plots_json_;
   std::FILE* chart_data_ = nullptr;  // the spooled plot data, once there are any
   bool finished_ = false;
 };

@@ -23,6 +23,7 @@ namespace py = pybind11;
 void RegisterTransform(py::module_& module);
 void RegisterCriteria(py::module_& module);
 void RegisterCatalogue(py::module_& module);
+void RegisterLimits(py::module_& module);
 
 // A numpy array that owns `values` (moved, not copied).
 py::array_t<double> ToNumpy(Eigen::VectorXd values);

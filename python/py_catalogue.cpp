@@ -93,8 +93,11 @@ class ReadOnlyCatalogue {
     const app::PreparedQuery prepared = app::PrepareQuery(query);
     const db::Table table = app::RunQuery(catalogue, prepared);
     std::set<std::string> numeric;
-    for (const db::QueryField& field : db::QueryFields(prepared.kind))
-      if (field.numeric) numeric.insert(field.name);
+    if (prepared.limits)  // `query limits`' number columns (app/limits.h LimitsTable)
+      numeric = {"value", "limit", "margin_pct", "higher_limit", "points", "max_points"};
+    else
+      for (const db::QueryField& field : db::QueryFields(prepared.kind))
+        if (field.numeric) numeric.insert(field.name);
     py::list columns, values;
     for (std::size_t c = 0; c < table.columns.size(); ++c) {
       columns.append(table.columns[c]);
@@ -212,7 +215,8 @@ void RegisterCatalogue(py::module_& module) {
              const std::optional<std::vector<std::string>>& where,
              const std::optional<std::vector<std::string>>& sort, const std::optional<std::string>& limit,
              const std::optional<std::string>& config, const std::optional<std::vector<std::string>>& series,
-             const std::optional<std::vector<std::string>>& variant) {
+             const std::optional<std::vector<std::string>>& variant,
+             const std::optional<std::string>& limits) {
             return Translated(self.path(), [&] {
               app::Query query;
               query.kind = kind;
@@ -222,17 +226,19 @@ void RegisterCatalogue(py::module_& module) {
               query.filters.config = config.value_or("");
               query.filters.series = AsList(series);
               query.filters.variants = AsList(variant);
+              query.limits = limits;
               return self.Query(query);
             });
           },
           py::arg("kind"), py::arg("where"), py::arg("sort"), py::arg("limit"), py::arg("config"),
-          py::arg("series"), py::arg("variant"))
+          py::arg("series"), py::arg("variant"), py::arg("limits") = py::none())
       .def(
           "compare_json",
           [](ReadOnlyCatalogue& self, const std::string& series, const std::string& by,
              const std::optional<std::string>& baseline,
              const std::optional<std::vector<std::string>>& metrics,
-             const std::optional<std::vector<std::string>>& configs) {
+             const std::optional<std::vector<std::string>>& configs,
+             const std::optional<std::vector<std::string>>& limits) {
             return Translated(self.path(), [&] {
               app::ComparisonRequest request;
               request.series = series;
@@ -240,10 +246,13 @@ void RegisterCatalogue(py::module_& module) {
               request.baseline = baseline;
               request.metrics = AsList(metrics);
               request.configs = AsList(configs);
+              request.limits = AsList(limits);
+              app::CheckOneLimitPerMetric(request.limits);  // a row holds one limit, as `napkin compare`
               return self.Compare(request);
             });
           },
-          py::arg("series"), py::arg("by"), py::arg("baseline"), py::arg("metrics"), py::arg("config"))
+          py::arg("series"), py::arg("by"), py::arg("baseline"), py::arg("metrics"), py::arg("config"),
+          py::arg("limits") = py::none())
       .def(
           "channels",
           [](ReadOnlyCatalogue& self, const std::string& test_id, bool derived,

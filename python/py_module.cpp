@@ -171,6 +171,7 @@ PYBIND11_MODULE(_napkin, module) {
   napkin::python::RegisterTransform(module);
   napkin::python::RegisterCriteria(module);
   napkin::python::RegisterCatalogue(module);
+  napkin::python::RegisterLimits(module);
   module.def(
       "tune_memory", [] { return napkin::util::KeepFreedMemoryForReuse(); },
       "Raises glibc's malloc thresholds for the whole process, as `napkin run` does (docs/python.md "

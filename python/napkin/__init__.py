@@ -22,8 +22,12 @@ libraries as the ``napkin`` command, so a result here is the command's result
   a model's (or another test's) curve against a test's, an ``ISO18571Rating``;
 - ``Catalogue(path)`` -- a catalogue read-only, a context manager
   (``with napkin.Catalogue(path) as c:``): ``tests()``, ``query()``,
-  ``query_frame()``, ``channels()``, ``test_inputs()``, ``compare()``,
-  ``close()``;
+  ``query_frame()``, ``limits_frame()``, ``channels()``, ``test_inputs()``,
+  ``compare()``, ``close()``;
+- ``LIMITS`` -- the limit presets (config/limits: regulations, Euro NCAP's
+  sliding scales, IIHS's bands), a dict preset -> ``LimitPreset`` with its
+  source; ``exceed_probability(values, limit)`` -- the chance a further test
+  exceeds a limit, as ``compare --limits`` gives it;
 - ``tune_memory()`` -- raises glibc malloc's thresholds for the process, as
   ``napkin run`` does (never called implicitly).
 
@@ -121,8 +125,26 @@ RISK_CURVES = tuple(name for name, field in SUMMARY_FIELDS.items() if field.crit
 for _name in RISK_CURVES:
     globals()[_name] = getattr(_napkin, _name)
 
+LimitPreset = _collections.namedtuple(
+    "LimitPreset", ["preset", "name", "title", "applies_to", "source", "url", "version", "note", "path"])
+LimitPreset.__doc__ = """A limit set of config/limits (docs/formats.md "Limits"), as ``--limits PRESET`` reads it.
+
+preset     -- what ``--limits`` and ``limits=`` take, e.g. "euro-ncap-aop-v9.3-frontal-head-hiii50m"
+name       -- short, as the verdict names it, e.g. "FMVSS 208"
+title, applies_to -- what the limits are and the test and dummy they are for
+source, url -- the public document each number is cited from
+version    -- the protocol's version and date ("" where the file gives none)
+note       -- what the file leaves out and why ("" where it says nothing)
+path       -- the file"""
+
+# The limit presets by name, read with the same function as `--limits` (app/limits.h).
+LIMITS = {row[0]: LimitPreset(*row) for row in _napkin._limit_presets()}
+
+exceed_probability = _napkin.exceed_probability
+
 __all__ = ["transform", "transform_file", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "tune_memory", "Error", "InputError",
+           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "exceed_probability",
+           "tune_memory", "Error", "InputError",
            "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
 
 
@@ -405,7 +427,7 @@ class Catalogue:
         """The test ids, in order."""
         return [row["test_id"] for row in self.query("tests")]
 
-    def _query(self, kind, where, sort, limit, config, series, variant):
+    def _query(self, kind, where, sort, limit, config, series, variant, limits=None):
         """(column names, one value per column: a float64 array for a numeric
         column, NaN for NULL; else a list, None for NULL)."""
         what = "napkin.Catalogue.query: "
@@ -416,27 +438,33 @@ class Catalogue:
         if config is not None and not isinstance(config, str):
             raise TypeError("{}config is {}, not a stored config's name or hash prefix (a str).".format(
                 what, _described(config)))
+        if limits is not None and not isinstance(limits, str) and not hasattr(limits, "__fspath__"):
+            raise TypeError("{}limits is {}, not a limits preset or file (a str or a pathlib.Path).".format(
+                what, _described(limits)))
         return self._catalogue.query(
             kind, _names(where, what + "where", "a filter expression"),
             _names(sort, what + "sort", "a sort key"), None if limit is None else str(limit), config,
-            _names(series, what + "series", "a series name"), _names(variant, what + "variant", "a variant name"))
+            _names(series, what + "series", "a series name"), _names(variant, what + "variant", "a variant name"),
+            None if limits is None else _path(limits, what + "limits"))
 
-    def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
+    def query(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None, limits=None):
         """``napkin query KIND`` as a list of dicts, the rows of ``--format json``
         (None where the JSON has null).
 
-        kind    -- tests, hic, rotation, criteria, risk, quality, conditioning or correlation
+        kind    -- tests, hic, rotation, criteria, risk, quality, conditioning, correlation or limits
         where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
         sort    -- "FIELD[:desc]" (or a list)
         limit   -- at most this many rows
         config  -- results of this stored config (name or hash prefix; default: each test's latest)
         series, variant -- only tests of this series / variant (or any of a list)
+        limits  -- kind limits: the limit set, a preset of ``LIMITS`` or a JSON file
         """
-        columns, values = self._query(kind, where, sort, limit, config, series, variant)
+        columns, values = self._query(kind, where, sort, limit, config, series, variant, limits)
         cells = [_json_cells(column) for column in values]
         return [dict(zip(columns, row)) for row in zip(*cells)] if cells else []
 
-    def query_frame(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None):
+    def query_frame(self, kind, where=None, sort=None, limit=None, config=None, series=None, variant=None,
+                    limits=None):
         """``query`` as a pandas DataFrame, columns in the query's order: each
         numeric column float64 (also when every cell is missing), the others
         of dtype object; a missing value is NaN in either."""
@@ -446,13 +474,25 @@ class Catalogue:
             raise ImportError("napkin.Catalogue.query_frame needs pandas: install it with "
                               "`sudo apt install python3-pandas` (or pip install pandas).") from error
         import numpy
-        columns, values = self._query(kind, where, sort, limit, config, series, variant)
+        columns, values = self._query(kind, where, sort, limit, config, series, variant, limits)
         data = {}
         for name, column in zip(columns, values):
             if not isinstance(column, numpy.ndarray):
                 column = numpy.array([_NAN if cell is None else cell for cell in column], dtype=object)
             data[name] = column
         return pandas.DataFrame(data, columns=columns)
+
+    def limits_frame(self, limits, where=None, sort=None, limit=None, config=None, series=None, variant=None):
+        """``napkin query limits --limits LIMITS`` as a pandas DataFrame (``query_frame``):
+        per test and criterion its value, the limit (and a scale's higher_limit),
+        margin_pct, and ``meets`` (a maximum), ``points`` and ``max_points`` (a
+        sliding scale) or ``band`` (bands); a set that combines its criteria
+        (Euro NCAP's head) adds a row per test, metric ``head``, kind
+        ``combined``, with the hard-contact rule's finding.
+
+        limits -- a preset of ``LIMITS`` or a limits JSON file
+        """
+        return self.query_frame("limits", where, sort, limit, config, series, variant, limits)
 
     def channels(self, test_id, derived=True, config=None):
         """One test's channels as a dict name -> numpy array.
@@ -474,16 +514,27 @@ class Catalogue:
         computes what ``napkin run --config c`` stores for it, bit for bit."""
         return self._catalogue.test_inputs(str(test_id))
 
-    def compare(self, series, by="variant", baseline=None, metrics=None, config=None):
+    def compare(self, series, by="variant", baseline=None, metrics=None, config=None, limits=None):
         """``napkin compare --series S --format json`` as a list of dicts.
 
         metrics -- summary fields, as a list or as ``--metrics`` spells them
                    ("hic15,bric"); default: the command's
         config  -- a stored config's name or hash prefix, or a list of them
+        limits  -- limit sets (presets of ``LIMITS`` or files), one or a list:
+                   each row of a limited metric gains limit, tests_within_limit,
+                   worst_test, limit_margin_pct, limits, and for a further test
+                   exceed_probability, expected_points, points_low, points_high
+                   (None where not estimated: fewer than 3 tests, no spread)
         """
         if baseline is not None and not isinstance(baseline, str):
             raise TypeError("napkin.Catalogue.compare: baseline is {}, not a group name (a str).".format(
                 _described(baseline)))
+        if limits is not None and hasattr(limits, "__fspath__"):
+            limits = _path(limits, "napkin.Catalogue.compare: limits")
+        if isinstance(limits, (list, tuple)):
+            limits = [_path(item, "napkin.Catalogue.compare: limits") if hasattr(item, "__fspath__") else item
+                      for item in limits]
         return _json.loads(self._catalogue.compare_json(
             str(series), str(by), baseline, _metric_names(metrics),
-            _names(config, "napkin.Catalogue.compare: config", "a stored config's name or hash prefix")))
+            _names(config, "napkin.Catalogue.compare: config", "a stored config's name or hash prefix"),
+            _names(limits, "napkin.Catalogue.compare: limits", "a limits preset or file")))

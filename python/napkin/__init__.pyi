@@ -36,6 +36,9 @@ __all__ = [
     "SummaryField",
     "SUMMARY_FIELDS",
     "RISK_CURVES",
+    "LimitPreset",
+    "LIMITS",
+    "exceed_probability",
     "tune_memory",
     "Error",
     "InputError",
@@ -69,6 +72,21 @@ class SummaryField(NamedTuple):
 
 SUMMARY_FIELDS: dict[str, SummaryField]
 RISK_CURVES: tuple[str, ...]
+
+class LimitPreset(NamedTuple):
+    preset: str
+    name: str
+    title: str
+    applies_to: str
+    source: str
+    url: str
+    version: str
+    note: str
+    path: str
+
+LIMITS: dict[str, LimitPreset]
+
+def exceed_probability(values: ArrayLike, limit: float) -> float: ...
 
 class HIC(NamedTuple):
     hic: float
@@ -153,11 +171,23 @@ class Catalogue:
         config: str | None = ...,
         series: _Names | None = ...,
         variant: _Names | None = ...,
+        limits: _Path | None = ...,
     ) -> list[dict[str, Any]]: ...
     # A pandas.DataFrame (Any: Debian's pandas carries no type information).
     def query_frame(
         self,
         kind: str,
+        where: _Names | None = ...,
+        sort: _Names | None = ...,
+        limit: int | None = ...,
+        config: str | None = ...,
+        series: _Names | None = ...,
+        variant: _Names | None = ...,
+        limits: _Path | None = ...,
+    ) -> Any: ...
+    def limits_frame(
+        self,
+        limits: _Path,
         where: _Names | None = ...,
         sort: _Names | None = ...,
         limit: int | None = ...,
@@ -176,4 +206,5 @@ class Catalogue:
         baseline: str | None = ...,
         metrics: _Names | None = ...,
         config: _Names | None = ...,
+        limits: _Path | Sequence[_Path] | None = ...,
     ) -> list[dict[str, Any]]: ...

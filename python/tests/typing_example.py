@@ -39,6 +39,9 @@ def main(catalogue_path: str) -> None:
     curves: tuple[str, ...] = napkin.RISK_CURVES
     tune: Callable[[], bool] = napkin.tune_memory  # not called: it changes this process's malloc
     version: str = napkin.__version__
+    preset: napkin.LimitPreset = napkin.LIMITS["fmvss208"]
+    source: str = preset.source
+    chance: float = napkin.exceed_probability([600.0, 650.0, 700.0], 700.0)
 
     with napkin.Catalogue(catalogue_path) as catalogue:
         tests: list[str] = catalogue.tests()
@@ -47,7 +50,8 @@ def main(catalogue_path: str) -> None:
         inputs = catalogue.test_inputs(tests[0])
         again = napkin.transform(**inputs)
         derived: dict[str, NDArray[np.float64]] = catalogue.channels(tests[0], derived=True)
-        comparison = catalogue.compare("padding-series", metrics=["hic15", "bric"])
+        comparison = catalogue.compare("padding-series", metrics=["hic15", "bric"], limits=["fmvss208"])
+        limited = catalogue.limits_frame("euro-ncap-aop-v9.3-frontal-head-hiii50m", series="padding-series")
     closed: bool = catalogue.closed
 
     failing = dict(channels)
@@ -68,7 +72,8 @@ def main(catalogue_path: str) -> None:
         raise
 
     print(hic15, start_s, value, t1_s, t2_s, bric, risk, risks.shape, grade, unit, curves, tune, version,
-          len(rows), len(frame), again.summary["test_id"], len(derived), len(comparison), closed, problem)
+          len(rows), len(frame), again.summary["test_id"], len(derived), len(comparison), closed, problem, source,
+          chance, len(limited))
 
 
 if __name__ == "__main__":

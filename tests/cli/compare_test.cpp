@@ -620,6 +620,66 @@ TEST_F(CliCompare, LimitsCountTheTestsWithinAndNameTheWorst) {
       << table.out;
 }
 
+// A further test (issue 44): compare's JSON gains the set's name and, per variant, the chance a
+// further test exceeds the limit (python/tests/test_further_test.py checks the numbers against
+// scipy), the expected points of a sliding scale, nulls for a maximum and for foam-b's one test;
+// two sets limiting one metric are refused.
+TEST_F(CliCompare, LimitsGiveAFurtherTestsChanceAndExpectedPoints) {
+  const nlohmann::json rows = CompareJson(
+      {"--series", "sled", "--metrics", "hic15", "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m"});
+  std::size_t scales = 0;
+  for (const auto& row : rows) {
+    if (row["metric"] != "hic15" && row["metric"] != "a3ms_g") {
+      EXPECT_TRUE(row["exceed_probability"].is_null()) << row;
+      continue;
+    }
+    EXPECT_EQ(row["limits"], "Euro NCAP v9.3 frontal head (HIII 50M)") << row;
+    EXPECT_EQ(row["limit"], row["metric"] == "hic15" ? 700.0 : 80.0) << row;
+    if (row["group"] == "foam-b") {  // one test: not estimated
+      for (const char* key : {"exceed_probability", "expected_points", "points_low", "points_high"})
+        EXPECT_TRUE(row[key].is_null()) << key << " " << row;
+      continue;
+    }
+    ++scales;
+    const double p = row["exceed_probability"].get<double>();
+    EXPECT_GE(p, 0.0) << row;
+    EXPECT_LE(p, 1.0) << row;
+    const double low = row["points_low"].get<double>(), high = row["points_high"].get<double>();
+    EXPECT_LE(0.0, low) << row;
+    EXPECT_LE(low, high) << row;
+    EXPECT_LE(high, 4.0) << row;
+    EXPECT_GE(row["expected_points"].get<double>(), 0.0) << row;
+  }
+  EXPECT_EQ(scales, 4u);  // hic15 and a3ms_g of production and foam-a
+  // production's HIC15 (871 to 1004): a further test beyond 700 is all but certain, and scores about nothing.
+  for (const auto& row : rows)
+    if (row["metric"] == "hic15" && row["group"] == "production") {
+      EXPECT_GT(row["exceed_probability"].get<double>(), 0.99) << row;
+      EXPECT_LT(row["expected_points"].get<double>(), 0.05) << row;
+    }
+  const nlohmann::json maximum =
+      CompareJson({"--series", "sled", "--metrics", "hic15", "--limits", "fmvss208"});
+  for (const auto& row : maximum) {
+    EXPECT_EQ(row["limits"], "FMVSS 208") << row;
+    EXPECT_EQ(row["exceed_probability"].is_number(), row["group"] != "foam-b") << row;
+    EXPECT_TRUE(row["expected_points"].is_null()) << row;
+    EXPECT_TRUE(row["points_low"].is_null()) << row;
+  }
+  const RunResult both = Compare(
+      {"--series", "sled", "--limits", "fmvss208", "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m"});
+  EXPECT_EQ(both.exit_code, 2);
+  ExpectOneSentenceError(both,
+                         {"--limits: FMVSS 208 and Euro NCAP v9.3 frontal head (HIII 50M) both limit hic15"});
+  const RunResult table =
+      Compare({"--series", "sled", "--metrics", "hic15", "--limits", "iihs-small-overlap-head"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find(
+                "  IIHS small overlap head bands Good ≤ 560, Acceptable ≤ 700, Marginal ≤ 840, Poor above: "),
+            std::string::npos)
+      << table.out;
+  EXPECT_NE(table.out.find("P(further > 560) "), std::string::npos) << table.out;
+}
+
 TEST_F(CliCompare, SeriesWithoutResultsSaysRunFirst) {
   const RunResult run = Compare({"--series", "drop"});
   EXPECT_EQ(run.exit_code, 1);

@@ -112,6 +112,20 @@ TEST(DemoCli, BuildsAndRunsItsCatalogueAndPrintsTheValidationTable) {
     if (sentences > 1) {
       EXPECT_NE(line.find("tests meet FMVSS 201U (highest HIC(d) "), std::string::npos) << line;
     }
+    // The demo's second set (issue 44): Euro NCAP's points for the head and a further test's chance,
+    // for every variant, the baseline too.
+    EXPECT_NE(line.find("; a further test exceeds HIC(d) 1000 with probability "), std::string::npos) << line;
+    EXPECT_TRUE(std::regex_search(
+        line,
+        std::regex(
+            "; Euro NCAP v9.3 frontal head \\(HIII 50M\\): head [0-9]\\.[0-9]{2} of 4 points on average")))
+        << line;
+    EXPECT_TRUE(
+        std::regex_search(line, std::regex("HIC15 [0-9]\\.[0-9]{2} points on average; a further test scores "
+                                           "[0-9]\\.[0-9]{2} points expected \\[[0-9]\\.[0-9]{2}, "
+                                           "[0-9]\\.[0-9]{2}\\] \\(80 % prediction interval\\) and exceeds "
+                                           "HIC15 700 with probability [0-9.]+ %")))
+        << line;
     EXPECT_EQ(line.find("unchanged"), std::string::npos) << line;
     EXPECT_NE(report_html.find("<li>" + formats::EscapeHtml(line.substr(2)) + "</li>"), std::string::npos)
         << line;

@@ -280,6 +280,12 @@ TEST_F(CliQueryGolden, LimitsListEachTestAgainstEachLimit) {
                {"limits", "--limits", "euro-ncap-frontal-head", "--where", "series = sled", "--sort",
                 "hic15:desc", "--format", "json"});
   ExpectGolden("limits_fmvss208_csv", {"limits", "--limits", "fmvss208", "--format", "csv"});
+  // Issue 44: Euro NCAP's sliding scales with the head's combined row and the hard-contact rule,
+  // and IIHS's bands.
+  ExpectGolden("limits_euro_ncap_v9_3_json", {"limits", "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m",
+                                              "--where", "series = sled", "--format", "json"});
+  ExpectGolden("limits_iihs_small_overlap_csv",
+               {"limits", "--limits", "iihs-small-overlap-head", "--format", "csv"});
   ExpectUsageError({"limits"}, {"`napkin query limits` needs --limits NAME", "fmvss201u"});
   ExpectUsageError({"hic", "--limits", "fmvss208"}, {"--limits applies to `napkin query limits` only"});
   ExpectUsageError({"limits", "--limits", "fmvss999"}, {"--limits 'fmvss999' is neither a file nor a preset",

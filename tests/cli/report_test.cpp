@@ -360,8 +360,9 @@ TEST_F(ReportInChromium, DrawsEveryChartWithoutScriptErrors) {
   const RunResult dump = RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + page.string());
   ASSERT_EQ(dump.exit_code, 0) << dump.err;
   const std::vector<bool> drawn = ChartsWithCanvas(dump.out);
-  // 4 per test, a distribution per metric, and the acceleration and angular velocity overlays.
-  ASSERT_EQ(drawn.size(), 24u + app::DefaultComparisonMetrics().size() + 2u) << dump.out.substr(0, 2000);
+  // 4 per test, a distribution per metric, the acceleration and angular velocity overlays, and the
+  // verdict's forest plot.
+  ASSERT_EQ(drawn.size(), 24u + app::DefaultComparisonMetrics().size() + 2u + 1u) << dump.out.substr(0, 2000);
   for (std::size_t i = 0; i < drawn.size(); ++i) EXPECT_TRUE(drawn[i]) << "chart " << i << " not drawn";
   EXPECT_THAT(dump.out, HasSubstr("dygraph-legend"));  // dygraphs wrote its legends
   EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)
@@ -465,6 +466,22 @@ window.addEventListener('load', function () {
 </script></body></html>
 )html";
 
+// The screenshot of `page` in `dir` at `window` ("W,H"; kept at $NAPKIN_KEEP_SCREENSHOT when set),
+// its pixels counted by kPixelCountPage: the dumped page, "size WxH ink I colour C" in it.
+std::string ScreenshotPixels(const fs::path& dir, const fs::path& page, const std::string& window) {
+  const fs::path shot = dir / "shot.png";
+  const RunResult screenshot =
+      RunChromium(dir, {"--screenshot=" + shot.string(), "--window-size=" + window, "--hide-scrollbars"},
+                  "file://" + page.string());
+  if (screenshot.exit_code != 0 || !fs::exists(shot)) return "no screenshot: " + screenshot.err;
+  if (const char* keep = std::getenv("NAPKIN_KEEP_SCREENSHOT"))
+    fs::copy_file(shot, keep, fs::copy_options::overwrite_existing);
+  test_support::WriteText(dir / "pixels.html", kPixelCountPage);
+  return RunChromium(dir, {"--allow-file-access-from-files", "--dump-dom"},
+                     "file://" + (dir / "pixels.html").string())
+      .out;
+}
+
 TEST_F(ReportInChromium, ScreenshotIsNotBlank) {
   const fs::path page = browser_dir_ / "report.html";
   test_support::WriteText(page, html_);
@@ -523,6 +540,72 @@ std::string VisibleText(const std::string& fragment) {
     if (!replaced) decoded += text[at++];
   }
   return decoded;
+}
+
+// The verdict as a picture (issue 44): with limit sets, the forest plot and a
+// strip per limited criterion are drawn without script errors, their legends
+// name the outcomes, the screenshot of the pictures is coloured, and the page
+// prints to a PDF of several pages.
+TEST_F(ReportInChromium, TheVerdictsPicturesAreDrawnAndThePagePrints) {
+  const RunResult report = Napkin({"report", "--series", "padding-series", "--limits", "fmvss201u",
+                                   "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m", "--limits",
+                                   "iihs-small-overlap-head", "--out", "limits.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = test_support::ReadText(dir_->path() / "limits.html");
+  const fs::path page = browser_dir_ / "limits.html";
+  test_support::WriteText(page, html);
+  const RunResult dump = RunChromium(browser_dir_.path(), {"--dump-dom"}, "file://" + page.string());
+  ASSERT_EQ(dump.exit_code, 0) << dump.err;
+  EXPECT_EQ(dump.out.find("class=\"napkin-script-error\""), std::string::npos)
+      << dump.out.substr(dump.out.find("napkin-script-error"), 400);
+  // The forest, then HIC(d) against FMVSS 201U, HIC15 and a3ms against Euro NCAP, HIC15 against IIHS.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> plots = {
+      {"forest-1", {"significant change (p < 0.05)", "equivalent within the margin", "neither shown"}},
+      {"strip-1-1", {"within the limit", "over the limit"}},
+      {"strip-1-2", {"4 points", "between 0 and 4 points", "0 points"}},
+      {"strip-1-3", {"4 points", "0 points"}},
+      {"strip-1-4", {"Good", "Acceptable", "Marginal", "Poor"}}};
+  for (const auto& [id, legend_labels] : plots) {
+    const std::size_t at = dump.out.find("id=\"" + id + "\"");
+    ASSERT_NE(at, std::string::npos) << id;
+    const std::size_t open = dump.out.rfind("<div class=\"chart\"", at);
+    const std::string element = dump.out.substr(open, dump.out.find("</figure>", at) - open);
+    EXPECT_NE(element.find("data-drawn=\"true\""), std::string::npos) << id;
+    EXPECT_NE(element.find("<canvas"), std::string::npos) << id;
+    const std::string legend = VisibleText(element.substr(element.find("<div class=\"legend\"")));
+    for (const std::string& label : legend_labels)
+      EXPECT_NE(legend.find(label), std::string::npos) << id << ": " << legend;
+  }
+  EXPECT_EQ(dump.out.find("id=\"strip-1-5\""), std::string::npos);
+  const std::vector<bool> drawn = ChartsWithCanvas(dump.out);
+  for (std::size_t i = 0; i < drawn.size(); ++i) EXPECT_TRUE(drawn[i]) << "chart " << i << " not drawn";
+
+  // The screenshot of the pictures alone: the shaded zones and coloured points are there.
+  std::string pictures = html;
+  pictures.insert(pictures.find("</style>"),
+                  "header.report, section.test, section.comparison > *:not(.verdict-plots) {display: none}");
+  test_support::WriteText(browser_dir_ / "pictures.html", pictures);
+  const std::string pixels =
+      ScreenshotPixels(browser_dir_.path(), browser_dir_ / "pictures.html", "1280,1400");
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(pixels, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
+      << pixels;
+  EXPECT_GT(std::stod(match[4]), 5000.0) << match[0];
+
+  // The browser's print to PDF (the print style sheet): a PDF of a page per section at least.
+  const fs::path pdf = browser_dir_ / "limits.pdf";
+  const RunResult print =
+      RunChromium(browser_dir_.path(),
+                  {"--print-to-pdf=" + pdf.string(), "--no-pdf-header-footer", "--window-size=1280,1000"},
+                  "file://" + page.string());
+  ASSERT_EQ(print.exit_code, 0) << print.err;
+  const std::string bytes = test_support::ReadText(pdf);
+  EXPECT_EQ(bytes.rfind("%PDF-", 0), 0u);
+  std::size_t pages = 0;
+  for (std::size_t at = bytes.find("/Type /Page"); at != std::string::npos;
+       at = bytes.find("/Type /Page", at + 1))
+    if (bytes.compare(at, 12, "/Type /Pages") != 0) ++pages;
+  EXPECT_GE(pages, 7u);  // the comparison, and each of the 6 tests on its own page
 }
 
 // A series whose variants' names hold HTML's special characters, compared
@@ -634,21 +717,10 @@ TEST(ReportCorrelationInChromium, RatingChartDrawsItsCorridorsWithoutScriptError
               "header.report, section.test > *:not(.charts), "
               "section.test figure:not(:has(#chart-1-rating-1)) {display: none}");
   test_support::WriteText(browser / "rating.html", page);
-  const fs::path shot = browser / "shot.png";
-  const RunResult screenshot = RunChromium(
-      browser.path(), {"--screenshot=" + shot.string(), "--window-size=1000,700", "--hide-scrollbars"},
-      "file://" + (browser / "rating.html").string());
-  ASSERT_EQ(screenshot.exit_code, 0) << screenshot.err;
-  ASSERT_TRUE(fs::exists(shot));
-  if (const char* keep = std::getenv("NAPKIN_KEEP_SCREENSHOT"))
-    fs::copy_file(shot, keep, fs::copy_options::overwrite_existing);
-  test_support::WriteText(browser / "pixels.html", kPixelCountPage);
-  const RunResult count = RunChromium(browser.path(), {"--allow-file-access-from-files", "--dump-dom"},
-                                      "file://" + (browser / "pixels.html").string());
-  ASSERT_EQ(count.exit_code, 0) << count.err;
+  const std::string pixels = ScreenshotPixels(browser.path(), browser / "rating.html", "1000,700");
   std::smatch match;
-  ASSERT_TRUE(std::regex_search(count.out, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
-      << count.out;
+  ASSERT_TRUE(std::regex_search(pixels, match, std::regex(R"(size (\d+)x(\d+) ink (\d+) colour (\d+))")))
+      << pixels;
   EXPECT_GT(std::stod(match[4]), 2000.0) << match[0];
 }
 

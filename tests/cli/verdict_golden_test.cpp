@@ -35,13 +35,19 @@ void ExpectGolden(const std::string& name, const std::string& text) {
   EXPECT_EQ(text, ReadText(golden)) << "golden file " << golden;
 }
 
-TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
-  TempDir dir;
+// The padding series in `dir`'s catalogue, run.
+void PaddingSeries(const TempDir& dir) {
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
            {"synth", "--scenario", "padding-series"}, {"run", "--threads", "2"}}) {
     const RunResult result = RunNapkin(dir.path(), args);
     ASSERT_EQ(result.exit_code, 0) << result.err;
   }
+}
+
+TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
+  TempDir dir;
+  PaddingSeries(dir);
+  if (HasFatalFailure()) return;
   const RunResult report = RunNapkin(
       dir.path(), {"report", "--series", "padding-series", "--baseline", "production", "--out", "v.html"});
   ASSERT_EQ(report.exit_code, 0) << report.err;
@@ -82,6 +88,43 @@ TEST(VerdictGolden, PaddingSeriesAgainstProduction) {
     ASSERT_NE(sentence, std::string::npos);
     EXPECT_LT(block.find(clause, sentence), block.find("</li>", sentence)) << row.dump() << "\n" << block;
   }
+}
+
+// With the demo's limit sets (docs/formats.md "Limits"): FMVSS 201U's maximum and Euro NCAP's
+// sliding scales, each variant's points and a further test's chance, and the pictures' markup.
+TEST(VerdictGolden, PaddingSeriesAgainstProductionWithLimits) {
+  TempDir dir;
+  PaddingSeries(dir);
+  if (HasFatalFailure()) return;
+  const RunResult report = RunNapkin(
+      dir.path(), {"report", "--series", "padding-series", "--baseline", "production", "--limits",
+                   "fmvss201u", "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m", "--out", "v.html"});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = ReadText(dir / "v.html");
+  const std::size_t begin = html.find("<div class=\"verdict\">");
+  ASSERT_NE(begin, std::string::npos);
+  // The verdict, then its pictures (up to the first table under them).
+  const std::size_t end = html.find("<h3>Every test against", begin);
+  ASSERT_NE(end, std::string::npos);
+  const std::string block = html.substr(begin, end - begin);
+  ExpectGolden("padding_series_production_limits.html", block);
+  // A strip per limited criterion (HIC(d); HIC15 and a3ms) and the forest.
+  EXPECT_NE(block.find("id=\"forest-1\""), std::string::npos);
+  for (const char* strip : {"strip-1-1", "strip-1-2", "strip-1-3"})
+    EXPECT_NE(block.find(std::string("id=\"") + strip + "\""), std::string::npos) << strip;
+  EXPECT_EQ(block.find("strip-1-4"), std::string::npos);
+  for (const char* variant : {"production (baseline): ", "foam-a: ", "foam-b: "}) {
+    const std::size_t sentence = block.find(std::string("<li>") + variant);
+    ASSERT_NE(sentence, std::string::npos) << variant;
+    const std::string text = block.substr(sentence, block.find("</li>", sentence) - sentence);
+    EXPECT_NE(text.find("a further test exceeds HIC(d) 1000 with probability "), std::string::npos) << text;
+    EXPECT_NE(text.find("Euro NCAP v9.3 frontal head (HIII 50M): head "), std::string::npos) << text;
+    EXPECT_NE(text.find(" and exceeds HIC15 700 with probability "), std::string::npos) << text;
+  }
+  // Every test against each set, under the verdict.
+  EXPECT_NE(html.find("<h3>Every test against FMVSS 201U</h3>"), std::string::npos);
+  EXPECT_NE(html.find("<h3>Every test against Euro NCAP v9.3 frontal head (HIII 50M)</h3>"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <regex>
 #include <string>
 #include <vector>
@@ -261,32 +262,122 @@ TEST(Verdict, AccelerationOnlyVariantsBesideFullOnesAreNotMeasured) {
             std::string::npos);
 }
 
-TEST(Verdict, LimitsClauseCountsTheTestsWithinAndTheWorstMargin) {
-  Comparison comparison = Series({"production", "foam-b"}, {{"hic_d", {{820, 1040, 990}, {515, 563, 540}}}});
-  comparison.limits_name = "FMVSS 201U";
-  for (MetricComparison& metric : comparison.metrics) {
-    metric.limit = 1000.0;
-    for (const GroupValues& group : metric.groups) {
-      GroupLimitCheck& check = metric.limit_checks.emplace_back();
-      check.tests = group.values.size();
-      for (std::size_t i = 0; i < group.values.size(); ++i) {
-        check.within += group.values[i] <= 1000.0;
-        if (!(group.values[i] <= check.worst_value)) {
-          check.worst_value = group.values[i];
-          check.worst_test = group.test_ids[i];
-        }
-      }
-      check.margin_pct = 100.0 * (1000.0 - check.worst_value) / 1000.0;
+// `set` checked on the comparison's metrics, as BuildComparison checks a --limits set.
+void CheckWith(Comparison& comparison, const LimitSet& set) {
+  const std::size_t index = comparison.limit_sets.size();
+  comparison.limit_sets.push_back({set, {}});
+  for (MetricComparison& metric : comparison.metrics)
+    for (const Limit& limit : set.limits) {
+      if (limit.metric != metric.metric) continue;
+      MetricLimit& checked = metric.limits.emplace_back();
+      checked.set = index;
+      checked.limit = limit;
+      for (const GroupValues& group : metric.groups) checked.checks.push_back(CheckGroupLimit(limit, group));
     }
-  }
+}
+
+LimitSet OneLimit(const std::string& name, Limit limit) {
+  LimitSet set;
+  set.name = name;
+  set.source = "s";
+  set.limits.push_back(std::move(limit));
+  return set;
+}
+
+Limit Maximum(const std::string& metric, double max) {
+  Limit limit;
+  limit.metric = metric;
+  limit.max = max;
+  return limit;
+}
+
+// The probabilities of a further test below are scipy's (stats.t.sf on the logs' t, as
+// python/tests/test_further_test.py computes them), printed as the verdict prints them.
+TEST(Verdict, LimitsClauseCountsTheTestsWithinTheWorstMarginAndAFurtherTest) {
+  Comparison comparison = Series({"production", "foam-b"}, {{"hic_d", {{820, 1040, 990}, {515, 563, 540}}}});
+  CheckWith(comparison, OneLimit("FMVSS 201U", Maximum("hic_d", 1000.0)));
   const SeriesVerdict verdict = BuildVerdict(comparison);
   ASSERT_EQ(verdict.sentences.size(), 2u);
-  EXPECT_EQ(verdict.sentences[0],
-            "production (baseline): 2 of 3 production tests meet FMVSS 201U (highest HIC(d) 1040, 4 % over)");
-  EXPECT_EQ(verdict.sentences[1],
-            "foam-b: all 3 foam-b tests meet FMVSS 201U (highest HIC(d) 563, margin 44 %)");
+  // scipy: 36.72 % and 0.3433 %.
+  EXPECT_EQ(
+      verdict.sentences[0],
+      "production (baseline): 2 of 3 production tests meet FMVSS 201U (highest HIC(d) 1040, 4 % over); a "
+      "further test exceeds HIC(d) 1000 with probability 36.7 %");
+  EXPECT_EQ(
+      verdict.sentences[1],
+      "foam-b: all 3 foam-b tests meet FMVSS 201U (highest HIC(d) 563, margin 44 %); a further test exceeds "
+      "HIC(d) 1000 with probability 0.34 %");
   EXPECT_EQ(verdict.columns.back(), "meet FMVSS 201U");
   EXPECT_EQ(verdict.rows[0].back(), "2 of 3");
+}
+
+TEST(Verdict, AFurtherTestIsNotEstimatedFromTwoTestsOrWithoutSpread) {
+  Comparison comparison =
+      Series({"a", "b", "c"}, {{"hic_d", {{820, 1040, 990}, {515, 563}, {600, 600, 600}}}});
+  CheckWith(comparison, OneLimit("FMVSS 201U", Maximum("hic_d", 1000.0)));
+  const SeriesVerdict verdict = BuildVerdict(comparison);
+  ASSERT_EQ(verdict.sentences.size(), 3u);
+  EXPECT_NE(verdict.sentences[1].find("; the chance that a further test exceeds HIC(d) 1000 is not estimated "
+                                      "(fewer than 3 tests)"),
+            std::string::npos)
+      << verdict.sentences[1];
+  EXPECT_NE(
+      verdict.sentences[2].find("the chance that a further test exceeds HIC(d) 1000 is not estimated (no "
+                                "spread)"),
+      std::string::npos)
+      << verdict.sentences[2];
+}
+
+// A sliding scale: the tests' mean points, and a further test's expected points with its 80 %
+// prediction interval (scipy: quad over the t density 1.2390; the points of the 90 % and 10 %
+// quantiles 0 and 3.0306) and its chance of exceeding the lower performance limit (24.14 %).
+TEST(Verdict, AScaleGivesPointsAndAFurtherTestsExpectedPoints) {
+  Comparison comparison =
+      Series({"production", "foam"}, {{"hic15", {{480, 520, 560, 610}, {600, 650, 700}}}});
+  Limit scale;
+  scale.metric = "hic15";
+  scale.kind = LimitKind::kScale;
+  scale.higher_limit = 500.0;
+  scale.max = 700.0;
+  scale.points = 4.0;
+  CheckWith(comparison, OneLimit("Scale", scale));
+  const SeriesVerdict verdict = BuildVerdict(comparison);
+  const std::string& s = verdict.sentences.at(1);
+  EXPECT_NE(s.find("; Scale: HIC15 1.00 points on average; a further test scores 1.24 points expected [0.00, "
+                   "3.03] (80 % prediction interval) and exceeds HIC15 700 with probability 24.1 %"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(verdict.columns.back(), "Scale HIC15 points");
+  EXPECT_EQ(verdict.rows[1].back(), "1.00 of 4");
+  // scipy: 2.8668 expected, [0.9631, 4], 5.4457 %.
+  EXPECT_NE(
+      verdict.sentences.at(0).find("HIC15 3.05 points on average; a further test scores 2.87 points "
+                                   "expected [0.96, 4.00] (80 % prediction interval) and exceeds HIC15 700 "
+                                   "with probability 5.4 %"),
+      std::string::npos)
+      << verdict.sentences.at(0);
+}
+
+// Bands: the tests per band, and a further test's chance of falling beyond the best (scipy: 90.74 %).
+TEST(Verdict, BandsGiveTheTestsPerBandAndAFurtherTestBeyondTheBest) {
+  Comparison comparison = Series({"production", "foam"}, {{"hic15", {{480, 520, 600}, {610, 640, 690}}}});
+  Limit bands;
+  bands.metric = "hic15";
+  bands.kind = LimitKind::kBands;
+  bands.bands = {{"Good", 560.0}, {"Acceptable", 700.0}, {"Marginal", 840.0}, {"Poor", std::nullopt}};
+  bands.max = 560.0;
+  CheckWith(comparison, OneLimit("IIHS small overlap head", bands));
+  const SeriesVerdict verdict = BuildVerdict(comparison);
+  EXPECT_NE(
+      verdict.sentences.at(1).find("; IIHS small overlap head: HIC15 Acceptable in 3 of 3 (highest 690); a "
+                                   "further test is beyond Good (HIC15 > 560) with probability 90.7 %"),
+      std::string::npos)
+      << verdict.sentences.at(1);
+  EXPECT_NE(verdict.sentences.at(0).find("IIHS small overlap head: HIC15 Good in 2, Acceptable in 1 of 3"),
+            std::string::npos)
+      << verdict.sentences.at(0);
+  EXPECT_EQ(verdict.columns.back(), "IIHS small overlap head HIC15");
+  EXPECT_EQ(verdict.rows[0].back(), "2 Good, 1 Acceptable");
 }
 
 TEST(Verdict, ANegativeValueFallsBackToTheDifferenceOfMeansAndSaysSo) {
