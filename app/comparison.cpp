@@ -241,7 +241,11 @@ std::string ScaleNote(const MetricComparison& metric) {
 std::string ProbabilityPercent(double p) {
   if (!std::isfinite(p)) return "-";
   if (p < 1e-6) return "<0.0001 %";
-  return util::FormatNumber(100.0 * p, 2) + " %";
+  if (p > 1.0 - 1e-6) return ">99.9999 %";
+  // Two significant digits of the smaller of p and 1 - p: 0.35 %, 14 %, 99.8 %.
+  const double percent = 100.0 * p;
+  const int digits = percent < 90.0 ? 2 : 3 + static_cast<int>(std::ceil(-std::log10(100.0 - percent)));
+  return util::FormatNumber(percent, digits) + " %";
 }
 
 // A further test's figures for the table: "P(> 700) 0.3 %" and on a scale

@@ -55,8 +55,8 @@ engine::Kinematics ReadResultKinematics(db::Catalogue& catalogue, db::TestId tes
   return records::RecomputeResult(catalogue, test, config).kinematics;
 }
 
-ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test, db::ConfigId config,
-                                  bool recorded) {
+ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test,
+                                  std::optional<db::ConfigId> config, bool recorded) {
   ResultChannels channels{catalogue.ReadTestSignals(test), {}, {}};
   engine::TestSignals& signals = channels.signals;
   for (Eigen::Index column = 0; column < signals.samples.cols(); ++column)
@@ -65,7 +65,8 @@ ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test, db:
                                ": recorded as already filtered" +
                                (*cfc > 0 ? " at CFC " + util::FormatNumber(*cfc) : std::string()) +
                                ", which this file cannot say.");
-  const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(test, config);
+  if (!config) return channels;
+  const std::optional<engine::TestSummary> summary = catalogue.ReadSummary(test, *config);
   if (!summary || !summary->salvage) return channels;
   const std::string test_id = catalogue.ReadTest(test).external_id;
   for (const engine::SalvagedChannel& channel : summary->salvage->channels) {

@@ -97,11 +97,11 @@ struct ResultChannels {
 // recorded channels with each channel salvage repaired in its place, as the
 // result's salvage record keeps it (docs/formats.md "Salvage record"), or
 // with `recorded` the channels as recorded (the catalogue never changes
-// them). Throws InputError naming the test and channel when a kept repaired
-// channel's length is not the recorded one's, or when the result's repair
-// was computed before repaired channels were kept (schema version 13).
-ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test, db::ConfigId config,
-                                  bool recorded = false);
+// them; `config` may then be none: the test has no result yet). Throws InputError naming the test and channel
+// when a kept repaired channel's length is not the recorded one's, or when the result's repair was computed
+// before repaired channels were kept (schema version 13).
+ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test,
+                                  std::optional<db::ConfigId> config, bool recorded = false);
 
 // `run`/`export --config` value (preset name or JSON path; empty: the default preset).
 using records::ResolveConfig;

@@ -134,10 +134,10 @@ std::string FormatTable(const db::Table& table, TableFormat format) {
     case TableFormat::kCsv: {
       std::string out;
       for (std::size_t c = 0; c < table.columns.size(); ++c)
-        out += (c > 0 ? "," : "") + CsvField(table.columns[c]);
+        out.append(c > 0 ? "," : "").append(CsvField(table.columns[c]));
       out += "\n";
       for (const auto& row : table.rows) {
-        for (std::size_t c = 0; c < row.size(); ++c) out += (c > 0 ? "," : "") + CsvText(row[c]);
+        for (std::size_t c = 0; c < row.size(); ++c) out.append(c > 0 ? "," : "").append(CsvText(row[c]));
         out += "\n";
       }
       return out;

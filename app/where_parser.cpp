@@ -59,7 +59,9 @@ class Parser {
   static std::string Found(const Token& token) {
     if (token.kind == Token::Kind::kEnd)
       return "at column " + std::to_string(token.column) + ", found the end";
-    const std::string shown = token.kind == Token::Kind::kString ? Shown(token) : "'" + Shown(token) + "'";
+    // Appended, not `"'" + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
+    const std::string shown =
+        token.kind == Token::Kind::kString ? Shown(token) : std::string("'").append(Shown(token)).append("'");
     return "at column " + std::to_string(token.column) + ", found " + shown;
   }
 
@@ -194,8 +196,9 @@ class Parser {
           value.kind == Token::Kind::kWord ? Number(value.value) : std::nullopt;
       if (!number)
         Fail("field '" + field->name + "' holds numbers, but " +
-             (value.kind == Token::Kind::kString ? Shown(value) : "'" + Shown(value) + "'") + " at column " +
-             std::to_string(value.column) + " is not a number");
+             (value.kind == Token::Kind::kString ? Shown(value)
+                                                 : std::string("'").append(Shown(value)).append("'")) +
+             " at column " + std::to_string(value.column) + " is not a number");
       comparison.value = *number;
     }
     return db::WhereExpression{std::move(comparison)};

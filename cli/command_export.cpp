@@ -93,13 +93,25 @@ class ExportCommand : public Command {
       }
     }
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
+    // The recorded channels need no result (its salvage record, when there is
+    // one, only adds notes).
+    if (format_ == "recorded") {
+      const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id_);
+      if (!test)
+        throw NotFoundError("test '" + test_id_ + "' is not in catalogue '" + global_->db_path + "'.");
+      const std::optional<db::ConfigId> config =
+          config_.empty() ? app::FindResult(catalogue, *test, app::Latest{})
+                          : app::FindResult(catalogue, *test, app::Preset{config_});
+      WriteChannels(catalogue, *test, config);
+      return kExitOk;
+    }
     // --config is a preset or file here, as for `napkin run` (app/result_selection.h "Preset").
     const app::TestResult result =
         config_.empty() ? app::ResultOf(catalogue, test_id_, app::Latest{}, global_->db_path)
                         : app::ResultOf(catalogue, test_id_, app::Preset{config_}, global_->db_path);
     const db::TestId test = result.test;
     const db::ConfigId config = result.config;
-    if (format_ == "channels" || format_ == "recorded") {
+    if (format_ == "channels") {
       WriteChannels(catalogue, test, config);
       return kExitOk;
     }
@@ -159,16 +171,18 @@ class ExportCommand : public Command {
   // docs/formats.md "Salvage record": the raw channels as napkin's CSV input,
   // '#' lines first naming the test, the result's config, the array to read
   // it with and what salvage did to each channel.
-  void WriteChannels(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {
+  void WriteChannels(db::Catalogue& catalogue, db::TestId test, std::optional<db::ConfigId> config) {
     const bool recorded = format_ == "recorded";
     const app::ResultChannels channels = app::ReadResultChannels(catalogue, test, config, recorded);
-    const db::ConfigRow config_row = catalogue.ReadConfig(config);
     const db::TestRow test_row = catalogue.ReadTest(test);
+    std::string what = "the channels as recorded";
+    if (!recorded) {
+      const db::ConfigRow config_row = catalogue.ReadConfig(*config);
+      what = "the channels of its result under config " + config_row.name + " (hash " +
+             config_row.config_hash.substr(0, 12) + ")";
+    }
     std::vector<std::string> comments = {
-        "napkin export --format " + format_ + ": test " + test_id_ + ", " +
-            (recorded ? std::string("the channels as recorded")
-                      : "the channels of its result under config " + config_row.name + " (hash " +
-                            config_row.config_hash.substr(0, 12) + ")"),
+        "napkin export --format " + format_ + ": test " + test_id_ + ", " + what,
         "array: " + catalogue.ReadArray(test_row.array_id).name + " (napkin transform --array ...)"};
     comments.insert(comments.end(), channels.notes.begin(), channels.notes.end());
     formats::WriteSignalsCsv(channels.signals, out_, comments);

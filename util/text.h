@@ -47,9 +47,17 @@ inline constexpr std::size_t kQuotedInputChars = 60;       // a cell, a value
 inline constexpr std::size_t kQuotedInputLongChars = 200;  // a header field, a path
 std::string Abbreviated(std::string_view text, std::size_t max_chars = kQuotedInputChars);
 // The same in double quotes: a cell or value (Quoted), a header field or path (QuotedLong).
-inline std::string Quoted(std::string_view text) { return "\"" + Abbreviated(text) + "\""; }
+// Appended, never `"\"" + temporary`: GCC 12 warns falsely (-Wrestrict, GCC
+// bug 105329) on a literal prepended to a temporary string once inlined.
+inline std::string InQuotes(std::string_view text) {
+  std::string quoted = "\"";
+  quoted.append(text);
+  quoted += '"';
+  return quoted;
+}
+inline std::string Quoted(std::string_view text) { return InQuotes(Abbreviated(text)); }
 inline std::string QuotedLong(std::string_view text) {
-  return "\"" + Abbreviated(text, kQuotedInputLongChars) + "\"";
+  return InQuotes(Abbreviated(text, kQuotedInputLongChars));
 }
 
 // Longest name napkin accepts for a test id, series, variant, array, slot,

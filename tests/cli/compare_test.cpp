@@ -665,6 +665,20 @@ TEST_F(CliCompare, LimitsGiveAFurtherTestsChanceAndExpectedPoints) {
     EXPECT_TRUE(row["expected_points"].is_null()) << row;
     EXPECT_TRUE(row["points_low"].is_null()) << row;
   }
+  // The table prints each chance as a percentage the JSON's probability rounds to,
+  // with the digits that tell 99.8 % from certainty (never "1e+02 %").
+  const RunResult maximum_table = Compare({"--series", "sled", "--metrics", "hic15", "--limits", "fmvss208"});
+  ASSERT_EQ(maximum_table.exit_code, 0) << maximum_table.err;
+  for (const auto& row : maximum) {
+    if (!row["exceed_probability"].is_number()) continue;
+    const std::string group = row["group"].get<std::string>() + " ";
+    const std::size_t at = maximum_table.out.find("P(further > 700) ", maximum_table.out.find("; " + group));
+    const std::size_t from = at == std::string::npos ? maximum_table.out.find("P(further > 700) ") : at;
+    ASSERT_NE(from, std::string::npos) << maximum_table.out;
+    const std::string shown =
+        maximum_table.out.substr(from + 17, maximum_table.out.find(' ', from + 17) - from - 17);
+    EXPECT_EQ(shown.find('e'), std::string::npos) << shown;
+  }
   const RunResult both = Compare(
       {"--series", "sled", "--limits", "fmvss208", "--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m"});
   EXPECT_EQ(both.exit_code, 2);

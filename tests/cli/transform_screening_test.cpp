@@ -305,6 +305,12 @@ TEST(TransformScreening, TheRepairedChannelIsKeptExportedAndOverlaid) {
     return test_support::RunProgram(NAPKIN_BINARY, args);
   };
   ASSERT_EQ(napkin({"import", "--array", "denton-3222", (dir / "in").string()}).exit_code, 0);
+  // The recorded channels need no result.
+  const std::string before_csv = (dir / "before.csv").string();
+  const test_support::CommandResult before =
+      napkin({"export", "--test", "spiked", "--format", "recorded", "--out", before_csv});
+  ASSERT_EQ(before.exit_code, 0) << before.err;
+  EXPECT_EQ(formats::ReadSignalsCsv(before_csv, &test.array).signals.samples, test.signals.samples);
   const test_support::CommandResult run = napkin({"run", "--config", "salvage"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
 
