@@ -243,7 +243,8 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
     throw InputError("catalogue '" + path + "' has schema version " + std::to_string(version) +
                      ", newer than this napkin knows (" + std::to_string(latest) + ").");
 
-  if (options.check_integrity) {
+  if (options.check_integrity &&
+      !(options.integrity_checked_file && connection.FileIdentityOf() == options.integrity_checked_file)) {
     if (!internal::PassesQuickCheck(connection))
       throw InputError("catalogue '" + path +
                        "' is damaged (SQLite's integrity check fails) and was left as it was; restore it "
