@@ -16,7 +16,8 @@
 #   - latency: status, query hic --where "hic15 > 0" --limit 10, compare of
 #     the 15-test padding series (--by variant), GET
 #     /api/v1/query/hic?limit=10 of `napkin serve` on a free loopback port
-#     (the median of 5 calls each; a command's includes starting napkin);
+#     (the median of 5 calls each, 31 requests; a command's includes
+#     starting napkin);
 #   - the time of SQLite's quick_check of the file (every writing command
 #     runs it first) and the catalogue's bytes per test by table (dbstat);
 # then the ratio of each per-test cost and latency to the smallest
@@ -132,7 +133,8 @@ for n in "${SIZES[@]}"; do
   fi
   url="http://127.0.0.1:$port/api/v1/query/hic?limit=10"
   curl -sf -o /dev/null "$url"  # the first request opens the catalogue
-  cost[api,$n]=$(for _ in 1 2 3 4 5; do curl -sf -o /dev/null -w '%{time_total}\n' "$url"; done | median)
+  # The median of 31 requests, so that a loaded machine's pauses fall outside it.
+  cost[api,$n]=$(for _ in $(seq 31); do curl -sf -o /dev/null -w '%{time_total}\n' "$url"; done | median)
   kill -TERM "$serve_pid"
   wait "$serve_pid" || true
 

@@ -274,13 +274,14 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
     // and job are one row each (UNIQUE (test_id, config_id)).
     const std::string counts_sql =
         IsWholeCatalogue(scope)
-            ? "WITH jobs_by_state AS (SELECT coalesce(sum(state = 'failed'), 0) AS failed, "
-              "coalesce(sum(state = 'running'), 0) AS running FROM jobs WHERE config_id = ?10), "
-              "done AS (SELECT (SELECT count(*) FROM results WHERE config_id = ?10) - (SELECT count(*) FROM "
-              "jobs AS j "
-              "WHERE j.config_id = ?10 AND j.state IN ('queued', 'running', 'failed') AND EXISTS (SELECT 1 "
-              "FROM "
-              "results AS r WHERE r.test_id = j.test_id AND r.config_id = ?10)) AS done), "
+            ? "WITH jobs_by_state AS (SELECT "
+              "(SELECT count(*) FROM jobs WHERE config_id = ?10 AND state = 'failed') AS failed, "
+              "(SELECT count(*) FROM jobs WHERE config_id = ?10 AND state = 'running') AS running), "
+              "done AS (SELECT (SELECT count(*) FROM results WHERE config_id = ?10) - "
+              "(SELECT count(*) FROM jobs AS j WHERE j.config_id = ?10 AND j.state IN ('queued', 'running', "
+              "'failed') "
+              "AND EXISTS (SELECT 1 FROM results AS r WHERE r.test_id = j.test_id AND r.config_id = ?10)) AS "
+              "done), "
               "all_tests AS (SELECT count(*) AS tests FROM tests) "
               "SELECT tests, done, failed, tests - done - failed - running, running "
               "FROM all_tests, done, jobs_by_state"
