@@ -315,9 +315,15 @@ std::vector<db::TestRow> SelectedTests(db::Catalogue& catalogue, const ReportSel
                                        const std::vector<db::WhereExpression>& where) {
   db::TestFilter filter;
   filter.external_ids = selection.test_ids;
+  // One series or variant is selected in the catalogue, through its index, not among all its tests
+  // (docs/architecture.md "Catalogues of a million tests"); several are kept below.
+  if (selection.series.size() == 1) filter.series = selection.series.front();
+  if (selection.variants.size() == 1) filter.variant = selection.variants.front();
   std::vector<db::TestRow> tests = catalogue.ReadAllTests(filter);
   if (!where.empty()) {  // the tests whose latest results `query criteria --where` lists
     db::QueryRequest request;
+    request.series = selection.series;
+    request.variants = selection.variants;
     request.external_ids = selection.test_ids;
     request.where = where;
     const db::Table rows = catalogue.Query(db::QueryKind::kCriteria, request);

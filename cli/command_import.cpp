@@ -6,6 +6,8 @@
 #include <fmt/core.h>
 #include <spdlog/spdlog.h>
 
+#include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -62,9 +64,14 @@ class ImportCommand : public Command {
 
     std::unique_ptr<ProgressBar> progress_bar;
     const bool show_bar = ProgressBar::WantedOnStderr(global_->quiet);
+    // Without a terminal, a log line every 10 s: tests done, rate and time left.
+    ProgressLog progress_log("import", !global_->quiet && !StderrIsTerminal());
+    const auto start = std::chrono::steady_clock::now();
+    std::int64_t failed = 0;
     const ingest::ImportProgress progress = [&](std::size_t done, std::size_t total,
                                                 const ingest::ImportResult& result) {
       if (show_bar && !progress_bar) progress_bar = std::make_unique<ProgressBar>(total, true);
+      if (result.outcome == ingest::ImportOutcome::kFailed) ++failed;
       const bool prints = !result.warnings.empty() || result.outcome != ingest::ImportOutcome::kImported;
       if (progress_bar && prints) progress_bar->Clear();
       for (const std::string& warning : result.warnings) spdlog::warn("{}", warning);
@@ -74,6 +81,8 @@ class ImportCommand : public Command {
         std::cout << util::EscapeControl(result.message) << "\n" << std::flush;
       }
       if (progress_bar) progress_bar->Update(done, result.test_id);
+      progress_log.Update(static_cast<std::int64_t>(done), failed, static_cast<std::int64_t>(total),
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     };
     const ingest::ImportReport report = ingest::ImportTests(catalogue, paths_, options_, progress);
     progress_bar.reset();

@@ -3,12 +3,17 @@
 // oblique head impacts), one transaction per test, idempotent by content hash.
 #include <fmt/core.h>
 
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli/catalogue_option.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
+#include "cli/progress.h"
 #include "ingest/synthetic_import.h"
 #include "synth/synthetic_tests.h"
 
@@ -53,7 +58,19 @@ class SynthCommand : public Command {
     request_.scenario = *synth::ParseSynthScenario(scenario_);  // checked by OneOfCheck
     const ingest::SynthPlan plan = ingest::PlanSynth(request_);
     db::Catalogue catalogue = OpenCatalogue(*global_);
-    const ingest::SynthCounts counts = ingest::StoreSynthTests(catalogue, plan);
+    // Tests done, rate and time left: a bar on a terminal, a log line every 10 s otherwise.
+    std::optional<ProgressBar> progress_bar;
+    ProgressLog progress_log("synth", !global_->quiet && !StderrIsTerminal());
+    const auto start = std::chrono::steady_clock::now();
+    const ingest::SynthCounts counts =
+        ingest::StoreSynthTests(catalogue, plan, [&](std::size_t done, std::size_t total) {
+          if (!progress_bar) progress_bar.emplace(total, ProgressBar::WantedOnStderr(global_->quiet));
+          progress_bar->Update(done, "");
+          progress_log.Update(
+              static_cast<std::int64_t>(done), 0, static_cast<std::int64_t>(total),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        });
+    progress_bar.reset();
     fmt::print("{}: {} synthetic test{} added, {} already present (scenario {}, series '{}').\n",
                global_->db_path, counts.added, counts.added == 1 ? "" : "s", counts.present, scenario_,
                plan.series);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "util/text.h"
 
@@ -25,6 +26,22 @@ std::string FormatDuration(double seconds) {
   return fmt::format("{}:{:02d}", total / 60, total % 60);
 }
 
+std::string RateAndTimeLeft(std::int64_t done, std::int64_t total, double elapsed_s, const char* separator) {
+  const double rate = elapsed_s > 0 ? static_cast<double>(done) / elapsed_s : 0.0;
+  const double left = rate > 0 ? static_cast<double>(std::max<std::int64_t>(total - done, 0)) / rate : NAN;
+  return fmt::format("{:.1f} tests/s{}ETA {}", rate, separator, FormatDuration(left));
+}
+
+ProgressLog::ProgressLog(std::string what, bool enabled) : what_(std::move(what)), enabled_(enabled) {}
+
+void ProgressLog::Update(std::int64_t done, std::int64_t failed, std::int64_t total, double elapsed_s) {
+  if (!enabled_ || (elapsed_s - last_log_s_ < 10.0 && done < total)) return;
+  last_log_s_ = elapsed_s;
+  spdlog::info("{}: {}/{} tests{}, {}", what_, done, total,
+               failed > 0 ? fmt::format(", {} failed", failed) : std::string(),
+               RateAndTimeLeft(done, total, elapsed_s));
+}
+
 ProgressBar::ProgressBar(std::size_t total, bool enabled) : total_(total), enabled_(enabled && total > 0) {}
 
 ProgressBar::~ProgressBar() { Clear(); }
@@ -40,6 +57,10 @@ void ProgressBar::Update(std::size_t done, const std::string& raw_label) {
   line.append(filled, '#');
   line.append(kBarWidth - filled, '.');
   line += "] " + std::to_string(done) + "/" + std::to_string(total_) + "  ";
+  const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  line +=
+      RateAndTimeLeft(static_cast<std::int64_t>(done), static_cast<std::int64_t>(total_), elapsed_s, "  ") +
+      "  ";
   line += label.size() > kLabelWidth ? label.substr(0, kLabelWidth - 3) + "..." : label;
   line += "\x1b[K";  // erase the rest of the previous, longer line
   std::fputs(line.c_str(), stderr);
@@ -54,23 +75,19 @@ void ProgressBar::Clear() {
   drawn_ = false;
 }
 
-RunProgressReporter::RunProgressReporter(bool quiet) : quiet_(quiet), terminal_(StderrIsTerminal()) {}
+RunProgressReporter::RunProgressReporter(bool quiet)
+    : quiet_(quiet), terminal_(StderrIsTerminal()), log_("progress", !quiet && !terminal_) {}
 
 void RunProgressReporter::operator()(const jobs::RunProgress& progress) {
   if (quiet_) return;
   const std::int64_t processed = progress.done + progress.failed;
-  const double rate = progress.elapsed_s > 0 ? processed / progress.elapsed_s : 0.0;
-  const double eta =
-      rate > 0 ? static_cast<double>(std::max<std::int64_t>(progress.total - processed, 0)) / rate : NAN;
   if (terminal_) {
-    fmt::print(stderr, "\r{}/{} tests ({} failed)  {:.1f} tests/s  ETA {}   ", processed, progress.total,
-               progress.failed, rate, FormatDuration(eta));
+    fmt::print(stderr, "\r{}/{} tests ({} failed)  {}   ", processed, progress.total, progress.failed,
+               RateAndTimeLeft(processed, progress.total, progress.elapsed_s, "  "));
     std::fflush(stderr);
     line_open_ = true;
-  } else if (progress.elapsed_s - last_log_s_ >= 10.0 || processed >= progress.total) {
-    last_log_s_ = progress.elapsed_s;
-    spdlog::info("progress: {}/{} tests, {} failed, {:.2f} tests/s, ETA {}", processed, progress.total,
-                 progress.failed, rate, FormatDuration(eta));
+  } else {
+    log_.Update(processed, progress.failed, progress.total, progress.elapsed_s);
   }
 }
 

@@ -56,10 +56,18 @@ std::optional<std::string> JsonStringArray(const std::vector<std::string>& value
   return json;
 }
 
+std::string TestFilterTerms(const TestFilter& filter) {
+  std::string terms = "1";
+  if (filter.series) terms += " AND s.name = ?1";
+  if (filter.variant) terms += " AND t.variant = ?2";
+  if (!filter.external_ids.empty()) terms += " AND t.external_id IN (SELECT value FROM json_each(?3))";
+  return terms;
+}
+
 void BindTestFilter(Statement& statement, const TestFilter& filter) {
-  statement.Bind(1, filter.series);
-  statement.Bind(2, filter.variant);
-  statement.Bind(3, JsonStringArray(filter.external_ids));
+  if (filter.series) statement.Bind(1, *filter.series);
+  if (filter.variant) statement.Bind(2, *filter.variant);
+  if (const std::optional<std::string> ids = JsonStringArray(filter.external_ids)) statement.Bind(3, *ids);
 }
 
 }  // namespace internal
@@ -235,7 +243,8 @@ Catalogue Catalogue::Open(const std::string& path, const CatalogueOptions& optio
     throw InputError("catalogue '" + path + "' has schema version " + std::to_string(version) +
                      ", newer than this napkin knows (" + std::to_string(latest) + ").");
 
-  if (options.check_integrity) {
+  if (options.check_integrity &&
+      !(options.integrity_checked_file && connection.FileIdentityOf() == options.integrity_checked_file)) {
     if (!internal::PassesQuickCheck(connection))
       throw InputError("catalogue '" + path +
                        "' is damaged (SQLite's integrity check fails) and was left as it was; restore it "
@@ -415,7 +424,7 @@ TestRow Catalogue::ReadTest(TestId id) {
 std::vector<TestRow> Catalogue::ReadAllTests(const TestFilter& filter) {
   auto select = connection_.Prepare(std::string("SELECT ") + kTestColumns +
                                     " FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
-                                    internal::kTestFilterTerms + " ORDER BY t.external_id");
+                                    internal::TestFilterTerms(filter) + " ORDER BY t.external_id");
   internal::BindTestFilter(*select, filter);
   std::vector<TestRow> tests;
   while (select->Step()) tests.push_back(ReadTestRow(*select));

@@ -206,6 +206,12 @@ struct CatalogueOptions {
   // the other writing commands): a damaged file is refused with an
   // InputError naming it, instead of being written into.
   bool check_integrity = false;
+  // With check_integrity: a file this process has checked already. The check
+  // is left out when the file opened is that one (its device and inode), for
+  // a service that opens the catalogue again for each batch of its inbox
+  // (docs/serve.md "Inbox"): quick_check reads the whole file (seconds a
+  // gigabyte), and once a batch it made each test's cost grow with the catalogue.
+  std::optional<FileIdentity> integrity_checked_file;
   bool durable = true;          // synchronous=FULL (else NORMAL: may lose the last commits on power loss)
   int busy_timeout_ms = 30000;  // wait for another writer this long before failing
   // Migrations to apply; empty = the embedded schema/ migrations. Tests pass
@@ -232,6 +238,8 @@ class Catalogue {
   static Catalogue Open(const std::string& path, const CatalogueOptions& options = {});
 
   int schema_version() const { return schema_version_; }
+  // The device and inode of the file opened; nullopt in memory.
+  std::optional<FileIdentity> file_identity() const { return connection_.FileIdentityOf(); }
   // The napkin version this catalogue records with what it writes (CatalogueOptions).
   const std::string& napkin_version() const { return napkin_version_; }
   // A write transaction over several calls; rolls back unless committed.

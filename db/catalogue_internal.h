@@ -15,9 +15,11 @@ namespace napkin::db::internal {
 // WHERE terms selecting the tests (alias t, series alias s) of a TestFilter,
 // bound by BindTestFilter to parameters ?1 (series), ?2 (variant) and ?3 (a
 // JSON array of external ids). Other parameters of such statements start at ?10.
-inline constexpr const char* kTestFilterTerms =
-    "(?1 IS NULL OR s.name = ?1) AND (?2 IS NULL OR t.variant = ?2) AND "
-    "(?3 IS NULL OR t.external_id IN (SELECT value FROM json_each(?3)))";
+// Only the terms of the fields the filter sets are written ("1" when it sets
+// none): a term "?1 IS NULL OR s.name = ?1" hides the indexes from SQLite's
+// planner, which then reads every test of the catalogue to select one series
+// or a few named tests (docs/architecture.md "Catalogues of a million tests").
+std::string TestFilterTerms(const TestFilter& filter);
 
 // The same filter over a view with columns test_id, series, variant.
 inline constexpr const char* kViewFilterTerms =
@@ -36,6 +38,7 @@ std::optional<std::string> JsonStringArray(const std::vector<std::string>& value
 // `prefix`): engine::SummaryFields(), in table order.
 std::string SummaryColumnList(const std::string& prefix = "");
 
+// Binds the fields `filter` sets (those TestFilterTerms wrote); the others stay unbound.
 void BindTestFilter(Statement& statement, const TestFilter& filter);
 
 // Whether SQLite's quick_check (every page and record well-formed, one read
@@ -48,8 +51,18 @@ bool PassesQuickCheck(Connection& connection, const std::string& schema = "main"
 // The common table expression "scope AS (SELECT t.id AS test_id ...)" of
 // the tests of a JobScope (db/job_queue.h), bound by BindJobScope to
 // parameters ?1..?5; other parameters of such statements start at ?10.
-std::string JobScopeCte();
+std::string JobScopeCte(const JobScope& scope);
+// " AND <the test in column `test_column` is in `scope`>", looked up by the
+// test's key (empty for the whole catalogue), with JobScopeCte's parameters.
+std::string InJobScope(const std::string& test_column, const JobScope& scope);
 // Throws InputError for a shard other than I/N with 0 <= I < N.
 void BindJobScope(Statement& statement, const JobScope& scope);
+
+// The statements of db::JobQueue whose cost must not grow with the catalogue
+// (tests/db/query_plan_test.cpp reads their plans): EnqueueMissing's (the
+// up-to-date check: insert the missing jobs, queue the failed and stale ones
+// again) and ClaimJobs' (?14 jobs after key ?15).
+std::vector<std::string> EnqueueSql(const JobScope& scope);
+std::string ClaimSql(const JobScope& scope);
 
 }  // namespace napkin::db::internal

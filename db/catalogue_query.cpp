@@ -1,6 +1,7 @@
 // Catalogue: `napkin query` tables (docs/formats.md "Per-test summary fields"
-// and "Query filters") from the views of schema/002_query_views.sql, or, for
-// one processing config, from the same joins over that config's results.
+// and "Query filters") from the views of schema/002_query_views.sql (for the
+// kinds of results, the same rows read test by test: LatestResultsSql), or,
+// for one processing config, from the same joins over that config's results.
 // Field names reach the SQL only after they were found in QueryFields(kind);
 // every value is bound as a parameter.
 #include <algorithm>
@@ -156,16 +157,34 @@ void CheckWhereLimits(const std::vector<WhereExpression>& where) {
                      ".");
 }
 
-// Rows of the results of one config, with the labels of their tests: the
-// joins of the views v_hic, v_rotation and v_criteria, every summary column.
-std::string ResultsOfConfigSql(const std::string& config_parameter) {
+// Rows of results with the labels of their tests, every summary column:
+// the columns of the views v_hic, v_rotation, v_risk and v_criteria, from
+// `results_of_tests` (FROM and WHERE naming results r and tests t).
+std::string LabelledResultsSql(const std::string& results_of_tests) {
   return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, " +
          internal::SummaryColumnList("r.") +
          ", EXISTS (SELECT 1 FROM result_salvage AS rs WHERE rs.test_id = r.test_id AND rs.config_id = "
-         "r.config_id) AS salvaged"
-         " FROM results AS r JOIN tests AS t ON t.id = r.test_id"
-         " LEFT JOIN series AS s ON s.id = t.series_id WHERE r.config_id = " +
-         config_parameter + ")";
+         "r.config_id) AS salvaged FROM " +
+         results_of_tests + ")";
+}
+
+// The results of one config: the joins of the views.
+std::string ResultsOfConfigSql(const std::string& config_parameter) {
+  return LabelledResultsSql(
+      "results AS r JOIN tests AS t ON t.id = r.test_id LEFT JOIN series AS s ON s.id = t.series_id "
+      "WHERE r.config_id = " +
+      config_parameter);
+}
+
+// Each test's latest result (that of the largest key, as v_latest_results
+// has it): the rows of the views, found from the tests, so that SQLite reads
+// the tests in test id order (their index) and a query in that order with
+// --limit stops after its rows. The views start from the results and sort
+// them all (docs/architecture.md "Catalogues of a million tests").
+std::string LatestResultsSql() {
+  return LabelledResultsSql(
+      "tests AS t JOIN results AS r ON r.id = (SELECT max(latest.id) FROM results AS latest WHERE "
+      "latest.test_id = t.id) LEFT JOIN series AS s ON s.id = t.series_id");
 }
 
 // What the rows of `kind` are selected from: its view, or the same rows
@@ -176,13 +195,10 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
       case QueryKind::kTests:
         return "v_tests";
       case QueryKind::kHic:
-        return "v_hic";
       case QueryKind::kRotation:
-        return "v_rotation";
       case QueryKind::kRisk:
-        return "v_risk";
       case QueryKind::kCriteria:
-        return "v_criteria";
+        return LatestResultsSql();
       case QueryKind::kQuality:
         return "v_quality";
       case QueryKind::kConditioning:

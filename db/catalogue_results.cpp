@@ -452,7 +452,7 @@ std::vector<LabelledResult> Catalogue::ReadResults(const TestFilter& filter, Res
       source +
       " AS r JOIN tests AS t ON t.id = r.test_id JOIN configs AS c ON c.id = r.config_id "
       "LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
-      internal::kTestFilterTerms + " ORDER BY t.external_id, c.id");
+      internal::TestFilterTerms(filter) + " ORDER BY t.external_id, c.id");
   internal::BindTestFilter(*select, filter);
   std::vector<LabelledResult> results;
   while (select->Step()) {

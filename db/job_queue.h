@@ -87,7 +87,10 @@ class JobQueue {
   // Atomically (BEGIN IMMEDIATE) claims up to `max_jobs` jobs of `config`
   // (of the tests in `scope`) that are queued or whose lease has expired,
   // leasing them to `owner` for `lease_seconds`. Two workers never get the
-  // same job while a lease holds.
+  // same job while a lease holds. The queue is walked in key order on from
+  // the last job this JobQueue claimed, and from the start again when fewer
+  // than `max_jobs` are found there: a claim costs what it takes, not the
+  // length of the queue (docs/architecture.md "Catalogues of a million tests").
   std::vector<Job> ClaimJobs(ConfigId config, const std::string& owner, int max_jobs, double lease_seconds,
                              const JobScope& scope = {});
   // The distinct owners of running jobs of `config` in `scope` (the scheduler
@@ -114,6 +117,8 @@ class JobQueue {
   Connection& connection_;                // the catalogue's
   const std::function<double()>& clock_;  // the catalogue's: epoch seconds
   const std::string& napkin_version_;     // the catalogue's: recorded with finished jobs
+  ConfigId claim_config_{};               // the config of the last claim
+  std::int64_t claim_after_ = 0;          // ... and the key of the last job it claimed
 };
 
 }  // namespace napkin::db

@@ -156,7 +156,7 @@ std::int64_t ResultsFile::CopyTests(Catalogue& catalogue, Catalogue& results, co
   for (const Named& named : {Named{"arrays", "array_id", "definition_hash", "name"},
                              Named{"series", "series_id", "name", "name"}}) {
     auto rows = catalogue.connection_.Prepare(
-        "WITH " + internal::JobScopeCte() + " SELECT * FROM " + named.table + " WHERE id IN (SELECT t." +
+        "WITH " + internal::JobScopeCte(scope) + " SELECT * FROM " + named.table + " WHERE id IN (SELECT t." +
         named.test_column + " FROM tests AS t JOIN scope ON scope.test_id = t.id) ORDER BY id");
     internal::BindJobScope(*rows, scope);
     CopyRows(*rows, results.connection_, named.table, named.unique_column, named.label_column,
@@ -165,7 +165,7 @@ std::int64_t ResultsFile::CopyTests(Catalogue& catalogue, Catalogue& results, co
   std::int64_t copied = 0;
   {
     auto tests = catalogue.connection_.Prepare(
-        "WITH " + internal::JobScopeCte() +
+        "WITH " + internal::JobScopeCte(scope) +
         " SELECT * FROM tests WHERE id IN (SELECT test_id FROM scope) ORDER BY id");
     internal::BindJobScope(*tests, scope);
     copied = CopyRows(*tests, results.connection_, "tests", "content_hash", "external_id", conflict_prefix);

@@ -43,7 +43,8 @@ SynthPlan PlanSynth(const SynthRequest& request) {
   return plan;
 }
 
-SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan) {
+SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan,
+                            const std::function<void(std::size_t done, std::size_t total)>& progress) {
   const std::string name = synth::SynthScenarioName(plan.scenario.scenario);
   SynthCounts counts;
   for (const synth::ScenarioTest& scenario_test : plan.tests) {
@@ -75,6 +76,7 @@ SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan) {
     } else {
       ++counts.present;
     }
+    if (progress) progress(static_cast<std::size_t>(counts.added + counts.present), plan.tests.size());
   }
   return counts;
 }

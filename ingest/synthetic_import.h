@@ -2,7 +2,9 @@
 // The work of `napkin synth` as functions: the tests of a scenario
 // (synth::ScenarioTests) stored in the catalogue through StoreTest, one
 // transaction per test, idempotent by content hash (SyntheticContentHash).
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,6 +51,9 @@ struct SynthCounts {
 // rate_hz, seed, duration_s, impact}} as far as they apply, impact =
 // {speed_mps, trajectory_deg, contact_point_body_m, pulse_s, restitution,
 // noise_g, noise_radps} for padding-series; source "synth:<scenario>").
-SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan);
+// `progress`, when set, is called after each test with the tests stored or
+// found present so far and their number.
+SynthCounts StoreSynthTests(db::Catalogue& catalogue, const SynthPlan& plan,
+                            const std::function<void(std::size_t done, std::size_t total)>& progress = {});
 
 }  // namespace napkin::ingest

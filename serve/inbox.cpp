@@ -396,9 +396,13 @@ void Inbox::LookAtInbox() {
   db::CatalogueOptions open;
   open.busy_timeout_ms = options_.busy_timeout_ms;
   open.check_integrity = true;
+  // Checked once for the file the service writes (db::CatalogueOptions::integrity_checked_file):
+  // quick_check reads all of it, which for every batch would cost more than the batch.
+  open.integrity_checked_file = integrity_checked_file_;
   std::map<std::string, std::vector<std::string>> to_run;  // config -> test ids
   try {
     db::Catalogue catalogue = db::Catalogue::Open(options_.db_path, open);
+    integrity_checked_file_ = catalogue.file_identity();
     for (const auto& settled_test : settled) {
       const Found& test = settled_test.first;
       const std::string& signature = settled_test.second;

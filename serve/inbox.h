@@ -26,6 +26,8 @@
 #include <thread>
 #include <vector>
 
+#include "db/sqlite.h"
+
 namespace napkin::serve {
 
 struct InboxOptions {
@@ -101,6 +103,8 @@ class Inbox {
               const std::string& message);
 
   InboxOptions options_;
+  // The catalogue file whose quick_check passed (watcher thread only).
+  std::optional<db::FileIdentity> integrity_checked_file_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
   int inotify_fd_ = -1;

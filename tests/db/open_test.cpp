@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -70,6 +71,43 @@ TEST(CatalogueOpen, ReopeningKeepsData) {
   EXPECT_EQ(tests[0].external_id, "t1");
   EXPECT_EQ(tests[0].series, "S");
   EXPECT_EQ(tests[0].variant, "A");
+}
+
+// A service opens its catalogue again for each batch and checks it once
+// (CatalogueOptions::integrity_checked_file): a file checked before is
+// opened without reading it whole again; any other file is checked.
+TEST(CatalogueOpen, OnlyAFileNotCheckedBeforeIsCheckedAgain) {
+  napkin::test_support::TempDir dir;
+  const std::string path = dir / "checked.db";
+  std::optional<FileIdentity> checked;
+  std::int64_t page_size = 0;
+  std::int64_t tests_root = 0;
+  {
+    Catalogue catalogue = Catalogue::Open(path);
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    for (int i = 0; i < 50; ++i) test_support::AddTest(catalogue, array, "t" + std::to_string(i));
+    checked = catalogue.file_identity();
+    Connection& connection = CatalogueInspector(catalogue).connection();
+    page_size = connection.PragmaInt("page_size");
+    auto root = connection.Prepare("SELECT rootpage FROM sqlite_master WHERE name = 'tests'");
+    ASSERT_TRUE(root->Step());
+    tests_root = root->ColumnInt64(0);
+  }
+  ASSERT_TRUE(checked.has_value());
+  {
+    // The tests table's root page (its b-tree header) overwritten: quick_check fails.
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp((tests_root - 1) * page_size);
+    const std::string garbage(64, '\xA5');
+    file.write(garbage.data(), static_cast<std::streamsize>(garbage.size()));
+  }
+  CatalogueOptions options;
+  options.check_integrity = true;
+  EXPECT_THROW(Catalogue::Open(path, options), InputError) << "not checked before: checked";
+  options.integrity_checked_file = FileIdentity{checked->device, checked->inode + 1};
+  EXPECT_THROW(Catalogue::Open(path, options), InputError) << "another file was checked";
+  options.integrity_checked_file = checked;
+  EXPECT_NO_THROW(Catalogue::Open(path, options)) << "checked before: not read again";
 }
 
 TEST(CatalogueOpen, WriteProtectedFileIsReportedInOneSentence) {

@@ -182,7 +182,10 @@ TEST_F(SchedulerTest, StopEndsAfterTheTestsInFlightAndTheNextRunFinishes) {
   }
   const RunReport rest = RunScheduler(path_, Processing(), Options(2));
   EXPECT_EQ(rest.total, 30 - stopped.done);
+  EXPECT_EQ(rest.skipped, stopped.done);
   EXPECT_EQ(rest.done, 30 - stopped.done);
+  // The resumed run read the signals of the tests left only (9 channels x 500 samples each).
+  EXPECT_EQ(rest.samples, (30 - stopped.done) * 9 * 500);
   db::Catalogue catalogue = db::Catalogue::Open(path_);
   EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("results"), 30);
   EXPECT_EQ(db::CatalogueInspector(catalogue).CountRows("derived_channels"), 30 * 36);
