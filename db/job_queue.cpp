@@ -92,7 +92,7 @@ std::vector<std::string> EnqueueSql(const JobScope& scope) {
 std::string ClaimSql(const JobScope& scope) {
   // Claimable: queued, or running under an expired lease. The queued jobs
   // are walked in key order through the index jobs_by_config_state (config,
-  // state, then the key: schema/013_catalogue_scale.sql) from ?15, the last
+  // state, then the key: schema/014_catalogue_scale.sql) from ?15, the last
   // job this queue claimed, so a claim reads the few jobs it takes (and the
   // queued jobs outside its scope only once a pass), never the whole queue;
   // the expired leases are few. The first ?14 of both, in key order.
@@ -333,7 +333,7 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
 
 std::vector<VersionCount> JobQueue::ReadVersionCounts(const JobScope& scope) {
   // Over the whole catalogue, the results are counted in the order of the
-  // index results_by_config_version (schema/013_catalogue_scale.sql) and the
+  // index results_by_config_version (schema/014_catalogue_scale.sql) and the
   // failures of each config through jobs_by_config_state, never sorted row by row.
   const std::string counts_sql =
       (IsWholeCatalogue(scope)

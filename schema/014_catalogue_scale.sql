@@ -1,4 +1,4 @@
--- napkin catalogue, schema version 13: indexes for catalogues of a million
+-- napkin catalogue, schema version 14: indexes for catalogues of a million
 -- tests (docs/architecture.md "Catalogues of a million tests"). Indexes only:
 -- no row changes, and every query answers as before.
 --
