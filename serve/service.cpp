@@ -415,9 +415,9 @@ void RunService(const ServeOptions& options) {
     // Their request threads still use this function's objects (the API, the counters, the inbox's
     // status): the process ends here, without unwinding them. Each only reads the catalogue.
     spdlog::warn(
-        "{} request{} still being answered at the stop (a long report, a catalogue locked by another "
-        "process) {} abandoned",
-        abandoned, abandoned == 1 ? " was" : "s were", abandoned == 1 ? "is" : "are");
+        "the stop abandons {} request{} still being answered (a long report, or a catalogue another "
+        "process holds locked)",
+        abandoned, abandoned == 1 ? "" : "s");
     spdlog::info("stopped");
     spdlog::default_logger()->flush();
     std::fflush(nullptr);
