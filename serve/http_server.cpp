@@ -14,7 +14,6 @@
 #include <boost/beast/http/read.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/http/write.hpp>
-#include <cctype>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -26,6 +25,7 @@
 #include <thread>
 
 #include "common/error.h"
+#include "util/text.h"
 
 namespace napkin::serve {
 namespace {
@@ -65,14 +65,6 @@ constexpr std::chrono::milliseconds kStopThreadsTime{1000};
 // After a failed accept (out of descriptors): the next try.
 constexpr std::chrono::milliseconds kAcceptRetry{100};
 
-bool EqualIgnoringCase(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
-      return false;
-  return true;
-}
-
 // A parser's error that says what is wrong with the request, not that the client went.
 bool IsMalformedRequest(const beast::error_code& error) {
   return error.category() == make_error_code(http::error::bad_method).category() &&
@@ -89,7 +81,7 @@ std::chrono::seconds WriteDeadline(std::size_t bytes) {
 std::vector<std::string_view> HttpRequest::Values(std::string_view name) const {
   std::vector<std::string_view> values;
   for (const auto& [field, value] : fields)
-    if (EqualIgnoringCase(field, name)) values.emplace_back(value);
+    if (util::EqualsIgnoreCase(field, name)) values.emplace_back(value);
   return values;
 }
 
@@ -240,7 +232,12 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
 
   void ReadRequest() {
     phase_ = Phase::kReading;
+    // What the previous request on the connection said is not this one's (a refusal of this one
+    // before its start line is read is HTTP/1.1, with a body).
     request_ = HttpRequest{};
+    keep_alive_ = false;
+    head_ = false;
+    version_ = 11;
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(kMaxHeaderBytes));
     parser_->body_limit(kMaxBodyBytes);

@@ -45,10 +45,8 @@ using Json = nlohmann::ordered_json;
 bool BearerTokenMatches(const HttpRequest& req, const std::string& token) {
   const std::vector<std::string_view> authorization = req.Values("Authorization");
   if (authorization.size() != 1) return false;
-  constexpr std::string_view kBearer = "bearer ";
-  if (authorization[0].size() < kBearer.size()) return false;
-  for (std::size_t i = 0; i < kBearer.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(authorization[0][i])) != kBearer[i]) return false;
+  constexpr std::string_view kBearer = "Bearer ";
+  if (!util::EqualsIgnoreCase(authorization[0].substr(0, kBearer.size()), kBearer)) return false;
   return TokensEqual(authorization[0].substr(kBearer.size()), token);
 }
 

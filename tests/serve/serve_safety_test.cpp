@@ -23,20 +23,13 @@ namespace {
 
 using Json = nlohmann::json;
 
-class ServeSafety : public ::testing::Test {
+class ServeSafety : public ServeCatalogueTest {
  protected:
-  void SetUp() override {
-    const CommandResult init = RunProgram(NAPKIN_BINARY, {"--db", db().string(), "init"}, dir_.path());
-    ASSERT_EQ(init.exit_code, 0) << init.err;
-  }
-  fs::path db() const { return dir_ / "lab.db"; }
   CommandResult Serve(const std::vector<std::string>& args) {
     std::vector<std::string> all = {"--db", db().string(), "serve"};
     all.insert(all.end(), args.begin(), args.end());
     return RunProgram(NAPKIN_BINARY, all, dir_.path());
   }
-
-  TempDir dir_;
 };
 
 TEST_F(ServeSafety, NonLoopbackWithoutTokenIsRefusedAtStart) {

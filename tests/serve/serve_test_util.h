@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "tests/support/run_command.h"
+#include "tests/support/test_support.h"
 
 namespace napkin::test_support {
 
@@ -113,6 +114,18 @@ class ServeProcess {
   pid_t pid_ = -1;
   int port_ = 0;
   std::optional<int> exit_code_;
+};
+
+// A test with a fresh catalogue (napkin init) in a folder of its own.
+class ServeCatalogueTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const CommandResult init = RunProgram(NAPKIN_BINARY, {"--db", db().string(), "init"}, dir_.path());
+    ASSERT_EQ(init.exit_code, 0) << init.err;
+  }
+  fs::path db() const { return dir_ / "lab.db"; }
+
+  TempDir dir_;
 };
 
 // One answer as it came over a RawConnection.
