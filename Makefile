@@ -12,9 +12,10 @@ BUILD_FUZZ ?= build/fuzz
 BUILD_TIDY ?= build/tidy
 BUILD_PACKAGE ?= build/package
 # What the program needs (make demo): Boost.Math for compare's t distribution,
-# dygraphs embedded into the binary for report's charts, cpp-httplib for `napkin serve`. What
-# the tests and benchmarks add: Chromium opens the HTML report headless; time (/usr/bin/time -v)
-# gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
+# dygraphs embedded into the binary for report's charts, Boost.Beast and Boost.Asio (headers in
+# libboost1.74-dev) for `napkin serve`'s HTTP server. What the tests and benchmarks add: cpp-httplib
+# is their HTTP client of `napkin serve`; Chromium opens the HTML report headless; time
+# (/usr/bin/time -v) gives bench/run_memory.sh the peak memory of `napkin run`; Slurm and munge run
 # the reprocess test on a private single-node cluster (tests/slurm).
 # The Python module (python/, docs/python.md) and its pytest suites; pandas for query_frame; mypy
 # checks its type stubs (python/tests/test_typing.py).
@@ -23,16 +24,16 @@ PYTHON_PACKAGES := pybind11-dev python3-dev python3-numpy python3-pytest python3
 # test_compare_statistics.py): scipy's t distributions, statsmodels' TOST and power.
 STATISTICS_TEST_PACKAGES := python3-scipy python3-statsmodels
 PROGRAM_PACKAGES := cmake g++ make pkg-config libeigen3-dev libtbb-dev libspdlog-dev \
-  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libjs-dygraphs libzip-dev \
-  libcpp-httplib-dev
-DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev clang-format \
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3 libboost-math-dev libboost1.74-dev libjs-dygraphs \
+  libzip-dev
+DEBIAN_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev libcpp-httplib-dev clang-format \
   chromium time slurm-wlm munge $(PYTHON_PACKAGES) $(STATISTICS_TEST_PACKAGES)
 # What `make fuzz` adds to the program's packages: clang and its libFuzzer runtime.
 FUZZ_PACKAGES := $(PROGRAM_PACKAGES) clang libclang-rt-14-dev
 # What `make tidy` adds: clang-tidy and clang (its configuration's compiler), and the headers of
 # the tests, benchmarks and Python module, as the sources include them.
-TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev \
-  clang-tidy clang
+TIDY_PACKAGES := $(PROGRAM_PACKAGES) libgtest-dev libgmock-dev libbenchmark-dev libcpp-httplib-dev pybind11-dev \
+  python3-dev clang-tidy clang
 # What `make package` adds: the Python module's build and tests; help2man writes the man page;
 # dpkg-dev's dpkg-shlibdeps and file give CPack the package's Depends; man-db renders the man page;
 # lintian checks the package and systemd-analyze (Debian systemd) its service unit (make package-check).

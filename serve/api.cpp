@@ -206,6 +206,10 @@ std::vector<std::string> PathSegments(std::string_view target) {
   return segments;
 }
 
+std::string DecodedPath(std::string_view target) {
+  return PercentDecoded(target.substr(0, target.find('?')), false);
+}
+
 Response JsonError(int status, const std::string& sentence) {
   return Response{status, "application/json", Dump(Json{{"error", sentence}})};
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The read-only HTTP API of `napkin serve` (docs/serve.md "HTTP API"), as
 // functions from a request's parameters to a response, without the HTTP
-// server (serve/http_service.h routes to them): each answers from the
+// server (serve/service.cpp routes to them, serve/http_server.h serves them): each answers from the
 // catalogue opened read-only for that request, with the rows, keys and bytes
 // of the command-line output it mirrors (`napkin query KIND --format json`,
 // `napkin compare --format json`, `napkin export --format csv`), and each
@@ -11,11 +11,12 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace napkin::serve {
 
-// A request's query parameters, repeated names in order (httplib::Params).
+// A request's query parameters, repeated names in order.
 using Params = std::multimap<std::string, std::string>;
 
 // The query parameters of a request target ("/path?a=1&b=x%3Dy"): split at
@@ -29,10 +30,16 @@ Params ParseQuery(std::string_view target);
 // "T/11" is the one segment T%2F11, never two).
 std::vector<std::string> PathSegments(std::string_view target);
 
+// The path of a request target (before '?'), percent-decoded as a whole ('+' stays '+'): what the
+// routes are matched on and the sentences name.
+std::string DecodedPath(std::string_view target);
+
 struct Response {
   int status = 200;
   std::string content_type = "application/json";
   std::string body;
+  // Further header fields of the answer (WWW-Authenticate of a 401).
+  std::vector<std::pair<std::string, std::string>> headers{};
 };
 
 // {"error": sentence} with `status`.

@@ -1,11 +1,5 @@
 #include "serve/service.h"
 
-#include <httplib.h>
-// httplib.h includes glibc's <resolv.h>, whose macro _res (the resolver's state) is a parameter
-// name in Eigen's headers, which the catalogue's headers below include.
-#ifdef _res
-#undef _res
-#endif
 #include <fcntl.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -17,15 +11,15 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -37,6 +31,7 @@
 #include "formats/json_file.h"
 #include "records/config_record.h"
 #include "serve/api.h"
+#include "serve/http_server.h"
 #include "serve/inbox.h"
 #include "util/text.h"
 
@@ -45,109 +40,28 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// docs/serve.md "Safety": the bounds of a request.
-constexpr std::size_t kMaxPayloadBytes = std::size_t{64} * 1024;  // GET only: a body is never needed
-constexpr std::size_t kMaxHeaders = 100;
-constexpr time_t kReadTimeoutS = 5;
-constexpr time_t kWriteTimeoutS = 30;  // a large channels CSV to a slow client
-// A kept-alive connection holds its request thread (cpp-httplib): short, so that an idle browser (a
-// live report between its 3-s polls) holds none and many clients take turns.
-constexpr time_t kKeepAliveTimeoutS = 1;
-constexpr std::size_t kKeepAliveMaxRequests = 10;
-// Connections accepted but not yet served, per request thread; beyond them a
-// connection is answered 503 at once and closed.
-constexpr std::size_t kQueuedConnectionsPerThread = 16;
-
-// Set on the accepting thread while it answers a connection the pool has no room for.
-thread_local bool tls_overloaded = false;
-
-// httplib's thread pool with a bound on the connections waiting for a thread.
-class BoundedPool final : public httplib::TaskQueue {
- public:
-  BoundedPool(std::size_t threads, std::size_t max_queued) : max_queued_(max_queued) {
-    for (std::size_t i = 0; i < threads; ++i) threads_.emplace_back([this] { Work(); });
-  }
-
-  void enqueue(std::function<void()> fn) override {
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      if (jobs_.size() < max_queued_) {
-        jobs_.push_back(std::move(fn));
-        cond_.notify_one();
-        return;
-      }
-    }
-    // Full: the connection is read and answered 503 here (bounded by the read timeout), so that its
-    // socket is closed by the code that owns it.
-    tls_overloaded = true;
-    fn();
-    tls_overloaded = false;
-  }
-
-  void shutdown() override {
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      shutdown_ = true;
-    }
-    cond_.notify_all();
-    for (std::thread& thread : threads_) thread.join();
-  }
-
- private:
-  void Work() {
-    for (;;) {
-      std::function<void()> fn;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        cond_.wait(lock, [this] { return !jobs_.empty() || shutdown_; });
-        // Connections accepted before the signal are still served.
-        if (jobs_.empty()) return;
-        fn = std::move(jobs_.front());
-        jobs_.pop_front();
-      }
-      fn();
-    }
-  }
-
-  std::size_t max_queued_;
-  std::vector<std::thread> threads_;
-  std::deque<std::function<void()>> jobs_;
-  std::mutex mutex_;
-  std::condition_variable cond_;
-  bool shutdown_ = false;
-};
-
-// Every answer is the whole resource, never a part: httplib answers a Range of N parts with N
-// copies (200 ranges of /api/v1/tests/ID/channels: 136 MB from 0.68 MB). It applies req.ranges after
-// the handlers, which see the request only as const; the Request is httplib's own non-const object
-// (Server::process_request), so clearing its parsed ranges here is defined and leaves the
-// Range header itself as it was.
-void IgnoreRanges(const httplib::Request& req) { const_cast<httplib::Request&>(req).ranges.clear(); }
-
-// The header fields the client sent: httplib adds its own entries for the connection's addresses.
-std::size_t ClientHeaderCount(const httplib::Request& req) {
-  std::size_t count = req.headers.size();
-  for (const char* internal : {"REMOTE_ADDR", "REMOTE_PORT", "LOCAL_ADDR", "LOCAL_PORT"})
-    count -= std::min(count, req.headers.count(internal));
-  return count;
+// Exactly one Authorization field, scheme "Bearer" in any case (RFC 9110 11.1), then the token:
+// the field's whole value is compared (a NUL in a field is refused as malformed before this).
+bool BearerTokenMatches(const HttpRequest& req, const std::string& token) {
+  const std::vector<std::string_view> authorization = req.Values("Authorization");
+  if (authorization.size() != 1) return false;
+  constexpr std::string_view kBearer = "Bearer ";
+  if (!util::EqualsIgnoreCase(authorization[0].substr(0, kBearer.size()), kBearer)) return false;
+  return TokensEqual(authorization[0].substr(kBearer.size()), token);
 }
 
-// Exactly one Authorization field, scheme "Bearer" in any case (RFC 9110 11.1), then the token.
-// The field's whole value is compared: get_header_value returns it as a C string, cut at a NUL,
-// where "Bearer TOKEN\0junk" passed.
-bool BearerTokenMatches(const httplib::Request& req, const std::string& token) {
-  if (req.headers.count("Authorization") != 1) return false;
-  const std::string& authorization = req.headers.find("Authorization")->second;
-  constexpr std::string_view kBearer = "bearer ";
-  if (authorization.size() < kBearer.size()) return false;
-  for (std::size_t i = 0; i < kBearer.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(authorization[i])) != kBearer[i]) return false;
-  return TokensEqual(std::string_view(authorization).substr(kBearer.size()), token);
+// The answer to a request no route takes (another method than GET or HEAD, an unknown path).
+Response NoRoute(const HttpRequest& req) {
+  return JsonError(
+      404, "there is no route " + req.method + " " + req.path + " (see docs/serve.md for the routes).");
 }
 
-void Send(httplib::Response& res, const Response& response) {
-  res.status = response.status;
-  res.set_content(response.body, response.content_type.c_str());
+// The kinds GET /api/v1/query/KIND answers.
+bool IsQueryKind(std::string_view kind) {
+  for (const std::string_view known :
+       {"hic", "rotation", "criteria", "risk", "tests", "quality", "conditioning"})
+    if (kind == known) return true;
+  return false;
 }
 
 // Requests answered, by status code, and their time (GET /metrics).
@@ -378,166 +292,135 @@ void RunService(const ServeOptions& options) {
   }
   signal(SIGPIPE, SIG_IGN);  // a client that hangs up is its own business
 
-  httplib::Server server;
-  const std::size_t threads = static_cast<std::size_t>(options.threads);
-  server.new_task_queue = [threads] {
-    return new BoundedPool(threads, threads * kQueuedConnectionsPerThread);
-  };
-  server.set_payload_max_length(kMaxPayloadBytes);
-  server.set_read_timeout(kReadTimeoutS, 0);
-  server.set_write_timeout(kWriteTimeoutS, 0);
-  server.set_keep_alive_timeout(kKeepAliveTimeoutS);
-  server.set_keep_alive_max_count(kKeepAliveMaxRequests);
-  // An answer leaves as its header and then its body: with Nagle's algorithm the body waited for the
-  // client's delayed acknowledgement of the header, 40 ms on Linux, whatever the answer's cost
-  // (bench/run_serve.sh: 91 requests/s, every one 44 ms, on an idle machine).
-  server.set_tcp_nodelay(true);
-
-  server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
-    IgnoreRanges(req);
-    if (tls_overloaded) {
-      res.set_header("Connection", "close");
-      Send(res, JsonError(503, "napkin serve has more connections than it can queue; retry shortly."));
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    if (ClientHeaderCount(req) > kMaxHeaders) {
-      Send(res, JsonError(431, "the request has " + std::to_string(ClientHeaderCount(req)) +
-                                   " header fields, more than the " + std::to_string(kMaxHeaders) +
-                                   " napkin serve accepts."));
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    if (!token.empty() && req.path != "/healthz") {
-      if (!BearerTokenMatches(req, token)) {
-        res.set_header("WWW-Authenticate", "Bearer");
-        Send(res, JsonError(401,
-                            "this napkin serve needs the header 'Authorization: Bearer TOKEN' with the "
-                            "token of its --token-file."));
-        return httplib::Server::HandlerResponse::Handled;
-      }
-    }
-    return httplib::Server::HandlerResponse::Unhandled;
-  });
-  // Anything that reached no route (or a method other than GET): JSON, as every error.
-  server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-    IgnoreRanges(req);  // a Range httplib could not parse (416) is applied to the error's body too
-    if (!res.body.empty()) return;
-    const int status = res.status;
-    if (status == 404)
-      Send(res, JsonError(404, "there is no route " + req.method + " " + req.path +
-                                   " (see docs/serve.md for the routes)."));
-    else
-      Send(res,
-           JsonError(status, "the request was refused with HTTP status " + std::to_string(status) + "."));
-  });
-  server.set_logger([&](const httplib::Request& req, const httplib::Response& res) {
-    counters.Count(res.status);
-    spdlog::debug("{} {} {}", req.method, req.path, res.status);
-  });
-
-  // Each route's answer, or the failure's JSON; timed for /metrics.
-  const auto route = [&](std::function<Response(const httplib::Request&)> answer) {
-    return [&counters, &api_options, answer = std::move(answer)](const httplib::Request& req,
-                                                                 httplib::Response& res) {
+  // Each route's work for a request thread: its answer or the failure's JSON, timed for /metrics.
+  const auto timed = [&counters, &api_options](std::function<Response()> answer) -> RequestWork {
+    return [&counters, &api_options, answer = std::move(answer)] {
       const auto start = std::chrono::steady_clock::now();
+      Response response;
       try {
-        Send(res, answer(req));
+        response = answer();
       } catch (...) {
-        Send(res, ErrorResponse(std::current_exception(), api_options.db_path));
+        response = ErrorResponse(std::current_exception(), api_options.db_path);
       }
       counters.Time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      return response;
     };
   };
-  // From the raw target, not httplib's req.params: it splits a parameter at its last '=' (where=
-  // hic15>=700 lost its operator) and drops a parameter repeated with the same value (where limits
-  // counted fewer comparisons than the command line).
-  const auto params = [](const httplib::Request& req) { return ParseQuery(req.target); };
 
-  server.Get("/healthz", route([](const httplib::Request&) {
-               return Response{200, "application/json", "{\"status\":\"ok\"}\n"};
-             }));
-  server.Get("/api/v1/tests", route([&](const httplib::Request& req) { return api.Tests(params(req)); }));
-  server.Get(
-      R"(/api/v1/query/(hic|rotation|criteria|risk|tests|quality|conditioning))",
-      route([&](const httplib::Request& req) { return api.Query(req.matches[1].str(), params(req)); }));
-  // Routed on the raw target's segments, each decoded on its own: httplib matches the decoded path,
-  // where /api/v1/tests/T%2F11%2Fchannels was the channels of test T/11.
-  server.Get(R"(/api/v1/tests/.+)", route([&](const httplib::Request& req) {
-               const std::vector<std::string> segments = PathSegments(req.target);
-               // A decoded NUL or newline would cut or split the sentences that name the id.
-               if (segments.size() >= 4 && util::HasControlCharacter(segments[3]))
-                 throw UsageError("test id " + util::Quoted(segments[3]) +
-                                  " holds a control character, which no test id has.");
-               // api, v1, tests, ID[, channels]
-               if (segments.size() == 4 && !segments[3].empty()) {
-                 if (!params(req).empty()) throw UsageError("this route takes no parameters.");
-                 return api.TestSummary(segments[3]);
-               }
-               if (segments.size() == 5 && !segments[3].empty() && segments[4] == "channels")
-                 return api.Channels(segments[3], params(req));
-               return JsonError(404,
-                                "there is no route GET " + req.path + " (see docs/serve.md for the routes).");
-             }));
-  server.Get("/api/v1/report/version",
-             route([&](const httplib::Request& req) { return api.ReportVersion(params(req)); }));
-  server.Get("/report", route([&](const httplib::Request& req) { return api.Report(params(req)); }));
-  server.Get("/api/v1/compare", route([&](const httplib::Request& req) { return api.Compare(params(req)); }));
-  server.Get("/api/v1/status", route([&](const httplib::Request&) {
-               const Json status = {
-                   {"service",
-                    {{"version", napkin::Version()},
-                     {"listen", listening},
-                     {"started",
-                      std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
-                     {"requests", counters.Total()}}},
-                   {"catalogue", CatalogueStatusOrError(api_options)},
-                   {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
-               return Response{200, "application/json",
-                               status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
-             }));
-  server.Get("/metrics", route([&](const httplib::Request&) {
-               return Response{200, "text/plain; version=0.0.4",
-                               counters.Prometheus() + CatalogueMetrics(CatalogueStatusOrError(api_options)) +
-                                   (inbox ? inbox->Metrics() : std::string())};
-             }));
-
-  int port = address.port;
-  if (port == 0) {
-    port = server.bind_to_any_port(address.host);
-    if (port < 0) port = 0;
-  } else if (!server.bind_to_port(address.host, port)) {
-    port = 0;
-  }
-  if (port == 0)
-    throw InputError("napkin serve cannot listen on " + options.listen +
-                     " (the address is not this machine's, or the port is in use).");
+  HttpServerOptions server_options;
+  server_options.host = address.host;
+  server_options.port = address.port;
+  server_options.threads = options.threads;
+  // On the I/O thread: what needs the catalogue goes to a request thread, the rest is answered here.
+  server_options.route = [&](const HttpRequest& req) -> Routed {
+    if (!token.empty() && req.path != "/healthz" && !BearerTokenMatches(req, token)) {
+      Response refused =
+          JsonError(401,
+                    "this napkin serve needs the header 'Authorization: Bearer TOKEN' with the "
+                    "token of its --token-file.");
+      refused.headers.emplace_back("WWW-Authenticate", "Bearer");
+      return refused;
+    }
+    if (req.method != "GET" && req.method != "HEAD") return NoRoute(req);
+    const std::string& path = req.path;
+    if (path == "/healthz") return Response{200, "application/json", "{\"status\":\"ok\"}\n"};
+    // From the raw target: each parameter split at its first '=' (where=hic15>=700), repeated ones
+    // all kept, also when identical (where limits count as the command line's).
+    Params params = ParseQuery(req.target);
+    if (path == "/api/v1/tests") return timed([&api, params] { return api.Tests(params); });
+    constexpr std::string_view kQueryRoute = "/api/v1/query/";
+    if (path.starts_with(kQueryRoute) && IsQueryKind(std::string_view(path).substr(kQueryRoute.size())))
+      return timed(
+          [&api, params, kind = path.substr(kQueryRoute.size())] { return api.Query(kind, params); });
+    constexpr std::string_view kTestRoute = "/api/v1/tests/";
+    if (path.starts_with(kTestRoute) && path.size() > kTestRoute.size()) {
+      // Routed on the raw target's segments, each decoded on its own: an encoded '/' (%2F) stays in
+      // the test id (/api/v1/tests/T%2F11%2Fchannels is test T/11/channels, not T/11's channels).
+      return timed([&api, params, req_path = path, segments = PathSegments(req.target)] {
+        // A decoded NUL or newline would cut or split the sentences that name the id.
+        if (segments.size() >= 4 && util::HasControlCharacter(segments[3]))
+          throw UsageError("test id " + util::Quoted(segments[3]) +
+                           " holds a control character, which no test id has.");
+        // api, v1, tests, ID[, channels]
+        if (segments.size() == 4 && !segments[3].empty()) {
+          if (!params.empty()) throw UsageError("this route takes no parameters.");
+          return api.TestSummary(segments[3]);
+        }
+        if (segments.size() == 5 && !segments[3].empty() && segments[4] == "channels")
+          return api.Channels(segments[3], params);
+        return JsonError(404, "there is no route GET " + req_path + " (see docs/serve.md for the routes).");
+      });
+    }
+    if (path == "/api/v1/report/version") return timed([&api, params] { return api.ReportVersion(params); });
+    if (path == "/report") return timed([&api, params] { return api.Report(params); });
+    if (path == "/api/v1/compare") return timed([&api, params] { return api.Compare(params); });
+    if (path == "/api/v1/status")
+      return timed([&] {
+        const Json status = {
+            {"service",
+             {{"version", napkin::Version()},
+              {"listen", listening},
+              {"started",
+               std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
+              {"requests", counters.Total()}}},
+            {"catalogue", CatalogueStatusOrError(api_options)},
+            {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
+        return Response{200, "application/json",
+                        status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
+      });
+    if (path == "/metrics")
+      return timed([&] {
+        return Response{200, "text/plain; version=0.0.4",
+                        counters.Prometheus() + CatalogueMetrics(CatalogueStatusOrError(api_options)) +
+                            (inbox ? inbox->Metrics() : std::string())};
+      });
+    return NoRoute(req);
+  };
+  server_options.on_answered = [&counters](const HttpRequest& req, int status) {
+    counters.Count(status);
+    spdlog::debug("{} {} {}", req.method, req.path, status);
+  };
+  HttpServer server(std::move(server_options));  // listening from here
   // The address as bound (port 0: the port the system chose), for the status.
   listening = (address.host.find(':') != std::string::npos ? "[" + address.host + "]" : address.host) + ":" +
-              std::to_string(port);
-  spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, port,
+              std::to_string(server.port());
+  spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, server.port(),
                options.db_path, options.threads, token.empty() ? "" : ", bearer token required");
 
   if (options.on_listening) options.on_listening();
   if (inbox) inbox->Start();
-  // The signal thread: SIGTERM or SIGINT stops the server (httplib: no new
-  // connections; those accepted are served, then listen_after_bind returns).
+  // The signal thread: SIGTERM or SIGINT stops the server (no new connections; those waiting for a
+  // request closed at once, the answers in progress given half a second; Run returns within 1 s).
   std::atomic<bool> done{false};
   std::thread signal_thread([&] {
     const timespec wait{0, 200'000'000};
     while (!done) {
       const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
       if (signal == SIGTERM || signal == SIGINT) {
-        spdlog::info("{}: stopping (no new connections; finishing the requests in progress)",
+        spdlog::info("{}: stopping (no new connections; the answers in progress get half a second)",
                      signal == SIGTERM ? "SIGTERM" : "SIGINT");
-        server.stop();
+        server.Stop();
         return;
       }
     }
   });
-  server.listen_after_bind();
+  const std::size_t abandoned = server.Run();
   done = true;
   signal_thread.join();
   // The inbox's run in progress commits the tests in flight and releases the others' leases.
   if (inbox) inbox->Stop();
+  if (abandoned > 0) {
+    // Their request threads still use this function's objects (the API, the counters, the inbox's
+    // status): the process ends here, without unwinding them. Each only reads the catalogue.
+    spdlog::warn(
+        "the stop abandons {} request{} still being answered (a long report, or a catalogue another "
+        "process holds locked)",
+        abandoned, abandoned == 1 ? "" : "s");
+    spdlog::info("stopped");
+    spdlog::default_logger()->flush();
+    std::fflush(nullptr);
+    std::_Exit(0);
+  }
   spdlog::info("stopped");
 }
 
