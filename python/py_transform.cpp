@@ -86,7 +86,8 @@ engine::ArrayGeometry ResolveArray(const std::string& array, const std::filesyst
     if (json.is_discarded()) throw InputError(source + " is not valid JSON.");
     return formats::ParseArrayJson(json, source);
   }
-  return ReadOnce(formats::ResolvePreset(array, "arrays", presets), formats::ReadArrayJson);
+  return ReadOnce(formats::ResolvePreset(formats::PresetKind::kArray, array, presets),
+                  formats::ReadArrayJson);
 }
 
 std::string SlotList(const engine::ArrayGeometry& array) {
@@ -438,7 +439,9 @@ void RegisterTransform(py::module_& module) {
           const std::filesystem::path presets =
               config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
           return TransformBytes(
-              formats::ReadArrayJson(formats::ResolvePreset(array_name, "arrays", presets)), samples, dt_s,
+              formats::ReadArrayJson(
+                  formats::ResolvePreset(formats::PresetKind::kArray, array_name, presets)),
+              samples, dt_s,
               formats::ReadProcessingConfig(records::ProcessingConfigPath(config_name, presets)));
         });
       },
