@@ -30,16 +30,19 @@ constexpr std::array<PresetKindRow, 4> kPresetKindTable = {{
 constexpr std::array<PresetKind, 4> kAllPresetKinds = {PresetKind::kArray, PresetKind::kProcessingConfig,
                                                        PresetKind::kLimits, PresetKind::kChannelMap};
 
-const PresetKindRow& RowOf(PresetKind kind) {
+const PresetKindRow& PresetKindRowOf(PresetKind kind) {
   return *std::find_if(kPresetKindTable.begin(), kPresetKindTable.end(),
                        [kind](const PresetKindRow& row) { return row.kind == kind; });
 }
 
+// An object of this library, whose address dladdr finds the file of.
+const char kPresetsAnchor = 0;
+
 // The folder of the program or shared object holding this code: the napkin
 // executable, or the Python module's _napkin*.so (dladdr, glibc).
-fs::path ObjectDir() {
+fs::path PresetsObjectDir() {
   Dl_info info{};
-  if (::dladdr(reinterpret_cast<void*>(&ObjectDir), &info) == 0 || info.dli_fname == nullptr) return {};
+  if (::dladdr(&kPresetsAnchor, &info) == 0 || info.dli_fname == nullptr) return {};
   std::error_code error;
   const fs::path object = fs::canonical(info.dli_fname, error);
   return error ? fs::path() : object.parent_path();
@@ -49,9 +52,9 @@ fs::path ObjectDir() {
 
 std::span<const PresetKind> PresetKinds() { return kAllPresetKinds; }
 
-std::string_view PresetKindName(PresetKind kind) { return RowOf(kind).name; }
+std::string_view PresetKindName(PresetKind kind) { return PresetKindRowOf(kind).name; }
 
-std::string_view PresetFolder(PresetKind kind) { return RowOf(kind).folder; }
+std::string_view PresetFolder(PresetKind kind) { return PresetKindRowOf(kind).folder; }
 
 PresetKind PresetKindNamed(std::string_view name) {
   for (const PresetKindRow& row : kPresetKindTable)
@@ -63,7 +66,7 @@ PresetKind PresetKindNamed(std::string_view name) {
 
 fs::path DefaultConfigDir() {
   if (const char* dir = std::getenv("NAPKIN_CONFIG_DIR"); dir != nullptr && *dir != '\0') return dir;
-  const fs::path object_dir = ObjectDir();
+  const fs::path object_dir = PresetsObjectDir();
   if (!object_dir.empty()) {
     // Beside the build's program; <prefix>/bin/napkin; <prefix>/lib/python3/dist-packages/napkin/_napkin.so.
     const std::array<fs::path, 3> candidates = {
