@@ -189,25 +189,11 @@ std::string_view LimitKindName(LimitKind kind) {
 }
 
 std::vector<std::string> LimitPresets(const fs::path& config_dir) {
-  std::vector<std::string> names;
-  std::error_code error;
-  for (const auto& entry : fs::directory_iterator(config_dir / "limits", error))
-    if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
+  return formats::PresetNames(formats::PresetKind::kLimits, config_dir);
 }
 
 LimitSet LoadLimits(std::string_view name_or_path, const fs::path& config_dir) {
-  std::error_code error;
-  fs::path path(name_or_path);
-  if (name_or_path.empty() || !fs::is_regular_file(path, error)) {
-    path = config_dir / "limits" / (std::string(name_or_path) + ".json");
-    if (name_or_path.empty() || name_or_path.find('/') != std::string_view::npos ||
-        !fs::is_regular_file(path, error))
-      throw UsageError("--limits '" + std::string(name_or_path) + "' is neither a file nor a preset in " +
-                       (config_dir / "limits").string() + " (presets: " + Joined(LimitPresets(config_dir)) +
-                       ").");
-  }
+  const fs::path path = formats::ResolvePreset(formats::PresetKind::kLimits, name_or_path, config_dir);
   // Read through one descriptor, a regular file of bounded size (formats/json_file.h).
   const std::string text = formats::ReadWholeFile(path, formats::kMaxJsonFileBytes);
   json root;

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "db/catalogue.h"
-#include "formats/array_json.h"
+#include "formats/presets.h"
 
 namespace napkin::app {
 
@@ -86,8 +86,8 @@ struct LimitSet {
 };
 
 // The limit set `name_or_path`: a JSON file, or a preset of `config_dir`/limits.
-// Throws UsageError naming --limits (one sentence listing the presets) when
-// it is neither, InputError naming the file when the file is malformed (a
+// Throws formats::UnknownPresetError (a UsageError, formats/presets.h: one
+// sentence listing the presets) when it is neither, InputError naming the file when the file is malformed (a
 // missing or unknown key, a metric that is not a field of `query criteria`,
 // a number that is not a plausible limit, bands out of order, a combination
 // without a scale).

@@ -115,13 +115,14 @@ TestFile ReadTestFile(const TestFileOptions& options) {
   const fs::path presets = options.config_dir.empty() ? formats::DefaultConfigDir() : options.config_dir;
   std::optional<engine::ArrayGeometry> array;
   if (!options.array.empty())
-    array = formats::ReadArrayJson(formats::ResolvePreset(options.array, "arrays", presets));
+    array =
+        formats::ReadArrayJson(formats::ResolvePreset(formats::PresetKind::kArray, options.array, presets));
   std::optional<formats::ChannelMap> channel_map;
   if (!options.channel_map.empty())
-    channel_map =
-        formats::ReadChannelMap(formats::ResolvePreset(options.channel_map, "channel-maps", presets));
+    channel_map = formats::ReadChannelMap(
+        formats::ResolvePreset(formats::PresetKind::kChannelMap, options.channel_map, presets));
   const formats::ChannelMap default_map =
-      formats::ReadChannelMap(formats::ResolvePreset("default", "channel-maps", presets));
+      formats::ReadChannelMap(formats::ResolvePreset(formats::PresetKind::kChannelMap, "default", presets));
   const ingest::Discovery discovery = ingest::DiscoverInputs({options.path});
   if (!discovery.errors.empty()) throw InputError(discovery.errors.front());
   if (discovery.inputs.size() != 1)
@@ -160,10 +161,12 @@ TransformReport RunTransform(const TransformOptions& options) {
   // (docs/formats.md "Output destinations"): refused before anything is read.
   ProtectInputFromOutput(options.input.path, "the input recording");
   if (!options.input.array.empty())
-    ProtectInputFromOutput(formats::ResolvePreset(options.input.array, "arrays"), "the --array file");
+    ProtectInputFromOutput(formats::ResolvePreset(formats::PresetKind::kArray, options.input.array),
+                           "the --array file");
   if (!options.input.channel_map.empty())
-    ProtectInputFromOutput(formats::ResolvePreset(options.input.channel_map, "channel-maps"),
-                           "the --channel-map file");
+    ProtectInputFromOutput(
+        formats::ResolvePreset(formats::PresetKind::kChannelMap, options.input.channel_map),
+        "the --channel-map file");
   ProtectInputFromOutput(records::ProcessingConfigPath(options.config, formats::DefaultConfigDir()),
                          "the --config file");
   util::CheckDistinctOutputs(

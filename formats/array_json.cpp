@@ -179,37 +179,8 @@ void WriteArrayJson(const engine::ArrayGeometry& array, const std::filesystem::p
   util::WriteFileAtomically(path, [&](util::AtomicFile& file) { file.Write(text); });
 }
 
-std::filesystem::path DefaultConfigDir() {
-  // $NAPKIN_CONFIG_DIR, then next to the binary (the build copies config/
-  // there), then installed (<prefix>/share/napkin/config), then the source tree.
-  if (const char* dir = std::getenv("NAPKIN_CONFIG_DIR"); dir != nullptr && *dir != '\0') return dir;
-  std::error_code error;
-  const std::filesystem::path binary_dir =
-      std::filesystem::read_symlink("/proc/self/exe", error).parent_path();
-  if (!error) {
-    for (const auto& candidate : {binary_dir / "config", binary_dir / ".." / "share" / "napkin" / "config"})
-      if (std::filesystem::is_directory(candidate / "arrays", error)) return candidate.lexically_normal();
-  }
-  return NAPKIN_BUILD_CONFIG_DIR;
-}
-
-std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_view subdir,
-                                    const std::filesystem::path& config_dir) {
-  std::filesystem::path as_path(name_or_path);
-  std::error_code error;
-  if (std::filesystem::is_regular_file(as_path, error)) return as_path;
-  std::filesystem::path preset = config_dir / subdir / (std::string(name_or_path) + ".json");
-  if (std::filesystem::is_regular_file(preset, error)) return preset;
-  std::vector<std::string> known;
-  for (const auto& entry : std::filesystem::directory_iterator(config_dir / subdir, error))
-    if (entry.path().extension() == ".json") known.push_back(entry.path().stem().string());
-  std::sort(known.begin(), known.end());
-  throw InputError("\"" + std::string(name_or_path) + "\" is neither a file nor a preset in " +
-                   (config_dir / subdir).string() + " (presets: " + Joined(known) + ").");
-}
-
 engine::ArrayGeometry LoadArray(std::string_view name_or_path) {
-  return ReadArrayJson(ResolvePreset(name_or_path, "arrays"));
+  return ReadArrayJson(ResolvePreset(PresetKind::kArray, name_or_path));
 }
 
 }  // namespace napkin::formats

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "engine/array_geometry.h"
+#include "formats/presets.h"
 
 namespace napkin::formats {
 
@@ -23,14 +24,6 @@ engine::ArrayGeometry ParseArrayJson(const nlohmann::json& json, const std::stri
 nlohmann::json ArrayToJson(const engine::ArrayGeometry& array, std::string_view length_unit = "in");
 void WriteArrayJson(const engine::ArrayGeometry& array, const std::filesystem::path& path,
                     std::string_view length_unit = "in");
-
-// The configuration folder: $NAPKIN_CONFIG_DIR if set, else the source tree's config/.
-std::filesystem::path DefaultConfigDir();
-
-// `name_or_path` if it names an existing file, else <config_dir>/<subdir>/<name>.json.
-// Throws InputError naming the preset when neither exists.
-std::filesystem::path ResolvePreset(std::string_view name_or_path, std::string_view subdir,
-                                    const std::filesystem::path& config_dir = DefaultConfigDir());
 
 // Reads the array preset `name` ("denton-3222") or an array JSON file path.
 engine::ArrayGeometry LoadArray(std::string_view name_or_path);

@@ -7,6 +7,7 @@
 #include "engine/units.h"
 #include "formats/array_json.h"
 #include "formats/json_file.h"
+#include "formats/presets.h"
 #include "util/text.h"
 
 namespace napkin::formats {
@@ -106,7 +107,7 @@ ChannelMap ReadChannelMap(const std::filesystem::path& path) {
 }
 
 ChannelMap LoadChannelMap(std::string_view name_or_path) {
-  return ReadChannelMap(ResolvePreset(name_or_path, "channel-maps"));
+  return ReadChannelMap(ResolvePreset(PresetKind::kChannelMap, name_or_path));
 }
 
 bool CodeMatches(std::string_view pattern, std::string_view code) {

@@ -234,7 +234,8 @@ InputHeads ReadInputHeads(const ImportInput& input, const HeadReadOptions& optio
   } else if (format.array_from_codes) {
     const std::string preset = ArrayPresetFromCodes(channels, name, options.array_option);
     result.array = formats::ReadArrayJson(formats::ResolvePreset(
-        preset, "arrays", options.config_dir.empty() ? formats::DefaultConfigDir() : options.config_dir));
+        formats::PresetKind::kArray, preset,
+        options.config_dir.empty() ? formats::DefaultConfigDir() : options.config_dir));
     result.array_from_codes = true;
   } else {
     throw UsageError(

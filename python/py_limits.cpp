@@ -1,6 +1,7 @@
-// The limit presets and the chance of a further test (docs/python.md
-// "Limits"): napkin.LIMITS and napkin.exceed_probability, over app/limits.h
-// and engine/prediction.h, the functions `napkin compare --limits` uses.
+// The presets, the limit sets and the chance of a further test (docs/python.md
+// "Presets", "Limits"): napkin.presets, napkin.LIMITS and
+// napkin.exceed_probability, over formats/presets.h, app/limits.h and
+// engine/prediction.h, the functions the command uses.
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 
 #include "app/limits.h"
 #include "engine/prediction.h"
+#include "formats/presets.h"
 #include "python/py_bindings.h"
 
 namespace napkin::python {
@@ -44,6 +46,16 @@ double ExceedProbability(const py::handle& values, double limit) {
 }  // namespace
 
 void RegisterLimits(py::module_& module) {
+  // The configuration folder and a kind's presets as every reader finds them (formats/presets.h):
+  // Python searches no folder of its own.
+  module.def("_config_dir",
+             [] { return Translated("", [] { return formats::DefaultConfigDir().string(); }); });
+  module.def(
+      "_presets",
+      [](const std::string& kind) {
+        return Translated("", [&] { return formats::PresetNames(formats::PresetKindNamed(kind)); });
+      },
+      py::arg("kind"));
   module.def("_limit_presets", [] { return Translated("", [] { return LimitPresetRows(); }); });
   module.def(
       "exceed_probability", &ExceedProbability, py::arg("values"), py::arg("limit"),

@@ -75,18 +75,34 @@ Value ReadOnce(const std::filesystem::path& path, Value (*read)(const std::files
   return cache.insert_or_assign(key, Entry{std::move(content), std::move(value)}).first->second.value;
 }
 
-// The array `array` names: an array definition's JSON text (what
-// napkin/__init__.py makes of a dict, e.g. Catalogue.test_inputs' stored
-// definition; it starts with '{', which no preset name does), a preset name
-// or a JSON file's path.
+// A definition given as a dict: napkin/__init__.py passes its JSON text
+// (it starts with '{', which no preset name or path napkin reads does),
+// parsed by the reader of its files, `source` naming it in messages.
+template <typename Parse>
+auto ParseDefinitionText(const std::string& text, const std::string& source, Parse parse) {
+  const nlohmann::json json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded()) throw InputError(source + " is not valid JSON.");
+  return parse(json, source);
+}
+
+// The array `array` names: an array definition's JSON text (e.g.
+// Catalogue.test_inputs' stored definition), a preset name or a JSON file's path.
 engine::ArrayGeometry ResolveArray(const std::string& array, const std::filesystem::path& presets) {
-  if (array.starts_with('{')) {
-    const std::string source = "the array definition given to napkin.transform";
-    const nlohmann::json json = nlohmann::json::parse(array, nullptr, /*allow_exceptions=*/false);
-    if (json.is_discarded()) throw InputError(source + " is not valid JSON.");
-    return formats::ParseArrayJson(json, source);
-  }
-  return ReadOnce(formats::ResolvePreset(array, "arrays", presets), formats::ReadArrayJson);
+  if (array.starts_with('{'))
+    return ParseDefinitionText(array, "the array definition given to napkin.transform",
+                               formats::ParseArrayJson);
+  return ReadOnce(formats::ResolvePreset(formats::PresetKind::kArray, array, presets),
+                  formats::ReadArrayJson);
+}
+
+// The processing config `config` names: a config's JSON text (a dict, as
+// the file's content), a preset name or a JSON file's path.
+engine::ProcessingConfig ResolveProcessingConfig(const std::string& config, const std::string& function,
+                                                 const std::filesystem::path& presets) {
+  if (config.starts_with('{'))
+    return ParseDefinitionText(config, "the processing config given to " + function,
+                               formats::ParseProcessingConfig);
+  return ReadOnce(records::ProcessingConfigPath(config, presets), formats::ReadProcessingConfig);
 }
 
 std::string SlotList(const engine::ArrayGeometry& array) {
@@ -258,7 +274,7 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
                     const py::object& array_object, const py::object& config_object,
                     const py::object& orientation_object, const py::object& initial_velocity_object,
                     const py::object& initial_omega_body_object, const py::object& solver_object,
-                    const py::object& test_id_object, const std::string& config_dir) {
+                    const py::object& test_id_object) {
   const std::string function = "napkin.transform: ";
   const std::string test_id = AsText(test_id_object, function + "test_id", "a test id");
   const std::optional<double> dt = AsOptionalReal(dt_object, function + "dt_s", "the sampling interval in s");
@@ -274,11 +290,9 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   if (!solver_object.is_none()) solver = AsText(solver_object, function + "solver", "a solver name or None");
 
   const std::string source = Source(test_id);
-  const std::filesystem::path presets =
-      config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
+  const std::filesystem::path presets = formats::DefaultConfigDir();
   const engine::ArrayGeometry array = ResolveArray(array_name, presets);
-  engine::ProcessingConfig config =
-      ReadOnce(records::ProcessingConfigPath(config_name, presets), formats::ReadProcessingConfig);
+  engine::ProcessingConfig config = ResolveProcessingConfig(config_name, "napkin.transform", presets);
   if (solver) app::SetSolver(config, *solver);
   const auto [samples, dt_estimate] = SizeOf(channels, array, dt, time_s);
   CheckMemory(array, samples, dt_estimate, config, source);
@@ -300,7 +314,7 @@ py::tuple TransformFile(const py::object& path_object, const py::object& array_o
                         const py::object& channel_map_object, const py::object& position_object,
                         const py::object& columns_object, const py::object& config_object,
                         const py::object& orientation_object, const py::object& initial_velocity_object,
-                        const py::object& solver_object, const std::string& config_dir) {
+                        const py::object& solver_object) {
   const std::string function = "napkin.transform_file: ";
   app::TestFileOptions read;
   read.path = AsNameOrPath(path_object, function + "path");
@@ -328,11 +342,9 @@ py::tuple TransformFile(const py::object& path_object, const py::object& array_o
   std::optional<std::string> solver;
   if (!solver_object.is_none()) solver = AsText(solver_object, function + "solver", "a solver name or None");
 
-  const std::filesystem::path presets =
-      config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
+  const std::filesystem::path presets = formats::DefaultConfigDir();
   read.config_dir = presets;
-  engine::ProcessingConfig config =
-      ReadOnce(records::ProcessingConfigPath(config_name, presets), formats::ReadProcessingConfig);
+  engine::ProcessingConfig config = ResolveProcessingConfig(config_name, "napkin.transform_file", presets);
   if (solver) app::SetSolver(config, *solver);
   const app::TestFile file = app::ReadTestFile(read);
   CheckMemory(file.array, file.signals.size(), file.signals.dt_s, config, read.path);
@@ -404,30 +416,27 @@ void RegisterTransform(py::module_& module) {
       "transform",
       [](const py::object& channels, const py::object& time_s, const py::object& dt, const py::object& array,
          const py::object& config, const py::object& orientation, const py::object& initial_velocity,
-         const py::object& initial_omega_body, const py::object& solver, const py::object& test_id,
-         const std::string& config_dir) {
+         const py::object& initial_omega_body, const py::object& solver, const py::object& test_id) {
         return Translated("", [&] {
           return Transform(channels, time_s, dt, array, config, orientation, initial_velocity,
-                           initial_omega_body, solver, test_id, config_dir);
+                           initial_omega_body, solver, test_id);
         });
       },
       py::arg("channels"), py::arg("time_s"), py::arg("dt_s"), py::arg("array"), py::arg("config"),
       py::arg("orientation_rad"), py::arg("initial_velocity_mps"), py::arg("initial_omega_body_radps"),
-      py::arg("solver"), py::arg("test_id"), py::arg("config_dir"));
+      py::arg("solver"), py::arg("test_id"));
   module.def(
       "transform_file",
       [](const py::object& path, const py::object& array, const py::object& channel_map,
          const py::object& position, const py::object& columns, const py::object& config,
-         const py::object& orientation, const py::object& initial_velocity, const py::object& solver,
-         const std::string& config_dir) {
+         const py::object& orientation, const py::object& initial_velocity, const py::object& solver) {
         return Translated("", [&] {
           return TransformFile(path, array, channel_map, position, columns, config, orientation,
-                               initial_velocity, solver, config_dir);
+                               initial_velocity, solver);
         });
       },
       py::arg("path"), py::arg("array"), py::arg("channel_map"), py::arg("position"), py::arg("columns"),
-      py::arg("config"), py::arg("orientation_rad"), py::arg("initial_velocity_mps"), py::arg("solver"),
-      py::arg("config_dir"));
+      py::arg("config"), py::arg("orientation_rad"), py::arg("initial_velocity_mps"), py::arg("solver"));
   // The estimate CheckMemory compares with the memory available, for the
   // tests that hold it to a transform's measured peak (python/tests/).
   module.def(
@@ -438,7 +447,9 @@ void RegisterTransform(py::module_& module) {
           const std::filesystem::path presets =
               config_dir.empty() ? formats::DefaultConfigDir() : std::filesystem::path(config_dir);
           return TransformBytes(
-              formats::ReadArrayJson(formats::ResolvePreset(array_name, "arrays", presets)), samples, dt_s,
+              formats::ReadArrayJson(
+                  formats::ResolvePreset(formats::PresetKind::kArray, array_name, presets)),
+              samples, dt_s,
               formats::ReadProcessingConfig(records::ProcessingConfigPath(config_name, presets)));
         });
       },

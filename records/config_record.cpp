@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "formats/array_json.h"
+#include "formats/presets.h"
 #include "formats/processing_config_json.h"
 #include "util/sha256.h"
 
@@ -31,7 +32,8 @@ engine::ProcessingConfig DecodeConfigRecord(const db::ConfigRow& record) {
 
 std::filesystem::path ProcessingConfigPath(const std::string& name_or_path,
                                            const std::filesystem::path& config_dir) {
-  return formats::ResolvePreset(name_or_path.empty() ? "default" : name_or_path, "processing", config_dir);
+  return formats::ResolvePreset(formats::PresetKind::kProcessingConfig,
+                                name_or_path.empty() ? "default" : name_or_path, config_dir);
 }
 
 ResolvedConfig ResolveConfig(const std::string& name_or_path) {

@@ -24,6 +24,8 @@ libraries as the ``napkin`` command, so a result here is the command's result
   (``with napkin.Catalogue(path) as c:``): ``tests()``, ``query()``,
   ``query_frame()``, ``limits_frame()``, ``channels()``, ``test_inputs()``,
   ``compare()``, ``close()``;
+- ``presets(kind)`` -- the preset names of a kind ("array", "processing",
+  "limits", "channel-map"), as the command lists them;
 - ``LIMITS`` -- the limit presets (config/limits: regulations, Euro NCAP's
   sliding scales, IIHS's bands), a dict preset -> ``LimitPreset`` with its
   source; ``exceed_probability(values, limit)`` -- the chance a further test
@@ -32,8 +34,7 @@ libraries as the ``napkin`` command, so a result here is the command's result
   ``napkin run`` does (never called implicitly).
 
 Numbers: keywords name their unit (``dt_s``, ``orientation_rad``,
-``initial_velocity_mps``, ...; the old ``dt``, ``orientation``, ... still work
-for one release, with a DeprecationWarning). Arrays are float64; a missing
+``initial_velocity_mps``, ...). Arrays are float64; a missing
 value is NaN in arrays and in ``query_frame``'s columns (float64 also when all
 missing), None only in the dicts that mirror the command's JSON (``summary``,
 ``query``).
@@ -71,37 +72,7 @@ from ._napkin import (  # noqa: F401  (the public API: napkin's exceptions, pyth
 
 __version__ = _napkin.__version__
 
-# The keywords that were renamed to name their unit, old -> new, by function
-# (docs/python.md "Names and units"). The old ones still work for one release,
-# with a DeprecationWarning naming the new one.
-_RENAMED = {
-    "napkin.transform": {"dt": "dt_s", "orientation": "orientation_rad",
-                         "initial_velocity": "initial_velocity_mps",
-                         "initial_omega_body": "initial_omega_body_radps"},
-    "napkin.hic": {"dt": "dt_s"},
-    "napkin.cfc": {"dt": "dt_s"},
-}
-
 _AT_REST = (0.0, 0.0, 0.0)  # the initial state's default, compared by identity
-
-
-def _with_old_keywords(function, old_keywords, values, defaults):
-    """``values`` (new keyword -> value) with the value given under an old
-    keyword (``old_keywords``, what ``**`` collected) moved to its new name,
-    warning that the old name is deprecated. An unknown keyword, or a value
-    given under both names, raises TypeError."""
-    renamed = _RENAMED[function]
-    values = dict(values)
-    for old, value in old_keywords.items():
-        new = renamed.get(old)
-        if new is None:
-            raise TypeError("{}() got an unexpected keyword argument {!r}".format(function, old))
-        _warnings.warn("{}: the keyword {} is deprecated and will be removed in the next release; use {} (the "
-                       "same value).".format(function, old, new), DeprecationWarning, stacklevel=3)
-        if values[new] is not defaults.get(new):
-            raise TypeError("{}: give {} or its deprecated name {}, not both.".format(function, new, old))
-        values[new] = value
-    return values
 
 
 SummaryField = _collections.namedtuple(
@@ -143,7 +114,7 @@ LIMITS = {row[0]: LimitPreset(*row) for row in _napkin._limit_presets()}
 exceed_probability = _napkin.exceed_probability
 
 __all__ = ["transform", "transform_file", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "exceed_probability",
+           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "presets", "exceed_probability",
            "tune_memory", "Error", "InputError",
            "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
 
@@ -156,8 +127,7 @@ hic        -- the largest HIC over the windows searched
 t1_s, t2_s -- its window (s, from the first sample plus t0_s)"""
 
 
-def hic(resultant_g, dt_s=None, max_window_s=_napkin._HIC15_WINDOW_S, from_time_zero=False, t0_s=0.0,
-        **deprecated):
+def hic(resultant_g, dt_s, max_window_s=_napkin._HIC15_WINDOW_S, from_time_zero=False, t0_s=0.0):
     """HIC of a resultant acceleration ``resultant_g`` (g, a 1-D array) sampled
     every ``dt_s`` seconds: a ``HIC(hic, t1_s, t2_s)``, the exact maximum over
     windows up to ``max_window_s`` (0.015, HIC15; None: no limit), times in s
@@ -165,24 +135,16 @@ def hic(resultant_g, dt_s=None, max_window_s=_napkin._HIC15_WINDOW_S, from_time_
     integrates |a| and ignores samples before t = 0. Without a window of
     positive integral the value is 0 and t1_s = t2_s = the first sample used.
     Bad input (a non-positive dt_s or window, a non-finite sample) raises
-    InputError. (``dt``, the old name of ``dt_s``, is deprecated.)"""
-    if deprecated:
-        dt_s = _with_old_keywords("napkin.hic", deprecated, {"dt_s": dt_s}, {"dt_s": None})["dt_s"]
-    if dt_s is None:
-        raise TypeError("napkin.hic() missing required argument: 'dt_s' (the sampling interval in s)")
+    InputError."""
     return HIC(*_napkin.hic(resultant_g, dt_s, max_window_s, from_time_zero, t0_s))
 
 
-def cfc(x, dt_s=None, cfc=_napkin._CFC1000, variant="sae", **deprecated):
+def cfc(x, dt_s, cfc=_napkin._CFC1000, variant="sae"):
     """``x`` (a 1-D array sampled every ``dt_s`` seconds, any unit) filtered by
     the two-pass channel frequency class filter of SAE J211 (``variant``
     "sae") or ISO 6487 ("iso") of class ``cfc`` (1000, 600, 180, 60: the class
     number, in Hz as the standards write it); a new array. Bad input raises
-    InputError. (``dt``, the old name of ``dt_s``, is deprecated.)"""
-    if deprecated:
-        dt_s = _with_old_keywords("napkin.cfc", deprecated, {"dt_s": dt_s}, {"dt_s": None})["dt_s"]
-    if dt_s is None:
-        raise TypeError("napkin.cfc() missing required argument: 'dt_s' (the sampling interval in s)")
+    InputError."""
     return _napkin.cfc(x, dt_s, cfc, variant)
 
 
@@ -214,18 +176,25 @@ def iso18571(reference, candidate, dt_s, start_s=None, end_s=None, edition="2024
     return ISO18571Rating(*_napkin._iso18571(reference, candidate, dt_s, start_s, end_s, edition))
 
 
-def _config_dir():
-    """The presets (config/): $NAPKIN_CONFIG_DIR, else those installed with this
-    package (<prefix>/share/napkin/config beside <prefix>/lib/python3/...), else
-    the ones the extension was built with (empty: its own default)."""
-    if _os.environ.get("NAPKIN_CONFIG_DIR"):
-        return _os.environ["NAPKIN_CONFIG_DIR"]
-    here = _os.path.dirname(_os.path.abspath(__file__))
-    prefix = here
-    for _ in range(4):  # napkin -> dist-packages -> python3 -> lib -> <prefix>
-        prefix = _os.path.dirname(prefix)
-    installed = _os.path.join(prefix, "share", "napkin", "config")
-    return installed if _os.path.isdir(_os.path.join(installed, "arrays")) else ""
+# The configuration folder every preset is read from, as the library finds it
+# (formats/presets.h: $NAPKIN_CONFIG_DIR, else the one installed beside this
+# package, else the build's).
+_config_dir = _napkin._config_dir
+
+
+def presets(kind):
+    """The names of the presets of ``kind`` -- "array", "processing", "limits"
+    or "channel-map" -- in name order: what ``array=``, ``config=``,
+    ``limits=`` and ``channel_map=`` take besides a JSON file (or, for array
+    and config, a dict), the list the error for an unknown name gives
+    (docs/formats.md "Presets"). Another kind raises InputError."""
+    return _napkin._presets(kind)
+
+
+def _definition(value):
+    """A dict (an array definition or processing config, the JSON file's
+    content) as the JSON text the module parses; anything else as given."""
+    return _json.dumps(value) if isinstance(value, dict) else value
 
 
 class TransformResult:
@@ -254,9 +223,9 @@ class TransformResult:
             self.summary.get("hic15"), len(self.channels))
 
 
-def transform(channels, time_s=None, dt_s=None, array="denton-3222", config="default",
+def transform(channels, time_s=None, dt_s=None, *, array, config="default",
               orientation_rad=_AT_REST, initial_velocity_mps=_AT_REST, initial_omega_body_radps=_AT_REST,
-              solver=None, test_id="", **deprecated):
+              solver=None, test_id=""):
     """Process one test as ``napkin transform`` does.
 
     channels -- dict slot name -> 1-D array of samples (in the unit the array
@@ -264,40 +233,33 @@ def transform(channels, time_s=None, dt_s=None, array="denton-3222", config="def
                 the array's slot order
     time_s   -- the sample times (s), uniformly spaced; or give dt_s (the
                 sampling interval, s) and the first sample is at t = 0
-    array    -- array preset name ("denton-3222", "3a-cg", ...), array JSON path,
-                or an array definition as a dict (the JSON file's content, e.g.
-                the stored definition ``Catalogue.test_inputs`` returns)
-    config   -- processing config preset name or JSON path
+    array    -- required, as ``--array`` (napkin never guesses the array): an
+                array preset name (``presets("array")``: "denton-3222",
+                "3a-cg", ...), an array JSON path, or an array definition as a
+                dict (the JSON file's content, e.g. the stored definition
+                ``Catalogue.test_inputs`` returns)
+    config   -- a processing config preset name (``presets("processing")``),
+                a JSON path, or a config as a dict (the JSON file's content)
     orientation_rad          -- initial orientation phi, theta, psi (rad)
     initial_velocity_mps     -- initial CG velocity in the fixed frame (m/s)
     initial_omega_body_radps -- initial angular velocity in body axes (rad/s; usually at rest)
     solver   -- None (the config's), or a solver name as ``--solver``
     test_id  -- the summary's test_id, and the start of error sentences
 
-    The old keywords dt, orientation, initial_velocity and initial_omega_body
-    still work, with a DeprecationWarning, until the next release.
+    Everything after dt_s is a keyword, as the command's options are named.
 
-    Raises InputError (a ValueError) for bad input, ScreeningFailure (an
-    InputError with ``.findings``) for a test that fails screening (the
-    sentence ``napkin transform`` exits 1 with), TypeError naming an argument
-    of the wrong type (complex samples included), MemoryError when the test
-    cannot fit in the memory available (checked before anything is copied);
-    the computation runs without the GIL, and Ctrl-C stops it
-    (KeyboardInterrupt).
+    Raises InputError (a ValueError) for bad input -- a name that is neither a
+    file nor a preset included, with the sentence ``napkin transform`` exits 2
+    with --, ScreeningFailure (an InputError with ``.findings``) for a test
+    that fails screening (the sentence ``napkin transform`` exits 1 with),
+    TypeError naming an argument of the wrong type (complex samples
+    included), MemoryError when the test cannot fit in the memory available
+    (checked before anything is copied); the computation runs without the
+    GIL, and Ctrl-C stops it (KeyboardInterrupt).
     """
-    if deprecated:
-        values = _with_old_keywords(
-            "napkin.transform", deprecated,
-            {"dt_s": dt_s, "orientation_rad": orientation_rad, "initial_velocity_mps": initial_velocity_mps,
-             "initial_omega_body_radps": initial_omega_body_radps},
-            {"dt_s": None, "orientation_rad": _AT_REST, "initial_velocity_mps": _AT_REST,
-             "initial_omega_body_radps": _AT_REST})
-        dt_s, orientation_rad = values["dt_s"], values["orientation_rad"]
-        initial_velocity_mps = values["initial_velocity_mps"]
-        initial_omega_body_radps = values["initial_omega_body_radps"]
     summary_json, derived = _napkin.transform(
-        channels, time_s, dt_s, _json.dumps(array) if isinstance(array, dict) else array, config,
-        orientation_rad, initial_velocity_mps, initial_omega_body_radps, solver, test_id, _config_dir())
+        channels, time_s, dt_s, _definition(array), _definition(config), orientation_rad, initial_velocity_mps,
+        initial_omega_body_radps, solver, test_id)
     return TransformResult(_json.loads(summary_json), derived)
 
 
@@ -315,6 +277,7 @@ def transform_file(path, array=None, channel_map=None, position=None, columns=No
     position    -- the dummy head to take, of a test that records several
     columns     -- dict slot -> CSV column name (``--column SLOT=NAME``)
     config, orientation_rad, initial_velocity_mps, solver -- as ``transform``
+                  (config a preset name, a JSON path or a dict)
 
     Returns a TransformResult equal to the command's summary.json and derived
     channels; the reader's warnings (ignored columns, cropped spans) are
@@ -323,8 +286,8 @@ def transform_file(path, array=None, channel_map=None, position=None, columns=No
     test that fails screening.
     """
     summary_json, derived, warnings = _napkin.transform_file(
-        path, array, channel_map, position, columns, config, orientation_rad, initial_velocity_mps, solver,
-        _config_dir())
+        path, array, channel_map, position, columns, _definition(config), orientation_rad, initial_velocity_mps,
+        solver)
     for warning in warnings:
         _warnings.warn(warning, stacklevel=2)
     return TransformResult(_json.loads(summary_json), derived)

@@ -38,6 +38,7 @@ __all__ = [
     "RISK_CURVES",
     "LimitPreset",
     "LIMITS",
+    "presets",
     "exceed_probability",
     "tune_memory",
     "Error",
@@ -86,6 +87,8 @@ class LimitPreset(NamedTuple):
 
 LIMITS: dict[str, LimitPreset]
 
+def presets(kind: str) -> list[str]: ...
+
 def exceed_probability(values: ArrayLike, limit: float) -> float: ...
 
 class HIC(NamedTuple):
@@ -131,8 +134,9 @@ def transform(
     channels: Mapping[str, ArrayLike] | ArrayLike,
     time_s: ArrayLike | None = ...,
     dt_s: float | None = ...,
-    array: _Path | Mapping[str, Any] = ...,
-    config: _Path = ...,
+    *,
+    array: _Path | Mapping[str, Any],
+    config: _Path | Mapping[str, Any] = ...,
     orientation_rad: _Triple = ...,
     initial_velocity_mps: _Triple = ...,
     initial_omega_body_radps: _Triple = ...,
@@ -146,7 +150,7 @@ def transform_file(
     channel_map: _Path | None = ...,
     position: str | None = ...,
     columns: Mapping[str, str] | None = ...,
-    config: _Path = ...,
+    config: _Path | Mapping[str, Any] = ...,
     orientation_rad: _Triple = ...,
     initial_velocity_mps: _Triple = ...,
     solver: str | None = ...,

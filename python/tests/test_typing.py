@@ -76,10 +76,9 @@ def test_mypy_rejects_a_misuse(tmp_path, mypy_cache):
 
 @needs_mypy
 def test_the_stubs_match_the_module(tmp_path):
-    # hic and cfc give dt_s a default at run time only to accept the deprecated dt;
     # pybind11's classes have pybind11's metaclass.
     allowlist = tmp_path / "allowlist.txt"
-    allowlist.write_text("napkin.hic\nnapkin.cfc\nnapkin._napkin.Catalogue\n")
+    allowlist.write_text("napkin._napkin.Catalogue\n")
     checked = mypy(tmp_path, "napkin", "--allowlist", str(allowlist), module="mypy.stubtest")
     assert checked.returncode == 0, checked.stdout + checked.stderr
 

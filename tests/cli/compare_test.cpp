@@ -585,7 +585,7 @@ TEST_F(CliCompare, BadScaleEquivalenceOrLimitsAreUsageErrorsNamingTheOption) {
   }
   const RunResult limits = Compare({"--series", "sled", "--limits", "fmvss999"});
   EXPECT_EQ(limits.exit_code, 2);
-  ExpectOneSentenceError(limits, {"--limits 'fmvss999' is neither a file nor a preset", "fmvss201u"});
+  ExpectOneSentenceError(limits, {"\"fmvss999\" is neither a file nor a preset", "fmvss201u"});
   const RunResult empty = Compare({"--series", "sled", "--limits", ""});
   EXPECT_EQ(empty.exit_code, 2);
 }

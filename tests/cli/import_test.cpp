@@ -412,7 +412,7 @@ TEST_F(CliImportBadInput, PathThatDoesNotExist) {
 
 TEST_F(CliImportBadInput, UnknownArrayPreset) {
   const RunResult run = RunNapkin(dir_.path(), {"import", "--array", "no-such-array", "good.csv"});
-  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(run.exit_code, 2);  // a usage error, as every unknown preset (docs/formats.md "Presets")
   ExpectOneSentenceError(run, {"no-such-array"});
   EXPECT_EQ(DumpCatalogue(db_path()), dump_);
 }

@@ -95,8 +95,7 @@ TEST(LimitsFiles, UnknownNamesAreUsageErrorsAndMalformedFilesInputErrors) {
     LoadLimits("fmvss999", kConfig);
     FAIL() << "no error";
   } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("--limits 'fmvss999' is neither a file nor a preset"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("\"fmvss999\" is neither a file nor a preset"), std::string::npos);
   }
   test_support::TempDir dir;
   const auto expect_input_error = [&](const std::string& text, const std::string& fragment) {

@@ -288,7 +288,7 @@ TEST_F(CliQueryGolden, LimitsListEachTestAgainstEachLimit) {
                {"limits", "--limits", "iihs-small-overlap-head", "--format", "csv"});
   ExpectUsageError({"limits"}, {"`napkin query limits` needs --limits NAME", "fmvss201u"});
   ExpectUsageError({"hic", "--limits", "fmvss208"}, {"--limits applies to `napkin query limits` only"});
-  ExpectUsageError({"limits", "--limits", "fmvss999"}, {"--limits 'fmvss999' is neither a file nor a preset",
+  ExpectUsageError({"limits", "--limits", "fmvss999"}, {"\"fmvss999\" is neither a file nor a preset",
                                                         "euro-ncap-frontal-head, fmvss201u, fmvss208"});
 }
 

@@ -279,7 +279,7 @@ TEST_F(ReportCli, BaselineOptionComparesWithTheNamedVariant) {
   EXPECT_THAT(limits_html, HasSubstr("<th>meet FMVSS 208</th>"));
   const RunResult bad = Napkin({"report", "--limits", "nope", "--out", "nope.html"});
   EXPECT_EQ(bad.exit_code, 2);
-  test_support::ExpectOneSentenceError(bad, {"--limits 'nope' is neither a file nor a preset"});
+  test_support::ExpectOneSentenceError(bad, {"\"nope\" is neither a file nor a preset"});
 }
 
 TEST_F(ReportCli, ExplainsWhatIsMissing) {

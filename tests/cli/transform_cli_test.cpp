@@ -2,8 +2,10 @@
 // errors, no partial output (issue 2 acceptance).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "app/transform.h"
@@ -182,8 +184,48 @@ TEST_F(TransformCliTest, NanIsRefusedNamingRowAndColumn) {
   ExpectRefused(Transform(path), "cg_x");
 }
 
-TEST_F(TransformCliTest, UnknownArrayIsRefused) {
-  ExpectRefused(Transform(input_, "no-such-array"), "no-such-array");
+// A name that is neither a file nor a preset: exit 2 and one sentence of one
+// shape for every kind of preset, listing the kind's presets (each a file of
+// its folder), and no output (docs/formats.md "Presets").
+TEST_F(TransformCliTest, AnUnknownPresetOfEveryKindIsOneUsageSentence) {
+  const std::vector<std::string> transform = {"transform", input_.string(), "--out",
+                                              (dir_ / "out.csv").string()};
+  const auto with = [&](std::vector<std::string> options) {
+    options.insert(options.begin(), transform.begin(), transform.end());
+    return options;
+  };
+  const fs::path db = dir_ / "c.db";
+  ASSERT_EQ(RunProgram(NAPKIN_BINARY, {"--db", db.string(), "init"}, dir_.path()).exit_code, 0);
+  const struct {
+    std::vector<std::string> args;
+    std::string folder;
+    std::string a_preset;
+  } cases[] = {
+      {with({"--array", "nope"}), "arrays", "denton-3222"},
+      {with({"--array", "denton-3222", "--config", "nope"}), "processing", "default"},
+      {with({"--array", "denton-3222", "--channel-map", "nope"}), "channel-maps", "default"},
+      {{"--db", db.string(), "query", "limits", "--limits", "nope"}, "limits", "fmvss208"},
+  };
+  const std::regex sentence(R"(napkin: "nope" is neither a file nor a preset in (.+) \(presets: (.+)\)\.\n)");
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.folder);
+    const CommandResult result = RunProgram(NAPKIN_BINARY, c.args, dir_.path());
+    EXPECT_EQ(result.exit_code, 2) << result.err;
+    EXPECT_EQ(result.out, "");
+    std::smatch match;
+    ASSERT_TRUE(std::regex_match(result.err, match, sentence)) << result.err;
+    const fs::path folder(match[1].str());
+    EXPECT_EQ(folder.filename(), c.folder);
+    std::vector<std::string> listed;
+    std::istringstream names(match[2].str());
+    for (std::string name; std::getline(names, name, ',');)
+      listed.push_back(name.substr(name.front() == ' '));
+    EXPECT_NE(std::find(listed.begin(), listed.end(), c.a_preset), listed.end()) << result.err;
+    EXPECT_TRUE(std::is_sorted(listed.begin(), listed.end())) << result.err;
+    for (const std::string& name : listed)
+      EXPECT_TRUE(fs::is_regular_file(folder / (name + ".json"))) << name;
+    EXPECT_FALSE(fs::exists(dir_ / "out.csv"));
+  }
 }
 
 TEST_F(TransformCliTest, RankDeficientArrayIsRefused) {
