@@ -65,7 +65,7 @@ class ImportCommand : public Command {
     std::unique_ptr<ProgressBar> progress_bar;
     const bool show_bar = ProgressBar::WantedOnStderr(global_->quiet);
     // Without a terminal, a log line every 10 s: tests done, rate and time left.
-    ProgressLog progress_log("import", !global_->quiet && !StderrIsTerminal());
+    ProgressLog progress_log("import", !global_->quiet && !StderrIsTerminal(), /*final_always=*/false);
     const auto start = std::chrono::steady_clock::now();
     std::int64_t failed = 0;
     const ingest::ImportProgress progress = [&](std::size_t done, std::size_t total,

@@ -60,7 +60,7 @@ class SynthCommand : public Command {
     db::Catalogue catalogue = OpenCatalogue(*global_);
     // Tests done, rate and time left: a bar on a terminal, a log line every 10 s otherwise.
     std::optional<ProgressBar> progress_bar;
-    ProgressLog progress_log("synth", !global_->quiet && !StderrIsTerminal());
+    ProgressLog progress_log("synth", !global_->quiet && !StderrIsTerminal(), /*final_always=*/false);
     const auto start = std::chrono::steady_clock::now();
     const ingest::SynthCounts counts =
         ingest::StoreSynthTests(catalogue, plan, [&](std::size_t done, std::size_t total) {

@@ -32,11 +32,16 @@ std::string RateAndTimeLeft(std::int64_t done, std::int64_t total, double elapse
   return fmt::format("{:.1f} tests/s{}ETA {}", rate, separator, FormatDuration(left));
 }
 
-ProgressLog::ProgressLog(std::string what, bool enabled) : what_(std::move(what)), enabled_(enabled) {}
+ProgressLog::ProgressLog(std::string what, bool enabled, bool final_always)
+    : what_(std::move(what)), enabled_(enabled), final_always_(final_always) {}
 
 void ProgressLog::Update(std::int64_t done, std::int64_t failed, std::int64_t total, double elapsed_s) {
-  if (!enabled_ || (elapsed_s - last_log_s_ < 10.0 && done < total)) return;
+  if (!enabled_) return;
+  const bool periodic = elapsed_s - last_log_s_ >= 10.0;
+  const bool last = done >= total && (final_always_ || logged_);
+  if (!periodic && !last) return;
   last_log_s_ = elapsed_s;
+  logged_ = true;
   spdlog::info("{}: {}/{} tests{}, {}", what_, done, total,
                failed > 0 ? fmt::format(", {} failed", failed) : std::string(),
                RateAndTimeLeft(done, total, elapsed_s));

@@ -30,13 +30,17 @@ std::string RateAndTimeLeft(std::int64_t done, std::int64_t total, double elapse
 // some did) every 10 s and once at the end; nothing when `enabled` is false.
 class ProgressLog {
  public:
-  ProgressLog(std::string what, bool enabled);
+  // `final_always` false: the last line only after a line every 10 s (a
+  // short import stays quiet: its result lines on stdout say everything).
+  ProgressLog(std::string what, bool enabled, bool final_always = true);
   // `done` of `total` tests (`failed` of them failed) after `elapsed_s`.
   void Update(std::int64_t done, std::int64_t failed, std::int64_t total, double elapsed_s);
 
  private:
   std::string what_;
   bool enabled_;
+  bool final_always_;
+  bool logged_ = false;
   double last_log_s_ = 0.0;
 };
 
