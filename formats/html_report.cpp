@@ -131,7 +131,9 @@ Html operator+(Html html, const Html& more) { return html += more; }
 // <tag attributes>content</tag>; `open` is the tag with its attributes.
 Html Element(std::string_view open, const Html& content) {
   const std::string_view tag = open.substr(0, open.find(' '));
-  return Markup("<" + std::string(open) + ">" + content.text + "</" + std::string(tag) + ">");
+  std::string element = "<";
+  element.append(open).append(">").append(content.text).append("</").append(tag).append(">");
+  return Markup(element);
 }
 
 Html TextOrDash(const std::optional<std::string>& text) { return text ? Text(*text) : Markup("—"); }
@@ -392,9 +394,9 @@ Html CriteriaTable(const engine::TestSummary& summary) {
     const engine::SummaryField* t1 = engine::FindSummaryField(std::string(name) + "_t1_s");
     const engine::SummaryField* t2 = engine::FindSummaryField(std::string(name) + "_t2_s");
     if (t1 != nullptr && t2 != nullptr)
-      value += Markup(" ") +
-               Element("span class=\"note\"", Markup("(" + Fixed(t1->Get(summary) * 1000.0, 2) + "–" +
-                                                     Fixed(t2->Get(summary) * 1000.0, 2) + " ms)"));
+      value += Markup(" ") + Element("span class=\"note\"",
+                                     Markup(std::string("(").append(Fixed(t1->Get(summary) * 1000.0, 2)) +
+                                            "–" + Fixed(t2->Get(summary) * 1000.0, 2) + " ms)"));
     rows += LabelledRow(label, value);
   }
   return Element("table class=\"criteria\"", rows);

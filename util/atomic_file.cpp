@@ -22,7 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string QuotedPath(const fs::path& path) { return "'" + path.string() + "'"; }
+// Appended, not `"'" + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
+std::string QuotedPath(const fs::path& path) { return std::string("'").append(path.string()).append("'"); }
 
 std::string ErrnoText(int error) { return std::strerror(error); }
 

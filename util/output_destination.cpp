@@ -35,7 +35,8 @@ std::vector<ProtectedFile>& ProtectedFiles() {
   return files;
 }
 
-std::string Named(const fs::path& path) { return "'" + path.string() + "'"; }
+// Appended, not `"'" + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
+std::string Named(const fs::path& path) { return std::string("'").append(path.string()).append("'"); }
 
 struct FileIdentity {
   dev_t device = 0;
@@ -253,7 +254,7 @@ std::string TemporaryNameFor(const std::string& name) {
     // Not inside a UTF-8 sequence: back up over continuation bytes (10xxxxxx).
     while (keep > 0 && (static_cast<unsigned char>(name[keep]) & 0xC0) == 0x80) --keep;
   }
-  return "." + name.substr(0, keep) + kTemporaryInfix + RandomHex();
+  return std::string(".").append(name, 0, keep).append(kTemporaryInfix).append(RandomHex());
 }
 
 bool IsTemporaryNameOf(const std::string& candidate, const std::string& name) {
