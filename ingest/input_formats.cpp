@@ -11,6 +11,7 @@
 
 #include "formats/dts_slice_csv.h"
 #include "formats/isomme.h"
+#include "formats/json_file.h"
 #include "formats/uds1992.h"
 #include "util/text.h"
 
@@ -121,9 +122,9 @@ std::string FirstBytes(const fs::path& file) {
   struct stat status {};
   if (::fstat(fd, &status) != 0) refuse(errno);
   if (!S_ISREG(status.st_mode))
-    throw InputError("'" + util::EscapeControl(file.string()) +
-                     "' is not a regular file (a FIFO, device or " +
-                     "socket); napkin reads only regular files.");
+    throw InputError("'" + util::EscapeControl(file.string()) + "' is " +
+                     formats::FileTypeName(status.st_mode) +
+                     ", not a regular file; napkin reads only regular files.");
   std::string bytes(kFirstBytes, '\0');
   std::size_t filled = 0;
   while (filled < bytes.size()) {

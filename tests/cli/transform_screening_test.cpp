@@ -47,6 +47,16 @@ synth::SyntheticTest Motion() {
   return synth::SynthRandomMotion(test_support::Denton3222(), options);
 }
 
+// Motion() from rest at the initial orientation: the salvage tests compare
+// against its truth.
+synth::SyntheticTest RestingMotion() {
+  synth::RandomMotionOptions options;
+  options.seed = 3;
+  options.random_initial_orientation = false;
+  options.random_initial_velocity = false;
+  return synth::SynthRandomMotion(test_support::Denton3222(), options);
+}
+
 TEST(TransformScreening, CleanFileSummaryHasCriteriaAndNoFindingAboveInfo) {
   test_support::TempDir dir;
   const synth::SyntheticTest test = Motion();
@@ -219,11 +229,7 @@ TEST(TransformScreening, NanInTheFileFailsNamingRowAndColumn) {
 // `status`, and the report's badge.
 TEST(TransformScreening, SalvageRepairsTheSpikedChannelAndEveryFrontEndSaysSo) {
   test_support::TempDir dir;
-  synth::RandomMotionOptions options;
-  options.seed = 3;
-  options.random_initial_orientation = false;
-  options.random_initial_velocity = false;
-  synth::SyntheticTest test = synth::SynthRandomMotion(test_support::Denton3222(), options);
+  synth::SyntheticTest test = RestingMotion();
   std::filesystem::create_directories(dir / "in");
   formats::WriteSignalsCsv(test.signals, dir / "in" / "clean.csv");
   test.signals.samples.col(test.signals.FindSlot("xarm_y"))(700) += 120.0;  // g
@@ -289,11 +295,7 @@ TEST(TransformScreening, SalvageRepairsTheSpikedChannelAndEveryFrontEndSaysSo) {
 // overlays the two.
 TEST(TransformScreening, TheRepairedChannelIsKeptExportedAndOverlaid) {
   test_support::TempDir dir;
-  synth::RandomMotionOptions options;
-  options.seed = 3;
-  options.random_initial_orientation = false;
-  options.random_initial_velocity = false;
-  synth::SyntheticTest test = synth::SynthRandomMotion(test_support::Denton3222(), options);
+  synth::SyntheticTest test = RestingMotion();
   const engine::TestSignals clean = test.signals;
   const int column = test.signals.FindSlot("xarm_y");
   test.signals.samples.col(column)(700) += 120.0;  // g
