@@ -7,9 +7,9 @@
 # 1. Latency: a settled recording (denton-3222, 9 channels x 20,000 samples) to its row in the
 #    API, beyond the settle time (--settle 1; the inbox looks every second while a test settles),
 #    and with a marker file (<id>.ready), 5 tests each.
-# 2. GET /api/v1/query/hic?limit=100 from 32 keep-alive loopback clients: REQUESTS requests
-#    (default 20,000, at most 60 s) on a catalogue of 100 processed tests; requests per second,
-#    p50 and p99.
+# 2. GET /api/v1/query/hic?limit=100 and GET /healthz from 32 keep-alive loopback clients:
+#    REQUESTS requests each (default 20,000, at most 60 s) on a catalogue of 100 processed tests;
+#    requests per second, p50 and p99.
 # 3. The same while the inbox imports and processes RUN_TESTS more tests (default 1,000, 2,000
 #    samples each, moved into the inbox as one folder): the load stops at REQUESTS, 60 s or when
 #    the run is done, whichever comes first.
@@ -61,11 +61,12 @@ echo "== 1. settled recording (9 channels x 20,000 samples) to its row in /api/v
 "$TOOL" latency "$PORT" "$STAGING" "$INBOX/bench/latency-marker" 20000 5 1 101 marker | tail -1
 
 echo
-echo "== 2. /api/v1/query/hic?limit=100, 32 loopback clients, a catalogue of 100 processed tests"
+echo "== 2. /api/v1/query/hic?limit=100 and /healthz, 32 loopback clients, a catalogue of 100 processed tests"
 "$TOOL" write-tests "$STAGING/base" 90 2000 1000
 mv "$STAGING/base" "$INBOX/bench/base"
 "$TOOL" wait "$PORT" 100 300 > /dev/null
 "$TOOL" load "$PORT" "/api/v1/query/hic?limit=100" 32 "$REQUESTS" 60
+"$TOOL" load "$PORT" "/healthz" 32 "$REQUESTS" 60
 
 echo
 echo "== 3. the same while the inbox imports and processes $RUN_TESTS more tests (2,000 samples each)"

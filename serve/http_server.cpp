@@ -33,7 +33,7 @@ namespace {
 namespace net = boost::asio;
 namespace beast = boost::beast;
 namespace http = beast::http;
-using tcp = net::ip::tcp;
+using Tcp = net::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
 // docs/serve.md "Safety": what a request and a connection may take.
@@ -173,7 +173,7 @@ struct HttpServerState {
       : options(std::move(server_options)), threads(options.threads) {}
 
   void Accept();
-  void OnAccepted(const beast::error_code& error, tcp::socket socket);
+  void OnAccepted(const beast::error_code& error, Tcp::socket socket);
   void BeginStop();
   void CloseAll();
   // A connection's end (on the I/O thread): it is no longer counted.
@@ -181,7 +181,7 @@ struct HttpServerState {
 
   // Declared first, destroyed last: the handlers it holds (and their connections) go with it.
   net::io_context io{1};
-  tcp::acceptor acceptor{io};
+  Tcp::acceptor acceptor{io};
   net::steady_timer accept_retry{io};
   net::steady_timer stop_timer{io};
   HttpServerOptions options;
@@ -199,12 +199,12 @@ struct HttpServerState {
 // answered (at once or by a request thread), writes the answer, and reads the next.
 class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
  public:
-  HttpConnection(HttpServerState& server, tcp::socket socket, std::uint64_t id, bool refused)
+  HttpConnection(HttpServerState& server, Tcp::socket socket, std::uint64_t id, bool refused)
       : server_(server), stream_(std::move(socket)), buffer_(kReadBufferBytes), id_(id), refused_(refused) {
     beast::error_code ignored;
     // An answer leaves as one write; without Nagle's algorithm it never waits for the client's
     // delayed acknowledgement of an earlier one (40 ms on Linux).
-    stream_.socket().set_option(tcp::no_delay(true), ignored);
+    stream_.socket().set_option(Tcp::no_delay(true), ignored);
   }
 
   void Start() {
@@ -368,7 +368,7 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
   void Linger() {
     phase_ = Phase::kLingering;
     beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    stream_.socket().shutdown(Tcp::socket::shutdown_send, ignored);
     stream_.expires_after(kLingerTime);
     Drain();
   }
@@ -403,10 +403,10 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
 
 void detail::HttpServerState::Accept() {
   acceptor.async_accept(
-      [this](const beast::error_code& error, tcp::socket socket) { OnAccepted(error, std::move(socket)); });
+      [this](const beast::error_code& error, Tcp::socket socket) { OnAccepted(error, std::move(socket)); });
 }
 
-void detail::HttpServerState::OnAccepted(const beast::error_code& error, tcp::socket socket) {
+void detail::HttpServerState::OnAccepted(const beast::error_code& error, Tcp::socket socket) {
   if (stopping) return;
   if (error) {
     // Out of descriptors (EMFILE) or a connection gone before it was taken: try again shortly.
@@ -476,12 +476,12 @@ HttpServer::HttpServer(HttpServerOptions options)
   detail::HttpServerState& state = *state_;
   const std::string named = state.options.host + ":" + std::to_string(state.options.port);
   beast::error_code error;
-  tcp::resolver resolver(state.io);
-  const tcp::resolver::results_type addresses =
-      resolver.resolve(state.options.host, std::to_string(state.options.port), tcp::resolver::passive, error);
+  Tcp::resolver resolver(state.io);
+  const Tcp::resolver::results_type addresses =
+      resolver.resolve(state.options.host, std::to_string(state.options.port), Tcp::resolver::passive, error);
   for (const auto& address : addresses) {
     beast::error_code bind_error;
-    tcp::acceptor& acceptor = state.acceptor;
+    Tcp::acceptor& acceptor = state.acceptor;
     acceptor.open(address.endpoint().protocol(), bind_error);
     if (!bind_error) acceptor.set_option(net::socket_base::reuse_address(true), bind_error);
     if (!bind_error) acceptor.bind(address.endpoint(), bind_error);

@@ -1,10 +1,11 @@
 #pragma once
 // `napkin serve` (docs/serve.md): the HTTP API of serve/api.h on a listening
-// socket, safe by default (docs/serve.md "Safety"): loopback unless a bearer
-// token guards it, requests bounded in size, headers, connections and time,
-// no route mapped to a file, the catalogue opened read-only for each request.
-// It runs until SIGTERM or SIGINT, then stops accepting, finishes the requests
-// in progress and returns.
+// socket (serve/http_server.h), safe by default (docs/serve.md "Safety"):
+// loopback unless a bearer token guards it, requests bounded in size, headers,
+// connections and time (a total header deadline), no route mapped to a file,
+// the catalogue opened read-only for each request. It runs until SIGTERM or
+// SIGINT, then stops accepting, closes the connections waiting for a request,
+// gives the answers in progress half a second and returns (within 2 s).
 #include <cstdint>
 #include <functional>
 #include <optional>
