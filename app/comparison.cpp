@@ -394,11 +394,8 @@ CompareScale ParseCompareScale(const std::string& text) {
 std::string_view ScaleName(CompareScale scale) { return scale == CompareScale::kLog ? "log" : "linear"; }
 
 bool IsRatioMetric(std::string_view metric) {
-  for (const char* name :
-       {"hic15", "hic36", "hic", "hic_d", "bric", "damage", "peak_acc_g", "a3ms_g", "peak_omega_x_radps",
-        "peak_omega_y_radps", "peak_omega_z_radps", "peak_omega_radps", "peak_alpha_radps2"})
-    if (metric == name) return true;
-  return false;
+  const engine::SummaryField* field = engine::FindSummaryField(metric);
+  return field != nullptr && field->log_scale;
 }
 
 double ParseEquivalencePct(const std::string& text) {

@@ -47,6 +47,13 @@ struct SummaryField {
   const RiskCurve* curve = nullptr;
   // What a table adds to the label besides the unit ("no window limit").
   const char* detail = "";
+  // Compared on the log scale by `napkin compare --scale log` (app/comparison.cpp,
+  // docs/algorithms.md "Comparison"): a positive, right-skewed criterion whose
+  // groups differ by a ratio.
+  bool log_scale = false;
+  // One of the criteria the verdict reads (app/verdict.cpp), with the risks
+  // computed from it.
+  bool in_verdict = false;
 
   double Get(const TestSummary& summary) const {
     return field(const_cast<TestSummary&>(summary));  // the accessor only forms a reference
