@@ -411,11 +411,9 @@ std::vector<std::string> DefaultComparisonMetrics() {
   for (const char* name : {"hic15", "hic36", "hic_d", "peak_acc_g", "a3ms_g", "peak_omega_radps",
                            "peak_alpha_radps2", "bric", "damage", "max_rotation_deg"})
     if (engine::FindSummaryField(name) != nullptr) metrics.emplace_back(name);
-  // The risks read from HIC15 and BrIC, the verdict's criteria (app/verdict.h), in table order.
+  // The risks read from the verdict's criteria (in_verdict: HIC15 and BrIC), in table order.
   for (const engine::SummaryField* risk : engine::RiskFields())
-    if (std::string_view(risk->curve->criterion) == "hic15" ||
-        std::string_view(risk->curve->criterion) == "bric")
-      metrics.emplace_back(risk->name);
+    if (engine::FindSummaryField(risk->curve->criterion)->in_verdict) metrics.emplace_back(risk->name);
   return metrics;
 }
 
