@@ -25,6 +25,12 @@ constexpr SummaryField InVerdict(SummaryField field) {
   field.in_verdict = true;
   return field;
 }
+// A criterion the row computes from the kinematics (SummaryField::compute);
+// `field` is nullptr and its value lives in TestSummary::computed.
+constexpr SummaryField Computed(SummaryField field, double (*compute)(const Kinematics&)) {
+  field.compute = compute;
+  return field;
+}
 
 constexpr SummaryField kSummaryFields[] = {
     InVerdict(LogScale({"hic15", G::kHic, "HIC15", "", "HIC, windows up to 15 ms",
