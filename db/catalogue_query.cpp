@@ -1,6 +1,7 @@
 // Catalogue: `napkin query` tables (docs/formats.md "Per-test summary fields"
-// and "Query filters") from the views of schema/002_query_views.sql, or, for
-// one processing config, from the same joins over that config's results.
+// and "Query filters") from the views of schema/002_query_views.sql, the
+// summary kinds from one SELECT generated from the summary-field table over
+// each test's latest result or, for one processing config, its results.
 // Field names reach the SQL only after they were found in QueryFields(kind);
 // every value is bound as a parameter.
 #include <algorithm>
@@ -156,16 +157,23 @@ void CheckWhereLimits(const std::vector<WhereExpression>& where) {
                      ".");
 }
 
-// Rows of the results of one config, with the labels of their tests: the
-// joins of the views v_hic, v_rotation and v_criteria, every summary column.
-std::string ResultsOfConfigSql(const std::string& config_parameter) {
+// Rows of results with the labels of their tests and every summary column
+// (engine::SummaryFields()): each test's latest result (v_latest_results,
+// `condition` "1") or those of one config. The one SELECT of the query kinds
+// that show summary fields, with or without --config, generated from the
+// table: a new criterion's column needs no view (docs/developing.md "Adding a
+// criterion"; the v_hic, v_rotation, v_criteria and v_risk views are for plain
+// sqlite3 and show the fields of schema version 13).
+std::string ResultRowsSql(const std::string& results, const std::string& condition) {
   return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, " +
          internal::SummaryColumnList("r.") +
          ", EXISTS (SELECT 1 FROM result_salvage AS rs WHERE rs.test_id = r.test_id AND rs.config_id = "
          "r.config_id) AS salvaged"
-         " FROM results AS r JOIN tests AS t ON t.id = r.test_id"
-         " LEFT JOIN series AS s ON s.id = t.series_id WHERE r.config_id = " +
-         config_parameter + ")";
+         " FROM " +
+         results +
+         " AS r JOIN tests AS t ON t.id = r.test_id"
+         " LEFT JOIN series AS s ON s.id = t.series_id WHERE " +
+         condition + ")";
 }
 
 // What the rows of `kind` are selected from: its view, or the same rows
@@ -176,13 +184,10 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
       case QueryKind::kTests:
         return "v_tests";
       case QueryKind::kHic:
-        return "v_hic";
       case QueryKind::kRotation:
-        return "v_rotation";
       case QueryKind::kRisk:
-        return "v_risk";
       case QueryKind::kCriteria:
-        return "v_criteria";
+        return ResultRowsSql("v_latest_results", "1");
       case QueryKind::kQuality:
         return "v_quality";
       case QueryKind::kConditioning:
@@ -214,7 +219,7 @@ std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Par
     case QueryKind::kCorrelation:  // the ratings of that config's results
       return "(SELECT * FROM v_correlation WHERE config_id = " + config_parameter + ")";
     default:
-      return ResultsOfConfigSql(config_parameter);
+      return ResultRowsSql("results", "r.config_id = " + config_parameter);
   }
 }
 
