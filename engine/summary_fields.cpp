@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/injury_risk.h"
+#include "engine/ubric.h"
 
 namespace napkin::engine {
 namespace {
@@ -112,6 +113,12 @@ constexpr SummaryField kSummaryFields[] = {
      [](S& s) -> double& { return s.bric_p_ais3; }, &kTakhountsBricAis3},
     {"bric_p_ais4", G::kRisk, nullptr, "", "P(AIS 4+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
      [](S& s) -> double& { return s.bric_p_ais4; }, &kTakhountsBricAis4},
+    // Added by schema 14 (a column appended to the results table); a criterion
+    // its row computes (engine/ubric.h), shown after the other rotation fields.
+    Computed(
+        LogScale({"ubric", G::kRotation, "UBrIC", "",
+                  "UBrIC, universal brain injury criterion, Gabler et al. 2018 (dimensionless)", nullptr}),
+        UbricOf),
 };
 
 bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
