@@ -398,11 +398,8 @@ CompareScale ParseCompareScale(const std::string& text) {
 std::string_view ScaleName(CompareScale scale) { return scale == CompareScale::kLog ? "log" : "linear"; }
 
 bool IsRatioMetric(std::string_view metric) {
-  for (const char* name :
-       {"hic15", "hic36", "hic", "hic_d", "bric", "damage", "peak_acc_g", "a3ms_g", "peak_omega_x_radps",
-        "peak_omega_y_radps", "peak_omega_z_radps", "peak_omega_radps", "peak_alpha_radps2"})
-    if (metric == name) return true;
-  return false;
+  const engine::SummaryField* field = engine::FindSummaryField(metric);
+  return field != nullptr && field->log_scale;
 }
 
 double ParseEquivalencePct(const std::string& text) {
@@ -418,11 +415,9 @@ std::vector<std::string> DefaultComparisonMetrics() {
   for (const char* name : {"hic15", "hic36", "hic_d", "peak_acc_g", "a3ms_g", "peak_omega_radps",
                            "peak_alpha_radps2", "bric", "damage", "max_rotation_deg"})
     if (engine::FindSummaryField(name) != nullptr) metrics.emplace_back(name);
-  // The risks read from HIC15 and BrIC, the verdict's criteria (app/verdict.h), in table order.
+  // The risks read from the verdict's criteria (in_verdict: HIC15 and BrIC), in table order.
   for (const engine::SummaryField* risk : engine::RiskFields())
-    if (std::string_view(risk->curve->criterion) == "hic15" ||
-        std::string_view(risk->curve->criterion) == "bric")
-      metrics.emplace_back(risk->name);
+    if (engine::FindSummaryField(risk->curve->criterion)->in_verdict) metrics.emplace_back(risk->name);
   return metrics;
 }
 

@@ -37,9 +37,10 @@ enum class CompareScale { kLog, kLinear };
 CompareScale ParseCompareScale(const std::string& text);
 std::string_view ScaleName(CompareScale scale);
 
-// HIC (every window), HIC(d), BrIC, DAMAGE, peak and 3 ms accelerations,
-// peak angular velocities and acceleration: compared as ratios under
-// --scale log. Every other metric is compared on the linear scale.
+// The summary fields marked log_scale in engine/summary_fields.cpp (HIC of
+// every window, HIC(d), BrIC, DAMAGE, peak and 3 ms accelerations, peak
+// angular velocities and acceleration): compared as ratios under --scale log.
+// Every other metric is compared on the linear scale.
 bool IsRatioMetric(std::string_view metric);
 
 // The default equivalence margin, ±10 % (--equivalence PCT).

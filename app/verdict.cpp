@@ -109,7 +109,12 @@ const VerdictRule& RuleOf(ClauseKind kind) {
   return kVerdictRules[0];  // every kind has a rule (tests/cli/verdict_test.cpp)
 }
 
-std::vector<std::string> VerdictCriteria() { return {"hic15", "bric"}; }
+std::vector<std::string> VerdictCriteria() {
+  std::vector<std::string> criteria;
+  for (const engine::SummaryField& field : engine::SummaryFields())
+    if (field.in_verdict) criteria.emplace_back(field.name);
+  return criteria;
+}
 
 std::string MetricLabel(std::string_view name) {
   const engine::SummaryField* field = engine::FindSummaryField(name);

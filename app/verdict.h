@@ -68,7 +68,8 @@ inline constexpr VerdictRule kVerdictRules[] = {
 // The rule of `kind`.
 const VerdictRule& RuleOf(ClauseKind kind);
 
-// The criteria a verdict speaks of, in its order: HIC15 and BrIC (each
+// The criteria a verdict speaks of, in table order: the summary fields
+// marked in_verdict in engine/summary_fields.cpp, HIC15 and BrIC (each
 // followed by the risks computed from it, engine::RiskFields()),
 // where the comparison has them and some test of the series has a value.
 std::vector<std::string> VerdictCriteria();

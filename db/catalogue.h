@@ -90,8 +90,10 @@ struct RawChannelInfo {
   std::int64_t sample_count = 0;
 };
 
-// `napkin query` tables, read from the views v_tests, v_hic, v_rotation,
-// v_criteria, v_risk and v_quality; column names are the query contract.
+// `napkin query` tables, read from the views v_tests and v_quality, and for
+// the summary kinds (hic, rotation, risk, criteria) from a SELECT generated
+// from engine::SummaryFields() over v_latest_results; column names are the
+// query contract.
 // v_conditioning (kConditioning: what conditioning did to each channel);
 // v_correlation (kCorrelation: the stored ISO/TS 18571 ratings, schema 9).
 enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning, kRisk, kCorrelation };

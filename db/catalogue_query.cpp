@@ -157,9 +157,13 @@ void CheckWhereLimits(const std::vector<WhereExpression>& where) {
                      ".");
 }
 
-// Rows of results with the labels of their tests, every summary column:
-// the columns of the views v_hic, v_rotation, v_risk and v_criteria, from
-// `results_of_tests` (FROM and WHERE naming results r and tests t).
+// Rows of results with the labels of their tests and every summary column
+// (engine::SummaryFields()), from `results_of_tests` (FROM and WHERE naming
+// results r and tests t): the one SELECT of the query kinds that show summary
+// fields, with or without --config, generated from the table, so a new
+// criterion's column needs no view (docs/developing.md "Adding a criterion";
+// the v_hic, v_rotation, v_criteria and v_risk views are for plain sqlite3 and
+// show the fields of schema version 13).
 std::string LabelledResultsSql(const std::string& results_of_tests) {
   return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, " +
          internal::SummaryColumnList("r.") +

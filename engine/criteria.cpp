@@ -13,6 +13,7 @@
 #include "engine/cancellation.h"
 #include "engine/criterion_checks.h"
 #include "engine/injury_risk.h"
+#include "engine/summary_fields.h"
 #include "engine/units.h"
 
 namespace napkin::engine {
@@ -133,6 +134,11 @@ void FillCriteria(const Kinematics& kinematics, const ProcessingConfig& config, 
   ThrowIfCancelled(cancel);
   summary.damage =
       rotation ? Damage(kinematics.alpha_body, dt, {}, cancel, scratch.damage_displacement) : kUndetermined;
+  for (const SummaryField& field : SummaryFields())  // the criteria their rows compute
+    if (field.compute != nullptr) {
+      ThrowIfCancelled(cancel);
+      field.Set(summary, field.compute(kinematics));
+    }
   FillInjuryRisks(summary);
 }
 

@@ -39,8 +39,9 @@ double Bric(const Eigen::Ref<const Series3>& omega_body_radps, const Eigen::Vect
 
 // ---------------------------------------------------------------------------
 // Fills hic15, hic36, hic (resultant of acc_fixed in g, config.hic), hic_d, a3ms_g (config.a3ms),
-// bric (omega_body, config.bric), damage (alpha_body) and the injury risks
-// (engine/injury_risk.h) of `summary`. The
+// bric (omega_body, config.bric), damage (alpha_body), every criterion a
+// summary-field row computes (SummaryField::compute, e.g. UBrIC) and the
+// injury risks (engine/injury_risk.h) of `summary`. The
 // time base must be uniform (dt: kinematics.dt_s, else from the first and
 // last samples; windows are found on sample indices, so a record starting
 // far from t = 0 gets the windows of one starting at 0); throws

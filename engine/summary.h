@@ -2,10 +2,13 @@
 // Per-test summary: every field of the query contract (docs/formats.md
 // "Per-test summary fields") plus the screening findings. The names, order
 // and query groups of the numeric fields are in engine/summary_fields.h: a new
-// field goes there too (and into a schema migration).
+// criterion is a row there that computes it (SummaryField::compute), stored
+// in TestSummary::computed, and a schema migration adding its column.
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -165,6 +168,10 @@ struct TestSummary {
   double hic36_p_ais4 = 0.0;
   double bric_p_ais3 = 0.0;  // NaN where bric is
   double bric_p_ais4 = 0.0;
+  // The criteria a summary-field row computes itself (SummaryField::compute,
+  // engine/summary_fields.h), by field name: a new criterion needs no member
+  // here. SummaryField::Get and Set read and write them.
+  std::map<std::string, double, std::less<>> computed;
   // quality
   double max_residual_mps2 = 0.0;
   std::vector<Finding> findings;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/injury_risk.h"
+#include "engine/ubric.h"
 
 namespace napkin::engine {
 namespace {
@@ -16,41 +17,61 @@ constexpr RiskCurve kPrasadMertzHic36Ais4{"hic36", 4, "Prasad–Mertz", PrasadMe
 constexpr RiskCurve kTakhountsBricAis3{"bric", 3, "Takhounts", TakhountsBricAis3Risk};
 constexpr RiskCurve kTakhountsBricAis4{"bric", 4, "Takhounts", TakhountsBricAis4Risk};
 
+// A row's properties that most rows lack, set by name around the row.
+constexpr SummaryField LogScale(SummaryField field) {
+  field.log_scale = true;
+  return field;
+}
+constexpr SummaryField InVerdict(SummaryField field) {
+  field.in_verdict = true;
+  return field;
+}
+// A criterion the row computes from the kinematics (SummaryField::compute);
+// `field` is nullptr and its value lives in TestSummary::computed.
+constexpr SummaryField Computed(SummaryField field, double (*compute)(const Kinematics&)) {
+  field.compute = compute;
+  return field;
+}
+
 constexpr SummaryField kSummaryFields[] = {
-    {"hic15", G::kHic, "HIC15", "", "HIC, windows up to 15 ms",
-     [](S& s) -> double& { return s.hic15.value; }},
+    InVerdict(LogScale({"hic15", G::kHic, "HIC15", "", "HIC, windows up to 15 ms",
+                        [](S& s) -> double& { return s.hic15.value; }})),
     {"hic15_t1_s", G::kHic, "HIC15 window start", "s", "HIC15 window start (s)",
      [](S& s) -> double& { return s.hic15.t1_s; }},
     {"hic15_t2_s", G::kHic, "HIC15 window end", "s", "HIC15 window end (s)",
      [](S& s) -> double& { return s.hic15.t2_s; }},
-    {"hic36", G::kHic, "HIC36", "", "HIC, windows up to 36 ms",
-     [](S& s) -> double& { return s.hic36.value; }},
+    LogScale({"hic36", G::kHic, "HIC36", "", "HIC, windows up to 36 ms",
+              [](S& s) -> double& { return s.hic36.value; }}),
     {"hic36_t1_s", G::kHic, "HIC36 window start", "s", "HIC36 window start (s)",
      [](S& s) -> double& { return s.hic36.t1_s; }},
     {"hic36_t2_s", G::kHic, "HIC36 window end", "s", "HIC36 window end (s)",
      [](S& s) -> double& { return s.hic36.t2_s; }},
-    {"hic", G::kHic, "HIC", "", "HIC, no window limit", [](S& s) -> double& { return s.hic.value; }, nullptr,
-     "no window limit"},
+    LogScale({"hic", G::kHic, "HIC", "", "HIC, no window limit", [](S& s) -> double& { return s.hic.value; },
+              nullptr, "no window limit"}),
     {"hic_t1_s", G::kHic, "HIC window start", "s", "HIC window start (s)",
      [](S& s) -> double& { return s.hic.t1_s; }},
     {"hic_t2_s", G::kHic, "HIC window end", "s", "HIC window end (s)",
      [](S& s) -> double& { return s.hic.t2_s; }},
-    {"peak_acc_g", G::kHic, "peak acceleration", "g", "peak resultant CG acceleration, fixed frame (g)",
-     [](S& s) -> double& { return s.peak_acc_g; }},
-    {"a3ms_g", G::kHic, "a3ms", "g", "3 ms clip acceleration (g)", [](S& s) -> double& { return s.a3ms_g; }},
-    {"peak_omega_x_radps", G::kRotation, "peak |ω_x|", "rad/s", "peak |omega_x|, body axes (rad/s)",
-     [](S& s) -> double& { return s.peak_omega_body_radps[0]; }},
-    {"peak_omega_y_radps", G::kRotation, "peak |ω_y|", "rad/s", "peak |omega_y|, body axes (rad/s)",
-     [](S& s) -> double& { return s.peak_omega_body_radps[1]; }},
-    {"peak_omega_z_radps", G::kRotation, "peak |ω_z|", "rad/s", "peak |omega_z|, body axes (rad/s)",
-     [](S& s) -> double& { return s.peak_omega_body_radps[2]; }},
-    {"peak_omega_radps", G::kRotation, "peak angular velocity", "rad/s",
-     "peak resultant angular velocity (rad/s)", [](S& s) -> double& { return s.peak_omega_radps; }},
-    {"peak_alpha_radps2", G::kRotation, "peak angular acceleration", "rad/s²",
-     "peak resultant angular acceleration (rad/s^2)", [](S& s) -> double& { return s.peak_alpha_radps2; }},
-    {"bric", G::kRotation, "BrIC", "", "BrIC (dimensionless)", [](S& s) -> double& { return s.bric; }},
-    {"damage", G::kRotation, "DAMAGE", "", "DAMAGE (dimensionless)",
-     [](S& s) -> double& { return s.damage; }},
+    LogScale({"peak_acc_g", G::kHic, "peak acceleration", "g",
+              "peak resultant CG acceleration, fixed frame (g)",
+              [](S& s) -> double& { return s.peak_acc_g; }}),
+    LogScale({"a3ms_g", G::kHic, "a3ms", "g", "3 ms clip acceleration (g)",
+              [](S& s) -> double& { return s.a3ms_g; }}),
+    LogScale({"peak_omega_x_radps", G::kRotation, "peak |ω_x|", "rad/s", "peak |omega_x|, body axes (rad/s)",
+              [](S& s) -> double& { return s.peak_omega_body_radps[0]; }}),
+    LogScale({"peak_omega_y_radps", G::kRotation, "peak |ω_y|", "rad/s", "peak |omega_y|, body axes (rad/s)",
+              [](S& s) -> double& { return s.peak_omega_body_radps[1]; }}),
+    LogScale({"peak_omega_z_radps", G::kRotation, "peak |ω_z|", "rad/s", "peak |omega_z|, body axes (rad/s)",
+              [](S& s) -> double& { return s.peak_omega_body_radps[2]; }}),
+    LogScale({"peak_omega_radps", G::kRotation, "peak angular velocity", "rad/s",
+              "peak resultant angular velocity (rad/s)", [](S& s) -> double& { return s.peak_omega_radps; }}),
+    LogScale({"peak_alpha_radps2", G::kRotation, "peak angular acceleration", "rad/s²",
+              "peak resultant angular acceleration (rad/s^2)",
+              [](S& s) -> double& { return s.peak_alpha_radps2; }}),
+    InVerdict(LogScale(
+        {"bric", G::kRotation, "BrIC", "", "BrIC (dimensionless)", [](S& s) -> double& { return s.bric; }})),
+    LogScale({"damage", G::kRotation, "DAMAGE", "", "DAMAGE (dimensionless)",
+              [](S& s) -> double& { return s.damage; }}),
     {"final_quat_w", G::kRotation, "final quaternion w", "",
      "final orientation quaternion, fixed from body, w",
      [](S& s) -> double& { return s.final_quat_wxyz[0]; }},
@@ -79,8 +100,8 @@ constexpr SummaryField kSummaryFields[] = {
      [](S& s) -> double& { return s.max_residual_mps2; }},
     // Added by schema 3 (a column appended to the results table, hence last);
     // the views list it after the other HIC fields.
-    {"hic_d", G::kHic, "HIC(d)", "", "FMVSS 201 free-motion headform HIC(d) = 0.75446 HIC36 + 166.4",
-     [](S& s) -> double& { return s.hic_d; }},
+    LogScale({"hic_d", G::kHic, "HIC(d)", "", "FMVSS 201 free-motion headform HIC(d) = 0.75446 HIC36 + 166.4",
+              [](S& s) -> double& { return s.hic_d; }}),
     // Added by schema 8 (columns appended to the results table); the curves
     // are engine/injury_risk.h, docs/algorithms.md "Injury risk".
     {"hic15_p_ais3", G::kRisk, nullptr, "",
@@ -92,6 +113,12 @@ constexpr SummaryField kSummaryFields[] = {
      [](S& s) -> double& { return s.bric_p_ais3; }, &kTakhountsBricAis3},
     {"bric_p_ais4", G::kRisk, nullptr, "", "P(AIS 4+ brain injury) from BrIC, Takhounts et al. 2013 (0..1)",
      [](S& s) -> double& { return s.bric_p_ais4; }, &kTakhountsBricAis4},
+    // Added by schema 14 (a column appended to the results table); a criterion
+    // its row computes (engine/ubric.h), shown after the other rotation fields.
+    Computed(
+        LogScale({"ubric", G::kRotation, "UBrIC", "",
+                  "UBrIC, universal brain injury criterion, Gabler et al. 2018 (dimensionless)", nullptr}),
+        UbricOf),
 };
 
 bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }

@@ -41,17 +41,40 @@ struct SummaryField {
   const char* label;
   const char* unit;     // "g", "rad/s", ...; "" for a number without unit
   const char* meaning;  // one line, with the unit
-  // The field in a summary. Get and Set go through it.
+  // The field in a summary, or nullptr for a criterion the row computes
+  // (compute below), whose value lives in TestSummary::computed under the
+  // field's name. Get and Set go through it.
   double& (*field)(TestSummary&);
   // A risk's curve; nullptr for every other field.
   const RiskCurve* curve = nullptr;
   // What a table adds to the label besides the unit ("no window limit").
   const char* detail = "";
+  // Compared on the log scale by `napkin compare --scale log` (app/comparison.cpp,
+  // docs/algorithms.md "Comparison"): a positive, right-skewed criterion whose
+  // groups differ by a ratio.
+  bool log_scale = false;
+  // One of the criteria the verdict reads (app/verdict.cpp), with the risks
+  // computed from it.
+  bool in_verdict = false;
+  // A criterion of the kinematics alone, computed by FillCriteria
+  // (engine/criteria.h) into TestSummary::computed: a new criterion is its
+  // engine function and this row (docs/developing.md "Adding a criterion").
+  // nullptr for the fields FillCriteria and SummarizeKinematics fill by name.
+  double (*compute)(const Kinematics&) = nullptr;
 
   double Get(const TestSummary& summary) const {
+    if (field == nullptr) {
+      const auto found = summary.computed.find(std::string_view(name));
+      return found != summary.computed.end() ? found->second : 0.0;  // 0.0, as every member starts
+    }
     return field(const_cast<TestSummary&>(summary));  // the accessor only forms a reference
   }
-  void Set(TestSummary& summary, double value) const { field(summary) = value; }
+  void Set(TestSummary& summary, double value) const {
+    if (field == nullptr)
+      summary.computed.insert_or_assign(name, value);
+    else
+      field(summary) = value;
+  }
 };
 
 // Every numeric field, in the order of the results table's columns (fields

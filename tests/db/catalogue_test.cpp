@@ -469,7 +469,7 @@ TEST_F(CatalogueTest, QueryViewsCarryTheContractColumns) {
   EXPECT_EQ(catalogue_.Query(QueryKind::kRotation).columns, rotation);
   criteria.push_back("salvaged");  // schema/012_salvage.sql
   EXPECT_EQ(catalogue_.Query(QueryKind::kCriteria).columns, criteria);
-  EXPECT_EQ(criteria.size(), 3u + 12u + 18u + 1u);
+  EXPECT_EQ(criteria.size(), 3u + 12u + 19u + 1u);  // ubric: schema/015_ubric.sql
   EXPECT_THAT(catalogue_.Query(QueryKind::kQuality).columns,
               ElementsAre("test_id", "series", "variant", "check", "channel", "severity", "detail"));
 }

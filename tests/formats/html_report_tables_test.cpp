@@ -46,8 +46,8 @@ TEST(HtmlReportTables, CriteriaAreTheQueryCriteriaFieldsInContractOrder) {
   const std::string tables = SummaryTables(summary);
   EXPECT_EQ(RowLabels(tables, "criteria"),
             (std::vector<std::string>{"HIC15", "HIC36", "HIC (no window limit)", "peak acceleration (g)",
-                                      "a3ms (g)", "HIC(d)", "BrIC", "DAMAGE", "P(AIS 3+) from HIC15 (NCAP)",
-                                      "P(AIS 4+) from HIC36 (Prasad–Mertz)",
+                                      "a3ms (g)", "HIC(d)", "BrIC", "DAMAGE", "UBrIC",
+                                      "P(AIS 3+) from HIC15 (NCAP)", "P(AIS 4+) from HIC36 (Prasad–Mertz)",
                                       "P(AIS 3+) from BrIC (Takhounts)", "P(AIS 4+) from BrIC (Takhounts)"}));
   EXPECT_NE(tables.find("<tr><th>HIC(d)</th><td class=\"num\">803.9</td></tr>"), std::string::npos) << tables;
   EXPECT_NE(tables.find("<tr><th>HIC36</th><td class=\"num\">845.0 <span class=\"note\">(20.00–32.00 "
