@@ -75,7 +75,10 @@ class Parameters {
   using Value = std::variant<std::int64_t, double, std::string>;
   std::string Add(Value value) {
     values_.push_back(std::move(value));
-    return "?" + std::to_string(values_.size());
+    // Appended, not `"?" + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
+    std::string placeholder = "?";
+    placeholder += std::to_string(values_.size());
+    return placeholder;
   }
   void BindTo(Statement& statement) const {
     for (std::size_t i = 0; i < values_.size(); ++i)
