@@ -139,9 +139,18 @@ std::string FirstBytes(const fs::path& file) {
 }
 
 std::string Joined(const std::vector<std::string>& items, std::string_view conjunction) {
+  // Appended piece by piece, not `" " + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
   std::string list;
-  for (std::size_t i = 0; i < items.size(); ++i)
-    list += (i == 0 ? "" : i + 1 == items.size() ? " " + std::string(conjunction) + " " : ", ") + items[i];
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i + 1 == items.size() && i > 0) {
+      list += ' ';
+      list += conjunction;
+      list += ' ';
+    } else if (i > 0) {
+      list += ", ";
+    }
+    list += items[i];
+  }
   return list;
 }
 
