@@ -32,12 +32,15 @@ fs::path WithoutTrailingSeparator(const fs::path& path) {
 std::string NotARegularFile(const fs::path& path) {
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
+  // Appended, not `"'" + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
+  std::string named = "'";
+  named += path.string();
+  named += '\'';
   if (error && error.value() == ELOOP)
-    return "'" + path.string() + "' is a loop of symbolic links; point the link at a real file.";
-  if (error) return "'" + path.string() + "' cannot be read (" + error.message() + ").";
+    return named + " is a loop of symbolic links; point the link at a real file.";
+  if (error) return named + " cannot be read (" + error.message() + ").";
   if (!fs::is_regular_file(status))
-    return "'" + path.string() + "' is not a regular file (a FIFO, device or socket); napkin reads only " +
-           "regular files.";
+    return named + " is not a regular file (a FIFO, device or socket); napkin reads only regular files.";
   return "";
 }
 
