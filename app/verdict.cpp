@@ -167,7 +167,11 @@ std::string CriterionClause(std::string_view label, const ComparisonRow& row, co
     return percent ? PercentText(std::abs(value)) : Units(std::abs(value));
   };
   const auto signed_value = [&](double value) {
-    return percent ? Signed(value) : (value > 0 ? "+" : "") + Units(value);
+    if (percent) return Signed(value);
+    // Appended, not `"+" + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes).
+    std::string text = value > 0 ? "+" : "";
+    text += Units(value);
+    return text;
   };
   const std::string verb = main < 0 ? "lowers " : "raises ";
   switch (ClassifyClause(row, baseline, rotation_criterion)) {
@@ -338,8 +342,10 @@ std::string VerdictNote(const Comparison& comparison) {
             "means in % of the baseline mean"
           : "every criterion as the difference of means in % of the baseline mean (--scale linear)",
       util::FormatNumber(comparison.equivalence_pct, 6));
-  for (std::size_t set = 0; set < comparison.limit_sets.size(); ++set)
-    note += " " + LimitSetNote(comparison, set);
+  for (std::size_t set = 0; set < comparison.limit_sets.size(); ++set) {
+    note += ' ';  // not `" " + temporary` (GCC 12's false -Wrestrict, util/text.h InQuotes)
+    note += LimitSetNote(comparison, set);
+  }
   return note;
 }
 
