@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace napkin::serve {
 
@@ -50,6 +51,10 @@ struct ServeOptions {
   // line's one sentence): the front end makes every later log line carry its time.
   std::function<void()> on_listening;
 };
+
+// The patterns of the service's routes, in the order of its table ("/api/v1/tests/{id}/channels";
+// serve/router.h), that table checked as RunService checks it (no two routes match one path).
+std::vector<std::string> ServiceRoutePatterns();
 
 // The service until SIGTERM or SIGINT. Throws UsageError (before listening)
 // for a bad --listen, a non-loopback address without --token-file or --threads
