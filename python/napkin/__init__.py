@@ -30,6 +30,8 @@ libraries as the ``napkin`` command, so a result here is the command's result
   sliding scales, IIHS's bands), a dict preset -> ``LimitPreset`` with its
   source; ``exceed_probability(values, limit)`` -- the chance a further test
   exceeds a limit, as ``compare --limits`` gives it;
+- ``QUERY_KINDS`` -- the kinds ``query()`` takes, a dict name -> ``QueryKind``
+  (its description and whether it takes ``limits=``), napkin's one table of them;
 - ``tune_memory()`` -- raises glibc malloc's thresholds for the process, as
   ``napkin run`` does (never called implicitly).
 

@@ -79,9 +79,12 @@ def test_query_frame_equals_cli_json(demo_catalogue):
 @pytest.mark.parametrize("kind", KINDS)
 def test_query_frame_numbers_are_float64_and_missing_values_nan(demo_catalogue, kind):
     pytest.importorskip("pandas", reason="python3-pandas is not installed")
-    expected = cli_json("--db", demo_catalogue, "query", kind)
-    frame = napkin.Catalogue(demo_catalogue).query_frame(kind)
+    expected = cli_json("--db", demo_catalogue, "query", kind, *limits_args(kind))
+    limits = LIMITS_PRESET if napkin.QUERY_KINDS[kind].takes_limits else None
+    frame = napkin.Catalogue(demo_catalogue).query_frame(kind, limits=limits)
     numeric = {name for name, field in napkin.SUMMARY_FIELDS.items()} | {
+        # query limits (docs/formats.md "Limits")
+        "value", "limit", "margin_pct", "higher_limit", "points", "max_points",
         "filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s",
         # query correlation (docs/formats.md "Correlation ratings")
         "start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall", "shift_s",

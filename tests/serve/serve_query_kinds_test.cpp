@@ -25,52 +25,23 @@ using Json = nlohmann::json;
 
 // A catalogue where every kind has rows: a padding series processed, one test with a constant
 // offset on a channel (a bias finding: quality), the ratings of a variant (correlation).
-class ServeQueryKinds : public ::testing::Test {
+class ServeQueryKinds : public ServedCatalogueSuite<ServeQueryKinds> {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new TempDir();
     ASSERT_EQ(Napkin({"synth", "--scenario", "padding-series", "--count", "2"}).exit_code, 0);
     synth::SyntheticTest offset = SynthNapTest(43);
     offset.signals.samples.col(offset.signals.FindSlot("cg_z")).array() += 30.0;
-    formats::WriteSignalsCsv(offset.signals, dir_->path() / "offset.csv");
-    const CommandResult import = Napkin(
-        {"import", "--array", "denton-3222", "--series", "offsets", (dir_->path() / "offset.csv").string()});
+    formats::WriteSignalsCsv(offset.signals, dir() / "offset.csv");
+    const CommandResult import =
+        Napkin({"import", "--array", "denton-3222", "--series", "offsets", (dir() / "offset.csv").string()});
     ASSERT_EQ(import.exit_code, 0) << import.err;
     const CommandResult run = Napkin({"run"});
     ASSERT_EQ(run.exit_code, 0) << run.err;
     const CommandResult correlate = Napkin(
         {"correlate", "--series", "padding-series", "--variant", "foam-a", "--channel", "acc_resultant_g"});
     ASSERT_EQ(correlate.exit_code, 0) << correlate.err;
-    serve_ = new ServeProcess(dir_->path(), db(), {"--listen", "127.0.0.1:0"});
-    ASSERT_GT(serve_->port(), 0) << serve_->log();
+    Serve({});
   }
-  static void TearDownTestSuite() {
-    delete serve_;
-    serve_ = nullptr;
-    delete dir_;
-    dir_ = nullptr;
-  }
-  void SetUp() override { ASSERT_TRUE(serve_ && serve_->port() > 0); }
-
-  static fs::path db() { return dir_->path() / "lab.db"; }
-  static CommandResult Napkin(std::vector<std::string> args) {
-    args.insert(args.begin(), {"--db", db().string()});
-    return RunProgram(NAPKIN_BINARY, args, dir_->path());
-  }
-  static httplib::Result Get(const std::string& target) { return serve_->Client()->Get(target.c_str()); }
-  static std::string ErrorOf(const httplib::Result& result) {
-    return Json::parse(result->body).at("error").get<std::string>();
-  }
-  // The sentence of napkin's one-line error on stderr ("napkin: SENTENCE\n").
-  static std::string CliSentence(const CommandResult& run) {
-    std::string line = run.err;
-    if (line.rfind("napkin: ", 0) == 0) line.erase(0, 8);
-    while (!line.empty() && line.back() == '\n') line.pop_back();
-    return line;
-  }
-
-  static inline TempDir* dir_ = nullptr;
-  static inline ServeProcess* serve_ = nullptr;
 };
 
 // `text` with every byte but letters, digits and "-._~" percent-encoded (a path segment).
