@@ -1,6 +1,7 @@
 #pragma once
 // `napkin serve` (docs/serve.md): the HTTP API of serve/api.h on a listening
-// socket (serve/http_server.h), safe by default (docs/serve.md "Safety"):
+// socket (serve/http_server.h), its routes one table (ServiceRoutes in
+// serve/service.cpp, matched by serve/router.h), safe by default (docs/serve.md "Safety"):
 // loopback unless a bearer token guards it, requests bounded in size, headers,
 // connections and time (a total header deadline), no route mapped to a file,
 // the catalogue opened read-only for each request. It runs until SIGTERM or
