@@ -24,26 +24,20 @@ db::QueryRequest QueryFilterOptions::Request(db::QueryKind kind) const {
   return request;
 }
 
-std::vector<std::string> QueryKindNames() {
-  std::vector<std::string> kinds;
-  kinds.reserve(db::kQueryKindNames.size() + 1);
-  for (const auto& [kind, name] : db::kQueryKindNames) kinds.emplace_back(name);
-  kinds.emplace_back("limits");  // `query criteria` against limits (app/limits.h)
-  return kinds;
-}
-
 PreparedQuery PrepareQuery(const Query& query) {
-  const bool limits = query.kind == "limits";
-  const std::optional<db::QueryKind> kind =
-      limits ? db::QueryKind::kCriteria : engine::ParseName<db::QueryKind>(query.kind);
-  if (!kind)
-    throw UsageError("unknown query kind \"" + query.kind + "\" (use " + Joined(QueryKindNames()) + ").");
-  if (limits && !query.limits)
-    throw UsageError("`napkin query limits` needs --limits NAME (presets: " + Joined(LimitPresets()) + ").");
-  if (!limits && query.limits) throw UsageError("--limits applies to `napkin query limits` only.");
-  PreparedQuery prepared{*kind, {}, query.filters.config, std::nullopt};
-  if (limits) prepared.limits = LoadLimits(*query.limits);
-  prepared.request = query.filters.Request(*kind);
+  const db::QueryKindSpec& kind = db::ParseQueryKind(query.kind);
+  if (kind.takes_limits && !query.limits)
+    throw UsageError("`napkin query " + kind.name +
+                     "` needs --limits NAME (presets: " + Joined(LimitPresets()) + ").");
+  if (!kind.takes_limits && query.limits) {
+    std::vector<std::string> taking;
+    for (const db::QueryKindSpec& other : db::QueryKinds())
+      if (other.takes_limits) taking.push_back("`napkin query " + other.name + "`");
+    throw UsageError("--limits applies to " + JoinedChoices(taking) + " only.");
+  }
+  PreparedQuery prepared{kind.kind, {}, query.filters.config, std::nullopt};
+  if (kind.takes_limits) prepared.limits = LoadLimits(*query.limits);
+  prepared.request = query.filters.Request(kind.kind);
   return prepared;
 }
 

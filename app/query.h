@@ -28,35 +28,32 @@ struct QueryFilterOptions {
   db::QueryRequest Request(db::QueryKind kind) const;
 };
 
-// The kinds of query, in this order: db::kQueryKindNames (tests, hic, ...,
-// conditioning), then "limits": the rows of `criteria` checked against a
-// limit set (LimitsTable).
-std::vector<std::string> QueryKindNames();
-
 // A query as `napkin query KIND` and napkin.Catalogue.query ask it.
 struct Query {
-  std::string kind;  // one of QueryKindNames()
+  std::string kind;  // a name of db::QueryKinds()
   QueryFilterOptions filters;
-  std::optional<std::string> limits;  // kind "limits": a limits preset name or JSON file (LoadLimits)
+  std::optional<std::string>
+      limits;  // a kind that takes_limits: a limits preset name or JSON file (LoadLimits)
 };
 
 // A query checked without a catalogue, so that a malformed one is reported
 // before a catalogue is opened.
 struct PreparedQuery {
-  db::QueryKind kind;        // of the rows read: kCriteria for "limits"
+  db::QueryKind kind;        // as asked (db::QueryKindSpec::rows_of says whose rows it reads)
   db::QueryRequest request;  // without its config
   std::string config;        // QueryFilterOptions::config
   std::optional<LimitSet> limits;
 };
 
-// Throws UsageError for an unknown kind ("unknown query kind ..."), "limits"
-// without `limits` or `limits` with another kind, and QueryFilterOptions::Request's
-// errors; LoadLimits' errors.
+// Throws UsageError for an unknown kind (db::UnknownQueryKindSentence, the
+// sentence of every front end), a kind that takes limits without `limits` or
+// `limits` with another kind, and QueryFilterOptions::Request's errors;
+// LoadLimits' errors.
 PreparedQuery PrepareQuery(const Query& query);
 
 // The query's rows: db::Catalogue::Query under the query's config (Stored,
-// app/result_selection.h; each test's latest result without one), for
-// "limits" checked against the limits.
+// app/result_selection.h; each test's latest result without one), for a
+// kind that takes limits checked against them (LimitsTable).
 db::Table RunQuery(db::Catalogue& catalogue, const PreparedQuery& query);
 
 // `--sort FIELD[:asc|:desc]` against `fields`; throws UsageError.

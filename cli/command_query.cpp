@@ -1,15 +1,18 @@
-// `napkin query {tests,hic,rotation,criteria,risk,quality,conditioning,limits}`: summaries across
-// tests from the catalogue's query views (each test's latest result, or the
-// results of --config), filtered by --series, --variant and --where, ordered
-// by --sort, cut by --limit (docs/formats.md "Query filters"), as an aligned
-// table, CSV or JSON (one object per row, docs/formats.md field names).
+// `napkin query KIND` (the kinds of db/query_kinds.h): summaries across
+// tests from the catalogue (each test's latest result, or the results of
+// --config), filtered by --series, --variant and --where, ordered by --sort,
+// cut by --limit (docs/formats.md "Query filters"), as an aligned table, CSV
+// or JSON (one object per row, docs/formats.md field names).
 #include <fmt/core.h>
+
+#include <algorithm>
 
 #include "app/query.h"
 #include "app/table_output.h"
 #include "cli/catalogue_option.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
+#include "db/query_kinds.h"
 
 namespace napkin::cli {
 namespace {
@@ -32,15 +35,25 @@ void RegisterQueryFilters(CLI::App& command, app::QueryFilterOptions& filters) {
                      "results of this processing config (name or hash prefix; default: each test's latest)");
 }
 
+// The help's list of the kinds, one line each: "  hic           HIC15, ...".
+std::string KindsHelp() {
+  std::size_t width = 0;
+  for (const db::QueryKindSpec& kind : db::QueryKinds()) width = std::max(width, kind.name.size());
+  std::string help = "Kinds:\n";
+  for (const db::QueryKindSpec& kind : db::QueryKinds())
+    help += fmt::format("  {:<{}}  {}\n", kind.name, width, kind.description);
+  return help;
+}
+
 class QueryCommand : public Command {
  public:
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("query", "summaries across tests");
-    sub->add_option("KIND", query_.kind,
-                    "tests, hic, rotation, criteria, risk, quality, conditioning or limits")
-        ->required()
-        ->check(OneOfCheck("the query KIND", napkin::app::QueryKindNames()));
+    // An unknown kind is refused by the query layer (app::PrepareQuery), in the sentence the
+    // service and the Python module give.
+    sub->add_option("KIND", query_.kind, ChoiceList(db::QueryKindNames()))->required();
+    sub->footer(KindsHelp());
     RegisterQueryFilters(*sub, query_.filters);
     sub->add_option("--limits", query_.limits,
                     "query limits: the limits each test is checked against, a limits preset (config/limits, "

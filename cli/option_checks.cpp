@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "common/joined.h"
 #include "util/text.h"
 
 namespace napkin::cli {
@@ -16,14 +17,7 @@ std::string Quoted(const std::string& text) { return "'" + util::Abbreviated(tex
 
 }  // namespace
 
-std::string ChoiceList(const std::vector<std::string>& choices) {
-  std::string list;
-  for (std::size_t i = 0; i < choices.size(); ++i) {
-    if (i > 0) list += i + 1 == choices.size() ? " or " : ", ";
-    list += choices[i];
-  }
-  return list;
-}
+std::string ChoiceList(const std::vector<std::string>& choices) { return JoinedChoices(choices); }
 
 CLI::Validator WholeNumberCheck(const std::string& option, long long minimum, long long maximum) {
   const bool int_maximum = maximum == std::numeric_limits<int>::max();

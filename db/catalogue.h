@@ -15,6 +15,7 @@
 #include <variant>
 #include <vector>
 
+#include "db/query_kinds.h"
 #include "db/sqlite.h"
 #include "db/where_expression.h"
 #include "engine/kinematics.h"
@@ -90,24 +91,8 @@ struct RawChannelInfo {
   std::int64_t sample_count = 0;
 };
 
-// `napkin query` tables, read from the views v_tests and v_quality, and for
-// the summary kinds (hic, rotation, risk, criteria) from a SELECT generated
-// from engine::SummaryFields() over v_latest_results; column names are the
-// query contract.
-// v_conditioning (kConditioning: what conditioning did to each channel);
-// v_correlation (kCorrelation: the stored ISO/TS 18571 ratings, schema 9).
-enum class QueryKind { kTests, kHic, kRotation, kCriteria, kQuality, kConditioning, kRisk, kCorrelation };
-// The query KINDs of `napkin query` and the Python module's Catalogue.query, in the order they are listed.
-inline constexpr std::array<engine::NamedValue<QueryKind>, 8> kQueryKindNames{
-    {{QueryKind::kTests, "tests"},
-     {QueryKind::kHic, "hic"},
-     {QueryKind::kRotation, "rotation"},
-     {QueryKind::kCriteria, "criteria"},
-     {QueryKind::kRisk, "risk"},
-     {QueryKind::kQuality, "quality"},
-     {QueryKind::kConditioning, "conditioning"},
-     {QueryKind::kCorrelation, "correlation"}}};
-constexpr const auto& NamesOf(QueryKind) { return kQueryKindNames; }
+// `napkin query` tables: the kinds, their columns and what their rows are read
+// from are the table of db/query_kinds.h; column names are the query contract.
 using Cell = std::variant<std::monostate, std::int64_t, double, std::string>;  // monostate: NULL
 struct Table {
   std::vector<std::string> columns;
@@ -129,16 +114,9 @@ struct LabelledResult {
 // (what the query views show), or one per config the test has results for.
 enum class ResultSelection { kLatest, kEveryConfig };
 
-// A column of a query table that --where and --sort may name: a summary
-// field (a number) or a label (text).
-struct QueryField {
-  std::string name;
-  bool numeric = false;
-};
-
 // The columns of `napkin query <kind>`, in order (docs/formats.md "Query
-// filters"): test_id, series, variant and the engine::SummaryFields() of the
-// kind's groups; `tests` and `quality` their own text columns.
+// filters"): test_id, series, variant, then those its row of QueryKinds()
+// gives (for `limits`, those of `criteria`, whose rows it checks).
 std::vector<QueryField> QueryFields(QueryKind kind);
 
 // "test_id, series, ...": the names of `fields`, for messages that list them.

@@ -5,8 +5,8 @@
 // Field names reach the SQL only after they were found in QueryFields(kind);
 // every value is bound as a parameter.
 #include <algorithm>
-#include <initializer_list>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "common/error.h"
@@ -18,45 +18,8 @@
 namespace napkin::db {
 namespace {
 
-using engine::SummaryGroup;
-
-const char* KindName(QueryKind kind) {
-  switch (kind) {
-    case QueryKind::kTests:
-      return "tests";
-    case QueryKind::kHic:
-      return "hic";
-    case QueryKind::kRotation:
-      return "rotation";
-    case QueryKind::kRisk:
-      return "risk";
-    case QueryKind::kCriteria:
-      return "criteria";
-    case QueryKind::kQuality:
-      return "quality";
-    case QueryKind::kConditioning:
-      return "conditioning";
-    case QueryKind::kCorrelation:
-      return "correlation";
-  }
-  return "?";
-}
-
-// The summary fields a kind shows, in view order (none for tests and quality).
-std::vector<const engine::SummaryField*> KindSummaryFields(QueryKind kind) {
-  switch (kind) {
-    case QueryKind::kHic:
-      return engine::SummaryFieldsOf({SummaryGroup::kHic});
-    case QueryKind::kRotation:
-      return engine::SummaryFieldsOf({SummaryGroup::kRotation});
-    case QueryKind::kRisk:
-      return engine::SummaryFieldsOf({SummaryGroup::kRisk});
-    case QueryKind::kCriteria:
-      return engine::SummaryFieldsOf({SummaryGroup::kHic, SummaryGroup::kRotation});
-    default:
-      return {};
-  }
-}
+// The row whose columns and sources `kind` reads: its own, or (limits) that of the kind it checks.
+const QueryKindSpec& RowsOf(QueryKind kind) { return QueryKindOf(QueryKindOf(kind).rows_of); }
 
 // A column name as an SQL identifier (names come from QueryFields; quoting
 // also covers the keyword "check").
@@ -95,7 +58,7 @@ const QueryField& FindField(QueryKind kind, const std::vector<QueryField>& field
       std::find_if(fields.begin(), fields.end(), [&](const QueryField& field) { return field.name == name; });
   if (found == fields.end())
     throw UsageError(std::string(option) + " names unknown field '" + name + "'; the fields of query " +
-                     KindName(kind) + " are " + FieldNames(fields) + ".");
+                     QueryKindOf(kind).name + " are " + FieldNames(fields) + ".");
   return *found;
 }
 
@@ -194,51 +157,20 @@ std::string LatestResultsSql() {
       "latest.test_id = t.id) LEFT JOIN series AS s ON s.id = t.series_id");
 }
 
-// What the rows of `kind` are selected from: its view, or the same rows
-// under `config`.
+// What the rows of `kind` are selected from: its row's source (QueryKindSpec), or the
+// SELECT of the summary kinds, each test's latest result or the results of `config`.
 std::string SourceSql(QueryKind kind, const std::optional<ConfigId>& config, Parameters& parameters) {
-  if (!config) {
-    switch (kind) {
-      case QueryKind::kTests:
-        return "v_tests";
-      case QueryKind::kHic:
-      case QueryKind::kRotation:
-      case QueryKind::kRisk:
-      case QueryKind::kCriteria:
-        return LatestResultsSql();
-      case QueryKind::kQuality:
-        return "v_quality";
-      case QueryKind::kConditioning:
-        return "v_conditioning";
-      case QueryKind::kCorrelation:
-        return "v_correlation";
-    }
-  }
+  const QueryKindSpec& rows = RowsOf(kind);
+  const bool generated = rows.latest_source.empty();
+  if (!config) return generated ? LatestResultsSql() : rows.latest_source;
   const std::string config_parameter = parameters.Add(static_cast<std::int64_t>(*config));
-  switch (kind) {
-    case QueryKind::kTests:
-      return "(SELECT * FROM v_tests WHERE test_id IN (SELECT t.external_id FROM results AS r"
-             " JOIN tests AS t ON t.id = r.test_id WHERE r.config_id = " +
-             config_parameter + "))";
-    case QueryKind::kQuality:
-      return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant,"
-             " f.check_name AS \"check\", f.channel AS channel, f.severity AS severity, f.detail AS detail"
-             " FROM findings AS f JOIN tests AS t ON t.id = f.test_id"
-             " LEFT JOIN series AS s ON s.id = t.series_id WHERE f.config_id = " +
-             config_parameter + ")";
-    case QueryKind::kConditioning:
-      return "(SELECT t.external_id AS test_id, s.name AS series, t.variant AS variant, c.channel,"
-             " rc.unit AS unit, c.filter, c.filter_cfc, c.prefiltered_cfc, c.bias_removed, c.bias_t1_s,"
-             " c.bias_t2_s, c.time_shift_s, c.position FROM result_conditioning AS c"
-             " JOIN tests AS t ON t.id = c.test_id LEFT JOIN series AS s ON s.id = t.series_id"
-             " LEFT JOIN raw_channels AS rc ON rc.test_id = c.test_id AND rc.slot = c.channel"
-             " WHERE c.config_id = " +
-             config_parameter + ")";
-    case QueryKind::kCorrelation:  // the ratings of that config's results
-      return "(SELECT * FROM v_correlation WHERE config_id = " + config_parameter + ")";
-    default:
-      return ResultsOfConfigSql(config_parameter);
-  }
+  if (generated) return ResultsOfConfigSql(config_parameter);
+  std::string sql = rows.config_source;
+  constexpr std::string_view kConfig = "?CONFIG";
+  const std::size_t at = sql.find(kConfig);
+  if (at == std::string::npos || sql.find(kConfig, at + 1) != std::string::npos)
+    throw std::logic_error("the config source of query " + rows.name + " names ?CONFIG other than once");
+  return sql.replace(at, kConfig.size(), config_parameter);
 }
 
 // `column IN (names)` as a JSON array parameter; empty when `names` is empty.
@@ -266,32 +198,14 @@ Cell ReadCell(const Statement& row, int column) {
 }  // namespace
 
 std::vector<QueryField> QueryFields(QueryKind kind) {
+  const QueryKindSpec& rows = RowsOf(kind);
   std::vector<QueryField> fields = {{"test_id", false}, {"series", false}, {"variant", false}};
-  const auto add_text = [&fields](std::initializer_list<const char*> names) {
-    for (const char* name : names) fields.push_back({name, false});
-  };
-  if (kind == QueryKind::kTests)
-    add_text({"array", "source_path", "content_hash", "imported_at", "position", "test_number", "title",
-              "vehicle", "dummy", "test_date", "laboratory"});
-  if (kind == QueryKind::kQuality) add_text({"check", "channel", "severity", "detail"});
-  if (kind == QueryKind::kConditioning) {
-    add_text({"channel", "unit", "filter"});
-    for (const char* name :
-         {"filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s"})
-      fields.push_back({name, true});
-  }
-  if (kind == QueryKind::kCorrelation) {
-    add_text({"channel", "reference_kind", "reference", "model_file", "model_sha256", "model_column",
-              "model_units", "reference_test", "edition"});
-    for (const char* name : {"start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall"})
-      fields.push_back({name, true});
-    add_text({"grade"});
-    fields.push_back({"shift_s", true});
-    add_text({"config", "rated_at"});
-  }
-  for (const engine::SummaryField* field : KindSummaryFields(kind)) fields.push_back({field->name, true});
+  fields.insert(fields.end(), rows.own_fields.begin(), rows.own_fields.end());
+  for (const engine::SummaryGroup group : rows.summary_groups)
+    for (const engine::SummaryField* field : engine::SummaryFieldsOf({group}))
+      fields.push_back({field->name, true});
   // 1 when the result comes from salvaged channels (schema/012_salvage.sql).
-  if (kind == QueryKind::kTests || kind == QueryKind::kCriteria) fields.push_back({"salvaged", true});
+  if (rows.salvaged) fields.push_back({"salvaged", true});
   return fields;
 }
 
@@ -322,10 +236,7 @@ Table Catalogue::Query(QueryKind kind, const QueryRequest& request) {
   for (const SortKey& key : request.sort)
     sql += Identifier(FindField(kind, fields, key.field, "--sort").name) +
            (key.descending ? " DESC" : " ASC") + " NULLS LAST, ";
-  sql += "test_id";
-  if (kind == QueryKind::kQuality) sql += ", \"check\", channel, detail";
-  if (kind == QueryKind::kConditioning) sql += ", position";
-  if (kind == QueryKind::kCorrelation) sql += ", channel, reference, edition, start_s, end_s, config";
+  sql += "test_id" + RowsOf(kind).tie_order;
   if (request.limit) {
     if (*request.limit < 0)
       throw UsageError("--limit must be a whole number of rows, 0 or more; it is " +

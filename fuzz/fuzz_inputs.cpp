@@ -264,13 +264,12 @@ Outcome RunSidecar(std::string_view input) {
 Outcome RunWhere(std::string_view input) {
   static db::Catalogue catalogue = db::Catalogue::Open(":memory:");
   Outcome outcome = Outcome::kRejected;
-  for (const db::QueryKind kind :
-       {db::QueryKind::kTests, db::QueryKind::kHic, db::QueryKind::kRotation, db::QueryKind::kCriteria,
-        db::QueryKind::kQuality, db::QueryKind::kConditioning}) {
+  for (const db::QueryKindSpec& kind : db::QueryKinds()) {
+    if (kind.rows_of != kind.kind) continue;  // the same rows as another kind's
     try {
       db::QueryRequest request;
-      request.where.push_back(app::ParseWhereExpression(input, db::QueryFields(kind)));
-      catalogue.Query(kind, request);
+      request.where.push_back(app::ParseWhereExpression(input, db::QueryFields(kind.kind)));
+      catalogue.Query(kind.kind, request);
       outcome = Outcome::kAccepted;
     } catch (const UsageError&) {
     }

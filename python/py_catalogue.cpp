@@ -19,6 +19,7 @@
 #include "app/result_selection.h"
 #include "app/table_output.h"
 #include "common/error.h"
+#include "db/query_kinds.h"
 #include "formats/csv.h"
 #include "python/py_bindings.h"
 #include "records/test_inputs.h"
@@ -201,6 +202,13 @@ std::vector<std::string> AsList(const std::optional<std::vector<std::string>>& v
 }  // namespace
 
 void RegisterCatalogue(py::module_& module) {
+  // napkin.QUERY_KINDS: the table every front end lists its kinds from (db/query_kinds.h).
+  module.def("_query_kinds", [] {
+    std::vector<py::tuple> rows;
+    for (const db::QueryKindSpec& kind : db::QueryKinds())
+      rows.push_back(py::make_tuple(kind.name, kind.description, kind.takes_limits));
+    return rows;
+  });
   py::class_<ReadOnlyCatalogue>(module, "Catalogue")
       .def(py::init([](const std::string& path) {
              return Translated(path, [&] { return std::make_unique<ReadOnlyCatalogue>(path); });

@@ -10,12 +10,15 @@
 
 #include "app/comparison.h"
 #include "app/failure.h"
+#include "app/limits.h"
 #include "app/query.h"
 #include "app/report_builder.h"
 #include "app/result_selection.h"
 #include "app/table_output.h"
 #include "common/error.h"
+#include "common/joined.h"
 #include "db/catalogue.h"
+#include "db/query_kinds.h"
 #include "formats/csv.h"
 #include "util/text.h"
 
@@ -239,15 +242,28 @@ Response ErrorResponse(const std::exception_ptr& error, const std::string& db_pa
 }
 
 Response Api::Query(std::string_view kind, const Params& params) const {
-  CheckParameters(params, {"where", "sort", "limit", "series", "variant", "config"});
+  // An unknown kind is an unknown resource (404), refused in the sentence `napkin query` and
+  // napkin.Catalogue.query give (db/query_kinds.h).
+  const db::QueryKindSpec* spec = db::FindQueryKind(kind);
+  if (!spec) throw NotFoundError(db::UnknownQueryKindSentence(kind));
+  CheckParameters(params, {"where", "sort", "limit", "series", "variant", "config", "limits"});
   app::Query query;
-  query.kind = std::string(kind);
+  query.kind = spec->name;
   query.filters.where = All(params, "where");
   query.filters.sort = All(params, "sort");
   query.filters.series = All(params, "series");
   query.filters.variants = All(params, "variant");
   query.filters.limit = One(params, "limit").value_or("");
   query.filters.config = One(params, "config").value_or("");
+  query.limits = One(params, "limits");
+  // A limit set by preset name only: no request makes the service read a file it names
+  // (docs/serve.md "Safety").
+  if (query.limits) {
+    const std::vector<std::string> presets = app::LimitPresets();
+    if (std::find(presets.begin(), presets.end(), *query.limits) == presets.end())
+      throw UsageError("parameter 'limits' must be a limits preset (" + Joined(presets) + "), not " +
+                       util::Quoted(*query.limits) + "; the service reads no file a request names.");
+  }
   // Checked before the catalogue is opened, as `napkin query` does (app/query.h).
   const app::PreparedQuery prepared = app::PrepareQuery(query);
   db::Catalogue catalogue = OpenForRequest(options_);
@@ -261,19 +277,21 @@ Response Api::TestSummary(const std::string& test_id) const {
     throw NotFoundError("test '" + test_id + "' is not in catalogue '" + options_.db_path + "'.");
   Json summary;
   summary["test_id"] = test_id;
-  for (const char* kind : {"tests", "hic", "rotation", "criteria", "risk", "quality"}) {
+  // The kinds the table gives the summary (db::QueryKindSpec::test_summary), in its order.
+  for (const db::QueryKindSpec& kind : db::QueryKinds()) {
+    if (kind.test_summary == db::TestSummaryPart::kNone) continue;
     app::Query query;
-    query.kind = kind;
+    query.kind = kind.name;
     app::PreparedQuery prepared = app::PrepareQuery(query);
     prepared.request.external_ids = {test_id};
     const db::Table table = app::RunQuery(catalogue, prepared);
-    if (std::string_view(kind) == "quality") {
+    if (kind.test_summary == db::TestSummaryPart::kAllRows) {
       // A test has any number of findings: all of them.
-      Json findings = Json::array();
-      for (const std::vector<db::Cell>& row : table.rows) findings.push_back(RowObject(table, row));
-      summary[kind] = std::move(findings);
+      Json rows = Json::array();
+      for (const std::vector<db::Cell>& row : table.rows) rows.push_back(RowObject(table, row));
+      summary[kind.name] = std::move(rows);
     } else {
-      summary[kind] = table.rows.empty() ? Json(nullptr) : RowObject(table, table.rows.front());
+      summary[kind.name] = table.rows.empty() ? Json(nullptr) : RowObject(table, table.rows.front());
     }
   }
   return Response{200, "application/json", Dump(summary)};

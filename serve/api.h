@@ -64,12 +64,15 @@ class Api {
 
   // GET /api/v1/tests: `napkin query tests --format json`.
   Response Tests(const Params& params) const { return Query("tests", params); }
-  // GET /api/v1/query/KIND?where=&sort=&limit=&series=&variant=&config=: `napkin
-  // query KIND --format json` with the same options (where, sort, series and
-  // variant repeatable, as on the command line).
+  // GET /api/v1/query/KIND?where=&sort=&limit=&series=&variant=&config=&limits=:
+  // `napkin query KIND --format json` with the same options (where, sort,
+  // series and variant repeatable, as on the command line), KIND any of
+  // db::QueryKinds() (another: NotFoundError, 404, with the sentence of
+  // `napkin query`), `limits` a limits preset by name only (never a file).
   Response Query(std::string_view kind, const Params& params) const;
-  // GET /api/v1/tests/ID: the test's row of each query (tests, hic, rotation,
-  // criteria, risk; null where it has none) and its quality findings.
+  // GET /api/v1/tests/ID: the test's row of each query kind whose
+  // test_summary is kRow (tests, hic, rotation, criteria, risk; null where it
+  // has none) and all its rows of those of kAllRows (its quality findings).
   Response TestSummary(const std::string& test_id) const;
   // GET /api/v1/tests/ID/channels?format=csv|json&config=: the derived
   // channels of its latest result (or of the stored config), as `napkin

@@ -264,34 +264,42 @@ void Inbox::Record(const std::string& kind, const std::string& source, const std
 }
 
 void Inbox::LookAtInbox() {
+  const std::vector<SettledTest> settled = Settle(ScanInbox());
+  if (settled.empty()) return;
+  TestsToRun to_run;
+  if (!ImportSettled(settled, to_run)) return;
+  ProcessImported(to_run);
+}
+
+void Inbox::WatchFolder(const fs::path& folder) {
+  if (inotify_fd_ >= 0)
+    inotify_add_watch(
+        inotify_fd_, folder.c_str(),
+        IN_CREATE | IN_MODIFY | IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_DELETE | IN_ATTRIB);
+}
+
+void Inbox::PassOver(const fs::path& path, const char* kind, const std::string& why,
+                     std::set<fs::path>& excluded) {
+  excluded.insert(path);
+  const std::string sentence = "'" + util::EscapeControl(path.string()) + "' " + why;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!said_.insert(path.string() + "\n" + sentence).second) return;
+  }
+  spdlog::warn("{}", sentence);
+  Record(kind, path.string(), "", sentence);
+}
+
+std::vector<Inbox::FoundTest> Inbox::ScanInbox() {
   const fs::path& inbox = options_.inbox;
   std::error_code error;
   // <inbox>/<series>/<variant>/...: the tests, and (inotify) a watch on every folder.
-  struct Found {
-    ingest::ImportInput input;
-    std::string series, variant;
-    fs::path folder;  // <inbox>/<series>/<variant>
-  };
-  std::vector<Found> found;
-  if (inotify_fd_ >= 0)
-    inotify_add_watch(
-        inotify_fd_, inbox.c_str(),
-        IN_CREATE | IN_MODIFY | IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_DELETE | IN_ATTRIB);
+  WatchFolder(inbox);
   // What the inbox does not import is said once (log and status), and never imported: entries
   // that are not files or folders, files outside a variant folder, links to nothing, loops, and
   // links leading out of the inbox (refused: a test is read from the inbox only).
   const fs::path root = fs::weakly_canonical(inbox, error);
   std::set<fs::path> excluded;
-  const auto pass_over = [&](const fs::path& path, const char* kind, const std::string& why) {
-    excluded.insert(path);
-    const std::string sentence = "'" + util::EscapeControl(path.string()) + "' " + why;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (!said_.insert(path.string() + "\n" + sentence).second) return;
-    }
-    spdlog::warn("{}", sentence);
-    Record(kind, path.string(), "", sentence);
-  };
   std::vector<fs::path> variants;
   for (fs::recursive_directory_iterator it(inbox, error), end; !error && it != end; it.increment(error)) {
     const fs::path path = it->path();
@@ -300,17 +308,19 @@ void Inbox::LookAtInbox() {
     if (it->is_symlink(type_error)) {
       struct stat target {};
       if (::stat(path.c_str(), &target) != 0) {
-        pass_over(path, "ignored",
-                  errno == ELOOP ? "is a loop of symbolic links; it is ignored."
-                                 : "is a symbolic link to nothing; it is ignored.");
+        PassOver(path, "ignored",
+                 errno == ELOOP ? "is a loop of symbolic links; it is ignored."
+                                : "is a symbolic link to nothing; it is ignored.",
+                 excluded);
         continue;
       }
       const fs::path resolved = fs::canonical(path, type_error);
       const std::string inside = root.string() + "/";
       if (type_error || !resolved.string().starts_with(inside)) {
-        pass_over(path, "refused",
-                  "is a symbolic link out of the inbox (to '" + util::EscapeControl(resolved.string()) +
-                      "'); napkin serve reads tests from the inbox only, so it is not imported.");
+        PassOver(path, "refused",
+                 "is a symbolic link out of the inbox (to '" + util::EscapeControl(resolved.string()) +
+                     "'); napkin serve reads tests from the inbox only, so it is not imported.",
+                 excluded);
         continue;
       }
     }
@@ -319,29 +329,29 @@ void Inbox::LookAtInbox() {
     if (!folder && !file) {
       struct stat status {};
       const mode_t mode = ::stat(path.c_str(), &status) == 0 ? status.st_mode : 0;
-      pass_over(path, "ignored",
-                std::string("is ") + formats::FileTypeName(mode) +
-                    ", not a file or a folder; the inbox imports files and folders only, so it is ignored.");
+      PassOver(path, "ignored",
+               std::string("is ") + formats::FileTypeName(mode) +
+                   ", not a file or a folder; the inbox imports files and folders only, so it is ignored.",
+               excluded);
       continue;
     }
     if (file && depth <= 1) {
       if (path.filename() == kSidecarName) continue;
-      pass_over(path, "ignored",
-                depth == 0
-                    ? "is a file at the inbox root, where napkin serve looks for series folders only "
-                      "(tests go in <inbox>/<series>/<variant>/); it is ignored."
-                    : "is a file in series folder '" + util::EscapeControl(path.parent_path().string()) +
-                          "', where napkin serve looks for variant folders only (tests go in "
-                          "<inbox>/<series>/<variant>/); it is ignored.");
+      PassOver(path, "ignored",
+               depth == 0
+                   ? "is a file at the inbox root, where napkin serve looks for series folders only "
+                     "(tests go in <inbox>/<series>/<variant>/); it is ignored."
+                   : "is a file in series folder '" + util::EscapeControl(path.parent_path().string()) +
+                         "', where napkin serve looks for variant folders only (tests go in "
+                         "<inbox>/<series>/<variant>/); it is ignored.",
+               excluded);
       continue;
     }
     if (!folder) continue;
-    if (inotify_fd_ >= 0)
-      inotify_add_watch(
-          inotify_fd_, path.c_str(),
-          IN_CREATE | IN_MODIFY | IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_DELETE | IN_ATTRIB);
+    WatchFolder(path);
     if (depth == 1) variants.push_back(path);  // variant folders: <series>/<variant>
   }
+  std::vector<FoundTest> found;
   for (const fs::path& variant : variants) {
     for (ingest::ImportInput& input : ingest::DiscoverInputs({variant.string()}).inputs) {
       // A test with a file passed over (a link out of the inbox, a FIFO) is not imported.
@@ -353,45 +363,64 @@ void Inbox::LookAtInbox() {
                        variant.filename().string(), variant});
     }
   }
+  return found;
+}
 
+std::vector<Inbox::SettledTest> Inbox::Settle(std::vector<FoundTest> found) {
   // Settled tests, each once per signature.
   const double now = Now();
-  std::vector<std::pair<Found, std::string>> settled;  // with its signature
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    std::set<std::string> seen;
-    for (Found& test : found) {
-      const std::string key = test.input.source.string();
-      seen.insert(key);
-      const std::string signature = Signature(ingest::FilesOf(test.input), inbox, test.folder);
-      if (signature.empty()) continue;  // a file vanished while looking: next time
-      const auto handled = handled_.find(key);
-      if (handled != handled_.end() && handled->second == signature) continue;
-      Pending& pending = pending_[key];
-      if (pending.signature != signature) pending = Pending{signature, now};
-      if (fs::exists(MarkerOf(test.input), error) || now - pending.since_s >= options_.settle_s) {
-        pending.settled = true;
-        settled.emplace_back(std::move(test), signature);
-      }
-    }
-    // A test that disappeared before it was imported (before it settled, or after, while the
-    // catalogue was locked): said once, then forgotten.
-    for (auto it = pending_.begin(); it != pending_.end();) {
-      if (seen.count(it->first)) {
-        ++it;
-        continue;
-      }
-      const std::string sentence =
-          "test '" + it->first + "' was removed from the inbox " +
-          (it->second.settled ? "after it settled, before it could be imported" : "before it settled") +
-          "; it was not imported.";
-      spdlog::warn("{}", sentence);
-      events_.push_back({{"time", now}, {"kind", "removed"}, {"source", it->first}, {"message", sentence}});
-      it = pending_.erase(it);
+  std::error_code error;
+  std::vector<SettledTest> settled;
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::set<std::string> seen;
+  for (FoundTest& test : found) {
+    const std::string key = test.input.source.string();
+    seen.insert(key);
+    const std::string signature = Signature(ingest::FilesOf(test.input), options_.inbox, test.folder);
+    if (signature.empty()) continue;  // a file vanished while looking: next time
+    const auto handled = handled_.find(key);
+    if (handled != handled_.end() && handled->second == signature) continue;
+    Pending& pending = pending_[key];
+    if (pending.signature != signature) pending = Pending{signature, now};
+    if (fs::exists(MarkerOf(test.input), error) || now - pending.since_s >= options_.settle_s) {
+      pending.settled = true;
+      settled.push_back({std::move(test), signature});
     }
   }
-  if (settled.empty()) return;
+  // A test that disappeared before it was imported (before it settled, or after, while the
+  // catalogue was locked): said once, then forgotten.
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    if (seen.count(it->first)) {
+      ++it;
+      continue;
+    }
+    const std::string sentence =
+        "test '" + it->first + "' was removed from the inbox " +
+        (it->second.settled ? "after it settled, before it could be imported" : "before it settled") +
+        "; it was not imported.";
+    spdlog::warn("{}", sentence);
+    events_.push_back({{"time", now}, {"kind", "removed"}, {"source", it->first}, {"message", sentence}});
+    it = pending_.erase(it);
+  }
+  return settled;
+}
 
+void Inbox::MarkHandled(const SettledTest& test) {
+  // A test is tried once per signature, whatever the outcome.
+  const std::string source = test.found.input.source.string();
+  std::lock_guard<std::mutex> lock(mutex_);
+  handled_[source] = test.signature;
+  pending_.erase(source);
+}
+
+void Inbox::FailTest(const char* kind, const FoundTest& test, const std::string& sentence) {
+  spdlog::error("{}", sentence);
+  Record(kind, test.input.source.string(), test.input.name, sentence);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++failed_;
+}
+
+bool Inbox::ImportSettled(const std::vector<SettledTest>& settled, TestsToRun& to_run) {
   // Import each settled test, then process the imported ones (grouped by config).
   db::CatalogueOptions open;
   open.busy_timeout_ms = options_.busy_timeout_ms;
@@ -399,129 +428,131 @@ void Inbox::LookAtInbox() {
   // Checked once for the file the service writes (db::CatalogueOptions::integrity_checked_file):
   // quick_check reads all of it, which for every batch would cost more than the batch.
   open.integrity_checked_file = integrity_checked_file_;
-  std::map<std::string, std::vector<std::string>> to_run;  // config -> test ids
   try {
     db::Catalogue catalogue = db::Catalogue::Open(options_.db_path, open);
     integrity_checked_file_ = catalogue.file_identity();
-    for (const auto& settled_test : settled) {
-      const Found& test = settled_test.first;
-      const std::string& signature = settled_test.second;
-      if (stop_) return;
-      const std::string source = test.input.source.string();
-      // A test is tried once per signature, whatever the outcome.
-      const auto done = [&] {
-        std::lock_guard<std::mutex> lock(mutex_);
-        handled_[source] = signature;
-        pending_.erase(source);
-      };
-      const auto fail = [&](const char* kind, const std::string& sentence) {
-        spdlog::error("{}", sentence);
-        Record(kind, source, test.input.name, sentence);
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          ++failed_;
-        }
-        done();
-      };
-      // The folders give the series and the variant: their names are checked as folder names
-      // here, not as the --series and --variant options import would name.
-      try {
-        util::CheckName("series folder name", test.series);
-        util::CheckName("variant folder name", test.variant);
-        if (test.variant == ingest::kNoVariantGroup)
-          throw InputError(std::string("variant folder name '") + ingest::kNoVariantGroup +
-                           "' is the name compare gives the tests without a variant; rename the folder.");
-      } catch (const InputError& bad) {
-        fail("folder", "folder '" + util::EscapeControl(test.folder.string()) + "': " + bad.what() +
-                           " Its tests are not imported.");
-        continue;
-      }
-      Sidecar sidecar;
-      try {
-        sidecar = ReadSidecars(inbox, test.folder);
-        // Without an array, the test's channel codes may define it (docs/serve.md "Sidecars").
-        // Every name the sidecars give is resolved before anything is imported: a test is
-        // never stored under a config that cannot run it, where it would wait forever.
-        CheckSidecarNames(sidecar);
-      } catch (const InputError& bad) {
-        fail("sidecar", bad.what());
-        continue;
-      }
-      try {
-        ingest::ImportOptions import;
-        import.array = sidecar.array.value_or("");
-        import.array_option = "a napkin.json sidecar's \"array\" above '" + source + "'";
-        import.series = test.series;
-        import.variant = test.variant;
-        if (sidecar.channel_map) import.channel_map = *sidecar.channel_map;
-        // A recording that paused longer than --settle was imported half-written: its later
-        // content replaces it (docs/serve.md "Inbox").
-        import.supersede_changed_source = true;
-        ingest::ImportReport report;
-        try {
-          report = ingest::ImportTests(catalogue, {source}, import);
-        } catch (const InputError& bad) {  // options of all inputs: the sidecar's array or channel map
-          fail("sidecar", std::string(bad.what()) + " (from the sidecars above '" + source + "')");
-          continue;
-        }
-        const std::string config = sidecar.config.value_or("");
-        for (const ingest::ImportResult& result : report.results) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          if (result.outcome == ingest::ImportOutcome::kImported) {
-            ++imported_;
-            if (result.superseded) ++superseded_;
-            to_run[config].push_back(result.test_id);
-          } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
-            ++skipped_;
-            // Already in the catalogue: processed only when it has neither a result nor a failure
-            // under its config (a restart after kill -9 between import and processing); a failure
-            // is never retried.
-            if (!Finished(catalogue, config, result.test_id)) to_run[config].push_back(result.test_id);
-          } else {
-            ++failed_;
-          }
-        }
-        for (const ingest::ImportResult& result : report.results) {
-          const char* kind = result.outcome == ingest::ImportOutcome::kImported
-                                 ? (result.superseded ? "superseded" : "imported")
-                             : result.outcome == ingest::ImportOutcome::kSkipped ? "skipped"
-                                                                                 : "import failed";
-          std::string message = result.message;
-          // A test whose files went away while it was read: said as what happened, beside the
-          // reader's own sentence.
-          if (result.outcome == ingest::ImportOutcome::kFailed && !fs::exists(test.input.source, error)) {
-            kind = "removed";
-            message = "test '" + source +
-                      "' was removed from the inbox while it was being imported; it was not imported (" +
-                      result.message + ")";
-          }
-          if (result.outcome == ingest::ImportOutcome::kFailed)
-            spdlog::error("{}", message);
-          else if (result.superseded)
-            spdlog::info("{}", message);
-          else
-            spdlog::info("{}: {} from {}", result.test_id, kind, source);
-          Record(kind, source, result.test_id, message.empty() ? std::string(kind) : message);
-        }
-        done();
-      } catch (const db::DatabaseError&) {
-        throw;  // the catalogue's, not the test's: below
-      } catch (const std::exception&) {
-        // Anything else is this test's failure, said once: it never stops the other tests.
-        fail("import failed", "test '" + source + "' could not be imported: " +
-                                  app::DescribeFailure(std::current_exception(), options_.db_path).sentence);
-      }
+    for (const SettledTest& test : settled) {
+      if (stop_) return false;
+      ImportTest(catalogue, test.found, to_run);
+      MarkHandled(test);
     }
   } catch (const db::DatabaseError&) {
-    const app::Failure failure = app::DescribeFailure(std::current_exception(), options_.db_path);
-    if (failure.category != app::FailureCategory::kCatalogueBusy) throw;
-    spdlog::warn("{}", failure.sentence);
-    std::lock_guard<std::mutex> lock(mutex_);
-    waiting_ =
-        "waiting for catalogue '" + options_.db_path + "', locked by another process: " + failure.sentence;
-    return;  // the tests not yet handled are tried again in a second
+    if (!WaitForCatalogue()) throw;
+    return false;  // the tests not yet handled are tried again in a second
   }
+  return true;
+}
 
+bool Inbox::WaitForCatalogue() {
+  const app::Failure failure = app::DescribeFailure(std::current_exception(), options_.db_path);
+  if (failure.category != app::FailureCategory::kCatalogueBusy) return false;
+  spdlog::warn("{}", failure.sentence);
+  std::lock_guard<std::mutex> lock(mutex_);
+  waiting_ =
+      "waiting for catalogue '" + options_.db_path + "', locked by another process: " + failure.sentence;
+  return true;
+}
+
+void Inbox::ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToRun& to_run) {
+  const std::string source = test.input.source.string();
+  // The folders give the series and the variant: their names are checked as folder names
+  // here, not as the --series and --variant options import would name.
+  try {
+    util::CheckName("series folder name", test.series);
+    util::CheckName("variant folder name", test.variant);
+    if (test.variant == ingest::kNoVariantGroup)
+      throw InputError(std::string("variant folder name '") + ingest::kNoVariantGroup +
+                       "' is the name compare gives the tests without a variant; rename the folder.");
+  } catch (const InputError& bad) {
+    FailTest("folder", test,
+             "folder '" + util::EscapeControl(test.folder.string()) + "': " + bad.what() +
+                 " Its tests are not imported.");
+    return;
+  }
+  Sidecar sidecar;
+  try {
+    sidecar = ReadSidecars(options_.inbox, test.folder);
+    // Without an array, the test's channel codes may define it (docs/serve.md "Sidecars").
+    // Every name the sidecars give is resolved before anything is imported: a test is
+    // never stored under a config that cannot run it, where it would wait forever.
+    CheckSidecarNames(sidecar);
+  } catch (const InputError& bad) {
+    FailTest("sidecar", test, bad.what());
+    return;
+  }
+  try {
+    ingest::ImportOptions import;
+    import.array = sidecar.array.value_or("");
+    import.array_option = "a napkin.json sidecar's \"array\" above '" + source + "'";
+    import.series = test.series;
+    import.variant = test.variant;
+    if (sidecar.channel_map) import.channel_map = *sidecar.channel_map;
+    // A recording that paused longer than --settle was imported half-written: its later
+    // content replaces it (docs/serve.md "Inbox").
+    import.supersede_changed_source = true;
+    ingest::ImportReport report;
+    try {
+      report = ingest::ImportTests(catalogue, {source}, import);
+    } catch (const InputError& bad) {  // options of all inputs: the sidecar's array or channel map
+      FailTest("sidecar", test, std::string(bad.what()) + " (from the sidecars above '" + source + "')");
+      return;
+    }
+    SayImported(catalogue, test, sidecar.config.value_or(""), report, to_run);
+  } catch (const db::DatabaseError&) {
+    throw;  // the catalogue's, not the test's: ImportSettled
+  } catch (const std::exception&) {
+    // Anything else is this test's failure, said once: it never stops the other tests.
+    FailTest("import failed", test,
+             "test '" + source + "' could not be imported: " +
+                 app::DescribeFailure(std::current_exception(), options_.db_path).sentence);
+  }
+}
+
+void Inbox::SayImported(db::Catalogue& catalogue, const FoundTest& test, const std::string& config,
+                        const ingest::ImportReport& report, TestsToRun& to_run) {
+  const std::string source = test.input.source.string();
+  std::error_code error;
+  for (const ingest::ImportResult& result : report.results) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (result.outcome == ingest::ImportOutcome::kImported) {
+      ++imported_;
+      if (result.superseded) ++superseded_;
+      to_run[config].push_back(result.test_id);
+    } else if (result.outcome == ingest::ImportOutcome::kSkipped) {
+      ++skipped_;
+      // Already in the catalogue: processed only when it has neither a result nor a failure
+      // under its config (a restart after kill -9 between import and processing); a failure
+      // is never retried.
+      if (!Finished(catalogue, config, result.test_id)) to_run[config].push_back(result.test_id);
+    } else {
+      ++failed_;
+    }
+  }
+  for (const ingest::ImportResult& result : report.results) {
+    const char* kind = result.outcome == ingest::ImportOutcome::kImported
+                           ? (result.superseded ? "superseded" : "imported")
+                       : result.outcome == ingest::ImportOutcome::kSkipped ? "skipped"
+                                                                           : "import failed";
+    std::string message = result.message;
+    // A test whose files went away while it was read: said as what happened, beside the
+    // reader's own sentence.
+    if (result.outcome == ingest::ImportOutcome::kFailed && !fs::exists(test.input.source, error)) {
+      kind = "removed";
+      message = "test '" + source +
+                "' was removed from the inbox while it was being imported; it was not imported (" +
+                result.message + ")";
+    }
+    if (result.outcome == ingest::ImportOutcome::kFailed)
+      spdlog::error("{}", message);
+    else if (result.superseded)
+      spdlog::info("{}", message);
+    else
+      spdlog::info("{}: {} from {}", result.test_id, kind, source);
+    Record(kind, source, result.test_id, message.empty() ? std::string(kind) : message);
+  }
+}
+
+void Inbox::ProcessImported(const TestsToRun& to_run) {
   for (const auto& [config, ids] : to_run) {
     if (stop_) return;
     jobs::RunOptions run;
@@ -557,11 +588,7 @@ void Inbox::LookAtInbox() {
         Record("failed", "", failure.test_id, failure.error);
       }
     } catch (const db::DatabaseError&) {
-      const app::Failure failure = app::DescribeFailure(std::current_exception(), options_.db_path);
-      if (failure.category != app::FailureCategory::kCatalogueBusy) throw;
-      std::lock_guard<std::mutex> lock(mutex_);
-      waiting_ =
-          "waiting for catalogue '" + options_.db_path + "', locked by another process: " + failure.sentence;
+      if (!WaitForCatalogue()) throw;
     } catch (const InputError& bad) {
       for (const std::string& id : ids) {
         const std::string sentence = "test '" + id + "' was not processed: its processing config " +

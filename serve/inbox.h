@@ -27,6 +27,8 @@
 #include <vector>
 
 #include "db/sqlite.h"
+#include "ingest/import.h"
+#include "ingest/input_formats.h"
 
 namespace napkin::serve {
 
@@ -97,8 +99,51 @@ class Inbox {
     double since_s = 0;
     bool settled = false;  // due for import (it waits only for the catalogue)
   };
+  // A test found under <inbox>/<series>/<variant>/.
+  struct FoundTest {
+    ingest::ImportInput input;
+    std::string series, variant;
+    std::filesystem::path folder;  // <inbox>/<series>/<variant>
+  };
+  // A test due for import, with the signature of its files (Signature) it is tried for.
+  struct SettledTest {
+    FoundTest found;
+    std::string signature;
+  };
+  using TestsToRun = std::map<std::string, std::vector<std::string>>;  // config -> test ids
+
   void Watch();
+  // One look: ScanInbox, Settle, ImportSettled, ProcessImported.
   void LookAtInbox();
+  // The tests under the inbox, each folder watched (inotify); what it does not import is said
+  // once (PassOver) and left out, with the tests holding such a file.
+  std::vector<FoundTest> ScanInbox();
+  void WatchFolder(const std::filesystem::path& folder);
+  void PassOver(const std::filesystem::path& path, const char* kind, const std::string& why,
+                std::set<std::filesystem::path>& excluded);
+  // The tests that have settled and were not tried with these files; the tests removed before
+  // their import said.
+  std::vector<SettledTest> Settle(std::vector<FoundTest> found);
+  // Imports the settled tests into the catalogue, each marked handled (MarkHandled) once its
+  // outcome is said, and adds those to process to `to_run`. False when the look ends here (a stop,
+  // a catalogue another process holds locked: the tests left are tried again in a second); throws
+  // the catalogue's other failures.
+  bool ImportSettled(const std::vector<SettledTest>& settled, TestsToRun& to_run);
+  // One test's import: its failure (folder names, sidecars, reading) said by FailTest; throws
+  // db::DatabaseError only (the catalogue's, not the test's).
+  void ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToRun& to_run);
+  // The import's results counted, said, and those to process added to `to_run`.
+  void SayImported(db::Catalogue& catalogue, const FoundTest& test, const std::string& config,
+                   const ingest::ImportReport& report, TestsToRun& to_run);
+  // The one place a test is marked tried for its signature (and no longer pending).
+  void MarkHandled(const SettledTest& test);
+  // A test that failed before it was imported: logged, recorded, counted.
+  void FailTest(const char* kind, const FoundTest& test, const std::string& sentence);
+  // In a catch of db::DatabaseError: true when the catalogue is locked by another process (the
+  // status says why the inbox waits); false for another failure, which the caller throws on.
+  bool WaitForCatalogue();
+  // Runs the imported tests, config by config, with the run scheduler.
+  void ProcessImported(const TestsToRun& to_run);
   void Record(const std::string& kind, const std::string& source, const std::string& test_id,
               const std::string& message);
 

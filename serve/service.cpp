@@ -33,6 +33,7 @@
 #include "serve/api.h"
 #include "serve/http_server.h"
 #include "serve/inbox.h"
+#include "serve/router.h"
 #include "util/text.h"
 
 namespace napkin::serve {
@@ -54,14 +55,6 @@ bool BearerTokenMatches(const HttpRequest& req, const std::string& token) {
 Response NoRoute(const HttpRequest& req) {
   return JsonError(
       404, "there is no route " + req.method + " " + req.path + " (see docs/serve.md for the routes).");
-}
-
-// The kinds GET /api/v1/query/KIND answers.
-bool IsQueryKind(std::string_view kind) {
-  for (const std::string_view known :
-       {"hic", "rotation", "criteria", "risk", "tests", "quality", "conditioning"})
-    if (kind == known) return true;
-  return false;
 }
 
 // Requests answered, by status code, and their time (GET /metrics).
@@ -166,6 +159,169 @@ std::string ModeText(mode_t mode) {
   return text;
 }
 
+// What the status and metrics routes read besides the API (GET /api/v1/status, /metrics).
+struct ServiceState {
+  ApiOptions api_options;
+  Counters counters{};
+  std::chrono::system_clock::time_point started = std::chrono::system_clock::now();
+  std::string listening;  // --listen as given, then the address bound (before the first request)
+  const Inbox* inbox = nullptr;
+};
+
+// The test id of a route's "{id}": a decoded NUL or newline would cut or split the sentences that
+// name the id.
+const std::string& TestIdOf(const RouteRequest& request) {
+  const std::string& test_id = request.Capture("id");
+  if (util::HasControlCharacter(test_id))
+    throw UsageError("test id " + util::Quoted(test_id) +
+                     " holds a control character, which no test id has.");
+  return test_id;
+}
+
+// The routes of docs/serve.md "HTTP API", every one GET (and HEAD). Routed on the raw target's
+// segments, each decoded on its own (serve/router.h): an encoded '/' (%2F) stays in the test id
+// (/api/v1/tests/T%2F11%2Fchannels is test T/11/channels, not T/11's channels), and no route can
+// shadow another. Adding a route is adding its row here (docs/developing.md "Adding a route").
+std::vector<Route> ServiceRoutes(const Api& api, ServiceState& service) {
+  return {
+      {.pattern = "/healthz",
+       .answer =
+           [](const RouteRequest&) {
+             return Response{200, "application/json", "{\"status\":\"ok\"}\n"};
+           },
+       .open = true,
+       .immediate = true},
+      {"/api/v1/tests", [&api](const RouteRequest& request) { return api.Tests(request.params); }},
+      {"/api/v1/query/{kind}",
+       [&api](const RouteRequest& request) { return api.Query(request.Capture("kind"), request.params); }},
+      {"/api/v1/tests/{id}",
+       [&api](const RouteRequest& request) {
+         if (!request.params.empty()) throw UsageError("this route takes no parameters.");
+         return api.TestSummary(TestIdOf(request));
+       }},
+      {"/api/v1/tests/{id}/channels",
+       [&api](const RouteRequest& request) { return api.Channels(TestIdOf(request), request.params); }},
+      {"/api/v1/report/version",
+       [&api](const RouteRequest& request) { return api.ReportVersion(request.params); }},
+      {"/report", [&api](const RouteRequest& request) { return api.Report(request.params); }},
+      {"/api/v1/compare", [&api](const RouteRequest& request) { return api.Compare(request.params); }},
+      {"/api/v1/status",
+       [&listening = service.listening, &started = service.started, &counters = service.counters,
+        &api_options = service.api_options, inbox = service.inbox](const RouteRequest&) {
+         const Json status = {
+             {"service",
+              {{"version", napkin::Version()},
+               {"listen", listening},
+               {"started",
+                std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
+               {"requests", counters.Total()}}},
+             {"catalogue", CatalogueStatusOrError(api_options)},
+             {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
+         return Response{200, "application/json",
+                         status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
+       }},
+      {"/metrics",
+       [&counters = service.counters, &api_options = service.api_options,
+        inbox = service.inbox](const RouteRequest&) {
+         return Response{200, "text/plain; version=0.0.4",
+                         counters.Prometheus() + CatalogueMetrics(CatalogueStatusOrError(api_options)) +
+                             (inbox ? inbox->Metrics() : std::string())};
+       }},
+  };
+}
+
+// A route's answer computed on a request thread: its answer or the failure's JSON, timed for /metrics.
+RequestWork TimedWork(const Route& route, RouteRequest request, ServiceState& service) {
+  return [&route, request = std::move(request), &service] {
+    const auto start = std::chrono::steady_clock::now();
+    Response response;
+    try {
+      response = route.answer(request);
+    } catch (...) {
+      response = ErrorResponse(std::current_exception(), service.api_options.db_path);
+    }
+    service.counters.Time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return response;
+  };
+}
+
+// A request's route, on the I/O thread (it must not block): the token checked first (but for an
+// open route), then the method and the route; what needs the catalogue goes to a request thread.
+Routed Dispatch(const HttpRequest& req, const Router& router, const std::string& token,
+                ServiceState& service) {
+  const std::optional<Router::Match> match = router.Find(req.target);
+  if (!token.empty() && !(match && match->route->open) && !BearerTokenMatches(req, token)) {
+    Response refused = JsonError(401,
+                                 "this napkin serve needs the header 'Authorization: Bearer TOKEN' with the "
+                                 "token of its --token-file.");
+    refused.headers.emplace_back("WWW-Authenticate", "Bearer");
+    return refused;
+  }
+  if ((req.method != "GET" && req.method != "HEAD") || !match) return NoRoute(req);
+  // From the raw target: each parameter split at its first '=' (where=hic15>=700), repeated ones
+  // all kept, also when identical (where limits count as the command line's).
+  RouteRequest request{req.method, req.path, ParseQuery(req.target), match->captures};
+  if (match->route->immediate) return match->route->answer(request);
+  return TimedWork(*match->route, std::move(request), service);
+}
+
+// The checks of RunService before it listens: the address, the token (or loopback), the numbers.
+struct StartChecks {
+  ListenAddress address;
+  std::string token;  // empty: none (loopback only)
+};
+StartChecks CheckStart(const ServeOptions& options) {
+  StartChecks checked{ParseListenAddress(options.listen), {}};
+  if (options.threads < 1 || options.threads > 256)
+    throw UsageError("--threads must be from 1 to 256, not " + std::to_string(options.threads) + ".");
+  if (options.token_file) {
+    checked.token = ReadTokenFile(*options.token_file);
+  } else if (!IsLoopbackHost(checked.address.host)) {
+    throw UsageError("--listen " + options.listen +
+                     " is not a loopback address, which napkin serve answers only with --token-file "
+                     "(a bearer token every request must carry).");
+  }
+  if (!(options.settle_s >= 0 && options.settle_s <= 86400))
+    throw UsageError("--settle must be from 0 to 86400 seconds.");
+  if (options.poll_s && !(*options.poll_s >= 0.1 && *options.poll_s <= 3600))
+    throw UsageError("--poll must be from 0.1 to 3600 seconds.");
+  return checked;
+}
+
+// The inbox of --inbox, not yet started; null without one.
+std::unique_ptr<Inbox> MakeInbox(const ServeOptions& options) {
+  if (options.inbox.empty()) return nullptr;
+  InboxOptions inbox_options;
+  inbox_options.db_path = options.db_path;
+  inbox_options.inbox = options.inbox;
+  inbox_options.settle_s = options.settle_s;
+  inbox_options.poll_s = options.poll_s;
+  return std::make_unique<Inbox>(inbox_options);
+}
+
+// Serves until SIGTERM or SIGINT, taken by a signal thread, stops the server (no new connections;
+// those waiting for a request closed at once, the answers in progress given half a second; Run
+// returns within 1 s). Returns how many answers the stop abandoned (HttpServer::Run).
+std::size_t ServeUntilStopped(HttpServer& server, const sigset_t& stop_signals) {
+  std::atomic<bool> done{false};
+  std::thread signal_thread([&] {
+    const timespec wait{0, 200'000'000};
+    while (!done) {
+      const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
+      if (signal == SIGTERM || signal == SIGINT) {
+        spdlog::info("{}: stopping (no new connections; the answers in progress get half a second)",
+                     signal == SIGTERM ? "SIGTERM" : "SIGINT");
+        server.Stop();
+        return;
+      }
+    }
+  });
+  const std::size_t abandoned = server.Run();
+  done = true;
+  signal_thread.join();
+  return abandoned;
+}
+
 }  // namespace
 
 ListenAddress ParseListenAddress(std::string_view text) {
@@ -256,157 +412,48 @@ bool TokensEqual(std::string_view given, std::string_view expected) {
   return difference == 0;
 }
 
+std::vector<std::string> ServiceRoutePatterns() {
+  const Api api(ApiOptions{});
+  ServiceState service;
+  const Router router(ServiceRoutes(api, service));
+  std::vector<std::string> patterns;
+  for (const Route& route : router.routes()) patterns.push_back(route.pattern);
+  return patterns;
+}
+
 void RunService(const ServeOptions& options) {
-  const ListenAddress address = ParseListenAddress(options.listen);
-  if (options.threads < 1 || options.threads > 256)
-    throw UsageError("--threads must be from 1 to 256, not " + std::to_string(options.threads) + ".");
-  std::string token;
-  if (options.token_file) {
-    token = ReadTokenFile(*options.token_file);
-  } else if (!IsLoopbackHost(address.host)) {
-    throw UsageError("--listen " + options.listen +
-                     " is not a loopback address, which napkin serve answers only with --token-file "
-                     "(a bearer token every request must carry).");
-  }
-  if (!(options.settle_s >= 0 && options.settle_s <= 86400))
-    throw UsageError("--settle must be from 0 to 86400 seconds.");
-  if (options.poll_s && !(*options.poll_s >= 0.1 && *options.poll_s <= 3600))
-    throw UsageError("--poll must be from 0.1 to 3600 seconds.");
-  const ApiOptions api_options{options.db_path, options.busy_timeout_ms};
+  const StartChecks start = CheckStart(options);
+  ServiceState service{.api_options = {options.db_path, options.busy_timeout_ms},
+                       .listening = options.listen};
   // A missing or damaged catalogue is refused at start, not at the first request.
-  (void)CatalogueStatus(api_options);
-  const Api api(api_options);
-  Counters counters;
-  const auto started = std::chrono::system_clock::now();
-  std::string listening = options.listen;  // set once bound, before the first request
-
+  (void)CatalogueStatus(service.api_options);
+  const Api api(service.api_options);
   const sigset_t stop_signals = BlockStopSignals();
-  std::unique_ptr<Inbox> inbox;
-  if (!options.inbox.empty()) {
-    InboxOptions inbox_options;
-    inbox_options.db_path = options.db_path;
-    inbox_options.inbox = options.inbox;
-    inbox_options.settle_s = options.settle_s;
-    inbox_options.poll_s = options.poll_s;
-    inbox = std::make_unique<Inbox>(inbox_options);
-  }
+  const std::unique_ptr<Inbox> inbox = MakeInbox(options);
+  service.inbox = inbox.get();
   signal(SIGPIPE, SIG_IGN);  // a client that hangs up is its own business
-
-  // Each route's work for a request thread: its answer or the failure's JSON, timed for /metrics.
-  const auto timed = [&counters, &api_options](std::function<Response()> answer) -> RequestWork {
-    return [&counters, &api_options, answer = std::move(answer)] {
-      const auto start = std::chrono::steady_clock::now();
-      Response response;
-      try {
-        response = answer();
-      } catch (...) {
-        response = ErrorResponse(std::current_exception(), api_options.db_path);
-      }
-      counters.Time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      return response;
-    };
-  };
+  const Router router(ServiceRoutes(api, service));
 
   HttpServerOptions server_options;
-  server_options.host = address.host;
-  server_options.port = address.port;
+  server_options.host = start.address.host;
+  server_options.port = start.address.port;
   server_options.threads = options.threads;
-  // On the I/O thread: what needs the catalogue goes to a request thread, the rest is answered here.
-  server_options.route = [&](const HttpRequest& req) -> Routed {
-    if (!token.empty() && req.path != "/healthz" && !BearerTokenMatches(req, token)) {
-      Response refused =
-          JsonError(401,
-                    "this napkin serve needs the header 'Authorization: Bearer TOKEN' with the "
-                    "token of its --token-file.");
-      refused.headers.emplace_back("WWW-Authenticate", "Bearer");
-      return refused;
-    }
-    if (req.method != "GET" && req.method != "HEAD") return NoRoute(req);
-    const std::string& path = req.path;
-    if (path == "/healthz") return Response{200, "application/json", "{\"status\":\"ok\"}\n"};
-    // From the raw target: each parameter split at its first '=' (where=hic15>=700), repeated ones
-    // all kept, also when identical (where limits count as the command line's).
-    Params params = ParseQuery(req.target);
-    if (path == "/api/v1/tests") return timed([&api, params] { return api.Tests(params); });
-    constexpr std::string_view kQueryRoute = "/api/v1/query/";
-    if (path.starts_with(kQueryRoute) && IsQueryKind(std::string_view(path).substr(kQueryRoute.size())))
-      return timed(
-          [&api, params, kind = path.substr(kQueryRoute.size())] { return api.Query(kind, params); });
-    constexpr std::string_view kTestRoute = "/api/v1/tests/";
-    if (path.starts_with(kTestRoute) && path.size() > kTestRoute.size()) {
-      // Routed on the raw target's segments, each decoded on its own: an encoded '/' (%2F) stays in
-      // the test id (/api/v1/tests/T%2F11%2Fchannels is test T/11/channels, not T/11's channels).
-      return timed([&api, params, req_path = path, segments = PathSegments(req.target)] {
-        // A decoded NUL or newline would cut or split the sentences that name the id.
-        if (segments.size() >= 4 && util::HasControlCharacter(segments[3]))
-          throw UsageError("test id " + util::Quoted(segments[3]) +
-                           " holds a control character, which no test id has.");
-        // api, v1, tests, ID[, channels]
-        if (segments.size() == 4 && !segments[3].empty()) {
-          if (!params.empty()) throw UsageError("this route takes no parameters.");
-          return api.TestSummary(segments[3]);
-        }
-        if (segments.size() == 5 && !segments[3].empty() && segments[4] == "channels")
-          return api.Channels(segments[3], params);
-        return JsonError(404, "there is no route GET " + req_path + " (see docs/serve.md for the routes).");
-      });
-    }
-    if (path == "/api/v1/report/version") return timed([&api, params] { return api.ReportVersion(params); });
-    if (path == "/report") return timed([&api, params] { return api.Report(params); });
-    if (path == "/api/v1/compare") return timed([&api, params] { return api.Compare(params); });
-    if (path == "/api/v1/status")
-      return timed([&] {
-        const Json status = {
-            {"service",
-             {{"version", napkin::Version()},
-              {"listen", listening},
-              {"started",
-               std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
-              {"requests", counters.Total()}}},
-            {"catalogue", CatalogueStatusOrError(api_options)},
-            {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
-        return Response{200, "application/json",
-                        status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};
-      });
-    if (path == "/metrics")
-      return timed([&] {
-        return Response{200, "text/plain; version=0.0.4",
-                        counters.Prometheus() + CatalogueMetrics(CatalogueStatusOrError(api_options)) +
-                            (inbox ? inbox->Metrics() : std::string())};
-      });
-    return NoRoute(req);
-  };
-  server_options.on_answered = [&counters](const HttpRequest& req, int status) {
-    counters.Count(status);
+  server_options.route = [&](const HttpRequest& req) { return Dispatch(req, router, start.token, service); };
+  server_options.on_answered = [&service](const HttpRequest& req, int status) {
+    service.counters.Count(status);
     spdlog::debug("{} {} {}", req.method, req.path, status);
   };
   HttpServer server(std::move(server_options));  // listening from here
   // The address as bound (port 0: the port the system chose), for the status.
-  listening = (address.host.find(':') != std::string::npos ? "[" + address.host + "]" : address.host) + ":" +
-              std::to_string(server.port());
-  spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", address.host, server.port(),
-               options.db_path, options.threads, token.empty() ? "" : ", bearer token required");
+  const std::string& host = start.address.host;
+  service.listening =
+      (host.find(':') != std::string::npos ? "[" + host + "]" : host) + ":" + std::to_string(server.port());
+  spdlog::info("listening on http://{}:{} (catalogue {}, {} request threads{})", host, server.port(),
+               options.db_path, options.threads, start.token.empty() ? "" : ", bearer token required");
 
   if (options.on_listening) options.on_listening();
   if (inbox) inbox->Start();
-  // The signal thread: SIGTERM or SIGINT stops the server (no new connections; those waiting for a
-  // request closed at once, the answers in progress given half a second; Run returns within 1 s).
-  std::atomic<bool> done{false};
-  std::thread signal_thread([&] {
-    const timespec wait{0, 200'000'000};
-    while (!done) {
-      const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
-      if (signal == SIGTERM || signal == SIGINT) {
-        spdlog::info("{}: stopping (no new connections; the answers in progress get half a second)",
-                     signal == SIGTERM ? "SIGTERM" : "SIGINT");
-        server.Stop();
-        return;
-      }
-    }
-  });
-  const std::size_t abandoned = server.Run();
-  done = true;
-  signal_thread.join();
+  const std::size_t abandoned = ServeUntilStopped(server, stop_signals);
   // The inbox's run in progress commits the tests in flight and releases the others' leases.
   if (inbox) inbox->Stop();
   if (abandoned > 0) {

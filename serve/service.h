@@ -1,6 +1,7 @@
 #pragma once
 // `napkin serve` (docs/serve.md): the HTTP API of serve/api.h on a listening
-// socket (serve/http_server.h), safe by default (docs/serve.md "Safety"):
+// socket (serve/http_server.h), its routes one table (ServiceRoutes in
+// serve/service.cpp, matched by serve/router.h), safe by default (docs/serve.md "Safety"):
 // loopback unless a bearer token guards it, requests bounded in size, headers,
 // connections and time (a total header deadline), no route mapped to a file,
 // the catalogue opened read-only for each request. It runs until SIGTERM or
@@ -11,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace napkin::serve {
 
@@ -50,6 +52,10 @@ struct ServeOptions {
   // line's one sentence): the front end makes every later log line carry its time.
   std::function<void()> on_listening;
 };
+
+// The patterns of the service's routes, in the order of its table ("/api/v1/tests/{id}/channels";
+// serve/router.h), that table checked as RunService checks it (no two routes match one path).
+std::vector<std::string> ServiceRoutePatterns();
 
 // The service until SIGTERM or SIGINT. Throws UsageError (before listening)
 // for a bad --listen, a non-loopback address without --token-file or --threads

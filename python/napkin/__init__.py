@@ -30,6 +30,8 @@ libraries as the ``napkin`` command, so a result here is the command's result
   sliding scales, IIHS's bands), a dict preset -> ``LimitPreset`` with its
   source; ``exceed_probability(values, limit)`` -- the chance a further test
   exceeds a limit, as ``compare --limits`` gives it;
+- ``QUERY_KINDS`` -- the kinds ``query()`` takes, a dict name -> ``QueryKind``
+  (its description and whether it takes ``limits=``), napkin's one table of them;
 - ``tune_memory()`` -- raises glibc malloc's thresholds for the process, as
   ``napkin run`` does (never called implicitly).
 
@@ -113,8 +115,18 @@ LIMITS = {row[0]: LimitPreset(*row) for row in _napkin._limit_presets()}
 
 exceed_probability = _napkin.exceed_probability
 
+QueryKind = _collections.namedtuple("QueryKind", ["name", "description", "takes_limits"])
+QueryKind.__doc__ = """A kind of ``Catalogue.query`` (``napkin query KIND``, docs/formats.md "Query filters").
+
+name         -- what ``kind=`` takes, e.g. "hic"
+description  -- what its rows are, as ``napkin query --help`` says
+takes_limits -- whether it needs ``limits=`` (a preset of ``LIMITS`` or a limits JSON file)"""
+
+# The query kinds by name, in the command line's order: napkin's one table of them (db/query_kinds.h).
+QUERY_KINDS = {row[0]: QueryKind(*row) for row in _napkin._query_kinds()}
+
 __all__ = ["transform", "transform_file", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "presets", "exceed_probability",
+           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "QueryKind", "QUERY_KINDS", "presets", "exceed_probability",
            "tune_memory", "Error", "InputError",
            "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
 
@@ -414,13 +426,15 @@ class Catalogue:
         """``napkin query KIND`` as a list of dicts, the rows of ``--format json``
         (None where the JSON has null).
 
-        kind    -- tests, hic, rotation, criteria, risk, quality, conditioning, correlation or limits
+        kind    -- a name of ``QUERY_KINDS``: tests, hic, rotation, criteria, risk, ... (an unknown one
+                   raises ValueError with the sentence of ``napkin query``)
         where   -- an expression (or a list, all must hold), e.g. "hic15>700 and variant=foam-a"
         sort    -- "FIELD[:desc]" (or a list)
         limit   -- at most this many rows
         config  -- results of this stored config (name or hash prefix; default: each test's latest)
         series, variant -- only tests of this series / variant (or any of a list)
-        limits  -- kind limits: the limit set, a preset of ``LIMITS`` or a JSON file
+        limits  -- a kind that takes limits (``QUERY_KINDS[kind].takes_limits``: limits): the limit set,
+                   a preset of ``LIMITS`` or a JSON file
         """
         columns, values = self._query(kind, where, sort, limit, config, series, variant, limits)
         cells = [_json_cells(column) for column in values]

@@ -38,6 +38,8 @@ __all__ = [
     "RISK_CURVES",
     "LimitPreset",
     "LIMITS",
+    "QueryKind",
+    "QUERY_KINDS",
     "presets",
     "exceed_probability",
     "tune_memory",
@@ -86,6 +88,13 @@ class LimitPreset(NamedTuple):
     path: str
 
 LIMITS: dict[str, LimitPreset]
+
+class QueryKind(NamedTuple):
+    name: str
+    description: str
+    takes_limits: bool
+
+QUERY_KINDS: dict[str, QueryKind]
 
 def presets(kind: str) -> list[str]: ...
 

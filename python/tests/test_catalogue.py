@@ -9,20 +9,41 @@ import pytest
 import napkin
 from conftest import cells_of, cli_error, read_csv_cells, run_napkin
 
-KINDS = ["tests", "hic", "rotation", "criteria", "risk", "quality", "conditioning", "correlation"]
+# napkin's one table of query kinds (db/query_kinds.h), as the module has it.
+KINDS = list(napkin.QUERY_KINDS)
+LIMITS_PRESET = "fmvss208"  # for the kinds that take limits
 
 
 def cli_json(*args):
     return json.loads(run_napkin(*args, "--format", "json").stdout)
 
 
+def limits_args(kind):
+    """The command line's limits of `kind`: those of LIMITS_PRESET for a kind that takes them."""
+    return ["--limits", LIMITS_PRESET] if napkin.QUERY_KINDS[kind].takes_limits else []
+
+
+def test_query_kinds_are_the_command_lines():
+    """QUERY_KINDS is the command's list, in its order: that of the sentence refusing another kind."""
+    assert KINDS[:3] == ["tests", "hic", "rotation"] and "correlation" in KINDS and "limits" in KINDS
+    sentence = cli_error("query", "no-such-kind")
+    assert sentence == "the query kind must be {} or {}; it is 'no-such-kind'.".format(", ".join(KINDS[:-1]),
+                                                                                       KINDS[-1])
+    help_text = run_napkin("query", "--help").stdout
+    for kind in napkin.QUERY_KINDS.values():
+        assert isinstance(kind.description, str) and kind.description, kind
+        assert "  {}  ".format(kind.name.ljust(max(map(len, KINDS)))) + kind.description in help_text, kind
+    assert [kind.name for kind in napkin.QUERY_KINDS.values() if kind.takes_limits] == ["limits"]
+
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_query_equals_cli_json(demo_catalogue, kind):
     catalogue = napkin.Catalogue(demo_catalogue)
-    expected = cli_json("--db", demo_catalogue, "query", kind)
+    expected = cli_json("--db", demo_catalogue, "query", kind, *limits_args(kind))
     # The demo's tests have no screening findings and no stored ratings.
     assert expected or kind in ("quality", "correlation"), kind
-    assert catalogue.query(kind) == expected
+    limits = LIMITS_PRESET if napkin.QUERY_KINDS[kind].takes_limits else None
+    assert catalogue.query(kind, limits=limits) == expected
 
 
 def test_query_filters_equal_cli_json(demo_catalogue):
@@ -58,9 +79,12 @@ def test_query_frame_equals_cli_json(demo_catalogue):
 @pytest.mark.parametrize("kind", KINDS)
 def test_query_frame_numbers_are_float64_and_missing_values_nan(demo_catalogue, kind):
     pytest.importorskip("pandas", reason="python3-pandas is not installed")
-    expected = cli_json("--db", demo_catalogue, "query", kind)
-    frame = napkin.Catalogue(demo_catalogue).query_frame(kind)
+    expected = cli_json("--db", demo_catalogue, "query", kind, *limits_args(kind))
+    limits = LIMITS_PRESET if napkin.QUERY_KINDS[kind].takes_limits else None
+    frame = napkin.Catalogue(demo_catalogue).query_frame(kind, limits=limits)
     numeric = {name for name, field in napkin.SUMMARY_FIELDS.items()} | {
+        # query limits (docs/formats.md "Limits")
+        "value", "limit", "margin_pct", "higher_limit", "points", "max_points",
         "filter_cfc", "prefiltered_cfc", "bias_removed", "bias_t1_s", "bias_t2_s", "time_shift_s",
         # query correlation (docs/formats.md "Correlation ratings")
         "start_s", "end_s", "corridor", "phase", "magnitude", "slope", "overall", "shift_s",
@@ -144,8 +168,9 @@ def test_catalogue_errors_are_the_cli_sentences(demo_catalogue, tmp_path):
         catalogue.compare("padding-series", baseline="no-such-variant")
     assert str(error.value) == cli_error("--db", demo_catalogue, "compare", "--series", "padding-series",
                                          "--baseline", "no-such-variant")
-    with pytest.raises(ValueError, match="unknown query kind"):
+    with pytest.raises(ValueError) as error:
         catalogue.query("hics")
+    assert str(error.value) == cli_error("--db", demo_catalogue, "query", "hics")
     with pytest.raises(ValueError, match="does not exist"):
         napkin.Catalogue(tmp_path / "missing.db")
     assert not (tmp_path / "missing.db").exists()  # read-only: nothing created

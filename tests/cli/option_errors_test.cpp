@@ -41,7 +41,7 @@ TEST_F(CliOptionErrors, BadValuesAreOneSentenceNamingTheOption) {
   ExpectRefused({"query", "hic", "--format", "xml"}, "--format must be table, csv or json; it is 'xml'.");
   ExpectRefused(
       {"query", "everything"},
-      "the query KIND must be tests, hic, rotation, criteria, risk, quality, conditioning, correlation or "
+      "the query kind must be tests, hic, rotation, criteria, risk, quality, conditioning, correlation or "
       "limits; it is 'everything'.");
   ExpectRefused({"run", "--shard", "5/3"}, "--shard takes I/N with 0 <= I < N, e.g. 0/3; it is '5/3'.");
   ExpectRefused({"compare", "--series", "s", "--by", "colour"},

@@ -22,47 +22,15 @@ using Json = nlohmann::json;
 
 // One catalogue and one service for the suite: six tests of series padding-series
 // (production, foam-a, foam-b; two each), processed.
-class ServeApi : public ::testing::Test {
+class ServeApi : public ServedCatalogueSuite<ServeApi> {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new TempDir();
     const CommandResult synth = Napkin({"synth", "--scenario", "padding-series", "--count", "2"});
     ASSERT_EQ(synth.exit_code, 0) << synth.err;
     const CommandResult run = Napkin({"run"});
     ASSERT_EQ(run.exit_code, 0) << run.err;
-    serve_ = new ServeProcess(dir_->path(), db(), {"--listen", "127.0.0.1:0", "--threads", "4"});
-    ASSERT_GT(serve_->port(), 0) << serve_->log();
+    Serve({"--threads", "4"});
   }
-  static void TearDownTestSuite() {
-    delete serve_;
-    serve_ = nullptr;
-    delete dir_;
-    dir_ = nullptr;
-  }
-  void SetUp() override { ASSERT_TRUE(serve_ && serve_->port() > 0); }
-
-  static fs::path db() { return dir_->path() / "lab.db"; }
-  static CommandResult Napkin(std::vector<std::string> args) {
-    args.insert(args.begin(), {"--db", db().string()});
-    return RunProgram(NAPKIN_BINARY, args, dir_->path());
-  }
-  static httplib::Result Get(const std::string& target, const httplib::Headers& headers = {}) {
-    return serve_->Client()->Get(target.c_str(), headers);
-  }
-  // The sentence of a JSON error body.
-  static std::string ErrorOf(const httplib::Result& result) {
-    return Json::parse(result->body).at("error").get<std::string>();
-  }
-  // The sentence of napkin's one-line error on stderr ("napkin: SENTENCE\n").
-  static std::string CliSentence(const CommandResult& run) {
-    std::string line = run.err;
-    if (line.rfind("napkin: ", 0) == 0) line.erase(0, 8);
-    while (!line.empty() && line.back() == '\n') line.pop_back();
-    return line;
-  }
-
-  static inline TempDir* dir_ = nullptr;
-  static inline ServeProcess* serve_ = nullptr;
 };
 
 TEST_F(ServeApi, HealthzAnswersOk) {

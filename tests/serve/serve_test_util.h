@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <regex>
 #include <string>
@@ -126,6 +127,56 @@ class ServeCatalogueTest : public ::testing::Test {
   fs::path db() const { return dir_ / "lab.db"; }
 
   TempDir dir_;
+};
+
+// One catalogue and one `napkin serve` on it for a whole suite (`Suite` the fixture deriving from
+// this, so that each suite has its own): the suite's SetUpTestSuite fills the catalogue with
+// Napkin(...) and calls Serve(). Its helpers compare the service with the command line.
+template <typename Suite>
+class ServedCatalogueSuite : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() {
+    delete serve_;
+    serve_ = nullptr;
+    delete dir_;
+    dir_ = nullptr;
+  }
+  void SetUp() override { ASSERT_TRUE(serve_ && serve_->port() > 0); }
+
+  static fs::path dir() {
+    if (!dir_) dir_ = new TempDir();
+    return dir_->path();
+  }
+  static fs::path db() { return dir() / "lab.db"; }
+  // `napkin --db DB ARGS...` in the suite's folder.
+  static CommandResult Napkin(std::vector<std::string> args) {
+    args.insert(args.begin(), {"--db", db().string()});
+    return RunProgram(NAPKIN_BINARY, args, dir());
+  }
+  // Starts the suite's service (`napkin serve ARGS...` on a free loopback port).
+  static void Serve(const std::vector<std::string>& args) {
+    std::vector<std::string> all = {"--listen", "127.0.0.1:0"};
+    all.insert(all.end(), args.begin(), args.end());
+    serve_ = new ServeProcess(dir(), db(), all);
+    ASSERT_GT(serve_->port(), 0) << serve_->log();
+  }
+  static httplib::Result Get(const std::string& target, const httplib::Headers& headers = {}) {
+    return serve_->Client()->Get(target.c_str(), headers);
+  }
+  // The sentence of a JSON error body {"error": SENTENCE}.
+  static std::string ErrorOf(const httplib::Result& result) {
+    return nlohmann::json::parse(result->body).at("error").get<std::string>();
+  }
+  // The sentence of napkin's one-line error on stderr ("napkin: SENTENCE\n").
+  static std::string CliSentence(const CommandResult& run) {
+    std::string line = run.err;
+    if (line.rfind("napkin: ", 0) == 0) line.erase(0, 8);
+    while (!line.empty() && line.back() == '\n') line.pop_back();
+    return line;
+  }
+
+  static inline TempDir* dir_ = nullptr;
+  static inline ServeProcess* serve_ = nullptr;
 };
 
 // One answer as it came over a RawConnection.
