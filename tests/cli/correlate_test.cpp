@@ -169,12 +169,14 @@ TEST_F(CorrelateCli, RatingsThatMeanNothingAreRefusedInOneSentence) {
   EXPECT_EQ(units.exit_code, 2);
   test_support::ExpectOneSentenceError(units, {"is a CSV, whose header gives its units"});
 
-  // A model file is read whole: one larger than 64 MiB is refused before it is read (sparse here).
+  // A model file is read as a stream, at most 1 GiB: a larger one is refused before it is read
+  // (sparse here).
   test_support::WriteText(dir_->path() / "huge.csv", "time_s,huge_g\n");
-  fs::resize_file(dir_->path() / "huge.csv", (std::uintmax_t{64} << 20) + 1);
+  fs::resize_file(dir_->path() / "huge.csv", (std::uintmax_t{1} << 30) + 1);
   const RunResult huge = run({"--model", "huge.csv"});
   EXPECT_EQ(huge.exit_code, 1);
-  test_support::ExpectOneSentenceError(huge, {"huge.csv", "67108865 bytes, more than the 64 MiB"});
+  test_support::ExpectOneSentenceError(huge, {"huge.csv", "1073741825 bytes, more than the 1024 MiB"});
+  fs::remove(dir_->path() / "huge.csv");
 
   test_support::WriteText(dir_->path() / "unitless.csv", "time_s,head\n0,0\n0.05,40\n0.1,0\n");
   const RunResult unitless = run({"--model", "unitless.csv"});
