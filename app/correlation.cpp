@@ -3,6 +3,7 @@
 #include "app/correlation.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -59,23 +60,38 @@ std::string ModelFile(const std::string& path) { return "model file '" + util::E
 // What a model file holds, told by its first 64 KiB: an LS-DYNA keyword
 // file (a line starting with '*'), a nodout (its block title), else a CSV.
 enum class ModelFormat { kCsv, kKeyword, kNodout };
-// The resultant of node COLUMN ("1001" or "node 1001") of a nodout for resultant channel
-// `channel` (acceleration, angular velocity or angular acceleration): the magnitude of the node's
-// x, y and z columns of that quantity, on their common times. nullopt when COLUMN is no node of
-// the file or the channel is not a resultant.
-std::optional<formats::ModelCurve> NodeResultant(const std::vector<formats::ModelCurve>& curves,
-                                                 const std::string& column, const std::string& channel) {
+// The nodout curves whose resultant node COLUMN ("1001" or "node 1001") means for resultant
+// channel `channel` (acceleration, angular velocity or angular acceleration): the node's x, y and z
+// columns of that quantity ("node 1001 x-accl", ...); nullopt when the channel is not a resultant.
+struct ResultantAxes {
+  std::string node;
+  const char* quantity;
+  std::array<std::string, 3> names;
+};
+std::optional<ResultantAxes> NodeResultantAxes(const std::string& column, const std::string& channel) {
   const char* quantity = channel == "acc_resultant_g"          ? "accl"
                          : channel == "omega_resultant_radps"  ? "rot-vel"
                          : channel == "alpha_resultant_radps2" ? "rot-acc"
                                                                : nullptr;
   if (quantity == nullptr) return std::nullopt;
-  const std::string node = column.starts_with("node ") ? column.substr(5) : column;
+  ResultantAxes axes{column.starts_with("node ") ? column.substr(5) : column, quantity, {}};
+  for (int axis = 0; axis < 3; ++axis)
+    axes.names[static_cast<std::size_t>(axis)] =
+        "node " + axes.node + " " + std::string(1, static_cast<char>('x' + axis)) + "-" + quantity;
+  return axes;
+}
+
+// The resultant of node COLUMN for `channel` (NodeResultantAxes): the magnitude of the node's x, y
+// and z columns of that quantity, on their common times. nullopt when COLUMN is no node of the
+// curves or the channel is not a resultant.
+std::optional<formats::ModelCurve> NodeResultant(const std::vector<formats::ModelCurve>& curves,
+                                                 const std::string& column, const std::string& channel) {
+  const std::optional<ResultantAxes> wanted = NodeResultantAxes(column, channel);
+  if (!wanted) return std::nullopt;
   const formats::ModelCurve* axes[3] = {nullptr, nullptr, nullptr};
   for (const formats::ModelCurve& curve : curves)
-    for (int axis = 0; axis < 3; ++axis)
-      if (curve.name == "node " + node + " " + std::string(1, static_cast<char>('x' + axis)) + "-" + quantity)
-        axes[axis] = &curve;
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      if (curve.name == wanted->names[axis]) axes[axis] = &curve;
   if (!axes[0] || !axes[1] || !axes[2]) return std::nullopt;
   const engine::TimeSeries& x = axes[0]->series;
   const engine::TimeSeries& y = axes[1]->series;
@@ -83,7 +99,7 @@ std::optional<formats::ModelCurve> NodeResultant(const std::vector<formats::Mode
   // The columns of one block kind share its times (formats::ReadNodout).
   if (x.time_s.size() != y.time_s.size() || x.time_s.size() != z.time_s.size()) return std::nullopt;
   formats::ModelCurve curve;
-  curve.name = "node " + node + " resultant " + quantity;
+  curve.name = "node " + wanted->node + " resultant " + wanted->quantity;
   curve.dimension = axes[0]->dimension;
   curve.series.time_s = x.time_s;
   curve.series.values =
@@ -92,7 +108,7 @@ std::optional<formats::ModelCurve> NodeResultant(const std::vector<formats::Mode
 }
 
 ModelFormat SniffModelFormat(const formats::ModelFile& file) {
-  const std::string_view head = std::string_view(file.bytes).substr(0, 64 * 1024);
+  const std::string_view head = file.head;
   if (head.find("n o d a l   p r i n t") != std::string_view::npos) return ModelFormat::kNodout;
   if (head.starts_with('*') || head.find("\n*") != std::string_view::npos) return ModelFormat::kKeyword;
   return ModelFormat::kCsv;
@@ -115,14 +131,14 @@ bool CurveNamed(const std::string& name, const std::string& column) {
   return false;
 }
 
-std::string CurveNames(const std::vector<formats::ModelCurve>& curves) {
+std::string CurveNames(const std::vector<std::string>& curves) {
   std::vector<std::string> names;
-  for (const formats::ModelCurve& curve : curves) {
+  for (const std::string& curve : curves) {
     if (names.size() == 12) {
       names.push_back("… (" + std::to_string(curves.size()) + " in all)");
       break;
     }
-    names.push_back("'" + util::EscapeControl(curve.name) + "'");
+    names.push_back("'" + util::EscapeControl(curve) + "'");
   }
   return Joined(names);
 }
@@ -309,44 +325,73 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
                      ModelFile(path) + " is a CSV, whose header gives its units; leave --model-units out.");
   std::optional<formats::ModelUnits> model_units;
   if (units) model_units = formats::ParseModelUnits(*units, "--model-units");
-  const std::vector<formats::ModelCurve> curves = format == ModelFormat::kCsv ? formats::ReadModelCsv(file)
-                                                  : format == ModelFormat::kKeyword
-                                                      ? formats::ReadLsDynaCurves(file, *model_units)
-                                                      : formats::ReadNodout(file, *model_units);
-  if (curves.empty()) throw InputError(ModelFile(path) + " holds no curve.");
-  std::optional<formats::ModelCurve> resultant;  // a node's resultant, when COLUMN asks for one
-  const formats::ModelCurve* chosen = nullptr;
+  const auto read = [&](const formats::KeepCurve& keep) {
+    return format == ModelFormat::kCsv       ? formats::ReadModelCsv(file, keep)
+           : format == ModelFormat::kKeyword ? formats::ReadLsDynaCurves(file, *model_units, keep)
+                                             : formats::ReadNodout(file, *model_units, keep);
+  };
+  // Only the curves that may be the one rated are kept (formats::KeepCurve), so a model of 10^7
+  // points is in memory as its one curve, not as its text and every curve (issue 42, point 14):
+  // the first curve named COLUMN (a second makes the choice ambiguous, said below) and for a
+  // node's resultant its x, y and z; without COLUMN the first curve named like the channel and the
+  // file's first curve, which is the one rated when it is the file's only one.
+  const std::optional<ResultantAxes> resultant_axes = format == ModelFormat::kNodout && !column.empty()
+                                                          ? NodeResultantAxes(column, channel.name)
+                                                          : std::nullopt;
+  bool named_kept = false, first = true;
+  formats::ModelCurves curves = read([&](const std::string& name) {
+    const bool is_first = std::exchange(first, false);
+    if (column.empty() ? name == channel.name : CurveNamed(name, column))
+      return !std::exchange(named_kept, true);
+    if (!column.empty())
+      return resultant_axes && std::find(resultant_axes->names.begin(), resultant_axes->names.end(), name) !=
+                                   resultant_axes->names.end();
+    return is_first;
+  });
+  // Every curve of a name asked for: more than one is ambiguous.
+  const auto named = [&](const std::string& wanted, bool by_curve_named) {
+    std::vector<std::string> found;
+    for (const std::string& name : curves.names)
+      if (by_curve_named ? CurveNamed(name, wanted) : name == wanted) found.push_back(name);
+    if (found.size() > 1) {
+      std::vector<std::string> quoted;
+      for (const std::string& name : found) quoted.push_back("'" + util::EscapeControl(name) + "'");
+      throw InputError(ModelFile(path) + " has " + std::to_string(found.size()) + " curves named '" +
+                       util::EscapeControl(wanted) + "' (" + Joined(quoted) +
+                       "), so which one to rate is ambiguous; give each " +
+                       (format == ModelFormat::kKeyword ? "curve its own LCID." : "column its own name."));
+    }
+    return found.empty() ? std::optional<std::string>() : found.front();
+  };
+  std::optional<std::string> chosen;             // the name of the curve rated
+  std::optional<formats::ModelCurve> resultant;  // or a node's resultant, when COLUMN asks for one
   if (!column.empty()) {
-    std::vector<std::string> named;  // every curve the name fits: more than one is ambiguous
-    for (const formats::ModelCurve& curve : curves)
-      if (CurveNamed(curve.name, column)) {
-        if (chosen == nullptr) chosen = &curve;
-        named.push_back("'" + util::EscapeControl(curve.name) + "'");
-      }
-    if (named.size() > 1)
-      throw InputError(ModelFile(path) + " has " + std::to_string(named.size()) + " curves named '" +
-                       util::EscapeControl(column) + "' (" + Joined(named) +
-                       "), so which one to rate is ambiguous; give each curve its own LCID.");
+    chosen = named(column, true);
     // A node alone (FILE:1001) for a resultant channel: the node's resultant, frame-free, from its
     // x, y and z columns in the model's global frame.
-    if (chosen == nullptr && format == ModelFormat::kNodout) {
-      resultant = NodeResultant(curves, column, channel.name);
-      if (resultant) chosen = &*resultant;
-    }
-    if (chosen == nullptr)
+    if (!chosen && resultant_axes) resultant = NodeResultant(curves.kept, column, channel.name);
+    if (!chosen && !resultant)
       throw InputError(ModelFile(path) + " has no curve '" + util::EscapeControl(column) +
-                       "'; its curves are " + CurveNames(curves) + ".");
-  } else if (curves.size() == 1) {
-    chosen = &curves.front();
+                       "'; its curves are " + CurveNames(curves.names) + ".");
+  } else if (curves.names.size() == 1) {
+    chosen = curves.names.front();
   } else {
-    for (const formats::ModelCurve& curve : curves)
-      if (curve.name == channel.name) chosen = &curve;
-    if (chosen == nullptr)
-      throw InputError(ModelFile(path) + " holds " + std::to_string(curves.size()) +
+    chosen = named(channel.name, false);
+    if (!chosen)
+      throw InputError(ModelFile(path) + " holds " + std::to_string(curves.names.size()) +
                        " curves and none named " + channel.name + "; name one as FILE:COLUMN, one of " +
-                       CurveNames(curves) + ".");
+                       CurveNames(curves.names) + ".");
   }
-  formats::ModelCurve curve = *chosen;
+  const auto kept = [&] {
+    return std::find_if(curves.kept.begin(), curves.kept.end(),
+                        [&](const formats::ModelCurve& curve) { return curve.name == *chosen; });
+  };
+  // The file's one curve is not its first when the columns before it are empty throughout (a
+  // model CSV): read again for it alone.
+  if (chosen && kept() == curves.kept.end())
+    curves = read([&](const std::string& name) { return name == *chosen; });
+  formats::ModelCurve curve = resultant ? std::move(*resultant) : std::move(*kept());
+  curves.kept.clear();  // the other curves kept, before the chosen one is converted
   // A CSV column says its quantity by its unit; without one it is no channel's quantity (it was
   // taken for an angle, the quantity without dimension).
   if (format == ModelFormat::kCsv && !formats::ModelCsvColumnHasUnit(curve.name))

@@ -106,7 +106,7 @@ std::vector<VerdictMetric> VerdictMetrics(const Comparison& comparison) {
 const VerdictRule& RuleOf(ClauseKind kind) {
   for (const VerdictRule& rule : kVerdictRules)
     if (rule.kind == kind) return rule;
-  return kVerdictRules[0];  // every kind has a rule (tests/cli/verdict_test.cpp)
+  return kVerdictRules[0];  // every kind has a rule (tests/app/verdict_test.cpp)
 }
 
 std::vector<std::string> VerdictCriteria() {

@@ -36,7 +36,7 @@ enum class ClauseKind {
 
 // A rule of the wording: when it applies and an example of what it says.
 // docs/formats.md "Verdict" states each `when` word for word
-// (tests/cli/verdict_test.cpp checks it).
+// (tests/app/verdict_test.cpp checks it).
 struct VerdictRule {
   ClauseKind kind;
   std::string_view when;

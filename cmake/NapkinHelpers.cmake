@@ -118,15 +118,13 @@ function(napkin_embed_files output comment)
   add_custom_target(napkin_${name} DEPENDS ${output})
 endfunction()
 
-# napkin_check_not_linked(<target> FORBIDDEN <targets>...) : stops the configuration with an error
-# when <target> links any of the FORBIDDEN targets, directly or through the libraries it links
-# (their LINK_LIBRARIES and INTERFACE_LINK_LIBRARIES, followed to the end). The Python module and
-# the fuzz targets must not carry the command line (napkin_cli, CLI11): they link napkin_app.
-# Called at the end of the top CMakeLists.txt, when every target exists.
-function(napkin_check_not_linked target)
-  cmake_parse_arguments(ARG "" "" "FORBIDDEN" ${ARGN})
+# napkin_linked_targets(<target> <out-var>) : every target <target> links, directly or through the
+# libraries it links (their LINK_LIBRARIES and INTERFACE_LINK_LIBRARIES, followed to the end), as
+# the pairs "library;through" flattened into <out-var> (the library and the target that links it).
+function(napkin_linked_targets target out_var)
   set(pending ${target})
   set(seen "")
+  set(linked "")
   while(pending)
     list(POP_FRONT pending current)
     if(current IN_LIST seen OR NOT TARGET ${current})
@@ -144,12 +142,35 @@ function(napkin_check_not_linked target)
       endif()
       foreach(library IN LISTS libraries)
         string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" library "${library}")
-        if(library IN_LIST ARG_FORBIDDEN)
-          message(FATAL_ERROR "${target} links ${library} (through ${current}); it must not: link napkin_app, "
-                              "the application library, not the command line (docs/architecture.md).")
-        endif()
+        list(APPEND linked ${library} ${current})
         list(APPEND pending ${library})
       endforeach()
     endforeach()
   endwhile()
+  set(${out_var} ${linked} PARENT_SCOPE)
+endfunction()
+
+# napkin_check_not_linked(<target> FORBIDDEN <targets>... [REQUIRED <targets>...]) : stops the
+# configuration with an error when <target> links any of the FORBIDDEN targets, directly or through
+# the libraries it links (napkin_linked_targets), or does not link every REQUIRED one. The Python
+# module, the fuzz targets and the app/ tests must not carry the command line (napkin_cli,
+# CLI11): they link napkin_app. Called at the end of the top CMakeLists.txt, when every target
+# exists.
+function(napkin_check_not_linked target)
+  cmake_parse_arguments(ARG "" "" "FORBIDDEN;REQUIRED" ${ARGN})
+  napkin_linked_targets(${target} linked)
+  set(found "")
+  while(linked)
+    list(POP_FRONT linked library current)
+    if(library IN_LIST ARG_FORBIDDEN)
+      message(FATAL_ERROR "${target} links ${library} (through ${current}); it must not: link napkin_app, "
+                          "the application library, not the command line (docs/architecture.md).")
+    endif()
+    list(APPEND found ${library})
+  endwhile()
+  foreach(required IN LISTS ARG_REQUIRED)
+    if(NOT required IN_LIST found)
+      message(FATAL_ERROR "${target} does not link ${required}; it must (docs/architecture.md).")
+    endif()
+  endforeach()
 endfunction()

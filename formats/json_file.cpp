@@ -36,14 +36,6 @@ void CheckStat(const std::filesystem::path& path, const struct stat& status, std
                      SizeText(max_bytes) + " napkin reads from one file.");
 }
 
-// Closes the descriptor on every path out.
-struct Descriptor {
-  int fd = -1;
-  ~Descriptor() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 }  // namespace
 
 const char* FileTypeName(mode_t mode) {
@@ -89,17 +81,21 @@ void CheckRegularFile(const std::filesystem::path& path, std::uintmax_t max_byte
   CheckStat(path, status, max_bytes);
 }
 
-void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,
-                      const std::function<void(std::string_view chunk)>& consume) {
+util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
   // O_NONBLOCK: opening a FIFO for reading must not wait for a writer; the
   // type is checked on the open descriptor before anything is read.
-  Descriptor file;
-  file.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (file.fd < 0) ThrowCannotOpen(path, errno);
+  util::UniqueFd file(::open(path.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  if (!file.valid()) ThrowCannotOpen(path, errno);
   struct stat status {};
-  if (::fstat(file.fd, &status) != 0) ThrowCannotOpen(path, errno);
+  if (::fstat(file.get(), &status) != 0) ThrowCannotOpen(path, errno);
   CheckStat(path, status, max_bytes);
-  ReadDescriptorInChunks(file.fd, max_bytes, Named(path) + ":", "napkin reads from one file", consume);
+  return file;
+}
+
+void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,
+                      const std::function<void(std::string_view chunk)>& consume) {
+  const util::UniqueFd file = OpenRegularFile(path, max_bytes);
+  ReadDescriptorInChunks(file.get(), max_bytes, Named(path) + ":", "napkin reads from one file", consume);
 }
 
 std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {

@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "util/unique_fd.h"
+
 namespace napkin::formats {
 
 // Size ceilings: test data files (CSV, ISO-MME channel files, UDS-1992
@@ -27,6 +29,12 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path);
 // InputError naming the file when it does not exist, is a symbolic-link
 // loop, is not a regular file, is larger than `max_bytes` or cannot be read.
 std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_bytes = kMaxDataFileBytes);
+
+// Opens `path` for reading (O_NONBLOCK: a FIFO never blocks the open) and
+// refuses, by fstat of that descriptor, anything but a regular file of at most
+// `max_bytes`: for readers that read the file they judged more than once
+// (formats::ReadModelFile). Throws InputError (the sentences of ReadWholeFile).
+util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes);
 
 // Like ReadWholeFile, but hands the content to `consume` in chunks.
 void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,

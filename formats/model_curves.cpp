@@ -1,9 +1,14 @@
 #include "formats/model_curves.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <map>
-#include <sstream>
+#include <set>
+#include <tuple>
 #include <utility>
 
 #include "common/error.h"
@@ -20,33 +25,130 @@ std::string At(const std::filesystem::path& path, long line) {
   return util::EscapeControl(path.string()) + " line " + std::to_string(line) + ": ";
 }
 
-// Reads one line without its line end (LF or CRLF).
-bool NextLine(std::istringstream& in, std::string& line, long& number) {
-  if (!std::getline(in, line)) return false;
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  ++number;
-  return true;
-}
+std::string ModelFileName(const std::filesystem::path& path) { return util::EscapeControl(path.string()); }
 
-void CheckTimes(const std::filesystem::path& path, const std::vector<double>& times,
-                const std::vector<long>& lines) {
-  for (std::size_t k = 1; k < times.size(); ++k) {
-    if (!(times[k] > times[k - 1])) {
-      throw InputError(At(path, lines[k]) + "the time " + util::FormatNumber(times[k]) +
-                       " does not follow the previous one (" + util::FormatNumber(times[k - 1]) +
-                       "); times must increase.");
+// A model file's lines, read through its descriptor from the start in chunks and hashed on the
+// way: the file is never in memory, only the line being read. At its end the bytes read must be
+// those ReadModelFile hashed, so a curve is always read from the bytes its rating names.
+class ModelLines {
+ public:
+  explicit ModelLines(const ModelFile& file) : file_(file), buffer_(kChunkBytes) {}
+
+  // The next line without its line end (LF or CRLF) into `line` and `number` counted on; false at
+  // the end of the file (as std::getline: a last line without a line end is a line).
+  bool Next(std::string& line, long& number) {
+    line.clear();
+    bool any = false;
+    for (;;) {
+      if (begin_ == end_ && !Fill()) {
+        if (!any) return false;
+        break;
+      }
+      any = true;
+      const char* start = buffer_.data() + begin_;
+      const void* newline = std::memchr(start, '\n', end_ - begin_);
+      const std::size_t length = newline != nullptr
+                                     ? static_cast<std::size_t>(static_cast<const char*>(newline) - start)
+                                     : end_ - begin_;
+      if (line.size() + length > kMaxModelLineBytes)
+        throw InputError(At(file_.path, number + 1) + "the line is longer than the " +
+                         std::to_string(kMaxModelLineBytes >> 20) +
+                         " MiB napkin reads as one line of a model file.");
+      line.append(start, length);
+      begin_ += length;
+      if (newline != nullptr) {
+        ++begin_;
+        break;
+      }
+    }
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    ++number;
+    return true;
+  }
+
+ private:
+  static constexpr std::size_t kChunkBytes = std::size_t{1} << 16;
+
+  // The next chunk of the file into buffer_; false at its end, once its bytes are checked.
+  bool Fill() {
+    if (at_end_) return false;
+    for (;;) {
+      const ssize_t count =
+          ::pread(file_.fd.get(), buffer_.data(), buffer_.size(), static_cast<off_t>(offset_));
+      if (count < 0) {
+        if (errno == EINTR) continue;
+        throw InputError(ModelFileName(file_.path) + ": cannot be read (" + std::strerror(errno) + ").");
+      }
+      offset_ += static_cast<std::uintmax_t>(count);
+      if (count == 0 || offset_ > kMaxModelFileBytes) {
+        at_end_ = true;
+        if (count != 0 || hash_.HexDigest() != file_.sha256)
+          throw InputError(ModelFileName(file_.path) +
+                           ": changed while napkin read it (its bytes are no longer those it opened); "
+                           "rate it once it is written.");
+        return false;
+      }
+      hash_.Update(std::string_view(buffer_.data(), static_cast<std::size_t>(count)));
+      begin_ = 0;
+      end_ = static_cast<std::size_t>(count);
+      return true;
     }
   }
+
+  const ModelFile& file_;
+  std::vector<char> buffer_;
+  std::size_t begin_ = 0, end_ = 0;  // the bytes of buffer_ not yet handed out
+  std::uintmax_t offset_ = 0;        // of the file, after the bytes read
+  bool at_end_ = false;
+  util::Sha256 hash_;
+};
+
+// A curve's times, which must increase, checked as they are read. The first that does not is
+// kept and thrown by Check once the curve's points are all read: after any error in its points,
+// as when the times were checked after reading them all.
+class IncreasingTimes {
+ public:
+  void Add(double time, long line) {
+    if (count_ > 0 && failure_line_ == 0 && !(time > previous_)) {
+      failure_line_ = line;
+      failure_time_ = time;
+      failure_previous_ = previous_;
+    }
+    previous_ = time;
+    ++count_;
+  }
+  void Check(const std::filesystem::path& path) const {
+    if (failure_line_ != 0)
+      throw InputError(At(path, failure_line_) + "the time " + util::FormatNumber(failure_time_) +
+                       " does not follow the previous one (" + util::FormatNumber(failure_previous_) +
+                       "); times must increase.");
+  }
+  std::size_t count() const { return count_; }
+
+ private:
+  std::size_t count_ = 0;
+  double previous_ = 0.0;
+  long failure_line_ = 0;
+  double failure_time_ = 0.0, failure_previous_ = 0.0;
+};
+
+// Refuses the point beyond kMaxModelCurvePoints of `curve` ("curve 7", "the file").
+void CheckPointCount(std::size_t points, const std::filesystem::path& path, long line,
+                     std::string_view curve) {
+  if (points > kMaxModelCurvePoints)
+    throw InputError(At(path, line) + std::string(curve) + " has more than " +
+                     std::to_string(kMaxModelCurvePoints) + " points, the most napkin reads as one curve.");
 }
 
-engine::TimeSeries Series(const std::vector<double>& time_s, const std::vector<double>& values) {
-  engine::TimeSeries series{Eigen::VectorXd(static_cast<Eigen::Index>(time_s.size())),
-                            Eigen::VectorXd(static_cast<Eigen::Index>(values.size()))};
-  for (std::size_t k = 0; k < time_s.size(); ++k) {
-    series.time_s(static_cast<Eigen::Index>(k)) = time_s[k];
-    series.values(static_cast<Eigen::Index>(k)) = values[k];
-  }
-  return series;
+// A kept curve's numbers as one Eigen vector; `TakeVector` frees the numbers at once, so a curve
+// is in memory at most once and a half while it changes hands.
+Eigen::VectorXd CopyVector(const std::vector<double>& numbers) {
+  return Eigen::Map<const Eigen::VectorXd>(numbers.data(), static_cast<Eigen::Index>(numbers.size()));
+}
+Eigen::VectorXd TakeVector(std::vector<double>& numbers) {
+  Eigen::VectorXd vector = CopyVector(numbers);
+  std::vector<double>().swap(numbers);
+  return vector;
 }
 
 // The model CSV's column suffixes: dimension and SI per unit.
@@ -68,21 +170,35 @@ constexpr CsvSuffix kCsvSuffixes[] = {
     {"_g", kAccelerationDimension, engine::kStandardGravity},
 };
 
-// Splits at commas (no quoting in model CSVs), trimming blanks.
-std::vector<std::string> CsvFields(const std::string& line) {
-  std::vector<std::string> fields;
+// Splits at commas (no quoting in model CSVs), trimming blanks: views into `line`.
+void SplitCsvFields(std::string_view line, std::vector<std::string_view>& fields) {
+  fields.clear();
   std::size_t start = 0;
   for (;;) {
     const std::size_t comma = line.find(',', start);
-    fields.emplace_back(util::Trim(std::string_view(line).substr(start, comma - start)));
-    if (comma == std::string::npos) return fields;
+    fields.push_back(util::Trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    if (comma == std::string_view::npos) return;
     start = comma + 1;
   }
 }
 
+// The fields of an LS-DYNA card: comma-separated, or fixed columns of `width`; at least `count`
+// (the missing ones empty). Views into `card`.
+void CardFields(std::string_view card, std::size_t width, std::size_t count,
+                std::vector<std::string_view>& fields) {
+  if (card.find(',') != std::string_view::npos) {
+    SplitCsvFields(card, fields);
+  } else {
+    fields.clear();
+    for (std::size_t k = 0; k < count && k * width < card.size(); ++k)
+      fields.push_back(util::Trim(card.substr(k * width, width)));
+  }
+  if (fields.size() < count) fields.resize(count);
+}
+
 // Every number of a nodout row: Fortran E fields may touch ("1.0E+00-2.0E+00").
-std::vector<double> FortranNumbers(std::string_view text, bool& ok) {
-  std::vector<double> numbers;
+void FortranNumbers(std::string_view text, std::vector<double>& numbers, bool& ok) {
+  numbers.clear();
   ok = true;
   std::size_t k = 0;
   while (k < text.size()) {
@@ -99,22 +215,32 @@ std::vector<double> FortranNumbers(std::string_view text, bool& ok) {
     const std::optional<double> value = util::ParseDouble(text.substr(k, end - k));
     if (!value || !std::isfinite(*value)) {
       ok = false;
-      return numbers;
+      return;
     }
     numbers.push_back(*value);
     k = end;
   }
-  return numbers;
+}
+
+KeepCurve KeepEvery() {
+  return [](const std::string&) { return true; };
 }
 
 }  // namespace
 
 ModelFile ReadModelFile(const std::filesystem::path& path) {
-  // One descriptor, its type checked by fstat, its size bounded (formats/json_file.h): a model's
-  // bytes and the curves parsed from them are all in memory at once (10^7 points took 1.26 GB).
-  std::string bytes = ReadWholeFile(path, kMaxModelFileBytes);
-  std::string sha256 = util::Sha256Hex(bytes);
-  return {path, std::move(bytes), std::move(sha256)};
+  // One descriptor, its type and size checked by fstat (formats/json_file.h), read through once
+  // for the hash; the readers read it again from the same descriptor (ModelLines).
+  ModelFile file{path, OpenRegularFile(path, kMaxModelFileBytes), {}, {}};
+  util::Sha256 hash;
+  ReadDescriptorInChunks(file.fd.get(), kMaxModelFileBytes, ModelFileName(path) + ":",
+                         "napkin reads from one model file", [&](std::string_view chunk) {
+                           hash.Update(chunk);
+                           if (file.head.size() < kModelHeadBytes)
+                             file.head.append(chunk.substr(0, kModelHeadBytes - file.head.size()));
+                         });
+  file.sha256 = hash.HexDigest();
+  return file;
 }
 
 ModelUnits ParseModelUnits(std::string_view spec, std::string_view option) {
@@ -177,15 +303,19 @@ std::string ModelCsvUnitSuffixes() {
   return list;
 }
 
-std::vector<ModelCurve> ReadModelCsv(const ModelFile& file) {
+std::vector<ModelCurve> ReadModelCsv(const ModelFile& file) { return ReadModelCsv(file, KeepEvery()).kept; }
+
+ModelCurves ReadModelCsv(const ModelFile& file, const KeepCurve& keep) {
   const std::filesystem::path& path = file.path;
-  std::istringstream in(file.bytes);
+  ModelLines in(file);
   std::string line;
   long number = 0;
+  std::vector<std::string_view> fields;
   std::vector<std::string> header;
-  while (NextLine(in, line, number)) {
+  while (in.Next(line, number)) {
     if (util::Trim(line).empty() || line[0] == '#') continue;
-    header = CsvFields(line);
+    SplitCsvFields(line, fields);
+    header.assign(fields.begin(), fields.end());
     break;
   }
   if (header.empty())
@@ -207,18 +337,48 @@ std::vector<ModelCurve> ReadModelCsv(const ModelFile& file) {
     }
   }
   if (!time_column) throw InputError(At(path, header_line) + "the header has no time_s (or time_ms) column.");
-  std::vector<std::vector<std::optional<double>>> cells(header.size());
-  std::vector<long> lines;
-  while (NextLine(in, line, number)) {
+  // Per column what decides whether it is a curve and whether it is whole; the numbers of the
+  // columns kept only.
+  struct Column {
+    Dimension dimension{};
+    double si = 1.0;
+    bool kept = false;
+    std::vector<double> values;  // kept: SI, NaN where empty
+    std::size_t empty = 0;
+    long first_empty_line = 0;
+  };
+  std::vector<Column> columns(header.size());
+  bool any_kept = false;
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (c == *time_column) continue;
+    for (const CsvSuffix& suffix : kCsvSuffixes) {
+      if (header[c].size() > suffix.suffix.size() && header[c].ends_with(suffix.suffix)) {
+        columns[c].dimension = suffix.dimension;
+        columns[c].si = suffix.si;
+        break;
+      }
+    }
+    columns[c].kept = keep(header[c]);
+    any_kept = any_kept || columns[c].kept;
+  }
+  std::vector<double> time_s;  // when a column is kept
+  IncreasingTimes times;
+  std::size_t rows = 0;
+  long first_empty_time_line = 0;
+  while (in.Next(line, number)) {
     if (util::Trim(line).empty() || line[0] == '#') continue;
-    const std::vector<std::string> fields = CsvFields(line);
+    SplitCsvFields(line, fields);
     if (fields.size() != header.size()) {
       throw InputError(At(path, number) + "the row has " + std::to_string(fields.size()) +
                        " fields, but the header has " + std::to_string(header.size()) + ".");
     }
     for (std::size_t c = 0; c < fields.size(); ++c) {
+      Column& column = columns[c];
+      const bool is_time = c == *time_column;
       if (fields[c].empty()) {
-        cells[c].push_back(std::nullopt);
+        if (is_time && first_empty_time_line == 0) first_empty_time_line = number;
+        if (column.empty++ == 0) column.first_empty_line = number;
+        if (is_time ? any_kept : column.kept) (is_time ? time_s : column.values).push_back(std::nan(""));
         continue;
       }
       const std::optional<double> value = util::ParseDouble(fields[c]);
@@ -226,42 +386,33 @@ std::vector<ModelCurve> ReadModelCsv(const ModelFile& file) {
         throw InputError(At(path, number) + "column '" + util::EscapeControl(header[c]) + "' holds '" +
                          util::EscapeControl(fields[c]) + "', which is not a finite number.");
       }
-      cells[c].push_back(value);
-    }
-    lines.push_back(number);
-  }
-  if (lines.size() < 2) throw InputError(At(path, number) + "the file has fewer than 2 rows of samples.");
-  std::vector<double> time_s;
-  for (std::size_t r = 0; r < lines.size(); ++r) {
-    if (!cells[*time_column][r]) throw InputError(At(path, lines[r]) + "the time is empty.");
-    time_s.push_back(*cells[*time_column][r] * time_scale);
-  }
-  CheckTimes(path, time_s, lines);
-  std::vector<ModelCurve> curves;
-  for (std::size_t c = 0; c < header.size(); ++c) {
-    if (c == *time_column) continue;
-    const auto empty = std::count(cells[c].begin(), cells[c].end(), std::nullopt);
-    if (empty == static_cast<long>(lines.size())) continue;  // a channel the file does not have
-    if (empty > 0) {
-      const auto r = static_cast<std::size_t>(std::find(cells[c].begin(), cells[c].end(), std::nullopt) -
-                                              cells[c].begin());
-      throw InputError(At(path, lines[r]) + "column '" + util::EscapeControl(header[c]) +
-                       "' is empty, but other rows have a value there.");
-    }
-    Dimension dimension{};
-    double si = 1.0;
-    for (const CsvSuffix& suffix : kCsvSuffixes) {
-      if (header[c].size() > suffix.suffix.size() && header[c].ends_with(suffix.suffix)) {
-        dimension = suffix.dimension;
-        si = suffix.si;
-        break;
+      if (is_time) {
+        const double t = *value * time_scale;
+        times.Add(t, number);
+        if (any_kept) time_s.push_back(t);
+      } else if (column.kept) {
+        column.values.push_back(*value * column.si);
       }
     }
-    std::vector<double> values;
-    for (const std::optional<double>& cell : cells[c]) values.push_back(*cell * si);
-    curves.push_back({header[c], dimension, Series(time_s, values)});
+    CheckPointCount(++rows, path, number, "the file");
   }
-  if (curves.empty())
+  if (rows < 2) throw InputError(At(path, number) + "the file has fewer than 2 rows of samples.");
+  if (first_empty_time_line != 0) throw InputError(At(path, first_empty_time_line) + "the time is empty.");
+  times.Check(path);
+  ModelCurves curves;
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (c == *time_column) continue;
+    Column& column = columns[c];
+    if (column.empty == rows) continue;  // a channel the file does not have
+    if (column.empty > 0) {
+      throw InputError(At(path, column.first_empty_line) + "column '" + util::EscapeControl(header[c]) +
+                       "' is empty, but other rows have a value there.");
+    }
+    curves.names.push_back(header[c]);
+    if (column.kept)
+      curves.kept.push_back({header[c], column.dimension, {CopyVector(time_s), TakeVector(column.values)}});
+  }
+  if (curves.names.empty())
     throw InputError(At(path, header_line) + "the header names no column besides the time.");
   return curves;
 }
@@ -271,35 +422,33 @@ std::vector<ModelCurve> ReadLsDynaCurves(const std::filesystem::path& path, cons
 }
 
 std::vector<ModelCurve> ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units) {
+  return ReadLsDynaCurves(file, units, KeepEvery()).kept;
+}
+
+ModelCurves ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units, const KeepCurve& keep) {
   const std::filesystem::path& path = file.path;
-  std::istringstream in(file.bytes);
+  ModelLines in(file);
   std::string line;
   long number = 0;
-  std::vector<ModelCurve> curves;
-  // Fields of a card: comma-separated, or fixed columns of `width`.
-  auto fields = [](const std::string& card, std::size_t width, std::size_t count) {
-    std::vector<std::string> out;
-    if (card.find(',') != std::string::npos) {
-      for (std::string& field : CsvFields(card)) out.push_back(std::move(field));
-    } else {
-      for (std::size_t k = 0; k < count && k * width < card.size(); ++k)
-        out.emplace_back(util::Trim(std::string_view(card).substr(k * width, width)));
-    }
-    out.resize(std::max(out.size(), count));
-    return out;
-  };
-  bool pending = NextLine(in, line, number);
+  ModelCurves curves;
+  std::vector<std::string_view> card, point;
+  bool pending = in.Next(line, number);
   while (pending) {
-    const std::string keyword = util::ToUpper(util::Trim(line));
+    const std::string_view trimmed = util::Trim(line);
+    if (!trimmed.starts_with('*')) {
+      pending = in.Next(line, number);
+      continue;
+    }
+    const std::string keyword = util::ToUpper(trimmed);
     if (!keyword.starts_with("*DEFINE_CURVE") ||
         (keyword != "*DEFINE_CURVE" && keyword != "*DEFINE_CURVE_TITLE")) {
-      pending = NextLine(in, line, number);
+      pending = in.Next(line, number);
       continue;
     }
     const long keyword_line = number;
     std::string title;
     auto next_card = [&]() {
-      while ((pending = NextLine(in, line, number))) {
+      while ((pending = in.Next(line, number))) {
         if (!line.empty() && line[0] == '$') continue;
         return !line.empty() && line[0] != '*';
       }
@@ -313,7 +462,8 @@ std::vector<ModelCurve> ReadLsDynaCurves(const ModelFile& file, const ModelUnits
       throw InputError(At(path, keyword_line) + "the *DEFINE_CURVE has no card with its LCID.");
     }
     const long card_line = number;
-    const std::vector<std::string> card = fields(line, 10, 7);
+    CardFields(line, 10, 7, card);
+    const std::string lcid_text(card[0]);  // `card` views the line, which the points replace
     auto number_of = [&](std::size_t k, const char* name, double fallback) {
       if (card[k].empty()) return fallback;
       const std::optional<double> value = util::ParseDouble(card[k]);
@@ -331,45 +481,45 @@ std::vector<ModelCurve> ReadLsDynaCurves(const ModelFile& file, const ModelUnits
     if (sfa == 0.0) sfa = 1.0;  // LS-DYNA reads 0 as the default 1
     if (sfo == 0.0) sfo = 1.0;
     if (number_of(4, "OFFA", 0.0) != 0.0 || number_of(5, "OFFO", 0.0) != 0.0) {
-      throw InputError(At(path, card_line) + "curve " + card[0] +
+      throw InputError(At(path, card_line) + "curve " + lcid_text +
                        " has an offset (OFFA or OFFO), which napkin does not read; write it without.");
     }
-    std::vector<double> time_s, values;
-    std::vector<long> lines;
+    std::string name = "curve " + util::FormatNumber(lcid);
+    if (!title.empty()) name += " " + title;
+    const bool kept = keep(name);
+    const std::string curve_text = "curve " + lcid_text;
+    std::vector<double> time_s, values;  // kept only
+    IncreasingTimes times;
     while (next_card()) {
-      const std::vector<std::string> point = fields(line, 20, 2);
+      CardFields(line, 20, 2, point);
       const std::optional<double> a = util::ParseDouble(point[0]);
       const std::optional<double> o = util::ParseDouble(point[1]);
       if (!a || !o || !std::isfinite(*a) || !std::isfinite(*o)) {
-        throw InputError(At(path, number) + "curve " + card[0] + "'s point '" +
+        throw InputError(At(path, number) + curve_text + "'s point '" +
                          util::EscapeControl(util::Trim(line)) +
                          "' is not two numbers (abscissa, ordinate).");
       }
-      time_s.push_back(*a * sfa * units.seconds);
-      values.push_back(*o * sfo);
-      lines.push_back(number);
+      const double t = *a * sfa * units.seconds;
+      times.Add(t, number);
+      CheckPointCount(times.count(), path, number, curve_text);
+      if (kept) {
+        time_s.push_back(t);
+        values.push_back(*o * sfo);
+      }
     }
-    if (time_s.size() < 2)
-      throw InputError(At(path, card_line) + "curve " + card[0] + " has fewer than 2 points.");
-    CheckTimes(path, time_s, lines);
-    std::string name = "curve " + util::FormatNumber(lcid);
-    if (!title.empty()) name += " " + title;
-    curves.push_back({name, std::nullopt, Series(time_s, values)});
+    if (times.count() < 2) throw InputError(At(path, card_line) + curve_text + " has fewer than 2 points.");
+    times.Check(path);
+    curves.names.push_back(name);
+    if (kept) curves.kept.push_back({name, std::nullopt, {TakeVector(time_s), TakeVector(values)}});
   }
-  if (curves.empty()) throw InputError(At(path, number) + "the keyword file has no *DEFINE_CURVE.");
+  if (curves.names.empty()) throw InputError(At(path, number) + "the keyword file has no *DEFINE_CURVE.");
   return curves;
 }
 
-std::vector<ModelCurve> ReadNodout(const std::filesystem::path& path, const ModelUnits& units,
-                                   std::optional<long> node) {
-  return ReadNodout(ReadModelFile(path), units, node);
-}
+namespace {
 
-std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& units, std::optional<long> node) {
-  const std::filesystem::path& path = file.path;
-  std::istringstream in(file.bytes);
-  std::string line;
-  long number = 0;
+// The quantity of each nodout column.
+const std::map<std::string, Dimension, std::less<>>& NodoutColumns() {
   static const std::map<std::string, Dimension, std::less<>> kColumns{
       {"x-disp", kLengthDimension},
       {"y-disp", kLengthDimension},
@@ -392,18 +542,46 @@ std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& unit
       {"x-rot-acc", kAngularAccelerationDimension},
       {"y-rot-acc", kAngularAccelerationDimension},
       {"z-rot-acc", kAngularAccelerationDimension}};
-  // (node, column) -> values; per block kind (translational, rotational) the times.
-  std::map<std::pair<long, std::string>, std::vector<double>> values;
-  std::map<bool, std::vector<double>> times;
-  std::map<bool, std::vector<long>> time_lines;
-  std::map<bool, std::vector<long>> nodes_of_kind;
-  bool any_block = false;
+  return kColumns;
+}
+
+std::string NodeCurveName(long node, const std::string& column) {
+  return "node " + std::to_string(node) + " " + column;
+}
+
+// A nodout as read: its curves, and for the sentence about a missing node the first block's
+// line and the nodes of the first kind (translational when the file has both).
+struct NodoutRead {
+  ModelCurves curves;
   long first_block_line = 0;
-  bool have = NextLine(in, line, number);
+  std::vector<long> first_nodes;
+};
+
+NodoutRead ReadNodoutBlocks(const ModelFile& file, const ModelUnits& units, const KeepCurve& keep) {
+  const std::filesystem::path& path = file.path;
+  const std::map<std::string, Dimension, std::less<>>& kColumns = NodoutColumns();
+  ModelLines in(file);
+  std::string line;
+  long number = 0;
+  // The blocks of one kind (translational, rotational): the columns and nodes of its first block,
+  // which every other block of it repeats, its times, and the numbers of the curves kept.
+  struct Kind {
+    long first_line = 0;
+    std::vector<std::string> columns;
+    std::vector<long> nodes;
+    IncreasingTimes times;
+    std::vector<double> time_s;               // when a curve of the kind is kept
+    std::vector<std::ptrdiff_t> slot;         // per node and column: into `values`, or -1
+    std::vector<std::vector<double>> values;  // SI
+  };
+  std::map<bool, Kind> kinds;  // false: translational
+  std::vector<long> block_nodes;
+  std::vector<double> row;
+  bool have = in.Next(line, number);
   while (have) {
     const std::size_t at = line.find("( at time");
     if (line.find("n o d a l") == std::string::npos || at == std::string::npos) {
-      have = NextLine(in, line, number);
+      have = in.Next(line, number);
       continue;
     }
     const std::size_t close = line.find(')', at);
@@ -414,9 +592,8 @@ std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& unit
                        "' is not a number.");
     }
     const long block_line = number;
-    if (!any_block) first_block_line = number;
     // The header of column names, after blank lines.
-    while ((have = NextLine(in, line, number)) && util::Trim(line).empty()) {
+    while ((have = in.Next(line, number)) && util::Trim(line).empty()) {
     }
     std::string header = have ? line : std::string();
     for (const char* axis : {"x", "y", "z"}) {
@@ -450,49 +627,125 @@ std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& unit
       }
     }
     const bool rotational = columns[0].find("rot") != std::string::npos;
-    times[rotational].push_back(*time * units.seconds);
-    time_lines[rotational].push_back(block_line);
-    std::vector<long> block_nodes;
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      // A column twice, or of the other kind, would make two curves of one name.
+      if (std::find(columns.begin(), columns.begin() + static_cast<std::ptrdiff_t>(c), columns[c]) !=
+          columns.begin() + static_cast<std::ptrdiff_t>(c))
+        throw InputError(At(path, number) + "the column '" + columns[c] + "' is named twice.");
+      if ((columns[c].find("rot") != std::string::npos) != rotational)
+        throw InputError(At(path, number) + "the block mixes rotational and translational columns ('" +
+                         columns[0] + "' and '" + columns[c] + "').");
+    }
+    Kind& kind = kinds[rotational];
+    const bool first_of_kind = kind.times.count() == 0;
+    if (first_of_kind) {
+      kind.first_line = block_line;
+      kind.columns = columns;
+    } else if (columns != kind.columns) {
+      throw InputError(At(path, number) +
+                       "the columns are not those of the first block of their kind (line " +
+                       std::to_string(kind.first_line) + ").");
+    }
+    kind.times.Add(*time * units.seconds, block_line);
+    CheckPointCount(kind.times.count(), path, block_line, "the file");
+    if (first_of_kind || !kind.values.empty()) kind.time_s.push_back(*time * units.seconds);
+    std::vector<double> si(columns.size());
+    for (std::size_t c = 0; c < columns.size(); ++c) si[c] = SiPerUnit(units, kColumns.at(columns[c]));
+    block_nodes.clear();
     // Rows up to a blank line or the next block (which the outer loop reads).
-    while ((have = NextLine(in, line, number)) && !util::Trim(line).empty() &&
+    while ((have = in.Next(line, number)) && !util::Trim(line).empty() &&
            line.find("n o d a l") == std::string::npos) {
       bool ok = true;
-      const std::vector<double> row = FortranNumbers(line, ok);
+      FortranNumbers(line, row, ok);
       if (!ok || row.size() != columns.size() + 1 || row[0] != std::floor(row[0])) {
         throw InputError(At(path, number) + "the row is not a node id and " + std::to_string(columns.size()) +
                          " numbers.");
       }
       const auto id = static_cast<long>(row[0]);
+      const std::size_t index = block_nodes.size();
       block_nodes.push_back(id);
-      if (node && id != *node) continue;
+      if (first_of_kind) {
+        if (std::find(kind.nodes.begin(), kind.nodes.end(), id) != kind.nodes.end())
+          throw InputError(At(path, number) + "the block lists node " + std::to_string(id) + " twice.");
+        kind.nodes.push_back(id);
+        for (const std::string& column : columns) {
+          kind.slot.push_back(-1);
+          if (keep(NodeCurveName(id, column))) {
+            kind.slot.back() = static_cast<std::ptrdiff_t>(kind.values.size());
+            kind.values.emplace_back();
+          }
+        }
+      }
+      if (index >= kind.nodes.size()) continue;  // another node than the first block's: said below
       for (std::size_t c = 0; c < columns.size(); ++c) {
-        values[{id, columns[c]}].push_back(row[c + 1] * SiPerUnit(units, kColumns.at(columns[c])));
+        const std::ptrdiff_t slot = kind.slot[index * columns.size() + c];
+        if (slot >= 0) kind.values[static_cast<std::size_t>(slot)].push_back(row[c + 1] * si[c]);
       }
     }
-    if (times[rotational].size() == 1) {
-      nodes_of_kind[rotational] = block_nodes;
-    } else if (block_nodes != nodes_of_kind[rotational]) {
+    if (first_of_kind) {
+      if (kind.values.empty()) std::vector<double>().swap(kind.time_s);  // no curve of the kind kept
+    } else if (block_nodes != kind.nodes) {
       throw InputError(At(path, block_line) +
                        "the block lists other nodes than the first block of its kind.");
     }
-    any_block = true;
   }
-  if (!any_block)
+  if (kinds.empty())
     throw InputError(At(path, number) + "the file has no nodout block (\"n o d a l   p r i n t\").");
-  for (auto& [kind, t] : times) CheckTimes(path, t, time_lines[kind]);
-  std::vector<ModelCurve> curves;
-  for (const auto& [key, v] : values) {
-    const bool rotational = key.second.find("rot") != std::string::npos;
-    curves.push_back({"node " + std::to_string(key.first) + " " + key.second, kColumns.at(key.second),
-                      Series(times[rotational], v)});
+  for (const auto& [rotational, kind] : kinds) kind.times.Check(path);
+  // The curves by node, then column name.
+  struct Curve {
+    long node;
+    const std::string* column;
+    Kind* kind;
+    std::ptrdiff_t slot;
+  };
+  std::vector<Curve> all;
+  for (auto& [rotational, kind] : kinds)
+    for (std::size_t n = 0; n < kind.nodes.size(); ++n)
+      for (std::size_t c = 0; c < kind.columns.size(); ++c)
+        all.push_back({kind.nodes[n], &kind.columns[c], &kind, kind.slot[n * kind.columns.size() + c]});
+  std::sort(all.begin(), all.end(), [](const Curve& a, const Curve& b) {
+    return std::tie(a.node, *a.column) < std::tie(b.node, *b.column);
+  });
+  NodoutRead read;
+  read.first_block_line = std::min_element(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) {
+                            return a.second.first_line < b.second.first_line;
+                          })->second.first_line;
+  read.first_nodes = kinds.begin()->second.nodes;
+  for (const Curve& curve : all) {
+    std::string name = NodeCurveName(curve.node, *curve.column);
+    if (curve.slot >= 0)
+      read.curves.kept.push_back({name,
+                                  kColumns.at(*curve.column),
+                                  {CopyVector(curve.kind->time_s),
+                                   TakeVector(curve.kind->values[static_cast<std::size_t>(curve.slot)])}});
+    read.curves.names.push_back(std::move(name));
   }
-  if (curves.empty()) {
+  return read;
+}
+
+}  // namespace
+
+std::vector<ModelCurve> ReadNodout(const std::filesystem::path& path, const ModelUnits& units,
+                                   std::optional<long> node) {
+  return ReadNodout(ReadModelFile(path), units, node);
+}
+
+std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& units, std::optional<long> node) {
+  const std::string prefix = node ? NodeCurveName(*node, "") : std::string();
+  NodoutRead read =
+      ReadNodoutBlocks(file, units, [&](const std::string& name) { return name.starts_with(prefix); });
+  if (read.curves.kept.empty()) {
     std::string listed;
-    for (long id : nodes_of_kind.begin()->second) listed += (listed.empty() ? "" : ", ") + std::to_string(id);
-    throw InputError(At(path, first_block_line) + "the nodout has no node " +
+    for (long id : read.first_nodes) listed += (listed.empty() ? "" : ", ") + std::to_string(id);
+    throw InputError(At(file.path, read.first_block_line) + "the nodout has no node " +
                      std::to_string(node.value_or(0)) + " (its first block lists " + listed + ").");
   }
-  return curves;
+  return std::move(read.curves.kept);
+}
+
+ModelCurves ReadNodout(const ModelFile& file, const ModelUnits& units, const KeepCurve& keep) {
+  return ReadNodoutBlocks(file, units, keep).curves;
 }
 
 }  // namespace napkin::formats

@@ -7,14 +7,17 @@
 // rotations). LS-DYNA files carry no units: the reader takes the model's
 // unit system ("mm,ms,kg", "m,s,kg", ...; `--model-units`).
 // Every error is one sentence naming the file and its line.
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "engine/overlay.h"
+#include "util/unique_fd.h"
 
 namespace napkin::formats {
 
@@ -30,24 +33,34 @@ struct ModelUnits {
 // "--model-units") for any other spelling.
 ModelUnits ParseModelUnits(std::string_view spec, std::string_view option = "--model-units");
 
-// A model file as read, once, through one descriptor: its bytes and their
-// SHA-256. The readers below parse these bytes, so a rating stored under a
-// file's hash is the rating of exactly those bytes, whatever happens to the
-// path meanwhile (docs/formats.md "Model curves"). The path-taking readers
-// read the file this way first.
-// The largest model file read (64 MiB: over a million points of a CSV, far more than any head
-// impact model's output): with its parsed curves in memory, a few hundred MB at most.
-inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{64} << 20;
+// A model file opened once: its descriptor, the first bytes that tell its
+// form, and the SHA-256 of its bytes. The readers below read it through that
+// descriptor in a stream, hash what they parse and refuse a file whose bytes
+// changed since it was opened, so a rating stored under a file's hash is the
+// rating of exactly those bytes, whatever happens to the path meanwhile
+// (docs/formats.md "Model curves"). The path-taking readers open it first.
+// The largest model file read (1 GiB, as any test data file,
+// kMaxDataFileBytes) and the most points of one curve (2^24, 256 MiB as time
+// and value doubles): a reader holds the curves it keeps and one line, never
+// the file, so these two bound the memory a rating takes (issue 42, point 14).
+inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{1} << 30;
+inline constexpr std::size_t kMaxModelCurvePoints = std::size_t{1} << 24;
+// The longest line read (a model CSV's header of many columns is a few KiB).
+inline constexpr std::size_t kMaxModelLineBytes = std::size_t{1} << 20;
+// How much of the file ModelFile::head holds.
+inline constexpr std::size_t kModelHeadBytes = std::size_t{64} << 10;
 
 struct ModelFile {
   std::filesystem::path path;  // as given, for messages
-  std::string bytes;
-  std::string sha256;  // hex, of `bytes`
+  util::UniqueFd fd;           // read with pread, from offset 0 by each reader
+  std::string head;            // the first kModelHeadBytes bytes (or all of a shorter file)
+  std::string sha256;          // hex, of the bytes when opened
 };
 
 // Opens `path` once (O_RDONLY, O_NOCTTY, O_NONBLOCK: a FIFO or device never
-// blocks), refuses anything fstat does not call a regular file, reads it
-// whole. Throws InputError naming the file.
+// blocks), refuses anything fstat does not call a regular file and a file
+// larger than kMaxModelFileBytes, and reads it through once for its hash.
+// Throws InputError naming the file.
 ModelFile ReadModelFile(const std::filesystem::path& path);
 
 // Powers of length, time and mass of a quantity (acceleration: 1, -2, 0).
@@ -82,6 +95,20 @@ struct ModelCurve {
 // `dimension` in `units`, converted to SI.
 ModelCurve ToSi(ModelCurve curve, Dimension dimension, const ModelUnits& units);
 
+// Which of a file's curves a reader keeps: asked once per curve by its name
+// (ModelCurve::name), in the order the file gives them, before the curve's
+// points are read (a model CSV asks for every column of its header, also one
+// that turns out empty throughout, which is no curve). A curve not kept is
+// read and checked all the same, only not stored: reading a file takes the
+// memory of the curves kept, not of the file.
+using KeepCurve = std::function<bool(const std::string& name)>;
+
+// A file's curves as a reader leaves them.
+struct ModelCurves {
+  std::vector<std::string> names;  // every curve of the file, in the order the readers return them
+  std::vector<ModelCurve> kept;    // those `keep` asked for, in that order
+};
+
 // Model CSV: '#' comment lines, a header with `time_s` (or `time_ms`) and
 // columns whose names end in a unit suffix: _g, _mps2, _radps, _degps,
 // _radps2, _mps, _m, _mm, _rad, _deg (napkin's derived-channel CSV is one:
@@ -94,8 +121,10 @@ bool ModelCsvColumnHasUnit(std::string_view name);
 // The unit suffixes of model CSV columns, for sentences: "_mps2, _radps2, ...".
 std::string ModelCsvUnitSuffixes();
 
+// The readers without `keep` keep every curve.
 std::vector<ModelCurve> ReadModelCsv(const std::filesystem::path& path);
 std::vector<ModelCurve> ReadModelCsv(const ModelFile& file);
+ModelCurves ReadModelCsv(const ModelFile& file, const KeepCurve& keep);
 
 // Every *DEFINE_CURVE (and *DEFINE_CURVE_TITLE) of a keyword file, fixed
 // columns (10-character card 1, 20-character points) or comma-separated:
@@ -103,16 +132,20 @@ std::vector<ModelCurve> ReadModelCsv(const ModelFile& file);
 // ordinates scaled by SFO. Offsets (OFFA, OFFO) other than 0 are refused.
 std::vector<ModelCurve> ReadLsDynaCurves(const std::filesystem::path& path, const ModelUnits& units);
 std::vector<ModelCurve> ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units);
+ModelCurves ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units, const KeepCurve& keep);
 
 // An LS-DYNA ASCII nodout: per output time a block " n o d a l   p r i n t
 // o u t   f o r   t i m e  s t e p N ( at time T )", a header of column
 // names (x-disp ... z-accl, x-coor ...; or x-rot ... z-rot acc) and a row per
 // node (node id, then the values; Fortran E fields may touch). One curve per
-// node and column, in SI by `units`; every block must list the same nodes.
+// node and column, in SI by `units`; every block of a kind (translational,
+// rotational) must have the columns and list the nodes of its first block,
+// each node once.
 // `node`: only that node's curves (an error when the file has none).
 std::vector<ModelCurve> ReadNodout(const std::filesystem::path& path, const ModelUnits& units,
                                    std::optional<long> node = std::nullopt);
 std::vector<ModelCurve> ReadNodout(const ModelFile& file, const ModelUnits& units,
                                    std::optional<long> node = std::nullopt);
+ModelCurves ReadNodout(const ModelFile& file, const ModelUnits& units, const KeepCurve& keep);
 
 }  // namespace napkin::formats

@@ -230,20 +230,27 @@ Outcome RunLimitsJson(std::string_view input) {
 }
 
 // The input as the model file of `correlate --model`: a nodout, an LS-DYNA keyword file or a model
-// CSV, told by its content as app/correlation.cpp tells them (keyword and nodout in m, s, kg).
+// CSV, told by its content as app/correlation.cpp tells them (keyword and nodout in m, s, kg),
+// read through its descriptor as ReadModelFile opens it. Read once keeping every curve and once
+// keeping none: both must read the same curves (a curve not kept is checked all the same), else a
+// finding.
 Outcome RunModelCurves(std::string_view input) {
-  formats::ModelFile file;
-  file.path = "fuzz-model";
-  file.bytes = std::string(input);
+  const fs::path path = Scratch() / "model";
+  WriteFile(path, input);
   const formats::ModelUnits units;
   return Attempt([&] {
-    const std::string_view head = input.substr(0, 64 * 1024);
-    if (head.find("n o d a l   p r i n t") != std::string_view::npos)
-      formats::ReadNodout(file, units);
-    else if (head.starts_with("*") || head.find("\n*") != std::string_view::npos)
-      formats::ReadLsDynaCurves(file, units);
-    else
-      formats::ReadModelCsv(file);
+    const formats::ModelFile file = formats::ReadModelFile(path);
+    const auto read = [&](const formats::KeepCurve& keep) {
+      if (file.head.find("n o d a l   p r i n t") != std::string::npos)
+        return formats::ReadNodout(file, units, keep);
+      if (file.head.starts_with("*") || file.head.find("\n*") != std::string::npos)
+        return formats::ReadLsDynaCurves(file, units, keep);
+      return formats::ReadModelCsv(file, keep);
+    };
+    const formats::ModelCurves every = read([](const std::string&) { return true; });
+    const formats::ModelCurves none = read([](const std::string&) { return false; });
+    if (every.names != none.names || !none.kept.empty() || every.kept.size() != every.names.size())
+      throw std::logic_error("napkin fuzz: the model's curves differ with the curves kept.");
   });
 }
 
@@ -293,7 +300,8 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"channel_map_json", "formats::ReadChannelMap", RunChannelMapJson},
       {"where", "app::ParseWhereExpression and db::Catalogue::Query (query --where, every kind)", RunWhere},
       {"limits_json", "app::LoadLimits", RunLimitsJson},
-      {"model_curves", "formats::ReadModelCsv, ReadLsDynaCurves, ReadNodout (correlate --model)",
+      {"model_curves",
+       "formats::ReadModelFile, ReadModelCsv, ReadLsDynaCurves, ReadNodout (correlate --model)",
        RunModelCurves},
       {"sidecar", "serve::ReadSidecars and CheckSidecarNames (an inbox's napkin.json)", RunSidecar},
   };

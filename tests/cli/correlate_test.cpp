@@ -169,12 +169,14 @@ TEST_F(CorrelateCli, RatingsThatMeanNothingAreRefusedInOneSentence) {
   EXPECT_EQ(units.exit_code, 2);
   test_support::ExpectOneSentenceError(units, {"is a CSV, whose header gives its units"});
 
-  // A model file is read whole: one larger than 64 MiB is refused before it is read (sparse here).
+  // A model file is read as a stream, at most 1 GiB: a larger one is refused before it is read
+  // (sparse here).
   test_support::WriteText(dir_->path() / "huge.csv", "time_s,huge_g\n");
-  fs::resize_file(dir_->path() / "huge.csv", (std::uintmax_t{64} << 20) + 1);
+  fs::resize_file(dir_->path() / "huge.csv", (std::uintmax_t{1} << 30) + 1);
   const RunResult huge = run({"--model", "huge.csv"});
   EXPECT_EQ(huge.exit_code, 1);
-  test_support::ExpectOneSentenceError(huge, {"huge.csv", "67108865 bytes, more than the 64 MiB"});
+  test_support::ExpectOneSentenceError(huge, {"huge.csv", "1073741825 bytes, more than the 1024 MiB"});
+  fs::remove(dir_->path() / "huge.csv");
 
   test_support::WriteText(dir_->path() / "unitless.csv", "time_s,head\n0,0\n0.05,40\n0.1,0\n");
   const RunResult unitless = run({"--model", "unitless.csv"});
@@ -447,68 +449,6 @@ TEST_F(CorrelateCli, ReportDrawsRatingsAgainstTheModelWithCorridors) {
     test_support::ExpectOneSentenceError(unitless, {"model file 'report-head.k'", "--model-units"});
   }
   EXPECT_FALSE(std::filesystem::exists(dir_->path() / "k.html"));
-}
-
-// FILE:NODE for a resultant channel is the node's resultant of its x, y and z columns (frame-free),
-// as computed by hand from the components (issue 42, point 16: only `node 1234 x-accl` worked).
-TEST(CorrelateModels, ANodeAloneGivesItsResultantForAResultantChannel) {
-  // A nodout in mm, ms, kg (the layout of tests/fixtures/iso18571/make_nodout.py) whose node 1234
-  // accelerates along all three axes, differently in time.
-  test_support::TempDir dir;
-  const std::string nodout = (dir.path() / "nodout").string();
-  {
-    std::string text;
-    char field[64];
-    for (int step = 1; step <= 21; ++step) {
-      const double t = 0.5 * (step - 1);
-      std::snprintf(field, sizeof field, "%8d", step);
-      text += std::string(" n o d a l   p r i n t   o u t   f o r   t i m e  s t e p") + field;
-      std::snprintf(field, sizeof field, "%.5E", t);
-      text += std::string("                              ( at time ") + field + " )\n\n";
-      text +=
-          " nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel       x-accl      "
-          "y-accl  "
-          "    z-accl      x-coor      y-coor      z-coor\n";
-      std::snprintf(field, sizeof field, "%10d", 1234);
-      text += field;
-      for (const double value :
-           {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, t, 2.0 - 0.1 * t, -0.05 * t * t, 100.0, 0.0, 0.0}) {
-        std::snprintf(field, sizeof field, "%12.4E", value);
-        text += field;
-      }
-      text += "\n\n";
-    }
-    test_support::WriteText(nodout, text);
-  }
-  const auto channel = [](const std::string& name) {
-    app::ChannelCurve curve;
-    curve.name = name;
-    curve.dimension = formats::kAccelerationDimension;
-    return curve;
-  };
-  const app::ModelReference resultant =
-      app::LoadModelCurve(nodout + ":1234", channel("acc_resultant_g"), std::string("mm,ms,kg"));
-  EXPECT_EQ(resultant.column, "node 1234 resultant accl");
-  EXPECT_EQ(
-      app::LoadModelCurve(nodout + ":node 1234", channel("acc_resultant_g"), std::string("mm,ms,kg")).column,
-      "node 1234 resultant accl");
-  Eigen::VectorXd by_hand;
-  for (const char* axis : {"x", "y", "z"}) {
-    const app::ModelReference component =
-        app::LoadModelCurve(nodout + ":1234 " + axis + "-accl",
-                            channel(std::string("acc_body_") + axis + "_g"), std::string("mm,ms,kg"));
-    if (by_hand.size() == 0) by_hand = Eigen::VectorXd::Zero(component.series.values.size());
-    by_hand += component.series.values.array().square().matrix();
-    EXPECT_EQ(component.series.time_s, resultant.series.time_s);
-  }
-  by_hand = by_hand.array().sqrt();
-  ASSERT_EQ(by_hand.size(), resultant.series.values.size());
-  for (Eigen::Index i = 0; i < by_hand.size(); ++i)
-    EXPECT_DOUBLE_EQ(resultant.series.values(i), by_hand(i)) << i;
-  EXPECT_GT(resultant.series.values.maxCoeff(), 0.0);
-  // A component channel still needs its column.
-  EXPECT_THROW(app::LoadModelCurve(nodout + ":1234", channel("acc_body_x_g"), std::string("mm,ms,kg")),
-               InputError);
 }
 
 }  // namespace

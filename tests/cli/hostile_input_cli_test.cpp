@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "app/table_output.h"
 #include "engine/units.h"
 #include "formats/csv.h"
 #include "tests/cli/cli_test_util.h"
@@ -178,14 +177,6 @@ TEST(HostileInputCli, ControlCharactersNeverReachStderrAndExportNamesAreSafe) {
   }
   EXPECT_GT(files, 3);
   EXPECT_TRUE(fs::exists(dir / "iso" / "_...mme"));
-}
-
-TEST(HostileInputCli, TablesEscapeStoredText) {
-  const db::Table table{{"test_id", "hic15"}, {{std::string("a\x1b[2Jb\nc"), 1.5}}};
-  EXPECT_EQ(app::FormatTable(table, app::TableFormat::kCsv), "test_id,hic15\na\\x1b[2Jb\\nc,1.5\n");
-  const std::string human = app::FormatTable(table, app::TableFormat::kTable);
-  EXPECT_FALSE(HasRawControl(human)) << human;
-  EXPECT_NE(human.find("a\\x1b[2Jb\\nc"), std::string::npos) << human;
 }
 
 }  // namespace

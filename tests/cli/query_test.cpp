@@ -2,9 +2,6 @@
 // variant filters, and the three output forms (table, CSV, JSON).
 #include <gtest/gtest.h>
 
-#include <limits>
-
-#include "app/table_output.h"
 #include "common/error.h"
 #include "engine/summary_fields.h"
 #include "formats/csv.h"
@@ -175,37 +172,6 @@ TEST_F(CliQuery, MissingCatalogueOrUnknownTableIsRefused) {
   EXPECT_FALSE(fs::exists(dir_ / "other.db"));
   EXPECT_EQ(RunNapkin(dir_.path(), {"query", "everything"}).exit_code, 2);
   EXPECT_EQ(RunNapkin(dir_.path(), {"query", "hic", "--format", "xml"}).exit_code, 2);
-}
-
-TEST(TableOutput, NullsQuotingAndNonFiniteNumbers) {
-  db::Table table;
-  table.columns = {"name", "count", "value"};
-  table.rows.push_back({std::string("a, \"b\""), std::int64_t{3}, 0.1});
-  table.rows.push_back({std::monostate{}, std::int64_t{-12}, std::numeric_limits<double>::quiet_NaN()});
-  table.rows.push_back({std::string("plain"), std::monostate{}, 1e-300});
-
-  EXPECT_EQ(app::FormatTable(table, app::TableFormat::kCsv),
-            "name,count,value\n"
-            "\"a, \"\"b\"\"\",3,0.1\n"
-            ",-12,\n"
-            "plain,,1e-300\n");
-  const nlohmann::ordered_json json =
-      nlohmann::ordered_json::parse(app::FormatTable(table, app::TableFormat::kJson));
-  ASSERT_EQ(json.size(), 3u);
-  EXPECT_EQ(json[0]["name"], "a, \"b\"");
-  EXPECT_TRUE(json[0]["count"].is_number_integer());
-  EXPECT_EQ(json[0]["value"].get<double>(), 0.1);
-  EXPECT_TRUE(json[1]["name"].is_null());
-  EXPECT_TRUE(json[1]["value"].is_null());
-  EXPECT_EQ(json[2]["value"].get<double>(), 1e-300);
-  EXPECT_EQ(app::FormatTable(table, app::TableFormat::kTable),
-            "name    count   value\n"
-            "------  -----  ------\n"
-            "a, \"b\"      3     0.1\n"
-            "-         -12     nan\n"
-            "plain       -  1e-300\n");
-  EXPECT_EQ(app::FormatTable(db::Table{{"x"}, {}}, app::TableFormat::kTable), "x\n-\n(no rows)\n");
-  EXPECT_THROW(app::ParseTableFormat("xml"), napkin::InputError);
 }
 
 }  // namespace

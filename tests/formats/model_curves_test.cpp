@@ -132,18 +132,27 @@ TEST(Nodout, RefusesBadInputNamingFileAndLine) {
             (dir / "missing").string() + ": cannot open the file (No such file or directory).");
 }
 
-// A model file is read once, through one descriptor: its hash is of the bytes
-// parsed, and what is not a regular file (a folder, a FIFO no one writes to)
-// is refused at once, never waited on.
-TEST(ModelFile, ReadOnceWithTheHashOfItsBytesAndOnlyFromARegularFile) {
+// A model file is opened once, through one descriptor: its hash is of the bytes
+// parsed, a file whose bytes change after it was opened is refused when read,
+// and what is not a regular file (a folder, a FIFO no one writes to) is
+// refused at once, never waited on.
+TEST(ModelFile, OpenedOnceWithTheHashOfItsBytesAndOnlyFromARegularFile) {
   TempDir dir;
   const std::string text = "time_s,head_g\n0,1\n0.001,2\n";
   WriteText(dir / "model.csv", text);
   const formats::ModelFile file = ReadModelFile(dir / "model.csv");
-  EXPECT_EQ(file.bytes, text);
+  EXPECT_EQ(file.head, text);
   EXPECT_EQ(file.sha256, util::Sha256Hex(text));
   ASSERT_EQ(ReadModelCsv(file).size(), 1u);
+  // Each reader reads the descriptor from its start: twice gives the same curve.
   EXPECT_EQ(ReadModelCsv(file).front().series.values, ReadModelCsv(dir / "model.csv").front().series.values);
+  // The same file rewritten in place (its inode kept): the bytes are not those hashed.
+  WriteText(dir / "model.csv", "time_s,head_g\n0,1\n0.001,3\n");
+  EXPECT_EQ(
+      ModelErrorOf([&] { ReadModelCsv(file); }),
+      (dir / "model.csv").string() +
+          ": changed while napkin read it (its bytes are no longer those it opened); rate it once it is "
+          "written.");
 
   EXPECT_EQ(ModelErrorOf([&] { ReadModelFile(dir.path()); }),
             dir.path().string() + ": is a folder, not a regular file; napkin reads only regular files.");

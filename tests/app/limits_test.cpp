@@ -8,18 +8,23 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "common/error.h"
-#include "tests/cli/cli_test_util.h"
+#include "tests/support/run_command.h"
 #include "tests/support/test_support.h"
 
 namespace napkin::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+void WriteLimitsText(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
 const fs::path kConfig = fs::path(NAPKIN_SOURCE_DIR) / "config";
 
 struct Expected {
@@ -100,7 +105,7 @@ TEST(LimitsFiles, UnknownNamesAreUsageErrorsAndMalformedFilesInputErrors) {
   test_support::TempDir dir;
   const auto expect_input_error = [&](const std::string& text, const std::string& fragment) {
     const fs::path file = dir / "bad.json";
-    test_support::WriteText(file, text);
+    WriteLimitsText(file, text);
     try {
       LoadLimits(file.string(), kConfig);
       ADD_FAILURE() << "no error for " << text;
@@ -125,7 +130,7 @@ TEST(LimitsFiles, ImplausibleLimitsAndUnknownKeysAreRefusedNamingThem) {
   test_support::TempDir dir;
   const auto error_of = [&](const std::string& text) -> std::string {
     const fs::path file = dir / "bad.json";
-    test_support::WriteText(file, text);
+    WriteLimitsText(file, text);
     try {
       LoadLimits(file.string(), kConfig);
     } catch (const InputError& e) {
@@ -294,9 +299,8 @@ TEST(LimitsFiles, MalformedScalesBandsAndRulesAreRefusedNamingThem) {
   test_support::TempDir dir;
   const std::string file = (dir / "bad.json").string();
   const auto error_of = [&](const std::string& limits, const std::string& more = "") -> std::string {
-    test_support::WriteText(dir / "bad.json",
-                            R"({"name":"x","title":"t","applies_to":"a","source":"s","url":"u",)" + more +
-                                R"("limits":[)" + limits + "]}");
+    WriteLimitsText(dir / "bad.json", R"({"name":"x","title":"t","applies_to":"a","source":"s","url":"u",)" +
+                                          more + R"("limits":[)" + limits + "]}");
     try {
       LoadLimits(file, kConfig);
     } catch (const InputError& e) {

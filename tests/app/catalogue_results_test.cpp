@@ -1,0 +1,172 @@
+// The application library on a catalogue of processed tests, called
+// directly (no command line): which result of a test a choice names
+// (app/result_selection.h, docs/architecture.md "Which result of a test"),
+// the kinematics of a result stored or recomputed (bit for bit those a
+// float64 run stores), and ISO/TS 18571 ratings (app/correlation.h): a test
+// against itself and against its own channel written as a model rate exactly
+// 1, the same model in the wrong --model-units is refused saying the time
+// range those units give it, and every rating is stored.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "app/correlation.h"
+#include "app/result_selection.h"
+#include "common/error.h"
+#include "records/config_record.h"
+#include "tests/jobs/jobs_test_helpers.h"
+#include "tests/support/test_support.h"
+#include "util/text.h"
+
+namespace napkin::app {
+namespace {
+
+// A config's run over the catalogue, under `name`.
+jobs::RunReport RunConfig(const std::string& path, engine::DerivedStorage storage, const std::string& name) {
+  engine::ProcessingConfig config;
+  config.storage.derived_channels = storage;
+  jobs::RunOptions options;
+  options.threads = 1;
+  options.poll_interval_s = 0.05;
+  return jobs::RunScheduler(path, records::ResolvedConfig{config, records::MakeConfigRecord(config, name)},
+                            options);
+}
+
+// Three random motions run under a float64 config ("float64"), then under one that stores no
+// derived channels ("none", the latest result); a fourth test stored after without a result.
+class AppOnCatalogue : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test_support::TempDir;
+    path_ = (*dir_ / "catalogue.db").string();
+    test_support::AddRandomTests(path_, 3, 1000);
+    float64_ = RunConfig(path_, engine::DerivedStorage::kFloat64, "float64").config;
+    none_ = RunConfig(path_, engine::DerivedStorage::kNone, "none").config;
+    test_support::AddRandomTests(path_, 1, 1000, 3);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static test_support::TempDir* dir_;
+  static std::string path_;
+  static db::ConfigId float64_, none_;
+};
+test_support::TempDir* AppOnCatalogue::dir_ = nullptr;
+std::string AppOnCatalogue::path_;
+db::ConfigId AppOnCatalogue::float64_{}, AppOnCatalogue::none_{};
+
+template <typename Error, typename F>
+std::string ErrorText(F&& f) {
+  try {
+    f();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST_F(AppOnCatalogue, EachChoiceNamesItsResult) {
+  db::Catalogue catalogue = db::Catalogue::Open(path_);
+  ASSERT_NE(float64_, none_);
+  const std::string test = test_support::TestName(1);
+  EXPECT_EQ(ResultOf(catalogue, test, Latest{}, path_).config, none_);  // the result written last
+  EXPECT_EQ(ResultOf(catalogue, test, Stored{"float64"}, path_).config, float64_);
+  const std::string none_hash = catalogue.ReadConfig(none_).config_hash;
+  EXPECT_EQ(ResultOf(catalogue, test, Stored{util::ToUpper(none_hash.substr(0, 10))}, path_).config, none_);
+  EXPECT_EQ(ResultOf(catalogue, test, Stored{"none"}, path_).test, *catalogue.FindTestByExternalId(test));
+  EXPECT_THROW(ResultOf(catalogue, test, Stored{"nope"}, path_), UsageError);
+  EXPECT_EQ(ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}, path_); }),
+            "test 'missing' is not in catalogue '" + path_ + "'.");
+  const std::string unrun = test_support::TestName(3);
+  EXPECT_EQ(ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}, path_); }),
+            "test '" + unrun + "' has no results yet; run `napkin run` first.");
+  EXPECT_FALSE(FindResult(catalogue, *catalogue.FindTestByExternalId(unrun), Stored{"float64"}));
+}
+
+TEST(ConfigSelector, ANameExactlyElseOneHashPrefix) {
+  std::vector<db::ConfigRow> configs(3);
+  configs[0].name = "default";
+  configs[0].config_hash = "ab12cd";
+  configs[1].name = "cfc180";
+  configs[1].config_hash = "ab34ef";
+  configs[2].name = "default";
+  configs[2].config_hash = "9f0000";
+  EXPECT_EQ(MatchConfigSelector(configs, "--config", "cfc180"), 1u);
+  EXPECT_EQ(MatchConfigSelector(configs, "--config", "AB3"), 1u);  // case-insensitive
+  EXPECT_EQ(MatchConfigSelector(configs, "--config", "9f"), 2u);
+  EXPECT_NE(ErrorText<UsageError>([&] {
+              MatchConfigSelector(configs, "--config", "default");
+            }).find("give a hash prefix instead"),
+            std::string::npos);
+  EXPECT_THROW(MatchConfigSelector(configs, "--config", "ab"), UsageError);  // two hashes start so
+  EXPECT_THROW(MatchConfigSelector(configs, "--config", ""), UsageError);
+  EXPECT_THROW(MatchConfigSelector(configs, "--config", "zz"), UsageError);
+}
+
+// A result stored as float64 is read as stored; one without stored channels is recomputed from
+// the test's inputs, bit for bit the float64 run's.
+TEST_F(AppOnCatalogue, AResultsKinematicsStoredOrRecomputedAreThoseOfTheRun) {
+  db::Catalogue catalogue = db::Catalogue::Open(path_);
+  EXPECT_FALSE(catalogue.ReadKinematics(*catalogue.FindTestByExternalId(test_support::TestName(0)), none_));
+  for (int i = 0; i < 3; ++i) {
+    const db::TestId test = *catalogue.FindTestByExternalId(test_support::TestName(i));
+    const std::optional<engine::Kinematics> stored = catalogue.ReadKinematics(test, float64_);
+    ASSERT_TRUE(stored);
+    test_support::ExpectSameKinematics(*stored, ReadResultKinematics(catalogue, test, float64_),
+                                       test_support::TestName(i));
+    test_support::ExpectSameKinematics(*stored, ReadResultKinematics(catalogue, test, none_),
+                                       test_support::TestName(i));
+  }
+}
+
+// The channel's own samples as a keyword curve (comma-separated, every digit of each double):
+// read in m, s, kg they are the channel, and the rating is that of the test against itself.
+TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
+  db::Catalogue catalogue = db::Catalogue::Open(path_);
+  const std::string test = test_support::TestName(2);
+  RatingOptions options;
+  options.channel = "acc_resultant_g";
+  const std::size_t stored_before =
+      catalogue.ReadCorrelations(*catalogue.FindTestByExternalId(test), none_).size();
+  const RatingRow self = RateAgainstTest(catalogue, path_, test, test, options);
+  for (const double score : {self.rating.corridor, self.rating.phase, self.rating.magnitude,
+                             self.rating.slope, self.rating.overall})
+    EXPECT_EQ(score, 1.0);
+  EXPECT_EQ(self.rating.shift_s, 0.0);
+  EXPECT_EQ(self.reference, test);
+
+  const TestResult result = ResultOf(catalogue, test, Latest{}, path_);
+  const ChannelCurve channel =
+      ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test);
+  std::string keyword = "*KEYWORD\n*DEFINE_CURVE\n7\n";
+  for (Eigen::Index k = 0; k < channel.series.time_s.size(); ++k)
+    keyword += util::FormatNumber(channel.series.time_s(k)) + "," +
+               util::FormatNumber(channel.series.values(k)) + "\n";
+  const std::string model = (*dir_ / "self.k").string();
+  std::ofstream(model, std::ios::binary) << keyword + "*END\n";
+  const ModelReference read = LoadModelCurve(model + ":7", channel, std::string("m,s,kg"));
+  EXPECT_EQ(read.series.time_s, channel.series.time_s);
+  EXPECT_EQ(read.series.values, channel.series.values);
+  const RatingRow against_model = RateAgainstModel(catalogue, path_, test, model + ":7", "m,s,kg", options);
+  EXPECT_EQ(against_model.rating.overall, 1.0);
+  EXPECT_EQ(against_model.rating.grade, engine::Iso18571Grade::kExcellent);
+  EXPECT_EQ(against_model.reference, "self.k:curve 7");
+
+  // The same numbers taken as microseconds: the model's time range under those units is said, and
+  // that it covers a sliver of the test.
+  const double first_us = channel.series.time_s(0) * 1e-6;
+  const double last_us = channel.series.time_s(channel.series.time_s.size() - 1) * 1e-6;
+  const std::string refused = ErrorText<InputError>(
+      [&] { RateAgainstModel(catalogue, path_, test, model + ":7", "m,us,kg", options); });
+  EXPECT_NE(refused.find("curve 'curve 7' runs from " + util::FormatNumber(first_us, 4) + " to " +
+                         util::FormatNumber(last_us, 4) + " s, which covers"),
+            std::string::npos)
+      << refused;
+  EXPECT_NE(refused.find("give --start and --end"), std::string::npos) << refused;
+  EXPECT_EQ(catalogue.ReadCorrelations(*catalogue.FindTestByExternalId(test), none_).size(),
+            stored_before + 2);
+}
+
+}  // namespace
+}  // namespace napkin::app
