@@ -16,6 +16,7 @@
 #include "app/result_selection.h"
 #include "common/error.h"
 #include "records/config_record.h"
+#include "tests/app/app_test_util.h"
 #include "tests/jobs/jobs_test_helpers.h"
 #include "tests/support/test_support.h"
 #include "util/text.h"
@@ -56,16 +57,6 @@ test_support::TempDir* AppOnCatalogue::dir_ = nullptr;
 std::string AppOnCatalogue::path_;
 db::ConfigId AppOnCatalogue::float64_{}, AppOnCatalogue::none_{};
 
-template <typename Error, typename F>
-std::string ErrorText(F&& f) {
-  try {
-    f();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "no error";
-}
-
 TEST_F(AppOnCatalogue, EachChoiceNamesItsResult) {
   db::Catalogue catalogue = db::Catalogue::Open(path_);
   ASSERT_NE(float64_, none_);
@@ -76,10 +67,10 @@ TEST_F(AppOnCatalogue, EachChoiceNamesItsResult) {
   EXPECT_EQ(ResultOf(catalogue, test, Stored{util::ToUpper(none_hash.substr(0, 10))}, path_).config, none_);
   EXPECT_EQ(ResultOf(catalogue, test, Stored{"none"}, path_).test, *catalogue.FindTestByExternalId(test));
   EXPECT_THROW(ResultOf(catalogue, test, Stored{"nope"}, path_), UsageError);
-  EXPECT_EQ(ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}, path_); }),
+  EXPECT_EQ(test_support::ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}, path_); }),
             "test 'missing' is not in catalogue '" + path_ + "'.");
   const std::string unrun = test_support::TestName(3);
-  EXPECT_EQ(ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}, path_); }),
+  EXPECT_EQ(test_support::ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}, path_); }),
             "test '" + unrun + "' has no results yet; run `napkin run` first.");
   EXPECT_FALSE(FindResult(catalogue, *catalogue.FindTestByExternalId(unrun), Stored{"float64"}));
 }
@@ -95,7 +86,7 @@ TEST(ConfigSelector, ANameExactlyElseOneHashPrefix) {
   EXPECT_EQ(MatchConfigSelector(configs, "--config", "cfc180"), 1u);
   EXPECT_EQ(MatchConfigSelector(configs, "--config", "AB3"), 1u);  // case-insensitive
   EXPECT_EQ(MatchConfigSelector(configs, "--config", "9f"), 2u);
-  EXPECT_NE(ErrorText<UsageError>([&] {
+  EXPECT_NE(test_support::ErrorText<UsageError>([&] {
               MatchConfigSelector(configs, "--config", "default");
             }).find("give a hash prefix instead"),
             std::string::npos);
@@ -157,7 +148,7 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   // that it covers a sliver of the test.
   const double first_us = channel.series.time_s(0) * 1e-6;
   const double last_us = channel.series.time_s(channel.series.time_s.size() - 1) * 1e-6;
-  const std::string refused = ErrorText<InputError>(
+  const std::string refused = test_support::ErrorText<InputError>(
       [&] { RateAgainstModel(catalogue, path_, test, model + ":7", "m,us,kg", options); });
   EXPECT_NE(refused.find("curve 'curve 7' runs from " + util::FormatNumber(first_us, 4) + " to " +
                          util::FormatNumber(last_us, 4) + " s, which covers"),
