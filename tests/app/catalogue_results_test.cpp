@@ -5,14 +5,19 @@
 // float64 run stores), and ISO/TS 18571 ratings (app/correlation.h): a test
 // against itself and against its own channel written as a model rate exactly
 // 1, the same model in the wrong --model-units is refused saying the time
-// range those units give it, and every rating is stored.
+// range those units give it, and every rating is stored; a query's rows are
+// the stored summaries (app/query.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <limits>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "app/correlation.h"
+#include "app/query.h"
 #include "app/result_selection.h"
 #include "common/error.h"
 #include "records/config_record.h"
@@ -157,6 +162,41 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   EXPECT_NE(refused.find("give --start and --end"), std::string::npos) << refused;
   EXPECT_EQ(catalogue.ReadCorrelations(*catalogue.FindTestByExternalId(test), none_).size(),
             stored_before + 2);
+}
+
+// A query's rows are the catalogue's stored summaries: --where, --sort and --limit select and order
+// them, and --config picks the result (each test's latest without it).
+TEST_F(AppOnCatalogue, AQuerysRowsAreTheStoredSummaries) {
+  db::Catalogue catalogue = db::Catalogue::Open(path_);
+  Query query;
+  query.kind = "hic";
+  query.filters.config = "float64";
+  query.filters.sort = {"hic15:desc"};
+  const db::Table all = RunQuery(catalogue, PrepareQuery(query));
+  ASSERT_EQ(all.rows.size(), 3u);  // the fourth test has no result
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(all.columns.begin(), all.columns.end(), name) -
+                                    all.columns.begin());
+  };
+  ASSERT_LT(column("hic15"), all.columns.size());
+  double previous = std::numeric_limits<double>::infinity();
+  for (const std::vector<db::Cell>& row : all.rows) {
+    const std::string test = std::get<std::string>(row[column("test_id")]);
+    const double hic15 = std::get<double>(row[column("hic15")]);
+    const std::optional<engine::TestSummary> summary =
+        catalogue.ReadSummary(*catalogue.FindTestByExternalId(test), float64_);
+    ASSERT_TRUE(summary) << test;
+    EXPECT_EQ(hic15, summary->hic15.value) << test;
+    EXPECT_LE(hic15, previous) << test;
+    previous = hic15;
+  }
+  query.filters.where = {"test_id=" + test_support::TestName(1)};
+  query.filters.limit = "1";
+  const db::Table one = RunQuery(catalogue, PrepareQuery(query));
+  ASSERT_EQ(one.rows.size(), 1u);
+  EXPECT_EQ(std::get<std::string>(one.rows[0][column("test_id")]), test_support::TestName(1));
+  query.kind = "everything";
+  EXPECT_THROW(PrepareQuery(query), UsageError);
 }
 
 }  // namespace
