@@ -131,6 +131,14 @@ bool CurveNamed(const std::string& name, const std::string& column) {
   return false;
 }
 
+// 'NAME', escaped; appended, not "'" + temporary (GCC 12's false -Wrestrict, bug 105329).
+std::string InSingleQuotes(const std::string& name) {
+  std::string quoted = "'";
+  quoted += util::EscapeControl(name);
+  quoted += '\'';
+  return quoted;
+}
+
 std::string CurveNames(const std::vector<std::string>& curves) {
   std::vector<std::string> names;
   for (const std::string& curve : curves) {
@@ -138,7 +146,7 @@ std::string CurveNames(const std::vector<std::string>& curves) {
       names.push_back("… (" + std::to_string(curves.size()) + " in all)");
       break;
     }
-    names.push_back("'" + util::EscapeControl(curve) + "'");
+    names.push_back(InSingleQuotes(curve));
   }
   return Joined(names);
 }
@@ -355,7 +363,7 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
       if (by_curve_named ? CurveNamed(name, wanted) : name == wanted) found.push_back(name);
     if (found.size() > 1) {
       std::vector<std::string> quoted;
-      for (const std::string& name : found) quoted.push_back("'" + util::EscapeControl(name) + "'");
+      for (const std::string& name : found) quoted.push_back(InSingleQuotes(name));
       throw InputError(ModelFile(path) + " has " + std::to_string(found.size()) + " curves named '" +
                        util::EscapeControl(wanted) + "' (" + Joined(quoted) +
                        "), so which one to rate is ambiguous; give each " +

@@ -5,17 +5,23 @@
 // float64 run stores), and ISO/TS 18571 ratings (app/correlation.h): a test
 // against itself and against its own channel written as a model rate exactly
 // 1, the same model in the wrong --model-units is refused saying the time
-// range those units give it, and every rating is stored.
+// range those units give it, and every rating is stored; a query's rows are
+// the stored summaries (app/query.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <limits>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "app/correlation.h"
+#include "app/query.h"
 #include "app/result_selection.h"
 #include "common/error.h"
 #include "records/config_record.h"
+#include "tests/app/app_test_util.h"
 #include "tests/jobs/jobs_test_helpers.h"
 #include "tests/support/test_support.h"
 #include "util/text.h"
@@ -56,16 +62,6 @@ test_support::TempDir* AppOnCatalogue::dir_ = nullptr;
 std::string AppOnCatalogue::path_;
 db::ConfigId AppOnCatalogue::float64_{}, AppOnCatalogue::none_{};
 
-template <typename Error, typename F>
-std::string ErrorText(F&& f) {
-  try {
-    f();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "no error";
-}
-
 TEST_F(AppOnCatalogue, EachChoiceNamesItsResult) {
   db::Catalogue catalogue = db::Catalogue::Open(path_);
   ASSERT_NE(float64_, none_);
@@ -76,10 +72,10 @@ TEST_F(AppOnCatalogue, EachChoiceNamesItsResult) {
   EXPECT_EQ(ResultOf(catalogue, test, Stored{util::ToUpper(none_hash.substr(0, 10))}, path_).config, none_);
   EXPECT_EQ(ResultOf(catalogue, test, Stored{"none"}, path_).test, *catalogue.FindTestByExternalId(test));
   EXPECT_THROW(ResultOf(catalogue, test, Stored{"nope"}, path_), UsageError);
-  EXPECT_EQ(ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}, path_); }),
+  EXPECT_EQ(test_support::ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}, path_); }),
             "test 'missing' is not in catalogue '" + path_ + "'.");
   const std::string unrun = test_support::TestName(3);
-  EXPECT_EQ(ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}, path_); }),
+  EXPECT_EQ(test_support::ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}, path_); }),
             "test '" + unrun + "' has no results yet; run `napkin run` first.");
   EXPECT_FALSE(FindResult(catalogue, *catalogue.FindTestByExternalId(unrun), Stored{"float64"}));
 }
@@ -95,7 +91,7 @@ TEST(ConfigSelector, ANameExactlyElseOneHashPrefix) {
   EXPECT_EQ(MatchConfigSelector(configs, "--config", "cfc180"), 1u);
   EXPECT_EQ(MatchConfigSelector(configs, "--config", "AB3"), 1u);  // case-insensitive
   EXPECT_EQ(MatchConfigSelector(configs, "--config", "9f"), 2u);
-  EXPECT_NE(ErrorText<UsageError>([&] {
+  EXPECT_NE(test_support::ErrorText<UsageError>([&] {
               MatchConfigSelector(configs, "--config", "default");
             }).find("give a hash prefix instead"),
             std::string::npos);
@@ -157,7 +153,7 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   // that it covers a sliver of the test.
   const double first_us = channel.series.time_s(0) * 1e-6;
   const double last_us = channel.series.time_s(channel.series.time_s.size() - 1) * 1e-6;
-  const std::string refused = ErrorText<InputError>(
+  const std::string refused = test_support::ErrorText<InputError>(
       [&] { RateAgainstModel(catalogue, path_, test, model + ":7", "m,us,kg", options); });
   EXPECT_NE(refused.find("curve 'curve 7' runs from " + util::FormatNumber(first_us, 4) + " to " +
                          util::FormatNumber(last_us, 4) + " s, which covers"),
@@ -166,6 +162,41 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   EXPECT_NE(refused.find("give --start and --end"), std::string::npos) << refused;
   EXPECT_EQ(catalogue.ReadCorrelations(*catalogue.FindTestByExternalId(test), none_).size(),
             stored_before + 2);
+}
+
+// A query's rows are the catalogue's stored summaries: --where, --sort and --limit select and order
+// them, and --config picks the result (each test's latest without it).
+TEST_F(AppOnCatalogue, AQuerysRowsAreTheStoredSummaries) {
+  db::Catalogue catalogue = db::Catalogue::Open(path_);
+  Query query;
+  query.kind = "hic";
+  query.filters.config = "float64";
+  query.filters.sort = {"hic15:desc"};
+  const db::Table all = RunQuery(catalogue, PrepareQuery(query));
+  ASSERT_EQ(all.rows.size(), 3u);  // the fourth test has no result
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(all.columns.begin(), all.columns.end(), name) -
+                                    all.columns.begin());
+  };
+  ASSERT_LT(column("hic15"), all.columns.size());
+  double previous = std::numeric_limits<double>::infinity();
+  for (const std::vector<db::Cell>& row : all.rows) {
+    const std::string test = std::get<std::string>(row[column("test_id")]);
+    const double hic15 = std::get<double>(row[column("hic15")]);
+    const std::optional<engine::TestSummary> summary =
+        catalogue.ReadSummary(*catalogue.FindTestByExternalId(test), float64_);
+    ASSERT_TRUE(summary) << test;
+    EXPECT_EQ(hic15, summary->hic15.value) << test;
+    EXPECT_LE(hic15, previous) << test;
+    previous = hic15;
+  }
+  query.filters.where = {"test_id=" + test_support::TestName(1)};
+  query.filters.limit = "1";
+  const db::Table one = RunQuery(catalogue, PrepareQuery(query));
+  ASSERT_EQ(one.rows.size(), 1u);
+  EXPECT_EQ(std::get<std::string>(one.rows[0][column("test_id")]), test_support::TestName(1));
+  query.kind = "everything";
+  EXPECT_THROW(PrepareQuery(query), UsageError);
 }
 
 }  // namespace

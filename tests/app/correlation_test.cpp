@@ -17,6 +17,7 @@
 
 #include "common/error.h"
 #include "formats/model_curves.h"
+#include "tests/app/app_test_util.h"
 #include "tests/support/test_support.h"
 #include "util/sha256.h"
 #include "util/text.h"
@@ -26,15 +27,6 @@ namespace {
 
 void WriteModelText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
-}
-
-std::string ModelErrorText(const std::function<void()>& load) {
-  try {
-    load();
-  } catch (const std::exception& error) {
-    return error.what();
-  }
-  return "no error";
 }
 
 ChannelCurve ChannelNamed(const std::string& name, formats::Dimension dimension) {
@@ -79,11 +71,12 @@ TEST(LoadModelCurve, TheCurveRatedIsTheReadersCurveInTheUnitsGiven) {
   }
   // Without COLUMN, three curves and none named like the channel: refused listing them.
   EXPECT_EQ(
-      ModelErrorText([&] { LoadModelCurve(path, omega, std::string("mm,ms,kg")); }),
+      test_support::ErrorText<InputError>([&] { LoadModelCurve(path, omega, std::string("mm,ms,kg")); }),
       "model file '" + path +
           "' holds 3 curves and none named omega_fixed_x_radps; name one as FILE:COLUMN, one of 'curve 3', "
           "'curve 4 head omega x', 'curve 5'.");
-  EXPECT_EQ(ModelErrorText([&] { LoadModelCurve(path + ":6", omega, std::string("mm,ms,kg")); }),
+  EXPECT_EQ(test_support::ErrorText<InputError>(
+                [&] { LoadModelCurve(path + ":6", omega, std::string("mm,ms,kg")); }),
             "model file '" + path +
                 "' has no curve '6'; its curves are 'curve 3', 'curve 4 head omega x', 'curve 5'.");
 }
@@ -108,7 +101,7 @@ TEST(LoadModelCurve, WithoutAColumnTheFilesOneCurveOrTheOneNamedLikeTheChannel) 
   EXPECT_EQ(named.series.values, (Eigen::VectorXd(3) << 2 * 9.80665, 6 * 9.80665, 8 * 9.80665).finished());
   // Two columns named like the channel: ambiguous, not the first or the last taken silently.
   WriteModelText(path, "time_s,acc_resultant_g,acc_resultant_g\n0,1,2\n0.001,4,6\n");
-  EXPECT_EQ(ModelErrorText([&] { LoadModelCurve(path, resultant, std::nullopt); }),
+  EXPECT_EQ(test_support::ErrorText<InputError>([&] { LoadModelCurve(path, resultant, std::nullopt); }),
             "model file '" + path +
                 "' has 2 curves named 'acc_resultant_g' ('acc_resultant_g', 'acc_resultant_g'), so which one "
                 "to rate "

@@ -22,6 +22,7 @@
 #include "formats/csv.h"
 #include "formats/model_curves.h"
 #include "synth/synthetic_tests.h"
+#include "tests/app/app_test_util.h"
 #include "tests/jobs/jobs_test_helpers.h"
 #include "tests/support/test_support.h"
 
@@ -35,16 +36,6 @@ synth::SyntheticTest RandomTest() {
   options.seed = 7;
   options.duration_s = 0.05;
   return synth::SynthRandomMotion(formats::LoadArray("ideal-3222"), options);
-}
-
-template <typename F>
-std::string TransformErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
 }
 
 TEST(SignalsFromSamples, ReadBackBitForBitAndRefuseWhatTheCsvReaderRefuses) {
@@ -68,16 +59,17 @@ TEST(SignalsFromSamples, ReadBackBitForBitAndRefuseWhatTheCsvReaderRefuses) {
 
   Eigen::MatrixXd bad = test.signals.samples;
   bad(5, 2) = std::nan("");
-  const std::string nan = TransformErrorOf([&] { SignalsFromSamples(bad, test.array, 1e-4, "memory"); });
+  const std::string nan =
+      test_support::ErrorText<InputError>([&] { SignalsFromSamples(bad, test.array, 1e-4, "memory"); });
   EXPECT_NE(nan.find("memory: sample 5, channel \"" + test.array.sensors[2].slot + "\""), std::string::npos)
       << nan;
   times[3] += 5e-5;  // half a step late
-  const std::string late = TransformErrorOf([&] {
+  const std::string late = test_support::ErrorText<InputError>([&] {
     SignalsFromSamples(test.signals.samples, test.array, std::span<const double>(times), "memory");
   });
   EXPECT_NE(late.find("memory: "), std::string::npos) << late;
   EXPECT_NE(late.find("time_s["), std::string::npos) << late;
-  const std::string one = TransformErrorOf(
+  const std::string one = test_support::ErrorText<InputError>(
       [&] { SignalsFromSamples(test.signals.samples.topRows(1), test.array, 1e-4, "memory"); });
   EXPECT_EQ(one.rfind("memory", 0), 0u) << one;
 }
@@ -147,7 +139,7 @@ TEST_F(RunTransformTest, TheFilesSamplesTheEnginesKinematicsAndADerivedCsvThatRe
 TEST_F(RunTransformTest, AnUnknownSolverIsRefusedAndNothingWritten) {
   options_.solver = "fast";
   options_.out = (dir_ / "fast.csv").string();
-  const std::string message = TransformErrorOf([&] { RunTransform(options_); });
+  const std::string message = test_support::ErrorText<InputError>([&] { RunTransform(options_); });
   EXPECT_NE(message.find("unknown solver \"fast\""), std::string::npos) << message;
   EXPECT_NE(message.find("exact or seed"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(dir_ / "fast.csv"));
