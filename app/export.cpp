@@ -213,10 +213,10 @@ std::vector<std::string> ExportFormatNames() {
   return names;
 }
 
-ExportRequest ParseExportRequest(const RequestOptions& options) {
-  options.CheckKnown({"test", "format", "config", "units", "part", "numform", "position", "dummy-type"});
+ExportRequest ParseExportRequest(std::string test_id, const RequestOptions& options) {
+  options.CheckKnown({"format", "config", "units", "part", "numform", "position", "dummy-type"});
   ExportRequest request;
-  request.test_id = options.Required("test", "the test whose channels are written");
+  request.test_id = std::move(test_id);
   const std::string format = options.Required("format", ChoiceList(ExportFormatNames()));
   request.format = FindExportFormat(format);
   if (request.format == nullptr)

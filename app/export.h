@@ -71,12 +71,14 @@ struct ExportRequest {
   std::optional<std::string> dummy_type;
 };
 
-// The options of an export, one parser for every front end: test and format
-// (required), config, units (si or english; default si), part (a whole number
-// of at least 1; default 1), numform (ieee, vax or sun; default ieee),
-// position, dummy-type. Throws UsageError, one sentence naming the option as
-// the front end spells it, for an unknown, repeated or malformed option.
-ExportRequest ParseExportRequest(const RequestOptions& options);
+// The export of test `test_id` (the command's --test, the service's route,
+// Python's test_id) as the options ask, one parser for every front end:
+// format (required), config, units (si or english; default si), part (a
+// whole number of at least 1; default 1), numform (ieee, vax or sun; default
+// ieee), position, dummy-type. Throws UsageError, one sentence naming the
+// option as the front end spells it, for an unknown, repeated or malformed
+// option.
+ExportRequest ParseExportRequest(std::string test_id, const RequestOptions& options);
 
 // Writes the export to `out`: the file ("-" is standard output), or for a
 // folder format the folder whose files appear beside what it holds, none of

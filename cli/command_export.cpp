@@ -63,7 +63,7 @@ class ExportCommand : public Command {
 
   int Run() override {
     app::RequestOptions options(app::FrontEnd::kCommandLine);
-    options.Add("test", test_id_).Add("format", format_);
+    options.Add("format", format_);
     for (const auto& [name, value] : {std::pair{"config", &config_},
                                       {"units", &units_},
                                       {"part", &part_},
@@ -71,7 +71,7 @@ class ExportCommand : public Command {
                                       {"position", &position_},
                                       {"dummy-type", &dummy_type_}})
       if (*value) options.Add(name, **value);
-    const app::ExportRequest request = app::ParseExportRequest(options);
+    const app::ExportRequest request = app::ParseExportRequest(test_id_, options);
     // The --config file this command reads is never its output (docs/formats.md
     // "Output destinations"); an unknown preset is reported where it is used.
     if (config_) {

@@ -283,17 +283,18 @@ void RegisterCatalogue(py::module_& module) {
           py::arg("options"), py::arg("typed"))
       .def(
           "export",
-          [](ReadOnlyCatalogue& self, const std::vector<std::pair<std::string, std::string>>& options,
-             const std::string& out, bool force) {
+          [](ReadOnlyCatalogue& self, const std::string& test_id,
+             const std::vector<std::pair<std::string, std::string>>& options, const std::string& out,
+             bool force) {
             Translated(self.path(), [&] {
               // Python's arguments as `napkin export`'s options, one parser for both (app/request_options.h).
               app::RequestOptions request_options(app::FrontEnd::kPython);
               for (const auto& [name, value] : options) request_options.Add(name, value);
-              self.Export(app::ParseExportRequest(request_options), out, force);
+              self.Export(app::ParseExportRequest(test_id, request_options), out, force);
               return 0;
             });
           },
-          py::arg("options"), py::arg("out"), py::arg("force"))
+          py::arg("test_id"), py::arg("options"), py::arg("out"), py::arg("force"))
       .def(
           "channels",
           [](ReadOnlyCatalogue& self, const std::string& test_id, bool derived,

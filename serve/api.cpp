@@ -283,13 +283,11 @@ Response Api::TestSummary(const std::string& test_id) const {
 
 Response Api::Channels(const std::string& test_id, const Params& params) const {
   // The parameters as `napkin export`'s options, one parser and one writer for both
-  // (app/export.h); the test is the route's, the format csv unless given.
-  if (params.count("test") != 0) throw UsageError("unknown parameter 'test' (the route names the test).");
+  // (app/export.h); the format csv unless given.
   app::RequestOptions options(app::FrontEnd::kService);
-  options.Add("test", test_id);
   if (params.count("format") == 0) options.Add("format", "csv");
   for (const auto& [name, value] : params) options.Add(name, value);
-  const app::ExportRequest request = app::ParseExportRequest(options);
+  const app::ExportRequest request = app::ParseExportRequest(test_id, options);
   db::Catalogue catalogue = OpenForRequest(options_);
   std::vector<app::ExportedFile> files = app::ExportToMemory(catalogue, request, options_.db_path);
   const std::string content_type(request.format->content_type);

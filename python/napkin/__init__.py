@@ -543,7 +543,7 @@ class Catalogue:
         The catalogue itself is never written (refused in a sentence naming it).
         """
         what = "napkin.Catalogue.export: "
-        options = [("test", str(test_id))]
+        options = []
         for name, value in (("format", format), ("config", config), ("units", units), ("numform", numform),
                             ("position", position), ("dummy_type", dummy_type)):
             if value is None:
@@ -555,7 +555,7 @@ class Catalogue:
             if isinstance(part, bool) or not isinstance(part, _numbers.Integral):
                 raise TypeError("{}part is {}, not a part id (an int).".format(what, _described(part)))
             options.append(("part", str(int(part))))
-        self._catalogue.export(options, _path(path, what + "path"), bool(force))
+        self._catalogue.export(str(test_id), options, _path(path, what + "path"), bool(force))
 
     def test_inputs(self, test_id):
         """What ``napkin run`` computes the test's result from, as ``transform``'s
