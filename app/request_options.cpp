@@ -96,8 +96,12 @@ void RequestOptions::CheckKnown(std::initializer_list<std::string_view> known) c
     if (std::find(spelled.begin(), spelled.end(), option) != spelled.end()) continue;
     std::string list;
     for (const std::string& name : spelled) list += (list.empty() ? "" : ", ") + name;
-    throw UsageError("unknown " + Name(option) + " (" +
-                     (front_end_ == FrontEnd::kService ? "this route" : "it") + " takes " + list + ").");
+    // Named as given (the service's "dummy-type" is not its "dummy_type").
+    const std::string given = front_end_ == FrontEnd::kCommandLine ? "--" + option
+                              : front_end_ == FrontEnd::kService   ? "parameter '" + option + "'"
+                                                                   : "argument '" + option + "'";
+    throw UsageError("unknown " + given + " (" + (front_end_ == FrontEnd::kService ? "this route" : "it") +
+                     " takes " + list + ").");
   }
 }
 

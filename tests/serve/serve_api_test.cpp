@@ -170,7 +170,8 @@ TEST_F(ServeApi, CompareTakesEveryOptionOfTheCommandLine) {
            {{"--scale", "linear", "--equivalence", "5"}, "&scale=linear&equivalence=5"},
            {{"--limits", "fmvss208", "--metrics", "hic15,bric", "--metrics", "a3ms_g"},
             "&limits=fmvss208&metrics=hic15,bric&metrics=a3ms_g"},
-           {{"--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m", "--config", "default", "--baseline", "foam-b"},
+           {{"--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m", "--config", "default", "--baseline",
+             "foam-b"},
             "&limits=euro-ncap-aop-v9.3-frontal-head-hiii50m&config=default&baseline=foam-b"}}) {
     std::vector<std::string> args = {"compare", "--series", "padding-series", "--format", "json"};
     args.insert(args.end(), cli_options.begin(), cli_options.end());
@@ -185,8 +186,9 @@ TEST_F(ServeApi, CompareTakesEveryOptionOfTheCommandLine) {
   EXPECT_EQ(CliSentence(by_cli), "--by must be variant or config; it is 'colour'.");
   EXPECT_EQ(ErrorOf(Get("/api/v1/compare?series=padding-series&by=colour")),
             "parameter 'by' must be variant or config; it is 'colour'.");
-  EXPECT_EQ(ErrorOf(Get("/api/v1/compare?series=padding-series&config=a&config=b")),
-            "by=variant compares the results of one config; give parameter 'config' once (or use by=config).");
+  EXPECT_EQ(
+      ErrorOf(Get("/api/v1/compare?series=padding-series&config=a&config=b")),
+      "by=variant compares the results of one config; give parameter 'config' once (or use by=config).");
   const httplib::Result both = Get(
       "/api/v1/compare?series=padding-series&limits=fmvss208&limits=euro-ncap-aop-v9.3-frontal-head-hiii50m");
   EXPECT_EQ(both->status, 400);
@@ -378,8 +380,8 @@ TEST_F(ServeApi, ChannelsAnswerEveryExportFormatWithTheCommandsBytes) {
     const std::string name(format.name);
     SCOPED_TRACE(name);
     const fs::path out = dir_->path() / ("export-" + name);
-    const CommandResult cli = Napkin({"export", "--test", id, "--format", name, "--out", out.string(), "--units",
-                                      "english", "--part", "7", "--numform", "vax"});
+    const CommandResult cli = Napkin({"export", "--test", id, "--format", name, "--out", out.string(),
+                                      "--units", "english", "--part", "7", "--numform", "vax"});
     ASSERT_EQ(cli.exit_code, 0) << cli.err;
     const httplib::Result result =
         Get("/api/v1/tests/" + id + "/channels?format=" + name + "&units=english&part=7&numform=vax");
@@ -400,8 +402,9 @@ TEST_F(ServeApi, ChannelsAnswerEveryExportFormatWithTheCommandsBytes) {
       EXPECT_EQ(archive.members()[i].name, files[i].name);
       EXPECT_EQ(archive.Read(archive.members()[i]), files[i].bytes) << files[i].name;
     }
-    EXPECT_EQ(Get("/api/v1/tests/" + id + "/channels?format=" + name + "&units=english&part=7&numform=vax")->body,
-              result->body)
+    EXPECT_EQ(
+        Get("/api/v1/tests/" + id + "/channels?format=" + name + "&units=english&part=7&numform=vax")->body,
+        result->body)
         << "the same files give the same archive";
   }
   // One parser: the command line's sentences, spelled as the service names its parameters.
@@ -409,9 +412,10 @@ TEST_F(ServeApi, ChannelsAnswerEveryExportFormatWithTheCommandsBytes) {
             "parameter 'units' must be si or english; it is 'mm'.");
   EXPECT_EQ(ErrorOf(Get("/api/v1/tests/" + id + "/channels?format=lsdyna&part=0")),
             "parameter 'part' must be at least 1; it is 0.");
-  EXPECT_EQ(ErrorOf(Get("/api/v1/tests/" + id + "/channels?format=isomme&dummy_type=H3&dummy-type=H3")),
-            "unknown parameter 'dummy-type' (this route takes format, config, units, part, numform, position, "
-            "dummy_type).");
+  EXPECT_EQ(
+      ErrorOf(Get("/api/v1/tests/" + id + "/channels?format=isomme&dummy_type=H3&dummy-type=H3")),
+      "unknown parameter 'dummy-type' (this route takes format, config, units, part, numform, position, "
+      "dummy_type).");
   const CommandResult missing_cli = Napkin({"export", "--test", "nope", "--format", "uds", "--out", "x"});
   EXPECT_EQ(ErrorOf(Get("/api/v1/tests/nope/channels?format=uds")), CliSentence(missing_cli));
 }
@@ -439,7 +443,8 @@ TEST_F(ServeApi, StatusAndMetricsCountTheCatalogue) {
   // A file is never read for a request: only a preset's name.
   const httplib::Result file = Get("/api/v1/status?config=" + db().string());
   EXPECT_EQ(file->status, 400);
-  EXPECT_EQ(ErrorOf(file).rfind("parameter 'config' must be default or salvage; it is '", 0), 0u) << file->body;
+  EXPECT_EQ(ErrorOf(file).rfind("parameter 'config' must be default or salvage; it is '", 0), 0u)
+      << file->body;
   EXPECT_EQ(Get("/api/v1/status?colour=red")->status, 400);
 
   const httplib::Result metrics = Get("/metrics");
