@@ -145,6 +145,9 @@ std::string ZipArchive::Read(const ZipMember& member) {
 }
 
 std::string ZipArchiveBytes(const std::vector<ZipMemberBytes>& members) {
+  // libzip removes an archive without members on closing it: the empty archive is its end of
+  // central directory record alone (APPNOTE.TXT 4.3.16), 22 bytes.
+  if (members.empty()) return std::string("PK\x05\x06", 4) + std::string(18, '\0');
   // Failing here is running out of memory or a bug (the archive is napkin's own, in memory).
   const auto failed = [](const std::string& what, zip_error_t* error) {
     const std::string message = "cannot build a zip archive in memory (" + what + ": " +
