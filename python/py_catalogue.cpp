@@ -154,7 +154,11 @@ class ReadOnlyCatalogue {
   // never an output (app/db_protection.h).
   void Export(const app::ExportRequest& request, const std::string& out, bool replace_existing) {
     db::Catalogue& catalogue = Opened();
-    app::ProtectCatalogueFromOutput(path_);
+    // Once per catalogue: the protection lasts for the process (util/output_destination.h).
+    if (!protected_from_output_) {
+      app::ProtectCatalogueFromOutput(path_);
+      protected_from_output_ = true;
+    }
     app::Export(catalogue, request, path_, out, replace_existing);
   }
 
@@ -218,6 +222,7 @@ class ReadOnlyCatalogue {
 
   std::string path_;
   std::optional<db::Catalogue> catalogue_;
+  bool protected_from_output_ = false;
 };
 
 std::vector<std::string> AsList(const std::optional<std::vector<std::string>>& values) {
