@@ -383,18 +383,6 @@ std::string VariantGroup(const std::optional<std::string>& variant) {
   return core == kNoVariant ? "\"" + *variant + "\"" : *variant;
 }
 
-CompareBy ParseCompareBy(const std::string& text) {
-  if (text == "variant") return CompareBy::kVariant;
-  if (text == "config") return CompareBy::kConfig;
-  throw UsageError("unknown --by '" + text + "' (use variant or config).");
-}
-
-CompareScale ParseCompareScale(const std::string& text) {
-  if (text == "log") return CompareScale::kLog;
-  if (text == "linear") return CompareScale::kLinear;
-  throw UsageError("unknown --scale '" + text + "' (use log or linear).");
-}
-
 std::string_view ScaleName(CompareScale scale) { return scale == CompareScale::kLog ? "log" : "linear"; }
 
 bool IsRatioMetric(std::string_view metric) {
@@ -402,12 +390,43 @@ bool IsRatioMetric(std::string_view metric) {
   return field != nullptr && field->log_scale;
 }
 
-double ParseEquivalencePct(const std::string& text) {
-  const std::optional<double> value = util::ParseDouble(text);
-  if (!value || !(*value > 0.0) || !(*value < 100.0))
-    throw UsageError("--equivalence '" + text +
-                     "' is not a margin in percent between 0 and 100 (exclusive), e.g. 10 for ±10 %.");
-  return *value;
+CompareRequest ParseCompareRequest(const RequestOptions& options) {
+  options.CheckKnown({"series", "by", "baseline", "metrics", "config", "scale", "equivalence", "limits"});
+  CompareRequest request;
+  request.front_end = options.front_end();
+  request.series = options.Required("series", "the series whose tests are compared");
+  request.by = options.OneOf("by", {"variant", "config"}, "variant") == "variant" ? CompareBy::kVariant
+                                                                                  : CompareBy::kConfig;
+  request.baseline = options.One("baseline");
+  request.metrics = options.CommaList("metrics");
+  request.configs = options.All("config");
+  request.scale =
+      options.OneOf("scale", {"log", "linear"}, "log") == "log" ? CompareScale::kLog : CompareScale::kLinear;
+  if (const std::optional<std::string> equivalence = options.One("equivalence")) {
+    const std::optional<double> value = util::ParseDouble(*equivalence);
+    if (!value || !(*value > 0.0) || !(*value < 100.0))
+      throw UsageError(options.Name("equivalence") + " must be a margin in percent between 0 and 100 " +
+                       "(exclusive), e.g. 10 for ±10 %; it is '" + util::Abbreviated(*equivalence) + "'.");
+    request.equivalence_pct = *value;
+  }
+  request.limits = options.All("limits");
+  if (request.by == CompareBy::kVariant && request.configs.size() > 1)
+    throw UsageError(options.Setting("by", "variant") + " compares the results of one config; give " +
+                     options.Name("config") + " once (or use " + options.Setting("by", "config") + ").");
+  // A row of compare's JSON holds one limit: two sets that limit one metric are refused.
+  std::map<std::string, std::string> set_of_metric;
+  for (const std::string& name : request.limits) {
+    const LimitSet set = LoadLimits(name);
+    for (const Limit& limit : set.limits) {
+      const auto [at, added] = set_of_metric.emplace(limit.metric, set.name);
+      if (!added)
+        throw UsageError(options.Name("limits") + ": " + at->second + " and " + set.name + " both limit " +
+                         limit.metric +
+                         ", and a row of compare holds one limit; compare them one at a time (napkin report "
+                         "and napkin demo take both).");
+    }
+  }
+  return request;
 }
 
 std::vector<std::string> DefaultComparisonMetrics() {
@@ -430,7 +449,7 @@ std::string ComparisonPValueText(double p) {
   return text;
 }
 
-Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request) {
+Comparison BuildComparison(db::Catalogue& catalogue, const CompareRequest& request) {
   if (!catalogue.ReadSeries(request.series)) {
     std::vector<std::string> names;
     for (const db::SeriesRow& series : catalogue.ReadAllSeries()) names.push_back(series.name);
@@ -449,12 +468,10 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
         fields.push_back(field);
     }
   }
-  if (request.by == CompareBy::kVariant && request.configs.size() > 1)
-    throw UsageError(
-        "--by variant compares the results of one config; give --config once (or use --by config).");
   std::set<std::int64_t> config_ids;
   for (const std::string& spec : request.configs)
-    config_ids.insert(static_cast<std::int64_t>(ResolveConfigSelector(catalogue, spec).id));
+    config_ids.insert(static_cast<std::int64_t>(
+        ResolveConfigSelector(catalogue, spec, OptionName(request.front_end, "config")).id));
 
   db::TestFilter filter;
   filter.series = request.series;
@@ -516,8 +533,9 @@ Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& re
         config.name = members.front()->config_name;
         config.config_hash = members.front()->config_hash;
       }
-      found = groups[MatchConfigSelector(configs, "--baseline", *request.baseline,
-                                         "the configs of series '" + request.series + "' with results are")];
+      found =
+          groups[MatchConfigSelector(configs, OptionName(request.front_end, "baseline"), *request.baseline,
+                                     "the configs of series '" + request.series + "' with results are")];
     }
     if (!found) {
       std::vector<std::string> names;
@@ -648,20 +666,6 @@ GroupLimitCheck CheckGroupLimit(const Limit& limit, const GroupValues& values) {
   return check;
 }
 
-void CheckOneLimitPerMetric(const std::vector<std::string>& limits) {
-  std::map<std::string, std::string> set_of_metric;
-  for (const std::string& name : limits) {
-    const LimitSet set = LoadLimits(name);
-    for (const Limit& limit : set.limits) {
-      const auto [at, added] = set_of_metric.emplace(limit.metric, set.name);
-      if (!added)
-        throw UsageError("--limits: " + at->second + " and " + set.name + " both limit " + limit.metric +
-                         ", and a row of compare holds one limit; compare them one at a time (napkin report "
-                         "and napkin demo take both).");
-    }
-  }
-}
-
 db::Table ComparisonTable(const Comparison& comparison) {
   db::Table table;
   table.columns = {"metric",
@@ -742,6 +746,12 @@ db::Table ComparisonTable(const Comparison& comparison) {
     }
   }
   return table;
+}
+
+bool IsComparisonTextColumn(std::string_view column) {
+  for (const std::string_view text : {"metric", "group", "baseline", "scale", "worst_test", "limits"})
+    if (column == text) return true;
+  return false;
 }
 
 std::string FormatComparison(const Comparison& comparison, TableFormat format) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app/limits.h"
+#include "app/request_options.h"
 #include "app/table_output.h"
 #include "db/catalogue.h"
 #include "engine/prediction.h"
@@ -23,9 +24,6 @@ namespace napkin::app {
 
 enum class CompareBy { kVariant, kConfig };
 
-// "variant" or "config"; throws UsageError otherwise.
-CompareBy ParseCompareBy(const std::string& text);
-
 // The scale a metric's groups are compared on (docs/formats.md "napkin
 // compare", docs/algorithms.md "Ratios of positive criteria"): kLog, the
 // ratio of geometric means (Welch's t, by config the paired t, on the
@@ -33,8 +31,6 @@ CompareBy ParseCompareBy(const std::string& text);
 // kLinear, the difference of means.
 enum class CompareScale { kLog, kLinear };
 
-// "log" or "linear"; throws UsageError naming --scale otherwise.
-CompareScale ParseCompareScale(const std::string& text);
 std::string_view ScaleName(CompareScale scale);
 
 // The summary fields marked log_scale in engine/summary_fields.cpp (HIC of
@@ -46,10 +42,8 @@ bool IsRatioMetric(std::string_view metric);
 // The default equivalence margin, ±10 % (--equivalence PCT).
 inline constexpr double kDefaultEquivalencePct = 10.0;
 
-// --equivalence PCT: a number in (0, 100); throws UsageError naming the option otherwise.
-double ParseEquivalencePct(const std::string& text);
-
-struct ComparisonRequest {
+// What to compare (ParseCompareRequest reads it from any front end's options).
+struct CompareRequest {
   std::string series;
   CompareBy by = CompareBy::kVariant;
   // A group name (by config: also a config's name or hash prefix); default:
@@ -69,7 +63,22 @@ struct ComparisonRequest {
   // Limit sets to check (app/limits.h), each a preset name of config/limits
   // or a file; their metrics (and a hard-contact rule's) are compared too.
   std::vector<std::string> limits;
+  // The front end the request came through: BuildComparison's sentences name
+  // its options as it spells them (app/request_options.h).
+  FrontEnd front_end = FrontEnd::kCommandLine;
 };
+
+// The options of `napkin compare`, of GET /api/v1/compare and of
+// napkin.Catalogue.compare, one parser for the three (docs/formats.md
+// "napkin compare"): series (required), by (variant or config; default
+// variant), baseline, metrics (comma-separated, repeatable), config
+// (repeatable), scale (log or linear; default log), equivalence (a margin in
+// % in (0, 100); default 10), limits (repeatable; no two sets may limit one
+// metric: a row of compare holds one limit). Throws UsageError, one sentence
+// naming the option as `options`' front end spells it, for an unknown,
+// repeated or malformed option, and for --by variant with more than one
+// --config; reads the limit sets (their errors name the file).
+CompareRequest ParseCompareRequest(const RequestOptions& options);
 
 // The group of a test of `variant` when comparing by variant: the name, or
 // "(none)" for tests without one (docs/formats.md "napkin compare").
@@ -226,10 +235,6 @@ struct Comparison {
 // BuildComparison makes it.
 GroupLimitCheck CheckGroupLimit(const Limit& limit, const GroupValues& values);
 
-// Refuses (UsageError naming --limits) sets two of which limit one metric:
-// a row of compare's JSON holds one limit.
-void CheckOneLimitPerMetric(const std::vector<std::string>& limits);
-
 // Reads the series' results and compares them. Throws UsageError (one line
 // listing the valid choices) for an unknown series, metric, config or
 // baseline, or more than one config by variant; InputError "... run `napkin
@@ -237,7 +242,7 @@ void CheckOneLimitPerMetric(const std::vector<std::string>& limits);
 // With the default metrics (request.metrics empty) a metric no test of the
 // series has a value of is left out (the rotation of acceleration-only
 // tests); metrics named in request.metrics are always kept.
-Comparison BuildComparison(db::Catalogue& catalogue, const ComparisonRequest& request);
+Comparison BuildComparison(db::Catalogue& catalogue, const CompareRequest& request);
 
 // A p-value as compare's table shows it: "p=0.041", "p<0.0001", and "p>0.99" for a p that two
 // digits would round to 1.
@@ -257,6 +262,11 @@ MetricComparison CompareMetric(const std::string& metric, std::vector<GroupValue
 // (the first of the sets' limits on the row's metric; NaN cells become null
 // in JSON and empty fields in CSV via FormatTable).
 db::Table ComparisonTable(const Comparison& comparison);
+
+// Whether a column of ComparisonTable holds text (metric, group, baseline,
+// scale, worst_test, limits); every other holds numbers, NULL where undefined
+// (napkin.Catalogue.compare_frame's float64 columns).
+bool IsComparisonTextColumn(std::string_view column);
 
 // kJson and kCsv: FormatTable(ComparisonTable(comparison)). kTable: one
 // aligned block per metric, for people (docs/formats.md "napkin compare").

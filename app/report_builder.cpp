@@ -253,7 +253,7 @@ void AddRepeatability(db::Catalogue& catalogue, const std::string& series,
 // which is engine::PairedComparison's interval of differences from zero.
 formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::string& series,
                                            const ReportOptions& options) {
-  ComparisonRequest request;
+  CompareRequest request;
   request.series = series;
   request.by = CompareBy::kVariant;
   request.baseline = options.baseline;

@@ -24,7 +24,7 @@ std::optional<db::ConfigId> FindResult(db::Catalogue& catalogue, db::TestId test
   if (std::holds_alternative<Latest>(choice)) return catalogue.ReadLatestResultConfig(test);
   std::optional<db::ConfigId> config;
   if (const auto* stored = std::get_if<Stored>(&choice))
-    config = ResolveConfigSelector(catalogue, stored->selector).id;
+    config = ResolveConfigSelector(catalogue, stored->selector, stored->option).id;
   else
     config =
         catalogue.FindConfigByHash(ResolveConfig(std::get<Preset>(choice).name_or_path).record.config_hash);
@@ -103,12 +103,13 @@ ResultChannels ReadResultChannels(db::Catalogue& catalogue, db::TestId test,
   return channels;
 }
 
-db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector) {
+db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector,
+                                    const std::string& option) {
   const std::vector<db::ConfigRow> configs = catalogue.ReadAllConfigs();
   if (configs.empty())
-    throw UsageError("--config '" + selector +
+    throw UsageError(option + " '" + selector +
                      "': the catalogue has no processing configs yet; run `napkin run` first.");
-  return configs[MatchConfigSelector(configs, "--config", selector)];
+  return configs[MatchConfigSelector(configs, option, selector)];
 }
 
 std::size_t MatchConfigSelector(const std::vector<db::ConfigRow>& configs, const std::string& option,

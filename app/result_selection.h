@@ -29,6 +29,8 @@ namespace napkin::app {
 struct Latest {};
 struct Stored {
   std::string selector;  // a stored config's name or hash prefix
+  // The option that gave it, as the front end spells it (its sentences name it).
+  std::string option = "--config";
 };
 struct Preset {
   std::string name_or_path;  // a processing config preset name or JSON file; empty: the default preset
@@ -58,9 +60,11 @@ TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const 
 // A stored processing config named by a `--config NAME|HASH-PREFIX` selector
 // (query, compare, report): the config whose name is `selector` (exactly
 // one), else the one config whose hash starts with it (case-insensitive).
-// Throws UsageError listing the catalogue's configs (name and hash) when none
-// or several match.
-db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector);
+// Throws UsageError naming `option` (as the front end spells it,
+// app/request_options.h) and listing the catalogue's configs (name and hash)
+// when none or several match.
+db::ConfigRow ResolveConfigSelector(db::Catalogue& catalogue, const std::string& selector,
+                                    const std::string& option = "--config");
 
 // The one rule every config selector follows (`--config`, `compare
 // --baseline` by config): the index in `configs` of the config named

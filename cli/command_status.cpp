@@ -1,6 +1,7 @@
 // `napkin status`: counts of the tests in the catalogue by state for a
 // processing config, the results by napkin version and config, and the
-// failures with their reasons.
+// failures with their reasons (app/status.h reads them; the JSON is the
+// service's too).
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -9,11 +10,11 @@
 #include <utility>
 #include <vector>
 
+#include "app/status.h"
 #include "cli/catalogue_option.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
 #include "common/version.h"
-#include "db/job_queue.h"
 #include "records/config_record.h"
 
 namespace napkin::cli {
@@ -58,26 +59,17 @@ class StatusCommand : public Command {
   int Run() override {
     const records::ResolvedConfig resolved = records::ResolveConfig(config_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    // A config never run on this catalogue has no key: every test is pending.
-    const db::ConfigId config =
-        catalogue.FindConfigByHash(resolved.record.config_hash).value_or(db::ConfigId{0});
-    const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(config);
-
+    const app::CatalogueStatus status =
+        app::ReadStatus(catalogue, global_->db_path, resolved, /*with_versions=*/format_ == "table");
     if (format_ == "json") {
-      // Key order as the README gives it.
-      nlohmann::ordered_json failures = nlohmann::ordered_json::array();
-      for (const db::JobFailure& failure : counts.failures)
-        failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
-      const nlohmann::ordered_json status = {{"tests", counts.tests},     {"done", counts.done},
-                                             {"failed", counts.failed},   {"pending", counts.pending},
-                                             {"running", counts.running}, {"salvaged", counts.salvaged},
-                                             {"failures", failures}};
       // Stored error text that is not UTF-8 (an older napkin's): U+FFFD, never a failure.
-      fmt::print("{}\n", status.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
+      fmt::print("{}\n", app::StatusJson(status).dump(2, ' ', false,
+                                                      nlohmann::ordered_json::error_handler_t::replace));
       return kExitOk;
     }
-    fmt::print("catalogue  {}\nconfig     {} ({})\n\n", global_->db_path, resolved.record.name,
-               resolved.record.config_hash.substr(0, 12));
+    const db::StatusCounts& counts = status.counts;
+    fmt::print("catalogue  {}\nconfig     {} ({})\n\n", status.path, status.config_name,
+               status.config_hash.substr(0, 12));
     fmt::print("{:<8} {:>8}\n", "tests", counts.tests);
     fmt::print("{:<8} {:>8}\n", "done", counts.done);
     fmt::print("{:<8} {:>8}\n", "failed", counts.failed);
@@ -85,7 +77,7 @@ class StatusCommand : public Command {
     fmt::print("{:<8} {:>8}\n", "running", counts.running);
     // Done tests whose result comes from salvaged channels (docs/algorithms.md "Faulty channels").
     if (counts.salvaged > 0) fmt::print("{:<8} {:>8}\n", "salvaged", counts.salvaged);
-    PrintVersionCounts(db::JobQueue(catalogue).ReadVersionCounts());
+    PrintVersionCounts(status.versions);
     if (!counts.failures.empty()) {
       std::size_t width = 7;
       for (const db::JobFailure& failure : counts.failures) width = std::max(width, failure.test_id.size());

@@ -137,7 +137,7 @@ fs::path WritePaddingCsvFiles(const fs::path& dir) {
 // prints it, for the metrics that tell the story: HIC, the CG acceleration, and
 // the rotation that the padding barely changes.
 void PrintPaddingComparison(db::Catalogue& catalogue, const std::vector<std::string>& limits) {
-  app::ComparisonRequest request;
+  app::CompareRequest request;
   request.series = kPaddingSeries;
   request.baseline = kPaddingBaseline;
   request.limits = limits;

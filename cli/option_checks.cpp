@@ -5,7 +5,7 @@
 #include <limits>
 #include <optional>
 
-#include "common/joined.h"
+#include "app/request_options.h"
 #include "util/text.h"
 
 namespace napkin::cli {
@@ -17,7 +17,7 @@ std::string Quoted(const std::string& text) { return "'" + util::Abbreviated(tex
 
 }  // namespace
 
-std::string ChoiceList(const std::vector<std::string>& choices) { return JoinedChoices(choices); }
+std::string ChoiceList(const std::vector<std::string>& choices) { return app::ChoiceList(choices); }
 
 CLI::Validator WholeNumberCheck(const std::string& option, long long minimum, long long maximum) {
   const bool int_maximum = maximum == std::numeric_limits<int>::max();
@@ -26,14 +26,7 @@ CLI::Validator WholeNumberCheck(const std::string& option, long long minimum, lo
                                  : "from " + std::to_string(minimum) + " to " + std::to_string(maximum);
   return CLI::Validator(
       [=](std::string& text) -> std::string {
-        const std::optional<long long> number = util::ParseInteger(text);
-        if (!number) return option + " must be a whole number " + bounds + "; it is " + Quoted(text);
-        if (*number < minimum || (!int_maximum && *number > maximum))
-          return option + " must be " + bounds + "; it is " + util::Abbreviated(text);
-        if (*number > maximum)
-          return option + " must be at most " + std::to_string(maximum) + "; it is " +
-                 util::Abbreviated(text);
-        return {};
+        return app::WholeNumberProblem(option, text, minimum, maximum).value_or("");
       },
       "INT " + bounds);
 }
@@ -63,7 +56,7 @@ CLI::Validator OneOfCheck(const std::string& option, const std::vector<std::stri
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         if (std::find(choices.begin(), choices.end(), text) != choices.end()) return {};
-        return option + " must be " + ChoiceList(choices) + "; it is " + Quoted(text);
+        return app::NotOneOfProblem(option, choices, text);
       },
       "one of " + ChoiceList(choices));
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "util/text.h"
@@ -140,6 +141,66 @@ std::string ZipArchive::Read(const ZipMember& member) {
     throw InputError(Where(member) + " holds " + Bytes(bytes.size()) + " of the " + Bytes(member.size) +
                      " its header declares (a damaged archive).");
   total_read_ += bytes.size();
+  return bytes;
+}
+
+std::string ZipArchiveBytes(const std::vector<ZipMemberBytes>& members) {
+  // libzip removes an archive without members on closing it: the empty archive is its end of
+  // central directory record alone (APPNOTE.TXT 4.3.16), 22 bytes.
+  if (members.empty()) return std::string("PK\x05\x06", 4) + std::string(18, '\0');
+  // Failing here is running out of memory or a bug (the archive is napkin's own, in memory).
+  const auto failed = [](const std::string& what, zip_error_t* error) {
+    const std::string message = "cannot build a zip archive in memory (" + what + ": " +
+                                (error != nullptr ? zip_error_strerror(error) : "libzip failed") + ").";
+    return std::runtime_error(message);
+  };
+  zip_error_t error;
+  zip_error_init(&error);
+  zip_source_t* buffer = zip_source_buffer_create(nullptr, 0, 0, &error);
+  if (buffer == nullptr) throw failed("buffer", &error);
+  zip_t* archive = zip_open_from_source(buffer, ZIP_TRUNCATE, &error);
+  if (archive == nullptr) {
+    zip_source_free(buffer);
+    throw failed("open", &error);
+  }
+  zip_source_keep(buffer);  // read after zip_close
+  // 2000-01-01 00:00:00 as DOS date and time: year since 1980 << 9 | month << 5 | day.
+  constexpr zip_uint16_t kDosDate = (20 << 9) | (1 << 5) | 1;
+  for (const ZipMemberBytes& member : members) {
+    // The bytes live in `members` until zip_close.
+    zip_source_t* source = zip_source_buffer(archive, member.bytes.data(), member.bytes.size(), 0);
+    const zip_int64_t index =
+        source == nullptr ? -1 : zip_file_add(archive, member.name.c_str(), source, ZIP_FL_ENC_UTF_8);
+    if (index < 0 || zip_file_set_dostime(archive, static_cast<zip_uint64_t>(index), 0, kDosDate, 0) != 0 ||
+        zip_set_file_compression(archive, static_cast<zip_uint64_t>(index), ZIP_CM_DEFLATE, 0) != 0) {
+      if (source != nullptr && index < 0) zip_source_free(source);
+      const std::runtime_error problem = failed(member.name, zip_get_error(archive));
+      zip_discard(archive);
+      zip_source_free(buffer);
+      throw problem;
+    }
+  }
+  if (zip_close(archive) != 0) {
+    const std::runtime_error problem = failed("close", zip_get_error(archive));
+    zip_discard(archive);
+    zip_source_free(buffer);
+    throw problem;
+  }
+  std::string bytes;
+  if (zip_source_open(buffer) != 0) {
+    zip_source_free(buffer);
+    throw failed("read", nullptr);
+  }
+  zip_int64_t size = -1;
+  if (zip_source_seek(buffer, 0, SEEK_END) == 0) size = zip_source_tell(buffer);
+  zip_int64_t read = -1;
+  if (size >= 0 && zip_source_seek(buffer, 0, SEEK_SET) == 0) {
+    bytes.resize(static_cast<std::size_t>(size));
+    read = zip_source_read(buffer, bytes.data(), static_cast<zip_uint64_t>(size));
+  }
+  zip_source_close(buffer);
+  zip_source_free(buffer);
+  if (size < 0 || read != size) throw failed("read", nullptr);
   return bytes;
 }
 

@@ -72,4 +72,16 @@ class ZipArchive {
   std::uint64_t total_read_ = 0;
 };
 
+// A member of an archive written in memory.
+struct ZipMemberBytes {
+  std::string name;  // '/' separated, relative
+  std::string bytes;
+};
+
+// The zip archive of `members` (deflated, in the order given), as bytes in
+// memory: how `napkin serve` sends a folder export (docs/serve.md). Every
+// member is dated 2000-01-01 00:00 (DOS time, no time zone), so the same
+// members give the same bytes.
+std::string ZipArchiveBytes(const std::vector<ZipMemberBytes>& members);
+
 }  // namespace napkin::formats

@@ -1,8 +1,8 @@
-// napkin.Catalogue: a catalogue opened read-only, its queries as typed
-// columns (app::RunQuery's rows: numbers as float64 arrays, text as str), its
-// comparisons as the CLI's `--format json` text (napkin/__init__.py parses
-// it, so a Python row is the CLI's row) and a test's channels as numpy arrays
-// (docs/python.md "Catalogue"). Writing stays with the CLI.
+// napkin.Catalogue: a catalogue opened read-only, its queries and its
+// comparisons as typed columns (app::RunQuery's and app::ComparisonTable's
+// rows: numbers as float64 arrays, text as str), a test's channels as numpy
+// arrays and its exports as the command writes them (docs/python.md
+// "Catalogue"). Writing the catalogue stays with the CLI.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -11,11 +11,15 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <utility>
 #include <variant>
 #include <vector>
 
 #include "app/comparison.h"
+#include "app/db_protection.h"
+#include "app/export.h"
 #include "app/query.h"
+#include "app/request_options.h"
 #include "app/result_selection.h"
 #include "app/table_output.h"
 #include "common/error.h"
@@ -74,6 +78,20 @@ py::list CellColumn(const db::Table& table, std::size_t c) {
   return column;
 }
 
+// (column names, one value per column): NumericColumn for the columns in
+// `numeric` that hold no text, else CellColumn.
+py::tuple TypedColumns(const db::Table& table, const std::set<std::string>& numeric) {
+  py::list columns, values;
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    columns.append(table.columns[c]);
+    if (numeric.contains(table.columns[c]) && !HoldsText(table, c))
+      values.append(NumericColumn(table, c));
+    else
+      values.append(CellColumn(table, c));
+  }
+  return py::make_tuple(columns, values);
+}
+
 class ReadOnlyCatalogue {
  public:
   explicit ReadOnlyCatalogue(std::string path) : path_(std::move(path)), catalogue_(Open(path_)) {}
@@ -99,20 +117,19 @@ class ReadOnlyCatalogue {
     else
       for (const db::QueryField& field : db::QueryFields(prepared.kind))
         if (field.numeric) numeric.insert(field.name);
-    py::list columns, values;
-    for (std::size_t c = 0; c < table.columns.size(); ++c) {
-      columns.append(table.columns[c]);
-      if (numeric.contains(table.columns[c]) && !HoldsText(table, c))
-        values.append(NumericColumn(table, c));
-      else
-        values.append(CellColumn(table, c));
-    }
-    return py::make_tuple(columns, values);
+    return TypedColumns(table, numeric);
   }
 
-  // JSON text of `napkin compare --format json`.
-  std::string Compare(const app::ComparisonRequest& request) {
-    return app::FormatComparison(app::BuildComparison(Opened(), request), app::TableFormat::kJson);
+  // The rows of `napkin compare --format json` (app::ComparisonTable) as
+  // columns: with `typed` each numeric column a float64 array (NaN where
+  // undefined), else every column a list of the cells (int, float, str, None).
+  py::tuple Compare(const app::CompareRequest& request, bool typed) {
+    const db::Table table = app::ComparisonTable(app::BuildComparison(Opened(), request));
+    std::set<std::string> numeric;
+    if (typed)
+      for (const std::string& column : table.columns)
+        if (!app::IsComparisonTextColumn(column)) numeric.insert(column);
+    return TypedColumns(table, numeric);
   }
 
   // The derived channels of the test's result under the stored config
@@ -131,6 +148,19 @@ class ReadOnlyCatalogue {
     raw["time_s"] = inputs["time_s"];
     for (const auto& [slot, values] : channels) raw[slot] = values;
     return raw;
+  }
+
+  // `napkin export`: the request's format written to `out` (a file, or a
+  // folder for a folder format), by the command's writer. The catalogue is
+  // never an output (app/db_protection.h).
+  void Export(const app::ExportRequest& request, const std::string& out, bool replace_existing) {
+    db::Catalogue& catalogue = Opened();
+    // Once per catalogue: the protection lasts for the process (util/output_destination.h).
+    if (!protected_from_output_) {
+      app::ProtectCatalogueFromOutput(path_);
+      protected_from_output_ = true;
+    }
+    app::Export(catalogue, request, path_, out, replace_existing);
   }
 
   // What `napkin run` computes the test's result from, as napkin.transform's
@@ -193,6 +223,7 @@ class ReadOnlyCatalogue {
 
   std::string path_;
   std::optional<db::Catalogue> catalogue_;
+  bool protected_from_output_ = false;
 };
 
 std::vector<std::string> AsList(const std::optional<std::vector<std::string>>& values) {
@@ -208,6 +239,16 @@ void RegisterCatalogue(py::module_& module) {
     for (const db::QueryKindSpec& kind : db::QueryKinds())
       rows.push_back(py::make_tuple(kind.name, kind.description, kind.takes_limits));
     return rows;
+  });
+  // The output formats of `napkin export` (app/export.h), in table order: (name, description,
+  // needs_result, needs_rotation, folder).
+  module.def("_export_formats", [] {
+    py::list formats;
+    for (const app::ExportFormat& format : app::ExportFormats())
+      formats.append(py::make_tuple(std::string(format.name), std::string(format.description),
+                                    format.input != app::ExportInput::kRecordedChannels,
+                                    format.needs_rotation, format.folder));
+    return formats;
   });
   py::class_<ReadOnlyCatalogue>(module, "Catalogue")
       .def(py::init([](const std::string& path) {
@@ -241,26 +282,32 @@ void RegisterCatalogue(py::module_& module) {
           py::arg("kind"), py::arg("where"), py::arg("sort"), py::arg("limit"), py::arg("config"),
           py::arg("series"), py::arg("variant"), py::arg("limits") = py::none())
       .def(
-          "compare_json",
-          [](ReadOnlyCatalogue& self, const std::string& series, const std::string& by,
-             const std::optional<std::string>& baseline,
-             const std::optional<std::vector<std::string>>& metrics,
-             const std::optional<std::vector<std::string>>& configs,
-             const std::optional<std::vector<std::string>>& limits) {
+          "compare",
+          [](ReadOnlyCatalogue& self, const std::vector<std::pair<std::string, std::string>>& options,
+             bool typed) {
             return Translated(self.path(), [&] {
-              app::ComparisonRequest request;
-              request.series = series;
-              request.by = app::ParseCompareBy(by);
-              request.baseline = baseline;
-              request.metrics = AsList(metrics);
-              request.configs = AsList(configs);
-              request.limits = AsList(limits);
-              app::CheckOneLimitPerMetric(request.limits);  // a row holds one limit, as `napkin compare`
-              return self.Compare(request);
+              // Python's arguments as `napkin compare`'s options, one parser for both
+              // (app/request_options.h).
+              app::RequestOptions request_options(app::FrontEnd::kPython);
+              for (const auto& [name, value] : options) request_options.Add(name, value);
+              return self.Compare(app::ParseCompareRequest(request_options), typed);
             });
           },
-          py::arg("series"), py::arg("by"), py::arg("baseline"), py::arg("metrics"), py::arg("config"),
-          py::arg("limits") = py::none())
+          py::arg("options"), py::arg("typed"))
+      .def(
+          "export",
+          [](ReadOnlyCatalogue& self, const std::string& test_id,
+             const std::vector<std::pair<std::string, std::string>>& options, const std::string& out,
+             bool force) {
+            Translated(self.path(), [&] {
+              // Python's arguments as `napkin export`'s options, one parser for both (app/request_options.h).
+              app::RequestOptions request_options(app::FrontEnd::kPython);
+              for (const auto& [name, value] : options) request_options.Add(name, value);
+              self.Export(app::ParseExportRequest(test_id, request_options), out, force);
+              return 0;
+            });
+          },
+          py::arg("test_id"), py::arg("options"), py::arg("out"), py::arg("force"))
       .def(
           "channels",
           [](ReadOnlyCatalogue& self, const std::string& test_id, bool derived,

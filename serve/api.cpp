@@ -9,10 +9,12 @@
 #include <vector>
 
 #include "app/comparison.h"
+#include "app/export.h"
 #include "app/failure.h"
 #include "app/limits.h"
 #include "app/query.h"
 #include "app/report_builder.h"
+#include "app/request_options.h"
 #include "app/result_selection.h"
 #include "app/table_output.h"
 #include "common/error.h"
@@ -20,6 +22,7 @@
 #include "db/catalogue.h"
 #include "db/query_kinds.h"
 #include "formats/csv.h"
+#include "formats/zip_archive.h"
 #include "util/text.h"
 
 namespace napkin::serve {
@@ -298,57 +301,28 @@ Response Api::TestSummary(const std::string& test_id) const {
 }
 
 Response Api::Channels(const std::string& test_id, const Params& params) const {
-  CheckParameters(params, {"format", "config"});
-  const std::string format = One(params, "format").value_or("csv");
-  if (format != "csv" && format != "json")
-    throw UsageError("parameter 'format' must be csv or json, not '" + format + "'.");
-  const std::optional<std::string> config = One(params, "config");
+  // The parameters as `napkin export`'s options, one parser and one writer for both
+  // (app/export.h); the format csv unless given.
+  app::RequestOptions options(app::FrontEnd::kService);
+  if (params.count("format") == 0) options.Add("format", "csv");
+  for (const auto& [name, value] : params) options.Add(name, value);
+  const app::ExportRequest request = app::ParseExportRequest(test_id, options);
   db::Catalogue catalogue = OpenForRequest(options_);
-  const app::TestResult result =
-      config ? app::ResultOf(catalogue, test_id, app::Stored{*config}, options_.db_path)
-             : app::ResultOf(catalogue, test_id, app::Latest{}, options_.db_path);
-  const engine::Kinematics kinematics = app::ReadResultKinematics(catalogue, result.test, result.config);
-  if (format == "csv") return Response{200, "text/csv", formats::DerivedCsvText(kinematics)};
-  // One key per derived-channel column in CSV order, in the CSV's units; a
-  // channel the test does not have is null, a non-finite sample null.
-  Json channels;
-  for (const formats::DerivedChannel& channel : formats::DerivedChannels(kinematics)) {
-    if (channel.values.size() == 0) {
-      channels[channel.name] = nullptr;
-      continue;
-    }
-    Json values = Json::array();
-    for (Eigen::Index k = 0; k < channel.values.size(); ++k)
-      values.push_back(std::isfinite(channel.values[k]) ? Json(channel.values[k]) : Json(nullptr));
-    channels[channel.name] = std::move(values);
-  }
-  return Response{200, "application/json",
-                  Dump(Json{{"test_id", test_id}, {"channels", std::move(channels)}})};
+  std::vector<app::ExportedFile> files = app::ExportToMemory(catalogue, request, options_.db_path);
+  const std::string content_type(request.format->content_type);
+  if (!request.format->folder) return Response{200, content_type, std::move(files.front().bytes)};
+  // A folder format: its files as one zip archive, each under its path in the folder.
+  std::vector<formats::ZipMemberBytes> members;
+  members.reserve(files.size());
+  for (app::ExportedFile& file : files) members.push_back({std::move(file.name), std::move(file.bytes)});
+  return Response{200, content_type, formats::ZipArchiveBytes(members)};
 }
 
 Response Api::Compare(const Params& params) const {
-  CheckParameters(params, {"series", "baseline", "by", "metrics", "scale", "config", "equivalence"});
-  app::ComparisonRequest request;
-  const std::optional<std::string> series = One(params, "series");
-  if (!series) throw UsageError("parameter 'series' is required (the series whose tests are compared).");
-  request.series = *series;
-  request.by = app::ParseCompareBy(One(params, "by").value_or("variant"));
-  request.baseline = One(params, "baseline");
-  request.scale = app::ParseCompareScale(One(params, "scale").value_or("log"));
-  request.equivalence_pct = app::ParseEquivalencePct(One(params, "equivalence").value_or("10"));
-  request.configs = All(params, "config");
-  if (const std::optional<std::string> metrics = One(params, "metrics")) {
-    // Comma-separated, as compare's --metrics.
-    std::string metric;
-    for (const char c : *metrics + ",") {
-      if (c != ',') {
-        metric += c;
-      } else if (!metric.empty()) {
-        request.metrics.push_back(std::move(metric));
-        metric.clear();
-      }
-    }
-  }
+  // The parameters as `napkin compare`'s options, one parser for both (app/request_options.h).
+  app::RequestOptions options(app::FrontEnd::kService);
+  for (const auto& [name, value] : params) options.Add(name, value);
+  const app::CompareRequest request = app::ParseCompareRequest(options);
   db::Catalogue catalogue = OpenForRequest(options_);
   return Response{200, "application/json",
                   app::FormatComparison(app::BuildComparison(catalogue, request), app::TableFormat::kJson)};

@@ -4,7 +4,7 @@
 // server (serve/service.cpp routes to them, serve/http_server.h serves them): each answers from the
 // catalogue opened read-only for that request, with the rows, keys and bytes
 // of the command-line output it mirrors (`napkin query KIND --format json`,
-// `napkin compare --format json`, `napkin export --format csv`), and each
+// `napkin compare --format json`, `napkin export --format F`), and each
 // failure is JSON {"error": sentence} with the sentence the command line
 // would print (app/failure.h) and a status fitting it (ErrorResponse).
 #include <exception>
@@ -74,12 +74,14 @@ class Api {
   // test_summary is kRow (tests, hic, rotation, criteria, risk; null where it
   // has none) and all its rows of those of kAllRows (its quality findings).
   Response TestSummary(const std::string& test_id) const;
-  // GET /api/v1/tests/ID/channels?format=csv|json&config=: the derived
-  // channels of its latest result (or of the stored config), as `napkin
-  // export --format csv` writes them, or as a JSON object of columns.
+  // GET /api/v1/tests/ID/channels?format=&config=&units=&part=&numform=&position=&dummy_type=:
+  // the bytes `napkin export --format FORMAT` writes (app/export.h; default
+  // csv), a folder format as a zip archive of its files; config= a stored
+  // config's name or hash prefix.
   Response Channels(const std::string& test_id, const Params& params) const;
-  // GET /api/v1/compare?series=&baseline=&by=&metrics=&scale=&config=: `napkin
-  // compare --format json`.
+  // GET /api/v1/compare?series=&baseline=&by=&metrics=&scale=&config=&equivalence=&limits=:
+  // `napkin compare --format json`, its options read by the command's parser
+  // (app::ParseCompareRequest).
   Response Compare(const Params& params) const;
 
   // GET /report?series=S: `napkin report --series S` (app/report_builder.h),

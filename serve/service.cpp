@@ -24,11 +24,13 @@
 #include <vector>
 
 #include "app/failure.h"
+#include "app/request_options.h"
+#include "app/status.h"
 #include "common/error.h"
 #include "common/version.h"
 #include "db/catalogue.h"
-#include "db/job_queue.h"
 #include "formats/json_file.h"
+#include "formats/presets.h"
 #include "records/config_record.h"
 #include "serve/api.h"
 #include "serve/http_server.h"
@@ -96,34 +98,45 @@ class Counters {
   double seconds_ = 0;
 };
 
-// The catalogue's state for the default processing config, as `napkin status --format json`.
-Json CatalogueStatus(const ApiOptions& options) {
+// The catalogue's state for a processing config preset (`config`: empty for the default), the
+// object `napkin status --config PRESET --format json` prints (app/status.h). The service reads no
+// file a request names: `config` must be a preset.
+Json CatalogueStatus(const ApiOptions& options, const std::string& config = "") {
+  if (!config.empty()) {
+    const std::vector<std::string> presets = formats::PresetNames(formats::PresetKind::kProcessingConfig);
+    if (std::find(presets.begin(), presets.end(), config) == presets.end())
+      throw UsageError(app::NotOneOfProblem("parameter 'config'", presets, config) +
+                       " (a processing config preset: the service reads no file a request names).");
+  }
+  const records::ResolvedConfig resolved = records::ResolveConfig(config);
   db::CatalogueOptions open;
   open.read_only = true;
   open.busy_timeout_ms = options.busy_timeout_ms;
   db::Catalogue catalogue = db::Catalogue::Open(options.db_path, open);
-  const records::ResolvedConfig resolved = records::ResolveConfig("");
-  const db::ConfigId config =
-      catalogue.FindConfigByHash(resolved.record.config_hash).value_or(db::ConfigId{0});
-  const db::StatusCounts counts = db::JobQueue(catalogue).ReadStatusCounts(config);
-  Json failures = Json::array();
-  for (const db::JobFailure& failure : counts.failures)
-    failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
-  return Json{{"path", options.db_path},     {"tests", counts.tests},          {"done", counts.done},
-              {"failed", counts.failed},     {"pending", counts.pending},      {"running", counts.running},
-              {"salvaged", counts.salvaged}, {"failures", std::move(failures)}};
+  return app::StatusJson(app::ReadStatus(catalogue, options.db_path, resolved));
 }
 
 // The status answers while another process holds the catalogue locked: after a
-// short wait, the catalogue's part is the sentence saying why it is missing.
-Json CatalogueStatusOrError(ApiOptions options) {
+// short wait, the catalogue's part is the sentence saying why it is missing. A
+// bad request (an unknown config) is the request's error, not the catalogue's.
+Json CatalogueStatusOrError(ApiOptions options, const std::string& config = "") {
   options.busy_timeout_ms = std::min(options.busy_timeout_ms, 1000);
   try {
-    return CatalogueStatus(options);
+    return CatalogueStatus(options, config);
+  } catch (const UsageError&) {
+    throw;
   } catch (...) {
     return Json{{"path", options.db_path},
                 {"error", app::DescribeFailure(std::current_exception(), options.db_path).sentence}};
   }
+}
+
+// GET /api/v1/status?config=PRESET: the config the catalogue's part counts for (empty: the default).
+std::string StatusConfigParameter(const Params& params) {
+  app::RequestOptions options(app::FrontEnd::kService);
+  for (const auto& [name, value] : params) options.Add(name, value);
+  options.CheckKnown({"config"});
+  return options.One("config").value_or("");
 }
 
 // Without the catalogue's counts (CatalogueStatusOrError's error): no lines.
@@ -207,7 +220,8 @@ std::vector<Route> ServiceRoutes(const Api& api, ServiceState& service) {
       {"/api/v1/compare", [&api](const RouteRequest& request) { return api.Compare(request.params); }},
       {"/api/v1/status",
        [&listening = service.listening, &started = service.started, &counters = service.counters,
-        &api_options = service.api_options, inbox = service.inbox](const RouteRequest&) {
+        &api_options = service.api_options, inbox = service.inbox](const RouteRequest& request) {
+         const std::string config = StatusConfigParameter(request.params);
          const Json status = {
              {"service",
               {{"version", napkin::Version()},
@@ -215,7 +229,7 @@ std::vector<Route> ServiceRoutes(const Api& api, ServiceState& service) {
                {"started",
                 std::chrono::duration_cast<std::chrono::seconds>(started.time_since_epoch()).count()},
                {"requests", counters.Total()}}},
-             {"catalogue", CatalogueStatusOrError(api_options)},
+             {"catalogue", CatalogueStatusOrError(api_options, config)},
              {"inbox", inbox ? inbox->Status() : Json(nullptr)}};
          return Response{200, "application/json",
                          status.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"};

@@ -22,8 +22,11 @@ libraries as the ``napkin`` command, so a result here is the command's result
   a model's (or another test's) curve against a test's, an ``ISO18571Rating``;
 - ``Catalogue(path)`` -- a catalogue read-only, a context manager
   (``with napkin.Catalogue(path) as c:``): ``tests()``, ``query()``,
-  ``query_frame()``, ``limits_frame()``, ``channels()``, ``test_inputs()``,
-  ``compare()``, ``close()``;
+  ``query_frame()``, ``limits_frame()``, ``channels()``, ``export()``,
+  ``test_inputs()``, ``compare()``, ``compare_frame()``, ``close()``;
+- ``EXPORT_FORMATS`` -- the output formats of ``Catalogue.export`` and
+  ``napkin export``, a dict name -> ``ExportFormat`` (what it writes, whether
+  it needs a result, the rotation, a folder);
 - ``presets(kind)`` -- the preset names of a kind ("array", "processing",
   "limits", "channel-map"), as the command lists them;
 - ``LIMITS`` -- the limit presets (config/limits: regulations, Euro NCAP's
@@ -125,8 +128,22 @@ takes_limits -- whether it needs ``limits=`` (a preset of ``LIMITS`` or a limits
 # The query kinds by name, in the command line's order: napkin's one table of them (db/query_kinds.h).
 QUERY_KINDS = {row[0]: QueryKind(*row) for row in _napkin._query_kinds()}
 
+ExportFormat = _collections.namedtuple("ExportFormat", ["name", "description", "needs_result", "needs_rotation",
+                                                        "folder"])
+ExportFormat.__doc__ = """An output format of ``napkin export`` and ``Catalogue.export`` (app/export.h).
+
+name           -- what ``format=`` and ``--format`` take, e.g. "csv", "lsdyna"
+description    -- what it writes
+needs_result   -- whether the test must have a result (False: its channels as recorded)
+needs_rotation -- whether an acceleration-only test (no rotation) is refused
+folder         -- whether it is a folder of files (``path`` names a folder)"""
+
+# The formats in the command's order, read from the library's one table of them.
+EXPORT_FORMATS = {row[0]: ExportFormat(*row) for row in _napkin._export_formats()}
+
 __all__ = ["transform", "transform_file", "TransformResult", "Catalogue", "hic", "HIC", "cfc", "bric", "iso18571", "ISO18571Rating",
-           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "QueryKind", "QUERY_KINDS", "presets", "exceed_probability",
+           "SummaryField", "SUMMARY_FIELDS", "RISK_CURVES", "LimitPreset", "LIMITS", "QueryKind", "QUERY_KINDS",
+           "ExportFormat", "EXPORT_FORMATS", "presets", "exceed_probability",
            "tune_memory", "Error", "InputError",
            "ScreeningFailure", "Finding", "CatalogueError", "NotFoundError", "InternalError", *RISK_CURVES]
 
@@ -313,7 +330,7 @@ def _json_cells(column):
     float64 array's NaN (and any non-finite number, which JSON cannot hold)
     as None."""
     if isinstance(column, list):
-        return column
+        return [None if isinstance(value, float) and not _math.isfinite(value) else value for value in column]
     return [value if _math.isfinite(value) else None for value in column.tolist()]
 
 
@@ -340,13 +357,6 @@ def _names(value, what, meaning):
     raise TypeError("{} is {}, not {} (a str) or a list of them.".format(what, _described(value), meaning))
 
 
-def _metric_names(metrics):
-    """compare's metrics as ``--metrics`` takes them: a list, and any item (or
-    the one str) may be the command's comma-separated spelling "hic15,bric"."""
-    names = _names(metrics, "napkin.Catalogue.compare: metrics", "a summary field")
-    return None if names is None else [name for item in names for name in item.split(",")]
-
-
 def _path(value, what):
     if isinstance(value, str):
         return value
@@ -355,6 +365,62 @@ def _path(value, what):
         if isinstance(path, str):
             return path
     raise TypeError("{} is {}, not a file path (a str or a pathlib.Path).".format(what, _described(value)))
+
+
+def _pandas(method):
+    try:
+        import pandas
+    except ImportError as error:
+        raise ImportError("napkin.Catalogue.{} needs pandas: install it with "
+                          "`sudo apt install python3-pandas` (or pip install pandas).".format(method)) from error
+    return pandas
+
+
+def _frame(pandas, columns, values):
+    """Typed columns (a float64 array, or a list with None for NULL) as a
+    DataFrame: the arrays as they are, the lists of dtype object with NaN for
+    None."""
+    import numpy
+    data = {}
+    for name, column in zip(columns, values):
+        if not isinstance(column, numpy.ndarray):
+            column = numpy.array([_NAN if cell is None else cell for cell in column], dtype=object)
+        data[name] = column
+    return pandas.DataFrame(data, columns=columns)
+
+
+def _compare_options(series, by, baseline, metrics, config, limits, scale, equivalence):
+    """compare's arguments as the (name, value) pairs of the command's options,
+    for the library's one parser (app::ParseCompareRequest); None is an
+    option not given."""
+    what = "napkin.Catalogue.compare: "
+    if baseline is not None and not isinstance(baseline, str):
+        raise TypeError("{}baseline is {}, not a group name (a str).".format(what, _described(baseline)))
+    if scale is not None and not isinstance(scale, str):
+        raise TypeError("{}scale is {}, not a scale name (a str: \"log\" or \"linear\").".format(
+            what, _described(scale)))
+    if equivalence is not None and (isinstance(equivalence, bool) or not isinstance(equivalence, _numbers.Real)):
+        raise TypeError("{}equivalence is {}, not a margin in percent (a number).".format(
+            what, _described(equivalence)))
+    if limits is not None and hasattr(limits, "__fspath__"):
+        limits = _path(limits, what + "limits")
+    if isinstance(limits, (list, tuple)):
+        limits = [_path(item, what + "limits") if hasattr(item, "__fspath__") else item for item in limits]
+    options = [("series", str(series))]
+    if by is not None:
+        options.append(("by", str(by)))
+    if baseline is not None:
+        options.append(("baseline", baseline))
+    for name, values in (("metrics", _names(metrics, what + "metrics", "a summary field")),
+                         ("config", _names(config, what + "config", "a stored config's name or hash prefix")),
+                         ("limits", _names(limits, what + "limits", "a limits preset or file"))):
+        options.extend((name, value) for value in values or [])
+    if scale is not None:
+        options.append(("scale", scale))
+    if equivalence is not None:
+        # repr: the shortest text that reads back as the same double.
+        options.append(("equivalence", repr(float(equivalence))))
+    return options
 
 
 class Catalogue:
@@ -445,19 +511,8 @@ class Catalogue:
         """``query`` as a pandas DataFrame, columns in the query's order: each
         numeric column float64 (also when every cell is missing), the others
         of dtype object; a missing value is NaN in either."""
-        try:
-            import pandas
-        except ImportError as error:
-            raise ImportError("napkin.Catalogue.query_frame needs pandas: install it with "
-                              "`sudo apt install python3-pandas` (or pip install pandas).") from error
-        import numpy
-        columns, values = self._query(kind, where, sort, limit, config, series, variant, limits)
-        data = {}
-        for name, column in zip(columns, values):
-            if not isinstance(column, numpy.ndarray):
-                column = numpy.array([_NAN if cell is None else cell for cell in column], dtype=object)
-            data[name] = column
-        return pandas.DataFrame(data, columns=columns)
+        pandas = _pandas("query_frame")
+        return _frame(pandas, *self._query(kind, where, sort, limit, config, series, variant, limits))
 
     def limits_frame(self, limits, where=None, sort=None, limit=None, config=None, series=None, variant=None):
         """``napkin query limits --limits LIMITS`` as a pandas DataFrame (``query_frame``):
@@ -481,6 +536,41 @@ class Catalogue:
         """
         return self._catalogue.channels(str(test_id), bool(derived), config)
 
+    def export(self, test_id, format, path, config=None, units=None, part=None, numform=None, position=None,
+               dummy_type=None, force=False):
+        """``napkin export --test TEST_ID --format FORMAT --out PATH``: the same
+        bytes, by the command's writer (docs/formats.md; ``EXPORT_FORMATS``
+        lists the formats). The arguments are the command's options, read by
+        the same parser (its sentences name them "argument 'units'"):
+
+        format     -- csv, json, lsdyna, lcfile, isomme, uds (a folder), channels or recorded
+        path       -- the file to write (written atomically), or for a folder format the
+                      folder whose files appear beside what it holds
+        config     -- the result under this stored config (name or hash prefix; default:
+                      the test's latest result), as ``channels``
+        units      -- lsdyna: "si" (default) or "english"
+        part       -- lsdyna: the rigid part id (an int, default 1)
+        numform    -- uds: "ieee" (default), "vax" or "sun"
+        position, dummy_type -- isomme: the channel codes' (default: the test's stored ones)
+        force      -- a folder format: replace files of the same names in the folder
+
+        The catalogue itself is never written (refused in a sentence naming it).
+        """
+        what = "napkin.Catalogue.export: "
+        options = []
+        for name, value in (("format", format), ("config", config), ("units", units), ("numform", numform),
+                            ("position", position), ("dummy_type", dummy_type)):
+            if value is None:
+                continue
+            if not isinstance(value, str):
+                raise TypeError("{}{} is {}, not a str.".format(what, name, _described(value)))
+            options.append((name, value))
+        if part is not None:
+            if isinstance(part, bool) or not isinstance(part, _numbers.Integral):
+                raise TypeError("{}part is {}, not a part id (an int).".format(what, _described(part)))
+            options.append(("part", str(int(part))))
+        self._catalogue.export(str(test_id), options, _path(path, what + "path"), bool(force))
+
     def test_inputs(self, test_id):
         """What ``napkin run`` computes the test's result from, as ``transform``'s
         keyword arguments: test_id, array (the test's stored array definition
@@ -491,27 +581,37 @@ class Catalogue:
         computes what ``napkin run --config c`` stores for it, bit for bit."""
         return self._catalogue.test_inputs(str(test_id))
 
-    def compare(self, series, by="variant", baseline=None, metrics=None, config=None, limits=None):
-        """``napkin compare --series S --format json`` as a list of dicts.
+    def compare(self, series, by="variant", baseline=None, metrics=None, config=None, limits=None, scale=None,
+                equivalence=None):
+        """``napkin compare --series S --format json`` as a list of dicts, the
+        command's rows (None where the JSON has null). The arguments are the
+        command's options, read by the same parser (its sentences name them
+        "argument 'metrics'"):
 
-        metrics -- summary fields, as a list or as ``--metrics`` spells them
-                   ("hic15,bric"); default: the command's
-        config  -- a stored config's name or hash prefix, or a list of them
-        limits  -- limit sets (presets of ``LIMITS`` or files), one or a list:
-                   each row of a limited metric gains limit, tests_within_limit,
-                   worst_test, limit_margin_pct, limits, and for a further test
-                   exceed_probability, expected_points, points_low, points_high
-                   (None where not estimated: fewer than 3 tests, no spread)
+        by          -- "variant" (Welch's t) or "config" (paired t over the same tests)
+        baseline    -- the group the others are compared with (default: first by name)
+        metrics     -- summary fields, as a list or as ``--metrics`` spells them
+                       ("hic15,bric"); default: the command's
+        config      -- a stored config's name or hash prefix, or a list of them
+        limits      -- limit sets (presets of ``LIMITS`` or files), one or a list:
+                       each row of a limited metric gains limit, tests_within_limit,
+                       worst_test, limit_margin_pct, limits, and for a further test
+                       exceed_probability, expected_points, points_low, points_high
+                       (None where not estimated: fewer than 3 tests, no spread)
+        scale       -- "log" (default: ratio metrics as ratios of geometric means) or "linear"
+        equivalence -- the equivalence margin in % (0 to 100, exclusive; default 10)
         """
-        if baseline is not None and not isinstance(baseline, str):
-            raise TypeError("napkin.Catalogue.compare: baseline is {}, not a group name (a str).".format(
-                _described(baseline)))
-        if limits is not None and hasattr(limits, "__fspath__"):
-            limits = _path(limits, "napkin.Catalogue.compare: limits")
-        if isinstance(limits, (list, tuple)):
-            limits = [_path(item, "napkin.Catalogue.compare: limits") if hasattr(item, "__fspath__") else item
-                      for item in limits]
-        return _json.loads(self._catalogue.compare_json(
-            str(series), str(by), baseline, _metric_names(metrics),
-            _names(config, "napkin.Catalogue.compare: config", "a stored config's name or hash prefix"),
-            _names(limits, "napkin.Catalogue.compare: limits", "a limits preset or file")))
+        columns, values = self._catalogue.compare(
+            _compare_options(series, by, baseline, metrics, config, limits, scale, equivalence), False)
+        cells = [_json_cells(column) for column in values]
+        return [dict(zip(columns, row)) for row in zip(*cells)] if cells else []
+
+    def compare_frame(self, series, by="variant", baseline=None, metrics=None, config=None, limits=None,
+                      scale=None, equivalence=None):
+        """``compare`` as a pandas DataFrame, columns in the command's order:
+        each numeric column float64 (NaN where the JSON has null), the text
+        columns (metric, group, baseline, scale, worst_test, limits) of dtype
+        object."""
+        pandas = _pandas("compare_frame")
+        return _frame(pandas, *self._catalogue.compare(
+            _compare_options(series, by, baseline, metrics, config, limits, scale, equivalence), True))

@@ -40,6 +40,8 @@ __all__ = [
     "LIMITS",
     "QueryKind",
     "QUERY_KINDS",
+    "ExportFormat",
+    "EXPORT_FORMATS",
     "presets",
     "exceed_probability",
     "tune_memory",
@@ -95,6 +97,15 @@ class QueryKind(NamedTuple):
     takes_limits: bool
 
 QUERY_KINDS: dict[str, QueryKind]
+
+class ExportFormat(NamedTuple):
+    name: str
+    description: str
+    needs_result: bool
+    needs_rotation: bool
+    folder: bool
+
+EXPORT_FORMATS: dict[str, ExportFormat]
 
 def presets(kind: str) -> list[str]: ...
 
@@ -212,6 +223,19 @@ class Catalogue:
         self, test_id: str, derived: bool = ..., config: str | None = ...
     ) -> dict[str, NDArray[np.float64]]: ...
     def test_inputs(self, test_id: str) -> dict[str, Any]: ...
+    def export(
+        self,
+        test_id: str,
+        format: str,
+        path: _Path,
+        config: str | None = ...,
+        units: str | None = ...,
+        part: int | None = ...,
+        numform: str | None = ...,
+        position: str | None = ...,
+        dummy_type: str | None = ...,
+        force: bool = ...,
+    ) -> None: ...
     def compare(
         self,
         series: str,
@@ -220,4 +244,18 @@ class Catalogue:
         metrics: _Names | None = ...,
         config: _Names | None = ...,
         limits: _Path | Sequence[_Path] | None = ...,
+        scale: str | None = ...,
+        equivalence: float | None = ...,
     ) -> list[dict[str, Any]]: ...
+    # A pandas.DataFrame (Any: Debian's pandas carries no type information).
+    def compare_frame(
+        self,
+        series: str,
+        by: str = ...,
+        baseline: str | None = ...,
+        metrics: _Names | None = ...,
+        config: _Names | None = ...,
+        limits: _Path | Sequence[_Path] | None = ...,
+        scale: str | None = ...,
+        equivalence: float | None = ...,
+    ) -> Any: ...

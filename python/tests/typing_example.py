@@ -3,6 +3,7 @@ test_typing.py: `mypy --strict` must accept it with napkin's stubs, and it
 runs. Usage: typing_example.py CATALOGUE (a catalogue `napkin demo` wrote)."""
 
 import sys
+import tempfile
 from typing import Any, Callable
 
 import numpy as np
@@ -51,6 +52,10 @@ def main(catalogue_path: str) -> None:
         again = napkin.transform(**inputs)
         derived: dict[str, NDArray[np.float64]] = catalogue.channels(tests[0], derived=True)
         comparison = catalogue.compare("padding-series", metrics=["hic15", "bric"], limits=["fmvss208"])
+        compared = catalogue.compare_frame("padding-series", scale="linear", equivalence=5.0)
+        output_format: napkin.ExportFormat = napkin.EXPORT_FORMATS["lsdyna"]
+        with tempfile.TemporaryDirectory() as folder:
+            catalogue.export(tests[0], output_format.name, folder + "/curves.k", units="english", part=2)
         limited = catalogue.limits_frame("euro-ncap-aop-v9.3-frontal-head-hiii50m", series="padding-series")
     closed: bool = catalogue.closed
 
@@ -73,7 +78,7 @@ def main(catalogue_path: str) -> None:
 
     print(hic15, start_s, value, t1_s, t2_s, bric, risk, risks.shape, grade, unit, curves, tune, version,
           len(rows), len(frame), again.summary["test_id"], len(derived), len(comparison), closed, problem, source,
-          chance, len(limited))
+          chance, len(limited), len(compared))
 
 
 if __name__ == "__main__":

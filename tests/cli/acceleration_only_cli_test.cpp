@@ -210,7 +210,8 @@ TEST_F(CliAccelerationOnly, ExportGivesTheAccelerationAndRefusesRotationFormats)
   for (const char* format : {"lsdyna", "lcfile", "uds"}) {
     const RunResult refused = Napkin({"export", "--test", "a1", "--format", format, "--out", "a1.out"});
     EXPECT_EQ(refused.exit_code, 1) << format;
-    ExpectOneSentenceError(refused, {"test 'a1' has no rotation", std::string("--format ") + format});
+    ExpectOneSentenceError(refused,
+                           {"test 'a1' has no rotation", std::string("which format ") + format + " needs"});
     EXPECT_FALSE(fs::exists(dir_ / "a1.out")) << format;
   }
 }

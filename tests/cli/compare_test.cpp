@@ -581,7 +581,7 @@ TEST_F(CliCompare, BadScaleEquivalenceOrLimitsAreUsageErrorsNamingTheOption) {
     const RunResult equivalence = Compare({"--series", "sled", "--equivalence", bad});
     EXPECT_EQ(equivalence.exit_code, 2) << bad;
     EXPECT_EQ(equivalence.out, "") << bad;
-    ExpectOneSentenceError(equivalence, {"--equivalence '" + bad + "' is not a margin in percent"});
+    ExpectOneSentenceError(equivalence, {"--equivalence must be a margin in percent", "it is '" + bad + "'"});
   }
   const RunResult limits = Compare({"--series", "sled", "--limits", "fmvss999"});
   EXPECT_EQ(limits.exit_code, 2);

@@ -49,8 +49,9 @@ TEST_F(CliOptionErrors, BadValuesAreOneSentenceNamingTheOption) {
   ExpectRefused({"compare", "--series", "s", "--format", "xml"},
                 "--format must be table, csv or json; it is 'xml'.");
   ExpectRefused({"status", "--format", "csv"}, "--format must be table or json; it is 'csv'.");
-  ExpectRefused({"export", "--test", "t", "--format", "xlsx", "--out", "x"},
-                "--format must be csv, lsdyna, lcfile, isomme, uds, channels or recorded; it is 'xlsx'.");
+  ExpectRefused(
+      {"export", "--test", "t", "--format", "xlsx", "--out", "x"},
+      "--format must be csv, json, lsdyna, lcfile, isomme, uds, channels or recorded; it is 'xlsx'.");
   ExpectRefused({"export", "--test", "t", "--format", "uds", "--numform", "ibm", "--out", "x"},
                 "--numform must be ieee, vax or sun; it is 'ibm'.");
   ExpectRefused({"export", "--test", "t", "--format", "lsdyna", "--units", "mm", "--out", "x"},

@@ -324,7 +324,7 @@ TEST_F(OutputDestinations, DashIsStandardOutputForOneFile) {
 
   const RunResult folder = Napkin({"export", "--test", "e1", "--format", "isomme", "--out", "-"});
   EXPECT_EQ(folder.exit_code, 2);
-  ExpectOneSentenceError(folder, {"standard output", "--format isomme"});
+  ExpectOneSentenceError(folder, {"format isomme writes a folder", "standard output"});
   const RunResult two = RunNapkin(
       dir_.path(), {"transform", "--array", "denton-3222", "e1.csv", "--out", "-", "--summary", "-"});
   EXPECT_EQ(two.exit_code, 2);

@@ -190,5 +190,30 @@ TEST_F(ZipArchiveTest, CorruptDataAndNonArchivesAreRefused) {
                  {(dir_ / "cut.zip").string(), "not a readable zip archive"});
 }
 
+// ZipArchiveBytes (the service's folder exports): read back by ZipArchive member for member, byte
+// for byte, in the order given; the same members give the same bytes, another member other bytes.
+TEST(ZipArchiveBytes, ReadsBackAndTheSameMembersGiveTheSameBytes) {
+  const test_support::TempDir dir;
+  std::string large;
+  for (int i = 0; i < 20000; ++i) large += std::to_string(i * 7919 % 10007) + (i % 13 == 0 ? "\n" : ",");
+  const std::vector<ZipMemberBytes> members = {
+      {"T1.mme", "Data format        :ISO-MME\n"}, {"Channel/T1.chn", large}, {"Channel/empty.001", ""}};
+  const std::string bytes = ZipArchiveBytes(members);
+  EXPECT_EQ(ZipArchiveBytes(members), bytes);
+  WriteBinary(dir / "a.zip", bytes);
+  ZipArchive archive(dir / "a.zip");
+  ASSERT_EQ(archive.members().size(), members.size());
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    EXPECT_EQ(archive.members()[i].name, members[i].name);
+    EXPECT_EQ(archive.Read(archive.members()[i]), members[i].bytes) << members[i].name;
+  }
+  EXPECT_LT(bytes.size(), large.size()) << "deflated";
+  std::vector<ZipMemberBytes> other = members;
+  other[1].bytes.back() = ';';
+  EXPECT_NE(ZipArchiveBytes(other), bytes);
+  WriteBinary(dir / "empty.zip", ZipArchiveBytes({}));
+  EXPECT_TRUE(ZipArchive(dir / "empty.zip").members().empty());
+}
+
 }  // namespace
 }  // namespace napkin::formats

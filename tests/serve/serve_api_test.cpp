@@ -7,13 +7,17 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "app/export.h"
+#include "formats/zip_archive.h"
 #include "tests/serve/serve_test_util.h"
 #include "tests/support/test_support.h"
+#include "tests/support/zip_writer.h"
 
 namespace napkin::test_support {
 namespace {
@@ -126,6 +130,37 @@ TEST_F(ServeApi, CompareIsTheCommandLinesByteForByte) {
   const CommandResult unknown_cli = Napkin({"compare", "--series", "nope", "--format", "json"});
   const httplib::Result unknown = Get("/api/v1/compare?series=nope");
   EXPECT_EQ(ErrorOf(unknown), CliSentence(unknown_cli));
+}
+
+// Every option `napkin compare` takes, and one parser's sentences (spelled as the service names them).
+TEST_F(ServeApi, CompareTakesEveryOptionOfTheCommandLine) {
+  for (const auto& [cli_options, query] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--scale", "linear", "--equivalence", "5"}, "&scale=linear&equivalence=5"},
+           {{"--limits", "fmvss208", "--metrics", "hic15,bric", "--metrics", "a3ms_g"},
+            "&limits=fmvss208&metrics=hic15,bric&metrics=a3ms_g"},
+           {{"--limits", "euro-ncap-aop-v9.3-frontal-head-hiii50m", "--config", "default", "--baseline",
+             "foam-b"},
+            "&limits=euro-ncap-aop-v9.3-frontal-head-hiii50m&config=default&baseline=foam-b"}}) {
+    std::vector<std::string> args = {"compare", "--series", "padding-series", "--format", "json"};
+    args.insert(args.end(), cli_options.begin(), cli_options.end());
+    const CommandResult cli = Napkin(args);
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    const httplib::Result result = Get("/api/v1/compare?series=padding-series" + query);
+    ASSERT_TRUE(result);
+    EXPECT_EQ(result->status, 200) << result->body;
+    EXPECT_EQ(result->body, cli.out) << query;
+  }
+  const CommandResult by_cli = Napkin({"compare", "--series", "padding-series", "--by", "colour"});
+  EXPECT_EQ(CliSentence(by_cli), "--by must be variant or config; it is 'colour'.");
+  EXPECT_EQ(ErrorOf(Get("/api/v1/compare?series=padding-series&by=colour")),
+            "parameter 'by' must be variant or config; it is 'colour'.");
+  EXPECT_EQ(
+      ErrorOf(Get("/api/v1/compare?series=padding-series&config=a&config=b")),
+      "by=variant compares the results of one config; give parameter 'config' once (or use by=config).");
+  const httplib::Result both = Get(
+      "/api/v1/compare?series=padding-series&limits=fmvss208&limits=euro-ncap-aop-v9.3-frontal-head-hiii50m");
+  EXPECT_EQ(both->status, 400);
+  EXPECT_EQ(ErrorOf(both).rfind("parameter 'limits': FMVSS 208 and Euro NCAP", 0), 0u) << both->body;
 }
 
 TEST_F(ServeApi, TestSummaryHoldsTheTestsQueryRows) {
@@ -305,6 +340,54 @@ TEST_F(ServeApi, ChannelsCsvIsExportsFileAndJsonHoldsTheSameNumbers) {
   EXPECT_EQ(Get("/api/v1/tests/nope/channels")->status, 404);
 }
 
+// Every format of `napkin export` (app/export.h's table): the bytes the command writes, a folder
+// format as a zip archive of the folder's files.
+TEST_F(ServeApi, ChannelsAnswerEveryExportFormatWithTheCommandsBytes) {
+  const std::string id = "padding-series-foam-b-01";
+  for (const app::ExportFormat& format : app::ExportFormats()) {
+    const std::string name(format.name);
+    SCOPED_TRACE(name);
+    const fs::path out = dir_->path() / ("export-" + name);
+    const CommandResult cli = Napkin({"export", "--test", id, "--format", name, "--out", out.string(),
+                                      "--units", "english", "--part", "7", "--numform", "vax"});
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    const httplib::Result result =
+        Get("/api/v1/tests/" + id + "/channels?format=" + name + "&units=english&part=7&numform=vax");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200) << result->body.substr(0, 300);
+    EXPECT_EQ(result->get_header_value("Content-Type"), std::string(format.content_type));
+    if (!format.folder) {
+      EXPECT_EQ(result->body, ReadText(out));
+      continue;
+    }
+    const fs::path zip = dir_->path() / ("export-" + name + ".zip");
+    std::ofstream(zip, std::ios::binary) << result->body;
+    formats::ZipArchive archive(zip);
+    const std::vector<ZipEntry> files = FolderEntries(out);
+    ASSERT_EQ(archive.members().size(), files.size());
+    ASSERT_GT(files.size(), 2u);
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      EXPECT_EQ(archive.members()[i].name, files[i].name);
+      EXPECT_EQ(archive.Read(archive.members()[i]), files[i].bytes) << files[i].name;
+    }
+    EXPECT_EQ(
+        Get("/api/v1/tests/" + id + "/channels?format=" + name + "&units=english&part=7&numform=vax")->body,
+        result->body)
+        << "the same files give the same archive";
+  }
+  // One parser: the command line's sentences, spelled as the service names its parameters.
+  EXPECT_EQ(ErrorOf(Get("/api/v1/tests/" + id + "/channels?format=lsdyna&units=mm")),
+            "parameter 'units' must be si or english; it is 'mm'.");
+  EXPECT_EQ(ErrorOf(Get("/api/v1/tests/" + id + "/channels?format=lsdyna&part=0")),
+            "parameter 'part' must be at least 1; it is 0.");
+  EXPECT_EQ(
+      ErrorOf(Get("/api/v1/tests/" + id + "/channels?format=isomme&dummy_type=H3&dummy-type=H3")),
+      "unknown parameter 'dummy-type' (this route takes format, config, units, part, numform, position, "
+      "dummy_type).");
+  const CommandResult missing_cli = Napkin({"export", "--test", "nope", "--format", "uds", "--out", "x"});
+  EXPECT_EQ(ErrorOf(Get("/api/v1/tests/nope/channels?format=uds")), CliSentence(missing_cli));
+}
+
 TEST_F(ServeApi, StatusAndMetricsCountTheCatalogue) {
   const CommandResult cli = Napkin({"status", "--format", "json"});
   ASSERT_EQ(cli.exit_code, 0) << cli.err;
@@ -313,9 +396,24 @@ TEST_F(ServeApi, StatusAndMetricsCountTheCatalogue) {
   ASSERT_TRUE(result);
   ASSERT_EQ(result->status, 200);
   const Json status = Json::parse(result->body);
-  for (const char* key : {"tests", "done", "failed", "pending", "running", "salvaged", "failures"})
-    EXPECT_EQ(status.at("catalogue").at(key), expected.at(key)) << key;
+  // Field by field, every field of both: one reading (app/status.h), one rendering.
+  EXPECT_EQ(status.at("catalogue"), expected);
   EXPECT_EQ(status.at("catalogue").at("done"), 6);
+  EXPECT_EQ(status.at("catalogue").at("path"), db().string());
+  // The config is chosen as on the command line: a preset the catalogue never ran has every test pending.
+  const CommandResult salvage_cli = Napkin({"status", "--config", "salvage", "--format", "json"});
+  ASSERT_EQ(salvage_cli.exit_code, 0) << salvage_cli.err;
+  const Json salvage = Json::parse(Get("/api/v1/status?config=salvage")->body).at("catalogue");
+  EXPECT_EQ(salvage, Json::parse(salvage_cli.out));
+  EXPECT_EQ(salvage.at("pending"), 6);
+  EXPECT_EQ(salvage.at("config").at("name"), "salvage");
+  EXPECT_NE(salvage.at("config").at("hash"), status.at("catalogue").at("config").at("hash"));
+  // A file is never read for a request: only a preset's name.
+  const httplib::Result file = Get("/api/v1/status?config=" + db().string());
+  EXPECT_EQ(file->status, 400);
+  EXPECT_EQ(ErrorOf(file).rfind("parameter 'config' must be default or salvage; it is '", 0), 0u)
+      << file->body;
+  EXPECT_EQ(Get("/api/v1/status?colour=red")->status, 400);
 
   const httplib::Result metrics = Get("/metrics");
   ASSERT_EQ(metrics->status, 200);

@@ -1,0 +1,38 @@
+#include "app/status.h"
+
+#include <nlohmann/json.hpp>
+
+namespace napkin::app {
+
+CatalogueStatus ReadStatus(db::Catalogue& catalogue, const std::string& db_path,
+                           const records::ResolvedConfig& config, bool with_versions) {
+  CatalogueStatus status;
+  status.path = db_path;
+  status.config_name = config.record.name;
+  status.config_hash = config.record.config_hash;
+  const db::ConfigId id = catalogue.FindConfigByHash(config.record.config_hash).value_or(db::ConfigId{0});
+  db::JobQueue queue(catalogue);
+  status.counts = queue.ReadStatusCounts(id);
+  if (with_versions) status.versions = queue.ReadVersionCounts();
+  return status;
+}
+
+nlohmann::ordered_json StatusJson(const CatalogueStatus& status) {
+  using Json = nlohmann::ordered_json;
+  const db::StatusCounts& counts = status.counts;
+  Json failures = Json::array();
+  for (const db::JobFailure& failure : counts.failures)
+    failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
+  return Json{{"tests", counts.tests},
+              {"done", counts.done},
+              {"failed", counts.failed},
+              {"pending", counts.pending},
+              {"running", counts.running},
+              {"salvaged", counts.salvaged},
+              {"failures", std::move(failures)},
+              // Additions (issue 43): the file and the config the counts are for.
+              {"path", status.path},
+              {"config", {{"name", status.config_name}, {"hash", status.config_hash}}}};
+}
+
+}  // namespace napkin::app
