@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/cancellation.h"
 #include "engine/screening.h"
 #include "engine/screening_text.h"
 #include "engine/units.h"
@@ -272,7 +273,8 @@ void CheckBias(const ArrayGeometry& array, const std::vector<int>& columns, cons
 }  // namespace
 
 std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals& raw_signals,
-                                   const InitialState& initial, const ProcessingConfig& config) {
+                                   const InitialState& initial, const ProcessingConfig& config,
+                                   const std::atomic<bool>* cancel) {
   std::vector<Finding> findings;
   std::vector<int> columns(array.sensors.size(), -1);
   bool complete = true;
@@ -290,6 +292,7 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
 
   bool all_finite = true;
   for (std::size_t i = 0; i < array.sensors.size(); ++i) {
+    ThrowIfCancelled(cancel);  // each channel's checks take milliseconds of a long record
     const Sensor& sensor = array.sensors[i];
     const auto x = raw_signals.samples.col(columns[i]);
     if (std::optional<Finding> finding = CheckNonFinite(sensor, raw_signals, x)) {
@@ -315,6 +318,7 @@ std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals
     if (std::optional<Finding> finding = CheckSpikes(sensor, raw_signals, x, config.screening))
       findings.push_back(std::move(*finding));
   }
+  ThrowIfCancelled(cancel);
   if (all_finite) CheckBias(array, columns, raw_signals, initial, config, findings);
   return findings;
 }

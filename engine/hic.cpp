@@ -123,19 +123,28 @@ struct HicSegmentTree {
 };
 
 // `tree`: an earlier tree whose vectors are reused (assign keeps their capacity).
-HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count, HicSegmentTree tree = {}) {
+// `cancel` is looked at between the passes: filling three arrays of twice the
+// samples' count takes a few tenths of a second for a long record the first
+// time (fresh memory).
+HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count, HicSegmentTree tree = {},
+                                   const std::atomic<bool>* cancel = nullptr) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const auto leaves = static_cast<Eigen::Index>(std::bit_ceil(static_cast<std::size_t>(count)));
   tree.leaves = leaves;
   tree.max_integral.assign(static_cast<std::size_t>(2 * leaves), -kInf);
+  ThrowIfCancelled(cancel);
   tree.min_integral.assign(static_cast<std::size_t>(2 * leaves), kInf);
+  ThrowIfCancelled(cancel);
   tree.max_step.assign(static_cast<std::size_t>(2 * leaves), -kInf);
+  ThrowIfCancelled(cancel);
   for (Eigen::Index k = 0; k < count; ++k) {
+    ThrowIfCancelled(cancel, k);
     tree.max_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
     tree.min_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
   }
   for (Eigen::Index width = 2, first_node = leaves / 2; first_node >= 1; width *= 2, first_node /= 2) {
     for (Eigen::Index h = first_node; h < 2 * first_node; ++h) {
+      ThrowIfCancelled(cancel, h);
       const auto node = static_cast<std::size_t>(h), left = 2 * node, right = left + 1;
       // The step across the children's boundary: sample `boundary` to boundary + 1.
       const Eigen::Index boundary = (h - first_node) * width + width / 2 - 1;
@@ -384,7 +393,7 @@ std::vector<HicWindow> HicForWindows(const Eigen::Ref<const Eigen::VectorXd>& ac
   ThrowIfCancelled(cancel);
   HicSegmentTree tree = BuildHicSegmentTree(
       integral, problem.count,
-      {0, std::move(work.max_integral), std::move(work.min_integral), std::move(work.max_step)});
+      {0, std::move(work.max_integral), std::move(work.min_integral), std::move(work.max_step)}, cancel);
   const double max_abs_step = MaxAbsStep(integral, problem.count);
   // Shortest limit first: its best window is a window of every longer limit.
   std::vector<std::size_t> order(windows_s.size());

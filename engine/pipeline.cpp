@@ -197,7 +197,7 @@ void ProcessOnce(const ArrayGeometry& array, const TestSignals& raw_signals, con
   // Screening runs on the raw signals first (report section 2.2: check the
   // data before using them). A missing channel or a non-finite sample makes
   // the test unusable: stop with the finding's sentence (slot, sample, time).
-  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config);
+  std::vector<Finding> findings = ScreenSignals(array, raw_signals, initial, config, cancel);
   const auto fatal = std::find_if(findings.begin(), findings.end(), IsFatal);
   if (fatal != findings.end()) {
     std::string sentence = fatal->detail;

@@ -52,6 +52,7 @@
 // the fused solver's residual, which weights the differentiated rates
 // lightly; a flipped rate sensor is caught only when it drives that
 // residual over residual_limit_g.
+#include <atomic>
 #include <vector>
 
 #include "engine/array_geometry.h"
@@ -67,9 +68,11 @@ namespace napkin::engine {
 // non_finite, flat, saturation, spike, bias. `config` supplies the
 // screening thresholds, the time shift (pre-impact means t < 0 after the
 // shift) and the bias mode (to say whether the offset will be removed).
-// Never throws on bad data: every problem becomes a finding.
+// Never throws on bad data: every problem becomes a finding. Looks at
+// `cancel` (engine/cancellation.h) between channels: throws Cancelled when set.
 std::vector<Finding> ScreenSignals(const ArrayGeometry& array, const TestSignals& raw_signals,
-                                   const InitialState& initial, const ProcessingConfig& config);
+                                   const InitialState& initial, const ProcessingConfig& config,
+                                   const std::atomic<bool>* cancel = nullptr);
 
 // Rigid-body consistency of the conditioned signals, given the exact
 // solver's kinematics for them (`exact_options` as used for that solve):

@@ -32,8 +32,18 @@ py::array_t<double> ToNumpy(Eigen::VectorXd values);
 // dict column name -> numpy array in the CSV column's unit, without the
 // channels the test does not have. The arrays are views into the kinematics,
 // moved into one Python object they all keep alive and scaled there in place:
-// no channel is copied.
+// no channel is copied. Ctrl-C between two channels raises (RaiseIfSignalled).
 py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics);
+
+// Ctrl-C while this thread holds the GIL in a long conversion (a long
+// record's channels into or out of numpy): Python's C-level handler has only
+// noted the signal, and its Python-level handler would run once the call has
+// returned. Runs the handlers now (on the main thread; elsewhere a no-op) and
+// raises what one raised (KeyboardInterrupt), so that Ctrl-C stops a transform
+// within the promised half second in every stage (docs/python.md).
+inline void RaiseIfSignalled() {
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
 
 // Kinematics whose arrays Python has let go (DerivedChannelsToNumpy keeps
 // up to two), for the next transform to solve into: its memory is mapped

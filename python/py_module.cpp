@@ -49,6 +49,7 @@ py::dict DerivedChannelsToNumpy(engine::Kinematics kinematics) {
   static_cast<void>(owned.release());  // the capsule deletes it now
   py::dict channels;
   for (const formats::DerivedChannelSource& source : sources) {
+    RaiseIfSignalled();
     if (source.values_si.empty()) continue;
     // The spans point into the kinematics this function owns (not const):
     // scaling through them scales its columns (acc to g, angles to degrees),

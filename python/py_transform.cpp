@@ -147,6 +147,7 @@ Eigen::MatrixXd ReadChannels(const py::handle& channels, const engine::ArrayGeom
                          " samples but channel " + util::Quoted(first_slot) + " has " +
                          std::to_string(samples.rows()) + ".");
       }
+      RaiseIfSignalled();
       samples.col(c) = Eigen::Map<const Eigen::VectorXd>(values.data(), n);
     }
     return samples;
@@ -161,8 +162,15 @@ Eigen::MatrixXd ReadChannels(const py::handle& channels, const engine::ArrayGeom
                      util::Quoted(array.name) + " in its order (" + std::to_string(slot_count) +
                      " columns: " + SlotList(array) + ").");
   }
+  // A column at a time, so that Ctrl-C is looked at between two.
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  return Eigen::Map<const RowMajor>(values.data(), values.shape(0), values.shape(1));
+  const Eigen::Map<const RowMajor> rows(values.data(), values.shape(0), values.shape(1));
+  Eigen::MatrixXd samples(rows.rows(), rows.cols());
+  for (Eigen::Index c = 0; c < rows.cols(); ++c) {
+    RaiseIfSignalled();
+    samples.col(c) = rows.col(c);
+  }
+  return samples;
 }
 
 // The sample times: dt_s, or time_s as a 1-D array (app::SignalsFromSamples checks them).
@@ -380,6 +388,7 @@ py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals
   // any Python code: compute in place.
   bool interrupted = false;
   const bool watch = OnMainThread();
+  RaiseIfSignalled();  // Ctrl-C while the channels were read: no need to start
   {
     const py::gil_scoped_release computing;
     try {
@@ -406,6 +415,7 @@ py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals
   const std::string summary_json =
       formats::SummaryToJson(processed.summary, test_id, "", "")
           .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  RaiseIfSignalled();
   return py::make_tuple(summary_json, DerivedChannelsToNumpy(std::move(processed.kinematics)));
 }
 
