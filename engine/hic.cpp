@@ -123,9 +123,9 @@ struct HicSegmentTree {
 };
 
 // `tree`: an earlier tree whose vectors are reused (assign keeps their capacity).
-// `cancel` is looked at between the passes: filling three arrays of twice the
-// samples' count takes a few tenths of a second for a long record the first
-// time (fresh memory).
+// `cancel` is looked at between the passes (never inside one, which stays a
+// plain loop): filling three arrays of twice the samples' count takes a few
+// tenths of a second for a long record the first time (fresh memory).
 HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count, HicSegmentTree tree = {},
                                    const std::atomic<bool>* cancel = nullptr) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -138,13 +138,12 @@ HicSegmentTree BuildHicSegmentTree(const double* integral, Eigen::Index count, H
   tree.max_step.assign(static_cast<std::size_t>(2 * leaves), -kInf);
   ThrowIfCancelled(cancel);
   for (Eigen::Index k = 0; k < count; ++k) {
-    ThrowIfCancelled(cancel, k);
     tree.max_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
     tree.min_integral[static_cast<std::size_t>(leaves + k)] = integral[k];
   }
   for (Eigen::Index width = 2, first_node = leaves / 2; first_node >= 1; width *= 2, first_node /= 2) {
+    ThrowIfCancelled(cancel);
     for (Eigen::Index h = first_node; h < 2 * first_node; ++h) {
-      ThrowIfCancelled(cancel, h);
       const auto node = static_cast<std::size_t>(h), left = 2 * node, right = left + 1;
       // The step across the children's boundary: sample `boundary` to boundary + 1.
       const Eigen::Index boundary = (h - first_node) * width + width / 2 - 1;
