@@ -16,7 +16,8 @@ void ReplaceAll(std::string& text, std::string_view from, std::string_view to) {
   std::string replaced;
   replaced.reserve(text.size());
   std::size_t start = 0;
-  for (std::size_t found; (found = text.find(from, start)) != std::string::npos; start = found + from.size()) {
+  for (std::size_t found; (found = text.find(from, start)) != std::string::npos;
+       start = found + from.size()) {
     replaced.append(text, start, found - start);
     replaced.append(to);
   }
