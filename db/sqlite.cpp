@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <mutex>
@@ -291,6 +292,18 @@ std::string ImmutableUri(const std::string& path) {
   return uri + "?immutable=1";
 }
 
+// SQLITE_TRACE_PROFILE: "sql profile <ms> ms: <statement with its values>" per statement run.
+int ProfileStatement(unsigned type, void*, void* statement, void* nanoseconds) {
+  if (type != SQLITE_TRACE_PROFILE) return 0;
+  auto* prepared = static_cast<sqlite3_stmt*>(statement);
+  char* expanded = sqlite3_expanded_sql(prepared);
+  const double ms = static_cast<double>(*static_cast<sqlite3_int64*>(nanoseconds)) / 1e6;
+  std::fprintf(stderr, "sql profile %.3f ms: %.300s\n", ms,
+               expanded != nullptr ? expanded : sqlite3_sql(prepared));
+  sqlite3_free(expanded);
+  return 0;
+}
+
 }  // namespace
 
 std::optional<FileIdentity> IdentifyFile(const std::string& path) {
@@ -407,6 +420,11 @@ Connection Connection::Open(const std::string& path, const ConnectionOptions& op
   NAPKIN_SQLITE_CHECK(connection.db_, sqlite3_extended_result_codes(connection.db_, 1), path);
   NAPKIN_SQLITE_CHECK(connection.db_, sqlite3_busy_timeout(connection.db_, options.busy_timeout_ms), path);
   if (query_only) connection.Execute("PRAGMA query_only = ON");
+  // NAPKIN_SQL_PROFILE=1: each statement's time on standard error, for
+  // finding the statement whose cost grows with the catalogue
+  // (docs/developing.md "Profiling the catalogue").
+  if (const char* profile = std::getenv("NAPKIN_SQL_PROFILE"); profile != nullptr && *profile == '1')
+    sqlite3_trace_v2(connection.db_, SQLITE_TRACE_PROFILE, &ProfileStatement, nullptr);
 
   // SQLite reads the header lazily: the first statement tells whether this
   // is a database at all.
