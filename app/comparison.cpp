@@ -474,7 +474,7 @@ Comparison BuildComparison(db::Catalogue& catalogue, const CompareRequest& reque
         ResolveConfigSelector(catalogue, spec, OptionName(request.front_end, "config")).id));
 
   db::TestFilter filter;
-  filter.series = request.series;
+  filter.series = {request.series};
   const bool latest = request.by == CompareBy::kVariant && request.configs.empty();
   std::vector<db::LabelledResult> results = catalogue.ReadResults(
       filter, latest ? db::ResultSelection::kLatest : db::ResultSelection::kEveryConfig);

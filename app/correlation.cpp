@@ -424,11 +424,11 @@ ModelReference LoadModelCurve(const formats::ModelFile& file, const std::string&
   return {file.path.filename().string(), file.sha256, curve.name, std::move(curve.series), units_used};
 }
 
-RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
+RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& test_id,
                            const std::string& model_spec, const std::optional<std::string>& model_units,
                            const RatingOptions& options, const ResultChoice& choice) {
   CheckCorrelationChannel(options.channel);
-  const TestResult result = ResultOf(catalogue, test_id, choice, db_path);
+  const TestResult result = ResultOf(catalogue, test_id, choice);
   const ChannelCurve channel =
       ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
   const ModelReference model = LoadModelCurve(model_spec, channel, model_units);
@@ -451,12 +451,12 @@ RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path,
   return row;
 }
 
-RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
+RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& test_id,
                           const std::string& reference_test_id, const RatingOptions& options,
                           const ResultChoice& choice) {
   CheckCorrelationChannel(options.channel);
-  const TestResult result = ResultOf(catalogue, test_id, choice, db_path);
-  const TestResult other = ResultOf(catalogue, reference_test_id, Latest{}, db_path);
+  const TestResult result = ResultOf(catalogue, test_id, choice);
+  const TestResult other = ResultOf(catalogue, reference_test_id, Latest{});
   const ChannelCurve rated =
       ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
   const ChannelCurve reference = ChannelOf(ReadResultKinematics(catalogue, other.test, other.config),
@@ -480,8 +480,8 @@ std::vector<RatingRow> RateVariantRepeats(db::Catalogue& catalogue, const std::s
                                           bool store) {
   CheckCorrelationChannel(options.channel);
   db::TestFilter filter;
-  filter.series = series;
-  filter.variant = variant;
+  filter.series = {series};
+  filter.variants = {variant};
   struct Repeat {
     std::string test_id;
     TestResult result;

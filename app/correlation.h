@@ -103,10 +103,10 @@ struct RatingRow {
 // result under `choice`) and returned. Throws InputError naming the test,
 // file or channel for anything missing or unreadable (ResultOf, LoadModelCurve,
 // ChannelOf, the engine's interval checks).
-RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
+RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& test_id,
                            const std::string& model_spec, const std::optional<std::string>& model_units,
                            const RatingOptions& options, const ResultChoice& choice = Latest{});
-RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& db_path, const std::string& test_id,
+RatingRow RateAgainstTest(db::Catalogue& catalogue, const std::string& test_id,
                           const std::string& reference_test_id, const RatingOptions& options,
                           const ResultChoice& choice = Latest{});
 

@@ -144,19 +144,20 @@ std::string FormatsWithoutRotation() {
 }
 
 // The test, its result and the format's input.
-ExportSource ReadSource(db::Catalogue& catalogue, const ExportRequest& request, const std::string& db_path) {
+ExportSource ReadSource(db::Catalogue& catalogue, const ExportRequest& request) {
   ExportSource source(catalogue);
   const ExportFormat& format = *request.format;
   if (format.input == ExportInput::kRecordedChannels) {
     // The recorded channels need no result (its salvage record, when there is one, only adds notes).
     const std::optional<db::TestId> test = catalogue.FindTestByExternalId(request.test_id);
-    if (!test) throw NotFoundError("test '" + request.test_id + "' is not in catalogue '" + db_path + "'.");
+    if (!test)
+      throw NotFoundError("test '" + request.test_id + "' is not in catalogue '" + catalogue.path() + "'.");
     source.test = *test;
     source.config = FindResult(catalogue, *test, request.result);
     source.channels = ReadResultChannels(catalogue, *test, source.config, /*recorded=*/true);
     return source;
   }
-  const TestResult result = ResultOf(catalogue, request.test_id, request.result, db_path);
+  const TestResult result = ResultOf(catalogue, request.test_id, request.result);
   source.test = result.test;
   source.config = result.config;
   if (format.input == ExportInput::kResultChannels) {
@@ -242,13 +243,13 @@ ExportRequest ParseExportRequest(std::string test_id, const RequestOptions& opti
   return request;
 }
 
-void Export(db::Catalogue& catalogue, const ExportRequest& request, const std::string& db_path,
-            const std::filesystem::path& out, bool replace_existing) {
+void Export(db::Catalogue& catalogue, const ExportRequest& request, const std::filesystem::path& out,
+            bool replace_existing) {
   const ExportFormat& format = *request.format;
   if (format.folder && out == util::kStandardOutputName)
     throw UsageError("format " + std::string(format.name) +
                      " writes a folder of files, which cannot go to standard output ('-'); name a folder.");
-  const ExportSource source = ReadSource(catalogue, request, db_path);
+  const ExportSource source = ReadSource(catalogue, request);
   if (!format.folder) {
     format.write(source, request, out);
     return;
@@ -260,13 +261,12 @@ void Export(db::Catalogue& catalogue, const ExportRequest& request, const std::s
       replace_existing);
 }
 
-std::vector<ExportedFile> ExportToMemory(db::Catalogue& catalogue, const ExportRequest& request,
-                                         const std::string& db_path) {
+std::vector<ExportedFile> ExportToMemory(db::Catalogue& catalogue, const ExportRequest& request) {
   const PrivateFolder folder;
   const std::filesystem::path out =
       folder.path() / (util::FileNameComponent(request.test_id) + std::string(request.format->extension));
   try {
-    Export(catalogue, request, db_path, out);
+    Export(catalogue, request, out);
   } catch (const InputError& error) {
     // A writer's sentence names the file it writes: here by its name, not the private folder's path.
     const std::string prefix = folder.path().string() + "/";

@@ -84,12 +84,12 @@ ExportRequest ParseExportRequest(std::string test_id, const RequestOptions& opti
 // folder format the folder whose files appear beside what it holds, none of
 // them replaced unless `replace_existing` (util/atomic_file.h
 // WriteDirectoryAtomically). Throws NotFoundError for a test the catalogue
-// (`db_path`) does not hold, InputError for a test without the result the
+// (Catalogue::path) does not hold, InputError for a test without the result the
 // format needs, or without the rotation it needs, and for a folder format to
 // standard output, each one sentence naming the test or format; and the
 // writers' errors, naming the file.
-void Export(db::Catalogue& catalogue, const ExportRequest& request, const std::string& db_path,
-            const std::filesystem::path& out, bool replace_existing = false);
+void Export(db::Catalogue& catalogue, const ExportRequest& request, const std::filesystem::path& out,
+            bool replace_existing = false);
 
 // One file of an export, written in memory.
 struct ExportedFile {
@@ -103,7 +103,6 @@ struct ExportedFile {
 // the temporary folder (util/temporary_directory.h), removed before it
 // returns; the writers' sentences name the file as it is named here. Throws
 // as Export.
-std::vector<ExportedFile> ExportToMemory(db::Catalogue& catalogue, const ExportRequest& request,
-                                         const std::string& db_path);
+std::vector<ExportedFile> ExportToMemory(db::Catalogue& catalogue, const ExportRequest& request);
 
 }  // namespace napkin::app

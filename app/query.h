@@ -10,21 +10,23 @@
 #include <vector>
 
 #include "app/limits.h"
+#include "app/request_options.h"
 #include "db/catalogue.h"
 
 namespace napkin::app {
 
 struct QueryFilterOptions {
-  std::vector<std::string> series;
-  std::vector<std::string> variants;
+  db::TestFilter tests;  // --series, --variant (repeatable: any of the names), as every command selects tests
   std::vector<std::string> where;
   std::vector<std::string> sort;
   std::string limit;   // text, so that a bad value is napkin's one-line usage error
   std::string config;  // NAME or HASH-PREFIX; empty: each test's latest result
+  // Who asked: errors name the options as it spells them ("--sort", "parameter 'sort'").
+  FrontEnd front_end = FrontEnd::kCommandLine;
 
   // The request for query `kind` without its config (needs no catalogue, so
   // a malformed option is reported first); throws UsageError (one line) for
-  // a bad --where, --sort or --limit.
+  // a bad where, sort or limit, naming the option as `front_end` spells it.
   db::QueryRequest Request(db::QueryKind kind) const;
 };
 
@@ -57,9 +59,10 @@ PreparedQuery PrepareQuery(const Query& query);
 db::Table RunQuery(db::Catalogue& catalogue, const PreparedQuery& query);
 
 // `--sort FIELD[:asc|:desc]` against `fields`; throws UsageError.
-db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField>& fields);
+db::SortKey ParseSortKey(std::string_view text, const std::vector<db::QueryField>& fields,
+                         FrontEnd front_end = FrontEnd::kCommandLine);
 
 // `--limit N`: a whole number >= 0; throws UsageError.
-std::int64_t ParseRowLimit(std::string_view text);
+std::int64_t ParseRowLimit(std::string_view text, FrontEnd front_end = FrontEnd::kCommandLine);
 
 }  // namespace napkin::app

@@ -70,7 +70,7 @@ std::string Milliseconds(double seconds) { return util::FormatNumber(seconds * 1
 void AddOverlays(db::Catalogue& catalogue, const Comparison& comparison, const ReportOptions& options,
                  formats::ReportComparison& report) {
   db::TestFilter filter;
-  filter.series = comparison.series;
+  filter.series = {comparison.series};
   struct OverlayTest {
     std::string test_id;
     std::size_t group;
@@ -213,7 +213,7 @@ std::vector<std::string> RatingCells(std::vector<std::string> cells, double corr
 void AddRepeatability(db::Catalogue& catalogue, const std::string& series,
                       formats::ReportComparison& report) {
   db::TestFilter filter;
-  filter.series = series;
+  filter.series = {series};
   std::map<std::string, std::size_t> variants;
   for (const db::LabelledResult& result : catalogue.ReadResults(filter, db::ResultSelection::kLatest))
     if (result.variant) ++variants[*result.variant];
@@ -313,30 +313,18 @@ formats::ReportComparison SeriesComparison(db::Catalogue& catalogue, const std::
 // The selected tests, ordered by series, variant and test id.
 std::vector<db::TestRow> SelectedTests(db::Catalogue& catalogue, const ReportSelection& selection,
                                        const std::vector<db::WhereExpression>& where) {
-  db::TestFilter filter;
-  filter.external_ids = selection.test_ids;
-  // One series or variant is selected in the catalogue, through its index, not among all its tests
-  // (docs/architecture.md "Catalogues of a million tests"); several are kept below.
-  if (selection.series.size() == 1) filter.series = selection.series.front();
-  if (selection.variants.size() == 1) filter.variant = selection.variants.front();
-  std::vector<db::TestRow> tests = catalogue.ReadAllTests(filter);
+  // Selected in the catalogue, through its indexes (docs/architecture.md "Catalogues of a million
+  // tests"), as every command selects tests.
+  std::vector<db::TestRow> tests = catalogue.ReadAllTests(selection.tests);
   if (!where.empty()) {  // the tests whose latest results `query criteria --where` lists
     db::QueryRequest request;
-    request.series = selection.series;
-    request.variants = selection.variants;
-    request.external_ids = selection.test_ids;
+    request.tests = selection.tests;
     request.where = where;
     const db::Table rows = catalogue.Query(db::QueryKind::kCriteria, request);
     std::set<std::string> matching;
     for (const std::vector<db::Cell>& row : rows.rows) matching.insert(std::get<std::string>(row.front()));
     std::erase_if(tests, [&](const db::TestRow& test) { return !matching.count(test.external_id); });
   }
-  const std::set<std::string> series(selection.series.begin(), selection.series.end());
-  const std::set<std::string> variants(selection.variants.begin(), selection.variants.end());
-  std::erase_if(tests, [&](const db::TestRow& test) {
-    return (!series.empty() && (!test.series || !series.count(*test.series))) ||
-           (!variants.empty() && (!test.variant || !variants.count(*test.variant)));
-  });
   std::stable_sort(tests.begin(), tests.end(), [](const db::TestRow& a, const db::TestRow& b) {
     return std::tie(a.series, a.variant, a.external_id) < std::tie(b.series, b.variant, b.external_id);
   });
@@ -346,9 +334,10 @@ std::vector<db::TestRow> SelectedTests(db::Catalogue& catalogue, const ReportSel
 // What was asked for, e.g. "series sled, variant foam-a"; "" for every test.
 std::string Selection(const ReportSelection& selection) {
   std::vector<std::string> parts;
-  if (!selection.series.empty()) parts.push_back("series " + Joined(selection.series));
-  if (!selection.variants.empty()) parts.push_back("variant " + Joined(selection.variants));
-  if (!selection.test_ids.empty()) parts.push_back("test " + Joined(selection.test_ids));
+  const db::TestFilter& tests = selection.tests;
+  if (!tests.series.empty()) parts.push_back("series " + Joined(tests.series));
+  if (!tests.variants.empty()) parts.push_back("variant " + Joined(tests.variants));
+  if (!tests.external_ids.empty()) parts.push_back("test " + Joined(tests.external_ids));
   for (const std::string& expression : selection.where) parts.push_back("where " + expression);
   return Joined(parts);
 }
@@ -366,7 +355,7 @@ class CatalogueReport {
  public:
   CatalogueReport(const std::string& db_path, const ReportSelection& selection, const ReportOptions& options)
       : catalogue_(Open(db_path, selection)) {
-    for (const std::string& id : selection.test_ids)
+    for (const std::string& id : selection.tests.external_ids)
       if (!catalogue_.ExistsTestByExternalId(id))
         throw NotFoundError(fmt::format("test '{}' is not in catalogue '{}'.", id, db_path));
     selected_ = SelectedTests(catalogue_, selection, where_);

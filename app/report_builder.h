@@ -15,10 +15,8 @@ namespace napkin::app {
 // every member (within one member any of the names); `where` holds
 // `--where` expressions over the `query criteria` fields.
 struct ReportSelection {
-  std::vector<std::string> series;
-  std::vector<std::string> variants;
-  std::vector<std::string> test_ids;
-  std::vector<std::string> where;
+  db::TestFilter tests;            // --series, --variant, --test (each repeatable)
+  std::vector<std::string> where;  // --where over the latest results (query criteria's fields)
 };
 
 // Where the overlaid curves of a series put each test's t = 0

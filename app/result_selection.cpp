@@ -32,10 +32,9 @@ std::optional<db::ConfigId> FindResult(db::Catalogue& catalogue, db::TestId test
   return config;
 }
 
-TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
-                    const std::string& db_path) {
+TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice) {
   const std::optional<db::TestId> test = catalogue.FindTestByExternalId(test_id);
-  if (!test) throw NotFoundError("test '" + test_id + "' is not in catalogue '" + db_path + "'.");
+  if (!test) throw NotFoundError("test '" + test_id + "' is not in catalogue '" + catalogue.path() + "'.");
   const std::optional<db::ConfigId> config = FindResult(catalogue, *test, choice);
   if (config) return {*test, *config};
   if (std::holds_alternative<Latest>(choice))

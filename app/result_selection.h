@@ -50,12 +50,11 @@ struct TestResult {
 };
 
 // The result of the test whose id is `test_id` that `choice` names. Throws
-// NotFoundError "test 'T' is not in catalogue 'F'." (`db_path` names it);
+// NotFoundError "test 'T' is not in catalogue 'F'." (Catalogue::path names it);
 // InputError "test 'T' has no results yet; run `napkin run` first." (Latest)
 // or "test 'T' has no results for config 'C' yet; run `napkin run --config
 // C` first." (Stored, Preset), and FindResult's errors.
-TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice,
-                    const std::string& db_path);
+TestResult ResultOf(db::Catalogue& catalogue, const std::string& test_id, const ResultChoice& choice);
 
 // A stored processing config named by a `--config NAME|HASH-PREFIX` selector
 // (query, compare, report): the config whose name is `selector` (exactly

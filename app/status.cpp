@@ -4,10 +4,10 @@
 
 namespace napkin::app {
 
-CatalogueStatus ReadStatus(db::Catalogue& catalogue, const std::string& db_path,
-                           const records::ResolvedConfig& config, bool with_versions) {
+CatalogueStatus ReadStatus(db::Catalogue& catalogue, const records::ResolvedConfig& config,
+                           bool with_versions) {
   CatalogueStatus status;
-  status.path = db_path;
+  status.path = catalogue.path();
   status.config_name = config.record.name;
   status.config_hash = config.record.config_hash;
   const db::ConfigId id = catalogue.FindConfigByHash(config.record.config_hash).value_or(db::ConfigId{0});

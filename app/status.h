@@ -25,12 +25,12 @@ struct CatalogueStatus {
   std::vector<db::VersionCount> versions;
 };
 
-// The status of `catalogue` (the file `db_path`) for `config` (resolved from
+// The status of `catalogue` (its file named by Catalogue::path) for `config` (resolved from
 // a preset or file before the catalogue is opened: records::ResolveConfig). A
 // config never run on this catalogue has no key: every test is pending.
 // `with_versions`: also the counts by napkin version.
-CatalogueStatus ReadStatus(db::Catalogue& catalogue, const std::string& db_path,
-                           const records::ResolvedConfig& config, bool with_versions = false);
+CatalogueStatus ReadStatus(db::Catalogue& catalogue, const records::ResolvedConfig& config,
+                           bool with_versions = false);
 
 // The JSON object, keys in this order (README "napkin status"): tests, done,
 // failed, pending, running, salvaged, failures ([{test_id, error}], by test

@@ -127,6 +127,12 @@ TableFormat ParseTableFormat(std::string_view text) {
   throw InputError("unknown output format '" + std::string(text) + "' (use table, csv or json).");
 }
 
+nlohmann::ordered_json TableRowJson(const db::Table& table, const std::vector<db::Cell>& row) {
+  nlohmann::ordered_json object = nlohmann::ordered_json::object();
+  for (std::size_t c = 0; c < row.size(); ++c) object[table.columns[c]] = JsonValue(row[c]);
+  return object;
+}
+
 std::string FormatTable(const db::Table& table, TableFormat format) {
   switch (format) {
     case TableFormat::kTable:
@@ -144,11 +150,7 @@ std::string FormatTable(const db::Table& table, TableFormat format) {
     }
     case TableFormat::kJson: {
       nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-      for (const auto& row : table.rows) {
-        nlohmann::ordered_json object = nlohmann::ordered_json::object();
-        for (std::size_t c = 0; c < row.size(); ++c) object[table.columns[c]] = JsonValue(row[c]);
-        rows.push_back(std::move(object));
-      }
+      for (const auto& row : table.rows) rows.push_back(TableRowJson(table, row));
       // Text an older napkin stored may not be UTF-8 (docs/formats.md "Text
       // encoding"): its bad bytes become U+FFFD instead of failing the answer.
       return rows.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";

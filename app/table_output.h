@@ -2,8 +2,10 @@
 // Tables on stdout (`napkin query`, and any command with --format
 // table,csv,json): aligned columns for people, RFC 4180 CSV and a JSON array
 // of objects for programs.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "db/catalogue.h"
 
@@ -26,5 +28,10 @@ TableFormat ParseTableFormat(std::string_view text);
 // send escape sequences to a terminal or break a CSV line; kJson escapes
 // them as JSON does. Every form ends with a newline.
 std::string FormatTable(const db::Table& table, TableFormat format);
+
+// One row of `table` as kJson writes it: an object, keys the column names in
+// column order. For a front end that puts rows inside a larger JSON answer
+// (the service's test summary), so that no front end parses JSON text back.
+nlohmann::ordered_json TableRowJson(const db::Table& table, const std::vector<db::Cell>& row);
 
 }  // namespace napkin::app

@@ -30,7 +30,8 @@ bool EndsWord(char c) {
 
 class Parser {
  public:
-  Parser(std::string_view text, const std::vector<db::QueryField>& fields) : text_(text), fields_(fields) {}
+  Parser(std::string_view text, const std::vector<db::QueryField>& fields, FrontEnd front_end)
+      : text_(text), fields_(fields), front_end_(front_end) {}
 
   db::WhereExpression Parse() {
     Tokenize();
@@ -48,8 +49,8 @@ class Parser {
     std::string shown(text_);
     std::replace_if(
         shown.begin(), shown.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-    throw UsageError("--where \"" + util::Abbreviated(shown) + "\": " + problem + "; the fields are " +
-                     db::FieldNames(fields_) + ".");
+    throw UsageError(OptionName(front_end_, "where") + " \"" + util::Abbreviated(shown) + "\": " + problem +
+                     "; the fields are " + db::FieldNames(fields_) + ".");
   }
 
   // A token's text as typed, cut like the expression.
@@ -217,6 +218,7 @@ class Parser {
 
   std::string text_;
   const std::vector<db::QueryField>& fields_;
+  FrontEnd front_end_;
   std::vector<Token> tokens_;
   std::size_t next_ = 0;
   int nesting_ = 0;              // parentheses open at the current token
@@ -225,8 +227,9 @@ class Parser {
 
 }  // namespace
 
-db::WhereExpression ParseWhereExpression(std::string_view text, const std::vector<db::QueryField>& fields) {
-  return Parser(text, fields).Parse();
+db::WhereExpression ParseWhereExpression(std::string_view text, const std::vector<db::QueryField>& fields,
+                                         FrontEnd front_end) {
+  return Parser(text, fields, front_end).Parse();
 }
 
 }  // namespace napkin::app

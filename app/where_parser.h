@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/request_options.h"
 #include "db/catalogue.h"
 #include "db/where_expression.h"
 
@@ -26,7 +27,9 @@ namespace napkin::app {
 // `fields`, gives a numeric field a value that is not a number, nests
 // parentheses deeper than db::kMaxWhereNesting or holds more than
 // db::kMaxWhereComparisons comparisons. The expression and its tokens are
-// quoted cut (util::Abbreviated).
-db::WhereExpression ParseWhereExpression(std::string_view text, const std::vector<db::QueryField>& fields);
+// quoted cut (util::Abbreviated); the option is named as `front_end` spells it
+// ("--where", "parameter 'where'", "argument 'where'").
+db::WhereExpression ParseWhereExpression(std::string_view text, const std::vector<db::QueryField>& fields,
+                                         FrontEnd front_end = FrontEnd::kCommandLine);
 
 }  // namespace napkin::app

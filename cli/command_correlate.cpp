@@ -67,10 +67,9 @@ class CorrelateCommand : public Command {
     db::Catalogue catalogue = OpenCatalogue(*global_);
     std::vector<app::RatingRow> rows;
     if (model_)
-      rows.push_back(
-          app::RateAgainstModel(catalogue, global_->db_path, *test_, *model_, model_units_, options));
+      rows.push_back(app::RateAgainstModel(catalogue, *test_, *model_, model_units_, options));
     else if (reference_test_)
-      rows.push_back(app::RateAgainstTest(catalogue, global_->db_path, *test_, *reference_test_, options));
+      rows.push_back(app::RateAgainstTest(catalogue, *test_, *reference_test_, options));
     else
       rows = app::RateVariantRepeats(catalogue, *series_, *variant_, options);
     fmt::print("{}", app::FormatTable(app::RatingTable(rows), format));

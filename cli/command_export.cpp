@@ -82,7 +82,7 @@ class ExportCommand : public Command {
       }
     }
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
-    app::Export(catalogue, request, global_->db_path, out_, force_);
+    app::Export(catalogue, request, out_, force_);
     return kExitOk;
   }
 

@@ -19,9 +19,10 @@ namespace {
 
 // The row-selection options (app/query.h) on `command`.
 void RegisterQueryFilters(CLI::App& command, app::QueryFilterOptions& filters) {
-  command.add_option("--series", filters.series, "only tests of this series (repeatable: any of them)")
+  command.add_option("--series", filters.tests.series, "only tests of this series (repeatable: any of them)")
       ->allow_extra_args(false);
-  command.add_option("--variant", filters.variants, "only tests of this variant (repeatable: any of them)")
+  command
+      .add_option("--variant", filters.tests.variants, "only tests of this variant (repeatable: any of them)")
       ->allow_extra_args(false);
   command
       .add_option(

@@ -17,9 +17,9 @@ class ReportCommand : public Command {
   CLI::App* Setup(CLI::App& app, const GlobalOptions& global) override {
     global_ = &global;
     CLI::App* sub = app.add_subcommand("report", "write a self-contained HTML report of tests' results");
-    sub->add_option("--series", selection_.series, "only tests of this series (repeatable)");
-    sub->add_option("--variant", selection_.variants, "only tests of this variant (repeatable)");
-    sub->add_option("--test", selection_.test_ids, "only this test (repeatable)");
+    sub->add_option("--series", selection_.tests.series, "only tests of this series (repeatable)");
+    sub->add_option("--variant", selection_.tests.variants, "only tests of this variant (repeatable)");
+    sub->add_option("--test", selection_.tests.external_ids, "only this test (repeatable)");
     sub->add_option("--where", selection_.where,
                     "only tests whose results satisfy EXPR, as in `napkin query criteria --where` "
                     "(repeatable: all of them)")

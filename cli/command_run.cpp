@@ -62,7 +62,7 @@ class RunCommand : public Command {
     global_ = &global;
     CLI::App* sub = app.add_subcommand(
         "run", "process every test whose results are missing or stale for the config; resumable");
-    sub->add_option("--series", series_, "only the tests of this series");
+    sub->add_option("--series", series_, "only the tests of this series (repeatable: any of them)");
     sub->add_option("--test", test_ids_, "only this test (repeatable)");
     sub->add_option("--config", config_, "processing config preset or JSON file (default: default)")
         ->check(PathCheck("--config"));
@@ -85,7 +85,7 @@ class RunCommand : public Command {
   }
 
   int Run() override {
-    if (!series_.empty()) options_.scope.tests.series = series_;
+    options_.scope.tests.series = series_;
     options_.scope.tests.external_ids = test_ids_;
     if (!shard_.empty()) options_.scope.shard = ParseShard(shard_);
     // The results file is a catalogue of its own, never the --db one's side
@@ -137,16 +137,17 @@ class RunCommand : public Command {
     db::Catalogue catalogue = options_.results_path.empty()
                                   ? OpenCatalogue(*global_)
                                   : db::ResultsFile::OpenSharedCatalogue(global_->db_path);
-    if (!series_.empty() && !catalogue.ReadSeries(series_))
-      throw InputError("series '" + series_ + "' is not in catalogue '" + global_->db_path + "'.");
+    for (const std::string& series : series_)
+      if (!catalogue.ReadSeries(series))
+        throw InputError("series '" + series + "' is not in catalogue '" + catalogue.path() + "'.");
     for (const std::string& id : test_ids_)
       if (!catalogue.ExistsTestByExternalId(id))
-        throw InputError("test '" + id + "' is not in catalogue '" + global_->db_path + "'.");
+        throw InputError("test '" + id + "' is not in catalogue '" + catalogue.path() + "'.");
   }
 
   const GlobalOptions* global_ = nullptr;
   jobs::RunOptions options_;
-  std::string series_;
+  std::vector<std::string> series_;
   std::vector<std::string> test_ids_;
   std::string config_;
   std::string shard_;

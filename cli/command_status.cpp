@@ -60,7 +60,7 @@ class StatusCommand : public Command {
     const records::ResolvedConfig resolved = records::ResolveConfig(config_);
     db::Catalogue catalogue = OpenCatalogue(*global_, /*read_only=*/true);
     const app::CatalogueStatus status =
-        app::ReadStatus(catalogue, global_->db_path, resolved, /*with_versions=*/format_ == "table");
+        app::ReadStatus(catalogue, resolved, /*with_versions=*/format_ == "table");
     if (format_ == "json") {
       // Stored error text that is not UTF-8 (an older napkin's): U+FFFD, never a failure.
       fmt::print("{}\n", app::StatusJson(status).dump(2, ' ', false,

@@ -76,11 +76,16 @@ struct TestRow {
   std::string imported_at;   // ISO-8601 UTC, set by WriteTest
 };
 
-// Which tests an operation covers; empty fields do not filter.
+// Which tests an operation covers: the one selection of tests of every
+// command and front end (run, query, report, compare, correlate, status; the
+// service's and Python's parameters of the same names). A test is selected
+// when its series is one of `series`, its variant one of `variants` and its id
+// one of `external_ids`; an empty member does not filter.
 struct TestFilter {
-  std::optional<std::string> series;
-  std::optional<std::string> variant;
-  std::vector<std::string> external_ids;  // only these tests
+  std::vector<std::string> series;
+  std::vector<std::string> variants;
+  std::vector<std::string> external_ids;
+  bool empty() const { return series.empty() && variants.empty() && external_ids.empty(); }
 };
 
 struct RawChannelInfo {
@@ -132,9 +137,7 @@ struct SortKey {
 // filter. Rows match every member (and within series, variants or test ids
 // any one of the names).
 struct QueryRequest {
-  std::vector<std::string> series;
-  std::vector<std::string> variants;
-  std::vector<std::string> external_ids;
+  TestFilter tests;
   std::vector<WhereExpression> where;  // all must hold; fields from QueryFields(kind)
   // Sort keys in order (rows with NULL in a key come last in either
   // direction), then test_id (and for quality check, channel, detail).
@@ -218,6 +221,8 @@ class Catalogue {
   static Catalogue Open(const std::string& path, const CatalogueOptions& options = {});
 
   int schema_version() const { return schema_version_; }
+  // The file's name as given to Open (":memory:" in memory), for messages.
+  const std::string& path() const { return connection_.path(); }
   // The device and inode of the file opened; nullopt in memory.
   std::optional<FileIdentity> file_identity() const { return connection_.FileIdentityOf(); }
   // The napkin version this catalogue records with what it writes (CatalogueOptions).

@@ -13,18 +13,14 @@ struct JobScope;
 namespace napkin::db::internal {
 
 // WHERE terms selecting the tests (alias t, series alias s) of a TestFilter,
-// bound by BindTestFilter to parameters ?1 (series), ?2 (variant) and ?3 (a
-// JSON array of external ids). Other parameters of such statements start at ?10.
+// bound by BindTestFilter to parameters ?1 (series), ?2 (variants) and ?3
+// (external ids), each the one name or a JSON array of several. Other
+// parameters of such statements start at ?10.
 // Only the terms of the fields the filter sets are written ("1" when it sets
 // none): a term "?1 IS NULL OR s.name = ?1" hides the indexes from SQLite's
 // planner, which then reads every test of the catalogue to select one series
 // or a few named tests (docs/architecture.md "Catalogues of a million tests").
 std::string TestFilterTerms(const TestFilter& filter);
-
-// The same filter over a view with columns test_id, series, variant.
-inline constexpr const char* kViewFilterTerms =
-    "(?1 IS NULL OR series = ?1) AND (?2 IS NULL OR variant = ?2) AND "
-    "(?3 IS NULL OR test_id IN (SELECT value FROM json_each(?3)))";
 
 // An SQL expression formatting the epoch seconds bound to `parameter` as ISO-8601 UTC.
 inline std::string IsoTimestampSql(const std::string& parameter) {

@@ -213,9 +213,7 @@ std::string FieldNames(const std::vector<QueryField>& fields) { return Joined(fi
 
 Table Catalogue::Query(QueryKind kind, const TestFilter& filter) {
   QueryRequest request;
-  if (filter.series) request.series.push_back(*filter.series);
-  if (filter.variant) request.variants.push_back(*filter.variant);
-  request.external_ids = filter.external_ids;
+  request.tests = filter;
   return Query(kind, request);
 }
 
@@ -225,9 +223,9 @@ Table Catalogue::Query(QueryKind kind, const QueryRequest& request) {
   std::string sql = "SELECT ";
   for (std::size_t i = 0; i < fields.size(); ++i) sql += (i > 0 ? ", " : "") + Identifier(fields[i].name);
   sql += " FROM " + SourceSql(kind, request.config, parameters) + " WHERE 1";
-  sql += AnyOfSql("series", request.series, parameters);
-  sql += AnyOfSql("variant", request.variants, parameters);
-  sql += AnyOfSql("test_id", request.external_ids, parameters);
+  sql += AnyOfSql("series", request.tests.series, parameters);
+  sql += AnyOfSql("variant", request.tests.variants, parameters);
+  sql += AnyOfSql("test_id", request.tests.external_ids, parameters);
   CheckWhereLimits(request.where);
   for (const WhereExpression& expression : request.where)
     sql += " AND (" + WhereSql(kind, fields, expression, parameters) + ")";

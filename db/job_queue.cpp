@@ -37,7 +37,7 @@ std::string JobScopeCte(const JobScope& scope) {
 std::string InJobScope(const std::string& test_column, const JobScope& scope) {
   std::string terms;
   const TestFilter& filter = scope.tests;
-  if (filter.series || filter.variant || !filter.external_ids.empty())
+  if (!filter.empty())
     terms +=
         " AND EXISTS (SELECT 1 FROM tests AS t LEFT JOIN series AS s ON s.id = t.series_id WHERE t.id = " +
         test_column + " AND " + TestFilterTerms(filter) + ")";
@@ -120,9 +120,7 @@ using internal::BindJobScope;
 std::string ScopeCte(const JobScope& scope) { return internal::JobScopeCte(scope); }
 
 // Whether `scope` is every test of the catalogue (no filter, no shard).
-bool IsWholeCatalogue(const JobScope& scope) {
-  return !scope.shard && !scope.tests.series && !scope.tests.variant && scope.tests.external_ids.empty();
-}
+bool IsWholeCatalogue(const JobScope& scope) { return !scope.shard && scope.tests.empty(); }
 
 // The parameters of a statement over one config's jobs of a scope: the
 // scope (?1..?5) and the config (?10).
@@ -264,6 +262,12 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
   // One consistent snapshot for the counts and the failure list.
   Transaction transaction(connection_, Transaction::Mode::kDeferred);
   StatusCounts counts;
+  // Each statement reads the config's jobs of the scope (?1..?5, ?10), its rows handed to `read`.
+  auto scoped = [&](const std::string& sql, const auto& read) {
+    auto statement = connection_.Prepare(sql);
+    BindConfigScope(*statement, config, scope);
+    read(*statement);
+  };
   {
     // A test's state: its job's, unless the job is done (or absent), in
     // which case it is done if a result exists and pending otherwise.
@@ -295,38 +299,32 @@ StatusCounts JobQueue::ReadStatusCounts(ConfigId config, const JobScope& scope) 
                   "FROM scope LEFT JOIN jobs AS j ON j.test_id = scope.test_id AND j.config_id = ?10) "
                   "SELECT count(*), coalesce(sum(state = 'done'), 0), coalesce(sum(state = 'failed'), 0), "
                   "coalesce(sum(state = 'queued'), 0), coalesce(sum(state = 'running'), 0) FROM states";
-    auto select = connection_.Prepare(counts_sql);
-    BindConfigScope(*select, config, scope);
-    select->Step();
-    counts.tests = select->ColumnInt64(0);
-    counts.done = select->ColumnInt64(1);
-    counts.failed = select->ColumnInt64(2);
-    counts.pending = select->ColumnInt64(3);
-    counts.running = select->ColumnInt64(4);
+    scoped(counts_sql, [&](Statement& select) {
+      select.Step();
+      counts.tests = select.ColumnInt64(0);
+      counts.done = select.ColumnInt64(1);
+      counts.failed = select.ColumnInt64(2);
+      counts.pending = select.ColumnInt64(3);
+      counts.running = select.ColumnInt64(4);
+    });
   }
-  {
-    // Results salvaged from faulty channels (schema/012_salvage.sql).
-    const std::string salvaged_sql =
-        IsWholeCatalogue(scope)
-            ? "SELECT count(*) FROM result_salvage WHERE config_id = ?10 AND position = 0"
-            : "WITH " + ScopeCte(scope) +
-                  " SELECT count(*) FROM scope WHERE EXISTS (SELECT 1 FROM result_salvage AS rs "
-                  "WHERE rs.test_id = scope.test_id AND rs.config_id = ?10 AND rs.position = 0)";
-    auto select = connection_.Prepare(salvaged_sql);
-    BindConfigScope(*select, config, scope);
-    select->Step();
-    counts.salvaged = select->ColumnInt64(0);
-  }
-  {
-    const std::string failures_sql =
-        "WITH " + ScopeCte(scope) +
-        " SELECT t.external_id, coalesce(j.last_error, '') FROM jobs AS j "
-        "JOIN scope ON scope.test_id = j.test_id JOIN tests AS t ON t.id = j.test_id "
-        "WHERE j.config_id = ?10 AND j.state = 'failed' ORDER BY t.external_id";
-    auto select = connection_.Prepare(failures_sql);
-    BindConfigScope(*select, config, scope);
-    while (select->Step()) counts.failures.push_back({select->ColumnText(0), select->ColumnText(1)});
-  }
+  // Results salvaged from faulty channels (schema/012_salvage.sql).
+  scoped(IsWholeCatalogue(scope)
+             ? "SELECT count(*) FROM result_salvage WHERE config_id = ?10 AND position = 0"
+             : "WITH " + ScopeCte(scope) +
+                   " SELECT count(*) FROM scope WHERE EXISTS (SELECT 1 FROM result_salvage AS rs "
+                   "WHERE rs.test_id = scope.test_id AND rs.config_id = ?10 AND rs.position = 0)",
+         [&](Statement& select) {
+           select.Step();
+           counts.salvaged = select.ColumnInt64(0);
+         });
+  scoped("WITH " + ScopeCte(scope) +
+             " SELECT t.external_id, coalesce(j.last_error, '') FROM jobs AS j "
+             "JOIN scope ON scope.test_id = j.test_id JOIN tests AS t ON t.id = j.test_id "
+             "WHERE j.config_id = ?10 AND j.state = 'failed' ORDER BY t.external_id",
+         [&](Statement& select) {
+           while (select.Step()) counts.failures.push_back({select.ColumnText(0), select.ColumnText(1)});
+         });
   transaction.Commit();
   return counts;
 }

@@ -92,6 +92,18 @@ util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t
   return file;
 }
 
+OpenedForReading OpenForReading(const std::filesystem::path& path, const std::string& named) {
+  OpenedForReading opened;
+  opened.fd = util::UniqueFd(::open(path.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  if (!opened.fd.valid()) {
+    opened.open_error = errno;
+    return opened;
+  }
+  if (::fstat(opened.fd.get(), &opened.status) != 0)
+    throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+  return opened;
+}
+
 void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,
                       const std::function<void(std::string_view chunk)>& consume) {
   const util::UniqueFd file = OpenRegularFile(path, max_bytes);

@@ -2,6 +2,7 @@
 // Reading files with one-sentence errors naming the file: only regular files
 // (never a FIFO, device or socket, also behind a symbolic link), of at most a
 // size ceiling (docs/formats.md "Names, limits and escaping"), and JSON on top.
+#include <sys/stat.h>
 #include <sys/types.h>
 
 #include <cstdint>
@@ -35,6 +36,19 @@ std::string ReadWholeFile(const std::filesystem::path& path, std::uintmax_t max_
 // `max_bytes`: for readers that read the file they judged more than once
 // (formats::ReadModelFile). Throws InputError (the sentences of ReadWholeFile).
 util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes);
+
+// `path` opened for reading as every bounded input is (O_RDONLY; O_NONBLOCK:
+// a FIFO never blocks the open; O_NOCTTY, O_CLOEXEC), with fstat's answer on
+// that descriptor, for a caller that judges the file by rules and sentences
+// of its own (the inbox's sidecars, the service's token file). `open_error`
+// is the open's errno, 0 when it opened. Throws InputError "<named> cannot be
+// read (...)." when fstat fails on the open descriptor.
+struct OpenedForReading {
+  util::UniqueFd fd;
+  struct stat status {};
+  int open_error = 0;
+};
+OpenedForReading OpenForReading(const std::filesystem::path& path, const std::string& named);
 
 // Like ReadWholeFile, but hands the content to `consume` in chunks.
 void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <exception>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -84,6 +85,19 @@ std::string AsText(const py::handle& object, const std::string& what, const std:
 
 // A str or an os.PathLike (pathlib.Path): a preset name or a file path.
 std::string AsNameOrPath(const py::handle& object, const std::string& what);
+
+// The JSON documents of the libraries (a transform's summary, a stored array
+// definition) as the objects json.loads would make of their text: dicts in
+// key order, lists, str (bytes not UTF-8 as U+FFFD, as the CLI writes them),
+// int, float, bool, None (a non-finite number as None, as the CLI writes
+// null). Converted directly: no JSON text passes between the application
+// library and the module.
+py::object ToPython(const nlohmann::ordered_json& value);
+// A Python dict (str keys), list or tuple, str, int, float, bool or None as
+// a JSON value: a definition given as a dict (napkin.transform's array and
+// config). TypeError naming `what` for another type or a key that is not a
+// str; InputError for NaN or infinity, which a JSON file cannot hold either.
+nlohmann::json FromPython(const py::handle& object, const std::string& what);
 
 // napkin's exception classes (napkin.Error and those derived from it) and
 // napkin.Finding, created in the module: RegisterErrors.

@@ -138,8 +138,8 @@ class ReadOnlyCatalogue {
   py::dict Channels(const std::string& test_id, bool derived, const std::optional<std::string>& config) {
     if (derived) {
       // config= names a stored config (app/result_selection.h "Stored").
-      const app::TestResult result = config ? app::ResultOf(Opened(), test_id, app::Stored{*config}, path_)
-                                            : app::ResultOf(Opened(), test_id, app::Latest{}, path_);
+      const app::TestResult result = config ? app::ResultOf(Opened(), test_id, app::Stored{*config})
+                                            : app::ResultOf(Opened(), test_id, app::Latest{});
       return DerivedChannelsToNumpy(app::ReadResultKinematics(Opened(), result.test, result.config));
     }
     py::dict inputs = TestInputs(test_id);
@@ -160,7 +160,7 @@ class ReadOnlyCatalogue {
       app::ProtectCatalogueFromOutput(path_);
       protected_from_output_ = true;
     }
-    app::Export(catalogue, request, path_, out, replace_existing);
+    app::Export(catalogue, request, out, replace_existing);
   }
 
   // What `napkin run` computes the test's result from, as napkin.transform's
@@ -187,7 +187,8 @@ class ReadOnlyCatalogue {
     result["test_id"] = inputs.external_id;
     // The stored definition itself, not its name: a name may be a preset's
     // while the geometry is an edited copy (issue 29 point 6).
-    result["array"] = py::module_::import("json").attr("loads")(inputs.array_record->definition_json);
+    // It was read already (records::ReadTestInputs), so it parses.
+    result["array"] = ToPython(nlohmann::ordered_json::parse(inputs.array_record->definition_json));
     result["time_s"] = ToNumpy(std::move(time));
     result["channels"] = channels;
     result["orientation_rad"] = triple(inputs.initial.orientation_rad);
@@ -273,8 +274,9 @@ void RegisterCatalogue(py::module_& module) {
               query.filters.sort = AsList(sort);
               query.filters.limit = limit.value_or("");
               query.filters.config = config.value_or("");
-              query.filters.series = AsList(series);
-              query.filters.variants = AsList(variant);
+              query.filters.tests.series = AsList(series);
+              query.filters.tests.variants = AsList(variant);
+              query.filters.front_end = app::FrontEnd::kPython;
               query.limits = limits;
               return self.Query(query);
             });

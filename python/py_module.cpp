@@ -1,10 +1,13 @@
 // `napkin._napkin`, the compiled half of the Python package `napkin`
 // (python/napkin/__init__.py is the other; docs/python.md).
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
 
+#include "common/error.h"
 #include "common/version.h"
 #include "formats/csv.h"
 #include "python/py_bindings.h"
@@ -161,6 +164,89 @@ std::string AsNameOrPath(const py::handle& object, const std::string& what) {
   throw py::type_error(what + " is " + Described(object) +
                        ", not a preset name or a file path (a str or a "
                        "pathlib.Path).");
+}
+
+namespace {
+
+// Text as the CLI writes it: bytes that are not UTF-8 as U+FFFD.
+py::str DecodedText(const std::string& text) {
+  PyObject* decoded = PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()), "replace");
+  if (decoded == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(decoded);
+}
+
+}  // namespace
+
+py::object ToPython(const nlohmann::ordered_json& value) {
+  switch (value.type()) {
+    case nlohmann::ordered_json::value_t::object: {
+      py::dict object;
+      for (const auto& [key, member] : value.items()) object[DecodedText(key)] = ToPython(member);
+      return object;
+    }
+    case nlohmann::ordered_json::value_t::array: {
+      py::list list;
+      for (const auto& element : value) list.append(ToPython(element));
+      return list;
+    }
+    case nlohmann::ordered_json::value_t::string:
+      return DecodedText(value.get_ref<const std::string&>());
+    case nlohmann::ordered_json::value_t::boolean:
+      return py::bool_(value.get<bool>());
+    case nlohmann::ordered_json::value_t::number_integer:
+      return py::int_(value.get<std::int64_t>());
+    case nlohmann::ordered_json::value_t::number_unsigned:
+      return py::int_(value.get<std::uint64_t>());
+    case nlohmann::ordered_json::value_t::number_float: {
+      const double number = value.get<double>();
+      if (!std::isfinite(number)) return py::none();
+      return py::float_(number);
+    }
+    default:
+      return py::none();
+  }
+}
+
+nlohmann::json FromPython(const py::handle& object, const std::string& what) {
+  if (object.is_none()) return nullptr;
+  if (py::isinstance<py::bool_>(object)) return object.cast<bool>();
+  if (py::isinstance<py::int_>(object)) {
+    int overflow = 0;
+    const long long number = PyLong_AsLongLongAndOverflow(object.ptr(), &overflow);
+    if (overflow != 0)
+      throw InputError(what + " holds the integer " + py::repr(object).cast<std::string>() +
+                       ", beyond the 64-bit integers napkin reads.");
+    return static_cast<std::int64_t>(number);
+  }
+  if (py::isinstance<py::float_>(object)) {
+    const double number = object.cast<double>();
+    if (!std::isfinite(number))
+      throw InputError(what + " holds " + py::repr(object).cast<std::string>() +
+                       ", which is not a JSON number.");
+    return number;
+  }
+  if (py::isinstance<py::str>(object)) return object.cast<std::string>();
+  if (py::isinstance<py::dict>(object)) {
+    nlohmann::json json = nlohmann::json::object();
+    for (const auto& [key, member] : py::reinterpret_borrow<py::dict>(object)) {
+      if (!py::isinstance<py::str>(key))
+        throw py::type_error(what + " has the key " + py::repr(key).cast<std::string>() +
+                             "; the keys of a definition are str, as in its JSON file.");
+      const std::string name = key.cast<std::string>();
+      json[name] = FromPython(member, what + "[" + py::repr(key).cast<std::string>() + "]");
+    }
+    return json;
+  }
+  if (py::isinstance<py::list>(object) || py::isinstance<py::tuple>(object)) {
+    nlohmann::json json = nlohmann::json::array();
+    std::size_t index = 0;
+    for (const py::handle element : object)
+      json.push_back(FromPython(element, what + "[" + std::to_string(index++) + "]"));
+    return json;
+  }
+  throw py::type_error(what + " is " + Described(object) +
+                       ", which a JSON file cannot hold (a definition holds dicts, lists, str, numbers, "
+                       "bool and None).");
 }
 
 }  // namespace napkin::python

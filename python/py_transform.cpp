@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "app/transform.h"
@@ -75,34 +76,31 @@ Value ReadOnce(const std::filesystem::path& path, Value (*read)(const std::files
   return cache.insert_or_assign(key, Entry{std::move(content), std::move(value)}).first->second.value;
 }
 
-// A definition given as a dict: napkin/__init__.py passes its JSON text
-// (it starts with '{', which no preset name or path napkin reads does),
-// parsed by the reader of its files, `source` naming it in messages.
-template <typename Parse>
-auto ParseDefinitionText(const std::string& text, const std::string& source, Parse parse) {
-  const nlohmann::json json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (json.is_discarded()) throw InputError(source + " is not valid JSON.");
-  return parse(json, source);
+// An array or processing config as napkin.transform takes it: a dict (the
+// JSON file's content, e.g. Catalogue.test_inputs' stored array definition),
+// converted as it is (FromPython), or a preset name or file path.
+using Definition = std::variant<nlohmann::json, std::string>;
+
+Definition AsDefinition(const py::handle& object, const std::string& what) {
+  if (py::isinstance<py::dict>(object)) return FromPython(object, what);
+  return AsNameOrPath(object, what);
 }
 
-// The array `array` names: an array definition's JSON text (e.g.
-// Catalogue.test_inputs' stored definition), a preset name or a JSON file's path.
-engine::ArrayGeometry ResolveArray(const std::string& array, const std::filesystem::path& presets) {
-  if (array.starts_with('{'))
-    return ParseDefinitionText(array, "the array definition given to napkin.transform",
-                               formats::ParseArrayJson);
-  return ReadOnce(formats::ResolvePreset(formats::PresetKind::kArray, array, presets),
+// The array `array` gives, read by the reader of array files.
+engine::ArrayGeometry ResolveArray(const Definition& array, const std::filesystem::path& presets) {
+  if (const auto* json = std::get_if<nlohmann::json>(&array))
+    return formats::ParseArrayJson(*json, "the array definition given to napkin.transform");
+  return ReadOnce(formats::ResolvePreset(formats::PresetKind::kArray, std::get<std::string>(array), presets),
                   formats::ReadArrayJson);
 }
 
-// The processing config `config` names: a config's JSON text (a dict, as
-// the file's content), a preset name or a JSON file's path.
-engine::ProcessingConfig ResolveProcessingConfig(const std::string& config, const std::string& function,
+// The processing config `config` gives, read by the reader of config files.
+engine::ProcessingConfig ResolveProcessingConfig(const Definition& config, const std::string& function,
                                                  const std::filesystem::path& presets) {
-  if (config.starts_with('{'))
-    return ParseDefinitionText(config, "the processing config given to " + function,
-                               formats::ParseProcessingConfig);
-  return ReadOnce(records::ProcessingConfigPath(config, presets), formats::ReadProcessingConfig);
+  if (const auto* json = std::get_if<nlohmann::json>(&config))
+    return formats::ParseProcessingConfig(*json, "the processing config given to " + function);
+  return ReadOnce(records::ProcessingConfigPath(std::get<std::string>(config), presets),
+                  formats::ReadProcessingConfig);
 }
 
 std::string SlotList(const engine::ArrayGeometry& array) {
@@ -275,7 +273,7 @@ py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals
                    const engine::InitialState& initial, const engine::ProcessingConfig& config,
                    const std::string& source, const std::string& test_id);
 
-// (summary JSON text, {derived channel name: array}); napkin/__init__.py
+// (summary as a dict (ToPython), {derived channel name: array}); napkin/__init__.py
 // makes the TransformResult. Arguments arrive as Python objects and are
 // converted here, so that one of the wrong type raises TypeError naming it.
 py::tuple Transform(const py::object& channels, const py::object& time_s, const py::object& dt_object,
@@ -286,8 +284,8 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
   const std::string function = "napkin.transform: ";
   const std::string test_id = AsText(test_id_object, function + "test_id", "a test id");
   const std::optional<double> dt = AsOptionalReal(dt_object, function + "dt_s", "the sampling interval in s");
-  const std::string array_name = AsNameOrPath(array_object, function + "array");
-  const std::string config_name = AsNameOrPath(config_object, function + "config");
+  const Definition array_definition = AsDefinition(array_object, function + "array");
+  const Definition config_definition = AsDefinition(config_object, function + "config");
   const std::vector<double> orientation_rad =
       AsReals(orientation_object, function + "orientation_rad", "phi, theta, psi in rad");
   const std::vector<double> initial_velocity_mps =
@@ -299,8 +297,8 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
 
   const std::string source = Source(test_id);
   const std::filesystem::path presets = formats::DefaultConfigDir();
-  const engine::ArrayGeometry array = ResolveArray(array_name, presets);
-  engine::ProcessingConfig config = ResolveProcessingConfig(config_name, "napkin.transform", presets);
+  const engine::ArrayGeometry array = ResolveArray(array_definition, presets);
+  engine::ProcessingConfig config = ResolveProcessingConfig(config_definition, "napkin.transform", presets);
   if (solver) app::SetSolver(config, *solver);
   const auto [samples, dt_estimate] = SizeOf(channels, array, dt, time_s);
   CheckMemory(array, samples, dt_estimate, config, source);
@@ -316,7 +314,7 @@ py::tuple Transform(const py::object& channels, const py::object& time_s, const 
 }
 
 // napkin.transform_file: one test file of any input format read as `napkin transform` reads it
-// (app::ReadTestFile) and processed as transform processes samples; (summary JSON text, derived
+// (app::ReadTestFile) and processed as transform processes samples; (summary dict, derived
 // channels, warnings).
 py::tuple TransformFile(const py::object& path_object, const py::object& array_object,
                         const py::object& channel_map_object, const py::object& position_object,
@@ -342,7 +340,7 @@ py::tuple TransformFile(const py::object& path_object, const py::object& array_o
                                         "a CSV column name"));
   }
   read.array_option = "array=";
-  const std::string config_name = AsNameOrPath(config_object, function + "config");
+  const Definition config_definition = AsDefinition(config_object, function + "config");
   const std::vector<double> orientation_rad =
       AsReals(orientation_object, function + "orientation_rad", "phi, theta, psi in rad");
   const std::vector<double> initial_velocity_mps =
@@ -352,7 +350,8 @@ py::tuple TransformFile(const py::object& path_object, const py::object& array_o
 
   const std::filesystem::path presets = formats::DefaultConfigDir();
   read.config_dir = presets;
-  engine::ProcessingConfig config = ResolveProcessingConfig(config_name, "napkin.transform_file", presets);
+  engine::ProcessingConfig config =
+      ResolveProcessingConfig(config_definition, "napkin.transform_file", presets);
   if (solver) app::SetSolver(config, *solver);
   const app::TestFile file = app::ReadTestFile(read);
   CheckMemory(file.array, file.signals.size(), file.signals.dt_s, config, read.path);
@@ -366,7 +365,7 @@ py::tuple TransformFile(const py::object& path_object, const py::object& array_o
 }
 
 // One test's signals processed as `napkin transform` processes them (app::ProcessSignals), Ctrl-C
-// stopping the computation: (summary JSON text, {derived channel name: array}).
+// stopping the computation: (summary dict, {derived channel name: array}).
 py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals& signals,
                    const engine::InitialState& initial, const engine::ProcessingConfig& config,
                    const std::string& source, const std::string& test_id) {
@@ -412,11 +411,9 @@ py::tuple Computed(const engine::ArrayGeometry& array, const engine::TestSignals
   // The handler's exception (KeyboardInterrupt) is set: raise it, whether or
   // not the computation ended first.
   if (interrupted) throw py::error_already_set();
-  const std::string summary_json =
-      formats::SummaryToJson(processed.summary, test_id, "", "")
-          .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  const py::object summary = ToPython(formats::SummaryToJson(processed.summary, test_id, "", ""));
   RaiseIfSignalled();
-  return py::make_tuple(summary_json, DerivedChannelsToNumpy(std::move(processed.kinematics)));
+  return py::make_tuple(summary, DerivedChannelsToNumpy(std::move(processed.kinematics)));
 }
 
 }  // namespace

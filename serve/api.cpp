@@ -75,13 +75,6 @@ std::optional<std::string> One(const Params& params, const std::string& name) {
   return it->second;
 }
 
-// One row of `table` as an object, keys the columns in order (as FormatTable's JSON).
-Json RowObject(const db::Table& table, const std::vector<db::Cell>& row) {
-  // FormatTable is the one place that turns cells into JSON: its array's one object.
-  db::Table one{table.columns, {row}};
-  return Json::parse(app::FormatTable(one, app::TableFormat::kJson)).at(0);
-}
-
 // The series a report route names: exactly one, never empty.
 std::string SeriesOf(const Params& params) {
   CheckParameters(params, {"series"});
@@ -254,8 +247,9 @@ Response Api::Query(std::string_view kind, const Params& params) const {
   query.kind = spec->name;
   query.filters.where = All(params, "where");
   query.filters.sort = All(params, "sort");
-  query.filters.series = All(params, "series");
-  query.filters.variants = All(params, "variant");
+  query.filters.tests.series = All(params, "series");
+  query.filters.tests.variants = All(params, "variant");
+  query.filters.front_end = app::FrontEnd::kService;
   query.filters.limit = One(params, "limit").value_or("");
   query.filters.config = One(params, "config").value_or("");
   query.limits = One(params, "limits");
@@ -277,7 +271,7 @@ Response Api::Query(std::string_view kind, const Params& params) const {
 Response Api::TestSummary(const std::string& test_id) const {
   db::Catalogue catalogue = OpenForRequest(options_);
   if (!catalogue.FindTestByExternalId(test_id))
-    throw NotFoundError("test '" + test_id + "' is not in catalogue '" + options_.db_path + "'.");
+    throw NotFoundError("test '" + test_id + "' is not in catalogue '" + catalogue.path() + "'.");
   Json summary;
   summary["test_id"] = test_id;
   // The kinds the table gives the summary (db::QueryKindSpec::test_summary), in its order.
@@ -286,15 +280,15 @@ Response Api::TestSummary(const std::string& test_id) const {
     app::Query query;
     query.kind = kind.name;
     app::PreparedQuery prepared = app::PrepareQuery(query);
-    prepared.request.external_ids = {test_id};
+    prepared.request.tests.external_ids = {test_id};
     const db::Table table = app::RunQuery(catalogue, prepared);
     if (kind.test_summary == db::TestSummaryPart::kAllRows) {
       // A test has any number of findings: all of them.
       Json rows = Json::array();
-      for (const std::vector<db::Cell>& row : table.rows) rows.push_back(RowObject(table, row));
+      for (const std::vector<db::Cell>& row : table.rows) rows.push_back(app::TableRowJson(table, row));
       summary[kind.name] = std::move(rows);
     } else {
-      summary[kind.name] = table.rows.empty() ? Json(nullptr) : RowObject(table, table.rows.front());
+      summary[kind.name] = table.rows.empty() ? Json(nullptr) : app::TableRowJson(table, table.rows.front());
     }
   }
   return Response{200, "application/json", Dump(summary)};
@@ -308,7 +302,7 @@ Response Api::Channels(const std::string& test_id, const Params& params) const {
   for (const auto& [name, value] : params) options.Add(name, value);
   const app::ExportRequest request = app::ParseExportRequest(test_id, options);
   db::Catalogue catalogue = OpenForRequest(options_);
-  std::vector<app::ExportedFile> files = app::ExportToMemory(catalogue, request, options_.db_path);
+  std::vector<app::ExportedFile> files = app::ExportToMemory(catalogue, request);
   const std::string content_type(request.format->content_type);
   if (!request.format->folder) return Response{200, content_type, std::move(files.front().bytes)};
   // A folder format: its files as one zip archive, each under its path in the folder.
@@ -329,7 +323,10 @@ Response Api::Compare(const Params& params) const {
 }
 
 Response Api::ReportVersion(const Params& params) const {
-  const std::string series = SeriesOf(params);
+  return Response{200, "application/json", Dump(Json{{"version", SeriesVersion(SeriesOf(params))}})};
+}
+
+std::string Api::SeriesVersion(const std::string& series) const {
   db::Catalogue catalogue = OpenForRequest(options_);
   // Every test of the series and every field of its latest results (query tests and criteria):
   // a test that arrives, a result computed or recomputed changes one of them.
@@ -337,11 +334,11 @@ Response Api::ReportVersion(const Params& params) const {
   for (const char* kind : {"tests", "criteria"}) {
     app::Query query;
     query.kind = kind;
-    query.filters.series = {series};
+    query.filters.tests.series = {series};
     const db::Table table = app::RunQuery(catalogue, app::PrepareQuery(query));
     // A series without tests has no report to follow: the sentence `napkin report` gives for it.
     if (std::string_view(kind) == "tests" && table.rows.empty())
-      throw InputError("no test in catalogue '" + options_.db_path + "' matches series " +
+      throw InputError("no test in catalogue '" + catalogue.path() + "' matches series " +
                        util::EscapeControl(series) + ".");
     rows += app::FormatTable(table, app::TableFormat::kCsv);
   }
@@ -350,14 +347,14 @@ Response Api::ReportVersion(const Params& params) const {
   for (const char c : rows) hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
-  return Response{200, "application/json", Dump(Json{{"version", hex}})};
+  return hex;
 }
 
 Response Api::Report(const Params& params) const {
   const std::string series = SeriesOf(params);
-  const std::string version = Json::parse(ReportVersion(params).body).at("version").get<std::string>();
+  const std::string version = SeriesVersion(series);
   app::ReportSelection selection;
-  selection.series = {series};
+  selection.tests.series = {series};
   std::string page;
   app::WriteCatalogueReport(options_.db_path, selection, [&](std::string_view text) { page.append(text); });
   // The page updates itself in place when its series changes (docs/serve.md "Live report"); the

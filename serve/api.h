@@ -95,6 +95,9 @@ class Api {
   const ApiOptions& options() const { return options_; }
 
  private:
+  // The version ReportVersion answers for `series` (16 hex digits).
+  std::string SeriesVersion(const std::string& series) const;
+
   ApiOptions options_;
 };
 

@@ -89,9 +89,9 @@ bool Finished(db::Catalogue& catalogue, const std::string& config, const std::st
 // skipped in favour of the sidecar above.
 std::optional<std::string> ReadSidecarFile(const fs::path& path) {
   const std::string named = "sidecar '" + util::EscapeControl(path.string()) + "'";
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    const int error = errno;
+  const formats::OpenedForReading file = formats::OpenForReading(path, named);
+  if (file.open_error != 0) {
+    const int error = file.open_error;
     struct stat link {};
     if (error == ENOENT && ::lstat(path.c_str(), &link) != 0) return std::nullopt;  // no sidecar here
     if (error == ENOENT)
@@ -99,19 +99,14 @@ std::optional<std::string> ReadSidecarFile(const fs::path& path) {
     if (error == ELOOP) throw InputError(named + " is a loop of symbolic links.");
     throw InputError(named + " cannot be opened (" + std::strerror(error) + ").");
   }
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat status {};
-  if (::fstat(fd, &status) != 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+  const struct stat& status = file.status;
   if (!S_ISREG(status.st_mode))
     throw InputError(named + " is " + formats::FileTypeName(status.st_mode) +
                      ", not a regular file; a sidecar is a small JSON file.");
   if (static_cast<std::uintmax_t>(status.st_size) > kMaxSidecarBytes)
     throw InputError(named + " is " + std::to_string(status.st_size) + " bytes, more than the " +
                      std::to_string(kMaxSidecarBytes / 1024) + " KiB a sidecar may have.");
-  return formats::ReadDescriptor(fd, kMaxSidecarBytes, named, "a sidecar may have");
+  return formats::ReadDescriptor(file.fd.get(), kMaxSidecarBytes, named, "a sidecar may have");
 }
 
 }  // namespace

@@ -113,7 +113,7 @@ Json CatalogueStatus(const ApiOptions& options, const std::string& config = "") 
   open.read_only = true;
   open.busy_timeout_ms = options.busy_timeout_ms;
   db::Catalogue catalogue = db::Catalogue::Open(options.db_path, open);
-  return app::StatusJson(app::ReadStatus(catalogue, options.db_path, resolved));
+  return app::StatusJson(app::ReadStatus(catalogue, resolved));
 }
 
 // The status answers while another process holds the catalogue locked: after a
@@ -381,14 +381,10 @@ bool IsLoopbackHost(std::string_view host) {
 std::string ReadTokenFile(const std::string& path) {
   const std::string named = "--token-file '" + util::EscapeControl(path) + "'";
   // Judged on the descriptor opened (O_NONBLOCK: a FIFO never blocks the start), never on the path.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) throw InputError(named + " cannot be opened (" + std::strerror(errno) + ").");
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat status {};
-  if (::fstat(fd, &status) != 0) throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+  const formats::OpenedForReading file = formats::OpenForReading(path, named);
+  if (file.open_error != 0)
+    throw InputError(named + " cannot be opened (" + std::strerror(file.open_error) + ").");
+  const struct stat& status = file.status;
   if (S_ISDIR(status.st_mode)) throw InputError(named + " is a folder; give the file that holds the token.");
   if (!S_ISREG(status.st_mode))
     throw InputError(named + " is not a regular file (a FIFO, a device or a socket); the token is read " +
@@ -404,8 +400,8 @@ std::string ReadTokenFile(const std::string& path) {
   if (status.st_mode & (S_IRGRP | S_IROTH))
     spdlog::warn("{} may be read by other users (mode {}): they can use the token; e.g. `chmod 600 {}`",
                  named, ModeText(status.st_mode), util::EscapeControl(path));
-  std::string token = formats::ReadDescriptor(fd, static_cast<std::uintmax_t>(kMaxTokenFileBytes), named,
-                                              "a token file may have");
+  std::string token = formats::ReadDescriptor(file.fd.get(), static_cast<std::uintmax_t>(kMaxTokenFileBytes),
+                                              named, "a token file may have");
   while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
   if (token.size() < 16)
     throw InputError("--token-file '" + path + "' holds " +

@@ -64,7 +64,6 @@ mypy and IDEs check code that uses it.
 """
 
 import collections as _collections
-import json as _json
 import math as _math
 import numbers as _numbers
 import os as _os
@@ -220,12 +219,6 @@ def presets(kind):
     return _napkin._presets(kind)
 
 
-def _definition(value):
-    """A dict (an array definition or processing config, the JSON file's
-    content) as the JSON text the module parses; anything else as given."""
-    return _json.dumps(value) if isinstance(value, dict) else value
-
-
 class TransformResult:
     """What ``transform`` computed for one test.
 
@@ -286,10 +279,10 @@ def transform(channels, time_s=None, dt_s=None, *, array, config="default",
     (checked before anything is copied); the computation runs without the
     GIL, and Ctrl-C stops it (KeyboardInterrupt).
     """
-    summary_json, derived = _napkin.transform(
-        channels, time_s, dt_s, _definition(array), _definition(config), orientation_rad, initial_velocity_mps,
+    summary, derived = _napkin.transform(
+        channels, time_s, dt_s, array, config, orientation_rad, initial_velocity_mps,
         initial_omega_body_radps, solver, test_id)
-    return TransformResult(_json.loads(summary_json), derived)
+    return TransformResult(summary, derived)
 
 
 def transform_file(path, array=None, channel_map=None, position=None, columns=None, config="default",
@@ -314,12 +307,12 @@ def transform_file(path, array=None, channel_map=None, position=None, columns=No
     row and channel) for a file napkin does not read, ScreeningFailure for a
     test that fails screening.
     """
-    summary_json, derived, warnings = _napkin.transform_file(
-        path, array, channel_map, position, columns, _definition(config), orientation_rad, initial_velocity_mps,
+    summary, derived, warnings = _napkin.transform_file(
+        path, array, channel_map, position, columns, config, orientation_rad, initial_velocity_mps,
         solver)
     for warning in warnings:
         _warnings.warn(warning, stacklevel=2)
-    return TransformResult(_json.loads(summary_json), derived)
+    return TransformResult(summary, derived)
 
 
 _NAN = float("nan")

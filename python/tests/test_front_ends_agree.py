@@ -288,3 +288,18 @@ def test_compare_errors_are_one_sentence_spelled_by_each_front_end(catalogue, se
     cli = cli_error("--db", catalogue, "compare", "--series", "no-such-series")
     assert error_of(service, "/api/v1/compare?series=no-such-series") == cli
     assert python_error(opened.compare, "no-such-series") == cli
+
+
+def test_query_errors_are_one_sentence_spelled_by_each_front_end(catalogue, service):
+    """A bad where, sort or limit: the command line's sentence, naming the option as each front end
+    spells it ("--sort", "parameter 'sort'", "argument 'sort'")."""
+    opened = napkin.Catalogue(catalogue)
+    for option, value in (("where", "hic15>>3"), ("where", "nosuchfield=1"), ("sort", "hic16"),
+                          ("sort", "hic15:up"), ("limit", "-1")):
+        cli = cli_error("--db", catalogue, "query", "hic", "--" + option, value)
+        assert cli.startswith("--{} ".format(option)), cli
+        assert error_of(service, "/api/v1/query/hic?" + urllib.parse.urlencode({option: value})) == \
+            cli.replace("--" + option, "parameter '{}'".format(option), 1)
+        if option != "limit":  # Python's is an int, refused by its type
+            assert python_error(opened.query, "hic", **{option: value}) == \
+                cli.replace("--" + option, "argument '{}'".format(option), 1)

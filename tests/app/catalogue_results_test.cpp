@@ -66,16 +66,16 @@ TEST_F(AppOnCatalogue, EachChoiceNamesItsResult) {
   db::Catalogue catalogue = db::Catalogue::Open(path_);
   ASSERT_NE(float64_, none_);
   const std::string test = test_support::TestName(1);
-  EXPECT_EQ(ResultOf(catalogue, test, Latest{}, path_).config, none_);  // the result written last
-  EXPECT_EQ(ResultOf(catalogue, test, Stored{"float64"}, path_).config, float64_);
+  EXPECT_EQ(ResultOf(catalogue, test, Latest{}).config, none_);  // the result written last
+  EXPECT_EQ(ResultOf(catalogue, test, Stored{"float64"}).config, float64_);
   const std::string none_hash = catalogue.ReadConfig(none_).config_hash;
-  EXPECT_EQ(ResultOf(catalogue, test, Stored{util::ToUpper(none_hash.substr(0, 10))}, path_).config, none_);
-  EXPECT_EQ(ResultOf(catalogue, test, Stored{"none"}, path_).test, *catalogue.FindTestByExternalId(test));
-  EXPECT_THROW(ResultOf(catalogue, test, Stored{"nope"}, path_), UsageError);
-  EXPECT_EQ(test_support::ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}, path_); }),
+  EXPECT_EQ(ResultOf(catalogue, test, Stored{util::ToUpper(none_hash.substr(0, 10))}).config, none_);
+  EXPECT_EQ(ResultOf(catalogue, test, Stored{"none"}).test, *catalogue.FindTestByExternalId(test));
+  EXPECT_THROW(ResultOf(catalogue, test, Stored{"nope"}), UsageError);
+  EXPECT_EQ(test_support::ErrorText<NotFoundError>([&] { ResultOf(catalogue, "missing", Latest{}); }),
             "test 'missing' is not in catalogue '" + path_ + "'.");
   const std::string unrun = test_support::TestName(3);
-  EXPECT_EQ(test_support::ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}, path_); }),
+  EXPECT_EQ(test_support::ErrorText<InputError>([&] { ResultOf(catalogue, unrun, Latest{}); }),
             "test '" + unrun + "' has no results yet; run `napkin run` first.");
   EXPECT_FALSE(FindResult(catalogue, *catalogue.FindTestByExternalId(unrun), Stored{"float64"}));
 }
@@ -125,14 +125,14 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   options.channel = "acc_resultant_g";
   const std::size_t stored_before =
       catalogue.ReadCorrelations(*catalogue.FindTestByExternalId(test), none_).size();
-  const RatingRow self = RateAgainstTest(catalogue, path_, test, test, options);
+  const RatingRow self = RateAgainstTest(catalogue, test, test, options);
   for (const double score : {self.rating.corridor, self.rating.phase, self.rating.magnitude,
                              self.rating.slope, self.rating.overall})
     EXPECT_EQ(score, 1.0);
   EXPECT_EQ(self.rating.shift_s, 0.0);
   EXPECT_EQ(self.reference, test);
 
-  const TestResult result = ResultOf(catalogue, test, Latest{}, path_);
+  const TestResult result = ResultOf(catalogue, test, Latest{});
   const ChannelCurve channel =
       ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test);
   std::string keyword = "*KEYWORD\n*DEFINE_CURVE\n7\n";
@@ -144,7 +144,7 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   const ModelReference read = LoadModelCurve(model + ":7", channel, std::string("m,s,kg"));
   EXPECT_EQ(read.series.time_s, channel.series.time_s);
   EXPECT_EQ(read.series.values, channel.series.values);
-  const RatingRow against_model = RateAgainstModel(catalogue, path_, test, model + ":7", "m,s,kg", options);
+  const RatingRow against_model = RateAgainstModel(catalogue, test, model + ":7", "m,s,kg", options);
   EXPECT_EQ(against_model.rating.overall, 1.0);
   EXPECT_EQ(against_model.rating.grade, engine::Iso18571Grade::kExcellent);
   EXPECT_EQ(against_model.reference, "self.k:curve 7");
@@ -154,7 +154,7 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   const double first_us = channel.series.time_s(0) * 1e-6;
   const double last_us = channel.series.time_s(channel.series.time_s.size() - 1) * 1e-6;
   const std::string refused = test_support::ErrorText<InputError>(
-      [&] { RateAgainstModel(catalogue, path_, test, model + ":7", "m,us,kg", options); });
+      [&] { RateAgainstModel(catalogue, test, model + ":7", "m,us,kg", options); });
   EXPECT_NE(refused.find("curve 'curve 7' runs from " + util::FormatNumber(first_us, 4) + " to " +
                          util::FormatNumber(last_us, 4) + " s, which covers"),
             std::string::npos)

@@ -709,7 +709,7 @@ TEST_F(CliCompare, SeriesWhoseTestsFailedSaysSoAndPointsToStatus) {
     const db::ConfigId config = *catalogue.FindConfigByHash("d0a1b2c3d4e5f6071829");
     db::JobQueue queue(catalogue);
     db::JobScope scope;
-    scope.tests.series = "drop";
+    scope.tests.series = {"drop"};
     ASSERT_EQ(queue.EnqueueMissing(config, scope), 1);
     const std::vector<db::Job> jobs = queue.ClaimJobs(config, "test-worker", 1, 60.0, scope);
     ASSERT_EQ(jobs.size(), 1u);

@@ -52,7 +52,7 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
   EXPECT_EQ(stored.peak_omega_radps, expected.summary.peak_omega_radps);
 
   db::QueryRequest marked_rows;
-  marked_rows.external_ids = {"marked"};
+  marked_rows.tests.external_ids = {"marked"};
   const db::Table conditioning = catalogue.Query(db::QueryKind::kConditioning, marked_rows);
   ASSERT_EQ(conditioning.rows.size(), 9u);
   for (const auto& row : conditioning.rows) {
@@ -60,7 +60,7 @@ TEST(CliConditioning, ChannelsMarkedCfc1000AreNotFilteredAgainAndQueriesSaySo) {
     EXPECT_EQ(std::get<double>(row[7]), 1000.0);
   }
   db::QueryRequest raw_rows;
-  raw_rows.external_ids = {"raw"};
+  raw_rows.tests.external_ids = {"raw"};
   const db::Table raw = catalogue.Query(db::QueryKind::kConditioning, raw_rows);
   ASSERT_EQ(raw.rows.size(), 9u);
   for (const auto& row : raw.rows) {

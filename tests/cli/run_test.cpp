@@ -8,7 +8,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
+#include <string>
 #include <thread>
+#include <utility>
 
 #include "db/catalogue.h"
 #include "formats/csv.h"
@@ -276,6 +279,31 @@ TEST_F(RunCliTest, UnknownTestsAndBadShardsAreRefused) {
   const nlohmann::json status = Status(db);
   EXPECT_EQ(status["done"], 1);
   EXPECT_EQ(status["pending"], 1);
+}
+
+// --series is repeatable, as in query and report (one selection of tests, db::TestFilter): the
+// tests of every series named, none of another; an unknown one is refused naming it.
+TEST_F(RunCliTest, RepeatedSeriesRunTheTestsOfEachAndNoOther) {
+  const std::string db = dir_ / "series.db";
+  for (const auto& [series, seed] : {std::pair{"a", "1"}, std::pair{"b", "101"}, std::pair{"c", "201"}}) {
+    const CliResult synth = Napkin({"synth", "--scenario", "random", "--count", "2", "--samples", "300",
+                                    "--seed", seed, "--series", series, "--test-id", series},
+                                   db);
+    ASSERT_EQ(synth.exit_code, 0) << synth.err;
+  }
+  const CliResult unknown = Napkin({"run", "--series", "a", "--series", "nope"}, db);
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_THAT(unknown.err, HasSubstr("series 'nope' is not in catalogue"));
+  EXPECT_EQ(Status(db)["done"], 0) << "nothing run before the scope is checked";
+  const CliResult two = Napkin({"run", "--series", "a", "--series", "c"}, db);
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const CliResult done = Napkin({"query", "hic", "--format", "json"}, db);
+  ASSERT_EQ(done.exit_code, 0) << done.err;
+  std::multiset<std::string> series;
+  for (const nlohmann::json& row : nlohmann::json::parse(done.out))
+    if (!row["hic15"].is_null()) series.insert(row["series"].get<std::string>());
+  EXPECT_EQ(series, (std::multiset<std::string>{"a", "a", "c", "c"}));
+  EXPECT_EQ(Status(db)["pending"], 2);
 }
 
 }  // namespace

@@ -154,16 +154,16 @@ TEST_F(CatalogueTest, HostileNamesRoundTripAndQueryCorrectly) {
   catalogue_.WriteResult(plain, config_, summary, "exact");
 
   ASSERT_EQ(catalogue_.ReadAllTests().size(), 2u) << "table tests must still exist";
-  const auto by_series = catalogue_.ReadAllTests({hostile_series, std::nullopt, {}});
+  const auto by_series = catalogue_.ReadAllTests({{hostile_series}, {}, {}});
   ASSERT_EQ(by_series.size(), 1u);
   EXPECT_EQ(by_series[0].external_id, hostile_id);
   EXPECT_EQ(by_series[0].series, hostile_series);
   EXPECT_EQ(by_series[0].variant, hostile_variant);
-  EXPECT_EQ(catalogue_.ReadAllTests({std::nullopt, hostile_variant, {}}).size(), 1u);
-  EXPECT_EQ(catalogue_.ReadAllTests({std::nullopt, std::nullopt, {hostile_id}}).size(), 1u);
+  EXPECT_EQ(catalogue_.ReadAllTests({{}, {hostile_variant}, {}}).size(), 1u);
+  EXPECT_EQ(catalogue_.ReadAllTests({{}, {}, {hostile_id}}).size(), 1u);
   EXPECT_EQ(catalogue_.ReadSeries(hostile_series)->name, hostile_series);
 
-  const Table hic = catalogue_.Query(QueryKind::kHic, {hostile_series, std::nullopt, {}});
+  const Table hic = catalogue_.Query(QueryKind::kHic, TestFilter{{hostile_series}, {}, {}});
   ASSERT_EQ(hic.rows.size(), 1u);
   EXPECT_EQ(std::get<std::string>(hic.rows[0][0]), hostile_id);
   EXPECT_EQ(std::get<std::string>(hic.rows[0][1]), hostile_series);
@@ -499,11 +499,11 @@ TEST_F(CatalogueTest, QueriesShowEachTestsLatestResultFilteredByLabels) {
   EXPECT_EQ(std::get<double>(all.rows[1][3]), 200.0);
   EXPECT_EQ(std::get<double>(all.rows[2][3]), 300.0);
 
-  const Table sled_a = catalogue_.Query(QueryKind::kCriteria, {"sled", "A", {}});
+  const Table sled_a = catalogue_.Query(QueryKind::kCriteria, TestFilter{{"sled"}, {"A"}, {}});
   ASSERT_EQ(sled_a.rows.size(), 1u);
   EXPECT_EQ(std::get<std::string>(sled_a.rows[0][0]), "a1");
 
-  const auto summaries = inspector_.ReadAllSummaries({std::nullopt, "A", {}});
+  const auto summaries = inspector_.ReadAllSummaries({{}, {"A"}, {}});
   ASSERT_EQ(summaries.size(), 2u);
   EXPECT_EQ(summaries[0].test_id, "a1");
   EXPECT_EQ(summaries[0].summary.hic15.value, 110.0);

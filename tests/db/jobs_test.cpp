@@ -245,7 +245,7 @@ TEST_F(JobsTest, ScopesSelectBySeriesVariantIdsAndShard) {
   const ConfigId config = catalogue.WriteConfig(test_support::DefaultConfig());
 
   JobScope variant_a;
-  variant_a.tests = {"S", "A", {}};
+  variant_a.tests = {{"S"}, {"A"}, {}};
   EXPECT_EQ(queue.ReadStatusCounts(config, variant_a).tests, 5);
   JobScope two_ids;
   two_ids.tests.external_ids = {"t003", "other", "absent"};
@@ -289,7 +289,7 @@ TEST_F(JobsTest, ClaimsStayInTheirScopeAndReleasedLeasesAreClaimableAtOnce) {
   EXPECT_EQ(queue.EnqueueMissing(config), 6);
 
   JobScope variant_b;
-  variant_b.tests.variant = "B";
+  variant_b.tests.variants = {"B"};
   const auto b_jobs = queue.ClaimJobs(config, "dead", 10, 600.0, variant_b);
   ASSERT_EQ(b_jobs.size(), 3u);
   for (const Job& job : b_jobs) EXPECT_EQ(catalogue.ReadTest(job.test_id).variant, "B");

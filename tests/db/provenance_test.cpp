@@ -192,7 +192,7 @@ TEST_F(ProvenanceTest, VersionCountsGroupResultsAndFailuresByConfigAndVersion) {
   EXPECT_EQ(t1[1].napkin_version, kNewVersion);
   EXPECT_EQ(t1[1].results, 1);
   JobScope no_tests;
-  no_tests.tests.series = "none";
+  no_tests.tests.series = {"none"};
   EXPECT_TRUE(queue.ReadVersionCounts(no_tests).empty());
 }
 

@@ -77,13 +77,16 @@ class QueryPlanTest : public ::testing::Test {
     std::vector<std::pair<std::string, JobScope>> scopes;
     scopes.emplace_back("the whole catalogue", JobScope{});
     JobScope series;
-    series.tests.series = "S";
+    series.tests.series = {"S"};
     scopes.emplace_back("a series", series);
+    JobScope two_series;
+    two_series.tests.series = {"S", "T"};
+    scopes.emplace_back("two series", two_series);
     JobScope variant;
-    variant.tests.variant = "A";
+    variant.tests.variants = {"A"};
     scopes.emplace_back("a variant", variant);
     JobScope series_variant = series;
-    series_variant.tests.variant = "B";
+    series_variant.tests.variants = {"B"};
     scopes.emplace_back("a series and variant", series_variant);
     JobScope named;
     named.tests.external_ids = {"t101", "t117"};
@@ -130,7 +133,7 @@ TEST_F(QueryPlanTest, TheUpToDateCheckLooksUpEachTestsJobAndResult) {
       // The scope itself is read through the indexes when it names tests or
       // a series; the whole catalogue, a shard or a variant alone (which no
       // index holds) are one walk of the tests, once a run.
-      const bool indexed = !scope.tests.external_ids.empty() || scope.tests.series;
+      const bool indexed = !scope.tests.external_ids.empty() || !scope.tests.series.empty();
       if (indexed) {
         EXPECT_THAT(TableWalksInPlan(plan, kTestsNames), ::testing::IsEmpty()) << name << ":\n"
                                                                                << PlanText(plan);

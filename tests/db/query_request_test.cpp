@@ -143,8 +143,8 @@ TEST_F(QueryRequestTest, SqlInValuesIsAValueAndLeavesTheCatalogueAlone) {
   EXPECT_THAT(Ids(Where(Compare("variant", ComparisonOperator::kEqual, std::string("A\" OR 1=1 --")))),
               ElementsAre("h1"));
   QueryRequest by_label;
-  by_label.series = {hostile_series};
-  by_label.variants = {"' OR ''='"};
+  by_label.tests.series = {hostile_series};
+  by_label.tests.variants = {"' OR ''='"};
   EXPECT_THAT(Ids(by_label), IsEmpty());
   EXPECT_EQ(inspector_.Dump(), before) << "the catalogue is unchanged";
   EXPECT_EQ(catalogue_.Query(QueryKind::kTests).rows.size(), 6u);
@@ -212,14 +212,14 @@ TEST_F(QueryRequestTest, ConfigSelectsThatResultSetForEveryKind) {
 
 TEST_F(QueryRequestTest, RepeatedSeriesAndVariantsMatchAnyWithinAndAllAcross) {
   QueryRequest request;
-  request.series = {"sled", "tower"};
+  request.tests.series = {"sled", "tower"};
   EXPECT_THAT(Ids(request, QueryKind::kTests), ElementsAre("a1", "a2", "a3", "a5"));
-  request.variants = {"B"};
+  request.tests.variants = {"B"};
   EXPECT_THAT(Ids(request, QueryKind::kTests), ElementsAre("a2"));
-  request.series.clear();
-  request.variants = {"A", "B"};
+  request.tests.series.clear();
+  request.tests.variants = {"A", "B"};
   EXPECT_THAT(Ids(request, QueryKind::kTests), ElementsAre("a1", "a2", "a3", "a4", "a5"));
-  request.external_ids = {"a4", "a5"};
+  request.tests.external_ids = {"a4", "a5"};
   EXPECT_THAT(Ids(request, QueryKind::kTests), ElementsAre("a4", "a5"));
 }
 
