@@ -32,6 +32,22 @@ def test_unknown_presets_raise_the_cli_sentence(tmp_path):
                                          tmp_path / "in.csv", "--out", tmp_path / "o.csv")
 
 
+def test_a_definition_given_as_a_dict_is_read_as_its_json_file_would_be():
+    """A dict is converted to JSON directly (no text passes between the module and the library):
+    what a JSON file cannot hold is refused naming the argument, what it can is read by the file's
+    reader with its sentences."""
+    filtered = transform(good_channels(), config={"name": "cfc60", "filter": {"linear_cfc": 60.0}})
+    assert filtered.summary["peak_acc_g"] == pytest.approx(np.sqrt(3.0), rel=1e-9)
+    with pytest.raises(napkin.InputError, match=r"^napkin.transform: config\['filter'\]\['linear_cfc'\] holds nan"):
+        transform(good_channels(), config={"name": "x", "filter": {"linear_cfc": float("nan")}})
+    with pytest.raises(TypeError, match=r"config has the key 1; the keys of a definition are str"):
+        transform(good_channels(), config={1: "x"})
+    with pytest.raises(TypeError, match=r"config\['name'\] is .*set.*which a JSON file cannot hold"):
+        transform(good_channels(), config={"name": {"x"}})
+    with pytest.raises(napkin.InputError, match="the processing config given to napkin.transform"):
+        transform(good_channels(), config={"name": "x", "filter": {"linear_cfc": "sixty"}})
+
+
 def test_unknown_and_missing_slots():
     with pytest.raises(ValueError, match=r'slot "cg_w", which array "3a-cg" does not have \(its slots: '
                                          r'cg_x, cg_y, cg_z\)'):
