@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "db/catalogue.h"
 #include "formats/html_report.h"
 
 namespace napkin::app {
