@@ -140,8 +140,41 @@ void CheckPointCount(std::size_t points, const std::filesystem::path& path, long
                      std::to_string(kMaxModelCurvePoints) + " points, the most napkin reads as one curve.");
 }
 
-// A kept curve's numbers as one Eigen vector; `TakeVector` frees the numbers at once, so a curve
-// is in memory at most once and a half while it changes hands.
+// The numbers of a kept curve, read one by one into the Eigen vector the curve keeps: allocated
+// once for the most points the file's bytes can hold (`capacity`, at most kMaxModelCurvePoints
+// and one), which the system backs with memory only where a number is written, and cut to its
+// length in place at the end (Eigen's conservativeResize reallocates, and a shrinking realloc
+// keeps the block where it is). A std::vector's doubling held up to three times a curve's
+// numbers while it grew and its copy into Eigen a second one (issue 42, point 14:
+// bench/run_model_memory.sh measures the peak against the curve's bytes).
+class CurveNumbers {
+ public:
+  CurveNumbers() = default;
+  CurveNumbers(std::uintmax_t capacity, const std::filesystem::path& path)
+      : numbers_(static_cast<Eigen::Index>(std::min<std::uintmax_t>(capacity, kMaxModelCurvePoints + 1))),
+        path_(&path) {}
+
+  void push_back(double value) {
+    // More points than the file's bytes allowed when it was opened: it grew meanwhile.
+    if (size_ == numbers_.size())
+      throw InputError(ModelFileName(*path_) + " changed while it was being read; rate it again.");
+    numbers_[size_++] = value;
+  }
+  // The numbers as the curve's vector, this buffer left empty; Copy leaves them here.
+  Eigen::VectorXd Take() {
+    numbers_.conservativeResize(size_);
+    size_ = 0;
+    return std::move(numbers_);
+  }
+  Eigen::VectorXd Copy() const { return numbers_.head(size_); }
+
+ private:
+  Eigen::VectorXd numbers_;
+  Eigen::Index size_ = 0;
+  const std::filesystem::path* path_ = nullptr;
+};
+
+// A nodout curve's numbers as one Eigen vector; `TakeVector` frees the numbers at once.
 Eigen::VectorXd CopyVector(const std::vector<double>& numbers) {
   return Eigen::Map<const Eigen::VectorXd>(numbers.data(), static_cast<Eigen::Index>(numbers.size()));
 }
@@ -231,11 +264,12 @@ KeepCurve KeepEvery() {
 ModelFile ReadModelFile(const std::filesystem::path& path) {
   // One descriptor, its type and size checked by fstat (formats/json_file.h), read through once
   // for the hash; the readers read it again from the same descriptor (ModelLines).
-  ModelFile file{path, OpenRegularFile(path, kMaxModelFileBytes), {}, {}};
+  ModelFile file{path, OpenRegularFile(path, kMaxModelFileBytes), {}, {}, 0};
   util::Sha256 hash;
   ReadDescriptorInChunks(file.fd.get(), kMaxModelFileBytes, ModelFileName(path) + ":",
                          "napkin reads from one model file", [&](std::string_view chunk) {
                            hash.Update(chunk);
+                           file.bytes += chunk.size();
                            if (file.head.size() < kModelHeadBytes)
                              file.head.append(chunk.substr(0, kModelHeadBytes - file.head.size()));
                          });
@@ -343,7 +377,7 @@ ModelCurves ReadModelCsv(const ModelFile& file, const KeepCurve& keep) {
     Dimension dimension{};
     double si = 1.0;
     bool kept = false;
-    std::vector<double> values;  // kept: SI, NaN where empty
+    CurveNumbers values;  // kept: SI, NaN where empty
     std::size_t empty = 0;
     long first_empty_line = 0;
   };
@@ -361,7 +395,12 @@ ModelCurves ReadModelCsv(const ModelFile& file, const KeepCurve& keep) {
     columns[c].kept = keep(header[c]);
     any_kept = any_kept || columns[c].kept;
   }
-  std::vector<double> time_s;  // when a column is kept
+  // A row holds at least a comma between each two fields and its line's end: the most rows the
+  // file can hold, for the kept columns' numbers (CurveNumbers).
+  const std::uintmax_t most_rows = file.bytes / header.size() + 1;
+  for (Column& column : columns)
+    if (column.kept) column.values = CurveNumbers(most_rows, path);
+  CurveNumbers time_s = any_kept ? CurveNumbers(most_rows, path) : CurveNumbers();  // when a column is kept
   IncreasingTimes times;
   std::size_t rows = 0;
   long first_empty_time_line = 0;
@@ -400,6 +439,10 @@ ModelCurves ReadModelCsv(const ModelFile& file, const KeepCurve& keep) {
   if (first_empty_time_line != 0) throw InputError(At(path, first_empty_time_line) + "the time is empty.");
   times.Check(path);
   ModelCurves curves;
+  // The last kept column takes the time's numbers; the others copy them.
+  std::optional<std::size_t> last_kept;
+  for (std::size_t c = 0; c < header.size(); ++c)
+    if (c != *time_column && columns[c].kept && columns[c].empty != rows) last_kept = c;
   for (std::size_t c = 0; c < header.size(); ++c) {
     if (c == *time_column) continue;
     Column& column = columns[c];
@@ -410,7 +453,9 @@ ModelCurves ReadModelCsv(const ModelFile& file, const KeepCurve& keep) {
     }
     curves.names.push_back(header[c]);
     if (column.kept)
-      curves.kept.push_back({header[c], column.dimension, {CopyVector(time_s), TakeVector(column.values)}});
+      curves.kept.push_back({header[c],
+                             column.dimension,
+                             {c == last_kept ? time_s.Take() : time_s.Copy(), column.values.Take()}});
   }
   if (curves.names.empty())
     throw InputError(At(path, header_line) + "the header names no column besides the time.");
@@ -488,7 +533,11 @@ ModelCurves ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units, con
     if (!title.empty()) name += " " + title;
     const bool kept = keep(name);
     const std::string curve_text = "curve " + lcid_text;
-    std::vector<double> time_s, values;  // kept only
+    // A point's line holds at least two numbers, a separator and its end: the most points the rest
+    // of the file can hold, for the kept curve's numbers (CurveNumbers).
+    const std::uintmax_t most_points = file.bytes / 4 + 1;
+    CurveNumbers time_s = kept ? CurveNumbers(most_points, path) : CurveNumbers();
+    CurveNumbers values = kept ? CurveNumbers(most_points, path) : CurveNumbers();
     IncreasingTimes times;
     while (next_card()) {
       CardFields(line, 20, 2, point);
@@ -510,7 +559,7 @@ ModelCurves ReadLsDynaCurves(const ModelFile& file, const ModelUnits& units, con
     if (times.count() < 2) throw InputError(At(path, card_line) + curve_text + " has fewer than 2 points.");
     times.Check(path);
     curves.names.push_back(name);
-    if (kept) curves.kept.push_back({name, std::nullopt, {TakeVector(time_s), TakeVector(values)}});
+    if (kept) curves.kept.push_back({name, std::nullopt, {time_s.Take(), values.Take()}});
   }
   if (curves.names.empty()) throw InputError(At(path, number) + "the keyword file has no *DEFINE_CURVE.");
   return curves;
