@@ -137,14 +137,14 @@ struct SortKey {
 // filter. Rows match every member (and within series, variants or test ids
 // any one of the names).
 struct QueryRequest {
-  TestFilter tests;
+  TestFilter tests;                    // the tests whose rows are shown
   std::vector<WhereExpression> where;  // all must hold; fields from QueryFields(kind)
   // Sort keys in order (rows with NULL in a key come last in either
   // direction), then test_id (and for quality check, channel, detail).
   std::vector<SortKey> sort;
   std::optional<std::int64_t> limit;  // at most this many rows (>= 0)
   // The results (and findings) of this config; empty: each test's most
-  // recently written result. `tests` then lists the tests with a result of it.
+  // recently written result. Query kind `tests` then lists the tests with a result of it.
   std::optional<ConfigId> config;
 };
 
