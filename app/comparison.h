@@ -3,6 +3,9 @@
 // (docs/formats.md "napkin compare"; the statistics are engine/statistics.h,
 // docs/algorithms.md "Comparing groups of tests"). `napkin compare` prints
 // them; `napkin report` prints the same rows and plots the per-test values.
+// The statistics are app/comparison.cpp; the tables and words the front ends
+// print (ComparisonTable, FormatComparison, ComparisonPValueText) are
+// app/comparison_format.cpp.
 //
 // Groups are the series' variants (Welch's t against the baseline variant) or
 // the processing configs its tests were run under (paired t over the tests
