@@ -433,9 +433,12 @@ RatingRow RateAgainstModel(db::Catalogue& catalogue, const std::string& test_id,
       ChannelOf(ReadResultKinematics(catalogue, result.test, result.config), options.channel, test_id);
   const ModelReference model = LoadModelCurve(model_spec, channel, model_units);
   const std::string shown = model.file_name + ":" + model.column;
-  RatingRow row =
-      RateChannel(test_id, options, channel.series, model.series, TestChannelName(test_id, options.channel),
-                  ModelFile(ParseModelSpec(model_spec).path) + " curve '" + model.column + "'", shown);
+  // A sentence about the curve's times says the units they were read in: wrong --model-units are
+  // the usual reason a model's curve misses the test's interval (issue 42, point 14).
+  const std::string read_in = model.units ? " (read in --model-units " + *model.units + ")" : "";
+  RatingRow row = RateChannel(
+      test_id, options, channel.series, model.series, TestChannelName(test_id, options.channel),
+      ModelFile(ParseModelSpec(model_spec).path) + " curve '" + model.column + "'" + read_in, shown);
   db::CorrelationRow record = RatingRecord(result, row);
   record.reference_kind = "model";
   record.reference_key = "model:" + model.sha256 + ":" + model.column;

@@ -149,14 +149,15 @@ TEST_F(AppOnCatalogue, ATestAgainstItselfAndItsOwnCurveAsAModelRatesOne) {
   EXPECT_EQ(against_model.rating.grade, engine::Iso18571Grade::kExcellent);
   EXPECT_EQ(against_model.reference, "self.k:curve 7");
 
-  // The same numbers taken as microseconds: the model's time range under those units is said, and
-  // that it covers a sliver of the test.
+  // The same numbers taken as microseconds: the model's time range under those units is said, with
+  // the units, and that it covers a sliver of the test.
   const double first_us = channel.series.time_s(0) * 1e-6;
   const double last_us = channel.series.time_s(channel.series.time_s.size() - 1) * 1e-6;
   const std::string refused = test_support::ErrorText<InputError>(
       [&] { RateAgainstModel(catalogue, test, model + ":7", "m,us,kg", options); });
-  EXPECT_NE(refused.find("curve 'curve 7' runs from " + util::FormatNumber(first_us, 4) + " to " +
-                         util::FormatNumber(last_us, 4) + " s, which covers"),
+  EXPECT_NE(refused.find("curve 'curve 7' (read in --model-units m,us,kg) runs from " +
+                         util::FormatNumber(first_us, 4) + " to " + util::FormatNumber(last_us, 4) +
+                         " s, which covers"),
             std::string::npos)
       << refused;
   EXPECT_NE(refused.find("give --start and --end"), std::string::npos) << refused;

@@ -165,6 +165,17 @@ TEST_F(CorrelateCli, RatingsThatMeanNothingAreRefusedInOneSentence) {
                                        {"covers 4.9 %", "less than the 50 %", "--start and --end"});
   EXPECT_EQ(run({"--model", "sliver.csv", "--start", "0", "--end", "0.0049"}).exit_code, 0);
 
+  // An LS-DYNA model read in the wrong units (its seconds taken as milliseconds): the sentence
+  // gives the curve's times under those units and names them (issue 42, point 14).
+  ASSERT_EQ(Napkin({"export", "--test", test, "--format", "lsdyna", "--units", "si", "--out", "model_si.k"})
+                .exit_code,
+            0);
+  const RunResult wrong_units = run({"--model", "model_si.k:1", "--model-units", "m,ms,kg"});
+  EXPECT_EQ(wrong_units.exit_code, 1);
+  test_support::ExpectOneSentenceError(
+      wrong_units, {"curve 'curve 1' (read in --model-units m,ms,kg) runs from 0 to", "covers"});
+  EXPECT_EQ(run({"--model", "model_si.k:1", "--model-units", "m,s,kg"}).exit_code, 0) << "in its own units";
+
   const RunResult units = run({"--model", "sliver.csv", "--model-units", "mm,s,kg"});
   EXPECT_EQ(units.exit_code, 2);
   test_support::ExpectOneSentenceError(units, {"is a CSV, whose header gives its units"});

@@ -6,11 +6,16 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "common/error.h"
 #include "db/catalogue.h"
+#include "db/job_queue.h"
+#include "db/results_file.h"
 #include "schema/migrations.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
@@ -200,6 +205,79 @@ TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
   EXPECT_EQ(catalogue.ReadCorrelations(v2, config)[0].model_units, "m,s,kg");
   EXPECT_EQ(catalogue.MergeShard(shard_path).ratings_merged, 0);
   EXPECT_EQ(catalogue.ReadCorrelations(v1, config).size(), 3u);
+}
+
+// A results file (`run --results`) holding ratings: merge carries them onto the catalogue's tests,
+// matched by content hash, with their identity, as it carries a shard's (issue 42, point 2).
+TEST(CorrelationMerge, MergeCarriesTheRatingsOfAResultsFile) {
+  test_support::TempDir dir;
+  const std::string main_path = (dir.path() / "main.db").string();
+  const std::string results_path = (dir.path() / "results.db").string();
+  TestId v1{}, v2{};
+  {
+    Catalogue base = Catalogue::Open(main_path);
+    const ArrayId array = base.WriteArray(test_support::IdealArray());
+    v1 = test_support::AddTest(base, array, "v0001");
+    v2 = test_support::AddTest(base, array, "v0002");
+  }
+  {
+    Catalogue shared = ResultsFile::OpenSharedCatalogue(main_path);
+    Catalogue results = ResultsFile::Open(results_path, shared);
+    ASSERT_EQ(ResultsFile::CopyTests(shared, results, JobScope{}), 2);
+    const ConfigId config = results.WriteConfig(test_support::DefaultConfig());
+    results.WriteResult(v1, config, {}, "exact");
+    results.WriteResult(v2, config, {}, "exact");
+    CorrelationRow model;
+    model.test = v1;
+    model.config = config;
+    model.channel = "acc_resultant_g";
+    model.reference_kind = "model";
+    model.reference = "head.k:curve 4";
+    model.reference_key = "model:abc:curve 4:units=mm,s,kg";
+    model.model_file = "head.k";
+    model.model_sha256 = "abc";
+    model.model_column = "curve 4";
+    model.model_units = "mm,s,kg";
+    model.edition = "2014";
+    model.start_s = 0.01;
+    model.end_s = 0.1;
+    model.overall = 0.42;
+    model.grade = "poor";
+    results.WriteCorrelation(model);
+    CorrelationRow against = model;
+    against.reference_kind = "test";
+    against.reference = "v0002";
+    against.reference_key = "test:v0002";
+    against.model_file = against.model_sha256 = against.model_column = against.model_units = std::nullopt;
+    against.reference_test = v2;
+    against.edition = "2024";
+    against.overall = 0.97;
+    against.grade = "excellent";
+    results.WriteCorrelation(against);
+  }
+  Catalogue catalogue = Catalogue::Open(main_path);
+  const MergeReport merged = catalogue.MergeShard(results_path);
+  EXPECT_EQ(merged.results_merged, 2);
+  EXPECT_EQ(merged.ratings_merged, 2);
+  const std::optional<ConfigId> config =
+      catalogue.FindConfigByHash(test_support::DefaultConfig().config_hash);
+  ASSERT_TRUE(config);
+  const std::vector<CorrelationRow> ratings = catalogue.ReadCorrelations(v1, *config);
+  ASSERT_EQ(ratings.size(), 2u);
+  std::map<std::string, const CorrelationRow*> by_key;
+  for (const CorrelationRow& rating : ratings) by_key[rating.reference_key] = &rating;
+  ASSERT_TRUE(by_key.count("model:abc:curve 4:units=mm,s,kg"));
+  const CorrelationRow& model = *by_key["model:abc:curve 4:units=mm,s,kg"];
+  EXPECT_EQ(model.model_units, "mm,s,kg");
+  EXPECT_EQ(model.model_sha256, "abc");
+  EXPECT_EQ(model.edition, "2014");
+  EXPECT_EQ(model.start_s, 0.01);
+  EXPECT_EQ(model.end_s, 0.1);
+  EXPECT_EQ(model.overall, 0.42);
+  ASSERT_TRUE(by_key.count("test:v0002"));
+  EXPECT_EQ(by_key["test:v0002"]->reference_test, v2);
+  EXPECT_EQ(by_key["test:v0002"]->overall, 0.97);
+  EXPECT_EQ(catalogue.MergeShard(results_path).ratings_merged, 0) << "merging it again adds nothing";
 }
 
 // Test-against-test ratings stored before schema 11 took the roles the wrong way round: marked on
