@@ -152,9 +152,10 @@ Eigen::MatrixXd ReadChannels(const py::handle& channels, const engine::ArrayGeom
   }
   const auto values = AsFloatArray(channels, source + ": channels (a dict slot -> array, or a 2-D array)");
   if (values.ndim() != 2 || values.shape(1) != slot_count) {
+    // Appended: GCC 12's LTO build (the package) warned a false -Wstringop-overflow on a `+` here.
     std::string shape;
     for (py::ssize_t d = 0; d < values.ndim(); ++d)
-      shape += (d > 0 ? ", " : "") + std::to_string(values.shape(d));
+      shape.append(d > 0 ? ", " : "").append(std::to_string(values.shape(d)));
     throw InputError(source + ": channels is an array of shape (" + shape +
                      "); as an array it is 2-D, one row per sample and one column per slot of array " +
                      util::Quoted(array.name) + " in its order (" + std::to_string(slot_count) +
