@@ -81,27 +81,20 @@ void CheckRegularFile(const std::filesystem::path& path, std::uintmax_t max_byte
   CheckStat(path, status, max_bytes);
 }
 
-util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+OpenedForReading OpenForReading(const std::filesystem::path& path) {
   // O_NONBLOCK: opening a FIFO for reading must not wait for a writer; the
-  // type is checked on the open descriptor before anything is read.
-  util::UniqueFd file(::open(path.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
-  if (!file.valid()) ThrowCannotOpen(path, errno);
-  struct stat status {};
-  if (::fstat(file.get(), &status) != 0) ThrowCannotOpen(path, errno);
-  CheckStat(path, status, max_bytes);
-  return file;
-}
-
-OpenedForReading OpenForReading(const std::filesystem::path& path, const std::string& named) {
+  // type is judged on the open descriptor before anything is read.
   OpenedForReading opened;
   opened.fd = util::UniqueFd(::open(path.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
-  if (!opened.fd.valid()) {
-    opened.open_error = errno;
-    return opened;
-  }
-  if (::fstat(opened.fd.get(), &opened.status) != 0)
-    throw InputError(named + " cannot be read (" + std::strerror(errno) + ").");
+  if (!opened.fd.valid() || ::fstat(opened.fd.get(), &opened.status) != 0) opened.error = errno;
   return opened;
+}
+
+util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+  OpenedForReading opened = OpenForReading(path);
+  if (opened.error != 0) ThrowCannotOpen(path, opened.error);
+  CheckStat(path, opened.status, max_bytes);
+  return std::move(opened.fd);
 }
 
 void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,

@@ -39,16 +39,16 @@ util::UniqueFd OpenRegularFile(const std::filesystem::path& path, std::uintmax_t
 
 // `path` opened for reading as every bounded input is (O_RDONLY; O_NONBLOCK:
 // a FIFO never blocks the open; O_NOCTTY, O_CLOEXEC), with fstat's answer on
-// that descriptor, for a caller that judges the file by rules and sentences
-// of its own (the inbox's sidecars, the service's token file). `open_error`
-// is the open's errno, 0 when it opened. Throws InputError "<named> cannot be
-// read (...)." when fstat fails on the open descriptor.
+// that descriptor: what OpenRegularFile judges, and a caller with rules and
+// sentences of its own (the inbox's sidecars, the service's token file).
+// `error` is the errno of the open or the fstat that failed, 0 when both
+// succeeded. Throws nothing.
 struct OpenedForReading {
   util::UniqueFd fd;
   struct stat status {};
-  int open_error = 0;
+  int error = 0;
 };
-OpenedForReading OpenForReading(const std::filesystem::path& path, const std::string& named);
+OpenedForReading OpenForReading(const std::filesystem::path& path);
 
 // Like ReadWholeFile, but hands the content to `consume` in chunks.
 void ReadFileInChunks(const std::filesystem::path& path, std::uintmax_t max_bytes,

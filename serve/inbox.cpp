@@ -89,9 +89,9 @@ bool Finished(db::Catalogue& catalogue, const std::string& config, const std::st
 // skipped in favour of the sidecar above.
 std::optional<std::string> ReadSidecarFile(const fs::path& path) {
   const std::string named = "sidecar '" + util::EscapeControl(path.string()) + "'";
-  const formats::OpenedForReading file = formats::OpenForReading(path, named);
-  if (file.open_error != 0) {
-    const int error = file.open_error;
+  const formats::OpenedForReading file = formats::OpenForReading(path);
+  if (file.error != 0) {
+    const int error = file.error;
     struct stat link {};
     if (error == ENOENT && ::lstat(path.c_str(), &link) != 0) return std::nullopt;  // no sidecar here
     if (error == ENOENT)

@@ -381,9 +381,8 @@ bool IsLoopbackHost(std::string_view host) {
 std::string ReadTokenFile(const std::string& path) {
   const std::string named = "--token-file '" + util::EscapeControl(path) + "'";
   // Judged on the descriptor opened (O_NONBLOCK: a FIFO never blocks the start), never on the path.
-  const formats::OpenedForReading file = formats::OpenForReading(path, named);
-  if (file.open_error != 0)
-    throw InputError(named + " cannot be opened (" + std::strerror(file.open_error) + ").");
+  const formats::OpenedForReading file = formats::OpenForReading(path);
+  if (file.error != 0) throw InputError(named + " cannot be opened (" + std::strerror(file.error) + ").");
   const struct stat& status = file.status;
   if (S_ISDIR(status.st_mode)) throw InputError(named + " is a folder; give the file that holds the token.");
   if (!S_ISREG(status.st_mode))

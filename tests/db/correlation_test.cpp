@@ -134,6 +134,37 @@ TEST_F(CorrelationTest, OtherModelUnitsAreAnotherRatingThatSaysItsUnits) {
 // `merge` carries the shard's ratings with their identity, keeps the catalogue's own ratings of a
 // result the shard's newer one replaces, and merging again changes nothing (issue 42, point 2:
 // every rating of the shard was dropped, and so were the catalogue's of the replaced results).
+// A rating of `test`'s acc_resultant_g under `config` against curve 4 of model "head.k" (sha256
+// "abc") read in `units`, keyed as app/correlation.cpp keys it.
+CorrelationRow ModelRating(TestId test, ConfigId config, const std::string& units, double overall) {
+  CorrelationRow record;
+  record.test = test;
+  record.config = config;
+  record.channel = "acc_resultant_g";
+  record.reference_kind = "model";
+  record.reference = "head.k:curve 4";
+  record.reference_key = "model:abc:curve 4:units=" + units;
+  record.model_file = "head.k";
+  record.model_sha256 = "abc";
+  record.model_column = "curve 4";
+  record.model_units = units;
+  record.edition = "2024";
+  record.end_s = 0.1;
+  record.overall = overall;
+  record.grade = "fair";
+  return record;
+}
+
+// `model` as a rating against test `reference` (its id `reference_id`).
+CorrelationRow AgainstTest(CorrelationRow model, TestId reference, const std::string& reference_id) {
+  model.reference_kind = "test";
+  model.reference = reference_id;
+  model.reference_key = "test:" + reference_id;
+  model.model_file = model.model_sha256 = model.model_column = model.model_units = std::nullopt;
+  model.reference_test = reference;
+  return model;
+}
+
 TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
   test_support::TempDir dir;
   const std::string main_path = (dir.path() / "main.db").string();
@@ -154,34 +185,13 @@ TEST(CorrelationMerge, MergeCarriesRatingsAndKeepsTheCataloguesOwn) {
   }
   std::filesystem::copy_file(main_path, shard_path);
   const auto rating = [&](TestId test, const std::string& units, double overall) {
-    CorrelationRow record;
-    record.test = test;
-    record.config = config;
-    record.channel = "acc_resultant_g";
-    record.reference_kind = "model";
-    record.reference = "head.k:curve 4";
-    record.reference_key = "model:abc:curve 4:units=" + units;
-    record.model_file = "head.k";
-    record.model_sha256 = "abc";
-    record.model_column = "curve 4";
-    record.model_units = units;
-    record.edition = "2024";
-    record.end_s = 0.1;
-    record.overall = overall;
-    record.grade = "fair";
-    return record;
+    return ModelRating(test, config, units, overall);
   };
   {
     Catalogue shard = Catalogue::Open(shard_path, options);
     shard.WriteResult(v1, config, {}, "exact");  // the same values computed again, later
     shard.WriteCorrelation(rating(v1, "mm,s,kg", 0.3));
-    CorrelationRow against = rating(v1, "", 0.95);
-    against.reference_kind = "test";
-    against.reference = "v0002";
-    against.reference_key = "test:v0002";
-    against.model_file = against.model_sha256 = against.model_column = against.model_units = std::nullopt;
-    against.reference_test = v2;
-    shard.WriteCorrelation(against);
+    shard.WriteCorrelation(AgainstTest(rating(v1, "", 0.95), v2, "v0002"));
     shard.WriteCorrelation(rating(v2, "m,s,kg", 0.7));
   }
   Catalogue catalogue = Catalogue::Open(main_path, options);
@@ -227,31 +237,12 @@ TEST(CorrelationMerge, MergeCarriesTheRatingsOfAResultsFile) {
     const ConfigId config = results.WriteConfig(test_support::DefaultConfig());
     results.WriteResult(v1, config, {}, "exact");
     results.WriteResult(v2, config, {}, "exact");
-    CorrelationRow model;
-    model.test = v1;
-    model.config = config;
-    model.channel = "acc_resultant_g";
-    model.reference_kind = "model";
-    model.reference = "head.k:curve 4";
-    model.reference_key = "model:abc:curve 4:units=mm,s,kg";
-    model.model_file = "head.k";
-    model.model_sha256 = "abc";
-    model.model_column = "curve 4";
-    model.model_units = "mm,s,kg";
+    CorrelationRow model = ModelRating(v1, config, "mm,s,kg", 0.42);
     model.edition = "2014";
     model.start_s = 0.01;
-    model.end_s = 0.1;
-    model.overall = 0.42;
     model.grade = "poor";
     results.WriteCorrelation(model);
-    CorrelationRow against = model;
-    against.reference_kind = "test";
-    against.reference = "v0002";
-    against.reference_key = "test:v0002";
-    against.model_file = against.model_sha256 = against.model_column = against.model_units = std::nullopt;
-    against.reference_test = v2;
-    against.edition = "2024";
-    against.overall = 0.97;
+    CorrelationRow against = AgainstTest(ModelRating(v1, config, "", 0.97), v2, "v0002");
     against.grade = "excellent";
     results.WriteCorrelation(against);
   }
