@@ -14,6 +14,7 @@ CatalogueStatus ReadStatus(db::Catalogue& catalogue, const records::ResolvedConf
   db::JobQueue queue(catalogue);
   status.counts = queue.ReadStatusCounts(id);
   if (with_versions) status.versions = queue.ReadVersionCounts();
+  status.inbox_failures = catalogue.ReadInboxFailures();
   return status;
 }
 
@@ -23,6 +24,14 @@ nlohmann::ordered_json StatusJson(const CatalogueStatus& status) {
   Json failures = Json::array();
   for (const db::JobFailure& failure : counts.failures)
     failures.push_back({{"test_id", failure.test_id}, {"error", failure.error}});
+  Json inbox_failures = Json::array();
+  for (const db::InboxFailure& failure : status.inbox_failures)
+    inbox_failures.push_back({{"source", failure.source},
+                              {"series", failure.series},
+                              {"variant", failure.variant},
+                              {"kind", failure.kind},
+                              {"error", failure.error},
+                              {"failed_at", failure.failed_at}});
   return Json{{"tests", counts.tests},
               {"done", counts.done},
               {"failed", counts.failed},
@@ -32,7 +41,9 @@ nlohmann::ordered_json StatusJson(const CatalogueStatus& status) {
               {"failures", std::move(failures)},
               // Additions (issue 43): the file and the config the counts are for.
               {"path", status.path},
-              {"config", {{"name", status.config_name}, {"hash", status.config_hash}}}};
+              {"config", {{"name", status.config_name}, {"hash", status.config_hash}}},
+              // Addition (issue 42): the inbox's tests that failed before their import.
+              {"inbox_failures", std::move(inbox_failures)}};
 }
 
 }  // namespace napkin::app

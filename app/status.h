@@ -23,6 +23,9 @@ struct CatalogueStatus {
   // config: what `run --outdated` would recompute (read only when asked: the
   // command's table shows them).
   std::vector<db::VersionCount> versions;
+  // Tests of `napkin serve --inbox` that failed before they were imported (a bad sidecar, a
+  // folder name, an unreadable file; docs/serve.md "Inbox"): of no config, so always read.
+  std::vector<db::InboxFailure> inbox_failures;
 };
 
 // The status of `catalogue` (its file named by Catalogue::path) for `config` (resolved from
@@ -34,7 +37,8 @@ CatalogueStatus ReadStatus(db::Catalogue& catalogue, const records::ResolvedConf
 
 // The JSON object, keys in this order (README "napkin status"): tests, done,
 // failed, pending, running, salvaged, failures ([{test_id, error}], by test
-// id), path, config ({name, hash}).
+// id), path, config ({name, hash}), inbox_failures ([{source, series, variant, kind, error,
+// failed_at}], by source).
 nlohmann::ordered_json StatusJson(const CatalogueStatus& status);
 
 }  // namespace napkin::app

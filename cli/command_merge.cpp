@@ -2,6 +2,8 @@
 // (processed on other machines) into the --db catalogue.
 #include <fmt/core.h>
 
+#include <string>
+
 #include "cli/catalogue_option.h"
 #include "cli/command.h"
 #include "cli/option_checks.h"
@@ -25,8 +27,11 @@ class MergeCommand : public Command {
     // leaves the catalogue as the previous shards made it.
     for (const std::string& shard : shards_) {
       const db::MergeReport report = catalogue.MergeShard(shard);
-      fmt::print("{}: {} tests added, {} results merged, {} failures merged, {} ratings merged\n", shard,
-                 report.tests_added, report.results_merged, report.failures_merged, report.ratings_merged);
+      fmt::print("{}: {} tests added, {} results merged, {} failures merged, {} ratings merged{}\n", shard,
+                 report.tests_added, report.results_merged, report.failures_merged, report.ratings_merged,
+                 report.inbox_failures_merged > 0
+                     ? fmt::format(", {} inbox failures merged", report.inbox_failures_merged)
+                     : std::string());
     }
     return kExitOk;
   }

@@ -85,6 +85,12 @@ class StatusCommand : public Command {
       for (const db::JobFailure& failure : counts.failures)
         fmt::print("{:<{}}  {}\n", failure.test_id, width, failure.error);
     }
+    // Tests of `napkin serve --inbox` that never became tests of the catalogue (docs/serve.md "Inbox").
+    if (!status.inbox_failures.empty()) {
+      fmt::print("\ninbox tests that failed before their import: {}\n", status.inbox_failures.size());
+      for (const db::InboxFailure& failure : status.inbox_failures)
+        fmt::print("{}  {}\n", failure.source, failure.error);
+    }
     return kExitOk;
   }
 

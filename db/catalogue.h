@@ -171,12 +171,28 @@ struct CorrelationRow {
   double shift_s = 0.0;
 };
 
+// A test under `napkin serve --inbox` that failed before it was imported
+// (table inbox_failures, schema/016_inbox_failures.sql; docs/serve.md
+// "Inbox"): a bad sidecar above it, a folder name that cannot be a series or
+// variant, a file the importer could not read.
+struct InboxFailure {
+  std::string source;           // the test's file or folder in the inbox
+  std::string test_name;        // its name in the inbox (the file's stem, the folder's name)
+  std::string series, variant;  // the names of the folders it stands in
+  std::string kind;             // "sidecar", "folder" or "import failed"
+  std::string error;            // the sentence said in the log and the status
+  std::string signature;        // its files' and sidecars' sizes and times when it failed
+  std::string failed_at;        // ISO-8601 UTC, set by WriteInboxFailure
+};
+
 // What MergeShard took from a shard catalogue.
 struct MergeReport {
   std::int64_t tests_added = 0;      // tests (with raw channels) the catalogue did not have
   std::int64_t results_merged = 0;   // results new to the catalogue or newer than its own
   std::int64_t failures_merged = 0;  // failed jobs of tests without a result here
   std::int64_t ratings_merged = 0;   // ISO/TS 18571 ratings new to the catalogue or newer than its own
+  // Inbox failures (InboxFailure) of tests the catalogue lacks, new or newer than its own.
+  std::int64_t inbox_failures_merged = 0;
 };
 
 struct CatalogueOptions {
@@ -341,6 +357,17 @@ class Catalogue {
   // The ratings of the test's result under `config`, by channel, reference
   // and edition.
   std::vector<CorrelationRow> ReadCorrelations(TestId test, ConfigId config);
+
+  // ---- the inbox's failures (db/catalogue_inbox.cpp)
+  // Stores (replacing the test's earlier one) a failure of an inbox test before its import.
+  void WriteInboxFailure(const InboxFailure& failure);
+  // Removes the failure of the test at `source`, if any: it was imported, or was in the
+  // catalogue already.
+  void DeleteInboxFailure(const std::string& source);
+  // The failure recorded for the test at `source`, if any.
+  std::optional<InboxFailure> ReadInboxFailure(const std::string& source);
+  // Every recorded inbox failure, by source.
+  std::vector<InboxFailure> ReadInboxFailures();
 
   // ---- jobs: db::JobQueue (db/job_queue.h) works on this connection.
 

@@ -373,6 +373,22 @@ std::int64_t MergeJobState(Connection& connection, double now) {
   return connection.Changes();
 }
 
+// The shard's inbox failures (schema/016_inbox_failures.sql) of tests this catalogue has not
+// imported since, each newer than this catalogue's failure of the same source: a catalogue a
+// service wrote, merged into another, keeps what its inbox could not import.
+std::int64_t MergeInboxFailures(Connection& connection) {
+  connection.Execute(
+      "INSERT INTO main.inbox_failures (source, test_name, series, variant, kind, error, signature, "
+      "failed_at) SELECT source, test_name, series, variant, kind, error, signature, failed_at "
+      "FROM shard.inbox_failures AS f WHERE NOT EXISTS (SELECT 1 FROM main.tests AS t WHERE "
+      "t.source_path = f.source) "
+      "ON CONFLICT (source) DO UPDATE SET test_name = excluded.test_name, series = excluded.series, "
+      "variant = excluded.variant, kind = excluded.kind, error = excluded.error, "
+      "signature = excluded.signature, failed_at = excluded.failed_at "
+      "WHERE excluded.failed_at > inbox_failures.failed_at");
+  return connection.Changes();
+}
+
 // The merge of the shard ATTACHed as "shard", in one transaction.
 MergeReport MergeAttachedShard(Connection& connection, const std::string& shard_path,
                                const std::function<double()>& clock) {
@@ -394,6 +410,7 @@ MergeReport MergeAttachedShard(Connection& connection, const std::string& shard_
   report.ratings_merged = MergeRatings(connection);
   MergeFailureFindings(connection);
   report.failures_merged = MergeJobState(connection, clock());
+  report.inbox_failures_merged = MergeInboxFailures(connection);
   connection.Execute("DROP TABLE temp.merge_take");
   DropKeyMaps(connection);
   transaction.Commit();

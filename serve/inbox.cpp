@@ -408,7 +408,26 @@ void Inbox::MarkHandled(const SettledTest& test) {
   pending_.erase(source);
 }
 
-void Inbox::FailTest(const char* kind, const FoundTest& test, const std::string& sentence) {
+db::InboxFailure Inbox::FailureRecord(const char* kind, const SettledTest& settled,
+                                      const std::string& sentence) {
+  const FoundTest& test = settled.found;
+  db::InboxFailure failure;
+  failure.source = test.input.source.string();
+  failure.test_name = test.input.name;
+  failure.series = test.series;
+  failure.variant = test.variant;
+  failure.kind = kind;
+  failure.error = sentence;
+  failure.signature = settled.signature;
+  return failure;
+}
+
+void Inbox::FailTest(db::Catalogue& catalogue, const char* kind, const SettledTest& settled,
+                     const std::string& sentence) {
+  const FoundTest& test = settled.found;
+  // Recorded before it is said: a catalogue another process holds (db::DatabaseError) leaves
+  // the test to be tried again in a second, and then it is said once.
+  catalogue.WriteInboxFailure(FailureRecord(kind, settled, sentence));
   spdlog::error("{}", sentence);
   Record(kind, test.input.source.string(), test.input.name, sentence);
   std::lock_guard<std::mutex> lock(mutex_);
@@ -426,11 +445,18 @@ bool Inbox::ImportSettled(const std::vector<SettledTest>& settled, TestsToRun& t
   try {
     db::Catalogue catalogue = db::Catalogue::Open(options_.db_path, open);
     integrity_checked_file_ = catalogue.file_identity();
+    const std::int64_t failed_earlier = failed_earlier_;
     for (const SettledTest& test : settled) {
       if (stop_) return false;
-      ImportTest(catalogue, test.found, to_run);
+      ImportTest(catalogue, test, to_run);
       MarkHandled(test);
     }
+    // The failures of before this start, said one line for all (their sentences were said then).
+    if (const std::int64_t found = failed_earlier_ - failed_earlier; found > 0)
+      spdlog::info(
+          "{} inbox test(s) failed before with the same files and sidecars and are tried again when "
+          "those change; `napkin status` lists them.",
+          found);
   } catch (const db::DatabaseError&) {
     if (!WaitForCatalogue()) throw;
     return false;  // the tests not yet handled are tried again in a second
@@ -448,8 +474,17 @@ bool Inbox::WaitForCatalogue() {
   return true;
 }
 
-void Inbox::ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToRun& to_run) {
+void Inbox::ImportTest(db::Catalogue& catalogue, const SettledTest& settled, TestsToRun& to_run) {
+  const FoundTest& test = settled.found;
   const std::string source = test.input.source.string();
+  // Failed with these very files and sidecars before this start of the service: said then and
+  // recorded in the catalogue (status lists it), not tried or said again until they change.
+  if (const std::optional<db::InboxFailure> recorded = catalogue.ReadInboxFailure(source);
+      recorded && recorded->signature == settled.signature) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++failed_earlier_;
+    return;
+  }
   // The folders give the series and the variant: their names are checked as folder names
   // here, not as the --series and --variant options import would name.
   try {
@@ -459,7 +494,7 @@ void Inbox::ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToR
       throw InputError(std::string("variant folder name '") + ingest::kNoVariantGroup +
                        "' is the name compare gives the tests without a variant; rename the folder.");
   } catch (const InputError& bad) {
-    FailTest("folder", test,
+    FailTest(catalogue, "folder", settled,
              "folder '" + util::EscapeControl(test.folder.string()) + "': " + bad.what() +
                  " Its tests are not imported.");
     return;
@@ -472,7 +507,7 @@ void Inbox::ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToR
     // never stored under a config that cannot run it, where it would wait forever.
     CheckSidecarNames(sidecar);
   } catch (const InputError& bad) {
-    FailTest("sidecar", test, bad.what());
+    FailTest(catalogue, "sidecar", settled, bad.what());
     return;
   }
   try {
@@ -489,24 +524,35 @@ void Inbox::ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToR
     try {
       report = ingest::ImportTests(catalogue, {source}, import);
     } catch (const InputError& bad) {  // options of all inputs: the sidecar's array or channel map
-      FailTest("sidecar", test, std::string(bad.what()) + " (from the sidecars above '" + source + "')");
+      FailTest(catalogue, "sidecar", settled,
+               std::string(bad.what()) + " (from the sidecars above '" + source + "')");
       return;
     }
-    SayImported(catalogue, test, sidecar.config.value_or(""), report, to_run);
+    SayImported(catalogue, settled, sidecar.config.value_or(""), report, to_run);
   } catch (const db::DatabaseError&) {
     throw;  // the catalogue's, not the test's: ImportSettled
   } catch (const std::exception&) {
     // Anything else is this test's failure, said once: it never stops the other tests.
-    FailTest("import failed", test,
+    FailTest(catalogue, "import failed", settled,
              "test '" + source + "' could not be imported: " +
                  app::DescribeFailure(std::current_exception(), options_.db_path).sentence);
   }
 }
 
-void Inbox::SayImported(db::Catalogue& catalogue, const FoundTest& test, const std::string& config,
+void Inbox::SayImported(db::Catalogue& catalogue, const SettledTest& settled, const std::string& config,
                         const ingest::ImportReport& report, TestsToRun& to_run) {
+  const FoundTest& test = settled.found;
   const std::string source = test.input.source.string();
   std::error_code error;
+  // In the catalogue now (imported, or there already): an earlier failure of it is history.
+  const bool in_catalogue = std::any_of(
+      report.results.begin(), report.results.end(),
+      [](const ingest::ImportResult& result) { return result.outcome != ingest::ImportOutcome::kFailed; });
+  if (in_catalogue) catalogue.DeleteInboxFailure(source);
+  // A file the importer could not read: recorded before anything is said or counted (FailTest).
+  for (const ingest::ImportResult& result : report.results)
+    if (result.outcome == ingest::ImportOutcome::kFailed && fs::exists(test.input.source, error))
+      catalogue.WriteInboxFailure(FailureRecord("import failed", settled, result.message));
   for (const ingest::ImportResult& result : report.results) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (result.outcome == ingest::ImportOutcome::kImported) {
@@ -613,6 +659,9 @@ Json Inbox::Status() const {
               {"skipped", skipped_},
               {"processed", processed_},
               {"failed", failed_},
+              // Addition (issue 42): tests that failed with the same files before this start
+              // (recorded in the catalogue: catalogue.inbox_failures), not tried again.
+              {"failed_earlier", failed_earlier_},
               {"events", std::move(events)}};
 }
 

@@ -131,14 +131,20 @@ class Inbox {
   bool ImportSettled(const std::vector<SettledTest>& settled, TestsToRun& to_run);
   // One test's import: its failure (folder names, sidecars, reading) said by FailTest; throws
   // db::DatabaseError only (the catalogue's, not the test's).
-  void ImportTest(db::Catalogue& catalogue, const FoundTest& test, TestsToRun& to_run);
+  // A test that failed with these files and sidecars before (db::InboxFailure, also before a
+  // restart) is left alone.
+  void ImportTest(db::Catalogue& catalogue, const SettledTest& settled, TestsToRun& to_run);
   // The import's results counted, said, and those to process added to `to_run`.
-  void SayImported(db::Catalogue& catalogue, const FoundTest& test, const std::string& config,
+  void SayImported(db::Catalogue& catalogue, const SettledTest& settled, const std::string& config,
                    const ingest::ImportReport& report, TestsToRun& to_run);
   // The one place a test is marked tried for its signature (and no longer pending).
   void MarkHandled(const SettledTest& test);
-  // A test that failed before it was imported: logged, recorded, counted.
-  void FailTest(const char* kind, const FoundTest& test, const std::string& sentence);
+  // A test that failed before it was imported: recorded in the catalogue (table
+  // inbox_failures), then logged, recorded in the status and counted.
+  void FailTest(db::Catalogue& catalogue, const char* kind, const SettledTest& settled,
+                const std::string& sentence);
+  static db::InboxFailure FailureRecord(const char* kind, const SettledTest& settled,
+                                        const std::string& sentence);
   // In a catch of db::DatabaseError: true when the catalogue is locked by another process (the
   // status says why the inbox waits); false for another failure, which the caller throws on.
   bool WaitForCatalogue();
@@ -162,6 +168,7 @@ class Inbox {
   std::deque<nlohmann::ordered_json> events_;   // the last results and problems, newest last
   std::set<std::string> said_;                  // entries passed over (path and sentence): said once
   std::int64_t imported_ = 0, superseded_ = 0, skipped_ = 0, processed_ = 0, failed_ = 0;
+  std::int64_t failed_earlier_ = 0;  // tests left alone: they failed with these files before this start
   double processing_s_ = 0.0;
 };
 
