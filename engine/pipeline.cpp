@@ -498,12 +498,13 @@ std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples,
   const double kinematics = rotation ? 36.0 : 4.0;
   const double held = slots + kinematics;
   // Conditioning: each filter in use pads its channels by up to
-  // max(padding_s, 1 / CFC) at both ends and runs four channels abreast.
+  // max(padding_s, 1 / CFC) at both ends and runs up to twelve channels
+  // abreast (CfcFilter::ApplyInPlaceToColumns).
   double filtering = 0.0;
   const auto filter_columns = [&](std::size_t count, const std::optional<double>& cfc) {
     if (count == 0 || !cfc || !(dt_s > 0.0)) return 0.0;
     const double pad = std::min(std::ceil(std::max(config.filter.padding_s, 1.0 / *cfc) / dt_s), n - 1.0);
-    return 4.0 * (n + 2.0 * pad) / n;
+    return 12.0 * (n + 2.0 * pad) / n;
   };
   filtering += filter_columns(linear, config.filter.linear_cfc);
   filtering += filter_columns(rates, config.filter.angular_rate_cfc);
