@@ -123,7 +123,8 @@ void CopyToCondition(const TestSignals& raw, TestSignals& copy, const std::atomi
 // `processed` (in `workspace`'s memory).
 void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                      const ProcessingConfig& config, std::vector<Finding> findings,
-                     const std::atomic<bool>* cancel, Workspace& workspace, ProcessedTest& processed) {
+                     const std::atomic<bool>* cancel, Workspace& workspace, ProcessedTest& processed,
+                     bool summary_series_only) {
   TestSignals& signals = workspace.signals;
   CopyToCondition(raw_signals, signals, cancel);
   processed.summary = TestSummary{};
@@ -132,6 +133,7 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
   ThrowIfCancelled(cancel);
   SolveOptions options = MakeSolveOptions(config, initial);
   options.cancel = cancel;
+  options.summary_series_only = summary_series_only;
   Solve(array, signals, options, processed.kinematics);
   ThrowIfCancelled(cancel);
 
@@ -197,7 +199,7 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
 // ProcessTest without salvage.
 void ProcessOnce(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
-                 const std::atomic<bool>* cancel) {
+                 const std::atomic<bool>* cancel, bool summary_series_only) {
   workspace.exact_rms_residual_mps2 = std::numeric_limits<double>::quiet_NaN();
   CheckTimeBaseAndInitialState(raw_signals, initial, config);
   ThrowIfCancelled(cancel);
@@ -222,11 +224,13 @@ void ProcessOnce(const ArrayGeometry& array, const TestSignals& raw_signals, con
     return finding.severity == Severity::kError && finding.check == NameOf(Check::kImplausible);
   });
   if (implausible == findings.end())
-    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
+    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out,
+                           summary_series_only);
   const std::string cause = implausible->detail;
   std::vector<Finding> screened = findings;  // what the failure carries should the computation stop
   try {
-    ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
+    ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out,
+                    summary_series_only);
   } catch (const InputError&) {
     throw ScreeningFailure(cause, std::move(screened));
   }
@@ -332,7 +336,8 @@ Finding SalvageFinding(const SalvageAudit& record, const SalvagedChannel& channe
 // ScreeningFailure with a sentence saying why when the test cannot be saved.
 void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
              const ProcessingConfig& config, std::vector<FaultyChannel> faults, std::vector<Finding> findings,
-             Workspace& workspace, ProcessedTest& out, const std::atomic<bool>* cancel) {
+             Workspace& workspace, ProcessedTest& out, const std::atomic<bool>* cancel,
+             bool summary_series_only) {
   const double rms_before = workspace.exact_rms_residual_mps2;
   bool repair = config.screening.salvage == SalvageMode::kRepair;
   SalvageAudit record;
@@ -400,7 +405,8 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
     record.channels_used = static_cast<int>(repair ? array.sensors.size() : reduced->sensors.size());
     std::vector<FaultyChannel> more;
     try {
-      ProcessOnce(repair ? array : *reduced, salvaged, initial, config, workspace, out, cancel);
+      ProcessOnce(repair ? array : *reduced, salvaged, initial, config, workspace, out, cancel,
+                  summary_series_only);
       more = SalvageableFaults(out.summary.findings);
     } catch (const ScreeningFailure& failure) {
       more = SalvageableFaults(failure.findings());
@@ -447,17 +453,18 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
                           const std::atomic<bool>* cancel) {
   Workspace workspace;
   ProcessedTest processed;
-  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel);
+  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel, SeriesKept::kAll);
   return processed;
 }
 
 void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
-                 const std::atomic<bool>* cancel) {
+                 const std::atomic<bool>* cancel, SeriesKept series) {
   config.Check();
   const bool salvage = config.screening.salvage != SalvageMode::kOff;
+  const bool summary_series_only = series == SeriesKept::kSummary;
   try {
-    ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel);
+    ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel, summary_series_only);
   } catch (const ScreeningFailure& failure) {
     std::vector<FaultyChannel> faults = SalvageableFaults(failure.findings());
     ResolveConfounded(array, raw_signals, initial, config, failure.findings(), faults);
@@ -468,7 +475,8 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
       AddSalvageHint(findings, faults, hint);
       throw ScreeningFailure(WithoutFinalStop(failure.what()) + hint + ".", std::move(findings));
     }
-    Salvage(array, raw_signals, initial, config, faults, failure.findings(), workspace, out, cancel);
+    Salvage(array, raw_signals, initial, config, faults, failure.findings(), workspace, out, cancel,
+            summary_series_only);
     return;
   }
   std::vector<FaultyChannel> faults = SalvageableFaults(out.summary.findings);
@@ -478,7 +486,8 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
     AddSalvageHint(out.summary.findings, faults, SalvageHint(array, faults));
     return;
   }
-  Salvage(array, raw_signals, initial, config, faults, out.summary.findings, workspace, out, cancel);
+  Salvage(array, raw_signals, initial, config, faults, out.summary.findings, workspace, out, cancel,
+          summary_series_only);
 }
 
 std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,
