@@ -10,6 +10,7 @@
 #include "engine/cancellation.h"
 #include "engine/criteria.h"
 #include "engine/exact_solver.h"
+#include "engine/finite_samples.h"
 #include "engine/salvage.h"
 #include "engine/screening.h"
 #include "engine/solver.h"
@@ -24,11 +25,12 @@ namespace {
 Eigen::Index FirstNonFinite(const Kinematics& kinematics) {
   const bool rotation = HasRotation(kinematics);
   // Finite series (every solved test's) are told by one vectorised pass over
-  // each column; the walk along the rows, across the columns of five
-  // series, only looks for the sample where they are not.
-  if (kinematics.acc_body.allFinite() &&
-      (!rotation || (kinematics.omega_body.allFinite() && kinematics.acc_fixed.allFinite() &&
-                     kinematics.alpha_body.allFinite() && kinematics.pos_fixed.allFinite())))
+  // each column (internal::AllFinite); the walk along the rows, across the
+  // columns of five series, only looks for the sample where they are not.
+  using internal::AllFinite;
+  if (AllFinite(kinematics.acc_body) &&
+      (!rotation || (AllFinite(kinematics.omega_body) && AllFinite(kinematics.acc_fixed) &&
+                     AllFinite(kinematics.alpha_body) && AllFinite(kinematics.pos_fixed))))
     return -1;
   for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
     if (!kinematics.acc_body.row(k).allFinite()) return k;
@@ -186,7 +188,8 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
   AppendFindings(
       ScreenPlausibility(
           processed.kinematics,
-          exact_residual != nullptr && exact_residual->allFinite() ? *exact_residual : no_residual, config),
+          exact_residual != nullptr && internal::AllFinite(*exact_residual) ? *exact_residual : no_residual,
+          config),
       findings);
   ThrowIfCancelled(cancel);
 
