@@ -57,45 +57,94 @@ void RunPass(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward) 
   }
 }
 
-// RunPass on kLanes channels stored interleaved (w[k * kLanes + lane]),
+// RunPass on kVectors * 4 channels stored interleaved (w[k * lanes + lane]),
 // each with RunPass's operations in RunPass's order: the lanes of a GCC
 // vector are computed element-wise with IEEE arithmetic, as the scalars
-// would be. Two-lane vectors (one SSE2 register, so no ABI or lowering
-// surprises without -mavx), two of them per step: four independent chains.
-// Coefficients and state live in locals (registers), not behind pointers
-// the stores to w could alias.
-using LaneVector = double __attribute__((vector_size(2 * sizeof(double))));
-constexpr Eigen::Index kLanes = 4;
+// would be (no FMA contraction: -std=c++20 and engine/CMakeLists.txt), so
+// every build and clone gives RunPass's bits. All the vectors of a step are
+// independent chains: with the nine channels of an array in one group of
+// three vectors, the processor overlaps their multiply-adds where groups of
+// four channels one after the other each waited on their own chain. Four-lane
+// vectors are two SSE2 registers in the default clone and one AVX register in
+// the AVX2 clone (NAPKIN_FILTER_LOOP_CLONES); they never cross a function
+// boundary (no ABI surprises). Coefficients and state live in locals
+// (registers), not behind pointers the stores to w could alias.
+using LaneVector = double __attribute__((vector_size(4 * sizeof(double))));
+constexpr Eigen::Index kLanesPerVector = 4;
+// At most this many vectors (12 channels) abreast: nine or ten channels in one
+// group, and the state (four vectors per chain) still fits the registers.
+constexpr int kMaxVectors = 3;
 
-void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, bool forward,
-                        const std::atomic<bool>* cancel) {
-  const LaneVector a0 = {c.a0, c.a0}, a1 = {c.a1, c.a1}, a2 = {c.a2, c.a2};
-  const LaneVector b1 = {c.b1, c.b1}, b2 = {c.b2, c.b2};
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define NAPKIN_FILTER_LOOP_CLONES __attribute__((target_clones("default", "avx2")))
+#else
+#define NAPKIN_FILTER_LOOP_CLONES
+#endif
+
+// The recursion's state of one vector of channels. Separate variables per
+// vector (no array of vectors), so that the compiler keeps them in registers.
+struct LaneState {
+  LaneVector x1, x2, y1, y2;
+};
+
+struct LaneCoefficients {
+  LaneVector a0, a1, a2, b1, b2;
+};
+
+inline __attribute__((always_inline)) void StartLanes(const double* row, LaneState& state) {
+  LaneVector first;
+  std::memcpy(&first, row, sizeof first);
+  state.x1 = state.x2 = state.y1 = state.y2 = first;
+}
+
+// One step of RunPass on one vector of channels, in place at `row`.
+inline __attribute__((always_inline)) void StepLanes(const LaneCoefficients& c, double* row,
+                                                     LaneState& state) {
+  LaneVector x;
+  std::memcpy(&x, row, sizeof x);
+  const LaneVector y = c.a0 * x + c.a1 * state.x1 + c.a2 * state.x2 + c.b1 * state.y1 + c.b2 * state.y2;
+  std::memcpy(row, &y, sizeof y);
+  state.x2 = state.x1;
+  state.x1 = x;
+  state.y2 = state.y1;
+  state.y1 = y;
+}
+
+template <int kVectors>
+NAPKIN_FILTER_LOOP_CLONES void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n,
+                                                  bool forward, const std::atomic<bool>* cancel) {
+  static_assert(kVectors >= 1 && kVectors <= kMaxVectors);
+  constexpr Eigen::Index kLanes = kVectors * kLanesPerVector;
+  const LaneCoefficients lane_c = {{c.a0, c.a0, c.a0, c.a0},
+                                   {c.a1, c.a1, c.a1, c.a1},
+                                   {c.a2, c.a2, c.a2, c.a2},
+                                   {c.b1, c.b1, c.b1, c.b1},
+                                   {c.b2, c.b2, c.b2, c.b2}};
   Eigen::Index k = forward ? 0 : n - 1;
   const Eigen::Index step = forward ? 1 : -1;
-  LaneVector first_lo, first_hi;
-  std::memcpy(&first_lo, w + k * kLanes, sizeof first_lo);
-  std::memcpy(&first_hi, w + k * kLanes + 2, sizeof first_hi);
-  LaneVector x1_lo = first_lo, x2_lo = first_lo, y1_lo = first_lo, y2_lo = first_lo;
-  LaneVector x1_hi = first_hi, x2_hi = first_hi, y1_hi = first_hi, y2_hi = first_hi;
+  LaneState state0, state1, state2;
+  StartLanes(w + k * kLanes, state0);
+  if constexpr (kVectors > 1) StartLanes(w + k * kLanes + kLanesPerVector, state1);
+  if constexpr (kVectors > 2) StartLanes(w + k * kLanes + 2 * kLanesPerVector, state2);
   for (Eigen::Index count = 0; count < n; ++count, k += step) {
     ThrowIfCancelled(cancel, count);
     double* row = w + k * kLanes;
-    LaneVector x_lo, x_hi;
-    std::memcpy(&x_lo, row, sizeof x_lo);
-    std::memcpy(&x_hi, row + 2, sizeof x_hi);
-    const LaneVector y_lo = a0 * x_lo + a1 * x1_lo + a2 * x2_lo + b1 * y1_lo + b2 * y2_lo;
-    const LaneVector y_hi = a0 * x_hi + a1 * x1_hi + a2 * x2_hi + b1 * y1_hi + b2 * y2_hi;
-    std::memcpy(row, &y_lo, sizeof y_lo);
-    std::memcpy(row + 2, &y_hi, sizeof y_hi);
-    x2_lo = x1_lo;
-    x1_lo = x_lo;
-    y2_lo = y1_lo;
-    y1_lo = y_lo;
-    x2_hi = x1_hi;
-    x1_hi = x_hi;
-    y2_hi = y1_hi;
-    y1_hi = y_hi;
+    StepLanes(lane_c, row, state0);
+    if constexpr (kVectors > 1) StepLanes(lane_c, row + kLanesPerVector, state1);
+    if constexpr (kVectors > 2) StepLanes(lane_c, row + 2 * kLanesPerVector, state2);
+  }
+}
+
+// Both passes over `vectors` (1 .. kMaxVectors) vectors of interleaved channels.
+void RunPassesInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, int vectors,
+                          const std::atomic<bool>* cancel) {
+  for (const bool forward : {true, false}) {
+    if (vectors == 1)
+      RunPassInterleaved<1>(c, w, n, forward, cancel);
+    else if (vectors == 2)
+      RunPassInterleaved<2>(c, w, n, forward, cancel);
+    else
+      RunPassInterleaved<3>(c, w, n, forward, cancel);
   }
 }
 
@@ -205,34 +254,54 @@ void CfcFilter::ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples,
   if (n < 2) return;  // fewer than 2 samples stay as they are
   const Eigen::Index pad = PaddingSamples(n);
   const Eigen::Index total = n + 2 * pad;
-  if (work_.size() < total * kLanes) work_.resize(total * kLanes);
+  constexpr auto kMaxLanes = static_cast<std::size_t>(kMaxVectors * kLanesPerVector);
+  // As few groups as kMaxLanes allows, each of as few vectors as hold its
+  // channels: nine channels are one group of three vectors.
+  const std::size_t groups = (columns.size() + kMaxLanes - 1) / kMaxLanes;
+  const std::size_t per_group = groups == 0 ? 0 : (columns.size() + groups - 1) / groups;
+  const auto vectors = static_cast<int>((per_group + kLanesPerVector - 1) / kLanesPerVector);
+  const Eigen::Index lanes_per_row = vectors * kLanesPerVector;
+  if (work_.size() < total * lanes_per_row) work_.resize(total * lanes_per_row);
   double* w = work_.data();
-  for (std::size_t group = 0; group < columns.size(); group += kLanes) {
-    const std::size_t lanes = std::min<std::size_t>(kLanes, columns.size() - group);
-    // Unused lanes filter zeros (no NaN, no denormal, nothing stored).
-    if (lanes < static_cast<std::size_t>(kLanes)) std::fill(w, w + total * kLanes, 0.0);
-    for (std::size_t lane = 0; lane < lanes; ++lane) {
-      const auto input = samples.col(columns[group + lane]);
-      const double first = input[0];
-      const double last = input[n - 1];
-      // Apply's point reflection about the end samples.
-      for (Eigen::Index k = 1; k <= pad; ++k) {
-        w[(pad - k) * kLanes + static_cast<Eigen::Index>(lane)] = 2.0 * first - input[k];
-        w[(pad + n - 1 + k) * kLanes + static_cast<Eigen::Index>(lane)] = 2.0 * last - input[n - 1 - k];
-      }
-      for (Eigen::Index k = 0; k < n; ++k) {
-        ThrowIfCancelled(cancel, k);
-        w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)] = input[k];
+  for (std::size_t group = 0; group < columns.size(); group += per_group) {
+    const auto lanes = static_cast<Eigen::Index>(std::min(per_group, columns.size() - group));
+    // The group's channels, each read and written sample after sample: the
+    // interleaved buffer is filled and emptied row by row (a few sequential
+    // streams, not a strided walk of the whole buffer per channel).
+    std::array<double*, kMaxLanes> channel{};
+    std::array<double, kMaxLanes> first{}, last{};
+    for (Eigen::Index lane = 0; lane < lanes; ++lane) {
+      channel[static_cast<std::size_t>(lane)] =
+          samples.col(columns[group + static_cast<std::size_t>(lane)]).data();
+      first[static_cast<std::size_t>(lane)] = channel[static_cast<std::size_t>(lane)][0];
+      last[static_cast<std::size_t>(lane)] = channel[static_cast<std::size_t>(lane)][n - 1];
+    }
+    // Each row of the buffer written whole, its unused lanes with zeros (they
+    // filter zeros: no NaN, no denormal, nothing stored), in one loop with
+    // the samples (no call to memset per row).
+    const auto row_of = [&](Eigen::Index k) { return w + k * lanes_per_row; };
+    // Apply's point reflection about the end samples.
+    for (Eigen::Index k = 1; k <= pad; ++k) {
+      double* before = row_of(pad - k);
+      double* after = row_of(pad + n - 1 + k);
+      for (Eigen::Index lane = 0; lane < lanes_per_row; ++lane) {
+        const auto l = static_cast<std::size_t>(lane);
+        before[lane] = lane < lanes ? 2.0 * first[l] - channel[l][k] : 0.0;
+        after[lane] = lane < lanes ? 2.0 * last[l] - channel[l][n - 1 - k] : 0.0;
       }
     }
-    RunPassInterleaved(coefficients_, w, total, /*forward=*/true, cancel);
-    RunPassInterleaved(coefficients_, w, total, /*forward=*/false, cancel);
-    for (std::size_t lane = 0; lane < lanes; ++lane) {
-      auto output = samples.col(columns[group + lane]);
-      for (Eigen::Index k = 0; k < n; ++k) {
-        ThrowIfCancelled(cancel, k);
-        output[k] = w[(pad + k) * kLanes + static_cast<Eigen::Index>(lane)];
-      }
+    for (Eigen::Index k = 0; k < n; ++k) {
+      ThrowIfCancelled(cancel, k);
+      double* row = row_of(pad + k);
+      for (Eigen::Index lane = 0; lane < lanes_per_row; ++lane)
+        row[lane] = lane < lanes ? channel[static_cast<std::size_t>(lane)][k] : 0.0;
+    }
+    RunPassesInterleaved(coefficients_, w, total, vectors, cancel);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      ThrowIfCancelled(cancel, k);
+      const double* row = row_of(pad + k);
+      for (Eigen::Index lane = 0; lane < lanes; ++lane)
+        channel[static_cast<std::size_t>(lane)][k] = row[lane];
     }
   }
 }

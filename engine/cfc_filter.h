@@ -108,11 +108,11 @@ class CfcFilter {
 
   // ApplyInPlace on each of `columns` of `samples` (one channel per column),
   // with exactly its arithmetic, so the results are bit-identical. The
-  // recursions of different channels are independent, so they run four
-  // abreast: each output waits on the channel's previous output (a chain of
-  // multiply-adds), and interleaving channels fills the pipeline meanwhile
-  // (twice the speed of one at a time on nine channels:
-  // napkin_bench --benchmark_filter=NineChannels). Throws Cancelled once
+  // recursions of different channels are independent, so they run up to
+  // twelve abreast (nine channels in one group): each output waits on the
+  // channel's previous output (a chain of multiply-adds), and interleaving
+  // channels fills the pipeline meanwhile (napkin_bench
+  // --benchmark_filter=NineChannels). Throws Cancelled once
   // `cancel` is set (engine/cancellation.h).
   void ApplyInPlaceToColumns(Eigen::Ref<Eigen::MatrixXd> samples, const std::vector<Eigen::Index>& columns,
                              const std::atomic<bool>* cancel = nullptr);

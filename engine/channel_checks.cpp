@@ -4,12 +4,14 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "engine/cancellation.h"
+#include "engine/kinematics_completer.h"
 #include "engine/screening.h"
 #include "engine/screening_text.h"
 #include "engine/units.h"
@@ -102,6 +104,38 @@ std::optional<Finding> CheckPlausible(const Sensor& sensor, const TestSignals& s
                          "plausibility limits in the processing config).");
 }
 
+// The pre-scans of the checks below: counts over a channel's samples, in
+// loops without branches. GCC vectorizes their comparisons of doubles into
+// 64-bit counts with AVX2 only (SSE2 has no vector type for them), so they
+// are compiled for both and chosen when the program loads
+// (NAPKIN_SAMPLE_LOOP_CLONES, engine/kinematics_completer.h): counts are
+// integers, the same whichever clone runs.
+struct ExtremeCounts {
+  Index at_top = 0, at_bottom = 0;
+};
+
+NAPKIN_SAMPLE_LOOP_CLONES ExtremeCounts CountAtExtremes(const double* samples, Index n, double top,
+                                                        double bottom, double tolerance) {
+  std::int64_t at_top = 0, at_bottom = 0;
+  for (Index k = 0; k < n; ++k) {
+    at_top += std::abs(samples[k] - top) <= tolerance;
+    at_bottom += std::abs(samples[k] - bottom) <= tolerance;
+  }
+  return {at_top, at_bottom};
+}
+
+// Samples 1 .. n - 2 whose jumps from and to their neighbours are both
+// beyond `size` and of one sign (CheckSpikes' candidates, its own test).
+NAPKIN_SAMPLE_LOOP_CLONES Index CountSpikeCandidates(const double* samples, Index n, double size) {
+  std::int64_t candidates = 0;
+  for (Index k = 1; k + 1 < n; ++k) {
+    const double jump_back = samples[k] - samples[k - 1], jump_ahead = samples[k] - samples[k + 1];
+    candidates += static_cast<std::int64_t>(!(jump_back * jump_ahead <= 0.0)) &
+                  static_cast<std::int64_t>(!(std::min(std::abs(jump_back), std::abs(jump_ahead)) <= size));
+  }
+  return candidates;
+}
+
 std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& signals,
                                        const Eigen::Ref<const Eigen::VectorXd>& x, Extremes extremes,
                                        int run_samples) {
@@ -116,15 +150,8 @@ std::optional<Finding> CheckSaturation(const Sensor& sensor, const TestSignals& 
   const double tolerance = 1e-12 * magnitude;
   // A run of L samples at an extreme needs L samples at it: counted first in
   // a branch-free (vectorised) pass, which decides an unclipped channel.
-  {
-    const double* samples = x.data();
-    Index at_top = 0, at_bottom = 0;
-    for (Index k = 0; k < x.size(); ++k) {
-      at_top += std::abs(samples[k] - top) <= tolerance;
-      at_bottom += std::abs(samples[k] - bottom) <= tolerance;
-    }
-    if (at_top < run_samples && at_bottom < run_samples) return std::nullopt;
-  }
+  const ExtremeCounts counts = CountAtExtremes(x.data(), x.size(), top, bottom, tolerance);
+  if (counts.at_top < run_samples && counts.at_bottom < run_samples) return std::nullopt;
   struct Run {
     Index length = 0, end = 0;
   };
@@ -165,6 +192,11 @@ std::optional<Finding> CheckSpikes(const Sensor& sensor, const TestSignals& sign
   const Index n = x.size();
   if (n < 3) return std::nullopt;
   const double size = InChannelUnits(sensor, config.spike_size_g, config.spike_size_radps);
+  // A candidate (both jumps large and of one sign) is rare, and whether the
+  // jumps of noise share a sign is a coin toss the processor cannot predict:
+  // a branch-free (vectorised) pass counts the candidates with the loop's
+  // own test, and a channel with none needs no more.
+  if (CountSpikeCandidates(x.data(), n, size) == 0) return std::nullopt;
   Index count = 0, largest_at = -1;
   double largest = 0.0;
   std::vector<double> window;

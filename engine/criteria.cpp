@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "engine/cancellation.h"
 #include "engine/criterion_checks.h"
+#include "engine/finite_samples.h"
 #include "engine/injury_risk.h"
 #include "engine/summary_fields.h"
 #include "engine/units.h"
@@ -89,7 +90,8 @@ double Bric(const Eigen::Ref<const Series3>& omega_body_radps, const Eigen::Vect
     }
   }
   if (omega_body_radps.rows() == 0) return 0.0;
-  if (!omega_body_radps.allFinite()) throw InputError("BrIC: the angular velocity has a non-finite sample.");
+  if (!internal::AllFinite(omega_body_radps))
+    throw InputError("BrIC: the angular velocity has a non-finite sample.");
   const Eigen::Vector3d peak = omega_body_radps.cwiseAbs().colwise().maxCoeff().transpose();
   return peak.cwiseQuotient(critical_radps).norm();
 }

@@ -7,6 +7,7 @@
 #include "common/error.h"
 #include "engine/cancellation.h"
 #include "engine/criterion_checks.h"
+#include "engine/finite_samples.h"
 
 namespace napkin::engine {
 
@@ -26,7 +27,7 @@ namespace {
 void DamageDisplacementIn(const Eigen::Ref<const Series3>& alpha_body_radps2, double dt_s,
                           const DamageModel& model, const std::atomic<bool>* cancel, Series3& displacement) {
   CheckInterval(dt_s, "DAMAGE");
-  if (!alpha_body_radps2.allFinite())
+  if (!internal::AllFinite(alpha_body_radps2))
     throw InputError("DAMAGE: the angular acceleration has a non-finite sample.");
   if (!(std::isfinite(model.mass_kg) && model.mass_kg > 0.0))
     throw InputError("DAMAGE: the mass is not positive.");

@@ -350,7 +350,8 @@ void SolveLinear(const ArrayGeometry& array, const TestSignals& signals, const S
   alignas(64) double alpha_measured_rate[3][internal::kCompletionBlock];
   const bool nine_sensors = count == 9 && stacked_rows == 9;
 
-  internal::KinematicsCompleter completer(options.initial, options.gravity, dt, out, options.cancel);
+  internal::KinematicsCompleter completer(options.initial, options.gravity, dt, out, options.cancel,
+                                          options.summary_series_only);
   const double half_dt = 0.5 * dt, dt2_12 = dt * dt / 12.0, inv_2dt = 0.5 / dt;
   const int passes = options.corrector_passes;
   const AlphaOfOmega centripetal_map(alpha_centripetal);
@@ -543,8 +544,8 @@ ExactPath ClassifyArray(const ArrayGeometry& array) {
 }
 
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                        Kinematics& kin, const std::atomic<bool>* cancel) {
-  internal::KinematicsCompleter completer(initial, gravity, dt_s, kin, cancel);
+                        Kinematics& kin, const std::atomic<bool>* cancel, bool summary_series_only) {
+  internal::KinematicsCompleter completer(initial, gravity, dt_s, kin, cancel, summary_series_only);
   for (Index begin = 0; begin < kin.size(); begin += internal::kCompletionBlock) {
     ThrowIfCancelled(cancel);
     completer.CompleteRows(begin, std::min(kin.size(), begin + internal::kCompletionBlock));
@@ -560,6 +561,8 @@ void SolveExact(const ArrayGeometry& array, const TestSignals& signals, const So
   // holds 4 series rather than 36 (docs/formats.md "Derived-channel storage").
   if (path == ExactPath::kAccelerationOnly)
     kin.ResizeWithoutRotation(signals.size());
+  else if (options.summary_series_only && !options.body_frame_only)
+    kin.ResizeForSummary(signals.size());
   else
     kin.Resize(signals.size());
   for (Index k = 0; k < signals.size(); ++k) kin.time_s(k) = signals.TimeAt(k);
@@ -594,7 +597,8 @@ void SolveExact(const ArrayGeometry& array, const TestSignals& signals, const So
   }
   ThrowIfCancelled(options.cancel);
   if (!options.body_frame_only)
-    CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel);
+    CompleteKinematics(options.initial, options.gravity, signals.dt_s, kin, options.cancel,
+                       options.summary_series_only);
 }
 
 }  // namespace napkin::engine

@@ -56,8 +56,11 @@ void SolveExact(const ArrayGeometry& validated_array, const TestSignals& signals
 // compensation a_body += (R^T - R0^T) g_fixed when asked, rotates to fixed
 // axes and integrates velocity (from initial.velocity_fixed_mps) and position
 // (from 0) with the Hermite rule. Throws Cancelled once `cancel` is set
-// (engine/cancellation.h).
+// (engine/cancellation.h). With summary_series_only (kin shaped by
+// Kinematics::ResizeForSummary), the fixed-frame omega and alpha and the
+// angles are left out (SolveOptions::summary_series_only).
 void CompleteKinematics(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                        Kinematics& kinematics, const std::atomic<bool>* cancel = nullptr);
+                        Kinematics& kinematics, const std::atomic<bool>* cancel = nullptr,
+                        bool summary_series_only = false);
 
 }  // namespace napkin::engine

@@ -35,6 +35,10 @@ struct Kinematics {
   // rotation) and the residual empty: the shape of acceleration-only
   // kinematics (HasRotation).
   void ResizeWithoutRotation(Eigen::Index n);
+  // n rows in every series but omega_fixed, alpha_fixed, roll_pitch_yaw_rad
+  // and dcos_rad, which are empty: what the summary and the criteria read
+  // (SolveOptions::summary_series_only).
+  void ResizeForSummary(Eigen::Index n);
 };
 
 // Whether the kinematics hold a rotation. The kinematics of an

@@ -19,8 +19,9 @@ using Eigen::Vector3d;
 // R_k = RotationMatrixOfUnitQuaternion(q_k) applied: with kCompensateGravity, docs/algorithms.md "Gravity":
 // zeroed accelerometers read a - (R^T - R0^T) g, so the term is added back to acc_body with the integrated
 // orientation; then omega, alpha and the acceleration in fixed axes. Every sample on its own (a loop the
-// compiler vectorizes over samples), each entry as RotationMatrixOfUnitQuaternion forms it.
-template <bool kCompensateGravity>
+// compiler vectorizes over samples), each entry as RotationMatrixOfUnitQuaternion forms it. Without
+// kFixedRates (SolveOptions::summary_series_only) omega and alpha stay in body axes only.
+template <bool kCompensateGravity, bool kFixedRates>
 NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d& g_fixed,
                                           const Vector3d& gravity_body_0, Kinematics& kin) {
   double* qw = kin.quat_fixed_from_body.col(0).data();
@@ -30,8 +31,10 @@ NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d
   const SeriesColumns<const double> omega = ColumnsOf(std::as_const(kin.omega_body));
   const SeriesColumns<const double> alpha = ColumnsOf(std::as_const(kin.alpha_body));
   const SeriesColumns<double> acc = ColumnsOf(kin.acc_body);
-  const SeriesColumns<double> omega_fixed = ColumnsOf(kin.omega_fixed);
-  const SeriesColumns<double> alpha_fixed = ColumnsOf(kin.alpha_fixed);
+  const SeriesColumns<double> omega_fixed =
+      kFixedRates ? ColumnsOf(kin.omega_fixed) : SeriesColumns<double>{};
+  const SeriesColumns<double> alpha_fixed =
+      kFixedRates ? ColumnsOf(kin.alpha_fixed) : SeriesColumns<double>{};
   const SeriesColumns<double> acc_fixed = ColumnsOf(kin.acc_fixed);
   const double gx = g_fixed.x(), gy = g_fixed.y(), gz = g_fixed.z();
   const double gb0x = gravity_body_0.x(), gb0y = gravity_body_0.y(), gb0z = gravity_body_0.z();
@@ -54,14 +57,16 @@ NAPKIN_SAMPLE_LOOP_CLONES void RotateRows(Index begin, Index end, const Vector3d
       acc.y[k] += r01 * gx + r11 * gy + r21 * gz - gb0y;
       acc.z[k] += r02 * gx + r12 * gy + r22 * gz - gb0z;
     }
-    const double wx = omega.x[k], wy = omega.y[k], wz = omega.z[k];
-    omega_fixed.x[k] = r00 * wx + r01 * wy + r02 * wz;
-    omega_fixed.y[k] = r10 * wx + r11 * wy + r12 * wz;
-    omega_fixed.z[k] = r20 * wx + r21 * wy + r22 * wz;
-    const double ax = alpha.x[k], ay = alpha.y[k], az = alpha.z[k];
-    alpha_fixed.x[k] = r00 * ax + r01 * ay + r02 * az;
-    alpha_fixed.y[k] = r10 * ax + r11 * ay + r12 * az;
-    alpha_fixed.z[k] = r20 * ax + r21 * ay + r22 * az;
+    if constexpr (kFixedRates) {
+      const double wx = omega.x[k], wy = omega.y[k], wz = omega.z[k];
+      omega_fixed.x[k] = r00 * wx + r01 * wy + r02 * wz;
+      omega_fixed.y[k] = r10 * wx + r11 * wy + r12 * wz;
+      omega_fixed.z[k] = r20 * wx + r21 * wy + r22 * wz;
+      const double ax = alpha.x[k], ay = alpha.y[k], az = alpha.z[k];
+      alpha_fixed.x[k] = r00 * ax + r01 * ay + r02 * az;
+      alpha_fixed.y[k] = r10 * ax + r11 * ay + r12 * az;
+      alpha_fixed.z[k] = r20 * ax + r21 * ay + r22 * az;
+    }
     const double bx = acc.x[k], by = acc.y[k], bz = acc.z[k];
     acc_fixed.x[k] = r00 * bx + r01 * by + r02 * bz;
     acc_fixed.y[k] = r10 * bx + r11 * by + r12 * bz;
@@ -130,7 +135,8 @@ NAPKIN_SAMPLE_LOOP_CLONES void HermiteIncrements(const double* __restrict a, Ind
 }  // namespace
 
 KinematicsCompleter::KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity,
-                                         double dt_s, Kinematics& kin, const std::atomic<bool>* cancel)
+                                         double dt_s, Kinematics& kin, const std::atomic<bool>* cancel,
+                                         bool summary_series_only)
     : kin_(kin),
       cancel_(cancel),
       gravity_(gravity),
@@ -139,7 +145,8 @@ KinematicsCompleter::KinematicsCompleter(const InitialState& initial, const Grav
       gravity_body_0_(fixed_from_body_0_.transpose() * gravity.g_fixed_mps2),
       dt_(dt_s),
       half_dt_(0.5 * dt_s),
-      dt2_12_(dt_s * dt_s / 12.0) {}
+      dt2_12_(dt_s * dt_s / 12.0),
+      summary_series_only_(summary_series_only) {}
 
 void KinematicsCompleter::CompleteRows(Index begin, Index end) {
   // The increments Exp(theta_k) of IntegrateOrientation, q[k] = q[k-1] Exp(theta_k),
@@ -185,18 +192,23 @@ void KinematicsCompleter::CompleteRows(Index begin, Index end) {
     quat(k, 2) = qy;
     quat(k, 3) = qz;
   }
-  if (gravity_.compensate)
-    RotateRows<true>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
+  if (gravity_.compensate && !summary_series_only_)
+    RotateRows<true, true>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
+  else if (gravity_.compensate)
+    RotateRows<true, false>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
+  else if (!summary_series_only_)
+    RotateRows<false, true>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
   else
-    RotateRows<false>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
+    RotateRows<false, false>(begin, end, gravity_.g_fixed_mps2, gravity_body_0_, kin_);
   fixed_from_body_ =
       Eigen::Quaterniond(quat(end - 1, 0), quat(end - 1, 1), quat(end - 1, 2), quat(end - 1, 3));
 }
 
 void KinematicsCompleter::Finish() {
   ThrowIfCancelled(cancel_);
-  OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad,
-                    BestAnglesImplementation(), cancel_);
+  if (!summary_series_only_)
+    OrientationAngles(kin_.quat_fixed_from_body, kin_.roll_pitch_yaw_rad, kin_.dcos_rad,
+                      BestAnglesImplementation(), cancel_);
   ThrowIfCancelled(cancel_);
   const Index n = kin_.size();
   if (n == 0) return;

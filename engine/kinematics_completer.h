@@ -62,8 +62,11 @@ inline constexpr Eigen::Index kCompletionBlock = 256;
 
 class KinematicsCompleter {
  public:
+  // With summary_series_only (SolveOptions::summary_series_only), the
+  // fixed-frame omega and alpha and the angles are not computed: `kin` has
+  // the shape of Kinematics::ResizeForSummary.
   KinematicsCompleter(const InitialState& initial, const GravityOptions& gravity, double dt_s,
-                      Kinematics& kin, const std::atomic<bool>* cancel);
+                      Kinematics& kin, const std::atomic<bool>* cancel, bool summary_series_only = false);
 
   // Completes rows [begin, end) (end - begin <= kCompletionBlock) once rows
   // 0 .. end - 1 of omega_body, alpha_body and acc_body are final: the
@@ -83,6 +86,7 @@ class KinematicsCompleter {
   const Eigen::Matrix3d fixed_from_body_0_;
   const Eigen::Vector3d gravity_body_0_;
   const double dt_, half_dt_, dt2_12_;
+  const bool summary_series_only_;
   Eigen::Quaterniond fixed_from_body_;  // of the last completed row
   // The orientation increments QuaternionExp(theta_k) of the block (w, x, y, z).
   alignas(64) double increment_[4][kCompletionBlock];

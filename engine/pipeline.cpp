@@ -10,6 +10,7 @@
 #include "engine/cancellation.h"
 #include "engine/criteria.h"
 #include "engine/exact_solver.h"
+#include "engine/finite_samples.h"
 #include "engine/salvage.h"
 #include "engine/screening.h"
 #include "engine/solver.h"
@@ -23,6 +24,14 @@ namespace {
 // rotation (engine/kinematics.h HasRotation): only acc_body is checked there.
 Eigen::Index FirstNonFinite(const Kinematics& kinematics) {
   const bool rotation = HasRotation(kinematics);
+  // Finite series (every solved test's) are told by one vectorised pass over
+  // each column (internal::AllFinite); the walk along the rows, across the
+  // columns of five series, only looks for the sample where they are not.
+  using internal::AllFinite;
+  if (AllFinite(kinematics.acc_body) &&
+      (!rotation || (AllFinite(kinematics.omega_body) && AllFinite(kinematics.acc_fixed) &&
+                     AllFinite(kinematics.alpha_body) && AllFinite(kinematics.pos_fixed))))
+    return -1;
   for (Eigen::Index k = 0; k < kinematics.size(); ++k) {
     if (!kinematics.acc_body.row(k).allFinite()) return k;
     if (rotation && (!kinematics.omega_body.row(k).allFinite() || !kinematics.acc_fixed.row(k).allFinite() ||
@@ -116,7 +125,8 @@ void CopyToCondition(const TestSignals& raw, TestSignals& copy, const std::atomi
 // `processed` (in `workspace`'s memory).
 void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                      const ProcessingConfig& config, std::vector<Finding> findings,
-                     const std::atomic<bool>* cancel, Workspace& workspace, ProcessedTest& processed) {
+                     const std::atomic<bool>* cancel, Workspace& workspace, ProcessedTest& processed,
+                     bool summary_series_only) {
   TestSignals& signals = workspace.signals;
   CopyToCondition(raw_signals, signals, cancel);
   processed.summary = TestSummary{};
@@ -125,6 +135,7 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
   ThrowIfCancelled(cancel);
   SolveOptions options = MakeSolveOptions(config, initial);
   options.cancel = cancel;
+  options.summary_series_only = summary_series_only;
   Solve(array, signals, options, processed.kinematics);
   ThrowIfCancelled(cancel);
 
@@ -177,7 +188,8 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
   AppendFindings(
       ScreenPlausibility(
           processed.kinematics,
-          exact_residual != nullptr && exact_residual->allFinite() ? *exact_residual : no_residual, config),
+          exact_residual != nullptr && internal::AllFinite(*exact_residual) ? *exact_residual : no_residual,
+          config),
       findings);
   ThrowIfCancelled(cancel);
 
@@ -190,7 +202,7 @@ void ProcessScreened(const ArrayGeometry& array, const TestSignals& raw_signals,
 // ProcessTest without salvage.
 void ProcessOnce(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
-                 const std::atomic<bool>* cancel) {
+                 const std::atomic<bool>* cancel, bool summary_series_only) {
   workspace.exact_rms_residual_mps2 = std::numeric_limits<double>::quiet_NaN();
   CheckTimeBaseAndInitialState(raw_signals, initial, config);
   ThrowIfCancelled(cancel);
@@ -215,11 +227,13 @@ void ProcessOnce(const ArrayGeometry& array, const TestSignals& raw_signals, con
     return finding.severity == Severity::kError && finding.check == NameOf(Check::kImplausible);
   });
   if (implausible == findings.end())
-    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
+    return ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out,
+                           summary_series_only);
   const std::string cause = implausible->detail;
   std::vector<Finding> screened = findings;  // what the failure carries should the computation stop
   try {
-    ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out);
+    ProcessScreened(array, raw_signals, initial, config, std::move(findings), cancel, workspace, out,
+                    summary_series_only);
   } catch (const InputError&) {
     throw ScreeningFailure(cause, std::move(screened));
   }
@@ -325,7 +339,8 @@ Finding SalvageFinding(const SalvageAudit& record, const SalvagedChannel& channe
 // ScreeningFailure with a sentence saying why when the test cannot be saved.
 void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
              const ProcessingConfig& config, std::vector<FaultyChannel> faults, std::vector<Finding> findings,
-             Workspace& workspace, ProcessedTest& out, const std::atomic<bool>* cancel) {
+             Workspace& workspace, ProcessedTest& out, const std::atomic<bool>* cancel,
+             bool summary_series_only) {
   const double rms_before = workspace.exact_rms_residual_mps2;
   bool repair = config.screening.salvage == SalvageMode::kRepair;
   SalvageAudit record;
@@ -393,7 +408,8 @@ void Salvage(const ArrayGeometry& array, const TestSignals& raw_signals, const I
     record.channels_used = static_cast<int>(repair ? array.sensors.size() : reduced->sensors.size());
     std::vector<FaultyChannel> more;
     try {
-      ProcessOnce(repair ? array : *reduced, salvaged, initial, config, workspace, out, cancel);
+      ProcessOnce(repair ? array : *reduced, salvaged, initial, config, workspace, out, cancel,
+                  summary_series_only);
       more = SalvageableFaults(out.summary.findings);
     } catch (const ScreeningFailure& failure) {
       more = SalvageableFaults(failure.findings());
@@ -440,17 +456,18 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
                           const std::atomic<bool>* cancel) {
   Workspace workspace;
   ProcessedTest processed;
-  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel);
+  ProcessTest(array, raw_signals, initial, config, workspace, processed, cancel, SeriesKept::kAll);
   return processed;
 }
 
 void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
-                 const std::atomic<bool>* cancel) {
+                 const std::atomic<bool>* cancel, SeriesKept series) {
   config.Check();
   const bool salvage = config.screening.salvage != SalvageMode::kOff;
+  const bool summary_series_only = series == SeriesKept::kSummary;
   try {
-    ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel);
+    ProcessOnce(array, raw_signals, initial, config, workspace, out, cancel, summary_series_only);
   } catch (const ScreeningFailure& failure) {
     std::vector<FaultyChannel> faults = SalvageableFaults(failure.findings());
     ResolveConfounded(array, raw_signals, initial, config, failure.findings(), faults);
@@ -461,7 +478,8 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
       AddSalvageHint(findings, faults, hint);
       throw ScreeningFailure(WithoutFinalStop(failure.what()) + hint + ".", std::move(findings));
     }
-    Salvage(array, raw_signals, initial, config, faults, failure.findings(), workspace, out, cancel);
+    Salvage(array, raw_signals, initial, config, faults, failure.findings(), workspace, out, cancel,
+            summary_series_only);
     return;
   }
   std::vector<FaultyChannel> faults = SalvageableFaults(out.summary.findings);
@@ -471,7 +489,8 @@ void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, con
     AddSalvageHint(out.summary.findings, faults, SalvageHint(array, faults));
     return;
   }
-  Salvage(array, raw_signals, initial, config, faults, out.summary.findings, workspace, out, cancel);
+  Salvage(array, raw_signals, initial, config, faults, out.summary.findings, workspace, out, cancel,
+          summary_series_only);
 }
 
 std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples, double dt_s,
@@ -498,12 +517,13 @@ std::uint64_t ProcessTestBytes(const ArrayGeometry& array, Eigen::Index samples,
   const double kinematics = rotation ? 36.0 : 4.0;
   const double held = slots + kinematics;
   // Conditioning: each filter in use pads its channels by up to
-  // max(padding_s, 1 / CFC) at both ends and runs four channels abreast.
+  // max(padding_s, 1 / CFC) at both ends and runs up to twelve channels
+  // abreast (CfcFilter::ApplyInPlaceToColumns).
   double filtering = 0.0;
   const auto filter_columns = [&](std::size_t count, const std::optional<double>& cfc) {
     if (count == 0 || !cfc || !(dt_s > 0.0)) return 0.0;
     const double pad = std::min(std::ceil(std::max(config.filter.padding_s, 1.0 / *cfc) / dt_s), n - 1.0);
-    return 4.0 * (n + 2.0 * pad) / n;
+    return 12.0 * (n + 2.0 * pad) / n;
   };
   filtering += filter_columns(linear, config.filter.linear_cfc);
   filtering += filter_columns(rates, config.filter.angular_rate_cfc);

@@ -61,13 +61,21 @@ ProcessedTest ProcessTest(const ArrayGeometry& array, const TestSignals& raw_sig
                           const InitialState& initial, const ProcessingConfig& config,
                           const std::atomic<bool>* cancel = nullptr);
 
+// The derived series a ProcessTest computes: all of them, or those the
+// summary, the criteria and the screening read (SolveOptions::
+// summary_series_only: omega_fixed, alpha_fixed, roll_pitch_yaw_rad and
+// dcos_rad left empty), for a caller that keeps only the summary (a run
+// that stores no derived channels, jobs/scheduler.cpp). The summary is the
+// same, bit for bit.
+enum class SeriesKept { kAll, kSummary };
+
 // ProcessTest in the caller's memory: `workspace` for what it computes along
 // the way, `out` for the result (its series overwritten in place, the
 // summary replaced). The same result, bit for bit; on a throw `out` holds
 // no result.
 void ProcessTest(const ArrayGeometry& array, const TestSignals& raw_signals, const InitialState& initial,
                  const ProcessingConfig& config, Workspace& workspace, ProcessedTest& out,
-                 const std::atomic<bool>* cancel = nullptr);
+                 const std::atomic<bool>* cancel = nullptr, SeriesKept series = SeriesKept::kAll);
 
 // An upper estimate of the memory ProcessTest takes at its peak for `samples`
 // samples (sampling interval dt_s) of `array` under `config`, besides its

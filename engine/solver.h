@@ -50,6 +50,13 @@ struct SolveOptions {
   // contents are unspecified). Not with the seed solver or gravity
   // compensation (whose term needs the orientation).
   bool body_frame_only = false;
+  // The series the summary, the injury criteria and the screening read
+  // (engine/pipeline.cpp), bit for bit as the full solve computes them: the
+  // exact solver leaves omega_fixed, alpha_fixed, roll_pitch_yaw_rad and
+  // dcos_rad empty (0 rows; Kinematics::ResizeForSummary) rather than
+  // rotating and converting every sample for nobody. For a run that stores
+  // no derived channels (jobs/scheduler.cpp). The seed solver ignores it.
+  bool summary_series_only = false;
 };
 
 // Solves one test. Throws InputError naming the slot when `signals` lacks a

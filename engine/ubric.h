@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "common/error.h"
+#include "engine/finite_samples.h"
 #include "engine/kinematics.h"
 
 namespace napkin::engine {
@@ -37,7 +38,7 @@ inline double UbricAxisTerm(double omega_star, double alpha_star) {
 inline double Ubric(const Eigen::Ref<const Series3>& omega_body_radps,
                     const Eigen::Ref<const Series3>& alpha_body_radps2) {
   if (omega_body_radps.rows() == 0 || alpha_body_radps2.rows() == 0) return 0.0;
-  if (!omega_body_radps.allFinite() || !alpha_body_radps2.allFinite())
+  if (!internal::AllFinite(omega_body_radps) || !internal::AllFinite(alpha_body_radps2))
     throw InputError("UBrIC: the angular velocity or acceleration has a non-finite sample.");
   const Eigen::Vector3d omega_star =
       omega_body_radps.cwiseAbs().colwise().maxCoeff().transpose().cwiseQuotient(kUbricCriticalOmegaRadps);

@@ -24,7 +24,12 @@ engine::ProcessedTest ComputeInThreadWorkspace(const records::TestInputs& inputs
                                                const engine::ProcessingConfig& config) {
   thread_local engine::Workspace workspace;
   engine::ProcessedTest processed;
-  records::ComputeResult(inputs, config, workspace, processed);
+  // Without derived channels to store, the writer keeps only the summary
+  // (jobs/test_computation.cpp): the series nobody reads are not computed.
+  const engine::SeriesKept series = config.storage.derived_channels == engine::DerivedStorage::kNone
+                                        ? engine::SeriesKept::kSummary
+                                        : engine::SeriesKept::kAll;
+  records::ComputeResult(inputs, config, workspace, processed, series);
   return processed;
 }
 

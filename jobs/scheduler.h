@@ -49,7 +49,9 @@ namespace napkin::jobs {
 // records::ComputeResult in an engine::Workspace kept by the calling thread
 // (thread_local: one per compute thread of the run's arena, kept while the
 // thread lives), so a compute thread's tests reuse the memory of the one
-// before (engine/pipeline.h Workspace). The same result, bit for bit.
+// before (engine/pipeline.h Workspace). The same result, bit for bit; with
+// storage.derived_channels none, only the series the summary reads
+// (engine::SeriesKept::kSummary: the writer stores the summary alone).
 engine::ProcessedTest ComputeInThreadWorkspace(const records::TestInputs& inputs,
                                                const engine::ProcessingConfig& config);
 

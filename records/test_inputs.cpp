@@ -35,9 +35,9 @@ engine::ProcessedTest ComputeResult(const TestInputs& inputs, const engine::Proc
 }
 
 void ComputeResult(const TestInputs& inputs, const engine::ProcessingConfig& config,
-                   engine::Workspace& workspace, engine::ProcessedTest& out) {
+                   engine::Workspace& workspace, engine::ProcessedTest& out, engine::SeriesKept series) {
   if (!inputs.array) throw InputError(inputs.array_error);
-  engine::ProcessTest(*inputs.array, inputs.signals, inputs.initial, config, workspace, out);
+  engine::ProcessTest(*inputs.array, inputs.signals, inputs.initial, config, workspace, out, nullptr, series);
 }
 
 engine::ProcessedTest RecomputeResult(db::Catalogue& catalogue, db::TestId test, db::ConfigId config) {

@@ -56,9 +56,11 @@ class TestInputReader {
 engine::ProcessedTest ComputeResult(const TestInputs& inputs, const engine::ProcessingConfig& config);
 
 // ComputeResult in the caller's memory (engine::ProcessTest with a
-// workspace and a kept result; engine/pipeline.h Workspace).
+// workspace and a kept result; engine/pipeline.h Workspace), with the
+// derived series `series` (engine::SeriesKept).
 void ComputeResult(const TestInputs& inputs, const engine::ProcessingConfig& config,
-                   engine::Workspace& workspace, engine::ProcessedTest& out);
+                   engine::Workspace& workspace, engine::ProcessedTest& out,
+                   engine::SeriesKept series = engine::SeriesKept::kAll);
 
 // The result of `test` under the stored config `config` computed again:
 // its inputs read (TestInputReader), the config decoded from its record
