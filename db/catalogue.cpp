@@ -21,9 +21,32 @@ namespace napkin::db {
 namespace internal {
 
 bool PassesQuickCheck(Connection& connection, const std::string& schema) {
+  const std::string pragma = "PRAGMA \"" + schema + "\".";
+  // quick_check reads every page of the file once. Memory-mapping the file for the
+  // check replaces one pread() per page with page faults on a shared mapping: on a
+  // 1.4 GB catalogue the check takes ~0.2 s instead of ~0.5-0.7 s, most of the saving
+  // system time (db/README.md "Integrity check"). SQLite maps only the file's current
+  // size and caps the request at its compile-time maximum; damaged content is still a
+  // failed check. The mapping is dropped afterwards, so the rest of the command keeps
+  // SQLite's read path; during the check a disk read error becomes SIGBUS instead of
+  // SQLITE_IOERR (the process stops, nothing has been written yet).
+  const std::int64_t mmap_before = connection.PragmaInt(schema + ".mmap_size");
+  struct RestoreMmap {
+    Connection& connection;
+    std::string pragma;
+    std::int64_t bytes;
+    ~RestoreMmap() {
+      try {
+        connection.Execute(pragma + "mmap_size = " + std::to_string(bytes));
+      } catch (...) {
+        // Restoring a performance setting cannot fail the check's caller.
+      }
+    }
+  } restore{connection, pragma, mmap_before};
+  connection.Execute(pragma + "mmap_size = 4294967296");
   try {
     // Its first line is "ok" or a problem.
-    auto check = connection.Prepare("PRAGMA \"" + schema + "\".quick_check(1)");
+    auto check = connection.Prepare(pragma + "quick_check(1)");
     return check->Step() && check->ColumnText(0) == "ok";
   } catch (const DatabaseError& error) {
     if (error.corrupt()) return false;
