@@ -14,6 +14,7 @@
 
 #include "common/error.h"
 #include "db/catalogue.h"
+#include "db/catalogue_internal.h"
 #include "tests/db/db_test_helpers.h"
 #include "tests/support/db/catalogue_inspector.h"
 #include "tests/support/test_support.h"
@@ -108,6 +109,28 @@ TEST(CatalogueOpen, OnlyAFileNotCheckedBeforeIsCheckedAgain) {
   EXPECT_THROW(Catalogue::Open(path, options), InputError) << "another file was checked";
   options.integrity_checked_file = checked;
   EXPECT_NO_THROW(Catalogue::Open(path, options)) << "checked before: not read again";
+}
+
+TEST(CatalogueOpen, TheIntegrityCheckMapsTheFileOnlyWhileItRuns) {
+  // db/README.md "Integrity check": quick_check reads a memory-mapped file, and the
+  // rest of the command reads through SQLite's read path again.
+  napkin::test_support::TempDir dir;
+  const std::string path = dir / "mapped.db";
+  {
+    Catalogue catalogue = Catalogue::Open(path);
+    const ArrayId array = catalogue.WriteArray(test_support::IdealArray());
+    for (int i = 0; i < 20; ++i) test_support::AddTest(catalogue, array, "t" + std::to_string(i));
+  }
+  CatalogueOptions options;
+  options.check_integrity = true;
+  Catalogue catalogue = Catalogue::Open(path, options);
+  Connection& connection = CatalogueInspector(catalogue).connection();
+  EXPECT_EQ(connection.PragmaInt("main.mmap_size"), 0);
+  EXPECT_TRUE(internal::PassesQuickCheck(connection));
+  EXPECT_EQ(connection.PragmaInt("main.mmap_size"), 0);
+  connection.Execute("PRAGMA main.mmap_size = 65536");
+  EXPECT_TRUE(internal::PassesQuickCheck(connection));
+  EXPECT_EQ(connection.PragmaInt("main.mmap_size"), 65536) << "a setting of the caller's own is kept";
 }
 
 TEST(CatalogueOpen, WriteProtectedFileIsReportedInOneSentence) {
