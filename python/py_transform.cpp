@@ -202,6 +202,18 @@ Eigen::Vector3d Triple(const std::vector<double>& values, const char* name, cons
   return {values[0], values[1], values[2]};
 }
 
+// A complex number, scalar or array: ReadTimes refuses it, and float() of it would first
+// warn (numpy's ComplexWarning) and drop its imaginary part.
+bool IsComplex(const py::handle& value) {
+  if (PyComplex_Check(value.ptr())) return true;
+  if (!py::hasattr(value, "dtype")) return false;
+  try {
+    return py::str(value.attr("dtype").attr("kind")).cast<std::string>() == "c";
+  } catch (const py::error_already_set&) {
+    return false;
+  }
+}
+
 // The sample count of `channels` (a dict slot -> 1-D array, or a 2-D array)
 // without converting or copying anything, and the sampling interval from dt or
 // time_s (0 when unknown): what the memory estimate needs before the samples
@@ -223,10 +235,13 @@ std::pair<Eigen::Index, double> SizeOf(const py::handle& channels, const engine:
   if (!first || first.ndim() < 1) return {0, 0.0};
   const auto samples = static_cast<Eigen::Index>(first.shape(0));
   double dt_s = dt.value_or(0.0);
-  if (!dt && samples > 1) {
+  if (!dt && samples > 1 && !IsComplex(time_s)) {
     try {
-      const double t0 = py::float_(time_s[py::int_(0)]).cast<double>();
-      const double t1 = py::float_(time_s[py::int_(samples - 1)]).cast<double>();
+      const py::object first_time = time_s[py::int_(0)];
+      const py::object last_time = time_s[py::int_(samples - 1)];
+      if (IsComplex(first_time) || IsComplex(last_time)) return {samples, 0.0};
+      const double t0 = py::float_(first_time).cast<double>();
+      const double t1 = py::float_(last_time).cast<double>();
       dt_s = (t1 - t0) / static_cast<double>(samples - 1);
     } catch (const py::error_already_set&) {
       dt_s = 0.0;  // ReadTimeBase says what is wrong with it

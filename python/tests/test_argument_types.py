@@ -4,6 +4,7 @@ complex samples are refused, not silently cut to their real part; compare's
 metrics take a list or the command's comma-separated spelling."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -69,8 +70,12 @@ def test_complex_samples_are_refused(where):
     else:
         options = {"dt_s": None, "time_s": np.arange(200) * 1e-4 + 0j}
         name = "time_s"
-    text = type_error(lambda: transform(channels, **options))
+    # Refused with the TypeError alone: no numpy ComplexWarning from a cast tried first.
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        text = type_error(lambda: transform(channels, **options))
     assert name in text and "complex" in text, text
+    assert [str(w.message) for w in said] == []
 
 
 def test_text_samples_are_refused():
