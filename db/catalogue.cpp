@@ -24,12 +24,13 @@ bool PassesQuickCheck(Connection& connection, const std::string& schema) {
   const std::string pragma = "PRAGMA \"" + schema + "\".";
   // quick_check reads every page of the file once. Memory-mapping the file for the
   // check replaces one pread() per page with page faults on a shared mapping: on a
-  // 1.4 GB catalogue in the page cache the check takes 0.08 s instead of 0.5-0.7 s, most
-  // of the saving system time (db/README.md "Integrity check"). SQLite maps only the file's current
-  // size and caps the request at its compile-time maximum; damaged content is still a
-  // failed check. The mapping is dropped afterwards, so the rest of the command keeps
-  // SQLite's read path; during the check a disk read error becomes SIGBUS instead of
-  // SQLITE_IOERR (the process stops, nothing has been written yet).
+  // 1.4 GB catalogue in the page cache the check takes well under half the time, most
+  // of the saving system time (db/README.md "Integrity check" has the times). SQLite
+  // maps only the file's current size and caps the request at its compile-time
+  // maximum; damaged content is still a failed check. The mapping is dropped
+  // afterwards, so the rest of the command keeps SQLite's read path; during the check
+  // a disk read error becomes SIGBUS instead of SQLITE_IOERR (the process stops,
+  // nothing has been written yet).
   const std::int64_t mmap_before = connection.PragmaInt(schema + ".mmap_size");
   struct RestoreMmap {
     Connection& connection;
