@@ -202,8 +202,9 @@ Eigen::Vector3d Triple(const std::vector<double>& values, const char* name, cons
   return {values[0], values[1], values[2]};
 }
 
-// A complex number, scalar or array: ReadTimes refuses it, and float() of it would first
-// warn (numpy's ComplexWarning) and drop its imaginary part.
+// A complex number (Python's, or a numpy scalar of complex dtype): ReadTimes refuses a
+// complex time_s, and float() of one would first warn (numpy's ComplexWarning) and drop
+// its imaginary part.
 bool IsComplex(const py::handle& value) {
   if (PyComplex_Check(value.ptr())) return true;
   if (!py::hasattr(value, "dtype")) return false;
@@ -235,7 +236,7 @@ std::pair<Eigen::Index, double> SizeOf(const py::handle& channels, const engine:
   if (!first || first.ndim() < 1) return {0, 0.0};
   const auto samples = static_cast<Eigen::Index>(first.shape(0));
   double dt_s = dt.value_or(0.0);
-  if (!dt && samples > 1 && !IsComplex(time_s)) {
+  if (!dt && samples > 1) {
     try {
       const py::object first_time = time_s[py::int_(0)];
       const py::object last_time = time_s[py::int_(samples - 1)];
@@ -244,7 +245,7 @@ std::pair<Eigen::Index, double> SizeOf(const py::handle& channels, const engine:
       const double t1 = py::float_(last_time).cast<double>();
       dt_s = (t1 - t0) / static_cast<double>(samples - 1);
     } catch (const py::error_already_set&) {
-      dt_s = 0.0;  // ReadTimeBase says what is wrong with it
+      dt_s = 0.0;  // ReadTimes says what is wrong with it
     }
   }
   return {samples, std::isfinite(dt_s) && dt_s > 0.0 ? dt_s : 0.0};
