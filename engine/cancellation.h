@@ -33,4 +33,11 @@ inline void ThrowIfCancelled(const std::atomic<bool>* cancel, Eigen::Index sampl
   if (sample % kCancellationStride == 0) ThrowIfCancelled(cancel);
 }
 
+// The same test without throwing, for code that must not throw: GCC takes a
+// target_clones function for one that cannot throw, and an exception leaving one
+// ends the process in std::terminate (engine/cfc_filter.cpp).
+inline bool IsCancelled(const std::atomic<bool>* cancel, Eigen::Index sample) {
+  return sample % kCancellationStride == 0 && cancel != nullptr && cancel->load(std::memory_order_relaxed);
+}
+
 }  // namespace napkin::engine

@@ -111,7 +111,8 @@ inline __attribute__((always_inline)) void StepLanes(const LaneCoefficients& c, 
 }
 
 template <int kVectors>
-NAPKIN_FILTER_LOOP_CLONES void RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n,
+// False when `cancel` stopped it. It never throws: the caller does (IsCancelled says why).
+NAPKIN_FILTER_LOOP_CLONES bool RunPassInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n,
                                                   bool forward, const std::atomic<bool>* cancel) {
   static_assert(kVectors >= 1 && kVectors <= kMaxVectors);
   constexpr Eigen::Index kLanes = kVectors * kLanesPerVector;
@@ -127,24 +128,23 @@ NAPKIN_FILTER_LOOP_CLONES void RunPassInterleaved(const CfcCoefficients& c, doub
   if constexpr (kVectors > 1) StartLanes(w + k * kLanes + kLanesPerVector, state1);
   if constexpr (kVectors > 2) StartLanes(w + k * kLanes + 2 * kLanesPerVector, state2);
   for (Eigen::Index count = 0; count < n; ++count, k += step) {
-    ThrowIfCancelled(cancel, count);
+    if (IsCancelled(cancel, count)) return false;
     double* row = w + k * kLanes;
     StepLanes(lane_c, row, state0);
     if constexpr (kVectors > 1) StepLanes(lane_c, row + kLanesPerVector, state1);
     if constexpr (kVectors > 2) StepLanes(lane_c, row + 2 * kLanesPerVector, state2);
   }
+  return true;
 }
 
 // Both passes over `vectors` (1 .. kMaxVectors) vectors of interleaved channels.
 void RunPassesInterleaved(const CfcCoefficients& c, double* w, Eigen::Index n, int vectors,
                           const std::atomic<bool>* cancel) {
   for (const bool forward : {true, false}) {
-    if (vectors == 1)
-      RunPassInterleaved<1>(c, w, n, forward, cancel);
-    else if (vectors == 2)
-      RunPassInterleaved<2>(c, w, n, forward, cancel);
-    else
-      RunPassInterleaved<3>(c, w, n, forward, cancel);
+    const bool completed = vectors == 1   ? RunPassInterleaved<1>(c, w, n, forward, cancel)
+                           : vectors == 2 ? RunPassInterleaved<2>(c, w, n, forward, cancel)
+                                          : RunPassInterleaved<3>(c, w, n, forward, cancel);
+    if (!completed) throw Cancelled();
   }
 }
 
